@@ -1,0 +1,150 @@
+# Periscope - build, run and test.
+#   make run     the viewer on the simulated board with the bundled panorama
+#   make test    every test (unit, golden, fuzz, integration, clang build, no-float check)
+#   make all     libraries, firmware and host tools
+# Conventions: CROSS_COMPILE=prefix-, CC, PKG_CONFIG, PREFIX, DESTDIR, V=1 for full commands.
+
+CROSS_COMPILE ?=
+ifeq ($(origin CC),default)
+CC := $(CROSS_COMPILE)gcc
+endif
+ifeq ($(origin AR),default)
+AR := $(CROSS_COMPILE)ar
+endif
+PKG_CONFIG ?= pkg-config
+PREFIX ?= /usr/local
+DESTDIR ?=
+BUILD ?= build
+PYTHON ?= python3
+
+ifeq ($(V),1)
+Q :=
+else
+Q := @
+endif
+
+WARN := -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototypes -Wpointer-arith -Wvla
+OPT ?= -O2 -g
+CFLAGS ?=
+BASE_CFLAGS := -std=c11 $(WARN) $(OPT) -MMD -MP
+# core/ is freestanding: no libc beyond the freestanding headers.
+CORE_CFLAGS := $(BASE_CFLAGS) -ffreestanding -Icore
+HOST_CFLAGS := $(BASE_CFLAGS) -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -Icore -Ihal -Ihost_tools/lib -Ifirmware
+
+IMG_PKGS := libpng libjpeg zlib
+IMG_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(IMG_PKGS) 2>/dev/null)
+IMG_LIBS := $(shell $(PKG_CONFIG) --libs $(IMG_PKGS) 2>/dev/null || echo -lpng -ljpeg -lz)
+CMOCKA_CFLAGS := $(shell $(PKG_CONFIG) --cflags cmocka 2>/dev/null)
+CMOCKA_LIBS := $(shell $(PKG_CONFIG) --libs cmocka 2>/dev/null || echo -lcmocka)
+LDLIBS_HOST := -lm
+
+CORE_SRC := $(sort $(wildcard core/*.c))
+HAL_SRC := $(sort $(wildcard hal/*.c hal/sim/*.c))
+HOSTLIB_SRC := $(sort $(wildcard host_tools/lib/*.c))
+FW_SRC := $(sort $(wildcard firmware/*.c))
+FW_MAIN := firmware/main.c
+TOOL_MAINS := $(sort $(wildcard host_tools/periscope-*.c))
+TESTSUP_SRC := $(sort $(wildcard tests/support/*.c))
+TEST_MAINS := $(sort $(wildcard tests/test_*.c))
+
+obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
+
+CORE_LIB := $(BUILD)/lib/libpsc_core.a
+HAL_LIB := $(BUILD)/lib/libpsc_hal.a
+HOST_LIB := $(BUILD)/lib/libpsc_hosttools.a
+FW_LIB := $(BUILD)/lib/libpsc_firmware.a
+TESTSUP_LIB := $(BUILD)/lib/libpsc_testsupport.a
+FIRMWARE := $(BUILD)/bin/periscope
+TOOLS := $(patsubst host_tools/%.c,$(BUILD)/bin/%,$(TOOL_MAINS))
+TESTS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_MAINS))
+
+.PHONY: all deps run test check-core-nofloat check-clang install clean bench
+.DEFAULT_GOAL := all
+
+all: $(CORE_LIB) $(FIRMWARE) $(TOOLS)
+
+deps:
+	$(Q)sh scripts/install-deps.sh
+
+# ---- objects ---------------------------------------------------------------
+$(BUILD)/obj/core/%.o: core/%.c
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  CC      $<")
+	$(Q)$(CC) $(CORE_CFLAGS) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/obj/%.o: %.c
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  CC      $<")
+	$(Q)$(CC) $(HOST_CFLAGS) $(IMG_CFLAGS) $(CMOCKA_CFLAGS) $(CFLAGS) -Itests/support -c $< -o $@
+
+$(BUILD)/lib/%.a:
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  AR      $@")
+	$(Q)rm -f $@ && $(AR) rcs $@ $^
+
+$(CORE_LIB): $(call obj,$(CORE_SRC))
+$(HAL_LIB): $(call obj,$(HAL_SRC))
+$(HOST_LIB): $(call obj,$(HOSTLIB_SRC))
+$(FW_LIB): $(call obj,$(filter-out $(FW_MAIN),$(FW_SRC)))
+$(TESTSUP_LIB): $(call obj,$(TESTSUP_SRC))
+
+# Dependencies point one way: firmware -> hal -> core, host_tools -> core.
+$(FIRMWARE): $(call obj,$(FW_MAIN)) $(FW_LIB) $(HAL_LIB) $(HOST_LIB) $(CORE_LIB)
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(IMG_LIBS) $(LDLIBS_HOST)
+
+$(BUILD)/bin/%: $(BUILD)/obj/host_tools/%.o $(HOST_LIB) $(CORE_LIB)
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(IMG_LIBS) $(LDLIBS_HOST)
+
+$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(TESTSUP_LIB) $(FW_LIB) $(HAL_LIB) $(HOST_LIB) $(CORE_LIB)
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(CMOCKA_LIBS) $(IMG_LIBS) $(LDLIBS_HOST)
+
+-include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)
+
+# ---- run: the viewer on the simulated board --------------------------------
+SAMPLE_JPG := assets/pannellum-examplepano.jpg
+SAMPLE_PACK := out/sample.pano
+SIM_DISPLAY := $(shell sed -n 's/^display_size[ =]*//p' boards/sim/board.conf 2>/dev/null | head -1)
+
+$(SAMPLE_PACK): $(SAMPLE_JPG) $(BUILD)/bin/periscope-pack boards/sim/board.conf
+	@mkdir -p $(@D)
+	$(BUILD)/bin/periscope-pack $(SAMPLE_JPG) -o $@ --display $(or $(SIM_DISPLAY),640x480) --format rgb565
+
+run: deps
+	$(Q)$(MAKE) --no-print-directory all
+	$(Q)$(MAKE) --no-print-directory $(SAMPLE_PACK)
+	$(FIRMWARE) --board sim --scene $(SAMPLE_PACK) --out out/run
+
+# ---- test ------------------------------------------------------------------
+test: deps
+	$(Q)$(MAKE) --no-print-directory all $(TESTS)
+	$(Q)$(MAKE) --no-print-directory check-core-nofloat
+	$(Q)sh tests/run_all.sh $(BUILD) $(TESTS)
+
+# core must not use floating point: compile it with the FPU registers taken
+# away (x86-64 -mgeneral-regs-only), so any float/double use fails to build.
+# The selftest proves the check can fail.
+NOFLOAT_FLAGS := -std=c11 $(WARN) -O2 -ffreestanding -Icore -mgeneral-regs-only
+check-core-nofloat:
+	@echo "  CHECK   core/ has no floating point (-mgeneral-regs-only)"
+	$(Q)for f in $(CORE_SRC); do $(CC) $(NOFLOAT_FLAGS) -c $$f -o /dev/null || exit 1; done
+	$(Q)if printf 'double psc_selftest(double x);\ndouble psc_selftest(double x) { return x * 0.5; }\n' | \
+		$(CC) $(NOFLOAT_FLAGS) -x c -c - -o /dev/null 2>/dev/null; then \
+		echo "check-core-nofloat: the check itself is broken (a float function compiled)"; exit 1; fi
+	$(Q)if grep -nE '\b(float|double)\b|#include *<(stdio|stdlib|string|math|unistd|fcntl|time|pthread|sys/)' $(CORE_SRC) core/*.h; then \
+		echo "check-core-nofloat: core/ must not use float/double or hosted headers"; exit 1; fi
+
+check-clang:
+	$(Q)$(MAKE) --no-print-directory CC=clang BUILD=$(BUILD)/clang all
+
+install: all
+	install -d $(DESTDIR)$(PREFIX)/bin
+	install -m 755 $(FIRMWARE) $(TOOLS) $(DESTDIR)$(PREFIX)/bin/
+
+clean:
+	rm -rf $(BUILD) out

@@ -1,0 +1,20 @@
+/* psc_lut.c - checks on look-up table descriptions. */
+#include "psc_lut.h"
+
+/* u_max above tan(85 deg) (Q8.24) would make the table too coarse to be useful. */
+#define LUT_U_MAX_LIMIT_Q24 191764456u
+
+psc_status_t psc_lut_check(const psc_lut_t *lut)
+{
+    if (!lut || !lut->entries)
+        return PSC_ERR_ARG;
+    if (lut->rows < 2 || lut->cols < 2)
+        return PSC_ERR_CORRUPT;
+    if (lut->rows > PSC_MAX_LUT_DIM || lut->cols > PSC_MAX_LUT_DIM)
+        return PSC_ERR_TOO_LARGE;
+    if (lut->u_max_q24 == 0 || lut->u_max_q24 > LUT_U_MAX_LIMIT_Q24)
+        return PSC_ERR_CORRUPT;
+    if (lut->hfov_max == 0 || lut->hfov_max >= PSC_BAM_180)
+        return PSC_ERR_CORRUPT;
+    return PSC_OK;
+}

@@ -1,0 +1,201 @@
+/*
+ * psc_pack.c - validate and parse a scene pack in place (format: psc_pack.h).
+ * Every field is read byte-wise little-endian and range-checked before use;
+ * no offset is trusted until it is known to lie inside the buffer.
+ */
+#include "psc_pack.h"
+#include "psc_crc32.h"
+
+static uint16_t rd16(const uint8_t *p) { return (uint16_t)(p[0] | (p[1] << 8)); }
+static uint32_t rd32(const uint8_t *p)
+{
+    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
+}
+
+static psc_status_t fail(psc_pack_error_t *err, psc_status_t s, const char *what, uint32_t offset)
+{
+    if (err) {
+        err->what = what;
+        err->offset = offset;
+    }
+    return s;
+}
+
+/* CRC of the whole file with the CRC field counted as four zero bytes. */
+static uint32_t pack_crc(const uint8_t *b, size_t len)
+{
+    static const uint8_t zeros[4] = {0, 0, 0, 0};
+    uint32_t crc = psc_crc32(0, b, PSC_PACK_CRC_OFFSET);
+    crc = psc_crc32(crc, zeros, 4);
+    return psc_crc32(crc, b + PSC_PACK_CRC_OFFSET + 4, len - PSC_PACK_CRC_OFFSET - 4);
+}
+
+static bool host_is_little_endian(void)
+{
+    const uint16_t probe = 1;
+    return *(const uint8_t *)&probe == 1;
+}
+
+static psc_status_t parse_scene(const uint8_t *p, uint32_t off, psc_pack_t *out, psc_pack_error_t *err)
+{
+    psc_envmap_t *m = &out->map;
+    m->projection = (psc_projection_t)p[0];
+    m->format = (psc_pixfmt_t)p[1];
+    m->width = rd16(p + 2);
+    m->height = rd16(p + 4);
+    out->display_width = rd16(p + 6);
+    out->display_height = rd16(p + 8);
+    m->lon_min = rd32(p + 12);
+    m->lon_span = rd32(p + 16);
+    m->lat_top = (int32_t)rd32(p + 20);
+    m->lat_bottom = (int32_t)rd32(p + 24);
+    out->hfov_min = rd32(p + 28);
+    out->hfov_switch = rd32(p + 32);
+    out->default_yaw = rd32(p + 36);
+    out->default_pitch = (int32_t)rd32(p + 40);
+    out->default_hfov = rd32(p + 44);
+    if (m->projection < PSC_PROJ_EQUIRECT || m->projection > PSC_PROJ_DIAMOND)
+        return fail(err, PSC_ERR_CORRUPT, "unknown projection", off);
+    if (psc_pixfmt_bytes(m->format) == 0)
+        return fail(err, PSC_ERR_CORRUPT, "unknown map pixel format", off + 1);
+    if (m->width == 0 || m->height == 0)
+        return fail(err, PSC_ERR_CORRUPT, "map has a zero dimension", off + 2);
+    if (m->width > PSC_MAX_MAP_DIM || m->height > PSC_MAX_MAP_DIM)
+        return fail(err, PSC_ERR_TOO_LARGE, "map larger than PSC_MAX_MAP_DIM", off + 2);
+    if (out->display_width == 0 || out->display_height == 0 || out->display_width > PSC_MAX_OUT_DIM ||
+        out->display_height > PSC_MAX_OUT_DIM)
+        return fail(err, PSC_ERR_TOO_LARGE, "display size out of range", off + 6);
+    if (out->hfov_min == 0 || out->hfov_min >= PSC_BAM_180 || out->default_hfov >= PSC_BAM_180 ||
+        out->default_pitch > (int32_t)PSC_BAM_90 || out->default_pitch < -(int32_t)PSC_BAM_90)
+        return fail(err, PSC_ERR_CORRUPT, "view limits out of range", off + 28);
+    return PSC_OK;
+}
+
+static psc_status_t parse_lut(const uint8_t *base, uint32_t off, uint32_t size, psc_lut_t *lut,
+                              psc_pack_error_t *err)
+{
+    if (size < sizeof(psc_pack_lut_raw_t))
+        return fail(err, PSC_ERR_TRUNCATED, "LUT section shorter than its header", off);
+    const uint8_t *p = base + off;
+    lut->rows = rd16(p);
+    lut->cols = rd16(p + 2);
+    lut->u_max_q24 = rd32(p + 4);
+    lut->hfov_max = rd32(p + 8);
+    lut->entries = (const uint32_t *)(const void *)(p + sizeof(psc_pack_lut_raw_t));
+    psc_status_t s = psc_lut_check(lut);
+    if (s != PSC_OK)
+        return fail(err, s, "LUT dimensions or range invalid", off);
+    if ((uint64_t)size != sizeof(psc_pack_lut_raw_t) + (uint64_t)psc_lut_bytes(lut->rows, lut->cols))
+        return fail(err, PSC_ERR_CORRUPT, "LUT section size does not match rows x cols", off);
+    return PSC_OK;
+}
+
+psc_status_t psc_pack_parse(const void *buf, size_t len, psc_pack_t *out, psc_pack_error_t *err)
+{
+    const uint8_t *b = buf;
+    if (!buf || !out)
+        return fail(err, PSC_ERR_ARG, "no buffer", 0);
+    if (((uintptr_t)buf & 7u) != 0)
+        return fail(err, PSC_ERR_ARG, "buffer not aligned to 8 bytes", 0);
+    if (!host_is_little_endian())
+        return fail(err, PSC_ERR_UNSUPPORTED, "big-endian hosts cannot read packs in place", 0);
+    if (len < PSC_PACK_MAGIC_LEN)
+        return fail(err, PSC_ERR_TRUNCATED, "file shorter than the magic", 0);
+    for (unsigned i = 0; i < PSC_PACK_MAGIC_LEN; i++)
+        if (b[i] != (uint8_t)PSC_PACK_MAGIC[i])
+            return fail(err, PSC_ERR_MAGIC, "bad magic: not a .pano scene pack", 0);
+    if (len < PSC_PACK_HEADER_SIZE)
+        return fail(err, PSC_ERR_TRUNCATED, "file shorter than the header", (uint32_t)len);
+    if (rd16(b + 8) != PSC_PACK_VERSION_MAJOR)
+        return fail(err, PSC_ERR_VERSION, "unsupported major version", 8);
+    uint32_t header_size = rd32(b + 12), file_size = rd32(b + 16);
+    uint16_t nsec = rd16(b + 24);
+    if (file_size > len)
+        return fail(err, PSC_ERR_TRUNCATED, "file shorter than its recorded size", (uint32_t)len);
+    if (file_size < len)
+        return fail(err, PSC_ERR_CORRUPT, "trailing bytes after the recorded file size", file_size);
+    if (header_size < PSC_PACK_HEADER_SIZE || header_size > file_size)
+        return fail(err, PSC_ERR_CORRUPT, "header size out of range", 12);
+    if (nsec == 0 || nsec > PSC_PACK_MAX_SECTIONS)
+        return fail(err, PSC_ERR_CORRUPT, "section count out of range", 24);
+    if ((uint64_t)header_size + (uint64_t)nsec * PSC_PACK_SECTION_SIZE > file_size)
+        return fail(err, PSC_ERR_TRUNCATED, "section table extends past the end of the file", header_size);
+    if (pack_crc(b, file_size) != rd32(b + PSC_PACK_CRC_OFFSET))
+        return fail(err, PSC_ERR_CRC, "CRC-32 mismatch: the file is corrupt", PSC_PACK_CRC_OFFSET);
+
+    *out = (psc_pack_t){0};
+    out->version_minor = rd16(b + 10);
+    const uint8_t *map_pixels = NULL, *palette = NULL;
+    uint32_t map_off = 0, map_size = 0;
+    bool have_scene = false;
+    uint32_t prev_end = header_size + (uint32_t)nsec * PSC_PACK_SECTION_SIZE;
+    for (unsigned i = 0; i < nsec; i++) {
+        const uint8_t *e = b + header_size + i * PSC_PACK_SECTION_SIZE;
+        uint32_t type = rd32(e), off = rd32(e + 4), size = rd32(e + 8);
+        uint32_t eoff = header_size + i * PSC_PACK_SECTION_SIZE;
+        if (off % PSC_PACK_ALIGN != 0)
+            return fail(err, PSC_ERR_CORRUPT, "section not aligned to 64 bytes", eoff + 4);
+        if (off < prev_end || (uint64_t)off + size > file_size)
+            return fail(err, PSC_ERR_CORRUPT, "section overlaps another or lies outside the file", eoff + 4);
+        prev_end = off + size;
+        if (type == PSC_SECTION_SCENE) {
+            if (have_scene)
+                return fail(err, PSC_ERR_CORRUPT, "more than one SCEN section", eoff);
+            if (size != sizeof(psc_pack_scene_raw_t))
+                return fail(err, PSC_ERR_CORRUPT, "SCEN section has the wrong size", eoff + 8);
+            psc_status_t s = parse_scene(b + off, off, out, err);
+            if (s != PSC_OK)
+                return s;
+            have_scene = true;
+        } else if (type == PSC_SECTION_MAP0) {
+            if (map_pixels)
+                return fail(err, PSC_ERR_CORRUPT, "more than one MAP0 section", eoff);
+            map_pixels = b + off;
+            map_off = off;
+            map_size = size;
+        } else if (type == PSC_SECTION_PALETTE) {
+            if (size != 256u * 4u)
+                return fail(err, PSC_ERR_CORRUPT, "PALT section is not 256 entries", eoff + 8);
+            palette = b + off;
+        } else if (type == PSC_SECTION_LUT) {
+            if (out->lut_count >= PSC_PACK_MAX_LUTS)
+                return fail(err, PSC_ERR_CORRUPT, "too many LUT sections", eoff);
+            psc_lut_t *lut = &out->luts[out->lut_count];
+            psc_status_t s = parse_lut(b, off, size, lut, err);
+            if (s != PSC_OK)
+                return s;
+            if (out->lut_count > 0 && lut->hfov_max <= out->luts[out->lut_count - 1].hfov_max)
+                return fail(err, PSC_ERR_CORRUPT, "LUTs not in increasing hfov_max", eoff);
+            out->lut_count++;
+        } /* unknown sections: skipped, a later minor version may add them */
+    }
+    if (!have_scene)
+        return fail(err, PSC_ERR_CORRUPT, "missing SCEN section", header_size);
+    if (!map_pixels)
+        return fail(err, PSC_ERR_CORRUPT, "missing MAP0 section", header_size);
+    if (out->lut_count == 0)
+        return fail(err, PSC_ERR_CORRUPT, "missing LUT section", header_size);
+    psc_envmap_t *m = &out->map;
+    m->stride = (uint32_t)m->width * psc_pixfmt_bytes(m->format);
+    if ((uint64_t)m->stride * m->height != map_size)
+        return fail(err, PSC_ERR_CORRUPT, "MAP0 size does not match width x height x bytes per pixel", map_off);
+    m->pixels = map_pixels;
+    if (m->format == PSC_PIX_PAL8) {
+        if (!palette)
+            return fail(err, PSC_ERR_CORRUPT, "PAL8 map without a PALT section", header_size);
+        m->palette = (const uint32_t *)(const void *)palette;
+    }
+    if (psc_envmap_check(m) != PSC_OK)
+        return fail(err, PSC_ERR_CORRUPT, "map coverage invalid for its projection", 0);
+    if (out->hfov_switch == 0 || out->hfov_switch >= PSC_BAM_180)
+        return fail(err, PSC_ERR_CORRUPT, "LUT switch angle out of range", 0);
+    return PSC_OK;
+}
+
+const psc_lut_t *psc_pack_lut_for_hfov(const psc_pack_t *p, psc_bam_t hfov)
+{
+    for (unsigned i = 0; i < p->lut_count; i++)
+        if (p->luts[i].hfov_max >= hfov)
+            return &p->luts[i];
+    return p->lut_count ? &p->luts[p->lut_count - 1] : NULL;
+}

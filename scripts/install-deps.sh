@@ -1,0 +1,37 @@
+#!/bin/sh
+# Installs the Debian packages Periscope needs to build, run and test on the host.
+# Used by `make run`, `make test` and .ci/run alike, so a fresh machine needs
+# nothing else. As root it installs; with sudo it uses sudo; otherwise it
+# prints the exact apt-get line and fails.
+set -eu
+
+PACKAGES="gcc clang make pkg-config libjpeg62-turbo-dev libpng-dev zlib1g-dev libcmocka-dev"
+[ $# -gt 0 ] && PACKAGES="$PACKAGES $*"
+
+missing=""
+for p in $PACKAGES; do
+    if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+        missing="$missing $p"
+    fi
+done
+[ -z "$missing" ] && exit 0
+
+if ! command -v apt-get >/dev/null 2>&1; then
+    echo "install-deps: missing packages:$missing (and no apt-get on this machine: install them by hand)" >&2
+    exit 1
+fi
+
+if [ "$(id -u)" = 0 ]; then
+    SUDO=""
+elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
+    SUDO="sudo"
+else
+    echo "install-deps: missing packages:$missing" >&2
+    echo "install-deps: run as root:  apt-get update && apt-get install -y$missing" >&2
+    exit 1
+fi
+
+echo "install-deps: installing$missing"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends $missing
