@@ -8,7 +8,9 @@
  *      and converts the angles to a map (row, col);
  *   3. the pixels in between interpolate (row, col) linearly, the column
  *      taking the short way round the 360 degree seam;
- *   4. spans with an end inside the polar cap are computed exactly per pixel.
+ *   4. near the poles, where polar angles bend too fast for linear interpolation,
+ *      spans read the LUT at every pixel, and in the small cap where even the
+ *      LUT's cells are too coarse, pixels are computed exactly with CORDIC.
  */
 #include "psc_viewer_internal.h"
 
@@ -137,33 +139,45 @@ void psc_viewer_set_zoom(psc_viewer_t *v, psc_bam_t hfov)
     v->cached_lut = lut;
 }
 
-/* ---- frame set-up: the polar cap --------------------------------------------- */
+/* ---- frame set-up: the polar caps --------------------------------------------- */
 
 /*
  * Interpolating polar angles over a step of s radians at a distance e from a
- * pole is off by about s^2 / (8 e) (the chord bows away from the pole). The
- * cap is where that exceeds a quarter of a map pixel, for s the larger of the
- * span and the LUT cell, doubled for margin, plus s so that a span whose ends
- * are outside cannot pass over it.
+ * pole is off by about s^2 / (8 e) (the chord bows away from the pole).
+ * Returns the latitude beyond which that exceeds 1/POLE_TOLERANCE_DIV map pixel,
+ * with s added so that a step whose ends are outside cannot pass over it.
  */
-static int32_t polar_cap_lat(const psc_viewer_t *v, const psc_lut_t *lut, unsigned span)
+#define POLE_TOLERANCE_DIV 4 /* tolerance: a quarter of a map pixel */
+static int32_t polar_cap_lat(const psc_viewer_t *v, int64_t s_q24)
 {
-    int64_t s = ((int64_t)span << 33) / v->dist_q8; /* span angle, Q8.24 rad */
-    int64_t s_row = QUARTER_TURN_Q24 / (lut->rows - 1);
-    int64_t s_col = (int64_t)lut->u_max_q24 / (lut->cols - 1);
-    if (s_row > s)
-        s = s_row;
-    if (s_col > s)
-        s = s_col;
     int64_t full_turn_cols = v->addr.col_per_bam_q32; /* map columns per turn */
-    int64_t tol = QUARTER_TURN_Q24 / full_turn_cols;  /* a quarter map pixel, Q8.24 rad */
+    int64_t tol = (4 * QUARTER_TURN_Q24) / (POLE_TOLERANCE_DIV * full_turn_cols); /* Q8.24 rad */
     if (tol < 1)
         tol = 1;
-    int64_t e = (s * s) / (4 * tol) + 2 * s;
+    int64_t e = (s_q24 * s_q24) / (8 * tol) + s_q24;
     if (e >= QUARTER_TURN_Q24)
-        return 0; /* everything exact */
+        return 0; /* everything */
     int64_t cap = (e * BAM_PER_RAD) >> 24;
     return (int32_t)(PSC_BAM_90 - (uint32_t)cap);
+}
+
+/* Angle between two pixels n apart at the view's centre: 2n / dist, Q8.24 rad. */
+static int64_t pixel_step_q24(const psc_viewer_t *v, unsigned n)
+{
+    return ((int64_t)n << 33) / v->dist_q8;
+}
+
+/* The two caps: where the LUT's own cells are too coarse (exact CORDIC per
+ * pixel), and where only the span interpolation is (LUT read per pixel). */
+static void polar_caps(const psc_viewer_t *v, const psc_lut_t *lut, unsigned span, int32_t *exact, int32_t *per_pixel)
+{
+    int64_t cell = QUARTER_TURN_Q24 / (lut->rows - 1);
+    int64_t cell_u = (int64_t)lut->u_max_q24 / (lut->cols - 1);
+    if (cell_u > cell)
+        cell = cell_u;
+    int64_t one = pixel_step_q24(v, 1), s = pixel_step_q24(v, span);
+    *exact = polar_cap_lat(v, cell > one ? cell : one);
+    *per_pixel = polar_cap_lat(v, s > cell ? s : cell);
 }
 
 /* ---- LUT sampling ------------------------------------------------------------- */
@@ -231,7 +245,7 @@ static psc_angles_t lut_angles(const psc_frame_t *f, const row_setup_t *rs, unsi
 
 typedef struct {
     int32_t row, col; /* map position, Q16.16 */
-    bool polar;       /* inside the polar cap: computed exactly per pixel */
+    bool polar;       /* inside a polar cap: no span interpolation from here */
 } sample_t;
 
 static sample_t position_of(const psc_frame_t *f, psc_bam_t lon, int32_t lat)
@@ -257,23 +271,11 @@ static sample_t lut_sample(const psc_frame_t *f, const row_setup_t *rs, unsigned
 {
     psc_angles_t a = lut_angles(f, rs, x);
     int32_t abs_lat = a.lat < 0 ? -a.lat : a.lat;
-    if (abs_lat >= f->lat_cap)
+    if (abs_lat >= f->cap_exact)
         return exact_sample(f, rs, x);
-    return position_of(f, a.lon, a.lat);
-}
-
-static void put_pixel(const psc_frame_t *f, unsigned x, int32_t row, int32_t col)
-{
-    if (f->sink == PSC_SINK_TRACE) {
-        f->trace_row[x] = row;
-        f->trace_col[x] = col;
-        return;
-    }
-    uint32_t px = psc_sample_general(f->v, f->view->filter, row, col);
-    if (f->sink == PSC_SINK_RGB565)
-        ((uint16_t *)(void *)f->dst)[x] = psc_xrgb_to_rgb565(px);
-    else
-        ((uint32_t *)(void *)f->dst)[x] = px;
+    sample_t s = position_of(f, a.lon, a.lat);
+    s.polar = abs_lat >= f->cap_per_pixel;
+    return s;
 }
 
 /* ---- the fast spans: full-turn rectangular maps -------------------------------- */
@@ -394,15 +396,33 @@ static void span_dispatch(const psc_frame_t *f, unsigned x, unsigned n, int32_t 
     }
 }
 
+static void put_pixel(const psc_frame_t *f, unsigned x, int32_t row, int32_t col)
+{
+    if (f->sink == PSC_SINK_TRACE) {
+        f->trace_row[x] = row;
+        f->trace_col[x] = col;
+        return;
+    }
+    if (f->v->addr.fast) {
+        span_dispatch(f, x, 1, row, col, 0, 0);
+        return;
+    }
+    uint32_t px = psc_sample_general(f->v, f->view->filter, row, col);
+    if (f->sink == PSC_SINK_RGB565)
+        ((uint16_t *)(void *)f->dst)[x] = psc_xrgb_to_rgb565(px);
+    else
+        ((uint32_t *)(void *)f->dst)[x] = px;
+}
+
 /* ---- spans -------------------------------------------------------------------- */
 
 /* Draw pixels [x, x + n) interpolating from sample a to sample b (n >= 1). */
 static void draw_span(const psc_frame_t *f, const row_setup_t *rs, unsigned x, unsigned n, sample_t a, sample_t b)
 {
-    if (a.polar || b.polar) {
+    if (a.polar || b.polar) { /* near a pole: every pixel from the LUT (or exactly) */
         put_pixel(f, x, a.row, a.col);
         for (unsigned i = 1; i < n; i++) {
-            sample_t s = exact_sample(f, rs, x + i);
+            sample_t s = lut_sample(f, rs, x + i);
             put_pixel(f, x + i, s.row, s.col);
         }
         return;
@@ -478,7 +498,7 @@ static psc_status_t frame_begin(psc_viewer_t *v, const psc_view_t *view, psc_sin
     f->span = 1u << view->span_log2;
     f->sink = sink;
     psc_sincos((psc_bam_t)view->pitch, &f->sin_pitch, &f->cos_pitch);
-    f->lat_cap = polar_cap_lat(v, f->lut, f->span);
+    polar_caps(v, f->lut, f->span, &f->cap_exact, &f->cap_per_pixel);
     return PSC_OK;
 }
 

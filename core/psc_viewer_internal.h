@@ -24,7 +24,8 @@ typedef struct {
     const psc_view_t *view;
     const psc_lut_t *lut;
     int32_t sin_pitch, cos_pitch;  /* Q2.30 */
-    int32_t lat_cap;               /* |lat| >= lat_cap: exact per-pixel path (polar cap) */
+    int32_t cap_per_pixel;         /* |lat| >= this: LUT read at every pixel (polar cap) */
+    int32_t cap_exact;             /* |lat| >= this: exact CORDIC per pixel (inner polar cap) */
     unsigned span;                 /* N: LUT read every N pixels */
     psc_sink_t sink;
     uint8_t *dst;                  /* current output row (RGB565/XRGB8888) */
