@@ -53,9 +53,8 @@ static const int64_t cordic_atan[40] = {
     INT64_C(81)
 };
 
-/* 1/K, K = prod sqrt(1 + 2^-2i), the CORDIC gain: Q2.61 and Q2.29. */
+/* 1/K, K = prod sqrt(1 + 2^-2i), the CORDIC gain, Q2.61. */
 #define CORDIC_KINV_Q61 INT64_C(1400229935014726656)
-#define CORDIC_KINV_Q29 INT64_C(326016437)
 
 uint32_t psc_isqrt64(uint64_t v)
 {
@@ -163,9 +162,14 @@ psc_bam_t psc_atan2(int32_t y, int32_t x, uint32_t *mag)
         }
     }
     if (mag) {
-        /* X = K * |v| * 2^s; keep one extra bit, then divide out the gain. */
-        uint64_t k = (uint64_t)(X >> (s - 1u));
-        uint64_t r = (k * (uint64_t)CORDIC_KINV_Q29 + ((uint64_t)1 << 29)) >> 30;
+        /* Exact: x^2 + y^2 <= 2^63 fits, and the floor root is rounded up
+         * when (r + 1/2)^2 <= v, i.e. r^2 + r < v. */
+        uint64_t ax = x < 0 ? (uint64_t)0 - (uint64_t)(int64_t)x : (uint64_t)x;
+        uint64_t ay = y < 0 ? (uint64_t)0 - (uint64_t)(int64_t)y : (uint64_t)y;
+        uint64_t v = ax * ax + ay * ay;
+        uint64_t r = psc_isqrt64(v);
+        if (r * r + r < v)
+            r++;
         *mag = r > UINT32_MAX ? UINT32_MAX : (uint32_t)r;
     }
     return base + (psc_bam_t)(uint32_t)psc_shr_round64(z, 16);

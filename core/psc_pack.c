@@ -128,6 +128,7 @@ psc_status_t psc_pack_parse(const void *buf, size_t len, psc_pack_t *out, psc_pa
     const uint8_t *map_pixels = NULL, *palette = NULL;
     uint32_t map_off = 0, map_size = 0;
     bool have_scene = false;
+    uint32_t scene_off = 0;
     uint32_t prev_end = header_size + (uint32_t)nsec * PSC_PACK_SECTION_SIZE;
     for (unsigned i = 0; i < nsec; i++) {
         const uint8_t *e = b + header_size + i * PSC_PACK_SECTION_SIZE;
@@ -147,6 +148,7 @@ psc_status_t psc_pack_parse(const void *buf, size_t len, psc_pack_t *out, psc_pa
             if (s != PSC_OK)
                 return s;
             have_scene = true;
+            scene_off = off;
         } else if (type == PSC_SECTION_MAP0) {
             if (map_pixels)
                 return fail(err, PSC_ERR_CORRUPT, "more than one MAP0 section", eoff);
@@ -186,9 +188,9 @@ psc_status_t psc_pack_parse(const void *buf, size_t len, psc_pack_t *out, psc_pa
         m->palette = (const uint32_t *)(const void *)palette;
     }
     if (psc_envmap_check(m) != PSC_OK)
-        return fail(err, PSC_ERR_CORRUPT, "map coverage invalid for its projection", 0);
+        return fail(err, PSC_ERR_CORRUPT, "map coverage invalid for its projection", scene_off + 12);
     if (out->hfov_switch == 0 || out->hfov_switch >= PSC_BAM_180)
-        return fail(err, PSC_ERR_CORRUPT, "LUT switch angle out of range", 0);
+        return fail(err, PSC_ERR_CORRUPT, "LUT switch angle out of range", scene_off + 32);
     return PSC_OK;
 }
 

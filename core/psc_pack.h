@@ -50,7 +50,7 @@
 #define PSC_SECTION_PALETTE PSC_FOURCC('P', 'A', 'L', 'T')
 #define PSC_SECTION_LUT PSC_FOURCC('L', 'U', 'T', ' ')
 
-/** "SCEN" payload, 48 bytes, little-endian, no implicit padding. */
+/** "SCEN" payload, 52 bytes, little-endian, no implicit padding. */
 typedef struct {
     uint8_t projection;     /* psc_projection_t */
     uint8_t format;         /* psc_pixfmt_t of the map */

@@ -17,7 +17,7 @@
  *    (ties away from zero for magnitudes, up for unsigned) unless its
  *    comment says otherwise.
  *
- * core/ is freestanding C11: no OS headers, no float/double, no allocation.
+ * core/ is freestanding C11: no OS headers, no floating point, no allocation.
  */
 #ifndef PSC_TYPES_H
 #define PSC_TYPES_H

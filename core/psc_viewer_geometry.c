@@ -62,9 +62,9 @@ static int32_t profile_row_q16(const psc_envmap_t *m, int32_t lat)
     psc_sincos((psc_bam_t)m->lat_top, &st, &ct);
     psc_sincos((psc_bam_t)m->lat_bottom, &sb, &cb);
     if (m->projection == PSC_PROJ_CYLINDER) { /* |lat| <= 85 degrees: cos > 0.087 */
-        f = psc_div_round64((int64_t)s << 16, c);
-        f_top = psc_div_round64((int64_t)st << 16, ct);
-        f_bottom = psc_div_round64((int64_t)sb << 16, cb);
+        f = psc_div_round64((int64_t)s * 65536, c);
+        f_top = psc_div_round64((int64_t)st * 65536, ct);
+        f_bottom = psc_div_round64((int64_t)sb * 65536, cb);
     } else {
         f = s;
         f_top = st;

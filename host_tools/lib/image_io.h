@@ -1,0 +1,34 @@
+/*
+ * image_io.h - read JPEG/PNG images and write PNG images (libjpeg-turbo, libpng).
+ * Errors are returned as 0/-1 with a message naming the file and the problem.
+ */
+#ifndef PSC_IMAGE_IO_H
+#define PSC_IMAGE_IO_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "psc_types.h"
+
+/** An image in memory, pixels 0xFFRRGGBB, row-major, no padding. */
+typedef struct {
+    uint32_t width, height;
+    uint32_t *xrgb;   /* malloc'd; free with psc_image_free */
+} psc_image_t;
+
+/** Load a JPEG or PNG (detected from its first bytes). 0 on success; -1 and err filled on failure. */
+int psc_image_load(const char *path, psc_image_t *img, char *err, size_t errlen);
+void psc_image_free(psc_image_t *img);
+
+/** Write an 8-bit RGB PNG of img. */
+int psc_image_write_png(const char *path, const psc_image_t *img, char *err, size_t errlen);
+
+/**
+ * Write an 8-bit RGB PNG of a surface (RGB565 expanded to 8 bits by bit
+ * replication: r8 = r5 << 3 | r5 >> 2, g8 = g6 << 2 | g6 >> 4; XRGB8888 as is).
+ */
+int psc_surface_write_png(const char *path, const psc_surface_t *s, char *err, size_t errlen);
+
+/** Convert a surface to an XRGB image with the same expansion (malloc'd). 0 / -1. */
+int psc_surface_to_image(const psc_surface_t *s, psc_image_t *img);
+
+#endif

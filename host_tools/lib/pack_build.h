@@ -1,0 +1,53 @@
+/*
+ * pack_build.h - build a scene pack (format: core/psc_pack.h) from an image,
+ * and load one from a file. Host side: uses the heap and stdio freely.
+ */
+#ifndef PSC_PACK_BUILD_H
+#define PSC_PACK_BUILD_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "psc_pack.h"
+#include "image_io.h"
+
+typedef struct {
+    psc_projection_t projection;   /* default EQUIRECT */
+    psc_pixfmt_t format;           /* default RGB565 */
+    uint16_t display_width, display_height;  /* default 640x480 */
+    /* coverage; lon_span 0 and lat_top == lat_bottom == 0 mean "the projection's default" */
+    psc_bam_t lon_min, lon_span;
+    int32_t lat_top, lat_bottom;
+    double hfov_min_deg;           /* default 20 */
+    double hfov_switch_deg;        /* default 60: narrow LUT serves up to this */
+    double hfov_max_deg;           /* default 120: wide LUT serves up to this */
+    double default_yaw_deg, default_pitch_deg, default_hfov_deg;  /* default 0, 0, 90 */
+    uint16_t lut_rows, lut_cols;   /* 0 = psc_lut_default_size() */
+    void (*progress)(const char *stage, unsigned percent, void *ctx);  /* may be NULL */
+    void *progress_ctx;
+} psc_pack_options_t;
+
+void psc_pack_options_default(psc_pack_options_t *o);
+
+/**
+ * Build a pack in memory. *out is malloc'd (free()). 0 on success; -1 with err
+ * filled (naming the problem) on failure. The map is the image converted to
+ * opt->format (RGB565 rounded to nearest; PAL8 through a 256-colour palette).
+ */
+int psc_pack_build(const psc_image_t *img, const psc_pack_options_t *opt,
+                   uint8_t **out, size_t *out_len, char *err, size_t errlen);
+
+/** A pack loaded from disk: the aligned file bytes and the parsed view of them. */
+typedef struct {
+    void *buf;       /* 64-byte aligned, malloc'd */
+    size_t len;
+    psc_pack_t pack;
+} psc_pack_file_t;
+
+/** Read and parse a pack file; errors name the file and the problem. */
+int psc_pack_file_load(const char *path, psc_pack_file_t *pf, char *err, size_t errlen);
+void psc_pack_file_free(psc_pack_file_t *pf);
+
+/** Write bytes to a file (atomically: temp file then rename). 0 / -1 with err. */
+int psc_write_file(const char *path, const void *data, size_t len, char *err, size_t errlen);
+
+#endif

@@ -1,0 +1,157 @@
+/*
+ * pack_file.c - load a scene pack from disk into an aligned buffer and parse
+ * it with core's psc_pack_parse (exactly what the device does), and write
+ * files atomically.
+ */
+#include "pack_build.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static int file_fail(char *err, size_t errlen, const char *path, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+
+static int file_fail(char *err, size_t errlen, const char *path, const char *fmt, ...)
+{
+    if (err && errlen > 0) {
+        int n = snprintf(err, errlen, "%s: ", path);
+        if (n >= 0 && (size_t)n < errlen) {
+            va_list ap;
+            va_start(ap, fmt);
+            vsnprintf(err + n, errlen - (size_t)n, fmt, ap);
+            va_end(ap);
+        }
+    }
+    return -1;
+}
+
+/* Read the whole file into a fresh PSC_PACK_ALIGN-aligned buffer. */
+static int read_aligned(const char *path, void **buf, size_t *len, char *err, size_t errlen)
+{
+    *buf = NULL;
+    *len = 0;
+    int fd = open(path, O_RDONLY);
+    if (fd < 0)
+        return file_fail(err, errlen, path, "cannot open: %s", strerror(errno));
+    struct stat st;
+    if (fstat(fd, &st) != 0) {
+        int e = errno;
+        close(fd);
+        return file_fail(err, errlen, path, "cannot stat: %s", strerror(e));
+    }
+    if (!S_ISREG(st.st_mode)) {
+        close(fd);
+        return file_fail(err, errlen, path, "not a regular file");
+    }
+    /* The format records sizes in 32 bits: anything larger cannot be a pack. */
+    if (st.st_size <= 0 || (unsigned long long)st.st_size > UINT32_MAX) {
+        close(fd);
+        return file_fail(err, errlen, path, st.st_size <= 0 ? "file is empty" : "file is larger than 4 GiB");
+    }
+    size_t size = (size_t)st.st_size;
+    void *mem = NULL;
+    if (posix_memalign(&mem, PSC_PACK_ALIGN, size) != 0) {
+        close(fd);
+        return file_fail(err, errlen, path, "out of memory for %zu bytes", size);
+    }
+    size_t got = 0;
+    while (got < size) {
+        ssize_t n = read(fd, (uint8_t *)mem + got, size - got);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0) {
+            int e = errno;
+            close(fd);
+            free(mem);
+            return n == 0 ? file_fail(err, errlen, path, "file shrank while being read")
+                          : file_fail(err, errlen, path, "read error: %s", strerror(e));
+        }
+        got += (size_t)n;
+    }
+    close(fd);
+    *buf = mem;
+    *len = size;
+    return 0;
+}
+
+int psc_pack_file_load(const char *path, psc_pack_file_t *pf, char *err, size_t errlen)
+{
+    if (!path || !pf)
+        return file_fail(err, errlen, path ? path : "(pack)", "no file or no pack to load into");
+    memset(pf, 0, sizeof *pf);
+    if (read_aligned(path, &pf->buf, &pf->len, err, errlen) != 0)
+        return -1;
+    psc_pack_error_t perr = {0};
+    psc_status_t s = psc_pack_parse(pf->buf, pf->len, &pf->pack, &perr);
+    if (s != PSC_OK) {
+        file_fail(err, errlen, path, "%s (offset %u): %s", perr.what ? perr.what : "invalid pack",
+                  (unsigned)perr.offset, psc_status_str(s));
+        psc_pack_file_free(pf);
+        return -1;
+    }
+    return 0;
+}
+
+void psc_pack_file_free(psc_pack_file_t *pf)
+{
+    if (!pf)
+        return;
+    free(pf->buf);
+    memset(pf, 0, sizeof *pf);
+}
+
+static int write_all(int fd, const void *data, size_t len)
+{
+    const uint8_t *p = data;
+    while (len > 0) {
+        ssize_t n = write(fd, p, len);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            return -1;
+        p += n;
+        len -= (size_t)n;
+    }
+    return 0;
+}
+
+int psc_write_file(const char *path, const void *data, size_t len, char *err, size_t errlen)
+{
+    /* The temporary sits beside the target so that rename() stays within one
+     * file system and readers never see a half-written file. */
+    if (!path || (!data && len > 0))
+        return file_fail(err, errlen, path ? path : "(file)", "no file name or no data to write");
+    size_t plen = strlen(path);
+    char *tmp = malloc(plen + 32);
+    if (!tmp)
+        return file_fail(err, errlen, path, "out of memory");
+    int fd = -1;
+    for (unsigned attempt = 0; attempt < 100 && fd < 0; attempt++) {
+        snprintf(tmp, plen + 32, "%s.tmp%ld.%u", path, (long)getpid(), attempt);
+        fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL, 0666);
+        if (fd < 0 && errno != EEXIST)
+            break;
+    }
+    if (fd < 0) {
+        int e = errno;
+        free(tmp);
+        return file_fail(err, errlen, path, "cannot create a temporary file beside it: %s", strerror(e));
+    }
+    int rc = 0;
+    if (write_all(fd, data, len) != 0)
+        rc = file_fail(err, errlen, path, "write error: %s", strerror(errno));
+    if (close(fd) != 0 && rc == 0)
+        rc = file_fail(err, errlen, path, "write error on close: %s", strerror(errno));
+    if (rc == 0 && rename(tmp, path) != 0)
+        rc = file_fail(err, errlen, path, "cannot replace the file: %s", strerror(errno));
+    if (rc != 0)
+        unlink(tmp);
+    free(tmp);
+    return rc;
+}

@@ -1,0 +1,356 @@
+/*
+ * periscope-pack - build a scene pack (.pano) from a JPEG or PNG panorama.
+ *
+ *   periscope-pack IN.{jpg,png} -o OUT.pano --display WxH [options]
+ *
+ * Exit status: 0 done, 1 the work failed, 2 bad arguments.
+ */
+#include "angle_conv.h"
+#include "cli_parse.h"
+#include "image_io.h"
+#include "pack_build.h"
+
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define PROG "periscope-pack"
+#define EXIT_USAGE 2
+
+static void print_usage(FILE *f)
+{
+    fprintf(f,
+            "usage: " PROG " IN.{jpg,png} -o OUT.pano --display WxH [options]\n"
+            "\n"
+            "Build a Periscope scene pack: the panorama as an environment map plus the\n"
+            "look-up tables the viewer needs for one display size.\n"
+            "\n"
+            "  -o OUT.pano                 output file (written atomically)\n"
+            "  --display WxH               display the tables are built for, e.g. 640x480\n"
+            "  --format F                  map pixels: rgb565 (default), xrgb8888, pal8\n"
+            "  --projection P              equirect (default), cylinder, sine, elliptical, diamond\n"
+            "  --lon-range MIN:MAX         longitudes the image covers, degrees (partial panoramas;\n"
+            "                              default the full turn, -180:180)\n"
+            "  --lat-range TOP:BOTTOM      latitudes of the image's top and bottom edges, degrees\n"
+            "                              (default: the projection's full coverage); a partial\n"
+            "                              panorama opens looking at the middle of its ranges\n"
+            "  --hfov-min D                narrowest zoom the viewer allows (default 20)\n"
+            "  --lut-switch D              widest view served by the narrow table (default 60)\n"
+            "  --hfov-max D                widest view served by the wide table (default 120, max 170)\n"
+            "  --lut-size ROWSxCOLS        table size (default: chosen from the display width)\n"
+            "  --quiet                     no progress or summary\n"
+            "  --help                      this text\n");
+}
+
+static int usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* Report a bad command line; returns the exit status for it. */
+static int usage_error(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, PROG ": ");
+    vfprintf(stderr, fmt, ap);
+    fprintf(stderr, "\n(try " PROG " --help)\n");
+    va_end(ap);
+    return EXIT_USAGE;
+}
+
+static bool parse_format(const char *s, psc_pixfmt_t *f)
+{
+    if (strcmp(s, "rgb565") == 0)
+        *f = PSC_PIX_RGB565;
+    else if (strcmp(s, "xrgb8888") == 0)
+        *f = PSC_PIX_XRGB8888;
+    else if (strcmp(s, "pal8") == 0)
+        *f = PSC_PIX_PAL8;
+    else
+        return false;
+    return true;
+}
+
+static bool parse_projection(const char *s, psc_projection_t *p)
+{
+    for (int i = PSC_PROJ_EQUIRECT; i <= PSC_PROJ_DIAMOND; i++) {
+        if (strcmp(s, psc_projection_name((psc_projection_t)i)) == 0) {
+            *p = (psc_projection_t)i;
+            return true;
+        }
+    }
+    return false;
+}
+
+static const char *format_name(psc_pixfmt_t f)
+{
+    return f == PSC_PIX_RGB565 ? "rgb565" : f == PSC_PIX_XRGB8888 ? "xrgb8888" : f == PSC_PIX_PAL8 ? "pal8" : "?";
+}
+
+/* ---- progress on stderr -------------------------------------------------- */
+
+typedef struct {
+    bool quiet;
+    bool tty;            /* redraw one line in place */
+    const char *stage;   /* last stage shown */
+    bool line_open;      /* a tty line awaits its newline */
+} progress_t;
+
+static void progress_show(const char *stage, unsigned percent, void *ctx)
+{
+    progress_t *p = ctx;
+    if (p->quiet)
+        return;
+    if (p->tty) {
+        fprintf(stderr, "\r" PROG ": %-22s %3u%%", stage, percent);
+        p->line_open = true;
+    } else if (!p->stage || strcmp(p->stage, stage) != 0) {
+        /* Logs get one line per stage, not a line per percent. */
+        fprintf(stderr, PROG ": %s\n", stage);
+    }
+    p->stage = stage;
+}
+
+/* Close the tty line: "done" on success; on failure the line keeps the stage that failed. */
+static void progress_end(progress_t *p, bool ok)
+{
+    if (p->line_open && ok)
+        fprintf(stderr, "\r" PROG ": %-27s\n", "done");
+    else if (p->line_open)
+        fprintf(stderr, "\n");
+    p->line_open = false;
+}
+
+/* ---- summary --------------------------------------------------------------- */
+
+static void print_size(FILE *f, double bytes)
+{
+    if (bytes >= 1024.0 * 1024.0)
+        fprintf(f, "%.1f MiB", bytes / (1024.0 * 1024.0));
+    else if (bytes >= 1024.0)
+        fprintf(f, "%.1f KiB", bytes / 1024.0);
+    else
+        fprintf(f, "%.0f bytes", bytes);
+}
+
+static double lon_deg(psc_bam_t a)
+{
+    double d = psc_deg_from_bam(a);
+    return d >= 180.0 ? d - 360.0 : d;
+}
+
+static void print_summary(const char *out_path, const psc_pack_t *p, size_t len)
+{
+    const psc_envmap_t *m = &p->map;
+    fprintf(stderr, PROG ": wrote %s, %zu bytes (", out_path, len);
+    print_size(stderr, (double)len);
+    fprintf(stderr, ")\n  map      %ux%u %s, %s projection, ", (unsigned)m->width, (unsigned)m->height,
+            format_name(m->format), psc_projection_name(m->projection));
+    print_size(stderr, (double)m->stride * m->height);
+    double lon0 = lon_deg(m->lon_min), span = m->lon_span ? psc_deg_from_bam(m->lon_span) : 360.0;
+    fprintf(stderr, "\n  covers   longitude %.2f..%.2f, latitude %.2f..%.2f degrees\n", lon0, lon0 + span,
+            psc_deg_from_sbam(m->lat_top), psc_deg_from_sbam(m->lat_bottom));
+    if (m->format == PSC_PIX_PAL8)
+        fprintf(stderr, "  palette  256 entries, 1.0 KiB\n");
+    for (unsigned i = 0; i < p->lut_count; i++) {
+        const psc_lut_t *t = &p->luts[i];
+        fprintf(stderr, "  LUT %u    up to %.2f degrees, %ux%u entries, ", i + 1, psc_deg_from_bam(t->hfov_max),
+                (unsigned)t->rows, (unsigned)t->cols);
+        print_size(stderr, (double)(sizeof(psc_pack_lut_raw_t) + psc_lut_bytes(t->rows, t->cols)));
+        fprintf(stderr, "\n");
+    }
+    fprintf(stderr, "  display  %ux%u, zoom %.1f..%.1f degrees, default view yaw %.1f pitch %.1f hfov %.1f\n",
+            (unsigned)p->display_width, (unsigned)p->display_height, psc_deg_from_bam(p->hfov_min),
+            psc_deg_from_bam(p->luts[p->lut_count - 1].hfov_max), psc_deg_from_bam(p->default_yaw),
+            psc_deg_from_sbam(p->default_pitch), psc_deg_from_bam(p->default_hfov));
+}
+
+/* ---- arguments --------------------------------------------------------------- */
+
+typedef struct {
+    const char *in, *out;
+    bool have_display, quiet;
+    psc_pack_options_t opt;
+} args_t;
+
+/* Parse a degree value for option name into *deg. */
+static int take_degrees(const char *name, const char *value, double *deg)
+{
+    if (psc_cli_parse_double(value, deg) != 0)
+        return usage_error("%s needs a number of degrees", name);
+    return 0;
+}
+
+static int parse_lon_range(const char *v, psc_pack_options_t *o)
+{
+    double lo, hi;
+    if (psc_cli_parse_pair(v, &lo, &hi) != 0 || !(hi > lo) || hi - lo > 360.0)
+        return usage_error("--lon-range '%s': expected MIN:MAX in degrees with MIN < MAX and MAX - MIN <= 360", v);
+    o->lon_min = psc_bam_from_deg(lo);
+    o->lon_span = psc_bam_from_deg(hi - lo); /* exactly 360 wraps to 0: the full turn */
+    /* lon_min and lon_span both 0 mean "the projection's default" (left edge
+     * at -180), so a full turn starting at exactly 0 cannot be said; one unit
+     * (8e-8 degrees) off is far below any map's pixel. */
+    if (o->lon_min == 0 && o->lon_span == 0)
+        o->lon_min = 1;
+    /* A partial panorama opens looking at the middle of what it shows. */
+    if (hi - lo < 360.0)
+        o->default_yaw_deg = (lo + hi) / 2.0;
+    return 0;
+}
+
+static int parse_lat_range(const char *v, psc_pack_options_t *o)
+{
+    double top, bottom;
+    if (psc_cli_parse_pair(v, &top, &bottom) != 0 || !(top > bottom) || top > 90.0 || bottom < -90.0)
+        return usage_error("--lat-range '%s': expected TOP:BOTTOM in degrees with 90 >= TOP > BOTTOM >= -90", v);
+    o->lat_top = psc_sbam_from_deg(top);
+    o->lat_bottom = psc_sbam_from_deg(bottom);
+    o->default_pitch_deg = (top + bottom) / 2.0;
+    return 0;
+}
+
+static int parse_args(int argc, char **argv, args_t *a)
+{
+    psc_cli_t c = {argc, argv, 1};
+    while (c.index < argc) {
+        const char *arg = argv[c.index], *v = NULL;
+        int r;
+        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+            print_usage(stdout);
+            exit(0);
+        }
+        if (psc_cli_take_flag(&c, "--quiet")) {
+            a->quiet = true;
+            continue;
+        }
+        static const char *const valued[] = {"-o", "--display", "--format", "--projection", "--lon-range",
+                                             "--lat-range", "--hfov-min", "--lut-switch", "--hfov-max",
+                                             "--lut-size"};
+        const char *name = NULL;
+        for (size_t i = 0; i < sizeof valued / sizeof valued[0] && !name; i++) {
+            r = psc_cli_take_value(&c, valued[i], &v);
+            if (r < 0)
+                return usage_error("option %s needs a value", valued[i]);
+            if (r > 0)
+                name = valued[i];
+        }
+        if (!name) {
+            if (arg[0] == '-' && arg[1] != '\0')
+                return usage_error("unknown option %s", arg);
+            if (a->in)
+                return usage_error("more than one input image given (%s)", arg);
+            a->in = arg;
+            c.index++;
+            continue;
+        }
+        psc_pack_options_t *o = &a->opt;
+        int rc = 0;
+        if (strcmp(name, "-o") == 0) {
+            a->out = v;
+        } else if (strcmp(name, "--display") == 0) {
+            if (psc_cli_parse_size(v, PSC_MAX_OUT_DIM, &o->display_width, &o->display_height) != 0)
+                return usage_error("--display '%s': expected WxH, each 1..4096", v);
+            a->have_display = true;
+        } else if (strcmp(name, "--format") == 0) {
+            if (!parse_format(v, &o->format))
+                return usage_error("--format '%s': expected rgb565, xrgb8888 or pal8", v);
+        } else if (strcmp(name, "--projection") == 0) {
+            if (!parse_projection(v, &o->projection))
+                return usage_error("--projection '%s': expected equirect, cylinder, sine, elliptical or diamond", v);
+        } else if (strcmp(name, "--lon-range") == 0) {
+            rc = parse_lon_range(v, o);
+        } else if (strcmp(name, "--lat-range") == 0) {
+            rc = parse_lat_range(v, o);
+        } else if (strcmp(name, "--hfov-min") == 0) {
+            rc = take_degrees(name, v, &o->hfov_min_deg);
+        } else if (strcmp(name, "--lut-switch") == 0) {
+            rc = take_degrees(name, v, &o->hfov_switch_deg);
+        } else if (strcmp(name, "--hfov-max") == 0) {
+            rc = take_degrees(name, v, &o->hfov_max_deg);
+        } else if (strcmp(name, "--lut-size") == 0) {
+            if (psc_cli_parse_size(v, PSC_MAX_LUT_DIM, &o->lut_rows, &o->lut_cols) != 0 || o->lut_rows < 2 ||
+                o->lut_cols < 2)
+                return usage_error("--lut-size '%s': expected ROWSxCOLS, each 2..2048", v);
+        }
+        if (rc != 0)
+            return rc;
+    }
+    if (!a->in)
+        return usage_error("%s", "no input image given");
+    if (!a->out)
+        return usage_error("%s", "no output given (-o OUT.pano)");
+    if (!a->have_display)
+        return usage_error("%s", "no display size given (--display WxH)");
+    if (strcmp(a->in, a->out) == 0)
+        return usage_error("the output %s would overwrite the input", a->out);
+    /* The view limits are checked together here so the message can name options. */
+    const psc_pack_options_t *o = &a->opt;
+    if (!(o->hfov_min_deg > 0.0 && o->hfov_min_deg <= o->hfov_switch_deg &&
+          o->hfov_switch_deg <= o->hfov_max_deg && o->hfov_max_deg <= 170.0))
+        return usage_error("%s", "fields of view must satisfy 0 < --hfov-min <= --lut-switch <= --hfov-max <= 170");
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    args_t a = {0};
+    psc_pack_options_default(&a.opt);
+    int rc = parse_args(argc, argv, &a);
+    if (rc != 0)
+        return rc;
+    /* The default view must lie inside the zoom range the options allow. */
+    if (a.opt.default_hfov_deg > a.opt.hfov_max_deg)
+        a.opt.default_hfov_deg = a.opt.hfov_max_deg;
+    if (a.opt.default_hfov_deg < a.opt.hfov_min_deg)
+        a.opt.default_hfov_deg = a.opt.hfov_min_deg;
+
+    progress_t prog = {.quiet = a.quiet, .tty = isatty(STDERR_FILENO) != 0};
+    a.opt.progress = progress_show;
+    a.opt.progress_ctx = &prog;
+
+    char err[512];
+    psc_image_t img;
+    progress_show("loading image", 0, &prog);
+    if (psc_image_load(a.in, &img, err, sizeof err) != 0) {
+        progress_end(&prog, false);
+        fprintf(stderr, PROG ": %s\n", err);
+        return 1;
+    }
+    uint8_t *pack = NULL;
+    size_t len = 0;
+    rc = psc_pack_build(&img, &a.opt, &pack, &len, err, sizeof err);
+    psc_image_free(&img);
+    if (rc != 0) {
+        progress_end(&prog, false);
+        fprintf(stderr, PROG ": %s: %s\n", a.in, err);
+        return 1;
+    }
+
+    /* Read the result back exactly as the device will: a pack this tool
+     * cannot parse must never reach a device. */
+    progress_show("verifying", 0, &prog);
+    psc_pack_t parsed;
+    psc_pack_error_t perr = {0};
+    psc_status_t s = psc_pack_parse(pack, len, &parsed, &perr);
+    if (s != PSC_OK) {
+        progress_end(&prog, false);
+        fprintf(stderr, PROG ": internal error: the pack built from %s does not parse: %s (offset %u): %s\n", a.in,
+                perr.what ? perr.what : "?", (unsigned)perr.offset, psc_status_str(s));
+        free(pack);
+        return 1;
+    }
+    progress_show("writing", 0, &prog);
+    rc = psc_write_file(a.out, pack, len, err, sizeof err);
+    progress_end(&prog, rc == 0);
+    if (rc != 0) {
+        fprintf(stderr, PROG ": %s\n", err);
+        free(pack);
+        return 1;
+    }
+    if (!a.quiet)
+        print_summary(a.out, &parsed, len);
+    free(pack);
+    return 0;
+}

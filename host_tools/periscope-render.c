@@ -1,0 +1,268 @@
+/*
+ * periscope-render - render one view of a scene pack to a PNG through core's
+ * psc_viewer_render, the same code path the device runs.
+ *
+ *   periscope-render PACK [--yaw Y] [--pitch P] [--hfov F] -o view.png [options]
+ *
+ * Exit status: 0 done, 1 the work failed, 2 bad arguments.
+ */
+#include "angle_conv.h"
+#include "cli_parse.h"
+#include "image_io.h"
+#include "pack_build.h"
+#include "psc_viewer.h"
+
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define PROG "periscope-render"
+#define EXIT_USAGE 2
+#define MAX_REPEAT 100000ul
+
+static void print_usage(FILE *f)
+{
+    fprintf(f,
+            "usage: " PROG " PACK.pano -o view.png [options]\n"
+            "\n"
+            "Render a perspective view of a scene pack with the device's renderer.\n"
+            "\n"
+            "  --yaw Y             degrees, > 0 turns right (default: the pack's default view)\n"
+            "  --pitch P           degrees, -90..90, > 0 looks up (default: the pack's)\n"
+            "  --hfov F            horizontal field of view in degrees (default: the pack's);\n"
+            "                      brought inside the pack's zoom range if needed\n"
+            "  --filter F          nearest or bilinear (default bilinear)\n"
+            "  --span N            read the LUT every N pixels: 1, 2, 4 (default), 8 or 16\n"
+            "  --repeat K          render K times and report the time per frame (default 1)\n"
+            "  --size WxH          output size (default: the pack's display size)\n"
+            "  --format F          output surface: rgb565 (default) or xrgb8888\n"
+            "  -o view.png         output PNG\n"
+            "  --help              this text\n");
+}
+
+static int usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* Report a bad command line; returns the exit status for it. */
+static int usage_error(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, PROG ": ");
+    vfprintf(stderr, fmt, ap);
+    fprintf(stderr, "\n(try " PROG " --help)\n");
+    va_end(ap);
+    return EXIT_USAGE;
+}
+
+typedef struct {
+    const char *pack, *out;
+    bool have_yaw, have_pitch, have_hfov, have_size;
+    double yaw, pitch, hfov;
+    psc_filter_t filter;
+    uint8_t span_log2;
+    unsigned long repeat;
+    uint16_t width, height;
+    psc_pixfmt_t format;
+} args_t;
+
+static int span_to_log2(const char *v, uint8_t *log2)
+{
+    unsigned long n;
+    if (psc_cli_parse_uint(v, 1, 16, &n) != 0 || (n & (n - 1)) != 0)
+        return -1;
+    uint8_t l = 0;
+    while ((1ul << l) < n)
+        l++;
+    *log2 = l;
+    return 0;
+}
+
+static int parse_value(args_t *a, const char *name, const char *v)
+{
+    if (strcmp(name, "-o") == 0) {
+        a->out = v;
+    } else if (strcmp(name, "--yaw") == 0) {
+        if (psc_cli_parse_double(v, &a->yaw) != 0)
+            return usage_error("--yaw '%s': expected degrees", v);
+        a->have_yaw = true;
+    } else if (strcmp(name, "--pitch") == 0) {
+        if (psc_cli_parse_double(v, &a->pitch) != 0 || a->pitch < -90.0 || a->pitch > 90.0)
+            return usage_error("--pitch '%s': expected degrees in -90..90", v);
+        a->have_pitch = true;
+    } else if (strcmp(name, "--hfov") == 0) {
+        if (psc_cli_parse_double(v, &a->hfov) != 0 || !(a->hfov > 0.0 && a->hfov < 180.0))
+            return usage_error("--hfov '%s': expected degrees between 0 and 180", v);
+        a->have_hfov = true;
+    } else if (strcmp(name, "--filter") == 0) {
+        if (strcmp(v, "nearest") == 0)
+            a->filter = PSC_FILTER_NEAREST;
+        else if (strcmp(v, "bilinear") == 0)
+            a->filter = PSC_FILTER_BILINEAR;
+        else
+            return usage_error("--filter '%s': expected nearest or bilinear", v);
+    } else if (strcmp(name, "--span") == 0) {
+        if (span_to_log2(v, &a->span_log2) != 0 || a->span_log2 > PSC_SPAN_LOG2_MAX)
+            return usage_error("--span '%s': expected 1, 2, 4, 8 or 16", v);
+    } else if (strcmp(name, "--repeat") == 0) {
+        if (psc_cli_parse_uint(v, 1, MAX_REPEAT, &a->repeat) != 0)
+            return usage_error("--repeat '%s': expected a count of 1..%lu", v, MAX_REPEAT);
+    } else if (strcmp(name, "--size") == 0) {
+        if (psc_cli_parse_size(v, PSC_MAX_OUT_DIM, &a->width, &a->height) != 0)
+            return usage_error("--size '%s': expected WxH, each 1..%u", v, (unsigned)PSC_MAX_OUT_DIM);
+        a->have_size = true;
+    } else if (strcmp(name, "--format") == 0) {
+        if (strcmp(v, "rgb565") == 0)
+            a->format = PSC_PIX_RGB565;
+        else if (strcmp(v, "xrgb8888") == 0)
+            a->format = PSC_PIX_XRGB8888;
+        else
+            return usage_error("--format '%s': expected rgb565 or xrgb8888", v);
+    }
+    return 0;
+}
+
+static int parse_args(int argc, char **argv, args_t *a)
+{
+    static const char *const valued[] = {"-o",    "--yaw",    "--pitch",  "--hfov", "--filter",
+                                         "--span", "--repeat", "--size", "--format"};
+    psc_cli_t c = {argc, argv, 1};
+    while (c.index < argc) {
+        const char *arg = argv[c.index], *v = NULL, *name = NULL;
+        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+            print_usage(stdout);
+            exit(0);
+        }
+        for (size_t i = 0; i < sizeof valued / sizeof valued[0] && !name; i++) {
+            int r = psc_cli_take_value(&c, valued[i], &v);
+            if (r < 0)
+                return usage_error("option %s needs a value", valued[i]);
+            if (r > 0)
+                name = valued[i];
+        }
+        if (name) {
+            int rc = parse_value(a, name, v);
+            if (rc != 0)
+                return rc;
+            continue;
+        }
+        if (arg[0] == '-' && arg[1] != '\0')
+            return usage_error("unknown option %s", arg);
+        if (a->pack)
+            return usage_error("more than one pack given (%s)", arg);
+        a->pack = arg;
+        c.index++;
+    }
+    if (!a->pack)
+        return usage_error("no pack given");
+    if (!a->out)
+        return usage_error("no output given (-o view.png)");
+    return 0;
+}
+
+static double seconds_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* Aligned, zeroed memory for the workspace and the frame. */
+static void *alloc_aligned(size_t size)
+{
+    void *p = NULL;
+    if (size == 0 || posix_memalign(&p, 64, size) != 0)
+        return NULL;
+    memset(p, 0, size);
+    return p;
+}
+
+static void note_clamped(const psc_view_t *want, const psc_view_t *got)
+{
+    if (want->yaw == got->yaw && want->pitch == got->pitch && want->hfov == got->hfov)
+        return;
+    fprintf(stderr, PROG ": note: view brought inside the pack's limits: yaw %.3f, pitch %.3f, hfov %.3f degrees\n",
+            psc_deg_from_bam(got->yaw), psc_deg_from_sbam(got->pitch), psc_deg_from_bam(got->hfov));
+}
+
+static int render_frames(psc_viewer_t *viewer, const psc_view_t *view, const psc_surface_t *out,
+                         unsigned long repeat)
+{
+    double best = 0.0, total = 0.0;
+    for (unsigned long k = 0; k < repeat; k++) {
+        double t0 = seconds_now();
+        psc_status_t s = psc_viewer_render(viewer, view, out);
+        double dt = seconds_now() - t0;
+        if (s != PSC_OK) {
+            fprintf(stderr, PROG ": rendering failed: %s\n", psc_status_str(s));
+            return -1;
+        }
+        total += dt;
+        if (k == 0 || dt < best)
+            best = dt;
+    }
+    if (repeat > 1) {
+        double mean = total / (double)repeat, mpix = (double)out->width * out->height / 1e6;
+        fprintf(stderr, PROG ": %lu frames of %ux%u: %.3f ms per frame (best %.3f ms), %.1f Mpixel/s\n", repeat,
+                (unsigned)out->width, (unsigned)out->height, mean * 1e3, best * 1e3, mpix / mean);
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    args_t a = {.filter = PSC_FILTER_BILINEAR, .span_log2 = PSC_SPAN_LOG2_DEFAULT, .repeat = 1,
+                .format = PSC_PIX_RGB565};
+    int rc = parse_args(argc, argv, &a);
+    if (rc != 0)
+        return rc;
+
+    char err[512];
+    psc_pack_file_t pf;
+    if (psc_pack_file_load(a.pack, &pf, err, sizeof err) != 0) {
+        fprintf(stderr, PROG ": %s\n", err);
+        return 1;
+    }
+    const psc_pack_t *pack = &pf.pack;
+    uint16_t w = a.have_size ? a.width : pack->display_width;
+    uint16_t h = a.have_size ? a.height : pack->display_height;
+
+    size_t ws_size = psc_viewer_workspace_size(w, h, &pack->map);
+    uint32_t bpp = psc_pixfmt_bytes(a.format);
+    psc_surface_t out = {.width = w, .height = h, .stride = (uint32_t)w * bpp, .format = a.format};
+    void *ws = alloc_aligned(ws_size);
+    out.pixels = alloc_aligned((size_t)out.stride * h);
+    rc = 1;
+    psc_viewer_t viewer;
+    psc_status_t s;
+    if (!ws || !out.pixels) {
+        fprintf(stderr, PROG ": out of memory for a %ux%u view\n", (unsigned)w, (unsigned)h);
+    } else if ((s = psc_viewer_init(&viewer, &pack->map, pack->luts, pack->lut_count, w, h, ws, ws_size)) !=
+               PSC_OK) {
+        fprintf(stderr, PROG ": %s: cannot set up a %ux%u viewer: %s\n", a.pack, (unsigned)w, (unsigned)h,
+                psc_status_str(s));
+    } else {
+        psc_view_t want = {
+            .yaw = a.have_yaw ? psc_bam_from_deg(a.yaw) : pack->default_yaw,
+            .pitch = a.have_pitch ? psc_sbam_from_deg(a.pitch) : pack->default_pitch,
+            .hfov = a.have_hfov ? psc_bam_from_deg(a.hfov) : pack->default_hfov,
+            .filter = a.filter,
+            .span_log2 = a.span_log2,
+        };
+        psc_view_t view = want;
+        psc_viewer_clamp(&viewer, &view, pack->hfov_min);
+        note_clamped(&want, &view);
+        if (render_frames(&viewer, &view, &out, a.repeat) == 0) {
+            if (psc_surface_write_png(a.out, &out, err, sizeof err) != 0)
+                fprintf(stderr, PROG ": %s\n", err);
+            else
+                rc = 0;
+        }
+    }
+    free(out.pixels);
+    free(ws);
+    psc_pack_file_free(&pf);
+    return rc;
+}
