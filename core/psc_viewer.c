@@ -487,7 +487,7 @@ static psc_status_t frame_begin(psc_viewer_t *v, const psc_view_t *view, psc_sin
 {
     if (!v || !view || view->span_log2 > PSC_SPAN_LOG2_MAX ||
         (view->filter != PSC_FILTER_NEAREST && view->filter != PSC_FILTER_BILINEAR) ||
-        view->pitch > (int32_t)PSC_BAM_90 || view->pitch < -(int32_t)PSC_BAM_90 || view->hfov == 0 ||
+        view->pitch > (int32_t)PSC_BAM_90 || view->pitch < -(int32_t)PSC_BAM_90 || view->hfov < PSC_HFOV_MIN ||
         view->hfov > psc_viewer_hfov_max(v))
         return PSC_ERR_ARG;
     psc_viewer_set_zoom(v, view->hfov);

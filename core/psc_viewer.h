@@ -35,6 +35,9 @@ typedef enum {
 #define PSC_SPAN_LOG2_MAX 4u      /* N up to 16 */
 #define PSC_SPAN_LOG2_DEFAULT 2u  /* N = 4, the seed's preferred span */
 #define PSC_VIEWER_MAX_LUTS 4u
+/* Narrowest field of view rendered (1 degree): keeps the viewing-plane
+ * distance below 2^27 half-pixels (Q8) for outputs up to PSC_MAX_OUT_DIM. */
+#define PSC_HFOV_MIN PSC_BAM_FROM_MDEG(1000)
 
 /** One view: where the camera looks and how to draw it. */
 typedef struct {
@@ -100,12 +103,16 @@ psc_bam_t psc_viewer_hfov_max(const psc_viewer_t *v);
 
 /**
  * Bring a requested view inside what the map and tables can show: hfov into
- * [hfov_min, hfov_max], pitch into [-90, 90] degrees, and for partial
+ * [max(hfov_min, PSC_HFOV_MIN), hfov_max], pitch into [-90, 90] degrees, and for partial
  * panoramas yaw and pitch so that no output pixel looks outside the map.
  */
 void psc_viewer_clamp(const psc_viewer_t *v, psc_view_t *view, psc_bam_t hfov_min);
 
-/** Render a view into out (RGB565 or XRGB8888, out_width x out_height). */
+/**
+ * Render a view into out (RGB565 or XRGB8888, out_width x out_height).
+ * PSC_ERR_ARG if the view is outside its ranges (pitch beyond +-90 degrees,
+ * hfov below PSC_HFOV_MIN or above psc_viewer_hfov_max, span_log2 > 4).
+ */
 psc_status_t psc_viewer_render(psc_viewer_t *v, const psc_view_t *view, const psc_surface_t *out);
 
 /**

@@ -121,6 +121,8 @@ static bool fit_yaw(const psc_viewer_t *v, psc_view_t *view)
 void psc_viewer_clamp(const psc_viewer_t *v, psc_view_t *view, psc_bam_t hfov_min)
 {
     psc_bam_t hmax = psc_viewer_hfov_max(v);
+    if (hfov_min < PSC_HFOV_MIN)
+        hfov_min = PSC_HFOV_MIN;
     if (hfov_min > hmax)
         hfov_min = hmax;
     if (view->hfov > hmax)

@@ -50,12 +50,13 @@ void psc_lut_default_size(uint16_t display_w, uint16_t display_h, double hfov_ma
 {
     (void)display_h;
     (void)hfov_max_deg;
-    /* About one LUT column per 3 output pixels across the half-width, and
-     * enough rows over 90 degrees that blending two rows stays far below a
-     * map pixel (measured in tests/test_accuracy.c). */
+    /* About one LUT column per 3 output pixels across the half-width, but
+     * at least 128 so that the table's own interpolation error stays far
+     * below a pixel of a 4096-wide map whatever the display, and enough rows
+     * over 90 degrees for the same (measured in tests/test_accuracy.c). */
     unsigned c = display_w / 6u + 1u;
-    if (c < 64u)
-        c = 64u;
+    if (c < 128u)
+        c = 128u;
     if (c > 512u)
         c = 512u;
     *cols = (uint16_t)c;
