@@ -1,0 +1,513 @@
+/*
+ * board_config.c - parse boards/<name>/board.conf into psc_board_config_t.
+ *
+ * Table-driven: every key has a type, a field, a range and a help text, so a
+ * new setting is one table line and every setting reports mistakes the same
+ * way ("board.conf:7: frame_rate must be a number from 1 to 240, got 'fast'").
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "board_config.h"
+#include "psc_hal_parse.h"
+
+typedef enum {
+    KEY_BACKEND,        /* a backend in the registry */
+    KEY_BACKEND_NONE,   /* a backend, or "none" */
+    KEY_SIZE,           /* WxH -> two uint16_t */
+    KEY_FORMAT,         /* rgb565 | xrgb8888 -> psc_pixfmt_t */
+    KEY_FILTER,         /* nearest | bilinear -> psc_filter_t */
+    KEY_QUALITY,        /* adaptive | fixed -> bool */
+    KEY_U32,            /* whole number -> uint32_t */
+    KEY_U8,             /* whole number -> uint8_t */
+    KEY_MILLI,          /* decimal x 1000 -> int32_t */
+    KEY_MILLI_U32,      /* decimal x 1000 -> uint32_t */
+    KEY_BOOL,           /* yes/no/true/false/on/off/1/0 -> bool */
+    KEY_PATH,           /* text -> char[PSC_BOARD_PATH_MAX] */
+    KEY_SCENE           /* appended to scenes[] */
+} key_type_t;
+
+typedef struct {
+    const char *key;
+    key_type_t type;
+    size_t offset;
+    int64_t min, max;   /* for numbers, in stored units */
+    bool required;
+    size_t offset2;     /* KEY_SIZE: the height field (offset is the width) */
+} key_spec_t;
+
+#define F(field) offsetof(psc_board_config_t, field)
+
+/* One table line per key; KEY_WH for "WxH" keys that fill two fields. */
+#define KEY(name, type, field, min, max, req) { name, type, F(field), min, max, req, 0 }
+#define KEY_WH(name, wfield, hfield, min, max, req) { name, KEY_SIZE, F(wfield), min, max, req, F(hfield) }
+
+static const key_spec_t key_table[] = {
+    KEY("display", KEY_BACKEND, display_backend, 0, 0, true),
+    KEY_WH("display_size", display_width, display_height, 16, PSC_MAX_OUT_DIM, true),
+    KEY("display_format", KEY_FORMAT, display_format, 0, 0, false),
+    KEY("display_buffers", KEY_U8, display_buffers, 1, 3, false),
+    KEY("frame_rate", KEY_MILLI_U32, frame_rate_mhz, 1000, 240000, false),
+    KEY("input", KEY_BACKEND, input_backend, 0, 0, true),
+    KEY("tour", KEY_PATH, tour, 0, 0, false),
+    KEY("long_press_ms", KEY_U32, long_press_ms, 50, 10000, false),
+    KEY("clock", KEY_BACKEND, clock_backend, 0, 0, true),
+    KEY("camera", KEY_BACKEND_NONE, camera_backend, 0, 0, false),
+    KEY_WH("camera_size", camera_width, camera_height, 2, PSC_MAX_MAP_DIM, false),
+    KEY("camera_rate", KEY_MILLI_U32, camera_rate_mhz, 1000, 240000, false),
+    KEY("camera_buffers", KEY_U8, camera_buffers, 2, 8, false),
+    KEY("watchdog", KEY_BACKEND_NONE, watchdog_backend, 0, 0, false),
+    KEY("watchdog_timeout_ms", KEY_U32, watchdog_timeout_ms, 100, 600000, false),
+    KEY("frames_every", KEY_U32, frames_every, 0, 1000000, false),
+    KEY("scene", KEY_SCENE, scenes, 0, 0, false),
+    KEY("yaw_rate_max", KEY_MILLI, yaw_rate_max_mdeg, 1000, 720000, false),
+    KEY("pitch_rate_max", KEY_MILLI, pitch_rate_max_mdeg, 1000, 720000, false),
+    KEY("zoom_rate_max", KEY_MILLI, zoom_rate_max_mdeg, 1000, 720000, false),
+    KEY("accel", KEY_MILLI, accel_mdeg, 1000, 100000000, false),
+    KEY("inertia_half_life_ms", KEY_U32, inertia_half_life_ms, 1, 10000, false),
+    KEY("home_half_life_ms", KEY_U32, home_half_life_ms, 1, 10000, false),
+    KEY("pitch_min", KEY_MILLI, pitch_min_mdeg, -90000, 90000, false),
+    KEY("pitch_max", KEY_MILLI, pitch_max_mdeg, -90000, 90000, false),
+    KEY("hfov_min", KEY_MILLI, hfov_min_mdeg, 0, 170000, false),
+    KEY("hfov_max", KEY_MILLI, hfov_max_mdeg, 0, 170000, false),
+    KEY("pan_follows_zoom", KEY_BOOL, pan_follows_zoom, 0, 0, false),
+    KEY("quality", KEY_QUALITY, quality_adaptive, 0, 0, false),
+    KEY("quality_fast_speed", KEY_MILLI_U32, quality_fast_speed, 1, 100000, false),
+    KEY("quality_settle_frames", KEY_U32, quality_settle_frames, 1, 10000, false),
+    KEY("quality_fast_span_log2", KEY_U8, quality_fast_span_log2, 0, PSC_SPAN_LOG2_MAX, false),
+    KEY("quality_fast_filter", KEY_FILTER, quality_fast_filter, 0, 0, false),
+    KEY("quality_span_log2", KEY_U8, quality_span_log2, 0, PSC_SPAN_LOG2_MAX, false),
+};
+
+#define KEY_COUNT (sizeof key_table / sizeof key_table[0])
+
+static const char *const dev_prefix[PSC_BOARD_DEV_COUNT] = {
+    "display.", "input.", "camera.", "clock.", "watchdog.",
+};
+
+typedef struct {
+    psc_board_config_t *cfg;
+    const char *file;
+    unsigned line;
+    unsigned first_line[KEY_COUNT];   /* 0 = not seen yet */
+    char *err;
+    size_t errlen;
+} board_parser_t;
+
+static int board_fail(board_parser_t *p, const char *fmt, const char *a, const char *b)
+{
+    char msg[256];
+
+    snprintf(msg, sizeof msg, fmt, a, b);
+    psc_hal_error_set(p->err, p->errlen, "%s:%u: %s", p->file, p->line, msg);
+    return -1;
+}
+
+void psc_board_config_defaults(psc_board_config_t *cfg)
+{
+    memset(cfg, 0, sizeof *cfg);
+    cfg->display_format = PSC_PIX_RGB565;
+    cfg->display_buffers = 2;
+    cfg->frame_rate_mhz = 30000;
+    cfg->long_press_ms = 800;
+    strcpy(cfg->camera_backend, "none");
+    cfg->camera_width = 1024;
+    cfg->camera_height = 512;
+    cfg->camera_rate_mhz = 15000;
+    cfg->camera_buffers = 3;
+    strcpy(cfg->watchdog_backend, "none");
+    cfg->watchdog_timeout_ms = 2000;
+    cfg->yaw_rate_max_mdeg = 90000;
+    cfg->pitch_rate_max_mdeg = 60000;
+    cfg->zoom_rate_max_mdeg = 45000;
+    cfg->accel_mdeg = 360000;
+    cfg->inertia_half_life_ms = 120;
+    cfg->home_half_life_ms = 150;
+    cfg->pitch_min_mdeg = -90000;
+    cfg->pitch_max_mdeg = 90000;
+    cfg->pan_follows_zoom = true;
+    cfg->quality_adaptive = true;
+    cfg->quality_fast_speed = 500;
+    cfg->quality_settle_frames = 8;
+    cfg->quality_fast_span_log2 = 3;
+    cfg->quality_fast_filter = PSC_FILTER_NEAREST;
+    cfg->quality_span_log2 = PSC_SPAN_LOG2_DEFAULT;
+}
+
+static int board_set_string(board_parser_t *p, char *dst, size_t cap, const char *key, const char *value)
+{
+    if (strlen(value) >= cap) {
+        char n[16];
+        snprintf(n, sizeof n, "%u", (unsigned)(cap - 1u));
+        return board_fail(p, "%s is longer than %s characters", key, n);
+    }
+    strcpy(dst, value);
+    return 0;
+}
+
+/* "640x480": two whole numbers joined by 'x'. */
+static int board_parse_size(board_parser_t *p, const key_spec_t *k, const char *value, uint16_t *wh)
+{
+    char buf[32], *x;
+    int64_t w, h;
+
+    if (strlen(value) >= sizeof buf)
+        return board_fail(p, "%s must be WIDTHxHEIGHT like 640x480, got '%s'", k->key, value);
+    strcpy(buf, value);
+    x = strchr(buf, 'x');
+    if (x == NULL)
+        return board_fail(p, "%s must be WIDTHxHEIGHT like 640x480, got '%s'", k->key, value);
+    *x = '\0';
+    if (psc_hal_parse_decimal(buf, 0, &w) != 0 || psc_hal_parse_decimal(x + 1, 0, &h) != 0 ||
+        buf[0] == '+' || buf[0] == '-' || x[1] == '+' || x[1] == '-')
+        return board_fail(p, "%s must be WIDTHxHEIGHT like 640x480, got '%s'", k->key, value);
+    if (w < k->min || h < k->min || w > k->max || h > k->max) {
+        char range[48];
+        snprintf(range, sizeof range, "%ux%u..%ux%u", (unsigned)k->min, (unsigned)k->min,
+                 (unsigned)k->max, (unsigned)k->max);
+        return board_fail(p, "%s must be within %s", k->key, range);
+    }
+    wh[0] = (uint16_t)w;
+    wh[1] = (uint16_t)h;
+    return 0;
+}
+
+/* A stored x1000 value as people write it: 90000 -> "90", 500 -> "0.5". */
+static void board_format_milli(char *buf, size_t len, int64_t v)
+{
+    int64_t a = v < 0 ? -v : v;
+    int n = snprintf(buf, len, "%s%lld.%03lld", v < 0 ? "-" : "", (long long)(a / 1000), (long long)(a % 1000));
+
+    while (n > 0 && (size_t)n < len && (buf[n - 1] == '0' || buf[n - 1] == '.')) {
+        bool dot = buf[n - 1] == '.';
+        buf[--n] = '\0';
+        if (dot)
+            break;
+    }
+}
+
+/* Numbers: whole (KEY_U32, KEY_U8) or decimal stored x 1000 (KEY_MILLI*). */
+static int board_parse_number(board_parser_t *p, const key_spec_t *k, const char *value, void *field)
+{
+    bool milli = k->type == KEY_MILLI || k->type == KEY_MILLI_U32;
+    int64_t v;
+    char lo[32], hi[32], range[112];
+
+    if (milli) {
+        board_format_milli(lo, sizeof lo, k->min);
+        board_format_milli(hi, sizeof hi, k->max);
+    } else {
+        snprintf(lo, sizeof lo, "%lld", (long long)k->min);
+        snprintf(hi, sizeof hi, "%lld", (long long)k->max);
+    }
+    snprintf(range, sizeof range, "%s to %s, got '%.20s'", lo, hi, value);
+    if (psc_hal_parse_decimal(value, milli ? 3u : 0u, &v) != 0)
+        return board_fail(p, "%s must be a number from %s", k->key, range);
+    if (v < k->min || v > k->max)
+        return board_fail(p, "%s must be a number from %s", k->key, range);
+    switch (k->type) {
+    case KEY_U8: *(uint8_t *)field = (uint8_t)v; break;
+    case KEY_MILLI: *(int32_t *)field = (int32_t)v; break;
+    default: *(uint32_t *)field = (uint32_t)v; break;
+    }
+    return 0;
+}
+
+static int board_parse_bool(board_parser_t *p, const key_spec_t *k, const char *value, bool *out)
+{
+    static const char *const yes[] = { "yes", "true", "on", "1" };
+    static const char *const no[] = { "no", "false", "off", "0" };
+
+    for (unsigned i = 0; i < 4; i++) {
+        if (strcmp(value, yes[i]) == 0) {
+            *out = true;
+            return 0;
+        }
+        if (strcmp(value, no[i]) == 0) {
+            *out = false;
+            return 0;
+        }
+    }
+    return board_fail(p, "%s must be yes or no, got '%s'", k->key, value);
+}
+
+static int board_parse_backend(board_parser_t *p, const key_spec_t *k, const char *value, char *field)
+{
+    char list[128];
+
+    if (k->type == KEY_BACKEND_NONE && strcmp(value, "none") == 0)
+        return board_set_string(p, field, PSC_BOARD_NAME_MAX, k->key, value);
+    if (psc_hal_backend_find(value) == NULL) {
+        char msg[200];
+        psc_hal_backend_list(list, sizeof list);
+        snprintf(msg, sizeof msg, "%s backend '%s' is not in this build (available: %s%s)", k->key, value,
+                 list, k->type == KEY_BACKEND_NONE ? ", none" : "");
+        return board_fail(p, "%s%s", msg, "");
+    }
+    return board_set_string(p, field, PSC_BOARD_NAME_MAX, k->key, value);
+}
+
+static int board_set_key(board_parser_t *p, const key_spec_t *k, const char *value)
+{
+    psc_board_config_t *cfg = p->cfg;
+    void *field = (char *)cfg + k->offset;
+
+    switch (k->type) {
+    case KEY_BACKEND:
+    case KEY_BACKEND_NONE:
+        return board_parse_backend(p, k, value, field);
+    case KEY_SIZE: {
+        uint16_t wh[2] = { 0, 0 };
+        int rc = board_parse_size(p, k, value, wh);
+        if (rc == 0) {
+            *(uint16_t *)field = wh[0];
+            *(uint16_t *)(void *)((char *)cfg + k->offset2) = wh[1];
+        }
+        return rc;
+    }
+    case KEY_FORMAT:
+        if (strcmp(value, "rgb565") == 0)
+            *(psc_pixfmt_t *)field = PSC_PIX_RGB565;
+        else if (strcmp(value, "xrgb8888") == 0)
+            *(psc_pixfmt_t *)field = PSC_PIX_XRGB8888;
+        else
+            return board_fail(p, "%s must be rgb565 or xrgb8888, got '%s'", k->key, value);
+        return 0;
+    case KEY_FILTER:
+        if (strcmp(value, "nearest") == 0)
+            *(psc_filter_t *)field = PSC_FILTER_NEAREST;
+        else if (strcmp(value, "bilinear") == 0)
+            *(psc_filter_t *)field = PSC_FILTER_BILINEAR;
+        else
+            return board_fail(p, "%s must be nearest or bilinear, got '%s'", k->key, value);
+        return 0;
+    case KEY_QUALITY:
+        if (strcmp(value, "adaptive") == 0 || strcmp(value, "fixed") == 0) {
+            *(bool *)field = value[0] == 'a';
+            return 0;
+        }
+        return board_fail(p, "%s must be adaptive or fixed, got '%s'", k->key, value);
+    case KEY_U32:
+    case KEY_U8:
+    case KEY_MILLI:
+    case KEY_MILLI_U32:
+        return board_parse_number(p, k, value, field);
+    case KEY_BOOL:
+        return board_parse_bool(p, k, value, field);
+    case KEY_PATH: {
+        int rc = board_set_string(p, field, PSC_BOARD_PATH_MAX, k->key, value);
+        if (rc == 0 && field == (void *)cfg->tour)
+            snprintf(cfg->tour_origin, sizeof cfg->tour_origin, "%s:%u", p->file, p->line);
+        return rc;
+    }
+    case KEY_SCENE:
+        if (cfg->scene_count == PSC_BOARD_MAX_SCENES)
+            return board_fail(p, "too many %s lines (at most %s)", k->key, "8");
+        return board_set_string(p, cfg->scenes[cfg->scene_count++], PSC_BOARD_PATH_MAX, k->key, value);
+    }
+    return board_fail(p, "internal error: key %s has no type%s", k->key, "");
+}
+
+/* "display.capture_dir = x": a backend option, checked later by the backend. */
+static int board_add_option(board_parser_t *p, psc_board_dev_t dev, const char *key, const char *value)
+{
+    psc_board_config_t *cfg = p->cfg;
+    psc_board_option_t *o;
+
+    if (cfg->option_count == PSC_BOARD_MAX_OPTIONS)
+        return board_fail(p, "too many backend options (at most %s); '%s' is one too many", "32", key);
+    o = &cfg->options[cfg->option_count];
+    if (strlen(key) >= sizeof o->key || key[0] == '\0')
+        return board_fail(p, "backend option name '%s' is empty or too long%s", key, "");
+    if (strlen(value) >= sizeof o->value)
+        return board_fail(p, "value of %s is longer than %s characters", key, "255");
+    o->dev = dev;
+    strcpy(o->key, key);
+    strcpy(o->value, value);
+    snprintf(o->origin, sizeof o->origin, "%s:%u", p->file, p->line);
+    cfg->option_count++;
+    return 0;
+}
+
+static char *board_trim(char *s)
+{
+    char *e;
+
+    while (*s == ' ' || *s == '\t')
+        s++;
+    e = s + strlen(s);
+    while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r'))
+        *--e = '\0';
+    return s;
+}
+
+static int board_parse_line(board_parser_t *p, char *line)
+{
+    char *key, *value, *eq;
+
+    /* a comment starts at '#' at the line start or after blank space, so a
+     * path may still contain '#' */
+    for (char *c = line; *c; c++) {
+        if (*c == '#' && (c == line || c[-1] == ' ' || c[-1] == '\t')) {
+            *c = '\0';
+            break;
+        }
+    }
+    key = board_trim(line);
+    if (*key == '\0')
+        return 0;
+    eq = strchr(key, '=');
+    if (eq == NULL)
+        return board_fail(p, "expected 'key = value', got '%s'%s", key, "");
+    *eq = '\0';
+    value = board_trim(eq + 1);
+    key = board_trim(key);
+    if (*key == '\0')
+        return board_fail(p, "a line starts with '=': the key is missing%s%s", "", "");
+    for (const char *c = key; *c; c++)
+        if (!((*c >= 'a' && *c <= 'z') || (*c >= '0' && *c <= '9') || *c == '_' || *c == '.'))
+            return board_fail(p, "'%s' is not a key (keys are lower case letters, digits, '_' and '.')%s",
+                              key, "");
+    if (*value == '\0')
+        return board_fail(p, "%s has no value%s", key, "");
+
+    for (unsigned d = 0; d < PSC_BOARD_DEV_COUNT; d++) {
+        size_t n = strlen(dev_prefix[d]);
+        if (strncmp(key, dev_prefix[d], n) == 0)
+            return board_add_option(p, (psc_board_dev_t)d, key + n, value);
+    }
+    for (unsigned i = 0; i < KEY_COUNT; i++) {
+        if (strcmp(key, key_table[i].key) != 0)
+            continue;
+        if (p->first_line[i] != 0 && key_table[i].type != KEY_SCENE) {
+            char first[16];
+            snprintf(first, sizeof first, "%u", p->first_line[i]);
+            return board_fail(p, "%s is set twice (first on line %s)", key, first);
+        }
+        if (p->first_line[i] == 0)
+            p->first_line[i] = p->line;
+        return board_set_key(p, &key_table[i], value);
+    }
+    return board_fail(p, "unknown key '%s' (boards/README.md lists the keys)%s", key, "");
+}
+
+/* The line a key was set on, for cross-key messages ("line 7" or "default"). */
+static void board_key_where(const board_parser_t *p, const char *key, char *buf, size_t len)
+{
+    for (unsigned i = 0; i < KEY_COUNT; i++) {
+        if (strcmp(key_table[i].key, key) == 0 && p->first_line[i] != 0) {
+            snprintf(buf, len, "line %u", p->first_line[i]);
+            return;
+        }
+    }
+    snprintf(buf, len, "default");
+}
+
+/* "<file>: lo_key = X (line a) must be below hi_key = Y (line b)" */
+static int board_fail_order(board_parser_t *p, const char *lo_key, int32_t lo, const char *hi_key, int32_t hi)
+{
+    char lo_text[24], hi_text[24], lo_where[24], hi_where[24];
+
+    board_format_milli(lo_text, sizeof lo_text, lo);
+    board_format_milli(hi_text, sizeof hi_text, hi);
+    board_key_where(p, lo_key, lo_where, sizeof lo_where);
+    board_key_where(p, hi_key, hi_where, sizeof hi_where);
+    psc_hal_error_set(p->err, p->errlen, "%s: %s = %s (%s) must be below %s = %s (%s)", p->file, lo_key,
+                      lo_text, lo_where, hi_key, hi_text, hi_where);
+    return -1;
+}
+
+/* Whole-file checks: required keys and settings that depend on each other. */
+static int board_check(board_parser_t *p)
+{
+    psc_board_config_t *cfg = p->cfg;
+
+    for (unsigned i = 0; i < KEY_COUNT; i++) {
+        if (key_table[i].required && p->first_line[i] == 0) {
+            psc_hal_error_set(p->err, p->errlen, "%s: the required key '%s' is missing", p->file, key_table[i].key);
+            return -1;
+        }
+    }
+    if (cfg->pitch_min_mdeg >= cfg->pitch_max_mdeg)
+        return board_fail_order(p, "pitch_min", cfg->pitch_min_mdeg, "pitch_max", cfg->pitch_max_mdeg);
+    if (cfg->hfov_min_mdeg != 0 && cfg->hfov_max_mdeg != 0 && cfg->hfov_min_mdeg >= cfg->hfov_max_mdeg)
+        return board_fail_order(p, "hfov_min", cfg->hfov_min_mdeg, "hfov_max", cfg->hfov_max_mdeg);
+    return 0;
+}
+
+int psc_board_config_parse(const char *text, size_t len, const char *file, psc_board_config_t *cfg,
+                           char *err, size_t errlen)
+{
+    board_parser_t p = { .cfg = cfg, .file = file, .err = err, .errlen = errlen };
+    size_t pos = 0;
+
+    snprintf(cfg->file, sizeof cfg->file, "%s", file);
+    while (pos < len) {
+        char line[PSC_BOARD_PATH_MAX + 128];
+        size_t start = pos, n;
+
+        while (pos < len && text[pos] != '\n')
+            pos++;
+        n = pos - start;
+        pos++;
+        p.line++;
+        if (memchr(text + start, '\0', n) != NULL)
+            return board_fail(&p, "the line contains a NUL byte (is this a text file?)%s%s", "", "");
+        if (n >= sizeof line)
+            return board_fail(&p, "the line is longer than %s characters%s", "383", "");
+        memcpy(line, text + start, n);
+        line[n] = '\0';
+        if (board_parse_line(&p, line) != 0)
+            return -1;
+    }
+    return board_check(&p);
+}
+
+int psc_board_config_load(const char *path, psc_board_config_t *cfg, char *err, size_t errlen)
+{
+    enum { BOARD_FILE_MAX = 64 * 1024 };
+    FILE *f = fopen(path, "rb");
+    char *buf;
+    size_t len;
+    int rc;
+
+    psc_board_config_defaults(cfg);
+    if (f == NULL) {
+        psc_hal_error_set(err, errlen, "cannot read board file %s: %s", path, strerror(errno));
+        return -1;
+    }
+    buf = malloc(BOARD_FILE_MAX + 1);
+    if (buf == NULL) {
+        fclose(f);
+        psc_hal_error_set(err, errlen, "%s: out of memory", path);
+        return -1;
+    }
+    len = fread(buf, 1, BOARD_FILE_MAX + 1, f);
+    if (ferror(f) || len > BOARD_FILE_MAX) {
+        psc_hal_error_set(err, errlen, ferror(f) ? "cannot read board file %s: read error"
+                                                 : "board file %s is larger than 64 KiB", path);
+        fclose(f);
+        free(buf);
+        return -1;
+    }
+    fclose(f);
+    rc = psc_board_config_parse(buf, len, path, cfg, err, errlen);
+    free(buf);
+    return rc;
+}
+
+size_t psc_board_config_options(const psc_board_config_t *cfg, psc_board_dev_t dev,
+                                psc_hal_option_t *items, size_t max)
+{
+    size_t n = 0;
+
+    for (unsigned i = 0; i < cfg->option_count; i++) {
+        if (cfg->options[i].dev != dev)
+            continue;
+        if (n < max)
+            items[n] = (psc_hal_option_t){ cfg->options[i].key, cfg->options[i].value, cfg->options[i].origin };
+        n++;
+    }
+    return n;
+}

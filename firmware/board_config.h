@@ -1,0 +1,138 @@
+/*
+ * board_config.h - the board description file, boards/<name>/board.conf.
+ *
+ * Format: one "key = value" per line; '#' at the start of a line or after a
+ * space starts a comment; blank lines are ignored; keys are lower case.
+ * Every key but "scene" (a list) may appear once. Paths are relative to the
+ * directory the program runs in. The keys, their units and defaults are
+ * listed in boards/README.md and in the table in board_config.c.
+ *
+ * Units stored here (converted from what people write, integer only):
+ *  - angles and angular rates: millidegrees ("90" -> 90000, "0.5" -> 500);
+ *    rates per second, accelerations per second squared;
+ *  - frame rates: millihertz ("30" -> 30000, "29.97" -> 29970);
+ *  - quality_fast_speed: thousandths of a view width per second;
+ *  - times: milliseconds.
+ * Backend-specific lines "display.KEY = VALUE" (likewise input., camera.,
+ * clock., watchdog.) are kept as options with their origin "file:line" and
+ * handed to that device's backend, which rejects keys it does not know.
+ *
+ * Errors: "<file>:<line>: <problem>" (or "<file>: <problem>" for something
+ * missing), naming the key and what values it accepts.
+ */
+#ifndef PSC_BOARD_CONFIG_H
+#define PSC_BOARD_CONFIG_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include "psc_hal.h"
+#include "psc_viewer.h"
+
+#define PSC_BOARD_NAME_MAX 32u
+#define PSC_BOARD_PATH_MAX 256u
+#define PSC_BOARD_ORIGIN_MAX (PSC_BOARD_PATH_MAX + 16u)
+#define PSC_BOARD_MAX_SCENES 8u
+#define PSC_BOARD_MAX_OPTIONS 32u
+
+/** The device kinds, for backend-specific options. */
+typedef enum {
+    PSC_BOARD_DEV_DISPLAY = 0,
+    PSC_BOARD_DEV_INPUT,
+    PSC_BOARD_DEV_CAMERA,
+    PSC_BOARD_DEV_CLOCK,
+    PSC_BOARD_DEV_WATCHDOG,
+    PSC_BOARD_DEV_COUNT
+} psc_board_dev_t;
+
+/** A "display.KEY = VALUE" line. */
+typedef struct {
+    psc_board_dev_t dev;
+    char key[48];
+    char value[PSC_BOARD_PATH_MAX];
+    char origin[PSC_BOARD_ORIGIN_MAX];   /* "boards/x/board.conf:12" */
+} psc_board_option_t;
+
+/** A parsed board description. Plain data: copying it is safe. */
+typedef struct {
+    char file[PSC_BOARD_PATH_MAX];                 /* where it was read from */
+
+    char display_backend[PSC_BOARD_NAME_MAX];      /* display (required) */
+    uint16_t display_width, display_height;        /* display_size (required) */
+    psc_pixfmt_t display_format;                   /* display_format: rgb565 | xrgb8888 */
+    uint8_t display_buffers;                       /* display_buffers, 1..3 */
+    uint32_t frame_rate_mhz;                       /* frame_rate, Hz */
+
+    char input_backend[PSC_BOARD_NAME_MAX];        /* input (required) */
+    char tour[PSC_BOARD_PATH_MAX];                 /* tour: scripted input for the sim, "" = none */
+    char tour_origin[PSC_BOARD_ORIGIN_MAX];
+    uint32_t long_press_ms;                        /* long_press_ms */
+
+    char clock_backend[PSC_BOARD_NAME_MAX];        /* clock (required) */
+
+    char camera_backend[PSC_BOARD_NAME_MAX];       /* camera, "none" = no camera */
+    uint16_t camera_width, camera_height;          /* camera_size */
+    uint32_t camera_rate_mhz;                      /* camera_rate, Hz */
+    uint8_t camera_buffers;                        /* camera_buffers */
+
+    char watchdog_backend[PSC_BOARD_NAME_MAX];     /* watchdog, "none" = no watchdog */
+    uint32_t watchdog_timeout_ms;                  /* watchdog_timeout_ms */
+
+    uint32_t frames_every;                         /* frames_every: capture every K-th frame, 0 = none */
+
+    char scenes[PSC_BOARD_MAX_SCENES][PSC_BOARD_PATH_MAX];   /* scene lines, in order */
+    unsigned scene_count;
+
+    /* camera limits and motion (millidegrees, per second, per second squared) */
+    int32_t yaw_rate_max_mdeg;          /* yaw_rate_max */
+    int32_t pitch_rate_max_mdeg;        /* pitch_rate_max */
+    int32_t zoom_rate_max_mdeg;         /* zoom_rate_max: hfov change */
+    int32_t accel_mdeg;                 /* accel: how fast a rate reaches the stick's */
+    uint32_t inertia_half_life_ms;      /* inertia_half_life_ms: coasting after release */
+    uint32_t home_half_life_ms;         /* home_half_life_ms: gliding back home */
+    int32_t pitch_min_mdeg, pitch_max_mdeg;   /* pitch_min, pitch_max */
+    int32_t hfov_min_mdeg, hfov_max_mdeg;     /* hfov_min, hfov_max; 0 = the pack's / viewer's */
+    bool pan_follows_zoom;              /* pan_follows_zoom: pan slower when zoomed in */
+
+    /* adaptive quality */
+    bool quality_adaptive;              /* quality = adaptive | fixed */
+    uint32_t quality_fast_speed;        /* quality_fast_speed: view widths/s x 1000 */
+    uint32_t quality_settle_frames;     /* quality_settle_frames */
+    uint8_t quality_fast_span_log2;     /* quality_fast_span_log2 */
+    psc_filter_t quality_fast_filter;   /* quality_fast_filter: nearest | bilinear */
+    uint8_t quality_span_log2;          /* quality_span_log2: the settled span */
+
+    psc_board_option_t options[PSC_BOARD_MAX_OPTIONS];
+    unsigned option_count;
+} psc_board_config_t;
+
+/**
+ * Fill cfg with every default (boards/README.md lists them). Required keys
+ * (display, display_size, input, clock) stay empty/zero so a file that omits
+ * them fails to parse instead of silently running on the simulator.
+ */
+void psc_board_config_defaults(psc_board_config_t *cfg);
+
+/**
+ * Parse board text[0..len) on top of the defaults. file names the text in
+ * error messages and origins. Returns 0, or -1 with err = "<file>:<line>:
+ * <problem>"; cfg is then in an unspecified state.
+ */
+int psc_board_config_parse(const char *text, size_t len, const char *file, psc_board_config_t *cfg,
+                           char *err, size_t errlen);
+
+/**
+ * Read and parse a board file (at most 64 KiB). 0, or -1 with err naming the
+ * file and why it could not be read or what is wrong on which line.
+ */
+int psc_board_config_load(const char *path, psc_board_config_t *cfg, char *err, size_t errlen);
+
+/**
+ * The backend-specific options of one device kind as HAL option views into
+ * cfg (valid while cfg lives and is not modified). Writes at most max items
+ * and returns how many there are.
+ */
+size_t psc_board_config_options(const psc_board_config_t *cfg, psc_board_dev_t dev,
+                                psc_hal_option_t *items, size_t max);
+
+#endif

@@ -1,0 +1,43 @@
+/*
+ * cli.h - the command line of the device program:
+ *
+ *   periscope --board NAME [--boards-dir DIR] [--scene PACK] [--out DIR]
+ *             [--tour FILE] [--frames-every K] [--max-frames N] [--quiet]
+ *
+ * The board file is DIR/NAME/board.conf (DIR defaults to "boards"). --scene
+ * replaces the board's scene list with one pack; --tour replaces its tour;
+ * --out is where the sim display captures frames and the contact sheet goes
+ * (default out/NAME); --frames-every overrides the board's capture period
+ * (0 = no captures); --max-frames stops after N frames (0 = no limit), so a
+ * real board can be smoke-tested without a tour.
+ */
+#ifndef PSC_CLI_H
+#define PSC_CLI_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+/** Parsed command line; strings point into argv. */
+typedef struct {
+    const char *board;
+    const char *boards_dir;     /* default "boards" */
+    const char *scene;          /* NULL = the board's scenes */
+    const char *out_dir;        /* NULL = out/<board> */
+    const char *tour;           /* NULL = the board's tour */
+    int64_t frames_every;       /* -1 = the board's */
+    uint32_t max_frames;        /* 0 = until the input says quit */
+    bool quiet;                 /* no per-event log lines */
+    bool help;                  /* --help: print usage, run nothing */
+} psc_cli_options_t;
+
+/**
+ * Parse argv[1..argc). Returns 0 (with help set for --help), or -1 with err
+ * naming the bad argument and what was expected.
+ */
+int psc_cli_parse(int argc, char *const *argv, psc_cli_options_t *o, char *err, size_t errlen);
+
+/** The usage text, for --help and after a command-line error. */
+const char *psc_cli_usage(void);
+
+#endif

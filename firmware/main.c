@@ -1,0 +1,78 @@
+/*
+ * main.c - the device program `periscope`: parse the command line, run the
+ * board (firmware/app.c does the work, so tests can drive it without this
+ * file), report, and on a capturing sim run write the contact sheet.
+ */
+#include <stdio.h>
+
+#include "app.h"
+#include "cli.h"
+#include "contact_sheet.h"
+
+static void main_report(const psc_app_stats_t *st, const char *out_dir)
+{
+    /* frames per second x 100, in integers: the firmware has no float */
+    uint64_t fps_x100 = st->wall_time_us ? (uint64_t)st->frames * 100000000u / st->wall_time_us : 0;
+
+    printf("periscope: %u frames rendered, %llu.%03llu s of board time, %llu.%03llu s wall clock, "
+           "%llu.%02llu frames/s\n",
+           (unsigned)st->frames, (unsigned long long)(st->sim_time_us / 1000000u),
+           (unsigned long long)(st->sim_time_us / 1000u % 1000u),
+           (unsigned long long)(st->wall_time_us / 1000000u),
+           (unsigned long long)(st->wall_time_us / 1000u % 1000u),
+           (unsigned long long)(fps_x100 / 100u), (unsigned long long)(fps_x100 % 100u));
+    printf("periscope: adaptive quality: %u frames fast, %u switches\n", (unsigned)st->fast_frames,
+           (unsigned)st->quality_switches);
+    if (st->watchdog_known)
+        printf("periscope: watchdog: %u kicks, longest gap %llu ms%s\n", (unsigned)st->watchdog.kicks,
+               (unsigned long long)(st->watchdog.longest_gap_us / 1000u),
+               st->watchdog.would_have_fired ? " (a real one would have fired)" : "");
+    if (out_dir[0] != '\0')
+        printf("periscope: output directory: %s (every %u-th frame)\n", out_dir, (unsigned)st->capture_every);
+}
+
+/* stdio would allocate stdout's buffer at the first log line, which comes
+ * from inside the frame loop; giving it one now keeps the loop allocation-free. */
+static char main_stdout_buffer[4096];
+
+int main(int argc, char **argv)
+{
+    psc_cli_options_t opt;
+    psc_app_stats_t stats;
+    psc_app_t *app;
+    char err[512] = "";
+    int rc;
+
+    setvbuf(stdout, main_stdout_buffer, _IOLBF, sizeof main_stdout_buffer);
+    if (psc_cli_parse(argc, argv, &opt, err, sizeof err) != 0) {
+        fprintf(stderr, "periscope: %s\n%s", err, psc_cli_usage());
+        return 2;
+    }
+    if (opt.help) {
+        fputs(psc_cli_usage(), stdout);
+        return 0;
+    }
+    if (psc_app_open(&opt, &app, err, sizeof err) != 0) {
+        fprintf(stderr, "periscope: %s\n", err);
+        return 1;
+    }
+    rc = psc_app_run(app, &stats, err, sizeof err);
+    main_report(&stats, psc_app_out_dir(app));
+    if (rc != 0) {
+        fprintf(stderr, "periscope: %s\n", err);
+    } else if (stats.capture_every != 0 && stats.frames != 0) {
+        char sheet[600];
+        uint32_t thumbs;
+
+        snprintf(sheet, sizeof sheet, "%s/contact.png", psc_app_out_dir(app));
+        if (psc_contact_sheet_write(psc_app_out_dir(app), stats.frames, stats.capture_every, sheet, &thumbs,
+                                    err, sizeof err) != 0) {
+            fprintf(stderr, "periscope: contact sheet: %s\n", err);
+            rc = -1;
+        } else {
+            printf("periscope: contact sheet: %s (%u frames)\n", sheet, (unsigned)thumbs);
+        }
+    }
+    psc_app_close(app);
+    return rc == 0 ? 0 : 1;
+}

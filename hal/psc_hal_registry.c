@@ -1,0 +1,43 @@
+/*
+ * psc_hal_registry.c - the table of compiled-in backends and lookup by name.
+ *
+ * A plain const array rather than constructor-based self-registration: the
+ * set of backends is fixed at link time, visible in one place, and a static
+ * library cannot drop a backend's object file because nothing referenced it.
+ */
+#include <stdio.h>
+#include <string.h>
+
+#include "psc_hal.h"
+#include "psc_hal_backends.h"
+
+static const psc_hal_backend_t *const registry[] = {
+    &psc_hal_sim_backend,
+};
+
+#define REGISTRY_COUNT (sizeof registry / sizeof registry[0])
+
+const psc_hal_backend_t *psc_hal_backend_find(const char *name)
+{
+    if (name == NULL)
+        return NULL;
+    for (size_t i = 0; i < REGISTRY_COUNT; i++)
+        if (strcmp(registry[i]->name, name) == 0)
+            return registry[i];
+    return NULL;
+}
+
+void psc_hal_backend_list(char *buf, size_t len)
+{
+    size_t used = 0;
+
+    if (buf == NULL || len == 0)
+        return;
+    buf[0] = '\0';
+    for (size_t i = 0; i < REGISTRY_COUNT && used < len; i++) {
+        int n = snprintf(buf + used, len - used, "%s%s", i ? ", " : "", registry[i]->name);
+        if (n < 0)
+            break;
+        used += (size_t)n;
+    }
+}

@@ -1,0 +1,67 @@
+/*
+ * psc_hal_watchdog.h - a watchdog the frame loop kicks once per frame, so a
+ * hung kiosk is restarted instead of showing a frozen picture.
+ *
+ * Backends planned: systemd (sd_notify "READY=1" at open, "WATCHDOG=1" per
+ * kick, the timeout from WATCHDOG_USEC), linux (/dev/watchdog with
+ * WDIOC_SETTIMEOUT / WDIOC_KEEPALIVE and the magic close 'V'). The sim
+ * backend only records the kicks on the sim clock and reports the longest gap,
+ * so a tour shows whether the loop would have kept a real watchdog fed.
+ */
+#ifndef PSC_HAL_WATCHDOG_H
+#define PSC_HAL_WATCHDOG_H
+
+#include "psc_hal.h"
+
+/** Configuration of a watchdog. */
+typedef struct psc_hal_watchdog_config {
+    uint32_t timeout_ms;          /* reset after this long without a kick (1..600000) */
+    psc_hal_clock_t *clock;       /* must outlive the watchdog */
+    psc_hal_options_t options;    /* backend-specific (none for sim) */
+} psc_hal_watchdog_config_t;
+
+/** What a watchdog has seen so far. */
+typedef struct {
+    uint32_t kicks;
+    uint64_t longest_gap_us;      /* longest time between two kicks (or open and the first) */
+    bool would_have_fired;        /* longest_gap_us exceeded the timeout */
+} psc_hal_watchdog_status_t;
+
+typedef struct {
+    /* Mandatory. Tell the watchdog the program is alive. */
+    int (*kick)(psc_hal_watchdog_t *wd);
+    /* Optional. Counters for logs and tests. */
+    int (*get_status)(psc_hal_watchdog_t *wd, psc_hal_watchdog_status_t *status);
+    /* Mandatory. Orderly shutdown: disarm (magic close / "STOPPING=1") and free. */
+    void (*close)(psc_hal_watchdog_t *wd);
+} psc_hal_watchdog_ops_t;
+
+/** The public part of a watchdog; backends embed it first in their state. */
+struct psc_hal_watchdog {
+    const psc_hal_watchdog_ops_t *ops;
+    const char *backend;
+};
+
+/**
+ * Open and arm a watchdog of the named backend (board key "watchdog"). 0 and
+ * *out set, or a negative errno (psc_hal.h) with err filled.
+ */
+int psc_hal_watchdog_open(const char *backend, const psc_hal_watchdog_config_t *cfg,
+                          psc_hal_watchdog_t **out, char *err, size_t errlen);
+
+/** Disarm and close a watchdog opened with psc_hal_watchdog_open (NULL is ignored). */
+void psc_hal_watchdog_close(psc_hal_watchdog_t *wd);
+
+/** Feed the watchdog. */
+static inline int psc_hal_watchdog_kick(psc_hal_watchdog_t *wd)
+{
+    return wd->ops->kick(wd);
+}
+
+/** Counters so far; -ENOSYS when the backend keeps none. */
+static inline int psc_hal_watchdog_get_status(psc_hal_watchdog_t *wd, psc_hal_watchdog_status_t *status)
+{
+    return wd->ops->get_status ? wd->ops->get_status(wd, status) : -ENOSYS;
+}
+
+#endif
