@@ -360,8 +360,16 @@ static PSC_ALWAYS_INLINE void span_fast(const psc_frame_t *f, unsigned x, unsign
     }
 }
 
-#define SPAN_CASE(filter, in, sink) \
-    span_fast(f, x, n, row, col, drow, dcol, filter, in, sink)
+/* Each (filter, map format, sink) gets its own instance of span_fast. */
+#define SPAN_CASES(in)                                                                                     \
+    do {                                                                                                   \
+        if (bilinear)                                                                                      \
+            to565 ? span_fast(f, x, n, row, col, drow, dcol, PSC_FILTER_BILINEAR, in, PSC_SINK_RGB565)     \
+                  : span_fast(f, x, n, row, col, drow, dcol, PSC_FILTER_BILINEAR, in, PSC_SINK_XRGB8888);  \
+        else                                                                                               \
+            to565 ? span_fast(f, x, n, row, col, drow, dcol, PSC_FILTER_NEAREST, in, PSC_SINK_RGB565)      \
+                  : span_fast(f, x, n, row, col, drow, dcol, PSC_FILTER_NEAREST, in, PSC_SINK_XRGB8888);   \
+    } while (0)
 
 static void span_dispatch(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, int32_t col, int32_t drow,
                           int32_t dcol)
@@ -369,30 +377,9 @@ static void span_dispatch(const psc_frame_t *f, unsigned x, unsigned n, int32_t 
     const bool bilinear = f->view->filter == PSC_FILTER_BILINEAR;
     const bool to565 = f->sink == PSC_SINK_RGB565;
     switch (f->v->map->format) {
-    case PSC_PIX_RGB565:
-        if (bilinear)
-            to565 ? SPAN_CASE(PSC_FILTER_BILINEAR, PSC_PIX_RGB565, PSC_SINK_RGB565)
-                  : SPAN_CASE(PSC_FILTER_BILINEAR, PSC_PIX_RGB565, PSC_SINK_XRGB8888);
-        else
-            to565 ? SPAN_CASE(PSC_FILTER_NEAREST, PSC_PIX_RGB565, PSC_SINK_RGB565)
-                  : SPAN_CASE(PSC_FILTER_NEAREST, PSC_PIX_RGB565, PSC_SINK_XRGB8888);
-        break;
-    case PSC_PIX_XRGB8888:
-        if (bilinear)
-            to565 ? SPAN_CASE(PSC_FILTER_BILINEAR, PSC_PIX_XRGB8888, PSC_SINK_RGB565)
-                  : SPAN_CASE(PSC_FILTER_BILINEAR, PSC_PIX_XRGB8888, PSC_SINK_XRGB8888);
-        else
-            to565 ? SPAN_CASE(PSC_FILTER_NEAREST, PSC_PIX_XRGB8888, PSC_SINK_RGB565)
-                  : SPAN_CASE(PSC_FILTER_NEAREST, PSC_PIX_XRGB8888, PSC_SINK_XRGB8888);
-        break;
-    case PSC_PIX_PAL8:
-        if (bilinear)
-            to565 ? SPAN_CASE(PSC_FILTER_BILINEAR, PSC_PIX_PAL8, PSC_SINK_RGB565)
-                  : SPAN_CASE(PSC_FILTER_BILINEAR, PSC_PIX_PAL8, PSC_SINK_XRGB8888);
-        else
-            to565 ? SPAN_CASE(PSC_FILTER_NEAREST, PSC_PIX_PAL8, PSC_SINK_RGB565)
-                  : SPAN_CASE(PSC_FILTER_NEAREST, PSC_PIX_PAL8, PSC_SINK_XRGB8888);
-        break;
+    case PSC_PIX_RGB565: SPAN_CASES(PSC_PIX_RGB565); break;
+    case PSC_PIX_XRGB8888: SPAN_CASES(PSC_PIX_XRGB8888); break;
+    case PSC_PIX_PAL8: SPAN_CASES(PSC_PIX_PAL8); break;
     }
 }
 

@@ -16,7 +16,7 @@
 #include <string.h>
 
 #define PROG "periscope-contact"
-#define EXIT_USAGE 2
+#define EXIT_USAGE PSC_CLI_EXIT_USAGE
 #define GAP 4u                     /* pixels between and around thumbnails */
 #define BACKGROUND 0xFF202020u     /* dark grey: frames stand out, gaps stay quiet */
 #define DEFAULT_COLUMNS 4ul
@@ -34,19 +34,7 @@ static void print_usage(FILE *f)
             DEFAULT_THUMB_WIDTH, DEFAULT_COLUMNS);
 }
 
-static int usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-
-/* Report a bad command line; returns the exit status for it. */
-static int usage_error(const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    fprintf(stderr, PROG ": ");
-    vfprintf(stderr, fmt, ap);
-    fprintf(stderr, "\n(try " PROG " --help)\n");
-    va_end(ap);
-    return EXIT_USAGE;
-}
+#define usage_error(...) psc_cli_usage_error(PROG, __VA_ARGS__)
 
 typedef struct {
     const char *out;

@@ -18,7 +18,7 @@
 #include <unistd.h>
 
 #define PROG "periscope-pack"
-#define EXIT_USAGE 2
+#define EXIT_USAGE PSC_CLI_EXIT_USAGE
 
 static void print_usage(FILE *f)
 {
@@ -45,19 +45,7 @@ static void print_usage(FILE *f)
             "  --help                      this text\n");
 }
 
-static int usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-
-/* Report a bad command line; returns the exit status for it. */
-static int usage_error(const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    fprintf(stderr, PROG ": ");
-    vfprintf(stderr, fmt, ap);
-    fprintf(stderr, "\n(try " PROG " --help)\n");
-    va_end(ap);
-    return EXIT_USAGE;
-}
+#define usage_error(...) psc_cli_usage_error(PROG, __VA_ARGS__)
 
 static bool parse_format(const char *s, psc_pixfmt_t *f)
 {

@@ -20,7 +20,7 @@
 #include <time.h>
 
 #define PROG "periscope-render"
-#define EXIT_USAGE 2
+#define EXIT_USAGE PSC_CLI_EXIT_USAGE
 #define MAX_REPEAT 100000ul
 
 static void print_usage(FILE *f)
@@ -43,19 +43,7 @@ static void print_usage(FILE *f)
             "  --help              this text\n");
 }
 
-static int usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-
-/* Report a bad command line; returns the exit status for it. */
-static int usage_error(const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    fprintf(stderr, PROG ": ");
-    vfprintf(stderr, fmt, ap);
-    fprintf(stderr, "\n(try " PROG " --help)\n");
-    va_end(ap);
-    return EXIT_USAGE;
-}
+#define usage_error(...) psc_cli_usage_error(PROG, __VA_ARGS__)
 
 typedef struct {
     const char *pack, *out;

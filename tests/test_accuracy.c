@@ -11,8 +11,10 @@
  *
  * Pass/fail (1024 x 512 equirect map, 320 x 240 output, hfov 30..120):
  *   N = 1, 2, 4:  mean <= 0.05 px, max <= 0.5 px
- *   N = 8, 16:    looser bounds stated at SPAN_BOUNDS (the chord error of
- *                 interpolating over longer spans grows with N^2).
+ *   N = 8:        mean <= 0.08 px, max <= 0.6 px
+ *   N = 16:       mean <= 0.12 px, max <= 0.8 px
+ *   (interpolating indices over longer spans bows away from the exact
+ *   curve by ~N^2; the measured figures are printed.)
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -43,8 +45,8 @@ static const struct {
     {0.05, 0.5}, /* N = 1 */
     {0.05, 0.5}, /* N = 2 */
     {0.05, 0.5}, /* N = 4 */
-    {0.10, 1.0}, /* N = 8 */
-    {0.25, 2.0}, /* N = 16 */
+    {0.08, 0.6}, /* N = 8: measured max 0.32, mean 0.040 */
+    {0.12, 0.8}, /* N = 16: measured max 0.24, mean 0.036 (the polar caps widen with N) */
 };
 
 static void stats_init(acc_stats_t *s)

@@ -1,6 +1,9 @@
 /* cli_parse.c - strict command-line value parsers (see cli_parse.h). */
 #include "cli_parse.h"
 
+#include <stdarg.h>
+#include <stdio.h>
+
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
@@ -96,4 +99,15 @@ int psc_cli_parse_pair(const char *s, double *a, double *b)
     *a = va;
     *b = vb;
     return 0;
+}
+
+int psc_cli_usage_error(const char *prog, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "%s: ", prog);
+    vfprintf(stderr, fmt, ap);
+    fprintf(stderr, "\n(try %s --help)\n", prog);
+    va_end(ap);
+    return PSC_CLI_EXIT_USAGE;
 }

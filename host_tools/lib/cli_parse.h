@@ -9,6 +9,12 @@
 
 #include <stdint.h>
 
+/** Exit status of a tool for a bad command line. */
+#define PSC_CLI_EXIT_USAGE 2
+
+/** Print "prog: <fmt...>" and a hint to try --help on stderr; returns PSC_CLI_EXIT_USAGE. */
+int psc_cli_usage_error(const char *prog, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
 /** Cursor over argv for the tools' option loops. */
 typedef struct {
     int argc;

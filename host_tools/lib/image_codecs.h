@@ -9,10 +9,6 @@
 #include <stdio.h>
 #include "image_io.h"
 
-/** Fill err with "PATH: message" (printf format); safe with err NULL or errlen 0. Returns -1. */
-int psc_image_fail(char *err, size_t errlen, const char *path, const char *fmt, ...)
-    __attribute__((format(printf, 4, 5)));
-
 /** Allocate img->xrgb for w x h pixels after checking the limits. 0, or -1 with err. */
 int psc_image_alloc(psc_image_t *img, uint32_t w, uint32_t h, const char *path, char *err, size_t errlen);
 

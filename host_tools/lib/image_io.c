@@ -3,6 +3,7 @@
  * first bytes, and turn surfaces into images and PNG files.
  */
 #include "image_io.h"
+#include "errmsg.h"
 #include "image_codecs.h"
 #include "pack_build.h"
 
@@ -11,32 +12,18 @@
 #include <stdlib.h>
 #include <string.h>
 
-int psc_image_fail(char *err, size_t errlen, const char *path, const char *fmt, ...)
-{
-    if (err && errlen > 0) {
-        int n = snprintf(err, errlen, "%s: ", path ? path : "(image)");
-        if (n >= 0 && (size_t)n < errlen) {
-            va_list ap;
-            va_start(ap, fmt);
-            vsnprintf(err + n, errlen - (size_t)n, fmt, ap);
-            va_end(ap);
-        }
-    }
-    return -1;
-}
-
 int psc_image_alloc(psc_image_t *img, uint32_t w, uint32_t h, const char *path, char *err, size_t errlen)
 {
     img->width = img->height = 0;
     img->xrgb = NULL;
     if (w == 0 || h == 0)
-        return psc_image_fail(err, errlen, path, "image has no pixels (%ux%u)", (unsigned)w, (unsigned)h);
+        return psc_errorf(err, errlen, path, "image has no pixels (%ux%u)", (unsigned)w, (unsigned)h);
     if (w > PSC_MAX_MAP_DIM || h > PSC_MAX_MAP_DIM)
-        return psc_image_fail(err, errlen, path, "image is %ux%u, larger than the limit of %u pixels per side",
+        return psc_errorf(err, errlen, path, "image is %ux%u, larger than the limit of %u pixels per side",
                               (unsigned)w, (unsigned)h, (unsigned)PSC_MAX_MAP_DIM);
     img->xrgb = malloc((size_t)w * h * sizeof(uint32_t));
     if (!img->xrgb)
-        return psc_image_fail(err, errlen, path, "out of memory for a %ux%u image", (unsigned)w, (unsigned)h);
+        return psc_errorf(err, errlen, path, "out of memory for a %ux%u image", (unsigned)w, (unsigned)h);
     img->width = w;
     img->height = h;
     return 0;
@@ -48,25 +35,25 @@ static const uint8_t png_magic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'
 int psc_image_load(const char *path, psc_image_t *img, char *err, size_t errlen)
 {
     if (!path || !img)
-        return psc_image_fail(err, errlen, path, "no file or no image to load into");
+        return psc_errorf(err, errlen, path, "no file or no image to load into");
     img->width = img->height = 0;
     img->xrgb = NULL;
     FILE *f = fopen(path, "rb");
     if (!f)
-        return psc_image_fail(err, errlen, path, "cannot open: %s", strerror(errno));
+        return psc_errorf(err, errlen, path, "cannot open: %s", strerror(errno));
     uint8_t head[8];
     size_t got = fread(head, 1, sizeof head, f);
     int rc;
     if (ferror(f)) {
-        rc = psc_image_fail(err, errlen, path, "cannot read: %s", strerror(errno));
+        rc = psc_errorf(err, errlen, path, "cannot read: %s", strerror(errno));
     } else if (fseek(f, 0, SEEK_SET) != 0) {
-        rc = psc_image_fail(err, errlen, path, "cannot seek: %s", strerror(errno));
+        rc = psc_errorf(err, errlen, path, "cannot seek: %s", strerror(errno));
     } else if (got >= sizeof jpeg_magic && memcmp(head, jpeg_magic, sizeof jpeg_magic) == 0) {
         rc = psc_jpeg_decode(f, path, img, err, errlen);
     } else if (got >= sizeof png_magic && memcmp(head, png_magic, sizeof png_magic) == 0) {
         rc = psc_png_decode(f, path, img, err, errlen);
     } else {
-        rc = psc_image_fail(err, errlen, path, got == 0 ? "file is empty" : "not a JPEG or PNG image");
+        rc = psc_errorf(err, errlen, path, got == 0 ? "file is empty" : "not a JPEG or PNG image");
     }
     fclose(f);
     if (rc != 0)
@@ -162,13 +149,13 @@ static int write_png_rows(const char *path, uint32_t w, uint32_t h, psc_png_row_
 int psc_image_write_png(const char *path, const psc_image_t *img, char *err, size_t errlen)
 {
     if (!path || !img || !img->xrgb || img->width == 0 || img->height == 0)
-        return psc_image_fail(err, errlen, path, "no file name or no image to write");
+        return psc_errorf(err, errlen, path, "no file name or no image to write");
     return write_png_rows(path, img->width, img->height, image_row_rgb, img, err, errlen);
 }
 
 int psc_surface_write_png(const char *path, const psc_surface_t *s, char *err, size_t errlen)
 {
     if (!path || !s || !surface_is_valid(s))
-        return psc_image_fail(err, errlen, path, "no file name, or an invalid surface (size, stride, format)");
+        return psc_errorf(err, errlen, path, "no file name, or an invalid surface (size, stride, format)");
     return write_png_rows(path, s->width, s->height, surface_row_rgb, s, err, errlen);
 }

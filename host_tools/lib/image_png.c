@@ -5,6 +5,7 @@
  * keeps the message and longjmps back to the setjmp in the job.
  */
 #include "image_codecs.h"
+#include "errmsg.h"
 
 #include <setjmp.h>
 #include <stdlib.h>
@@ -49,7 +50,7 @@ static int png_read_run(png_job_t *job, const char *path, psc_image_t *img, char
     png_structp png = job->png;
     png_infop info = job->info;
     if (setjmp(png_jmpbuf(png)))
-        return psc_image_fail(err, errlen, path, "corrupt or truncated PNG: %s", job->msg);
+        return psc_errorf(err, errlen, path, "corrupt or truncated PNG: %s", job->msg);
 
     png_set_read_fn(png, job, png_job_read);
     png_read_info(png, info);
@@ -68,12 +69,12 @@ static int png_read_run(png_job_t *job, const char *path, psc_image_t *img, char
     png_read_update_info(png, info);
     if (png_get_bit_depth(png, info) != 8 || png_get_channels(png, info) != 4 ||
         png_get_rowbytes(png, info) != (size_t)w * 4u)
-        return psc_image_fail(err, errlen, path, "PNG decoder produced an unexpected layout");
+        return psc_errorf(err, errlen, path, "PNG decoder produced an unexpected layout");
 
     /* Decode straight into the image, then repack each RGBA quad in place. */
     job->rows = malloc((size_t)h * sizeof *job->rows);
     if (!job->rows)
-        return psc_image_fail(err, errlen, path, "out of memory");
+        return psc_errorf(err, errlen, path, "out of memory");
     for (uint32_t y = 0; y < h; y++)
         job->rows[y] = (png_bytep)(img->xrgb + (size_t)y * w);
     png_read_image(png, job->rows);
@@ -90,12 +91,12 @@ int psc_png_decode(FILE *f, const char *path, psc_image_t *img, char *err, size_
 {
     png_job_t *job = calloc(1, sizeof *job);
     if (!job)
-        return psc_image_fail(err, errlen, path, "out of memory");
+        return psc_errorf(err, errlen, path, "out of memory");
     job->file = f;
     job->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, job, png_job_error, png_job_warning);
     job->info = job->png ? png_create_info_struct(job->png) : NULL;
     int rc = job->info ? png_read_run(job, path, img, err, errlen)
-                       : psc_image_fail(err, errlen, path, "out of memory (libpng)");
+                       : psc_errorf(err, errlen, path, "out of memory (libpng)");
     png_destroy_read_struct(&job->png, &job->info, NULL);
     free(job->rows);
     free(job);
@@ -133,11 +134,11 @@ static int png_write_run(png_job_t *job, uint32_t w, uint32_t h, psc_png_row_fn 
     png_structp png = job->png;
     png_infop info = job->info;
     if (setjmp(png_jmpbuf(png)))
-        return psc_image_fail(err, errlen, path, "cannot encode PNG: %s", job->msg);
+        return psc_errorf(err, errlen, path, "cannot encode PNG: %s", job->msg);
 
     job->row = malloc((size_t)w * 3u);
     if (!job->row)
-        return psc_image_fail(err, errlen, path, "out of memory");
+        return psc_errorf(err, errlen, path, "out of memory");
     png_set_write_fn(png, job, png_job_write, png_job_flush);
     png_set_IHDR(png, info, w, h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                  PNG_FILTER_TYPE_DEFAULT);
@@ -156,14 +157,14 @@ int psc_png_encode(uint32_t width, uint32_t height, psc_png_row_fn row, const vo
     *png = NULL;
     *png_len = 0;
     if (width == 0 || height == 0 || width > PNG_UINT_31_MAX || height > PNG_UINT_31_MAX)
-        return psc_image_fail(err, errlen, path, "cannot write a %ux%u PNG", (unsigned)width, (unsigned)height);
+        return psc_errorf(err, errlen, path, "cannot write a %ux%u PNG", (unsigned)width, (unsigned)height);
     png_job_t *job = calloc(1, sizeof *job);
     if (!job)
-        return psc_image_fail(err, errlen, path, "out of memory");
+        return psc_errorf(err, errlen, path, "out of memory");
     job->png = png_create_write_struct(PNG_LIBPNG_VER_STRING, job, png_job_error, png_job_warning);
     job->info = job->png ? png_create_info_struct(job->png) : NULL;
     int rc = job->info ? png_write_run(job, width, height, row, ctx, path, err, errlen)
-                       : psc_image_fail(err, errlen, path, "out of memory (libpng)");
+                       : psc_errorf(err, errlen, path, "out of memory (libpng)");
     png_destroy_write_struct(&job->png, &job->info);
     free(job->row);
     if (rc == 0) {

@@ -4,6 +4,7 @@
  * files atomically.
  */
 #include "pack_build.h"
+#include "errmsg.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -14,23 +15,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static int file_fail(char *err, size_t errlen, const char *path, const char *fmt, ...)
-    __attribute__((format(printf, 4, 5)));
-
-static int file_fail(char *err, size_t errlen, const char *path, const char *fmt, ...)
-{
-    if (err && errlen > 0) {
-        int n = snprintf(err, errlen, "%s: ", path);
-        if (n >= 0 && (size_t)n < errlen) {
-            va_list ap;
-            va_start(ap, fmt);
-            vsnprintf(err + n, errlen - (size_t)n, fmt, ap);
-            va_end(ap);
-        }
-    }
-    return -1;
-}
-
 /* Read the whole file into a fresh PSC_PACK_ALIGN-aligned buffer. */
 static int read_aligned(const char *path, void **buf, size_t *len, char *err, size_t errlen)
 {
@@ -38,27 +22,27 @@ static int read_aligned(const char *path, void **buf, size_t *len, char *err, si
     *len = 0;
     int fd = open(path, O_RDONLY);
     if (fd < 0)
-        return file_fail(err, errlen, path, "cannot open: %s", strerror(errno));
+        return psc_errorf(err, errlen, path, "cannot open: %s", strerror(errno));
     struct stat st;
     if (fstat(fd, &st) != 0) {
         int e = errno;
         close(fd);
-        return file_fail(err, errlen, path, "cannot stat: %s", strerror(e));
+        return psc_errorf(err, errlen, path, "cannot stat: %s", strerror(e));
     }
     if (!S_ISREG(st.st_mode)) {
         close(fd);
-        return file_fail(err, errlen, path, "not a regular file");
+        return psc_errorf(err, errlen, path, "not a regular file");
     }
     /* The format records sizes in 32 bits: anything larger cannot be a pack. */
     if (st.st_size <= 0 || (unsigned long long)st.st_size > UINT32_MAX) {
         close(fd);
-        return file_fail(err, errlen, path, st.st_size <= 0 ? "file is empty" : "file is larger than 4 GiB");
+        return psc_errorf(err, errlen, path, st.st_size <= 0 ? "file is empty" : "file is larger than 4 GiB");
     }
     size_t size = (size_t)st.st_size;
     void *mem = NULL;
     if (posix_memalign(&mem, PSC_PACK_ALIGN, size) != 0) {
         close(fd);
-        return file_fail(err, errlen, path, "out of memory for %zu bytes", size);
+        return psc_errorf(err, errlen, path, "out of memory for %zu bytes", size);
     }
     size_t got = 0;
     while (got < size) {
@@ -69,8 +53,8 @@ static int read_aligned(const char *path, void **buf, size_t *len, char *err, si
             int e = errno;
             close(fd);
             free(mem);
-            return n == 0 ? file_fail(err, errlen, path, "file shrank while being read")
-                          : file_fail(err, errlen, path, "read error: %s", strerror(e));
+            return n == 0 ? psc_errorf(err, errlen, path, "file shrank while being read")
+                          : psc_errorf(err, errlen, path, "read error: %s", strerror(e));
         }
         got += (size_t)n;
     }
@@ -83,14 +67,14 @@ static int read_aligned(const char *path, void **buf, size_t *len, char *err, si
 int psc_pack_file_load(const char *path, psc_pack_file_t *pf, char *err, size_t errlen)
 {
     if (!path || !pf)
-        return file_fail(err, errlen, path ? path : "(pack)", "no file or no pack to load into");
+        return psc_errorf(err, errlen, path ? path : "(pack)", "no file or no pack to load into");
     memset(pf, 0, sizeof *pf);
     if (read_aligned(path, &pf->buf, &pf->len, err, errlen) != 0)
         return -1;
     psc_pack_error_t perr = {0};
     psc_status_t s = psc_pack_parse(pf->buf, pf->len, &pf->pack, &perr);
     if (s != PSC_OK) {
-        file_fail(err, errlen, path, "%s (offset %u): %s", perr.what ? perr.what : "invalid pack",
+        psc_errorf(err, errlen, path, "%s (offset %u): %s", perr.what ? perr.what : "invalid pack",
                   (unsigned)perr.offset, psc_status_str(s));
         psc_pack_file_free(pf);
         return -1;
@@ -126,11 +110,11 @@ int psc_write_file(const char *path, const void *data, size_t len, char *err, si
     /* The temporary sits beside the target so that rename() stays within one
      * file system and readers never see a half-written file. */
     if (!path || (!data && len > 0))
-        return file_fail(err, errlen, path ? path : "(file)", "no file name or no data to write");
+        return psc_errorf(err, errlen, path ? path : "(file)", "no file name or no data to write");
     size_t plen = strlen(path);
     char *tmp = malloc(plen + 32);
     if (!tmp)
-        return file_fail(err, errlen, path, "out of memory");
+        return psc_errorf(err, errlen, path, "out of memory");
     int fd = -1;
     for (unsigned attempt = 0; attempt < 100 && fd < 0; attempt++) {
         snprintf(tmp, plen + 32, "%s.tmp%ld.%u", path, (long)getpid(), attempt);
@@ -141,15 +125,15 @@ int psc_write_file(const char *path, const void *data, size_t len, char *err, si
     if (fd < 0) {
         int e = errno;
         free(tmp);
-        return file_fail(err, errlen, path, "cannot create a temporary file beside it: %s", strerror(e));
+        return psc_errorf(err, errlen, path, "cannot create a temporary file beside it: %s", strerror(e));
     }
     int rc = 0;
     if (write_all(fd, data, len) != 0)
-        rc = file_fail(err, errlen, path, "write error: %s", strerror(errno));
+        rc = psc_errorf(err, errlen, path, "write error: %s", strerror(errno));
     if (close(fd) != 0 && rc == 0)
-        rc = file_fail(err, errlen, path, "write error on close: %s", strerror(errno));
+        rc = psc_errorf(err, errlen, path, "write error on close: %s", strerror(errno));
     if (rc == 0 && rename(tmp, path) != 0)
-        rc = file_fail(err, errlen, path, "cannot replace the file: %s", strerror(errno));
+        rc = psc_errorf(err, errlen, path, "cannot replace the file: %s", strerror(errno));
     if (rc != 0)
         unlink(tmp);
     free(tmp);
