@@ -15,7 +15,6 @@ PKG_CONFIG ?= pkg-config
 PREFIX ?= /usr/local
 DESTDIR ?=
 BUILD ?= build
-PYTHON ?= python3
 
 ifeq ($(V),1)
 Q :=
@@ -58,7 +57,7 @@ FIRMWARE := $(BUILD)/bin/periscope
 TOOLS := $(patsubst host_tools/%.c,$(BUILD)/bin/%,$(TOOL_MAINS))
 TESTS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_MAINS))
 
-.PHONY: all deps run test check-core-nofloat check-clang install clean bench
+.PHONY: all deps run test check-core-nofloat check-clang install clean
 .DEFAULT_GOAL := all
 
 all: $(CORE_LIB) $(FIRMWARE) $(TOOLS)
@@ -124,6 +123,7 @@ run: deps
 test: deps
 	$(Q)$(MAKE) --no-print-directory all $(TESTS)
 	$(Q)$(MAKE) --no-print-directory check-core-nofloat
+	$(Q)$(MAKE) --no-print-directory check-clang
 	$(Q)sh tests/run_all.sh $(BUILD) $(TESTS)
 
 # core must not use floating point: compile it with the FPU registers taken
@@ -140,8 +140,10 @@ check-core-nofloat:
 		grep -nE '\b(float|double)\b|#include *<(stdio|stdlib|string|math|unistd|fcntl|time|pthread|sys/)' && \
 		{ echo "check-core-nofloat: $$f uses floating point or a hosted header"; exit 1; }; done; true
 
+# Everything (tests included) must also build warning-free with clang.
 check-clang:
-	$(Q)$(MAKE) --no-print-directory CC=clang BUILD=$(BUILD)/clang all
+	@echo "  CHECK   the whole tree builds with clang -Werror"
+	$(Q)$(MAKE) --no-print-directory CC=clang BUILD=$(BUILD)/clang all $(patsubst $(BUILD)/%,$(BUILD)/clang/%,$(TESTS))
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin

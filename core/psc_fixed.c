@@ -82,7 +82,9 @@ int64_t psc_div_round64(int64_t n, int64_t d)
     uint64_t q = un / ud, r = un % ud;
     if (r >= ud - r) /* r >= d/2 without overflow: ties away from zero */
         q++;
-    return ((n < 0) != (d < 0)) ? -(int64_t)q : (int64_t)q;
+    if ((n < 0) != (d < 0))
+        return q == 0 ? 0 : -(int64_t)(q - 1u) - 1; /* q may be 2^63: negate without overflow */
+    return (int64_t)q;
 }
 
 void psc_sincos(psc_bam_t a, int32_t *sin_q30, int32_t *cos_q30)

@@ -37,7 +37,7 @@ int32_t psc_map_col_q16(const psc_viewer_t *v, psc_bam_t lon)
 int32_t psc_map_row_q16(const psc_viewer_t *v, int32_t lat)
 {
     if (v->addr.row_table) {
-        uint32_t t = (uint32_t)(lat + (int32_t)PSC_BAM_90); /* 0 .. 2^31 */
+        uint32_t t = (uint32_t)lat + PSC_BAM_90; /* 0 .. 2^31, no signed overflow at +90 */
         uint32_t i = t >> PSC_LAT_TABLE_SHIFT, frac = t & ((1u << PSC_LAT_TABLE_SHIFT) - 1u);
         if (i >= PSC_LAT_TABLE_SIZE - 1u)
             return v->lat_to_row[PSC_LAT_TABLE_SIZE - 1u];

@@ -49,12 +49,9 @@ static void test_board_valid(void **state)
     if (psc_board_config_load("boards/sim/board.conf", &cfg, err, sizeof(err)) != 0)
         fail_msg("boards/sim/board.conf: %s", err);
     assert_string_equal(cfg.display_backend, "sim");
-    assert_int_equal(cfg.display_width, 640);
-    assert_int_equal(cfg.display_height, 480);
-    assert_int_equal(cfg.frame_rate_mhz, 30000);
-    assert_int_equal(cfg.yaw_rate_max_mdeg, 90000);
-    assert_int_equal(cfg.quality_fast_speed, 600);
-    assert_int_equal(cfg.quality_fast_filter, PSC_FILTER_NEAREST);
+    assert_string_equal(cfg.input_backend, "sim");
+    assert_true(cfg.display_width >= 16 && cfg.display_height >= 16);
+    assert_true(cfg.frame_rate_mhz >= 1000);
     assert_true(cfg.scene_count >= 1);
 
     /* Units, comments, CRLF, decimals, backend options with their origin. */
@@ -238,10 +235,11 @@ static void test_tour_events(void **state)
     psc_sim_tour_free(&t);
     psc_sim_tour_free(&t); /* safe twice */
 
-    /* The repository's demonstration tour parses; its commands add up to 29.55 s. */
+    /* The repository's demonstration tour parses (its length is its author's business: printed). */
     if (psc_sim_tour_load("boards/sim/tour.txt", 800, &t, err, sizeof(err)) != 0)
         fail_msg("boards/sim/tour.txt: %s", err);
-    assert_int_equal(t.end_us, 29550000);
+    printf("  boards/sim/tour.txt: %zu events, ends at %.3f s\n", t.count, t.end_us / 1e6);
+    assert_true(t.count > 0 && t.end_us > 0);
     psc_sim_tour_free(&t);
 }
 

@@ -17,6 +17,9 @@
  *   bilinear. Measured (printed table): 37.6..59 dB, the lowest on the
  *   partial equirect map at 30..60 deg hfov (magnified texels); 35 dB keeps
  *   ~2.5 dB of margin and still fails a systematic half-texel offset.
+ * Sensitivity (measured once by offsetting the reference's yaw): a constant
+ * 0.25 map-px error gives bilinear 38.3..42.7 dB, 0.5 px 32.5..37.0 dB,
+ * 1 px 27..31.6 dB; nearest 32.2..36.5 / 29.1..33.4 / 25.8..30.5 dB.
  * Also printed: bilinear against a 4x4 supersampled reference (aliasing, no bound).
  *
  * Further checks: render and psc_viewer_trace_row agree (nearest texel
