@@ -57,7 +57,7 @@ FIRMWARE := $(BUILD)/bin/periscope
 TOOLS := $(patsubst host_tools/%.c,$(BUILD)/bin/%,$(TOOL_MAINS))
 TESTS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_MAINS))
 
-.PHONY: all deps run test check-core-nofloat check-clang install clean
+.PHONY: all deps run test check-core-nofloat check-clang install clean bench bench-callgrind
 .DEFAULT_GOAL := all
 
 all: $(CORE_LIB) $(FIRMWARE) $(TOOLS)
@@ -144,6 +144,44 @@ check-core-nofloat:
 check-clang:
 	@echo "  CHECK   the whole tree builds with clang -Werror"
 	$(Q)$(MAKE) --no-print-directory CC=clang BUILD=$(BUILD)/clang all $(patsubst $(BUILD)/%,$(BUILD)/clang/%,$(TESTS))
+
+# ---- bench: speed, always side by side with a reference in the same run ------
+# Not part of `make test` (no timing in tests). Each bench/<name>/ folder is one
+# program build/bench/<name> from its .c and .cpp files; its extra libraries
+# come from bench/<name>/pkg-config (pkg-config module names, one line).
+# bench/packages.txt lists the Debian packages the benchmarks need.
+CXX ?= $(CROSS_COMPILE)g++
+ifeq ($(origin CXX),default)
+CXX := $(CROSS_COMPILE)g++
+endif
+BENCH_DIRS := $(sort $(patsubst %/,%,$(dir $(wildcard bench/*/*.c bench/*/*.cpp))))
+BENCH_PROGS := $(patsubst bench/%,$(BUILD)/bench/%,$(BENCH_DIRS))
+BENCH_PACKAGES = $(shell cat bench/packages.txt 2>/dev/null)
+bench_pkgs = $(shell cat bench/$(1)/pkg-config 2>/dev/null)
+
+$(BUILD)/obj/bench/%.o: bench/%.cpp
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  CXX     $<")
+	$(Q)$(CXX) -std=c++17 -O2 -g -Wall -Wextra -Werror -Icore -Ihost_tools/lib $(shell $(PKG_CONFIG) --cflags $(call bench_pkgs,$(firstword $(subst /, ,$*))) 2>/dev/null) -c $< -o $@
+
+.SECONDEXPANSION:
+$(BUILD)/bench/%: $$(patsubst %.c,$(BUILD)/obj/%.o,$$(wildcard bench/%/*.c)) $$(patsubst %.cpp,$(BUILD)/obj/%.o,$$(wildcard bench/%/*.cpp)) $(HOST_LIB) $(CORE_LIB)
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(if $(wildcard bench/$*/*.cpp),$(CXX),$(CC)) $(LDFLAGS) -o $@ $^ $(shell $(PKG_CONFIG) --libs $(call bench_pkgs,$*) 2>/dev/null) $(IMG_LIBS) $(LDLIBS_HOST)
+
+bench:
+	$(Q)sh scripts/install-deps.sh $(BENCH_PACKAGES)
+	$(Q)$(MAKE) --no-print-directory all $(BENCH_PROGS)
+	$(Q)mkdir -p bench/results
+	$(Q)for b in $(BENCH_PROGS); do echo "==== $$b"; $$b --out bench/results || exit 1; done
+
+# Instruction counts (repeatable on a noisy machine): each bench program's --callgrind mode under valgrind.
+bench-callgrind:
+	$(Q)sh scripts/install-deps.sh valgrind $(BENCH_PACKAGES)
+	$(Q)$(MAKE) --no-print-directory all $(BENCH_PROGS)
+	$(Q)mkdir -p bench/results
+	$(Q)for b in $(BENCH_PROGS); do echo "==== $$b"; $$b --callgrind --out bench/results || exit 1; done
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin
