@@ -56,4 +56,10 @@ void psc_sincos(psc_bam_t a, int32_t *sin_q30, int32_t *cos_q30);
  */
 psc_bam_t psc_atan2(int32_t y, int32_t x, uint32_t *mag);
 
+/**
+ * Base-2 logarithm in Q24.8 (the mantissa's top 8 bits through a table;
+ * |error| < 0.01), INT32_MIN for 0. Used for the map level of detail.
+ */
+int32_t psc_log2_q8(uint64_t v);
+
 #endif

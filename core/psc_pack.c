@@ -126,6 +126,8 @@ psc_status_t psc_pack_parse(const void *buf, size_t len, psc_pack_t *out, psc_pa
     *out = (psc_pack_t){0};
     out->version_minor = rd16(b + 10);
     const uint8_t *map_pixels = NULL, *palette = NULL;
+    const uint8_t *level_pixels[PSC_PACK_MAX_LEVELS] = {0};
+    uint32_t level_size[PSC_PACK_MAX_LEVELS] = {0}, level_off[PSC_PACK_MAX_LEVELS] = {0};
     uint32_t map_off = 0, map_size = 0;
     bool have_scene = false;
     uint32_t scene_off = 0;
@@ -155,6 +157,14 @@ psc_status_t psc_pack_parse(const void *buf, size_t len, psc_pack_t *out, psc_pa
             map_pixels = b + off;
             map_off = off;
             map_size = size;
+        } else if ((type & 0x00FFFFFFu) == (PSC_SECTION_MAP0 & 0x00FFFFFFu) && (type >> 24) > '0' &&
+                   (type >> 24) < '0' + PSC_PACK_MAX_LEVELS) {
+            unsigned k = (type >> 24) - '0';
+            if (level_pixels[k])
+                return fail(err, PSC_ERR_CORRUPT, "a map level appears twice", eoff);
+            level_pixels[k] = b + off;
+            level_size[k] = size;
+            level_off[k] = off;
         } else if (type == PSC_SECTION_PALETTE) {
             if (size != 256u * 4u)
                 return fail(err, PSC_ERR_CORRUPT, "PALT section is not 256 entries", eoff + 8);
@@ -189,6 +199,25 @@ psc_status_t psc_pack_parse(const void *buf, size_t len, psc_pack_t *out, psc_pa
     }
     if (psc_envmap_check(m) != PSC_OK)
         return fail(err, PSC_ERR_CORRUPT, "map coverage invalid for its projection", scene_off + 12);
+    out->levels[0] = *m;
+    out->level_count = 1;
+    for (unsigned k = 1; k < PSC_PACK_MAX_LEVELS && level_pixels[k]; k++) {
+        uint32_t w = m->width >> k, h = m->height >> k;
+        if ((w << k) != m->width || (h << k) != m->height || w == 0 || h == 0)
+            return fail(err, PSC_ERR_CORRUPT, "map level whose size is not an exact halving", level_off[k]);
+        psc_envmap_t *l = &out->levels[k];
+        *l = *m;
+        l->width = (uint16_t)w;
+        l->height = (uint16_t)h;
+        l->stride = w * psc_pixfmt_bytes(m->format);
+        if ((uint64_t)l->stride * h != level_size[k])
+            return fail(err, PSC_ERR_CORRUPT, "map level size does not match its dimensions", level_off[k]);
+        l->pixels = level_pixels[k];
+        out->level_count = (uint8_t)(k + 1);
+    }
+    for (unsigned k = out->level_count; k < PSC_PACK_MAX_LEVELS; k++)
+        if (level_pixels[k])
+            return fail(err, PSC_ERR_CORRUPT, "map level without the level before it", level_off[k]);
     if (out->hfov_switch == 0 || out->hfov_switch >= PSC_BAM_180)
         return fail(err, PSC_ERR_CORRUPT, "LUT switch angle out of range", scene_off + 32);
     return PSC_OK;

@@ -20,6 +20,10 @@
  * inside the file. Types (four characters, first byte lowest):
  *   "SCEN"  psc_pack_scene_raw_t (exactly its size)
  *   "MAP0"  map pixels, rows of width * bytes-per-pixel bytes, no padding
+ *   "MAP1".."MAP9", "MAP:".."MAP;"  (minor version 1) the map pyramid: level k is
+ *           (width >> k) x (height >> k), same format (and palette), filtered
+ *           down from level k-1; levels are consecutive from 1, and exist only
+ *           while both dimensions divide exactly
  *   "PALT"  256 XRGB8888 palette entries (required for PAL8 maps only)
  *   "LUT "  one look-up table: psc_pack_lut_raw_t then rows*cols uint32 entries
  *           (1..PSC_PACK_MAX_LUTS of them, in increasing hfov_max)
@@ -35,11 +39,12 @@
 #define PSC_PACK_MAGIC "PSCPANO\x1a"
 #define PSC_PACK_MAGIC_LEN 8u
 #define PSC_PACK_VERSION_MAJOR 1u
-#define PSC_PACK_VERSION_MINOR 0u
+#define PSC_PACK_VERSION_MINOR 1u
 #define PSC_PACK_HEADER_SIZE 32u
 #define PSC_PACK_SECTION_SIZE 16u
 #define PSC_PACK_ALIGN 64u
-#define PSC_PACK_MAX_SECTIONS 16u
+#define PSC_PACK_MAX_SECTIONS 24u
+#define PSC_PACK_MAX_LEVELS 12u /* map levels, level 0 included */
 #define PSC_PACK_MAX_LUTS 4u
 #define PSC_PACK_CRC_OFFSET 20u
 
@@ -47,6 +52,8 @@
     ((uint32_t)(uint8_t)(a) | ((uint32_t)(uint8_t)(b) << 8) | ((uint32_t)(uint8_t)(c) << 16) | ((uint32_t)(uint8_t)(d) << 24))
 #define PSC_SECTION_SCENE PSC_FOURCC('S', 'C', 'E', 'N')
 #define PSC_SECTION_MAP0 PSC_FOURCC('M', 'A', 'P', '0')
+/** Section type of map level k (0 .. PSC_PACK_MAX_LEVELS-1). */
+#define PSC_SECTION_MAP_LEVEL(k) PSC_FOURCC('M', 'A', 'P', '0' + (k))
 #define PSC_SECTION_PALETTE PSC_FOURCC('P', 'A', 'L', 'T')
 #define PSC_SECTION_LUT PSC_FOURCC('L', 'U', 'T', ' ')
 
@@ -82,7 +89,9 @@ typedef struct {
 
 /** A parsed pack: pointers into the caller's buffer, valid while it lives. */
 typedef struct {
-    psc_envmap_t map;
+    psc_envmap_t map;                  /* level 0, full resolution */
+    psc_envmap_t levels[PSC_PACK_MAX_LEVELS]; /* levels[0] == map; for psc_viewer_set_levels */
+    uint8_t level_count;               /* >= 1 */
     psc_lut_t luts[PSC_PACK_MAX_LUTS]; /* increasing hfov_max */
     uint8_t lut_count;
     uint16_t display_width, display_height;

@@ -28,13 +28,20 @@
 #include "psc_lut.h"
 
 typedef enum {
-    PSC_FILTER_NEAREST = 0,
-    PSC_FILTER_BILINEAR = 1
+    PSC_FILTER_NEAREST = 0,  /* full-resolution map, nearest texel */
+    PSC_FILTER_BILINEAR = 1, /* full-resolution map, bilinear */
+    /* Map pyramid (psc_viewer_set_levels): per span of N pixels the level whose
+     * texels match the pixel's footprint, bilinear in the two nearest levels
+     * blended by the fractional level (trilinear). Zoomed-out views keep their
+     * detail without shimmering. Full-turn equirect/cylinder/sine maps only;
+     * other maps, or a viewer without levels, render it as bilinear. */
+    PSC_FILTER_MIP = 2
 } psc_filter_t;
 
 #define PSC_SPAN_LOG2_MAX 4u      /* N up to 16 */
 #define PSC_SPAN_LOG2_DEFAULT 2u  /* N = 4, the seed's preferred span */
 #define PSC_VIEWER_MAX_LUTS 4u
+#define PSC_VIEWER_MAX_LEVELS 12u
 /* Narrowest field of view rendered (1 degree): keeps the viewing-plane
  * distance below 2^27 half-pixels (Q8) for outputs up to PSC_MAX_OUT_DIM. */
 #define PSC_HFOV_MIN PSC_BAM_FROM_MDEG(1000)
@@ -52,6 +59,7 @@ typedef struct {
 typedef struct {
     int32_t v;              /* bam: atan(y / d), the scanline's angle from the view axis */
     uint32_t u_step_q24;    /* LUT columns per half-pixel along the scanline: cos(v)/d * (cols-1)/u_max, Q8.24 */
+    uint32_t mag_q8;        /* sqrt(y^2 + d^2) in half-pixels, Q24.8: the scanline's distance from the eye */
 } psc_scanline_t;
 
 /** Map addressing derived at init: angles -> Q16.16 (row, column). */
@@ -68,6 +76,9 @@ typedef struct {
 typedef struct {
     const psc_envmap_t *map;
     psc_map_addressing_t addr;
+    const psc_envmap_t *levels;  /* map pyramid, levels[0] == *map (psc_viewer_set_levels) */
+    uint8_t level_count;         /* 1 without a pyramid */
+    int32_t lod_base_q8;         /* log2(2 * map rows per radian), Q24.8 */
     const psc_lut_t *luts[PSC_VIEWER_MAX_LUTS];   /* increasing hfov_max */
     uint8_t lut_count;
     psc_bam_t hfov_switch;      /* informational: the LUT switch threshold */
@@ -98,7 +109,15 @@ psc_status_t psc_viewer_init(psc_viewer_t *v, const psc_envmap_t *map,
                              uint16_t out_width, uint16_t out_height,
                              void *ws, size_t ws_size);
 
-/** Narrowest and widest hfov the viewer's tables serve. */
+/**
+ * Give the viewer the map pyramid for PSC_FILTER_MIP: levels[0] describes the
+ * same map as init's, level k is exactly (W >> k) x (H >> k) with the same
+ * projection, format, palette and coverage (a parsed pack's levels are). The
+ * levels must outlive the viewer. PSC_ERR_ARG if they do not match.
+ */
+psc_status_t psc_viewer_set_levels(psc_viewer_t *v, const psc_envmap_t *levels, unsigned count);
+
+/** Widest hfov the viewer's tables serve. */
 psc_bam_t psc_viewer_hfov_max(const psc_viewer_t *v);
 
 /**

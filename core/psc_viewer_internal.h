@@ -28,6 +28,8 @@ typedef struct {
     int32_t cap_exact;             /* |lat| >= this: exact CORDIC per pixel (inner polar cap) */
     unsigned span;                 /* N: LUT read every N pixels */
     psc_sink_t sink;
+    psc_filter_t filter;           /* nearest or bilinear: what the non-mip samplers do */
+    bool mip;                      /* PSC_FILTER_MIP with a pyramid on a fast map */
     uint8_t *dst;                  /* current output row (RGB565/XRGB8888) */
     int32_t *trace_row, *trace_col;
 } psc_frame_t;
@@ -48,6 +50,12 @@ void psc_row_width_init(int32_t *width_q16, const psc_envmap_t *m);
 void psc_exact_angles(const psc_frame_t *f, int32_t xc, int32_t yc, psc_bam_t *lon, int32_t *lat);
 /* Prepare zoom-dependent state (LUT choice, per-scanline table) for hfov. */
 void psc_viewer_set_zoom(psc_viewer_t *v, psc_bam_t hfov);
+/*
+ * Trilinear spans: pixels [x, x + n) from level-0 position (row, col) in steps
+ * (drow, dcol), at level of detail lod_q8 (log2 texels per pixel, Q24.8).
+ */
+void psc_span_mip(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, int32_t col, int32_t drow, int32_t dcol,
+                  int32_t lod_q8);
 /* Sample any map at (row, col) Q16.16 through the general (per-pixel, clamping) path: XRGB8888. */
 uint32_t psc_sample_general(const psc_viewer_t *v, psc_filter_t filter, int32_t row, int32_t col);
 

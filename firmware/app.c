@@ -61,6 +61,11 @@ static int64_t app_bam_from_mdeg(int64_t mdeg)
     return (n + (n >= 0 ? 180000 : -180000)) / 360000;
 }
 
+static const char *app_filter_name(psc_filter_t f)
+{
+    return f == PSC_FILTER_NEAREST ? "nearest" : f == PSC_FILTER_BILINEAR ? "bilinear" : "mip";
+}
+
 /* A bam angle as degrees with 2 decimals ("20.00"), for messages. */
 static void app_format_degrees(char *buf, size_t len, psc_bam_t bam)
 {
@@ -201,6 +206,8 @@ static int app_enter_scene(psc_app_t *app, unsigned i, char *err, size_t errlen)
 
     s = psc_viewer_init(&app->viewer, &pk->map, pk->luts, pk->lut_count, app->mode.width, app->mode.height,
                         app->workspace, app->workspace_size);
+    if (s == PSC_OK)
+        s = psc_viewer_set_levels(&app->viewer, pk->levels, pk->level_count);
     if (s != PSC_OK) {
         psc_hal_error_set(err, errlen, "%s: the viewer cannot show this scene: %s", app->scene_names[i],
                           psc_status_str(s));
@@ -269,7 +276,7 @@ int psc_app_open(const psc_cli_options_t *opt, psc_app_t **out, char *err, size_
         .settle_frames = b->quality_settle_frames,
         .fast_filter = b->quality_fast_filter,
         .fast_span_log2 = b->quality_fast_span_log2,
-        .calm_filter = PSC_FILTER_BILINEAR,
+        .calm_filter = b->quality_filter,
         .calm_span_log2 = b->quality_span_log2,
     };
     psc_quality_init(&app->quality);
@@ -350,7 +357,7 @@ static void app_log_quality(const psc_app_t *app, uint32_t frame, uint64_t t_us,
     app_format_time(when, sizeof when, t_us);
     printf("frame %5u  %s  quality: %s (%s, span %u) at %u.%03u view widths/s\n", (unsigned)frame, when,
            fast ? "fast" : "calm",
-           (fast ? c->fast_filter : c->calm_filter) == PSC_FILTER_NEAREST ? "nearest" : "bilinear",
+           app_filter_name(fast ? c->fast_filter : c->calm_filter),
            1u << (fast ? c->fast_span_log2 : c->calm_span_log2), (unsigned)(speed / 1000u),
            (unsigned)(speed % 1000u));
 }

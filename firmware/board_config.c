@@ -17,7 +17,7 @@ typedef enum {
     KEY_BACKEND_NONE,   /* a backend, or "none" */
     KEY_SIZE,           /* WxH -> two uint16_t */
     KEY_FORMAT,         /* rgb565 | xrgb8888 -> psc_pixfmt_t */
-    KEY_FILTER,         /* nearest | bilinear -> psc_filter_t */
+    KEY_FILTER,         /* nearest | bilinear | mip -> psc_filter_t */
     KEY_QUALITY,        /* adaptive | fixed -> bool */
     KEY_U32,            /* whole number -> uint32_t */
     KEY_U8,             /* whole number -> uint8_t */
@@ -78,6 +78,7 @@ static const key_spec_t key_table[] = {
     KEY("quality_fast_span_log2", KEY_U8, quality_fast_span_log2, 0, PSC_SPAN_LOG2_MAX, false),
     KEY("quality_fast_filter", KEY_FILTER, quality_fast_filter, 0, 0, false),
     KEY("quality_span_log2", KEY_U8, quality_span_log2, 0, PSC_SPAN_LOG2_MAX, false),
+    KEY("quality_filter", KEY_FILTER, quality_filter, 0, 0, false),
 };
 
 #define KEY_COUNT (sizeof key_table / sizeof key_table[0])
@@ -133,6 +134,7 @@ void psc_board_config_defaults(psc_board_config_t *cfg)
     cfg->quality_fast_span_log2 = 3;
     cfg->quality_fast_filter = PSC_FILTER_NEAREST;
     cfg->quality_span_log2 = PSC_SPAN_LOG2_DEFAULT;
+    cfg->quality_filter = PSC_FILTER_MIP;
 }
 
 static int board_set_string(board_parser_t *p, char *dst, size_t cap, const char *key, const char *value)
@@ -279,8 +281,10 @@ static int board_set_key(board_parser_t *p, const key_spec_t *k, const char *val
             *(psc_filter_t *)field = PSC_FILTER_NEAREST;
         else if (strcmp(value, "bilinear") == 0)
             *(psc_filter_t *)field = PSC_FILTER_BILINEAR;
+        else if (strcmp(value, "mip") == 0)
+            *(psc_filter_t *)field = PSC_FILTER_MIP;
         else
-            return board_fail(p, "%s must be nearest or bilinear, got '%s'", k->key, value);
+            return board_fail(p, "%s must be nearest, bilinear or mip, got '%s'", k->key, value);
         return 0;
     case KEY_QUALITY:
         if (strcmp(value, "adaptive") == 0 || strcmp(value, "fixed") == 0) {

@@ -99,7 +99,8 @@ typedef struct {
     uint32_t quality_fast_speed;        /* quality_fast_speed: view widths/s x 1000 */
     uint32_t quality_settle_frames;     /* quality_settle_frames */
     uint8_t quality_fast_span_log2;     /* quality_fast_span_log2 */
-    psc_filter_t quality_fast_filter;   /* quality_fast_filter: nearest | bilinear */
+    psc_filter_t quality_fast_filter;   /* quality_fast_filter: nearest | bilinear | mip */
+    psc_filter_t quality_filter;        /* quality_filter: the settled filter, default mip */
     uint8_t quality_span_log2;          /* quality_span_log2: the settled span */
 
     psc_board_option_t options[PSC_BOARD_MAX_OPTIONS];

@@ -41,6 +41,8 @@ static void print_usage(FILE *f)
             "  --lut-switch D              widest view served by the narrow table (default 60)\n"
             "  --hfov-max D                widest view served by the wide table (default 120, max 170)\n"
             "  --lut-size ROWSxCOLS        table size (default: chosen from the display width)\n"
+            "  --levels N                  map pyramid levels incl. the map, for --filter mip\n"
+            "                              (default: as many as the size allows; 1: none)\n"
             "  --quiet                     no progress or summary\n"
             "  --help                      this text\n");
 }
@@ -139,6 +141,15 @@ static void print_summary(const char *out_path, const psc_pack_t *p, size_t len)
     double lon0 = lon_deg(m->lon_min), span = m->lon_span ? psc_deg_from_bam(m->lon_span) : 360.0;
     fprintf(stderr, "\n  covers   longitude %.2f..%.2f, latitude %.2f..%.2f degrees\n", lon0, lon0 + span,
             psc_deg_from_sbam(m->lat_top), psc_deg_from_sbam(m->lat_bottom));
+    if (p->level_count > 1) {
+        double bytes = 0;
+        for (unsigned k = 1; k < p->level_count; k++)
+            bytes += (double)p->levels[k].stride * p->levels[k].height;
+        fprintf(stderr, "  levels   %u more, down to %ux%u, ", (unsigned)p->level_count - 1u,
+                (unsigned)p->levels[p->level_count - 1].width, (unsigned)p->levels[p->level_count - 1].height);
+        print_size(stderr, bytes);
+        fprintf(stderr, "\n");
+    }
     if (m->format == PSC_PIX_PAL8)
         fprintf(stderr, "  palette  256 entries, 1.0 KiB\n");
     for (unsigned i = 0; i < p->lut_count; i++) {
@@ -215,7 +226,7 @@ static int parse_args(int argc, char **argv, args_t *a)
         }
         static const char *const valued[] = {"-o", "--display", "--format", "--projection", "--lon-range",
                                              "--lat-range", "--hfov-min", "--lut-switch", "--hfov-max",
-                                             "--lut-size"};
+                                             "--lut-size", "--levels"};
         const char *name = NULL;
         for (size_t i = 0; i < sizeof valued / sizeof valued[0] && !name; i++) {
             r = psc_cli_take_value(&c, valued[i], &v);
@@ -261,6 +272,11 @@ static int parse_args(int argc, char **argv, args_t *a)
             if (psc_cli_parse_size(v, PSC_MAX_LUT_DIM, &o->lut_rows, &o->lut_cols) != 0 || o->lut_rows < 2 ||
                 o->lut_cols < 2)
                 return usage_error("--lut-size '%s': expected ROWSxCOLS, each 2..2048", v);
+        } else if (strcmp(name, "--levels") == 0) {
+            unsigned long n;
+            if (psc_cli_parse_uint(v, 1, PSC_PACK_MAX_LEVELS, &n) != 0)
+                return usage_error("--levels '%s': expected 1..%u", v, PSC_PACK_MAX_LEVELS);
+            o->map_levels = (unsigned)n;
         }
         if (rc != 0)
             return rc;

@@ -34,7 +34,7 @@ static void print_usage(FILE *f)
             "  --pitch P           degrees, -90..90, > 0 looks up (default: the pack's)\n"
             "  --hfov F            horizontal field of view in degrees (default: the pack's);\n"
             "                      brought inside the pack's zoom range if needed\n"
-            "  --filter F          nearest or bilinear (default bilinear)\n"
+            "  --filter F          nearest, bilinear (default) or mip (the map pyramid, trilinear)\n"
             "  --span N            read the LUT every N pixels: 1, 2, 4 (default), 8 or 16\n"
             "  --repeat K          render K times and report the time per frame (default 1)\n"
             "  --size WxH          output size (default: the pack's display size)\n"
@@ -89,8 +89,10 @@ static int parse_value(args_t *a, const char *name, const char *v)
             a->filter = PSC_FILTER_NEAREST;
         else if (strcmp(v, "bilinear") == 0)
             a->filter = PSC_FILTER_BILINEAR;
+        else if (strcmp(v, "mip") == 0)
+            a->filter = PSC_FILTER_MIP;
         else
-            return usage_error("--filter '%s': expected nearest or bilinear", v);
+            return usage_error("--filter '%s': expected nearest, bilinear or mip", v);
     } else if (strcmp(name, "--span") == 0) {
         if (span_to_log2(v, &a->span_log2) != 0 || a->span_log2 > PSC_SPAN_LOG2_MAX)
             return usage_error("--span '%s': expected 1, 2, 4, 8 or 16", v);
@@ -228,7 +230,8 @@ int main(int argc, char **argv)
     if (!ws || !out.pixels) {
         fprintf(stderr, PROG ": out of memory for a %ux%u view\n", (unsigned)w, (unsigned)h);
     } else if ((s = psc_viewer_init(&viewer, &pack->map, pack->luts, pack->lut_count, w, h, ws, ws_size)) !=
-               PSC_OK) {
+                   PSC_OK ||
+               (s = psc_viewer_set_levels(&viewer, pack->levels, pack->level_count)) != PSC_OK) {
         fprintf(stderr, PROG ": %s: cannot set up a %ux%u viewer: %s\n", a.pack, (unsigned)w, (unsigned)h,
                 psc_status_str(s));
     } else {

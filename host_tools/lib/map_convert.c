@@ -19,30 +19,53 @@ static void report_rows(psc_progress_fn progress, void *ctx, const char *stage, 
         progress(stage, (unsigned)((uint64_t)y * 100u / h), ctx);
 }
 
+/* Map every pixel of img to its nearest entry of pal. 0, or -1 when out of memory. */
+static int map_to_palette(const psc_image_t *img, const psc_palette_t *pal, uint8_t *pixels, psc_progress_fn progress,
+                          void *ctx)
+{
+    psc_palette_mapper_t mapper = {0};
+    if (psc_palette_mapper_init(&mapper, pal) != 0)
+        return -1;
+    for (uint32_t y = 0; y < img->height; y++) {
+        report_rows(progress, ctx, "mapping to palette", y, img->height);
+        const uint32_t *src = img->xrgb + (size_t)y * img->width;
+        uint8_t *dst = pixels + (size_t)y * img->width;
+        for (uint32_t x = 0; x < img->width; x++)
+            dst[x] = psc_palette_index(&mapper, src[x]);
+    }
+    report_rows(progress, ctx, "mapping to palette", img->height, img->height);
+    psc_palette_mapper_free(&mapper);
+    return 0;
+}
+
 static int convert_pal8(const psc_image_t *img, uint8_t *pixels, uint32_t *palette,
                         psc_progress_fn progress, void *ctx)
 {
     psc_palette_t *pal = malloc(sizeof *pal);
-    psc_palette_mapper_t mapper = {0};
     int rc = -1;
     if (progress)
         progress("choosing palette", 0, ctx);
-    if (pal && psc_palette_build(img, pal) == 0 && psc_palette_mapper_init(&mapper, pal) == 0) {
+    if (pal && psc_palette_build(img, pal) == 0) {
         if (progress)
             progress("choosing palette", 100, ctx);
         for (unsigned i = 0; i < PSC_PALETTE_SIZE; i++)
             palette[i] = pal->colors[i];
-        for (uint32_t y = 0; y < img->height; y++) {
-            report_rows(progress, ctx, "mapping to palette", y, img->height);
-            const uint32_t *src = img->xrgb + (size_t)y * img->width;
-            uint8_t *dst = pixels + (size_t)y * img->width;
-            for (uint32_t x = 0; x < img->width; x++)
-                dst[x] = psc_palette_index(&mapper, src[x]);
-        }
-        report_rows(progress, ctx, "mapping to palette", img->height, img->height);
-        rc = 0;
+        rc = map_to_palette(img, pal, pixels, progress, ctx);
     }
-    psc_palette_mapper_free(&mapper);
+    free(pal);
+    return rc;
+}
+
+int psc_map_convert_to_palette(const psc_image_t *img, const uint32_t *palette, uint8_t *pixels)
+{
+    psc_palette_t *pal = malloc(sizeof *pal);
+    if (!pal)
+        return -1;
+    for (unsigned i = 0; i < PSC_PALETTE_SIZE; i++)
+        pal->colors[i] = palette[i];
+    pal->count = PSC_PALETTE_SIZE;
+    pal->exact = false;
+    int rc = map_to_palette(img, pal, pixels, NULL, NULL);
     free(pal);
     return rc;
 }

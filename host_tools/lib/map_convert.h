@@ -26,4 +26,10 @@ uint16_t psc_rgb565_from_xrgb(uint32_t xrgb);
 int psc_map_convert(const psc_image_t *img, psc_pixfmt_t format, uint8_t *pixels, uint32_t *palette,
                     psc_progress_fn progress, void *progress_ctx);
 
+/**
+ * Convert img to PAL8 pixels through a given 256-entry palette (the map
+ * pyramid's levels share level 0's palette). 0, or -1 when out of memory.
+ */
+int psc_map_convert_to_palette(const psc_image_t *img, const uint32_t *palette, uint8_t *pixels);
+
 #endif

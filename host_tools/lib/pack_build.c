@@ -8,6 +8,7 @@
  * so the file is the same whatever the host.
  */
 #include "pack_build.h"
+#include "map_pyramid.h"
 #include "angle_conv.h"
 #include "le_bytes.h"
 #include "lut_build.h"
@@ -332,6 +333,43 @@ static int build_luts(uint8_t *file, lut_plan_t *plan, unsigned count, const psc
     return 0;
 }
 
+/* Levels only help full-turn maps the viewer's pyramid sampler handles. */
+static unsigned pyramid_level_count(const psc_envmap_t *map, const psc_pack_options_t *opt)
+{
+    bool pyramid_projection = map->projection == PSC_PROJ_EQUIRECT || map->projection == PSC_PROJ_CYLINDER ||
+                              map->projection == PSC_PROJ_SINE;
+    if (map->lon_span != 0 || !pyramid_projection || opt->map_levels == 1)
+        return 1;
+    unsigned max = opt->map_levels ? opt->map_levels : PSC_PACK_MAX_LEVELS;
+    return psc_pyramid_levels(map->width, map->height, max < PSC_PACK_MAX_LEVELS ? max : PSC_PACK_MAX_LEVELS);
+}
+
+/* Filter level k from level k-1 and store it in the map's format (PAL8 through level 0's palette). */
+static int write_levels(uint8_t *file, const psc_image_t *img, const psc_envmap_t *map, section_t *const *sec,
+                        unsigned nlevels, const uint32_t *palette, const psc_pack_options_t *opt)
+{
+    psc_image_t prev = *img, cur;
+    int rc = 0;
+    for (unsigned k = 1; k < nlevels && rc == 0; k++) {
+        report(opt, "map levels", 100u * (k - 1) / nlevels);
+        if (psc_image_halve(&prev, true, &cur) != 0) {
+            rc = -1;
+            break;
+        }
+        uint8_t *dst = file + sec[k]->offset;
+        rc = palette ? psc_map_convert_to_palette(&cur, palette, dst)
+                     : psc_map_convert(&cur, map->format, dst, NULL, NULL, NULL);
+        if (prev.xrgb != img->xrgb)
+            psc_image_free(&prev);
+        prev = cur;
+    }
+    if (prev.xrgb != img->xrgb)
+        psc_image_free(&prev);
+    if (nlevels > 1)
+        report(opt, "map levels", 100);
+    return rc;
+}
+
 int psc_pack_build(const psc_image_t *img, const psc_pack_options_t *opt_in, uint8_t **out, size_t *out_len,
                    char *err, size_t errlen)
 {
@@ -366,6 +404,11 @@ int psc_pack_build(const psc_image_t *img, const psc_pack_options_t *opt_in, uin
     layout_t l = {0};
     section_t *scene = layout_add(&l, PSC_SECTION_SCENE, sizeof(psc_pack_scene_raw_t));
     section_t *pixels = layout_add(&l, PSC_SECTION_MAP0, (uint64_t)map.stride * map.height);
+    unsigned nlevels = pyramid_level_count(&map, opt);
+    section_t *level_sec[PSC_PACK_MAX_LEVELS] = {pixels};
+    for (unsigned k = 1; k < nlevels; k++)
+        level_sec[k] = layout_add(&l, PSC_SECTION_MAP_LEVEL(k),
+                                  (uint64_t)(map.width >> k) * (map.height >> k) * psc_pixfmt_bytes(map.format));
     section_t *palette = opt->format == PSC_PIX_PAL8 ? layout_add(&l, PSC_SECTION_PALETTE, PALETTE_BYTES) : NULL;
     for (unsigned i = 0; i < nluts; i++)
         plan[i].section = layout_add(&l, PSC_SECTION_LUT,
@@ -390,6 +433,10 @@ int psc_pack_build(const psc_image_t *img, const psc_pack_options_t *opt_in, uin
     if (palette)
         for (unsigned i = 0; i < PALETTE_BYTES / 4u; i++)
             psc_put_le32(file + palette->offset + 4 * i, pal[i]);
+    if (write_levels(file, img, &map, level_sec, nlevels, palette ? pal : NULL, opt) != 0) {
+        free(file);
+        return build_fail(err, errlen, "out of memory while filtering the map levels");
+    }
 
     psc_lut_t built[MAX_BUILD_LUTS];
     if (build_luts(file, plan, nluts, opt, built, err, errlen) != 0) {

@@ -22,6 +22,8 @@ typedef struct {
     double hfov_max_deg;           /* default 120: wide LUT serves up to this */
     double default_yaw_deg, default_pitch_deg, default_hfov_deg;  /* default 0, 0, 90 */
     uint16_t lut_rows, lut_cols;   /* 0 = psc_lut_default_size() */
+    unsigned map_levels;           /* pyramid levels incl. the map itself: 0 = as many as the size
+                                    * allows (full-turn equirect, cylinder and sine maps), 1 = none */
     void (*progress)(const char *stage, unsigned percent, void *ctx);  /* may be NULL */
     void *progress_ctx;
 } psc_pack_options_t;
