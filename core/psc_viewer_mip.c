@@ -42,11 +42,11 @@ static uint32_t level_bilinear(const psc_envmap_t *m, unsigned k, int32_t row, i
                            level_texel(m, p1, c1), fc, fr);
 }
 
-void psc_span_mip(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, int32_t col, int32_t drow, int32_t dcol,
+void psc_span_mip(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, uint32_t t, int32_t drow, int32_t dt,
                   int32_t lod_q8)
 {
     const psc_viewer_t *v = f->v;
-    const int32_t wq = (int32_t)v->map->width << 16;
+    const uint32_t w = v->map->width;
     int32_t top = v->level_count - 1;
     int32_t level = lod_q8 < 0 ? 0 : lod_q8 >> 8;
     uint32_t frac = lod_q8 < 0 ? 0 : (uint32_t)lod_q8 & 255u;
@@ -56,6 +56,7 @@ void psc_span_mip(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, int
     }
     const psc_envmap_t *fine = &v->levels[level], *coarse = &v->levels[level + (frac ? 1 : 0)];
     for (unsigned i = 0; i < n; i++) {
+        int32_t col = (int32_t)(((uint64_t)t * w) >> 16) - 32768; /* level 0, Q16.16, may be -0.5 */
         uint32_t px = level_bilinear(fine, (unsigned)level, row, col);
         if (frac)
             px = psc_blend4_xrgb(px, level_bilinear(coarse, (unsigned)level + 1u, row, col), px, px, frac, 0);
@@ -64,10 +65,6 @@ void psc_span_mip(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, int
         else
             ((uint32_t *)(void *)f->dst)[x + i] = px | 0xFF000000u;
         row += drow;
-        col += dcol;
-        if (col >= wq)
-            col -= wq;
-        else if (col < 0)
-            col += wq;
+        t += (uint32_t)dt;
     }
 }

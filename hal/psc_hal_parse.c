@@ -31,6 +31,8 @@ int psc_hal_parse_decimal(const char *s, unsigned frac_digits, int64_t *out)
         for (; *s >= '0' && *s <= '9'; s++) {
             any = true;
             if (frac < frac_digits) {
+                if (v > PSC_HAL_PARSE_LIMIT / 10) /* checked before it could overflow */
+                    return -ERANGE;
                 v = v * 10 + (*s - '0');
                 frac++;
             } else if (frac == frac_digits) {
@@ -43,9 +45,9 @@ int psc_hal_parse_decimal(const char *s, unsigned frac_digits, int64_t *out)
     if (!any || *s != '\0')
         return -EINVAL;
     for (; frac < frac_digits; frac++) {
-        v *= 10;
-        if (v > PSC_HAL_PARSE_LIMIT)
+        if (v > PSC_HAL_PARSE_LIMIT / 10)
             return -ERANGE;
+        v *= 10;
     }
     if (round_up)
         v++;

@@ -19,6 +19,9 @@ shift
 logs="$build/test-logs"
 PSC_TEST_TMPDIR="$build/test-tmp"
 export PSC_TEST_TMPDIR
+# the command-line tools under test are this build's (test_tools)
+PSC_BIN_DIR=${PSC_BIN_DIR:-$build/bin}
+export PSC_BIN_DIR
 mkdir -p "$logs" "$PSC_TEST_TMPDIR"
 
 prog_pass=0

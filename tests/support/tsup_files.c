@@ -1,0 +1,71 @@
+/* tsup_files.c - scratch files and message checks for the file-parser tests (see tsup_files.h). */
+#include "tsup_files.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+void tsup_tmp_path(char *buf, size_t n, const char *prefix, const char *name)
+{
+    const char *dir = getenv("PSC_TEST_TMPDIR");
+    snprintf(buf, n, "%s/%s_%ld_%s", dir && *dir ? dir : "/tmp", prefix, (long)getpid(), name);
+}
+
+int tsup_write_bytes(const char *path, const void *data, size_t len)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f)
+        return -1;
+    size_t put = len ? fwrite(data, 1, len, f) : 0;
+    int rc = fclose(f);
+    return put == len && rc == 0 ? 0 : -1;
+}
+
+uint8_t *tsup_read_bytes(const char *path, size_t *len)
+{
+    *len = 0;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    size_t cap = 4096, n = 0;
+    uint8_t *buf = malloc(cap + 1);
+    while (buf) {
+        size_t got = fread(buf + n, 1, cap - n, f);
+        n += got;
+        if (n < cap) {
+            if (ferror(f)) {
+                free(buf);
+                buf = NULL;
+            }
+            break;
+        }
+        uint8_t *grown = realloc(buf, 2 * cap + 1);
+        if (!grown) {
+            free(buf);
+            buf = NULL;
+            break;
+        }
+        buf = grown;
+        cap *= 2;
+    }
+    fclose(f);
+    if (buf) {
+        buf[n] = 0;
+        *len = n;
+    }
+    return buf;
+}
+
+int tsup_file_exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+int tsup_msg_starts_with_path(const char *msg, const char *path)
+{
+    size_t n = strlen(path);
+    return msg && strncmp(msg, path, n) == 0 && msg[n] == ':' && msg[n + 1] == ' ' && msg[n + 2] != '\0';
+}

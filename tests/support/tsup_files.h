@@ -1,0 +1,33 @@
+/*
+ * tsup_files.h - scratch files and error-message checks shared by the tests
+ * of parsers that read files (image I/O, board/tour files, the host tools).
+ * Host only. Built into libpsc_testsupport.a with the rest of tests/support/.
+ */
+#ifndef TSUP_FILES_H
+#define TSUP_FILES_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/**
+ * "<dir>/<prefix>_<pid>_<name>" in buf[n], where dir is $PSC_TEST_TMPDIR
+ * (tests/run_all.sh sets it) or /tmp when that is unset or empty.
+ */
+void tsup_tmp_path(char *buf, size_t n, const char *prefix, const char *name);
+
+/** Create or replace path with len bytes of data. 0, or -1 (errno set). */
+int tsup_write_bytes(const char *path, const void *data, size_t len);
+
+/** The whole file as a malloc'd buffer (one spare NUL byte after the end), or NULL. */
+uint8_t *tsup_read_bytes(const char *path, size_t *len);
+
+/** 1 if path names an existing file (of any kind). */
+int tsup_file_exists(const char *path);
+
+/**
+ * 1 if msg is "<path>: <problem>" with a non-empty problem, i.e. it begins
+ * with the path followed by ": " and something after it.
+ */
+int tsup_msg_starts_with_path(const char *msg, const char *path);
+
+#endif

@@ -1,0 +1,623 @@
+/*
+ * test_tools.c - the command-line tools as a user runs them: periscope-pack,
+ * periscope-render and periscope-contact, started as programs (posix_spawn)
+ * from $PSC_BIN_DIR (default build/bin, relative to the repository root the
+ * tests run from).
+ *
+ *  - a synthetic equirectangular PNG (tests/support's scene) packs to rgb565,
+ *    xrgb8888 and pal8 scene packs whose maps hold the image (exactly for
+ *    xrgb8888, rounded to nearest for rgb565, within a bound for pal8);
+ *  - periscope-render's PNG is bit-exact with an in-process render of the same
+ *    pack through the device's path (psc_pack_file_load, psc_viewer_init,
+ *    psc_viewer_set_levels, psc_viewer_clamp, psc_viewer_render, as
+ *    firmware/app.c), for views at yaw 180, pitch +-90, spans 1 and 16,
+ *    nearest, bilinear and mip, both output formats, an odd size and clamped
+ *    zooms; and the picture is the right one (the scene's markers at the
+ *    centre: lon 0 green, lon 180 cyan, north pole red, south pole blue);
+ *  - exit status 2 and a message for bad arguments, 1 and a message naming
+ *    the file for a missing input or a corrupt pack, and no output file then;
+ *  - periscope-contact tiles frames into a sheet of the documented size whose
+ *    thumbnails are the frames' exact 2x2 box averages.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <spawn.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "angle_conv.h"
+#include "image_io.h"
+#include "pack_build.h"
+#include "psc_viewer.h"
+#include "psc_testsupport.h"
+#include "tsup_files.h"
+
+extern char **environ;
+
+#define MAP_W 256
+#define MAP_H 128
+#define DISP_W 160
+#define DISP_H 120
+
+/* ---- running the tools --------------------------------------------------------------------- */
+
+static const char *bin_dir(void)
+{
+    const char *d = getenv("PSC_BIN_DIR");
+    return d && *d ? d : "build/bin";
+}
+
+static void tmp_path(char *buf, size_t n, const char *name)
+{
+    tsup_tmp_path(buf, n, "test_tools", name);
+}
+
+typedef struct {
+    int status;      /* the exit status */
+    char *output;    /* stdout and stderr together, NUL-terminated (malloc'd) */
+} run_t;
+
+/* Run $PSC_BIN_DIR/tool with args (NULL-terminated); it must exit (not die of a signal). */
+static run_t run_tool(const char *tool, const char *const *args)
+{
+    char exe[512], log[512];
+    snprintf(exe, sizeof exe, "%s/%s", bin_dir(), tool);
+    if (access(exe, X_OK) != 0)
+        fail_msg("%s is not there: build the tools first (make all), or set PSC_BIN_DIR", exe);
+    tmp_path(log, sizeof log, "tool-output.txt");
+    const char *argv[32];
+    size_t n = 0;
+    argv[n++] = exe;
+    for (; args[n - 1] && n < 31; n++)
+        argv[n] = args[n - 1];
+    argv[n] = NULL;
+
+    posix_spawn_file_actions_t fa;
+    assert_int_equal(posix_spawn_file_actions_init(&fa), 0);
+    assert_int_equal(posix_spawn_file_actions_addopen(&fa, 1, log, O_WRONLY | O_CREAT | O_TRUNC, 0644), 0);
+    assert_int_equal(posix_spawn_file_actions_adddup2(&fa, 1, 2), 0);
+    pid_t pid;
+    int rc = posix_spawn(&pid, exe, &fa, NULL, (char *const *)argv, environ);
+    posix_spawn_file_actions_destroy(&fa);
+    if (rc != 0)
+        fail_msg("cannot start %s: %s", exe, strerror(rc));
+    int ws;
+    while (waitpid(pid, &ws, 0) < 0)
+        assert_int_equal(errno, EINTR);
+    run_t r;
+    size_t len;
+    r.output = (char *)tsup_read_bytes(log, &len);
+    assert_non_null(r.output);
+    unlink(log);
+    if (!WIFEXITED(ws))
+        fail_msg("%s died of signal %d; its output:\n%s", tool, WIFSIGNALED(ws) ? WTERMSIG(ws) : -1, r.output);
+    r.status = WEXITSTATUS(ws);
+    return r;
+}
+
+/* Run and require exit status `status` and output containing each of the NULL-terminated mentions. */
+static void expect_run(const char *tool, const char *const *args, int status, const char *const *mentions)
+{
+    run_t r = run_tool(tool, args);
+    char cmd[1024];
+    size_t n = (size_t)snprintf(cmd, sizeof cmd, "%s", tool);
+    for (size_t i = 0; args[i] && n < sizeof cmd; i++)
+        n += (size_t)snprintf(cmd + n, sizeof cmd - n, " %s", args[i]);
+    if (r.status != status)
+        fail_msg("`%s` exited with %d, expected %d; its output:\n%s", cmd, r.status, status, r.output);
+    for (size_t i = 0; mentions && mentions[i]; i++)
+        if (!strstr(r.output, mentions[i]))
+            fail_msg("`%s`: the output should mention \"%s\":\n%s", cmd, mentions[i], r.output);
+    if (status != 0) {
+        /* A failure always says something, starting with the tool's name. */
+        char prefix[64];
+        snprintf(prefix, sizeof prefix, "%s: ", tool);
+        if (strncmp(r.output, prefix, strlen(prefix)) != 0)
+            fail_msg("`%s`: the message should begin with \"%s\":\n%s", cmd, prefix, r.output);
+        /* Show the last line: the error (progress lines may come before it). */
+        size_t end = strlen(r.output);
+        while (end > 0 && r.output[end - 1] == '\n')
+            end--;
+        size_t start = end;
+        while (start > 0 && r.output[start - 1] != '\n')
+            start--;
+        printf("  exit %d: %s\n      %.*s\n", status, cmd, (int)(end - start), r.output + start);
+    }
+    free(r.output);
+}
+
+/* ---- the synthetic panorama and its packs ----------------------------------------------------------- */
+
+static struct {
+    int ready;
+    char png[512];
+    char pack[3][512];
+    psc_image_t img;
+} fx;
+
+static const psc_pixfmt_t pack_formats[3] = {PSC_PIX_RGB565, PSC_PIX_XRGB8888, PSC_PIX_PAL8};
+static const char *const pack_format_names[3] = {"rgb565", "xrgb8888", "pal8"};
+
+/* The synthetic scene as a MAP_W x MAP_H equirectangular PNG, packed in the three formats. */
+static void need_packs(void)
+{
+    if (fx.ready)
+        return;
+    psc_envmap_t geom = {0};
+    geom.projection = PSC_PROJ_EQUIRECT;
+    geom.format = PSC_PIX_XRGB8888;
+    geom.width = MAP_W;
+    geom.height = MAP_H;
+    tsup_map_t m;
+    assert_int_equal(tsup_synth_map(&m, &geom, 1, 0), 0);
+    fx.img.width = MAP_W;
+    fx.img.height = MAP_H;
+    fx.img.xrgb = malloc(MAP_W * MAP_H * 4);
+    assert_non_null(fx.img.xrgb);
+    for (int r = 0; r < MAP_H; r++)
+        for (int c = 0; c < MAP_W; c++)
+            fx.img.xrgb[r * MAP_W + c] = 0xFF000000u | tsup_map_texel(&m.map, r, c);
+    tsup_map_free(&m);
+    tmp_path(fx.png, sizeof fx.png, "scene.png");
+    char err[512];
+    if (psc_image_write_png(fx.png, &fx.img, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    for (int f = 0; f < 3; f++) {
+        char name[64];
+        snprintf(name, sizeof name, "scene-%s.pano", pack_format_names[f]);
+        tmp_path(fx.pack[f], sizeof fx.pack[f], name);
+        unlink(fx.pack[f]);
+        const char *args[] = {fx.png, "-o", fx.pack[f], "--display", "160x120", "--format", pack_format_names[f],
+                              "--quiet", NULL};
+        run_t r = run_tool("periscope-pack", args);
+        if (r.status != 0)
+            fail_msg("periscope-pack --format %s exited with %d:\n%s", pack_format_names[f], r.status, r.output);
+        /* --quiet means no output at all on success. */
+        if (r.output[0] != '\0')
+            fail_msg("periscope-pack --quiet printed:\n%s", r.output);
+        free(r.output);
+    }
+    fx.ready = 1;
+}
+
+static void test_pack(void **state)
+{
+    (void)state;
+    need_packs();
+    for (int f = 0; f < 3; f++) {
+        psc_pack_file_t pf;
+        char err[512];
+        if (psc_pack_file_load(fx.pack[f], &pf, err, sizeof err) != 0)
+            fail_msg("%s", err);
+        const psc_envmap_t *m = &pf.pack.map;
+        assert_int_equal(m->format, pack_formats[f]);
+        assert_int_equal(m->projection, PSC_PROJ_EQUIRECT);
+        assert_int_equal(m->width, MAP_W);
+        assert_int_equal(m->height, MAP_H);
+        assert_int_equal(pf.pack.display_width, DISP_W);
+        assert_int_equal(pf.pack.display_height, DISP_H);
+        assert_int_equal(pf.pack.lut_count, 2);
+        /* The default pyramid of a full-turn equirect map: 256x128 down to 1 row at least. */
+        assert_true(pf.pack.level_count >= 2);
+        for (unsigned l = 1; l < pf.pack.level_count; l++) {
+            assert_int_equal(pf.pack.levels[l].width, MAP_W >> l);
+            assert_int_equal(pf.pack.levels[l].height, MAP_H >> l);
+        }
+        int max_err = 0;
+        for (int r = 0; r < MAP_H; r++)
+            for (int c = 0; c < MAP_W; c++) {
+                uint32_t src = fx.img.xrgb[r * MAP_W + c], got = tsup_map_texel(m, r, c);
+                uint32_t want = src & 0xFFFFFFu;
+                if (f == 0) /* rgb565: each channel rounded to nearest, then widened */
+                    want = tsup_rgb565_to_rgb888(
+                        tsup_rgb888_to_rgb565(src >> 16 & 0xFF, src >> 8 & 0xFF, src & 0xFF));
+                for (int k = 0; k < 3; k++) {
+                    int d = abs((int)(got >> (8 * k) & 0xFF) - (int)(want >> (8 * k) & 0xFF));
+                    max_err = d > max_err ? d : max_err;
+                }
+            }
+        printf("  %s pack: map %ux%u, max channel error against the PNG %d\n", pack_format_names[f],
+               (unsigned)m->width, (unsigned)m->height, max_err);
+        /* Exact for xrgb8888 and rgb565 (after the documented rounding); the 256-colour median-cut
+         * palette of this scene comes within 32 (measured: 22). */
+        assert_true(max_err <= (f == 2 ? 32 : 0));
+        psc_pack_file_free(&pf);
+    }
+    /* Without --quiet the tool says what it wrote. */
+    char out[512];
+    tmp_path(out, sizeof out, "loud.pano");
+    const char *args[] = {fx.png, "-o", out, "--display", "160x120", "--format", "pal8", NULL};
+    const char *mentions[] = {"wrote", out, "pal8", "256x128", NULL};
+    expect_run("periscope-pack", args, 0, mentions);
+    unlink(out);
+}
+
+/* ---- render: the tool against the device path in process -------------------------------------------------- */
+
+typedef struct {
+    const char *name;
+    const char *args[12];   /* view arguments given to periscope-render */
+    int have_yaw, have_pitch, have_hfov;
+    double yaw, pitch, hfov;
+    psc_filter_t filter;
+    uint8_t span_log2;
+    psc_pixfmt_t format;
+    uint16_t w, h;          /* 0: the pack's display */
+    int marker;             /* tsup_marker_t expected at the centre, or -1 */
+} view_case_t;
+
+static const view_case_t views[] = {
+    {"default view", {NULL}, 0, 0, 0, 0, 0, 0, PSC_FILTER_BILINEAR, 2, PSC_PIX_RGB565, 0, 0, TSUP_MARK_LON0},
+    {"yaw 30 pitch 10 hfov 75", {"--yaw", "30", "--pitch", "10", "--hfov", "75", NULL}, 1, 1, 1, 30, 10, 75,
+     PSC_FILTER_BILINEAR, 2, PSC_PIX_RGB565, 0, 0, -1},
+    {"pitch 90 nearest", {"--pitch", "90", "--hfov", "100", "--filter", "nearest", NULL}, 0, 1, 1, 0, 90, 100,
+     PSC_FILTER_NEAREST, 2, PSC_PIX_RGB565, 0, 0, TSUP_MARK_NORTH},
+    {"pitch -90 span 16", {"--pitch", "-90", "--span", "16", NULL}, 0, 1, 0, 0, -90, 0, PSC_FILTER_BILINEAR, 4,
+     PSC_PIX_RGB565, 0, 0, TSUP_MARK_SOUTH},
+    {"yaw 180 span 1", {"--yaw", "180", "--span", "1", NULL}, 1, 0, 0, 180, 0, 0, PSC_FILTER_BILINEAR, 0,
+     PSC_PIX_RGB565, 0, 0, TSUP_MARK_LON180},
+    {"yaw -90 span 16 nearest xrgb8888",
+     {"--yaw", "-90", "--span", "16", "--filter", "nearest", "--format", "xrgb8888", NULL}, 1, 0, 0, -90, 0, 0,
+     PSC_FILTER_NEAREST, 4, PSC_PIX_XRGB8888, 0, 0, TSUP_MARK_LON90W},
+    {"97x61 yaw 90 pitch -30 span 1 xrgb8888",
+     {"--size", "97x61", "--yaw", "90", "--pitch", "-30", "--span", "1", "--format", "xrgb8888", NULL}, 1, 1, 0, 90,
+     -30, 0, PSC_FILTER_BILINEAR, 0, PSC_PIX_XRGB8888, 97, 61, -1},
+    {"hfov 5 (clamped to the pack's 20)", {"--hfov", "5", "--yaw", "90", NULL}, 1, 0, 1, 90, 0, 5,
+     PSC_FILTER_BILINEAR, 2, PSC_PIX_RGB565, 0, 0, TSUP_MARK_LON90E},
+    {"hfov 170 (clamped to the widest table)", {"--hfov", "170", "--pitch", "45", NULL}, 0, 1, 1, 0, 45, 170,
+     PSC_FILTER_BILINEAR, 2, PSC_PIX_RGB565, 0, 0, -1},
+    /* Small outputs at wide zoom: each pixel covers several map texels, so mip reads the pyramid. */
+    {"mip 32x24 hfov 120 yaw 180", {"--filter", "mip", "--size", "32x24", "--hfov", "120", "--yaw", "180", NULL},
+     1, 0, 1, 180, 0, 120, PSC_FILTER_MIP, 2, PSC_PIX_RGB565, 32, 24, -1},
+    {"mip 40x30 pitch 60 span 16 xrgb8888",
+     {"--filter", "mip", "--size", "40x30", "--pitch", "60", "--span", "16", "--format", "xrgb8888", NULL}, 0, 1,
+     0, 0, 60, 0, PSC_FILTER_MIP, 4, PSC_PIX_XRGB8888, 40, 30, -1},
+};
+
+/* The same view rendered in this process, exactly as the device does, as an image. */
+static psc_image_t render_in_process(const char *pack_path, const view_case_t *vc, psc_view_t *used)
+{
+    psc_pack_file_t pf;
+    char err[512];
+    if (psc_pack_file_load(pack_path, &pf, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    const psc_pack_t *p = &pf.pack;
+    uint16_t w = vc->w ? vc->w : p->display_width, h = vc->h ? vc->h : p->display_height;
+    size_t ws_size = psc_viewer_workspace_size(w, h, &p->map);
+    void *ws = NULL;
+    assert_int_equal(posix_memalign(&ws, 64, ws_size), 0);
+    psc_surface_t out = {w, h, (uint32_t)w * psc_pixfmt_bytes(vc->format), vc->format, NULL};
+    out.pixels = calloc(1, (size_t)out.stride * h);
+    assert_non_null(out.pixels);
+    psc_viewer_t v;
+    assert_int_equal(psc_viewer_init(&v, &p->map, p->luts, p->lut_count, w, h, ws, ws_size), PSC_OK);
+    assert_int_equal(psc_viewer_set_levels(&v, p->levels, p->level_count), PSC_OK);
+    psc_view_t view = {
+        .yaw = vc->have_yaw ? psc_bam_from_deg(vc->yaw) : p->default_yaw,
+        .pitch = vc->have_pitch ? psc_sbam_from_deg(vc->pitch) : p->default_pitch,
+        .hfov = vc->have_hfov ? psc_bam_from_deg(vc->hfov) : p->default_hfov,
+        .filter = vc->filter,
+        .span_log2 = vc->span_log2,
+    };
+    psc_viewer_clamp(&v, &view, p->hfov_min);
+    assert_int_equal(psc_viewer_render(&v, &view, &out), PSC_OK);
+    *used = view;
+    psc_image_t img;
+    assert_int_equal(psc_surface_to_image(&out, &img), 0);
+    free(out.pixels);
+    free(ws);
+    psc_pack_file_free(&pf);
+    return img;
+}
+
+static void test_render_matches_device_path(void **state)
+{
+    (void)state;
+    need_packs();
+    char png[512];
+    tmp_path(png, sizeof png, "view.png");
+    for (int f = 0; f < 3; f++)
+        for (size_t k = 0; k < sizeof views / sizeof views[0]; k++) {
+            const view_case_t *vc = &views[k];
+            const char *args[20];
+            size_t n = 0;
+            args[n++] = fx.pack[f];
+            args[n++] = "-o";
+            args[n++] = png;
+            for (size_t i = 0; vc->args[i]; i++)
+                args[n++] = vc->args[i];
+            args[n] = NULL;
+            unlink(png);
+            run_t r = run_tool("periscope-render", args);
+            if (r.status != 0)
+                fail_msg("periscope-render %s (%s pack) exited with %d:\n%s", vc->name, pack_format_names[f],
+                         r.status, r.output);
+            psc_view_t used;
+            psc_image_t want = render_in_process(fx.pack[f], vc, &used);
+            if (vc->filter == PSC_FILTER_MIP) {
+                /* The view must really use the pyramid: mip differs from bilinear there. */
+                view_case_t bl = *vc;
+                bl.filter = PSC_FILTER_BILINEAR;
+                psc_image_t b = render_in_process(fx.pack[f], &bl, &used);
+                assert_true(memcmp(b.xrgb, want.xrgb, (size_t)b.width * b.height * 4) != 0);
+                psc_image_free(&b);
+            }
+            /* A view brought inside the pack's limits is reported; one that was not, is not. */
+            int clamped = vc->have_hfov && (vc->hfov < 20.0 || vc->hfov > 120.0);
+            assert_int_equal(strstr(r.output, "view brought inside") != NULL, clamped);
+            free(r.output);
+
+            psc_image_t got;
+            char err[512];
+            if (psc_image_load(png, &got, err, sizeof err) != 0)
+                fail_msg("%s", err);
+            char what[160];
+            snprintf(what, sizeof what, "periscope-render %s, %s pack", vc->name, pack_format_names[f]);
+            assert_int_equal(got.width, want.width);
+            assert_int_equal(got.height, want.height);
+            size_t diff = 0, first = 0;
+            for (size_t i = 0; i < (size_t)got.width * got.height; i++)
+                if (got.xrgb[i] != want.xrgb[i] && diff++ == 0)
+                    first = i;
+            if (diff)
+                fail_msg("%s: %zu pixels differ from the in-process render, first (%zu, %zu): %08X vs %08X", what,
+                         diff, first % got.width, first / got.width, (unsigned)got.xrgb[first],
+                         (unsigned)want.xrgb[first]);
+
+            /* And it is the right picture: the scene's marker at the centre of the view. */
+            if (vc->marker >= 0) {
+                uint32_t mc;
+                tsup_marker((tsup_marker_t)vc->marker, NULL, NULL, &mc);
+                uint32_t px = got.xrgb[(size_t)(got.height / 2) * got.width + got.width / 2];
+                int tol = f == 2 ? 40 : 12;
+                for (int c = 0; c < 3; c++)
+                    if (abs((int)(px >> (8 * c) & 0xFF) - (int)(mc >> (8 * c) & 0xFF)) > tol)
+                        fail_msg("%s: the centre is %06X, expected the marker colour %06X", what,
+                                 (unsigned)(px & 0xFFFFFF), (unsigned)mc);
+            }
+            psc_image_free(&got);
+            psc_image_free(&want);
+        }
+    printf("  %zu views x 3 packs: periscope-render is bit-exact with the in-process device path\n",
+           sizeof views / sizeof views[0]);
+    unlink(png);
+}
+
+/* ---- exit status and messages ------------------------------------------------------------------------------ */
+
+static void test_exit_codes(void **state)
+{
+    (void)state;
+    need_packs();
+    char out[512], missing[512], bad[512];
+    tmp_path(out, sizeof out, "never-written");
+    unlink(out);
+    const char *help[] = {"--help", NULL}, *usage[] = {"usage:", NULL};
+
+    /* Bad arguments: 2, a message, nothing written. */
+    struct {
+        const char *tool;
+        const char *args[12];
+        const char *mention;
+    } usage_cases[] = {
+        {"periscope-pack", {NULL}, "no input image"},
+        {"periscope-pack", {fx.png, "-o", out, NULL}, "--display"},
+        {"periscope-pack", {fx.png, "-o", out, "--display", "0x10", NULL}, "--display"},
+        {"periscope-pack", {fx.png, "-o", out, "--display", "160x120", "--format", "rgb666", NULL}, "rgb666"},
+        {"periscope-pack", {fx.png, "-o", out, "--display", "160x120", "--bogus", NULL}, "--bogus"},
+        {"periscope-pack", {fx.png, "-o", out, "--display", "160x120", "--hfov-min", "90", NULL}, "--hfov-min"},
+        {"periscope-pack", {fx.png, "-o", fx.png, "--display", "160x120", NULL}, "overwrite"},
+        {"periscope-pack", {fx.png, "-o", NULL}, "-o"},
+        {"periscope-render", {fx.pack[0], NULL}, "-o"},
+        {"periscope-render", {fx.pack[0], "-o", out, "--span", "3", NULL}, "--span"},
+        {"periscope-render", {fx.pack[0], "-o", out, "--pitch", "91", NULL}, "--pitch"},
+        {"periscope-render", {fx.pack[0], "-o", out, "--hfov", "180", NULL}, "--hfov"},
+        {"periscope-render", {fx.pack[0], "-o", out, "--size", "5000x10", NULL}, "--size"},
+        {"periscope-render", {fx.pack[0], "-o", out, "--yaw", "east", NULL}, "--yaw"},
+        {"periscope-render", {fx.pack[0], fx.pack[1], "-o", out, NULL}, "more than one"},
+        {"periscope-contact", {fx.png, NULL}, "-o"},
+        {"periscope-contact", {"-o", out, NULL}, "no frames"},
+        {"periscope-contact", {"-o", out, "--columns", "0", fx.png, NULL}, "--columns"},
+        {"periscope-contact", {"-o", out, "--thumb-width", "4", fx.png, NULL}, "--thumb-width"},
+    };
+    for (size_t i = 0; i < sizeof usage_cases / sizeof usage_cases[0]; i++) {
+        const char *mentions[] = {usage_cases[i].mention, NULL};
+        expect_run(usage_cases[i].tool, usage_cases[i].args, 2, mentions);
+        assert_false(tsup_file_exists(out));
+    }
+    expect_run("periscope-pack", help, 0, usage);
+    expect_run("periscope-render", help, 0, usage);
+    expect_run("periscope-contact", help, 0, usage);
+
+    /* A missing input: 1 and the file named ("PATH: problem"). */
+    char named[600];
+    tmp_path(missing, sizeof missing, "missing.png");
+    unlink(missing);
+    snprintf(named, sizeof named, "%s: ", missing);
+    {
+        const char *a[] = {missing, "-o", out, "--display", "160x120", NULL}, *m[] = {named, NULL};
+        expect_run("periscope-pack", a, 1, m);
+        assert_false(tsup_file_exists(out));
+    }
+    tmp_path(missing, sizeof missing, "missing.pano");
+    snprintf(named, sizeof named, "%s: ", missing);
+    {
+        const char *a[] = {missing, "-o", out, NULL}, *m[] = {named, NULL};
+        expect_run("periscope-render", a, 1, m);
+        assert_false(tsup_file_exists(out));
+    }
+    tmp_path(missing, sizeof missing, "missing-frame.png");
+    snprintf(named, sizeof named, "%s: ", missing);
+    {
+        const char *a[] = {"-o", out, fx.png, missing, NULL}, *m[] = {named, NULL};
+        expect_run("periscope-contact", a, 1, m);
+        assert_false(tsup_file_exists(out));
+    }
+
+    /* A corrupt image given to periscope-pack: 1 and the file named. */
+    size_t len;
+    uint8_t *png = tsup_read_bytes(fx.png, &len);
+    assert_non_null(png);
+    tmp_path(bad, sizeof bad, "cut.png");
+    assert_int_equal(tsup_write_bytes(bad, png, len / 2), 0);
+    free(png);
+    snprintf(named, sizeof named, "%s: ", bad);
+    {
+        const char *a[] = {bad, "-o", out, "--display", "160x120", NULL}, *m[] = {named, "truncated", NULL};
+        expect_run("periscope-pack", a, 1, m);
+        assert_false(tsup_file_exists(out));
+    }
+    unlink(bad);
+
+    /* Corrupt packs given to periscope-render: 1 and the file named. */
+    uint8_t *pack = tsup_read_bytes(fx.pack[0], &len);
+    assert_non_null(pack);
+    tmp_path(bad, sizeof bad, "bad.pano");
+    snprintf(named, sizeof named, "%s: ", bad);
+    struct {
+        const char *what, *mention;
+        size_t len;
+        size_t flip;   /* byte to invert, or SIZE_MAX */
+    } packs[] = {
+        {"a flipped byte in the map", "CRC", len, len / 2},
+        {"cut in half", "trunc", len / 2, SIZE_MAX},
+        {"the first 40 bytes", "trunc", 40, SIZE_MAX},
+        {"a flipped magic byte", "magic", len, 3},
+        {"empty", "empty", 0, SIZE_MAX},
+    };
+    for (size_t i = 0; i < sizeof packs / sizeof packs[0]; i++) {
+        if (packs[i].flip != SIZE_MAX)
+            pack[packs[i].flip] ^= 0xFF;
+        assert_int_equal(tsup_write_bytes(bad, pack, packs[i].len), 0);
+        if (packs[i].flip != SIZE_MAX)
+            pack[packs[i].flip] ^= 0xFF;
+        const char *a[] = {bad, "-o", out, NULL}, *m[] = {named, packs[i].mention, NULL};
+        expect_run("periscope-render", a, 1, m);
+        assert_false(tsup_file_exists(out));
+    }
+    /* An image is not a pack. */
+    snprintf(named, sizeof named, "%s: ", fx.png);
+    {
+        const char *a[] = {fx.png, "-o", out, NULL}, *m[] = {named, "magic", NULL};
+        expect_run("periscope-render", a, 1, m);
+        assert_false(tsup_file_exists(out));
+    }
+    free(pack);
+    unlink(bad);
+}
+
+/* ---- contact sheets ---------------------------------------------------------------------------------------- */
+
+static void render_frame(const char *png, const char *yaw)
+{
+    const char *a[] = {fx.pack[1], "-o", png, "--yaw", yaw, "--format", "xrgb8888", NULL};
+    expect_run("periscope-render", a, 0, NULL);
+}
+
+static void test_contact(void **state)
+{
+    (void)state;
+    need_packs();
+    char f[3][512], sheet[512], err[512];
+    static const char *const yaws[3] = {"0", "120", "240"};
+    for (int i = 0; i < 3; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "frame%d.png", i);
+        tmp_path(f[i], sizeof f[i], name);
+        render_frame(f[i], yaws[i]);
+    }
+    tmp_path(sheet, sizeof sheet, "sheet.png");
+
+    /* Two 160x120 frames, 80 px thumbnails, 2 columns: 4 + 2 x (80 + 4) = 172 wide, 4 + 60 + 4 = 68 high. */
+    const char *a2[] = {"-o", sheet, "--thumb-width", "80", "--columns", "2", f[0], f[1], NULL};
+    expect_run("periscope-contact", a2, 0, NULL);
+    psc_image_t s;
+    if (psc_image_load(sheet, &s, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_int_equal(s.width, 172);
+    assert_int_equal(s.height, 68);
+    /* The gaps are the background; each thumbnail pixel is the rounded mean of a 2x2 block of its frame. */
+    assert_int_equal(s.xrgb[0], 0xFF202020u);
+    assert_int_equal(s.xrgb[(size_t)30 * s.width + 85], 0xFF202020u);
+    assert_int_equal(s.xrgb[(size_t)66 * s.width + 100], 0xFF202020u);
+    for (int i = 0; i < 2; i++) {
+        psc_image_t fr;
+        if (psc_image_load(f[i], &fr, err, sizeof err) != 0)
+            fail_msg("%s", err);
+        assert_int_equal(fr.width, DISP_W);
+        assert_int_equal(fr.height, DISP_H);
+        for (uint32_t y = 0; y < 60; y++)
+            for (uint32_t x = 0; x < 80; x++) {
+                uint32_t want = 0xFF000000u;
+                for (int c = 0; c < 3; c++) {
+                    unsigned sum = 0;
+                    for (uint32_t dy = 0; dy < 2; dy++)
+                        for (uint32_t dx = 0; dx < 2; dx++)
+                            sum += fr.xrgb[(2 * y + dy) * fr.width + 2 * x + dx] >> (8 * c) & 0xFFu;
+                    want |= ((sum + 2) / 4) << (8 * c);
+                }
+                uint32_t got = s.xrgb[(4 + y) * s.width + 4 + (uint32_t)i * 84 + x];
+                if (got != want)
+                    fail_msg("sheet thumbnail %d pixel (%u, %u) is %08X, expected %08X", i, (unsigned)x,
+                             (unsigned)y, (unsigned)got, (unsigned)want);
+            }
+        psc_image_free(&fr);
+    }
+    psc_image_free(&s);
+
+    /* Three frames in two columns make two rows: 172 x (4 + 60 + 4 + 60 + 4). */
+    const char *a3[] = {"-o", sheet, "--thumb-width", "80", "--columns", "2", f[0], f[1], f[2], NULL};
+    expect_run("periscope-contact", a3, 0, NULL);
+    if (psc_image_load(sheet, &s, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_int_equal(s.width, 172);
+    assert_int_equal(s.height, 132);
+    psc_image_free(&s);
+
+    /* The defaults: 320 px thumbnails, up to 4 columns: 4 + 2 x 324 = 652 by 4 + 240 + 4 = 248. */
+    const char *ad[] = {"-o", sheet, f[0], f[1], NULL};
+    expect_run("periscope-contact", ad, 0, NULL);
+    if (psc_image_load(sheet, &s, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_int_equal(s.width, 652);
+    assert_int_equal(s.height, 248);
+    psc_image_free(&s);
+
+    unlink(sheet);
+    for (int i = 0; i < 3; i++)
+        unlink(f[i]);
+}
+
+static int teardown_all(void **state)
+{
+    (void)state;
+    if (fx.ready) {
+        unlink(fx.png);
+        for (int f = 0; f < 3; f++)
+            unlink(fx.pack[f]);
+    }
+    free(fx.img.xrgb);
+    return 0;
+}
+
+int main(void)
+{
+    setvbuf(stdout, NULL, _IONBF, 0); /* keep output in order with cmocka's stderr */
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_pack),
+        cmocka_unit_test(test_render_matches_device_path),
+        cmocka_unit_test(test_exit_codes),
+        cmocka_unit_test(test_contact),
+    };
+    return cmocka_run_group_tests(tests, NULL, teardown_all);
+}
