@@ -33,12 +33,18 @@ HOST_CFLAGS := $(BASE_CFLAGS) -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -Icore
 IMG_PKGS := libpng libjpeg zlib
 IMG_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(IMG_PKGS) 2>/dev/null)
 IMG_LIBS := $(shell $(PKG_CONFIG) --libs $(IMG_PKGS) 2>/dev/null || echo -lpng -ljpeg -lz)
+# The device backends' libraries (hal/<backend>/): USB gamepads, DRM/KMS,
+# the SDL2 desktop window, GPIO buttons. libgpiod's major version picks its API.
+HAL_PKGS := libusb-1.0 libdrm sdl2 libgpiod
+HAL_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(HAL_PKGS) 2>/dev/null) \
+	-DPSC_GPIOD_MAJOR=$(firstword $(subst ., ,$(shell $(PKG_CONFIG) --modversion libgpiod 2>/dev/null || echo 0)))
+HAL_LIBS := $(shell $(PKG_CONFIG) --libs $(HAL_PKGS) 2>/dev/null)
 CMOCKA_CFLAGS := $(shell $(PKG_CONFIG) --cflags cmocka 2>/dev/null)
 CMOCKA_LIBS := $(shell $(PKG_CONFIG) --libs cmocka 2>/dev/null || echo -lcmocka)
 LDLIBS_HOST := -lm
 
 CORE_SRC := $(sort $(wildcard core/*.c))
-HAL_SRC := $(sort $(wildcard hal/*.c hal/sim/*.c))
+HAL_SRC := $(sort $(wildcard hal/*.c hal/*/*.c))
 HOSTLIB_SRC := $(sort $(wildcard host_tools/lib/*.c))
 FW_SRC := $(sort $(wildcard firmware/*.c))
 FW_MAIN := firmware/main.c
@@ -74,7 +80,7 @@ $(BUILD)/obj/core/%.o: core/%.c
 $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  CC      $<")
-	$(Q)$(CC) $(HOST_CFLAGS) $(IMG_CFLAGS) $(CMOCKA_CFLAGS) $(CFLAGS) -Itests/support -c $< -o $@
+	$(Q)$(CC) $(HOST_CFLAGS) $(IMG_CFLAGS) $(HAL_CFLAGS) $(CMOCKA_CFLAGS) $(CFLAGS) -Itests/support -c $< -o $@
 
 $(BUILD)/lib/%.a:
 	@mkdir -p $(@D)
@@ -91,7 +97,7 @@ $(TESTSUP_LIB): $(call obj,$(TESTSUP_SRC))
 $(FIRMWARE): $(call obj,$(FW_MAIN)) $(FW_LIB) $(HAL_LIB) $(HOST_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(IMG_LIBS) $(LDLIBS_HOST)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HAL_LIBS) $(IMG_LIBS) $(LDLIBS_HOST)
 
 $(BUILD)/bin/%: $(BUILD)/obj/host_tools/%.o $(HOST_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
@@ -101,7 +107,7 @@ $(BUILD)/bin/%: $(BUILD)/obj/host_tools/%.o $(HOST_LIB) $(CORE_LIB)
 $(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(TESTSUP_LIB) $(FW_LIB) $(HAL_LIB) $(HOST_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(CMOCKA_LIBS) $(IMG_LIBS) $(LDLIBS_HOST)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(CMOCKA_LIBS) $(HAL_LIBS) $(IMG_LIBS) $(LDLIBS_HOST)
 
 -include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)
 

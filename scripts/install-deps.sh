@@ -5,7 +5,8 @@
 # prints the exact apt-get line and fails.
 set -eu
 
-PACKAGES="gcc clang make pkg-config libjpeg62-turbo-dev libpng-dev zlib1g-dev libcmocka-dev"
+PACKAGES="gcc clang make pkg-config libjpeg62-turbo-dev libpng-dev zlib1g-dev libcmocka-dev
+          libusb-1.0-0-dev libdrm-dev libsdl2-dev libgpiod-dev"
 [ $# -gt 0 ] && PACKAGES="$PACKAGES $*"
 
 missing=""
