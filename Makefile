@@ -171,7 +171,7 @@ $(BUILD)/obj/bench/%.o: bench/%.cpp
 	$(Q)$(CXX) -std=c++17 -O2 -g -Wall -Wextra -Werror -Icore -Ihost_tools/lib $(shell $(PKG_CONFIG) --cflags $(call bench_pkgs,$(firstword $(subst /, ,$*))) 2>/dev/null) -c $< -o $@
 
 .SECONDEXPANSION:
-$(BUILD)/bench/%: $$(patsubst %.c,$(BUILD)/obj/%.o,$$(wildcard bench/%/*.c)) $$(patsubst %.cpp,$(BUILD)/obj/%.o,$$(wildcard bench/%/*.cpp)) $(HOST_LIB) $(CORE_LIB)
+$(BUILD)/bench/%: $$(addprefix $(BUILD)/obj/,$$(addsuffix .o,$$(basename $$(wildcard bench/$$*/*.c bench/$$*/*.cpp)))) $(HOST_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(if $(wildcard bench/$*/*.cpp),$(CXX),$(CC)) $(LDFLAGS) -o $@ $^ $(shell $(PKG_CONFIG) --libs $(call bench_pkgs,$*) 2>/dev/null) $(IMG_LIBS) $(LDLIBS_HOST)

@@ -9,6 +9,7 @@
 #include "app.h"
 #include "controls.h"
 #include "motion.h"
+#include "object_scene.h"
 #include "pack_build.h"
 #include "psc_hal_camera.h"
 #include "psc_hal_clock.h"
@@ -40,6 +41,12 @@ struct psc_app {
     char scene_names[PSC_BOARD_MAX_SCENES][PSC_BOARD_PATH_MAX];
     unsigned scene_count;
     unsigned scene;
+
+    /* object scenes (mesh packs, object_scene.h): loaded whole too; one 3D workspace */
+    psc_mesh_file_t meshes[PSC_BOARD_MAX_SCENES];
+    bool is_object[PSC_BOARD_MAX_SCENES];
+    void *ws3d;
+    size_t ws3d_size;
 
     void *workspace;          /* the largest any scene needs */
     size_t workspace_size;
@@ -176,6 +183,15 @@ static int app_load_scenes(psc_app_t *app, const psc_cli_options_t *opt, char *e
         psc_pack_file_t *pf = &app->packs[i];
         size_t ws;
 
+        if (psc_file_is_mesh_pack(app->scene_names[i])) {
+            if (psc_mesh_file_load(app->scene_names[i], &app->meshes[i], err, errlen) != 0)
+                return -1;
+            app->is_object[i] = true;
+            ws = psc_object_scene_workspace_size(&app->meshes[i].mesh, app->mode.width, app->mode.height);
+            if (ws > app->ws3d_size)
+                app->ws3d_size = ws;
+            continue;
+        }
         if (psc_pack_file_load(app->scene_names[i], pf, err, errlen) != 0)
             return -1;
         if (pf->pack.display_width != app->mode.width || pf->pack.display_height != app->mode.height)
@@ -186,6 +202,14 @@ static int app_load_scenes(psc_app_t *app, const psc_cli_options_t *opt, char *e
         ws = psc_viewer_workspace_size(app->mode.width, app->mode.height, &pf->pack.map);
         if (ws > need)
             need = ws;
+    }
+    if (app->ws3d_size != 0) {
+        app->ws3d_size = (app->ws3d_size + APP_WS_ALIGN - 1u) & ~(size_t)(APP_WS_ALIGN - 1u);
+        app->ws3d = aligned_alloc(APP_WS_ALIGN, app->ws3d_size);
+        if (app->ws3d == NULL) {
+            psc_hal_error_set(err, errlen, "out of memory for a %zu-byte 3D workspace", app->ws3d_size);
+            return -1;
+        }
     }
     app->workspace_size = (need + APP_WS_ALIGN - 1u) & ~(size_t)(APP_WS_ALIGN - 1u);
     app->workspace = aligned_alloc(APP_WS_ALIGN, app->workspace_size ? app->workspace_size : APP_WS_ALIGN);
@@ -204,6 +228,24 @@ static int app_enter_scene(psc_app_t *app, unsigned i, char *err, size_t errlen)
     psc_motion_config_t mc;
     psc_status_t s;
 
+    if (app->is_object[i]) { /* orbit the model: pitch within +-85 degrees, its own zoom range */
+        mc = (psc_motion_config_t){
+            .yaw_rate_max = app_bam_from_mdeg(b->yaw_rate_max_mdeg),
+            .pitch_rate_max = app_bam_from_mdeg(b->pitch_rate_max_mdeg),
+            .hfov_rate_max = app_bam_from_mdeg(b->zoom_rate_max_mdeg),
+            .accel = app_bam_from_mdeg(b->accel_mdeg),
+            .inertia_half_life_us = b->inertia_half_life_ms * 1000u,
+            .home_half_life_us = b->home_half_life_ms * 1000u,
+            .pitch_min = -PSC_OBJECT_PITCH_LIMIT,
+            .pitch_max = PSC_OBJECT_PITCH_LIMIT,
+            .hfov_min = PSC_OBJECT_HFOV_MIN,
+            .hfov_max = PSC_OBJECT_HFOV_MAX,
+            .pan_follows_zoom = false,
+        };
+        psc_motion_init(&app->motion, &mc, PSC_OBJECT_DEFAULT_YAW, PSC_OBJECT_DEFAULT_PITCH, PSC_OBJECT_DEFAULT_HFOV);
+        app->scene = i;
+        return 0;
+    }
     s = psc_viewer_init(&app->viewer, &pk->map, pk->luts, pk->lut_count, app->mode.width, app->mode.height,
                         app->workspace, app->workspace_size);
     if (s == PSC_OK)
@@ -305,6 +347,8 @@ const char *psc_app_out_dir(const psc_app_t *app)
 static void app_view_for_frame(psc_app_t *app, psc_view_t *view)
 {
     *view = (psc_view_t){ .yaw = app->motion.yaw, .pitch = app->motion.pitch, .hfov = app->motion.hfov };
+    if (app->is_object[app->scene])
+        return; /* the motion limits are the object's */
     psc_viewer_clamp(&app->viewer, view, app->hfov_min);
     psc_motion_set_view(&app->motion, view->yaw, view->pitch, view->hfov);
 }
@@ -421,7 +465,9 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
             rc = -1;
             break;
         }
-        s = psc_viewer_render(&app->viewer, &view, &back);
+        s = app->is_object[app->scene]
+                ? psc_object_scene_render(&app->meshes[app->scene].mesh, &view, app->ws3d, app->ws3d_size, &back)
+                : psc_viewer_render(&app->viewer, &view, &back);
         if (s != PSC_OK) {
             psc_hal_error_set(err, errlen, "rendering frame %u of %s failed: %s", (unsigned)frame,
                               app->scene_names[app->scene], psc_status_str(s));
@@ -460,8 +506,11 @@ void psc_app_close(psc_app_t *app)
     if (app->camera != NULL)
         psc_hal_camera_stop(app->camera);
     free(app->workspace);
-    for (unsigned i = 0; i < PSC_BOARD_MAX_SCENES; i++)
+    free(app->ws3d);
+    for (unsigned i = 0; i < PSC_BOARD_MAX_SCENES; i++) {
         psc_pack_file_free(&app->packs[i]);
+        psc_mesh_file_free(&app->meshes[i]);
+    }
     psc_hal_camera_close(app->camera);
     psc_hal_watchdog_close(app->watchdog);
     psc_hal_input_close(app->input);

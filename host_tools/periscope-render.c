@@ -3,12 +3,14 @@
  * psc_viewer_render, the same code path the device runs.
  *
  *   periscope-render PACK [--yaw Y] [--pitch P] [--hfov F] -o view.png [options]
+ *   periscope-render MODEL.{obj,pmesh} --orbit Y,P,D ... -o view.png   (model mode: model_render.h)
  *
  * Exit status: 0 done, 1 the work failed, 2 bad arguments.
  */
 #include "angle_conv.h"
 #include "cli_parse.h"
 #include "image_io.h"
+#include "model_render.h"
 #include "pack_build.h"
 #include "psc_viewer.h"
 
@@ -27,6 +29,7 @@ static void print_usage(FILE *f)
 {
     fprintf(f,
             "usage: " PROG " PACK.pano -o view.png [options]\n"
+            "       " PROG " MODEL.{obj,pmesh} --orbit Y,P,D -o view.png [options]  (see --help with a model)\n"
             "\n"
             "Render a perspective view of a scene pack with the device's renderer.\n"
             "\n"
@@ -203,6 +206,8 @@ static int render_frames(psc_viewer_t *viewer, const psc_view_t *view, const psc
 
 int main(int argc, char **argv)
 {
+    if (psc_model_render_wanted(argc, argv))
+        return psc_model_render_main(PROG, argc, argv);
     args_t a = {.filter = PSC_FILTER_BILINEAR, .span_log2 = PSC_SPAN_LOG2_DEFAULT, .repeat = 1,
                 .format = PSC_PIX_RGB565};
     int rc = parse_args(argc, argv, &a);

@@ -1,0 +1,293 @@
+/*
+ * render3d - how fast Periscope's integer 3D pipeline draws a textured model,
+ * side by side in one run with Mesa's OSMesa software rasterizers (issue 3).
+ *
+ *   build/bench/render3d --out bench/results              the timed table (`make bench`)
+ *   build/bench/render3d --callgrind --out bench/results  instructions per triangle and pixel
+ *                                                         under callgrind (`make bench-callgrind`)
+ *
+ * Scene: the Utah teapot, 10816 triangles from a mesh pack, bilinear 256x256
+ * RGB565 texture modulated by per-vertex Lambert light, 16-bit depth, back
+ * faces culled, RGB565 output, the teapot turning a full circle over the
+ * frames. Triangles/s counts submitted triangles; Mpixels/s counts output
+ * pixels (width x height per frame), as the viewer bench does.
+ */
+#include "render3d.h"
+#include "psc_pixel.h"
+#include "image_io.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#define FRAMES 36u
+#define CG_FRAMES 4u
+
+typedef struct {
+    const char *label;
+    const char *driver;  /* NULL: Periscope */
+    uint16_t tile;
+    unsigned passes;
+} row_spec_t;
+
+static const row_spec_t rows[] = {
+    {"periscope", NULL, 0, 5},
+    {"periscope tiles 64x64", NULL, 64, 5},
+    {"mesa softpipe", "softpipe", 0, 1},
+    {"mesa llvmpipe 1 thread", "llvmpipe", 0, 3},
+};
+#define NROWS (sizeof rows / sizeof rows[0])
+
+static const uint16_t sizes[][2] = {{320, 240}, {800, 480}};
+#define NSIZES (sizeof sizes / sizeof sizes[0])
+
+static int self_path(char *buf, size_t len)
+{
+    ssize_t n = readlink("/proc/self/exe", buf, len - 1);
+    if (n <= 0)
+        return -1;
+    buf[n] = '\0';
+    return 0;
+}
+
+/* PSNR of b against a (RGB565 frames), 8-bit channels. */
+static double frame_psnr(const uint16_t *a, const uint16_t *b, size_t n)
+{
+    double se = 0;
+    for (size_t i = 0; i < n; i++) {
+        uint32_t x = psc_rgb565_to_xrgb(a[i]), y = psc_rgb565_to_xrgb(b[i]);
+        for (int s = 0; s < 24; s += 8) {
+            double d = (double)((x >> s) & 255) - (double)((y >> s) & 255);
+            se += d * d;
+        }
+    }
+    return se == 0 ? 99.0 : 10 * log10(255.0 * 255.0 * 3 * n / se);
+}
+
+static int run_table(const char *self, const char *out_dir)
+{
+    r3d_scene_t s;
+    if (r3d_scene_make(&s) != 0)
+        return 1;
+    unsigned tris = s.mesh.triangle_count;
+    r3d_result_t res[NSIZES][NROWS];
+    double psnr[NSIZES][NROWS];
+    uint16_t *ours = malloc((size_t)800 * 480 * 2), *theirs = malloc((size_t)800 * 480 * 2);
+    printf("3D pipeline: Utah teapot, %u triangles, %u vertices, bilinear %ux%u RGB565 texture, lit, 16-bit depth,\n"
+           "back faces culled, RGB565 output, %u frames of a full turn, best of the passes; one core.\n",
+           tris, (unsigned)s.mesh.vertex_count, (unsigned)s.mesh.texture.width, (unsigned)s.mesh.texture.height,
+           FRAMES);
+    for (size_t z = 0; z < NSIZES; z++) {
+        uint16_t w = sizes[z][0], h = sizes[z][1];
+        for (size_t r = 0; r < NROWS; r++) {
+            uint16_t *dst = r == 0 ? ours : theirs;
+            res[z][r] = rows[r].driver ? r3d_run_mesa(self, rows[r].driver, w, h, FRAMES, rows[r].passes, dst)
+                                       : r3d_run_periscope(&s, w, h, rows[r].tile, FRAMES, rows[r].passes, dst);
+            psnr[z][r] = r == 0 ? 99.0 : frame_psnr(ours, dst, (size_t)w * h);
+            if (res[z][r].ok && rows[r].tile == 0) { /* the last frame, to look at */
+                char png[1024], err[512];
+                psc_surface_t sf = {w, h, (uint32_t)w * 2, PSC_PIX_RGB565, dst};
+                snprintf(png, sizeof png, "%s/render3d-%s-%ux%u.png", out_dir, rows[r].driver ? rows[r].driver : "periscope",
+                         (unsigned)w, (unsigned)h);
+                if (psc_surface_write_png(png, &sf, err, sizeof err) != 0)
+                    fprintf(stderr, "render3d bench: %s\n", err);
+            }
+            if (!res[z][r].ok)
+                fprintf(stderr, "render3d bench: %s at %ux%u did not run\n", rows[r].label, (unsigned)w, (unsigned)h);
+        }
+    }
+    printf("\n%-9s %-24s %10s %10s %10s %12s %13s\n", "size", "renderer", "ms/frame", "Mtri/s", "Mpix/s",
+           "vs periscope", "same image dB");
+    for (size_t z = 0; z < NSIZES; z++) {
+        uint16_t w = sizes[z][0], h = sizes[z][1];
+        char size[16];
+        snprintf(size, sizeof size, "%ux%u", (unsigned)w, (unsigned)h);
+        for (size_t r = 0; r < NROWS; r++) {
+            const r3d_result_t *x = &res[z][r];
+            if (!x->ok) {
+                printf("%-9s %-24s %10s\n", size, rows[r].label, "n/a");
+                continue;
+            }
+            double ratio = res[z][0].ok ? x->ms_per_frame / res[z][0].ms_per_frame : 0;
+            printf("%-9s %-24s %10.3f %10.3f %10.2f %11.2fx %13.1f\n", size, rows[r].label, x->ms_per_frame,
+                   tris / x->ms_per_frame / 1e3, (double)w * h / x->ms_per_frame / 1e3, ratio, psnr[z][r]);
+        }
+    }
+    printf("(vs periscope: the row's time per frame over Periscope's full-buffer time; > 1 means Periscope is faster.\n"
+           " same image: PSNR of the row's last frame against Periscope's - the scenes match.)\n");
+
+    /* Memory: what the device hands the renderer. */
+    printf("\nMemory (psc_3d_workspace_size):\n");
+    printf("%-9s %-28s %12s %12s %12s\n", "size", "mode", "depth bytes", "cache bytes", "total");
+    char json_mem[2048] = "";
+    size_t jm = 0;
+    for (size_t z = 0; z < NSIZES; z++)
+        for (int t = 0; t < 4; t++) {
+            uint16_t tile = t < 2 ? 0 : 64;
+            uint8_t bits = t % 2 ? 32 : 16;
+            psc_3d_config_t cfg = {sizes[z][0], sizes[z][1], tile, tile, bits, PSC_BAM_FROM_MDEG(60000),
+                                   PSC_Q16_ONE, 4 * PSC_Q16_ONE, s.mesh.vertex_count};
+            size_t depth = psc_3d_depth_bytes(&cfg), total = psc_3d_workspace_size(&cfg);
+            char mode[40];
+            snprintf(mode, sizeof mode, "%s, %u-bit depth", tile ? "tiles 64x64" : "full screen", (unsigned)bits);
+            printf("%4ux%-4u %-28s %12zu %12zu %12zu\n", (unsigned)sizes[z][0], (unsigned)sizes[z][1], mode, depth,
+                   total - depth, total);
+            jm += (size_t)snprintf(json_mem + jm, sizeof json_mem - jm,
+                                   "%s    {\"size\": \"%ux%u\", \"tile\": %u, \"depth_bits\": %u, \"depth_bytes\": %zu, "
+                                   "\"vertex_cache_bytes\": %zu}",
+                                   jm ? ",\n" : "", (unsigned)sizes[z][0], (unsigned)sizes[z][1], (unsigned)tile,
+                                   (unsigned)bits, depth, total - depth);
+        }
+    printf("(vertex cache: %u bytes per vertex of the frame; the colour buffer is the display's)\n",
+           PSC_3D_VERTEX_CACHE_BYTES);
+
+    char path[1024];
+    snprintf(path, sizeof path, "%s/render3d.json", out_dir);
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(stderr, "render3d bench: cannot write %s\n", path);
+        return 1;
+    }
+    time_t now = time(NULL);
+    char date[32];
+    strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", gmtime(&now));
+    fprintf(f, "{\n  \"benchmark\": \"render3d\",\n  \"date\": \"%s\",\n  \"scene\": {\"model\": \"utah teapot\", "
+               "\"triangles\": %u, \"vertices\": %u, \"texture\": \"%ux%u rgb565 bilinear\", \"output\": \"rgb565\", "
+               "\"depth_bits\": 16, \"frames\": %u},\n  \"rows\": [\n",
+            date, tris, (unsigned)s.mesh.vertex_count, (unsigned)s.mesh.texture.width,
+            (unsigned)s.mesh.texture.height, FRAMES);
+    bool first = true;
+    for (size_t z = 0; z < NSIZES; z++)
+        for (size_t r = 0; r < NROWS; r++) {
+            const r3d_result_t *x = &res[z][r];
+            if (!x->ok)
+                continue;
+            fprintf(f, "%s    {\"size\": \"%ux%u\", \"renderer\": \"%s\", \"ms_per_frame\": %.4f, "
+                       "\"triangles_per_s\": %.0f, \"mpixels_per_s\": %.3f, \"time_vs_periscope\": %.3f, "
+                       "\"psnr_vs_periscope_db\": %.2f}",
+                    first ? "" : ",\n", (unsigned)sizes[z][0], (unsigned)sizes[z][1], rows[r].label, x->ms_per_frame,
+                    tris / x->ms_per_frame * 1e3, (double)sizes[z][0] * sizes[z][1] / x->ms_per_frame / 1e3,
+                    res[z][0].ok ? x->ms_per_frame / res[z][0].ms_per_frame : 0, psnr[z][r]);
+            first = false;
+        }
+    fprintf(f, "\n  ],\n  \"memory\": [\n%s\n  ]\n}\n", json_mem);
+    fclose(f);
+    printf("\nwrote %s\n", path);
+    free(ours);
+    free(theirs);
+    r3d_scene_free(&s);
+    return 0;
+}
+
+/* ---- callgrind ---------------------------------------------------------------- */
+
+/* The workload counted: CG_FRAMES frames at 320x240, full buffer. noinline: callgrind toggles on it. */
+__attribute__((noinline)) static void cg_workload(r3d_scene_t *s, uint16_t *frame, double *pixels)
+{
+    r3d_result_t r = r3d_run_periscope(s, 320, 240, 0, CG_FRAMES, 1, frame);
+    *pixels = r.pixels_written;
+}
+
+static int cg_child(void)
+{
+    r3d_scene_t s;
+    if (r3d_scene_make(&s) != 0)
+        return 1;
+    uint16_t *frame = malloc(320 * 240 * 2);
+    double px;
+    cg_workload(&s, frame, &px);
+    printf("written %.0f\n", px);
+    free(frame);
+    r3d_scene_free(&s);
+    return 0;
+}
+
+static int run_callgrind(const char *self, const char *out_dir)
+{
+    if (system("valgrind --version >/dev/null 2>&1") != 0) {
+        fprintf(stderr, "render3d bench: valgrind is not installed; run `make bench-callgrind`, which installs it\n");
+        return 1;
+    }
+    char dir[] = "/tmp/periscope-r3dcg-XXXXXX";
+    if (!mkdtemp(dir))
+        return 1;
+    char cmd[2048], out[128];
+    snprintf(out, sizeof out, "%s/cg.out", dir);
+    snprintf(cmd, sizeof cmd,
+             "valgrind --tool=callgrind --quiet --collect-atstart=no --toggle-collect=psc_3d_render "
+             "--callgrind-out-file=%s '%s' --callgrind-child",
+             out, self);
+    FILE *p = popen(cmd, "r");
+    double written = 0;
+    char line[256];
+    while (p && fgets(line, sizeof line, p))
+        sscanf(line, "written %lf", &written);
+    if (!p || pclose(p) != 0) {
+        fprintf(stderr, "render3d bench: the callgrind run failed\n");
+        return 1;
+    }
+    FILE *f = fopen(out, "r");
+    double ir = -1;
+    while (f && fgets(line, sizeof line, f)) {
+        double v;
+        if (sscanf(line, "totals: %lf", &v) == 1 || sscanf(line, "summary: %lf", &v) == 1)
+            ir = v;
+    }
+    if (f)
+        fclose(f);
+    remove(out);
+    rmdir(dir);
+    if (ir <= 0) {
+        fprintf(stderr, "render3d bench: no instruction count in the callgrind output\n");
+        return 1;
+    }
+    double per_frame = ir / CG_FRAMES, tris = 10816;
+    printf("3D pipeline under callgrind (psc_3d_render only): teapot, %u frames of 320x240, textured, lit,\n"
+           "16-bit depth: %.0f instructions per frame, %.0f per submitted triangle, %.1f per output pixel,\n"
+           "%.1f per pixel written (%.0f written per frame).\n",
+           CG_FRAMES, per_frame, per_frame / tris, per_frame / (320.0 * 240), written > 0 ? per_frame / written : 0,
+           written);
+    char path[1024];
+    snprintf(path, sizeof path, "%s/render3d-callgrind.json", out_dir);
+    FILE *j = fopen(path, "w");
+    if (j) {
+        fprintf(j, "{\n  \"benchmark\": \"render3d-callgrind\",\n  \"frames\": %u,\n  \"size\": \"320x240\",\n"
+                   "  \"instructions_per_frame\": %.0f,\n  \"instructions_per_triangle\": %.1f,\n"
+                   "  \"instructions_per_output_pixel\": %.2f,\n  \"pixels_written_per_frame\": %.0f\n}\n",
+                CG_FRAMES, per_frame, per_frame / tris, per_frame / (320.0 * 240), written);
+        fclose(j);
+        printf("wrote %s\n", path);
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    const char *out = "bench/results";
+    bool callgrind = false;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--mesa-child") == 0 && i + 5 < argc)
+            return r3d_mesa_child((uint16_t)atoi(argv[i + 1]), (uint16_t)atoi(argv[i + 2]),
+                                  (unsigned)atoi(argv[i + 3]), (unsigned)atoi(argv[i + 4]), argv[i + 5]);
+        if (strcmp(argv[i], "--callgrind-child") == 0)
+            return cg_child();
+        if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
+            out = argv[++i];
+        } else if (strcmp(argv[i], "--callgrind") == 0) {
+            callgrind = true;
+        } else {
+            fprintf(stderr, "usage: build/bench/render3d [--out DIR] [--callgrind]\n");
+            return 2;
+        }
+    }
+    char self[1024];
+    if (self_path(self, sizeof self) != 0) {
+        fprintf(stderr, "render3d bench: cannot find its own executable\n");
+        return 1;
+    }
+    return callgrind ? run_callgrind(self, out) : run_table(self, out);
+}

@@ -1,0 +1,54 @@
+/*
+ * render3d.h - the 3D benchmark's scene and the two renderers it times:
+ * Periscope's integer pipeline (core/psc_3d_render.h) and Mesa's OSMesa
+ * (softpipe, llvmpipe single-threaded), on the same textured, lit teapot.
+ */
+#ifndef BENCH_RENDER3D_H
+#define BENCH_RENDER3D_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include "psc_3d_render.h"
+
+#define R3D_TEAPOT_STEPS 13u    /* 32 patches x 13 x 13 x 2 = 10816 triangles */
+#define R3D_TEXTURE_SIDE 256u
+#define R3D_HFOV_DEG 60.0
+#define R3D_ORBIT_DIST 2.2
+#define R3D_AMBIENT_Q8 72
+#define R3D_BACKGROUND 0x30343Cu
+
+/** The scene: the teapot as a mesh pack in memory, its texture, the light. */
+typedef struct {
+    void *pack;                  /* aligned mesh pack bytes */
+    size_t pack_len;
+    psc_mesh_t mesh;             /* points into pack */
+    psc_vec3_q16_t light_dir;    /* camera space, toward the light */
+} r3d_scene_t;
+
+int r3d_scene_make(r3d_scene_t *s);
+void r3d_scene_free(r3d_scene_t *s);
+
+/** The view of frame k (the teapot turns 360/frames degrees per frame): draw state and near/far. */
+void r3d_frame_view(const r3d_scene_t *s, unsigned k, unsigned frames, psc_3d_draw_t *d, int32_t *near_q16,
+                    int32_t *far_q16);
+
+/** Timing of one renderer at one size. */
+typedef struct {
+    double ms_per_frame;    /* best of the passes */
+    double pixels_written;  /* per frame, when the renderer reports it (0 otherwise) */
+    bool ok;
+} r3d_result_t;
+
+/** Periscope: frames at w x h RGB565, tile side 0 = full-screen depth; writes the last frame into last (w*h). */
+r3d_result_t r3d_run_periscope(const r3d_scene_t *s, uint16_t w, uint16_t h, uint16_t tile, unsigned frames,
+                               unsigned passes, uint16_t *last);
+
+/** Mesa through a child process with GALLIUM_DRIVER=driver, LP_NUM_THREADS=0; last frame into last. */
+r3d_result_t r3d_run_mesa(const char *self, const char *driver, uint16_t w, uint16_t h, unsigned frames,
+                          unsigned passes, uint16_t *last);
+
+/** The child side: render with OSMesa and print "ms <best ms per frame>"; the last frame to frame_path. */
+int r3d_mesa_child(uint16_t w, uint16_t h, unsigned frames, unsigned passes, const char *frame_path);
+
+#endif

@@ -1,0 +1,123 @@
+/*
+ * scene.c - the benchmark scene (a textured, lit Utah teapot of 10816
+ * triangles, as the device would load it from a mesh pack) and the timed
+ * Periscope runs.
+ */
+#include "render3d.h"
+#include "mesh_pack.h"
+#include "model.h"
+#include "psc_3d_orbit.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+int r3d_scene_make(r3d_scene_t *s)
+{
+    memset(s, 0, sizeof *s);
+    psc_model_t m;
+    psc_model_teapot(&m, R3D_TEAPOT_STEPS);
+    /* A checkerboard with colour ramps: every texel differs from its neighbours. */
+    psc_image_t tex = {R3D_TEXTURE_SIDE, R3D_TEXTURE_SIDE, malloc(R3D_TEXTURE_SIDE * R3D_TEXTURE_SIDE * 4)};
+    for (uint32_t y = 0; y < R3D_TEXTURE_SIDE; y++)
+        for (uint32_t x = 0; x < R3D_TEXTURE_SIDE; x++) {
+            uint32_t check = ((x / 32) + (y / 32)) & 1u;
+            tex.xrgb[y * R3D_TEXTURE_SIDE + x] = 0xFF000000u | (x << 16) | (y << 8) | (check ? 220u : 60u);
+        }
+    uint8_t *bytes = NULL;
+    size_t len = 0;
+    char err[512];
+    int rc = psc_mesh_pack_build(&m, &tex, NULL, "teapot", &bytes, &len, err, sizeof err);
+    psc_image_free(&tex);
+    psc_model_free(&m);
+    if (rc != 0) {
+        fprintf(stderr, "render3d bench: %s\n", err);
+        return -1;
+    }
+    if (posix_memalign(&s->pack, 64, len) != 0) {
+        free(bytes);
+        return -1;
+    }
+    memcpy(s->pack, bytes, len);
+    free(bytes);
+    s->pack_len = len;
+    if (psc_mesh_parse_named("teapot", s->pack, len, &s->mesh, err, sizeof err) != 0) {
+        fprintf(stderr, "render3d bench: %s\n", err);
+        return -1;
+    }
+    s->light_dir = psc_vec3_normalize((psc_vec3_q16_t){-26000, 39000, -45000});
+    return 0;
+}
+
+void r3d_scene_free(r3d_scene_t *s)
+{
+    free(s->pack);
+    memset(s, 0, sizeof *s);
+}
+
+void r3d_frame_view(const r3d_scene_t *s, unsigned k, unsigned frames, psc_3d_draw_t *d, int32_t *near_q16,
+                    int32_t *far_q16)
+{
+    psc_3d_draw_defaults(d, &s->mesh);
+    psc_vec3_q16_t lo, hi;
+    psc_mesh_bounds_q16(&s->mesh, &lo, &hi);
+    psc_bam_t yaw = (psc_bam_t)((uint64_t)k * 0x100000000ull / (frames ? frames : 1)) + PSC_BAM_FROM_MDEG(30000);
+    (void)psc_3d_orbit(lo, hi, yaw, -(int32_t)PSC_BAM_FROM_MDEG(20000), (int32_t)(R3D_ORBIT_DIST * 65536),
+                       &d->camera_from_object, near_q16, far_q16);
+    d->shade = PSC_SHADE_TEXTURE;
+    d->filter = PSC_TEX_BILINEAR;
+    d->lit = true;
+    d->cull_back = true;
+    d->depth_test = true;
+    d->light_dir = s->light_dir;
+    d->ambient_q8 = R3D_AMBIENT_Q8;
+}
+
+r3d_result_t r3d_run_periscope(const r3d_scene_t *s, uint16_t w, uint16_t h, uint16_t tile, unsigned frames,
+                               unsigned passes, uint16_t *last)
+{
+    r3d_result_t res = {0, 0, false};
+    psc_3d_draw_t d;
+    int32_t near_q16, far_q16;
+    r3d_frame_view(s, 0, frames, &d, &near_q16, &far_q16);
+    psc_3d_config_t cfg = {w, h, tile, tile, 16, PSC_BAM_FROM_MDEG((int64_t)(R3D_HFOV_DEG * 1000)), near_q16,
+                           far_q16, s->mesh.vertex_count};
+    size_t n = psc_3d_workspace_size(&cfg);
+    void *ws = NULL;
+    psc_surface_t out = {w, h, (uint32_t)w * 2, PSC_PIX_RGB565, last};
+    psc_3d_t r;
+    if (n == 0 || posix_memalign(&ws, 64, n) != 0 || psc_3d_init(&r, &cfg, ws, n) != PSC_OK) {
+        free(ws);
+        return res;
+    }
+    uint32_t bg = R3D_BACKGROUND;
+    double best = 1e30, pixels = 0;
+    for (unsigned p = 0; p < passes; p++) {
+        double t0 = now_ms();
+        pixels = 0;
+        for (unsigned k = 0; k < frames; k++) {
+            psc_3d_stats_t st;
+            r3d_frame_view(s, k, frames, &d, &near_q16, &far_q16);
+            if (psc_3d_render(&r, &d, 1, &bg, &out, &st) != PSC_OK) {
+                free(ws);
+                return res;
+            }
+            pixels += (double)st.pixels;
+        }
+        double ms = (now_ms() - t0) / frames;
+        best = ms < best ? ms : best;
+    }
+    free(ws);
+    res.ms_per_frame = best;
+    res.pixels_written = pixels / frames;
+    res.ok = true;
+    return res;
+}

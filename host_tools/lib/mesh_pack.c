@@ -1,0 +1,342 @@
+/*
+ * mesh_pack.c - lay out, write and load mesh packs (format: core/psc_mesh.h).
+ * Sections in file order: MINF, VPOS, VNRM, VTEX, VCOL, TIDX, TEXR (the
+ * optional ones only when present); payloads on 64-byte boundaries, gaps zero,
+ * every field stored little-endian byte by byte.
+ */
+#include "mesh_pack.h"
+#include "errmsg.h"
+#include "image_scale.h"
+#include "le_bytes.h"
+#include "psc_pixel.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <zlib.h>
+
+#define UV_LIMIT 8.0
+
+void psc_mesh_pack_options_default(psc_mesh_pack_options_t *o)
+{
+    o->texture_format = PSC_PIX_RGB565;
+    o->texture_max_side = 1024;
+    o->base_color = 0xC8C8C8u;
+}
+
+static int16_t round16(double v)
+{
+    double r = floor(v + 0.5);
+    return (int16_t)(r > 32767 ? 32767 : r < -32768 ? -32768 : r);
+}
+
+/* The power of two nearest to n (geometric), within 1..max. */
+static uint32_t nearest_pot(uint32_t n, uint32_t max)
+{
+    uint32_t p = 1;
+    while (p < n && p < max)
+        p <<= 1;
+    if (p > 1 && p >= n && (double)p / n > (double)n / (p / 2))
+        p >>= 1;
+    return p > max ? max : p;
+}
+
+typedef struct {
+    uint32_t type;
+    uint8_t *data;
+    uint32_t size;
+} part_t;
+
+static uint8_t *zalloc(size_t n)
+{
+    return calloc(n ? n : 1, 1);
+}
+
+static int build_texture(const psc_image_t *tex, const psc_mesh_pack_options_t *o, const char *name, part_t *part,
+                         char *err, size_t errlen)
+{
+    uint32_t max = o->texture_max_side ? o->texture_max_side : 1024;
+    if (max > PSC_TEXTURE_MAX_DIM)
+        max = PSC_TEXTURE_MAX_DIM;
+    uint32_t w = nearest_pot(tex->width, max), h = nearest_pot(tex->height, max);
+    psc_image_t sized = *tex;
+    bool own = false;
+    if (w != tex->width || h != tex->height) {
+        if (psc_image_box_resize(tex, w, h, &sized) != 0)
+            return psc_errorf(err, errlen, name, "out of memory resizing the texture to %ux%u", (unsigned)w,
+                              (unsigned)h);
+        own = true;
+    }
+    uint32_t bpp = o->texture_format == PSC_PIX_XRGB8888 ? 4u : 2u;
+    part->type = PSC_SECTION_MESH_TEXTURE;
+    part->size = PSC_MESH_TEXTURE_HEADER_SIZE + w * h * bpp;
+    part->data = zalloc(part->size);
+    if (!part->data) {
+        if (own)
+            psc_image_free(&sized);
+        return psc_errorf(err, errlen, name, "out of memory for a %ux%u texture", (unsigned)w, (unsigned)h);
+    }
+    psc_put_le16(part->data, (uint16_t)w);
+    psc_put_le16(part->data + 2, (uint16_t)h);
+    part->data[4] = (uint8_t)(bpp == 4 ? PSC_PIX_XRGB8888 : PSC_PIX_RGB565);
+    uint8_t *px = part->data + PSC_MESH_TEXTURE_HEADER_SIZE;
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        uint32_t c = sized.xrgb[i];
+        if (bpp == 4)
+            psc_put_le32(px + 4 * i, 0xFF000000u | c);
+        else
+            psc_put_le16(px + 2 * i, psc_xrgb_to_rgb565(c));
+    }
+    if (own)
+        psc_image_free(&sized);
+    return 0;
+}
+
+static void free_parts(part_t *p, unsigned n)
+{
+    for (unsigned i = 0; i < n; i++)
+        free(p[i].data);
+}
+
+int psc_mesh_pack_build(const psc_model_t *m, const psc_image_t *texture, const psc_mesh_pack_options_t *opt,
+                        const char *name, uint8_t **out, size_t *out_len, char *err, size_t errlen)
+{
+    psc_mesh_pack_options_t o;
+    if (opt)
+        o = *opt;
+    else
+        psc_mesh_pack_options_default(&o);
+    *out = NULL;
+    *out_len = 0;
+    if (!name)
+        name = "(mesh)";
+    if (!m || m->vertex_count == 0 || m->triangle_count == 0)
+        return psc_errorf(err, errlen, name, "the model has no triangles");
+    if (m->vertex_count > PSC_MESH_MAX_VERTICES)
+        return psc_errorf(err, errlen, name, "the model has %u distinct vertices; a mesh pack holds at most %u",
+                          (unsigned)m->vertex_count, PSC_MESH_MAX_VERTICES);
+    if (m->triangle_count > PSC_MESH_MAX_TRIANGLES)
+        return psc_errorf(err, errlen, name, "the model has %u triangles; a mesh pack holds at most %u",
+                          (unsigned)m->triangle_count, PSC_MESH_MAX_TRIANGLES);
+    if (texture && !m->uv)
+        return psc_errorf(err, errlen, name, "a texture was given but the model has no texture coordinates");
+    if (o.texture_format != PSC_PIX_RGB565 && o.texture_format != PSC_PIX_XRGB8888)
+        return psc_errorf(err, errlen, name, "texture format must be RGB565 or XRGB8888");
+    uint32_t nv = m->vertex_count, nt = m->triangle_count;
+    for (size_t i = 0; i < (size_t)nv * 3; i++)
+        if (!isfinite(m->pos[i]))
+            return psc_errorf(err, errlen, name, "vertex %zu has a coordinate that is not a finite number", i / 3 + 1);
+    for (size_t i = 0; i < (size_t)nt * 3; i++)
+        if (m->index[i] >= nv)
+            return psc_errorf(err, errlen, name, "triangle %zu uses vertex %u of %u", i / 3 + 1,
+                              (unsigned)m->index[i] + 1, (unsigned)nv);
+
+    part_t parts[8];
+    unsigned np = 0;
+    memset(parts, 0, sizeof parts);
+    int rc = -1;
+
+    /* Positions: centred and scaled into Q1.15. */
+    double lo[3], hi[3], half = 0;
+    psc_model_bounds(m, lo, hi);
+    for (int a = 0; a < 3; a++)
+        half = fmax(half, (hi[a] - lo[a]) / 2);
+    double scale = half > 0 ? 32767.0 / half : 0;
+    part_t *info = &parts[np++];
+    part_t *pos = &parts[np++];
+    *info = (part_t){PSC_SECTION_MESH_INFO, zalloc(PSC_MESH_INFO_SIZE), PSC_MESH_INFO_SIZE};
+    *pos = (part_t){PSC_SECTION_MESH_POS, zalloc((size_t)nv * 6), nv * 6};
+    if (!info->data || !pos->data)
+        goto oom;
+    int16_t bmin[3] = {32767, 32767, 32767}, bmax[3] = {-32768, -32768, -32768};
+    for (uint32_t v = 0; v < nv; v++)
+        for (int a = 0; a < 3; a++) {
+            int16_t q = round16((m->pos[3 * v + a] - (lo[a] + hi[a]) / 2) * scale);
+            psc_put_le16(pos->data + 6 * v + 2 * a, (uint16_t)q);
+            if (q < bmin[a])
+                bmin[a] = q;
+            if (q > bmax[a])
+                bmax[a] = q;
+        }
+    psc_put_le32(info->data, nv);
+    psc_put_le32(info->data + 4, nt);
+    for (int a = 0; a < 3; a++) {
+        psc_put_le16(info->data + 8 + 2 * a, (uint16_t)bmin[a]);
+        psc_put_le16(info->data + 14 + 2 * a, (uint16_t)bmax[a]);
+    }
+    psc_put_le32(info->data + 20, o.base_color & 0xFFFFFFu);
+
+    if (m->normal) {
+        part_t *p = &parts[np++];
+        *p = (part_t){PSC_SECTION_MESH_NORMAL, zalloc((size_t)nv * 6), nv * 6};
+        if (!p->data)
+            goto oom;
+        for (size_t i = 0; i < (size_t)nv * 3; i++)
+            psc_put_le16(p->data + 2 * i, (uint16_t)round16(isfinite(m->normal[i]) ? m->normal[i] * 16384.0 : 0));
+    }
+    if (m->uv) {
+        double umin = INFINITY, vmin = INFINITY, umax = -INFINITY, vmax = -INFINITY;
+        for (uint32_t v = 0; v < nv; v++) {
+            umin = fmin(umin, m->uv[2 * v]);
+            umax = fmax(umax, m->uv[2 * v]);
+            vmin = fmin(vmin, m->uv[2 * v + 1]);
+            vmax = fmax(vmax, m->uv[2 * v + 1]);
+        }
+        if (!isfinite(umin) || !isfinite(umax) || !isfinite(vmin) || !isfinite(vmax)) {
+            rc = psc_errorf(err, errlen, name, "a texture coordinate is not a finite number");
+            goto done;
+        }
+        double du = floor(umin), dv = floor(vmin);
+        if (umax - du >= UV_LIMIT || vmax - dv >= UV_LIMIT) {
+            rc = psc_errorf(err, errlen, name,
+                            "texture coordinates span u %g..%g, v %g..%g: a mesh pack holds spans below %g",
+                            umin, umax, vmin, vmax, UV_LIMIT);
+            goto done;
+        }
+        part_t *p = &parts[np++];
+        *p = (part_t){PSC_SECTION_MESH_UV, zalloc((size_t)nv * 4), nv * 4};
+        if (!p->data)
+            goto oom;
+        for (uint32_t v = 0; v < nv; v++) {
+            psc_put_le16(p->data + 4 * v, (uint16_t)round16((m->uv[2 * v] - du) * 4096.0));
+            psc_put_le16(p->data + 4 * v + 2, (uint16_t)round16((m->uv[2 * v + 1] - dv) * 4096.0));
+        }
+    }
+    if (m->color) {
+        part_t *p = &parts[np++];
+        *p = (part_t){PSC_SECTION_MESH_COLOR, zalloc((size_t)nv * 4), nv * 4};
+        if (!p->data)
+            goto oom;
+        for (uint32_t v = 0; v < nv; v++)
+            psc_put_le32(p->data + 4 * v, m->color[v] & 0xFFFFFFu);
+    }
+    {
+        part_t *p = &parts[np++];
+        *p = (part_t){PSC_SECTION_MESH_INDEX, zalloc((size_t)nt * 6), nt * 6};
+        if (!p->data)
+            goto oom;
+        for (size_t i = 0; i < (size_t)nt * 3; i++)
+            psc_put_le16(p->data + 2 * i, (uint16_t)m->index[i]);
+    }
+    if (texture) {
+        if (build_texture(texture, &o, name, &parts[np], err, errlen) != 0)
+            goto done;
+        np++;
+    }
+
+    /* Lay out: header, table, aligned payloads. */
+    size_t at = PSC_MESH_HEADER_SIZE + (size_t)np * PSC_PACK_SECTION_SIZE, offs[8];
+    for (unsigned i = 0; i < np; i++) {
+        at = (at + PSC_PACK_ALIGN - 1) / PSC_PACK_ALIGN * PSC_PACK_ALIGN;
+        offs[i] = at;
+        at += parts[i].size;
+    }
+    if (at > UINT32_MAX) {
+        rc = psc_errorf(err, errlen, name, "the mesh pack would exceed 4 GiB");
+        goto done;
+    }
+    uint8_t *b = zalloc(at);
+    if (!b)
+        goto oom;
+    memcpy(b, PSC_MESH_MAGIC, PSC_MESH_MAGIC_LEN);
+    psc_put_le16(b + 8, PSC_MESH_VERSION_MAJOR);
+    psc_put_le16(b + 10, PSC_MESH_VERSION_MINOR);
+    psc_put_le32(b + 12, PSC_MESH_HEADER_SIZE);
+    psc_put_le32(b + 16, (uint32_t)at);
+    psc_put_le16(b + 24, (uint16_t)np);
+    for (unsigned i = 0; i < np; i++) {
+        uint8_t *e = b + PSC_MESH_HEADER_SIZE + (size_t)i * PSC_PACK_SECTION_SIZE;
+        psc_put_le32(e, parts[i].type);
+        psc_put_le32(e + 4, (uint32_t)offs[i]);
+        psc_put_le32(e + 8, parts[i].size);
+        memcpy(b + offs[i], parts[i].data, parts[i].size);
+    }
+    psc_put_le32(b + PSC_PACK_CRC_OFFSET, (uint32_t)crc32(0L, b, (uInt)at));
+
+    /* The device's own parser must accept what was written. */
+    void *check = NULL;
+    if (posix_memalign(&check, 64, at) != 0) {
+        free(b);
+        goto oom;
+    }
+    memcpy(check, b, at);
+    psc_mesh_t parsed;
+    rc = psc_mesh_parse_named(name, check, at, &parsed, err, errlen);
+    free(check);
+    if (rc != 0) {
+        free(b);
+        goto done;
+    }
+    *out = b;
+    *out_len = at;
+    rc = 0;
+    goto done;
+oom:
+    rc = psc_errorf(err, errlen, name, "out of memory building the mesh pack");
+done:
+    free_parts(parts, np);
+    return rc;
+}
+
+int psc_mesh_parse_named(const char *name, const void *buf, size_t len, psc_mesh_t *mesh, char *err, size_t errlen)
+{
+    psc_pack_error_t perr = {0};
+    psc_status_t s = psc_mesh_parse(buf, len, mesh, &perr);
+    if (s != PSC_OK)
+        return psc_errorf(err, errlen, name, "%s (offset %u): %s", perr.what ? perr.what : "invalid mesh pack",
+                          (unsigned)perr.offset, psc_status_str(s));
+    return 0;
+}
+
+int psc_mesh_file_load(const char *path, psc_mesh_file_t *mf, char *err, size_t errlen)
+{
+    memset(mf, 0, sizeof *mf);
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return psc_errorf(err, errlen, path, "cannot open: %s", strerror(errno));
+    if (fseek(f, 0, SEEK_END) != 0) {
+        fclose(f);
+        return psc_errorf(err, errlen, path, "cannot seek");
+    }
+    long size = ftell(f);
+    rewind(f);
+    if (size <= 0 || (unsigned long)size > UINT32_MAX) {
+        fclose(f);
+        return psc_errorf(err, errlen, path, size <= 0 ? "file is empty or unreadable" : "file is larger than 4 GiB");
+    }
+    if (posix_memalign(&mf->buf, 64, (size_t)size) != 0) {
+        fclose(f);
+        return psc_errorf(err, errlen, path, "out of memory for %ld bytes", size);
+    }
+    size_t got = fread(mf->buf, 1, (size_t)size, f);
+    fclose(f);
+    if (got != (size_t)size) {
+        psc_mesh_file_free(mf);
+        return psc_errorf(err, errlen, path, "read error");
+    }
+    mf->len = (size_t)size;
+    if (psc_mesh_parse_named(path, mf->buf, mf->len, &mf->mesh, err, errlen) != 0) {
+        psc_mesh_file_free(mf);
+        return -1;
+    }
+    return 0;
+}
+
+void psc_mesh_file_free(psc_mesh_file_t *mf)
+{
+    free(mf->buf);
+    memset(mf, 0, sizeof *mf);
+}
+
+bool psc_file_is_mesh_pack(const char *path)
+{
+    char magic[PSC_MESH_MAGIC_LEN];
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return false;
+    bool yes = fread(magic, 1, sizeof magic, f) == sizeof magic && memcmp(magic, PSC_MESH_MAGIC, sizeof magic) == 0;
+    fclose(f);
+    return yes;
+}

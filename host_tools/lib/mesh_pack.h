@@ -1,0 +1,54 @@
+/*
+ * mesh_pack.h - write a mesh pack (format: core/psc_mesh.h) from a host
+ * model, and load one from a file the way the device does. Host side: heap
+ * and stdio are fine here.
+ */
+#ifndef PSC_MESH_PACK_H
+#define PSC_MESH_PACK_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include "image_io.h"
+#include "model.h"
+#include "psc_mesh.h"
+
+typedef struct {
+    psc_pixfmt_t texture_format;   /* RGB565 (default) or XRGB8888 */
+    uint16_t texture_max_side;     /* textures are resized to powers of two up to this (default 1024) */
+    uint32_t base_color;           /* XRGB for meshes without vertex colours (default 0xC8C8C8) */
+} psc_mesh_pack_options_t;
+
+void psc_mesh_pack_options_default(psc_mesh_pack_options_t *o);
+
+/**
+ * Build a mesh pack in memory (*out malloc'd). Positions are centred on the
+ * bounding box and scaled so the longest half-axis is 32767 (Q1.15);
+ * normals become Q1.14 (missing normals are not invented here: the OBJ
+ * loader does that); texture coordinates are shifted by the whole number
+ * below their minimum (free under repeat wrapping) and must then lie below
+ * 8.0; a texture that is not a power of two on each side is resized (box
+ * filter) to the nearest powers of two. The result is checked with core's
+ * psc_mesh_parse. 0, or -1 with err naming the problem (name: the source, for messages).
+ */
+int psc_mesh_pack_build(const psc_model_t *m, const psc_image_t *texture, const psc_mesh_pack_options_t *o,
+                        const char *name, uint8_t **out, size_t *out_len, char *err, size_t errlen);
+
+/** A mesh pack loaded from disk: aligned bytes and the parsed mesh pointing into them. */
+typedef struct {
+    void *buf;
+    size_t len;
+    psc_mesh_t mesh;
+} psc_mesh_file_t;
+
+/** Read and parse a mesh pack; errors name the file, the problem and its offset. */
+int psc_mesh_file_load(const char *path, psc_mesh_file_t *mf, char *err, size_t errlen);
+void psc_mesh_file_free(psc_mesh_file_t *mf);
+
+/** Parse a mesh pack already in memory (aligned to 8), with the same messages. */
+int psc_mesh_parse_named(const char *name, const void *buf, size_t len, psc_mesh_t *mesh, char *err, size_t errlen);
+
+/** true if the file starts with the mesh pack magic. */
+bool psc_file_is_mesh_pack(const char *path);
+
+#endif

@@ -1,0 +1,362 @@
+/*
+ * model_render.c - periscope-render's model mode (model_render.h).
+ */
+#include "model_render.h"
+#include "angle_conv.h"
+#include "cli_parse.h"
+#include "errmsg.h"
+#include "image_io.h"
+#include "mesh_pack.h"
+#include "obj_load.h"
+#include "pack_build.h"
+#include "psc_3d_orbit.h"
+#include "psc_3d_render.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <time.h>
+
+#define MAX_REPEAT 100000ul
+
+typedef struct {
+    const char *model, *out, *texture, *depth, *write_pack;
+    double yaw, pitch, dist, hfov;
+    uint16_t width, height;
+    bool cull;
+    unsigned long tile;
+    psc_pixfmt_t format;
+    psc_tex_filter_t filter;
+    int shade;            /* -1: texture when there is one, else Gouraud */
+    unsigned long depth_bits, repeat;
+} model_args_t;
+
+static bool ends_with_obj(const char *s)
+{
+    size_t n = strlen(s);
+    return n > 4 && strcasecmp(s + n - 4, ".obj") == 0;
+}
+
+bool psc_model_render_wanted(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++) {
+        if (argv[i][0] == '-') {
+            if (strcmp(argv[i], "--orbit") == 0)
+                return true;
+            continue;
+        }
+        if (ends_with_obj(argv[i]) || psc_file_is_mesh_pack(argv[i]))
+            return true;
+    }
+    return false;
+}
+
+static void usage(const char *prog, FILE *f)
+{
+    fprintf(f,
+            "usage: %s MODEL.{obj,pmesh} -o view.png [options]\n"
+            "\n"
+            "Render a model (OBJ file or mesh pack) with the device's 3D pipeline.\n"
+            "\n"
+            "  --orbit Y,P,D       camera at D x R from the bounding-box centre (R: half its\n"
+            "                      diagonal) looking at it, turned up by P then right by Y degrees\n"
+            "                      (default 30,20,2.5)\n"
+            "  --hfov F            horizontal field of view in degrees (default 60)\n"
+            "  --size WxH          output size (default 640x480)\n"
+            "  --texture T.png     texture (replaces the material's or the pack's)\n"
+            "  --cull back|none    back-face culling (default back)\n"
+            "  --tiles N           render in N x N pixel tiles with a tile-sized depth buffer (0: full)\n"
+            "  --depth D.pgm       also write the normalised depth as a 16-bit PGM (65535 = far)\n"
+            "  --depth-bits B      16 or 32 (default 32)\n"
+            "  --shade S           flat, gouraud or texture (default: texture when there is one)\n"
+            "  --filter F          nearest or bilinear texture filter (default bilinear)\n"
+            "  --format F          output surface: rgb565 (default) or xrgb8888\n"
+            "  --repeat K          render K times and report the time per frame\n"
+            "  --write-pack P      also write the mesh pack the view was drawn from\n"
+            "  -o view.png         output PNG\n",
+            prog);
+}
+
+static int parse_orbit(const char *v, model_args_t *a)
+{
+    char extra;
+    if (sscanf(v, "%lf,%lf,%lf%c", &a->yaw, &a->pitch, &a->dist, &extra) != 3)
+        return -1;
+    return a->pitch >= -90 && a->pitch <= 90 && a->dist >= 1.0 / 64 && a->dist <= 256 ? 0 : -1;
+}
+
+static int parse_args(const char *prog, int argc, char **argv, model_args_t *a)
+{
+    static const char *const valued[] = {"-o",      "--orbit",  "--hfov",   "--size",       "--texture",
+                                         "--cull",  "--tiles",  "--depth",  "--depth-bits", "--shade",
+                                         "--filter", "--format", "--repeat", "--write-pack"};
+    psc_cli_t c = {argc, argv, 1};
+    while (c.index < argc) {
+        const char *arg = argv[c.index], *v = NULL, *name = NULL;
+        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+            usage(prog, stdout);
+            exit(0);
+        }
+        for (size_t i = 0; i < sizeof valued / sizeof valued[0] && !name; i++) {
+            int r = psc_cli_take_value(&c, valued[i], &v);
+            if (r < 0)
+                return psc_cli_usage_error(prog, "option %s needs a value", valued[i]);
+            if (r > 0)
+                name = valued[i];
+        }
+        if (!name) {
+            if (arg[0] == '-' && arg[1] != '\0')
+                return psc_cli_usage_error(prog, "unknown option %s (model mode)", arg);
+            if (a->model)
+                return psc_cli_usage_error(prog, "more than one model given (%s)", arg);
+            a->model = arg;
+            c.index++;
+            continue;
+        }
+        if (strcmp(name, "-o") == 0) {
+            a->out = v;
+        } else if (strcmp(name, "--orbit") == 0) {
+            if (parse_orbit(v, a) != 0)
+                return psc_cli_usage_error(prog, "--orbit '%s': expected YAW,PITCH,DIST (pitch -90..90, dist 1/64..256)",
+                                           v);
+        } else if (strcmp(name, "--hfov") == 0) {
+            if (psc_cli_parse_double(v, &a->hfov) != 0 || !(a->hfov >= 1.0 && a->hfov <= 170.0))
+                return psc_cli_usage_error(prog, "--hfov '%s': expected degrees in 1..170", v);
+        } else if (strcmp(name, "--size") == 0) {
+            if (psc_cli_parse_size(v, PSC_MAX_OUT_DIM, &a->width, &a->height) != 0)
+                return psc_cli_usage_error(prog, "--size '%s': expected WxH, each 1..%u", v, (unsigned)PSC_MAX_OUT_DIM);
+        } else if (strcmp(name, "--texture") == 0) {
+            a->texture = v;
+        } else if (strcmp(name, "--cull") == 0) {
+            if (strcmp(v, "back") != 0 && strcmp(v, "none") != 0)
+                return psc_cli_usage_error(prog, "--cull '%s': expected back or none", v);
+            a->cull = strcmp(v, "back") == 0;
+        } else if (strcmp(name, "--tiles") == 0) {
+            if (psc_cli_parse_uint(v, 0, PSC_MAX_OUT_DIM, &a->tile) != 0)
+                return psc_cli_usage_error(prog, "--tiles '%s': expected a tile side of 0..%u pixels", v,
+                                           (unsigned)PSC_MAX_OUT_DIM);
+        } else if (strcmp(name, "--depth") == 0) {
+            a->depth = v;
+        } else if (strcmp(name, "--depth-bits") == 0) {
+            if (psc_cli_parse_uint(v, 16, 32, &a->depth_bits) != 0 || (a->depth_bits != 16 && a->depth_bits != 32))
+                return psc_cli_usage_error(prog, "--depth-bits '%s': expected 16 or 32", v);
+        } else if (strcmp(name, "--shade") == 0) {
+            a->shade = strcmp(v, "flat") == 0 ? PSC_SHADE_FLAT : strcmp(v, "gouraud") == 0 ? PSC_SHADE_GOURAUD
+                       : strcmp(v, "texture") == 0 ? PSC_SHADE_TEXTURE : -2;
+            if (a->shade == -2)
+                return psc_cli_usage_error(prog, "--shade '%s': expected flat, gouraud or texture", v);
+        } else if (strcmp(name, "--filter") == 0) {
+            if (strcmp(v, "nearest") != 0 && strcmp(v, "bilinear") != 0)
+                return psc_cli_usage_error(prog, "--filter '%s': expected nearest or bilinear", v);
+            a->filter = strcmp(v, "nearest") == 0 ? PSC_TEX_NEAREST : PSC_TEX_BILINEAR;
+        } else if (strcmp(name, "--format") == 0) {
+            if (strcmp(v, "rgb565") != 0 && strcmp(v, "xrgb8888") != 0)
+                return psc_cli_usage_error(prog, "--format '%s': expected rgb565 or xrgb8888", v);
+            a->format = strcmp(v, "rgb565") == 0 ? PSC_PIX_RGB565 : PSC_PIX_XRGB8888;
+        } else if (strcmp(name, "--repeat") == 0) {
+            if (psc_cli_parse_uint(v, 1, MAX_REPEAT, &a->repeat) != 0)
+                return psc_cli_usage_error(prog, "--repeat '%s': expected a count of 1..%lu", v, MAX_REPEAT);
+        } else if (strcmp(name, "--write-pack") == 0) {
+            a->write_pack = v;
+        }
+    }
+    if (!a->model)
+        return psc_cli_usage_error(prog, "no model given");
+    if (!a->out)
+        return psc_cli_usage_error(prog, "no output given (-o view.png)");
+    return 0;
+}
+
+/* The model as a parsed mesh pack in an aligned buffer (from an OBJ: built in memory). */
+static int load_mesh(const model_args_t *a, psc_mesh_file_t *mf, char *err, size_t errlen)
+{
+    if (psc_file_is_mesh_pack(a->model))
+        return psc_mesh_file_load(a->model, mf, err, errlen);
+    psc_model_t m;
+    char note[600];
+    if (psc_obj_load(a->model, &m, note, sizeof note, err, errlen) != 0)
+        return -1;
+    if (note[0])
+        fprintf(stderr, "note: %s\n", note);
+    psc_image_t tex = {0, 0, NULL};
+    const char *tex_path = a->texture ? a->texture : m.texture_path;
+    int rc = -1;
+    if (tex_path && m.uv && psc_image_load(tex_path, &tex, err, errlen) != 0)
+        goto done;
+    if (tex_path && !m.uv)
+        fprintf(stderr, "note: %s has no texture coordinates: texture %s not used\n", a->model, tex_path);
+    uint8_t *bytes = NULL;
+    size_t len = 0;
+    if (psc_mesh_pack_build(&m, tex.xrgb ? &tex : NULL, NULL, a->model, &bytes, &len, err, errlen) != 0)
+        goto done;
+    if (a->write_pack && psc_write_file(a->write_pack, bytes, len, err, errlen) != 0) {
+        free(bytes);
+        goto done;
+    }
+    memset(mf, 0, sizeof *mf);
+    if (posix_memalign(&mf->buf, 64, len) != 0) {
+        free(bytes);
+        psc_errorf(err, errlen, a->model, "out of memory");
+        goto done;
+    }
+    memcpy(mf->buf, bytes, len);
+    free(bytes);
+    mf->len = len;
+    if (psc_mesh_parse_named(a->model, mf->buf, len, &mf->mesh, err, errlen) != 0) {
+        psc_mesh_file_free(mf);
+        goto done;
+    }
+    rc = 0;
+done:
+    psc_image_free(&tex);
+    psc_model_free(&m);
+    return rc;
+}
+
+/* A --texture for a mesh pack: the image at power-of-two sides, RGB565, through the pack writer's rules. */
+static int override_texture(const model_args_t *a, psc_mesh_file_t *mf, psc_mesh_file_t *texpack, char *err,
+                            size_t errlen)
+{
+    /* A one-triangle pack carrying the texture: the same conversion as psc_mesh_pack_build. */
+    psc_image_t img;
+    if (psc_image_load(a->texture, &img, err, errlen) != 0)
+        return -1;
+    double pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0}, uv[6] = {0, 0, 1, 0, 0, 1};
+    uint32_t idx[3] = {0, 1, 2};
+    psc_model_t tri = {pos, NULL, uv, NULL, idx, 3, 1, NULL};
+    uint8_t *bytes;
+    size_t len;
+    int rc = psc_mesh_pack_build(&tri, &img, NULL, a->texture, &bytes, &len, err, errlen);
+    psc_image_free(&img);
+    if (rc != 0)
+        return -1;
+    memset(texpack, 0, sizeof *texpack);
+    if (posix_memalign(&texpack->buf, 64, len) != 0) {
+        free(bytes);
+        return psc_errorf(err, errlen, a->texture, "out of memory");
+    }
+    memcpy(texpack->buf, bytes, len);
+    free(bytes);
+    texpack->len = len;
+    if (psc_mesh_parse_named(a->texture, texpack->buf, len, &texpack->mesh, err, errlen) != 0)
+        return -1;
+    mf->mesh.texture = texpack->mesh.texture;
+    mf->mesh.has_texture = mf->mesh.uv_q12 != NULL;
+    return 0;
+}
+
+static int write_depth_pgm(const char *path, const uint16_t *z, uint16_t w, uint16_t h, char *err, size_t errlen)
+{
+    char head[64];
+    int n = snprintf(head, sizeof head, "P5\n%u %u\n65535\n", (unsigned)w, (unsigned)h);
+    size_t len = (size_t)n + (size_t)w * h * 2;
+    uint8_t *b = malloc(len);
+    if (!b)
+        return psc_errorf(err, errlen, path, "out of memory");
+    memcpy(b, head, (size_t)n);
+    for (size_t i = 0; i < (size_t)w * h; i++) { /* PGM samples are big-endian */
+        b[n + 2 * i] = (uint8_t)(z[i] >> 8);
+        b[n + 2 * i + 1] = (uint8_t)z[i];
+    }
+    int rc = psc_write_file(path, b, len, err, errlen);
+    free(b);
+    return rc;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+int psc_model_render_main(const char *prog, int argc, char **argv)
+{
+    model_args_t a = {.yaw = 30, .pitch = 20, .dist = 2.5, .hfov = 60, .width = 640, .height = 480, .cull = true,
+                      .format = PSC_PIX_RGB565, .filter = PSC_TEX_BILINEAR, .shade = -1, .depth_bits = 32,
+                      .repeat = 1};
+    int rc = parse_args(prog, argc, argv, &a);
+    if (rc != 0)
+        return rc;
+    char err[768];
+    psc_mesh_file_t mf, texpack = {0};
+    if (load_mesh(&a, &mf, err, sizeof err) != 0) {
+        fprintf(stderr, "%s: %s\n", prog, err);
+        return 1;
+    }
+    rc = 1;
+    void *ws = NULL;
+    uint16_t *zout = NULL;
+    psc_surface_t out = {a.width, a.height, (uint32_t)a.width * psc_pixfmt_bytes(a.format), a.format, NULL};
+    if (a.texture && psc_file_is_mesh_pack(a.model) && override_texture(&a, &mf, &texpack, err, sizeof err) != 0) {
+        fprintf(stderr, "%s: %s\n", prog, err);
+        goto done;
+    }
+    psc_3d_draw_t d;
+    psc_3d_draw_defaults(&d, &mf.mesh);
+    psc_vec3_q16_t lo, hi;
+    psc_mesh_bounds_q16(&mf.mesh, &lo, &hi);
+    psc_3d_config_t cfg = {a.width, a.height, (uint16_t)a.tile, (uint16_t)a.tile, (uint8_t)a.depth_bits,
+                           psc_bam_from_deg(a.hfov), 0, 0, mf.mesh.vertex_count};
+    if (psc_3d_orbit(lo, hi, psc_bam_from_deg(a.yaw), psc_sbam_from_deg(a.pitch), (int32_t)(a.dist * 65536.0 + 0.5),
+                     &d.camera_from_object, &cfg.near_q16, &cfg.far_q16) != PSC_OK) {
+        fprintf(stderr, "%s: %s: the orbit view does not fit the fixed-point range\n", prog, a.model);
+        goto done;
+    }
+    d.cull_back = a.cull;
+    d.filter = a.filter;
+    d.lit = mf.mesh.normal_q14 != NULL;
+    d.light_dir = psc_vec3_normalize((psc_vec3_q16_t){-26000, 39000, -45000}); /* from the upper left, behind */
+    d.ambient_q8 = 72;
+    d.shade = a.shade >= 0 ? (psc_shade_t)a.shade : mf.mesh.has_texture ? PSC_SHADE_TEXTURE : PSC_SHADE_GOURAUD;
+    if (d.shade == PSC_SHADE_TEXTURE && !mf.mesh.has_texture) {
+        fprintf(stderr, "%s: %s: --shade texture needs a texture (and texture coordinates)\n", prog, a.model);
+        goto done;
+    }
+    size_t ws_size = psc_3d_workspace_size(&cfg);
+    psc_3d_t r;
+    psc_status_t s;
+    if (ws_size == 0 || posix_memalign(&ws, 64, ws_size) != 0 ||
+        !(out.pixels = calloc((size_t)out.stride * out.height, 1)) ||
+        (a.depth && !(zout = calloc((size_t)a.width * a.height, 2)))) {
+        fprintf(stderr, "%s: out of memory for a %ux%u view\n", prog, (unsigned)a.width, (unsigned)a.height);
+        goto done;
+    }
+    if ((s = psc_3d_init(&r, &cfg, ws, ws_size)) != PSC_OK) {
+        fprintf(stderr, "%s: %s: cannot set up the renderer: %s\n", prog, a.model, psc_status_str(s));
+        goto done;
+    }
+    r.depth_out = zout;
+    uint32_t bg = 0x30343C;
+    psc_3d_stats_t st;
+    double best = 1e30, total = 0;
+    for (unsigned long k = 0; k < a.repeat; k++) {
+        double t0 = now_s();
+        s = psc_3d_render(&r, &d, 1, &bg, &out, &st);
+        double dt = now_s() - t0;
+        total += dt;
+        best = dt < best ? dt : best;
+        if (s != PSC_OK) {
+            fprintf(stderr, "%s: %s: rendering failed: %s\n", prog, a.model, psc_status_str(s));
+            goto done;
+        }
+    }
+    if (a.repeat > 1)
+        fprintf(stderr, "%s: %lu frames of %ux%u, %u triangles (%u culled, %u outside): %.3f ms per frame (best %.3f)\n",
+                prog, a.repeat, (unsigned)a.width, (unsigned)a.height, (unsigned)st.triangles, (unsigned)st.culled,
+                (unsigned)st.outside, total / a.repeat * 1e3, best * 1e3);
+    if (psc_surface_write_png(a.out, &out, err, sizeof err) != 0 ||
+        (a.depth && write_depth_pgm(a.depth, zout, a.width, a.height, err, sizeof err) != 0)) {
+        fprintf(stderr, "%s: %s\n", prog, err);
+        goto done;
+    }
+    rc = 0;
+done:
+    free(ws);
+    free(zout);
+    free(out.pixels);
+    psc_mesh_file_free(&mf);
+    psc_mesh_file_free(&texpack);
+    return rc;
+}

@@ -1,0 +1,513 @@
+/*
+ * test_3d_mesh.c - mesh packs (host_tools/lib/mesh_pack.c -> core psc_mesh_parse)
+ * and the OBJ loader (host_tools/lib/obj_load.c).
+ *
+ *  - Round trip: a generated model written as a pack parses back with every
+ *    field as the documented quantisation makes it, texture included.
+ *  - Truncation at every length is refused as truncated with a message; every
+ *    header field and section defect is refused with the status it calls for.
+ *  - Fuzzing: 20 000 random mutations of a valid pack, the CRC recomputed so
+ *    that parsing goes past it, never crash or read outside the buffer (each
+ *    parse runs on an exactly sized heap copy), and whatever parses renders
+ *    safely.
+ *  - OBJ: positions, normals, texture coordinates (v flipped), polygons
+ *    triangulated as fans, negative indices, the material's map_Kd; every bad
+ *    file is refused with "file:line: problem".
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <zlib.h>
+
+#include "mesh_pack.h"
+#include "obj_load.h"
+#include "object_scene.h"
+#include "psc_3d_render.h"
+#include "psc_testsupport.h"
+#include "tsup_3d.h"
+
+static uint8_t *exact_copy(const uint8_t *p, size_t len)
+{
+    uint8_t *b = malloc(len ? len : 1);
+    assert_non_null(b);
+    if (len)
+        memcpy(b, p, len);
+    return b;
+}
+
+static void fix_crc(uint8_t *p, size_t len)
+{
+    if (len < 24)
+        return;
+    tsup_wr32(p + PSC_PACK_CRC_OFFSET, 0);
+    tsup_wr32(p + PSC_PACK_CRC_OFFSET, (uint32_t)crc32(0L, p, (uInt)len));
+}
+
+static psc_image_t small_image(uint32_t w, uint32_t h)
+{
+    psc_image_t img = {w, h, malloc((size_t)w * h * 4)};
+    for (uint32_t i = 0; i < w * h; i++)
+        img.xrgb[i] = 0xFF000000u | (i * 2654435761u >> 8);
+    return img;
+}
+
+static void build(const psc_model_t *m, const psc_image_t *tex, uint8_t **buf, size_t *len)
+{
+    char err[512] = "";
+    if (psc_mesh_pack_build(m, tex, NULL, "test", buf, len, err, sizeof err) != 0)
+        fail_msg("psc_mesh_pack_build: %s", err);
+}
+
+static psc_status_t parse_copy(const uint8_t *p, size_t len, psc_mesh_t *out, psc_pack_error_t *err)
+{
+    /* malloc'd memory is aligned to 8 or more. */
+    uint8_t *b = exact_copy(p, len);
+    psc_status_t s = psc_mesh_parse(b, len, out, err);
+    free(b);
+    return s;
+}
+
+/* ---- round trip ------------------------------------------------------------------ */
+
+static void test_roundtrip(void **state)
+{
+    (void)state;
+    psc_model_t m;
+    psc_model_torus(&m, 2.0, 0.5, 12, 8);
+    psc_model_color_by_index(&m, 1);
+    for (uint32_t v = 0; v < m.vertex_count; v++)
+        m.pos[3 * v] += 10.0; /* off-centre: the pack recentres */
+    psc_image_t img = small_image(100, 30); /* not powers of two: resized to 128 x 32 */
+    uint8_t *buf;
+    size_t len;
+    build(&m, &img, &buf, &len);
+    uint8_t *b = exact_copy(buf, len);
+    psc_mesh_t p;
+    psc_pack_error_t err = {0};
+    assert_int_equal(psc_mesh_parse(b, len, &p, &err), PSC_OK);
+    assert_int_equal(p.vertex_count, m.vertex_count);
+    assert_int_equal(p.triangle_count, m.triangle_count);
+    assert_non_null(p.normal_q14);
+    assert_non_null(p.uv_q12);
+    assert_non_null(p.color);
+    assert_true(p.has_texture);
+    assert_int_equal(p.texture.width, 128);
+    assert_int_equal(p.texture.height, 32);
+    assert_int_equal(p.texture.format, PSC_PIX_RGB565);
+    double lo[3], hi[3], half = 0;
+    psc_model_bounds(&m, lo, hi);
+    for (int a = 0; a < 3; a++)
+        half = fmax(half, (hi[a] - lo[a]) / 2);
+    for (uint32_t v = 0; v < m.vertex_count; v++) {
+        for (int a = 0; a < 3; a++) {
+            double want = (m.pos[3 * v + a] - (lo[a] + hi[a]) / 2) / half * 32767.0;
+            assert_true(fabs(p.position_q15[3 * v + a] - want) <= 0.5 + 1e-9);
+            assert_true(fabs(p.normal_q14[3 * v + a] - m.normal[3 * v + a] * 16384.0) <= 0.5 + 1e-9);
+        }
+        assert_true(fabs(p.uv_q12[2 * v] / 4096.0 - (m.uv[2 * v] - floor(0.0))) <= 0.5 / 4096 + 1e-9);
+        assert_int_equal(p.color[v], m.color[v] & 0xFFFFFFu);
+    }
+    for (uint32_t i = 0; i < m.triangle_count * 3; i++)
+        assert_int_equal(p.index[i], m.index[i]);
+    /* The longest half-axis is +-32767. */
+    int longest = 0;
+    for (int a = 0; a < 3; a++)
+        longest = p.bbox_max_q15[a] - p.bbox_min_q15[a] > longest ? p.bbox_max_q15[a] - p.bbox_min_q15[a] : longest;
+    assert_int_equal(longest, 2 * 32767);
+    free(b);
+    free(buf);
+    psc_image_free(&img);
+    psc_model_free(&m);
+}
+
+/* ---- malformed packs ---------------------------------------------------------------- */
+
+static void test_truncated_every_length(void **state)
+{
+    (void)state;
+    psc_model_t m;
+    psc_model_cube(&m, 1.0);
+    psc_image_t img = small_image(8, 8);
+    uint8_t *buf;
+    size_t len;
+    build(&m, &img, &buf, &len);
+    for (size_t n = 0; n < len; n++) {
+        psc_mesh_t p;
+        psc_pack_error_t err = {NULL, 0};
+        psc_status_t s = parse_copy(buf, n, &p, &err);
+        if (s != PSC_ERR_TRUNCATED)
+            fail_msg("cut to %zu of %zu bytes: %s (%s), expected truncated", n, len, psc_status_str(s),
+                     err.what ? err.what : "no message");
+        assert_non_null(err.what);
+    }
+    print_message("  truncated at each of %zu lengths: PSC_ERR_TRUNCATED with a message every time\n", len);
+    free(buf);
+    psc_image_free(&img);
+    psc_model_free(&m);
+}
+
+static void expect(uint8_t *b, size_t len, int recrc, psc_status_t want, const char *what)
+{
+    if (recrc)
+        fix_crc(b, len);
+    psc_mesh_t p;
+    psc_pack_error_t err = {NULL, 0xFFFFFFFFu};
+    psc_status_t s = parse_copy(b, len, &p, &err);
+    if (s != want)
+        fail_msg("%s: %s (%s), expected %s", what, psc_status_str(s), err.what ? err.what : "-", psc_status_str(want));
+    if (want != PSC_OK) {
+        assert_non_null(err.what);
+        assert_true(err.offset <= len);
+    }
+}
+
+static uint8_t *entry_of(uint8_t *b, uint32_t type)
+{
+    unsigned n = tsup_rd16(b + 24);
+    for (unsigned i = 0; i < n; i++) {
+        uint8_t *e = b + PSC_MESH_HEADER_SIZE + 16 * i;
+        if (tsup_rd32(e) == type)
+            return e;
+    }
+    fail_msg("no section %08x", (unsigned)type);
+    return NULL;
+}
+
+static void test_bad_packs(void **state)
+{
+    (void)state;
+    psc_model_t m;
+    psc_model_cube(&m, 1.0);
+    psc_image_t img = small_image(16, 8);
+    uint8_t *buf;
+    size_t len;
+    build(&m, &img, &buf, &len);
+    uint8_t *b = malloc(len);
+#define RESET() memcpy(b, buf, len)
+    RESET();
+    expect(b, len, 0, PSC_OK, "valid");
+    RESET(); b[0] = 'X'; expect(b, len, 0, PSC_ERR_MAGIC, "magic");
+    RESET(); tsup_wr16(b + 8, 2); expect(b, len, 1, PSC_ERR_VERSION, "major version");
+    RESET(); tsup_wr16(b + 10, 9); expect(b, len, 1, PSC_OK, "newer minor version");
+    RESET(); b[len - 1] ^= 1; expect(b, len, 0, PSC_ERR_CRC, "payload bit flip");
+    RESET(); tsup_wr32(b + 16, (uint32_t)len - 1); expect(b, len, 1, PSC_ERR_CORRUPT, "trailing bytes");
+    RESET(); tsup_wr32(b + 12, 16); expect(b, len, 1, PSC_ERR_CORRUPT, "header size");
+    RESET(); tsup_wr16(b + 24, 0); expect(b, len, 1, PSC_ERR_CORRUPT, "no sections");
+    RESET(); tsup_wr16(b + 24, 17); expect(b, len, 1, PSC_ERR_CORRUPT, "17 sections");
+    RESET(); tsup_wr32(entry_of(b, PSC_SECTION_MESH_POS) + 4, tsup_rd32(entry_of(b, PSC_SECTION_MESH_POS) + 4) + 4);
+    expect(b, len, 1, PSC_ERR_CORRUPT, "misaligned section");
+    RESET(); tsup_wr32(entry_of(b, PSC_SECTION_MESH_INDEX) + 8, 0xFFFFFFF0u);
+    expect(b, len, 1, PSC_ERR_CORRUPT, "section past the end");
+    RESET(); tsup_wr32(entry_of(b, PSC_SECTION_MESH_INFO), PSC_FOURCC('X', 'X', 'X', 'X'));
+    expect(b, len, 1, PSC_ERR_CORRUPT, "no MINF");
+    RESET(); tsup_wr32(entry_of(b, PSC_SECTION_MESH_INDEX), PSC_SECTION_MESH_POS);
+    expect(b, len, 1, PSC_ERR_CORRUPT, "a section type twice");
+    uint8_t *info = NULL;
+    RESET(); info = b + tsup_rd32(entry_of(b, PSC_SECTION_MESH_INFO) + 4);
+    tsup_wr32(info, 0); expect(b, len, 1, PSC_ERR_TOO_LARGE, "zero vertices");
+    RESET(); info = b + tsup_rd32(entry_of(b, PSC_SECTION_MESH_INFO) + 4);
+    tsup_wr32(info, 25); expect(b, len, 1, PSC_ERR_CORRUPT, "vertex count vs VPOS size");
+    RESET(); info = b + tsup_rd32(entry_of(b, PSC_SECTION_MESH_INFO) + 4);
+    tsup_wr32(info + 4, PSC_MESH_MAX_TRIANGLES + 1); expect(b, len, 1, PSC_ERR_TOO_LARGE, "too many triangles");
+    RESET(); info = b + tsup_rd32(entry_of(b, PSC_SECTION_MESH_INFO) + 4);
+    tsup_wr16(info + 8, 0x7FFF); expect(b, len, 1, PSC_ERR_CORRUPT, "bbox min above max");
+    RESET(); info = b + tsup_rd32(entry_of(b, PSC_SECTION_MESH_INFO) + 4);
+    tsup_wr16(info + 8, 0); expect(b, len, 1, PSC_ERR_CORRUPT, "vertex outside the bbox");
+    RESET(); tsup_wr16(b + tsup_rd32(entry_of(b, PSC_SECTION_MESH_INDEX) + 4) + 10, 24);
+    expect(b, len, 1, PSC_ERR_CORRUPT, "index beyond the vertices");
+    uint8_t *tex;
+    RESET(); tex = b + tsup_rd32(entry_of(b, PSC_SECTION_MESH_TEXTURE) + 4);
+    tsup_wr16(tex, 12); expect(b, len, 1, PSC_ERR_CORRUPT, "texture not a power of two");
+    RESET(); tex = b + tsup_rd32(entry_of(b, PSC_SECTION_MESH_TEXTURE) + 4);
+    tex[4] = PSC_PIX_PAL8; expect(b, len, 1, PSC_ERR_CORRUPT, "texture format");
+    RESET(); tex = b + tsup_rd32(entry_of(b, PSC_SECTION_MESH_TEXTURE) + 4);
+    tsup_wr16(tex, 8192); expect(b, len, 1, PSC_ERR_TOO_LARGE, "texture too large");
+    RESET(); tsup_wr32(entry_of(b, PSC_SECTION_MESH_UV), PSC_FOURCC('X', 'X', 'X', 'X'));
+    expect(b, len, 1, PSC_ERR_CORRUPT, "texture without coordinates");
+#undef RESET
+    /* Misaligned buffer. */
+    uint8_t *odd = malloc(len + 1);
+    memcpy(odd + 1, buf, len);
+    assert_int_equal(psc_mesh_parse(odd + 1, len, &(psc_mesh_t){0}, NULL), PSC_ERR_ARG);
+    free(odd);
+    free(b);
+    free(buf);
+    psc_image_free(&img);
+    psc_model_free(&m);
+}
+
+static void test_fuzz(void **state)
+{
+    (void)state;
+    psc_model_t m;
+    psc_model_sphere(&m, 1.0, 8, 5);
+    psc_image_t img = small_image(8, 4);
+    uint8_t *buf;
+    size_t len;
+    build(&m, &img, &buf, &len);
+    tsup_rng_t rng;
+    tsup_rng_seed(&rng, 4242);
+    unsigned parsed = 0, rendered = 0;
+    psc_surface_t s = tsup_surface_new(48, 32, PSC_PIX_RGB565);
+    psc_3d_config_t cfg = {48, 32, 16, 16, 16, tsup_bam_from_deg(70), PSC_Q16_ONE / 8, 16 * PSC_Q16_ONE, 65535};
+    tsup_3d_t t;
+    assert_int_equal(tsup_3d_init(&t, &cfg), PSC_OK);
+    const unsigned rounds = 20000;
+    for (unsigned k = 0; k < rounds; k++) {
+        size_t n = len;
+        uint8_t *b = exact_copy(buf, len);
+        unsigned muts = 1 + tsup_rng_below(&rng, 4);
+        for (unsigned j = 0; j < muts; j++) {
+            size_t at = tsup_rng_below(&rng, (uint32_t)n);
+            switch (tsup_rng_below(&rng, 4)) {
+            case 0: b[at] ^= (uint8_t)(1u << tsup_rng_below(&rng, 8)); break;
+            case 1: b[at] = (uint8_t)tsup_rng_u32(&rng); break;
+            case 2: /* a header or section-table byte: the likeliest to matter */
+                b[tsup_rng_below(&rng, 32 + 16 * 7 < n ? 32 + 16 * 7 : (uint32_t)n)] = (uint8_t)tsup_rng_u32(&rng);
+                break;
+            default: n = tsup_rng_below(&rng, (uint32_t)n) + 1; break;
+            }
+        }
+        if (tsup_rng_below(&rng, 8) != 0)
+            fix_crc(b, n);
+        uint8_t *exact = exact_copy(b, n);
+        free(b);
+        psc_mesh_t p;
+        psc_pack_error_t err = {NULL, 0};
+        psc_status_t st = psc_mesh_parse(exact, n, &p, &err);
+        if (st == PSC_OK) {
+            parsed++;
+            psc_3d_draw_t d;
+            psc_3d_draw_defaults(&d, &p);
+            tsup_orbit_matrix(&d.camera_from_object, k * 13.0, 10, 2.5);
+            d.shade = p.has_texture ? PSC_SHADE_TEXTURE : PSC_SHADE_GOURAUD;
+            d.lit = true;
+            if (psc_3d_render(&t.r, &d, 1, NULL, &s, NULL) == PSC_OK)
+                rendered++;
+        } else {
+            assert_non_null(err.what);
+            assert_true(err.offset <= n || n < PSC_MESH_HEADER_SIZE);
+        }
+        free(exact);
+    }
+    print_message("  %u fuzzed packs: %u parsed (and %u of them rendered), the rest refused with a message\n", rounds,
+                  parsed, rendered);
+    assert_true(parsed > 0);
+    tsup_3d_free(&t);
+    tsup_surface_free(&s);
+    free(buf);
+    psc_image_free(&img);
+    psc_model_free(&m);
+}
+
+/* ---- OBJ --------------------------------------------------------------------------------- */
+
+static int obj_text(const char *text, psc_model_t *m, char *err, size_t errlen)
+{
+    return psc_obj_parse("model.obj", text, strlen(text), m, NULL, 0, err, errlen);
+}
+
+static void test_obj_reads(void **state)
+{
+    (void)state;
+    const char *text = "# a quad and a pentagon\r\n"
+                       "o thing\n"
+                       "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0 1.0\n"
+                       "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                       "vn 0 0 2\n"
+                       "g group\ns off\n"
+                       "f 1/1/1 2/2/1 3/3/1 4/4/1\n"
+                       "v 2 0 0\nv 3 0 0\nv 3 1 0\nv 2.5 1.5 0\nv 2 1 0\n"
+                       "f -5 -4 -3 -2 -1\n";
+    psc_model_t m;
+    char err[256];
+    if (obj_text(text, &m, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_int_equal(m.triangle_count, 2 + 3);
+    assert_int_equal(m.vertex_count, 4 + 5);
+    /* Fan from the first corner; v flipped. */
+    assert_int_equal(m.index[0], 0);
+    assert_int_equal(m.index[1], 1);
+    assert_int_equal(m.index[2], 2);
+    assert_int_equal(m.index[3], 0);
+    assert_int_equal(m.index[5], 3);
+    assert_non_null(m.uv);
+    assert_true(m.uv[1] == 1.0 && m.uv[2 * 2 + 1] == 0.0);
+    assert_true(fabs(m.normal[2] - 1.0) < 1e-12); /* normalised */
+    /* The pentagon had no normals: smooth normals from the faces (all +Z here). */
+    assert_true(fabs(m.normal[3 * 6 + 2] - 1.0) < 1e-12);
+    assert_true(m.pos[3 * 6] == 3.0 && m.pos[3 * 6 + 1] == 1.0 && m.pos[3 * 7] == 2.5);
+    psc_model_free(&m);
+}
+
+static void test_obj_material(void **state)
+{
+    (void)state;
+    const char *dir = getenv("PSC_TEST_TMPDIR");
+    char obj[512], mtl[512];
+    snprintf(obj, sizeof obj, "%s/3d_mat.obj", dir && *dir ? dir : ".");
+    snprintf(mtl, sizeof mtl, "%s/3d_mat.mtl", dir && *dir ? dir : ".");
+    FILE *f = fopen(mtl, "w");
+    assert_non_null(f);
+    fprintf(f, "newmtl first\nmap_Kd one.png\nnewmtl second\nKd 1 1 1\nmap_Kd -s 1 1 1 two.png\n");
+    fclose(f);
+    f = fopen(obj, "w");
+    assert_non_null(f);
+    fprintf(f, "mtllib 3d_mat.mtl\nusemtl second\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n");
+    fclose(f);
+    psc_model_t m;
+    char err[256], note[256];
+    if (psc_obj_load(obj, &m, note, sizeof note, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_non_null(m.texture_path);
+    assert_non_null(strstr(m.texture_path, "two.png"));
+    psc_model_free(&m);
+    /* A missing library is a note, not an error. */
+    f = fopen(obj, "w");
+    fprintf(f, "mtllib nowhere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    fclose(f);
+    assert_int_equal(psc_obj_load(obj, &m, note, sizeof note, err, sizeof err), 0);
+    assert_non_null(strstr(note, "nowhere.mtl"));
+    assert_null(m.texture_path);
+    psc_model_free(&m);
+}
+
+static void test_obj_errors(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *text, *want;
+    } cases[] = {
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "model.obj:4: face: vertex index 4 is out of range (3 defined so far)"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", "model.obj:4: face: vertex index 0"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf -4 2 3\n", "model.obj:4: face: vertex index -4 is out of range"},
+        {"v 0 0\n", "model.obj:1: 'v' needs 3 numbers, got 2"},
+        {"v 0 0 zero\n", "model.obj:1: v: expected a number, got 'zero'"},
+        {"v 0 0 0 0 0\n", "model.obj:1: 'v' has more than 4 numbers"},
+        {"vn 1 nan 0\n", "model.obj:1: vn: expected a number"},
+        {"v 0 0 0\nv 1 0 0\nf 1 2\n", "model.obj:3: face with 2 corners"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2/1 3/1\n", "model.obj:4: face: texture coordinate index 1 is out of range (0 defined so far)"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//2 2//2 3//2\n", "model.obj:4: face: normal index 2 is out of range (0 defined so far)"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/x 2 3\n", "model.obj:4: face: bad texture coordinate index 'x'"},
+        {"v 0 0 0\n", "model.obj: no faces"},
+        {"# nothing\n\n", "model.obj: no faces"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        psc_model_t m;
+        char err[256] = "";
+        assert_int_equal(obj_text(cases[i].text, &m, err, sizeof err), -1);
+        if (strncmp(err, cases[i].want, strlen(cases[i].want)) != 0)
+            fail_msg("case %zu: got \"%s\", want \"%s...\"", i, err, cases[i].want);
+    }
+    /* A binary file and a missing file name the file. */
+    psc_model_t m;
+    char err[256];
+    const char bin[] = "v 0 0 0\nv \0 1";
+    assert_int_equal(psc_obj_parse("b.obj", bin, sizeof bin, &m, NULL, 0, err, sizeof err), -1);
+    assert_non_null(strstr(err, "b.obj:2: NUL byte"));
+    assert_int_equal(psc_obj_load("/nonexistent/x.obj", &m, NULL, 0, err, sizeof err), -1);
+    assert_non_null(strstr(err, "/nonexistent/x.obj: cannot open"));
+    /* Too many vertices for a pack is the pack writer's clear error. */
+    psc_model_t big;
+    psc_model_sphere(&big, 1.0, 300, 250);
+    uint8_t *out;
+    size_t len;
+    assert_int_equal(psc_mesh_pack_build(&big, NULL, NULL, "big.obj", &out, &len, err, sizeof err), -1);
+    assert_non_null(strstr(err, "big.obj: the model has"));
+    psc_model_free(&big);
+}
+
+/* Random OBJ text: never a crash, always a result or a file:line message. */
+static void test_obj_fuzz(void **state)
+{
+    (void)state;
+    static const char *const pieces[] = {"v ", "vt ", "vn ", "f ", "1", "-1", "2/3", "//", "/", " ", "\n",
+                                         "0.5", "1e3", "#", "mtllib", "usemtl x", "-7", "3/1/2", "\r\n", "9999",
+                                         "f 1 2 3\n", "\nf -1 -2 -3 1\n", "\nv 1 2 3\n"};
+    tsup_rng_t rng;
+    tsup_rng_seed(&rng, 8);
+    unsigned ok = 0;
+    for (unsigned k = 0; k < 3000; k++) {
+        char text[600] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n";
+        size_t n = strlen(text);
+        unsigned parts = tsup_rng_below(&rng, 40);
+        for (unsigned j = 0; j < parts; j++) {
+            const char *p = pieces[tsup_rng_below(&rng, sizeof pieces / sizeof pieces[0])];
+            if (n + strlen(p) + 1 < sizeof text) {
+                strcpy(text + n, p);
+                n += strlen(p);
+            }
+        }
+        psc_model_t m;
+        char err[256] = "";
+        if (psc_obj_parse("fuzz.obj", text, n, &m, NULL, 0, err, sizeof err) == 0) {
+            ok++;
+            for (uint32_t i = 0; i < m.triangle_count * 3; i++)
+                assert_true(m.index[i] < m.vertex_count);
+            psc_model_free(&m);
+        } else {
+            assert_true(strncmp(err, "fuzz.obj", 8) == 0);
+        }
+    }
+    print_message("  3000 random OBJ texts: %u parsed, the rest refused with file:line messages\n", ok);
+}
+
+/* The firmware's object scene draws a mesh pack from the orbit view; the view changes the picture. */
+static void test_object_scene(void **state)
+{
+    (void)state;
+    psc_model_t m;
+    psc_model_teapot(&m, 4);
+    uint8_t *buf;
+    size_t len;
+    build(&m, NULL, &buf, &len);
+    uint8_t *b = exact_copy(buf, len);
+    psc_mesh_t mesh;
+    assert_int_equal(psc_mesh_parse(b, len, &mesh, NULL), PSC_OK);
+    size_t n = psc_object_scene_workspace_size(&mesh, 96, 64);
+    assert_true(n >= 96 * 64 * 2 + (size_t)mesh.vertex_count * PSC_3D_VERTEX_CACHE_BYTES / 2);
+    void *ws = aligned_alloc(64, (n + 63) / 64 * 64);
+    psc_surface_t s1 = tsup_surface_new(96, 64, PSC_PIX_RGB565), s2 = tsup_surface_new(96, 64, PSC_PIX_RGB565);
+    psc_view_t v = {PSC_OBJECT_DEFAULT_YAW, PSC_OBJECT_DEFAULT_PITCH, PSC_OBJECT_DEFAULT_HFOV, PSC_FILTER_BILINEAR, 2};
+    assert_int_equal(psc_object_scene_render(&mesh, &v, ws, n, &s1), PSC_OK);
+    v.yaw += PSC_BAM_90;
+    assert_int_equal(psc_object_scene_render(&mesh, &v, ws, n, &s2), PSC_OK);
+    unsigned lit = 0;
+    uint16_t bg = tsup_rgb888_to_rgb565(PSC_OBJECT_BACKGROUND >> 16, PSC_OBJECT_BACKGROUND >> 8 & 255,
+                                        PSC_OBJECT_BACKGROUND & 255);
+    for (unsigned i = 0; i < 96 * 64; i++)
+        lit += ((uint16_t *)s1.pixels)[i] != bg;
+    assert_true(lit > 96 * 64 / 10);
+    assert_memory_not_equal(s1.pixels, s2.pixels, 96 * 64 * 2);
+    /* A short workspace is refused. */
+    assert_int_equal(psc_object_scene_render(&mesh, &v, ws, n - 8, &s1), PSC_ERR_NOMEM);
+    tsup_surface_free(&s1);
+    tsup_surface_free(&s2);
+    free(ws);
+    free(b);
+    free(buf);
+    psc_model_free(&m);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_roundtrip),
+        cmocka_unit_test(test_truncated_every_length),
+        cmocka_unit_test(test_bad_packs),
+        cmocka_unit_test(test_fuzz),
+        cmocka_unit_test(test_obj_reads),
+        cmocka_unit_test(test_obj_material),
+        cmocka_unit_test(test_obj_errors),
+        cmocka_unit_test(test_obj_fuzz),
+        cmocka_unit_test(test_object_scene),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
