@@ -168,8 +168,10 @@ bench_pkgs = $(shell cat bench/$(1)/pkg-config 2>/dev/null)
 $(BUILD)/obj/bench/%.o: bench/%.cpp
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  CXX     $<")
-	$(Q)$(CXX) -std=c++17 -O2 -g -Wall -Wextra -Werror -Icore -Ihost_tools/lib $(shell $(PKG_CONFIG) --cflags $(call bench_pkgs,$(firstword $(subst /, ,$*))) 2>/dev/null) -c $< -o $@
+	$(Q)$(CXX) -std=c++17 -O2 -g -MMD -MP -Wall -Wextra -Werror -Icore -Ihost_tools/lib $(shell $(PKG_CONFIG) --cflags $(call bench_pkgs,$(firstword $(subst /, ,$*))) 2>/dev/null) -c $< -o $@
 
+# keep the bench objects between runs (they would count as intermediate files)
+.SECONDARY: $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard bench/*/*.c)) $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard bench/*/*.cpp))
 .SECONDEXPANSION:
 $(BUILD)/bench/%: $$(addprefix $(BUILD)/obj/,$$(addsuffix .o,$$(basename $$(wildcard bench/$$*/*.c bench/$$*/*.cpp)))) $(HOST_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)

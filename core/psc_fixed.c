@@ -144,12 +144,16 @@ static const uint8_t log2_mantissa_q8[256] = {
 
 static unsigned bit_length(uint64_t v)
 {
+#if defined(__GNUC__) || defined(__clang__)
+    return v ? 64u - (unsigned)__builtin_clzll(v) : 0u; /* one instruction on most targets */
+#else
     unsigned n = 0;
     while (v) {
         n++;
         v >>= 1;
     }
     return n;
+#endif
 }
 
 psc_bam_t psc_atan2(int32_t y, int32_t x, uint32_t *mag)
