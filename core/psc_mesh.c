@@ -4,36 +4,14 @@
  * no offset is trusted until it is known to lie inside the buffer.
  */
 #include "psc_mesh.h"
-#include "psc_crc32.h"
+#include "psc_container.h"
 
-static uint16_t rd16(const uint8_t *p) { return (uint16_t)(p[0] | (p[1] << 8)); }
-static uint32_t rd32(const uint8_t *p)
-{
-    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
-}
+#define rd16 psc_rd16
+#define rd32 psc_rd32
+#define fail psc_parse_fail
 
-static psc_status_t fail(psc_pack_error_t *err, psc_status_t s, const char *what, uint32_t offset)
-{
-    if (err) {
-        err->what = what;
-        err->offset = offset;
-    }
-    return s;
-}
-
-static uint32_t mesh_crc(const uint8_t *b, size_t len)
-{
-    static const uint8_t zeros[4] = {0, 0, 0, 0};
-    uint32_t crc = psc_crc32(0, b, PSC_PACK_CRC_OFFSET);
-    crc = psc_crc32(crc, zeros, 4);
-    return psc_crc32(crc, b + PSC_PACK_CRC_OFFSET + 4, len - PSC_PACK_CRC_OFFSET - 4);
-}
-
-static bool host_is_little_endian(void)
-{
-    const uint16_t probe = 1;
-    return *(const uint8_t *)&probe == 1;
-}
+static const psc_container_format_t mesh_pack_format = {
+    PSC_MESH_MAGIC, "bad magic: not a mesh pack", PSC_MESH_VERSION_MAJOR, PSC_MESH_MAX_SECTIONS};
 
 /* One located section of each known type. */
 typedef struct {
@@ -89,48 +67,23 @@ static psc_status_t parse_texture(const uint8_t *b, const section_t *s, psc_mesh
 
 psc_status_t psc_mesh_parse(const void *buf, size_t len, psc_mesh_t *out, psc_pack_error_t *err)
 {
+    if (!out)
+        return fail(err, PSC_ERR_ARG, "no output", 0);
+    psc_container_t c;
+    psc_status_t cs = psc_container_open(buf, len, &mesh_pack_format, &c, err);
+    if (cs != PSC_OK)
+        return cs;
     const uint8_t *b = buf;
-    if (!buf || !out)
-        return fail(err, PSC_ERR_ARG, "no buffer", 0);
-    if (((uintptr_t)buf & 7u) != 0)
-        return fail(err, PSC_ERR_ARG, "buffer not aligned to 8 bytes", 0);
-    if (!host_is_little_endian())
-        return fail(err, PSC_ERR_UNSUPPORTED, "big-endian hosts cannot read mesh packs in place", 0);
-    if (len < PSC_MESH_MAGIC_LEN)
-        return fail(err, PSC_ERR_TRUNCATED, "file shorter than the magic", 0);
-    for (unsigned i = 0; i < PSC_MESH_MAGIC_LEN; i++)
-        if (b[i] != (uint8_t)PSC_MESH_MAGIC[i])
-            return fail(err, PSC_ERR_MAGIC, "bad magic: not a mesh pack", 0);
-    if (len < PSC_MESH_HEADER_SIZE)
-        return fail(err, PSC_ERR_TRUNCATED, "file shorter than the header", (uint32_t)len);
-    if (rd16(b + 8) != PSC_MESH_VERSION_MAJOR)
-        return fail(err, PSC_ERR_VERSION, "unsupported major version", 8);
-    uint32_t header_size = rd32(b + 12), file_size = rd32(b + 16);
-    uint16_t nsec = rd16(b + 24);
-    if (file_size > len)
-        return fail(err, PSC_ERR_TRUNCATED, "file shorter than its recorded size", (uint32_t)len);
-    if (file_size < len)
-        return fail(err, PSC_ERR_CORRUPT, "trailing bytes after the recorded file size", file_size);
-    if (header_size < PSC_MESH_HEADER_SIZE || header_size > file_size)
-        return fail(err, PSC_ERR_CORRUPT, "header size out of range", 12);
-    if (nsec == 0 || nsec > PSC_MESH_MAX_SECTIONS)
-        return fail(err, PSC_ERR_CORRUPT, "section count out of range", 24);
-    if ((uint64_t)header_size + (uint64_t)nsec * PSC_PACK_SECTION_SIZE > file_size)
-        return fail(err, PSC_ERR_TRUNCATED, "section table extends past the end of the file", header_size);
-    if (mesh_crc(b, file_size) != rd32(b + PSC_PACK_CRC_OFFSET))
-        return fail(err, PSC_ERR_CRC, "CRC-32 mismatch: the file is corrupt", PSC_PACK_CRC_OFFSET);
+    uint32_t header_size = c.header_size;
 
     section_t sec[S_COUNT] = {{0, 0, 0, false}};
-    uint32_t prev_end = header_size + (uint32_t)nsec * PSC_PACK_SECTION_SIZE;
-    for (unsigned i = 0; i < nsec; i++) {
-        uint32_t eoff = header_size + i * PSC_PACK_SECTION_SIZE;
-        const uint8_t *e = b + eoff;
-        uint32_t type = rd32(e), off = rd32(e + 4), size = rd32(e + 8);
-        if (off % PSC_PACK_ALIGN != 0)
-            return fail(err, PSC_ERR_CORRUPT, "section not aligned to 64 bytes", eoff + 4);
-        if (off < prev_end || (uint64_t)off + size > file_size)
-            return fail(err, PSC_ERR_CORRUPT, "section overlaps another or lies outside the file", eoff + 4);
-        prev_end = off + size;
+    uint32_t prev_end = 0;
+    for (unsigned i = 0; i < c.section_count; i++) {
+        psc_section_t cs_entry;
+        psc_status_t ss = psc_container_section(&c, i, &prev_end, &cs_entry, err);
+        if (ss != PSC_OK)
+            return ss;
+        uint32_t type = cs_entry.type, off = cs_entry.offset, size = cs_entry.size, eoff = cs_entry.entry;
         int k = section_kind(type);
         if (k < 0)
             continue; /* unknown: a later minor version may add sections */
@@ -148,7 +101,7 @@ psc_status_t psc_mesh_parse(const void *buf, size_t len, psc_mesh_t *out, psc_pa
         return fail(err, PSC_ERR_CORRUPT, "missing TIDX section", header_size);
 
     *out = (psc_mesh_t){0};
-    out->version_minor = rd16(b + 10);
+    out->version_minor = c.version_minor;
     const uint8_t *info = b + sec[S_INFO].off;
     uint32_t info_off = sec[S_INFO].off;
     out->vertex_count = rd32(info);

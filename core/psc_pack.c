@@ -6,35 +6,12 @@
 #include "psc_pack.h"
 #include "psc_crc32.h"
 
-static uint16_t rd16(const uint8_t *p) { return (uint16_t)(p[0] | (p[1] << 8)); }
-static uint32_t rd32(const uint8_t *p)
-{
-    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
-}
+#define rd16 psc_rd16
+#define rd32 psc_rd32
+#define fail psc_parse_fail
 
-static psc_status_t fail(psc_pack_error_t *err, psc_status_t s, const char *what, uint32_t offset)
-{
-    if (err) {
-        err->what = what;
-        err->offset = offset;
-    }
-    return s;
-}
-
-/* CRC of the whole file with the CRC field counted as four zero bytes. */
-static uint32_t pack_crc(const uint8_t *b, size_t len)
-{
-    static const uint8_t zeros[4] = {0, 0, 0, 0};
-    uint32_t crc = psc_crc32(0, b, PSC_PACK_CRC_OFFSET);
-    crc = psc_crc32(crc, zeros, 4);
-    return psc_crc32(crc, b + PSC_PACK_CRC_OFFSET + 4, len - PSC_PACK_CRC_OFFSET - 4);
-}
-
-static bool host_is_little_endian(void)
-{
-    const uint16_t probe = 1;
-    return *(const uint8_t *)&probe == 1;
-}
+static const psc_container_format_t scene_pack_format = {
+    PSC_PACK_MAGIC, "bad magic: not a .pano scene pack", PSC_PACK_VERSION_MAJOR, PSC_PACK_MAX_SECTIONS};
 
 static psc_status_t parse_scene(const uint8_t *p, uint32_t off, psc_pack_t *out, psc_pack_error_t *err)
 {
@@ -92,55 +69,31 @@ static psc_status_t parse_lut(const uint8_t *base, uint32_t off, uint32_t size, 
 
 psc_status_t psc_pack_parse(const void *buf, size_t len, psc_pack_t *out, psc_pack_error_t *err)
 {
+    if (!out)
+        return fail(err, PSC_ERR_ARG, "no output", 0);
+    psc_container_t c;
+    psc_status_t cs = psc_container_open(buf, len, &scene_pack_format, &c, err);
+    if (cs != PSC_OK)
+        return cs;
     const uint8_t *b = buf;
-    if (!buf || !out)
-        return fail(err, PSC_ERR_ARG, "no buffer", 0);
-    if (((uintptr_t)buf & 7u) != 0)
-        return fail(err, PSC_ERR_ARG, "buffer not aligned to 8 bytes", 0);
-    if (!host_is_little_endian())
-        return fail(err, PSC_ERR_UNSUPPORTED, "big-endian hosts cannot read packs in place", 0);
-    if (len < PSC_PACK_MAGIC_LEN)
-        return fail(err, PSC_ERR_TRUNCATED, "file shorter than the magic", 0);
-    for (unsigned i = 0; i < PSC_PACK_MAGIC_LEN; i++)
-        if (b[i] != (uint8_t)PSC_PACK_MAGIC[i])
-            return fail(err, PSC_ERR_MAGIC, "bad magic: not a .pano scene pack", 0);
-    if (len < PSC_PACK_HEADER_SIZE)
-        return fail(err, PSC_ERR_TRUNCATED, "file shorter than the header", (uint32_t)len);
-    if (rd16(b + 8) != PSC_PACK_VERSION_MAJOR)
-        return fail(err, PSC_ERR_VERSION, "unsupported major version", 8);
-    uint32_t header_size = rd32(b + 12), file_size = rd32(b + 16);
-    uint16_t nsec = rd16(b + 24);
-    if (file_size > len)
-        return fail(err, PSC_ERR_TRUNCATED, "file shorter than its recorded size", (uint32_t)len);
-    if (file_size < len)
-        return fail(err, PSC_ERR_CORRUPT, "trailing bytes after the recorded file size", file_size);
-    if (header_size < PSC_PACK_HEADER_SIZE || header_size > file_size)
-        return fail(err, PSC_ERR_CORRUPT, "header size out of range", 12);
-    if (nsec == 0 || nsec > PSC_PACK_MAX_SECTIONS)
-        return fail(err, PSC_ERR_CORRUPT, "section count out of range", 24);
-    if ((uint64_t)header_size + (uint64_t)nsec * PSC_PACK_SECTION_SIZE > file_size)
-        return fail(err, PSC_ERR_TRUNCATED, "section table extends past the end of the file", header_size);
-    if (pack_crc(b, file_size) != rd32(b + PSC_PACK_CRC_OFFSET))
-        return fail(err, PSC_ERR_CRC, "CRC-32 mismatch: the file is corrupt", PSC_PACK_CRC_OFFSET);
+    uint32_t header_size = c.header_size;
+    uint16_t nsec = c.section_count;
 
     *out = (psc_pack_t){0};
-    out->version_minor = rd16(b + 10);
+    out->version_minor = c.version_minor;
     const uint8_t *map_pixels = NULL, *palette = NULL;
     const uint8_t *level_pixels[PSC_PACK_MAX_LEVELS] = {0};
     uint32_t level_size[PSC_PACK_MAX_LEVELS] = {0}, level_off[PSC_PACK_MAX_LEVELS] = {0};
     uint32_t map_off = 0, map_size = 0;
     bool have_scene = false;
     uint32_t scene_off = 0;
-    uint32_t prev_end = header_size + (uint32_t)nsec * PSC_PACK_SECTION_SIZE;
+    uint32_t prev_end = 0;
     for (unsigned i = 0; i < nsec; i++) {
-        const uint8_t *e = b + header_size + i * PSC_PACK_SECTION_SIZE;
-        uint32_t type = rd32(e), off = rd32(e + 4), size = rd32(e + 8);
-        uint32_t eoff = header_size + i * PSC_PACK_SECTION_SIZE;
-        if (off % PSC_PACK_ALIGN != 0)
-            return fail(err, PSC_ERR_CORRUPT, "section not aligned to 64 bytes", eoff + 4);
-        if (off < prev_end || (uint64_t)off + size > file_size)
-            return fail(err, PSC_ERR_CORRUPT, "section overlaps another or lies outside the file", eoff + 4);
-        prev_end = off + size;
+        psc_section_t sec;
+        psc_status_t ss = psc_container_section(&c, i, &prev_end, &sec, err);
+        if (ss != PSC_OK)
+            return ss;
+        uint32_t type = sec.type, off = sec.offset, size = sec.size, eoff = sec.entry;
         if (type == PSC_SECTION_SCENE) {
             if (have_scene)
                 return fail(err, PSC_ERR_CORRUPT, "more than one SCEN section", eoff);

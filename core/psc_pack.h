@@ -3,7 +3,7 @@
  * every table the viewer needs. Written by host_tools/periscope-pack, read in
  * place by the device (the caller loads the file into memory; nothing is copied).
  *
- * Layout (all integers little-endian):
+ * Layout (the sectioned container of psc_container.h; all integers little-endian):
  *   offset size
  *    0     8   magic "PSCPANO\x1a"
  *    8     2   version major (PSC_PACK_VERSION_MAJOR; a reader refuses others)
@@ -35,18 +35,19 @@
 #include "psc_types.h"
 #include "psc_envmap.h"
 #include "psc_lut.h"
+#include "psc_container.h"
 
 #define PSC_PACK_MAGIC "PSCPANO\x1a"
 #define PSC_PACK_MAGIC_LEN 8u
 #define PSC_PACK_VERSION_MAJOR 1u
 #define PSC_PACK_VERSION_MINOR 1u
-#define PSC_PACK_HEADER_SIZE 32u
-#define PSC_PACK_SECTION_SIZE 16u
-#define PSC_PACK_ALIGN 64u
+#define PSC_PACK_HEADER_SIZE PSC_CONTAINER_HEADER_SIZE
+#define PSC_PACK_SECTION_SIZE PSC_CONTAINER_SECTION_SIZE
+#define PSC_PACK_ALIGN PSC_CONTAINER_ALIGN
 #define PSC_PACK_MAX_SECTIONS 24u
 #define PSC_PACK_MAX_LEVELS 12u /* map levels, level 0 included */
 #define PSC_PACK_MAX_LUTS 4u
-#define PSC_PACK_CRC_OFFSET 20u
+#define PSC_PACK_CRC_OFFSET PSC_CONTAINER_CRC_OFFSET
 
 #define PSC_FOURCC(a, b, c, d) \
     ((uint32_t)(uint8_t)(a) | ((uint32_t)(uint8_t)(b) << 8) | ((uint32_t)(uint8_t)(c) << 16) | ((uint32_t)(uint8_t)(d) << 24))
@@ -101,12 +102,6 @@ typedef struct {
     psc_bam_t default_hfov;
     uint16_t version_minor;
 } psc_pack_t;
-
-/** Where and why parsing failed: a static string and the byte offset concerned. */
-typedef struct {
-    const char *what;
-    uint32_t offset;
-} psc_pack_error_t;
 
 /**
  * Validate and parse a pack held in buf[0..len). buf must be aligned to 8 bytes.
