@@ -15,34 +15,6 @@
 #define PSC_ALWAYS_INLINE inline __attribute__((always_inline))
 #else
 #define PSC_ALWAYS_INLINE inline
-/*
- * RGB565 spread so that each channel has five spare bits above it:
- * green in bits 21..26, red in 11..15, blue in 0..4. Multiplying by a
- * weight of at most 32 cannot carry from one channel into the next.
- */
-#define PSC_RGB565_SPREAD_MASK 0x07E0F81Fu
-static PSC_ALWAYS_INLINE uint32_t psc_rgb565_spread(uint32_t p)
-{
-    return (p | (p << 16)) & PSC_RGB565_SPREAD_MASK;
-}
-
-/*
- * Bilinear blend of four RGB565 texels in RGB565, weights Q0.5 (fx, fy in
- * 0..32): horizontal then vertical, each stage rounded to nearest. Used for
- * RGB565 maps drawn to RGB565 outputs, where the 8-bit path's precision would
- * be lost in the final RGB565 rounding anyway.
- */
-static PSC_ALWAYS_INLINE uint32_t psc_blend4_rgb565(uint32_t p00, uint32_t p01, uint32_t p10, uint32_t p11,
-                                                    uint32_t fx, uint32_t fy)
-{
-    const uint32_t half = 0x02008010u; /* 16 in each channel's lowest bit position */
-    uint32_t ix = 32u - fx;
-    uint32_t top = ((psc_rgb565_spread(p00) * ix + psc_rgb565_spread(p01) * fx + half) >> 5) & PSC_RGB565_SPREAD_MASK;
-    uint32_t bot = ((psc_rgb565_spread(p10) * ix + psc_rgb565_spread(p11) * fx + half) >> 5) & PSC_RGB565_SPREAD_MASK;
-    uint32_t v = ((top * (32u - fy) + bot * fy + half) >> 5) & PSC_RGB565_SPREAD_MASK;
-    return (v | (v >> 16)) & 0xFFFFu;
-}
-
 #endif
 
 static PSC_ALWAYS_INLINE uint32_t psc_rgb565_to_xrgb(uint32_t p)
