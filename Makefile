@@ -35,7 +35,7 @@ IMG_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(IMG_PKGS) 2>/dev/null)
 IMG_LIBS := $(shell $(PKG_CONFIG) --libs $(IMG_PKGS) 2>/dev/null || echo -lpng -ljpeg -lz)
 # The device backends' libraries (hal/<backend>/): USB gamepads, DRM/KMS,
 # the SDL2 desktop window, GPIO buttons. libgpiod's major version picks its API.
-HAL_PKGS := libusb-1.0 libdrm sdl2 libgpiod
+HAL_PKGS := libusb-1.0 libdrm sdl2 libgpiod libjpeg
 HAL_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(HAL_PKGS) 2>/dev/null) \
 	-DPSC_GPIOD_MAJOR=$(firstword $(subst ., ,$(shell $(PKG_CONFIG) --modversion libgpiod 2>/dev/null || echo 0)))
 HAL_LIBS := $(shell $(PKG_CONFIG) --libs $(HAL_PKGS) 2>/dev/null)

@@ -6,8 +6,14 @@
 #include <string.h>
 #include <time.h>
 
+#include <signal.h>
+
 #include "app.h"
+#include "camera_feed.h"
 #include "controls.h"
+#include "device_status.h"
+#include "frame_dump.h"
+#include "frame_pacer.h"
 #include "motion.h"
 #include "object_scene.h"
 #include "pack_build.h"
@@ -58,7 +64,24 @@ struct psc_app {
     psc_quality_config_t quality_cfg;
     psc_quality_t quality;
     uint32_t scene_switches;
+
+    /* the live camera scene and missing-device indication (camera_feed.h, device_status.h) */
+    psc_camera_feed_t feed;
+    unsigned camera_scene;    /* index of the camera scene, PSC_BOARD_MAX_SCENES = none */
+    psc_device_status_t devices;
+    psc_cli_dump_t dumps[PSC_CLI_MAX_DUMPS];
+    unsigned dump_count;
+    psc_frame_pacer_t pacer;
 };
+
+/* Set from a signal handler (SIGTERM from systemd, Ctrl-C): the loop ends
+ * after the frame in progress, and everything is closed in order. */
+static volatile sig_atomic_t app_stop_requested;
+
+void psc_app_request_stop(void)
+{
+    app_stop_requested = 1;
+}
 
 /* millidegrees (or per second) to bam in 64 bits: 720 deg/s is two turns. */
 static int64_t app_bam_from_mdeg(int64_t mdeg)
@@ -174,6 +197,19 @@ static int app_load_scenes(psc_app_t *app, const psc_cli_options_t *opt, char *e
             memcpy(app->scene_names[i], b->scenes[i], sizeof app->scene_names[i]);
         app->scene_count = b->scene_count;
     }
+    app->camera_scene = PSC_BOARD_MAX_SCENES;
+    if (b->camera_scene[0] != '\0') {
+        /* the camera scene comes after the others and lends its pack's tables to the live frames */
+        if (app->scene_count == PSC_BOARD_MAX_SCENES) {
+            psc_hal_error_set(err, errlen, "%s: camera_scene would be scene %u; at most %u scenes fit", b->file,
+                              PSC_BOARD_MAX_SCENES + 1u, PSC_BOARD_MAX_SCENES);
+            return -1;
+        }
+        app->camera_scene = app->scene_count;
+        memcpy(app->scene_names[app->scene_count++], b->camera_scene, sizeof app->scene_names[0]);
+        psc_envmap_t shape = psc_camera_feed_map_shape(b->camera_width, b->camera_height, b->display_format);
+        need = psc_viewer_workspace_size(app->mode.width, app->mode.height, &shape);
+    }
     if (app->scene_count == 0) {
         psc_hal_error_set(err, errlen, "%s: no scene to show: add a 'scene = FILE.pano' line or pass --scene",
                           b->file);
@@ -202,6 +238,12 @@ static int app_load_scenes(psc_app_t *app, const psc_cli_options_t *opt, char *e
         ws = psc_viewer_workspace_size(app->mode.width, app->mode.height, &pf->pack.map);
         if (ws > need)
             need = ws;
+    }
+    if (app->camera_scene < app->scene_count && app->is_object[app->camera_scene]) {
+        psc_hal_error_set(err, errlen, "%s: camera_scene %s is a mesh pack; the camera needs a panorama pack's "
+                          "tables (periscope-pack --display %ux%u)", b->file, b->camera_scene,
+                          (unsigned)app->mode.width, (unsigned)app->mode.height);
+        return -1;
     }
     if (app->ws3d_size != 0) {
         app->ws3d_size = (app->ws3d_size + APP_WS_ALIGN - 1u) & ~(size_t)(APP_WS_ALIGN - 1u);
@@ -323,6 +365,10 @@ int psc_app_open(const psc_cli_options_t *opt, psc_app_t **out, char *err, size_
     };
     psc_quality_init(&app->quality);
     psc_controls_init(&app->controls);
+    psc_controls_set_stick_shape(&app->controls, b->stick_dead_zone_milli, b->stick_expo_milli);
+    psc_device_status_init(&app->devices, strcmp(b->camera_backend, "none") != 0);
+    app->dump_count = opt->dump_count;
+    memcpy(app->dumps, opt->dumps, sizeof app->dumps);
 
     if (app_open_devices(app, opt, err, errlen) != 0 || app_load_scenes(app, opt, err, errlen) != 0 ||
         app_enter_scene(app, 0, err, errlen) != 0)
@@ -331,6 +377,7 @@ int psc_app_open(const psc_cli_options_t *opt, psc_app_t **out, char *err, size_
         psc_hal_error_set(err, errlen, "%s: the %s camera did not start streaming", b->file, b->camera_backend);
         goto fail;
     }
+    psc_camera_feed_init(&app->feed, app->camera);
     *out = app;
     return 0;
 fail:
@@ -381,12 +428,16 @@ static int app_poll_input(psc_app_t *app, uint64_t now, uint64_t start, uint32_t
 
     while ((rc = psc_hal_input_poll(app->input, now, &ev)) == 1) {
         psc_controls_apply(&app->controls, &ev);
-        app_log_event(app, &ev, frame, ev.time_us - start);
+        psc_device_status_input_event(&app->devices, &ev);
+        app_log_event(app, &ev, frame, ev.time_us > start ? ev.time_us - start : 0);   /* arrivals at open predate the loop */
     }
-    if (rc < 0) {
-        psc_hal_error_set(err, errlen, "input (%s backend) failed: %s", app->input->backend, strerror(-rc));
-        return -1;
-    }
+    /* a failing input source is shown on screen and retried every frame:
+     * the kiosk keeps showing its scene rather than exiting */
+    if (psc_device_status_input_failed(&app->devices, rc < 0) && rc < 0)
+        fprintf(stderr, "periscope: input (%s backend) failed: %s; retrying every frame\n", app->input->backend,
+                strerror(-rc));
+    (void)err;
+    (void)errlen;
     return app->controls.quit ? 0 : 1;
 }
 
@@ -425,14 +476,76 @@ static int app_handle_requests(psc_app_t *app, uint32_t frame, char *err, size_t
     return app_enter_scene(app, next, err, errlen);
 }
 
+/* Take a new camera frame; on the camera scene, show it (the viewer is
+ * re-initialised on the frame's map with the scene pack's tables - cheap:
+ * its per-map tables are a few hundred entries). */
+static int app_update_camera(psc_app_t *app, char *err, size_t errlen)
+{
+    int rc;
+    psc_status_t s;
+
+    if (app->camera == NULL)
+        return 0;
+    rc = psc_camera_feed_poll(&app->feed);
+    psc_device_status_camera(&app->devices, rc, app->feed.had_frames);
+    if (app->scene != app->camera_scene || !psc_camera_feed_has_map(&app->feed) ||
+        (rc != 0 && app->viewer.map == &app->feed.map))
+        return 0;
+    const psc_pack_t *pk = &app->packs[app->scene].pack;
+    s = psc_viewer_init(&app->viewer, &app->feed.map, pk->luts, pk->lut_count, app->mode.width, app->mode.height,
+                        app->workspace, app->workspace_size);
+    if (s != PSC_OK) {
+        psc_hal_error_set(err, errlen, "camera (%s backend): its %ux%u frame cannot be shown: %s",
+                          app->camera->backend, (unsigned)app->feed.map.width, (unsigned)app->feed.map.height,
+                          psc_status_str(s));
+        return -1;
+    }
+    return 0;
+}
+
+/* Tell the log and the supervisor when a device goes missing or comes back. */
+static void app_report_devices(psc_app_t *app, uint32_t frame, const char *last, char *text, size_t len)
+{
+    psc_device_status_text(&app->devices, text, len);
+    if (strcmp(text, last) == 0)
+        return;
+    if (!app->quiet)
+        printf("frame %5u  devices: %s\n", (unsigned)frame, text);
+    if (app->watchdog != NULL)
+        psc_hal_watchdog_set_status(app->watchdog, text);
+}
+
+/* --dump-frame: the frame just presented, as the display holds it. */
+static void app_dump_frame(psc_app_t *app, uint32_t frame, const psc_surface_t *drawn)
+{
+    psc_surface_t front;
+    char why[300];
+
+    for (unsigned i = 0; i < app->dump_count; i++) {
+        if (app->dumps[i].frame != frame)
+            continue;
+        if (psc_hal_display_get_front_buffer(app->display, &front) != 0)
+            front = *drawn;   /* a display that cannot read back: the frame as drawn */
+        if (psc_frame_dump_write(app->dumps[i].path, &front, why, sizeof why) != 0)
+            fprintf(stderr, "periscope: %s\n", why);
+        else if (!app->quiet)
+            printf("frame %5u  dumped %ux%u %s to %s\n", (unsigned)frame, (unsigned)front.width,
+                   (unsigned)front.height, front.format == PSC_PIX_RGB565 ? "rgb565" : "xrgb8888",
+                   app->dumps[i].path);
+    }
+}
+
 int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen)
 {
+    char devices_text[2][160] = { "all devices present", "" };
+    unsigned devices_cur = 0;
     uint64_t start = psc_hal_clock_now_us(app->clock), last = start, wall0 = app_wall_us();
     psc_view_t view, prev;
     uint32_t frame = 0;
     int rc = 0;
 
     *stats = (psc_app_stats_t){ .capture_every = app->capture_every };
+    psc_frame_pacer_init(&app->pacer, start, app->board.frame_rate_mhz);
     app_view_for_frame(app, &prev);
     for (;;) {
         uint64_t now = psc_hal_clock_now_us(app->clock);
@@ -441,15 +554,18 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
         psc_surface_t back;
         psc_status_t s;
 
-        if (app->max_frames != 0 && frame >= app->max_frames)
+        if ((app->max_frames != 0 && frame >= app->max_frames) || app_stop_requested)
             break;
         if ((rc = app_poll_input(app, now, start, frame, err, errlen)) <= 0)
             break;
         rc = 0;
-        if (app_handle_requests(app, frame, err, errlen) != 0) {
+        if (app_handle_requests(app, frame, err, errlen) != 0 || app_update_camera(app, err, errlen) != 0) {
             rc = -1;
             break;
         }
+        app_report_devices(app, frame, devices_text[devices_cur], devices_text[devices_cur ^ 1u],
+                           sizeof devices_text[0]);
+        devices_cur ^= 1u;
         psc_controls_motion_input(&app->controls, &in);
         psc_motion_step(&app->motion, &in, dt);
         app_view_for_frame(app, &view);
@@ -474,20 +590,24 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
             rc = -1;
             break;
         }
+        psc_device_status_draw(&app->devices, &back);
         if ((rc = psc_hal_display_present(app->display)) != 0) {
             psc_hal_error_set(err, errlen, "display (%s backend): present of frame %u failed: %s",
                               app->display->backend, (unsigned)frame, strerror(-rc));
             rc = -1;
             break;
         }
+        app_dump_frame(app, frame, &back);
         if (app->watchdog != NULL)
             psc_hal_watchdog_kick(app->watchdog);
         frame++;
         last = now;
-        /* pace to the frame rate; on the sim board present already moved the
-         * clock there, so this returns at once */
-        psc_hal_clock_sleep_until(app->clock, start + (uint64_t)frame * 1000000000u / app->board.frame_rate_mhz);
+        /* pace to the frame rate (absolute deadlines, late ones skipped); on
+         * the sim board present already moved the clock there, so this
+         * returns at once */
+        psc_hal_clock_sleep_until(app->clock, psc_frame_pacer_next(&app->pacer, psc_hal_clock_now_us(app->clock)));
     }
+    app_stop_requested = 0;   /* honoured: a later run in this process starts afresh */
     stats->frames = frame;
     stats->sim_time_us = psc_hal_clock_now_us(app->clock) - start;
     stats->wall_time_us = app_wall_us() - wall0;
@@ -503,6 +623,7 @@ void psc_app_close(psc_app_t *app)
 {
     if (app == NULL)
         return;
+    psc_camera_feed_release(&app->feed);
     if (app->camera != NULL)
         psc_hal_camera_stop(app->camera);
     free(app->workspace);

@@ -58,6 +58,14 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
 /** The directory captures and the contact sheet go to ("" when none). */
 const char *psc_app_out_dir(const psc_app_t *app);
 
+/**
+ * Ask a running psc_app_run to end after the frame in progress, as if the
+ * input had sent QUIT. Async-signal-safe (it sets a sig_atomic_t), so the
+ * program's SIGTERM/SIGINT handler calls it: systemd stopping the service
+ * then restores the display's mode and tells the watchdog STOPPING=1.
+ */
+void psc_app_request_stop(void);
+
 /** Close every device and free every buffer, in the reverse order of open (NULL is ignored). */
 void psc_app_close(psc_app_t *app);
 

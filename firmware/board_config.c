@@ -15,6 +15,7 @@
 typedef enum {
     KEY_BACKEND,        /* a backend in the registry */
     KEY_BACKEND_NONE,   /* a backend, or "none" */
+    KEY_BACKEND_LIST,   /* one backend or several joined by commas ("gpio,usb") */
     KEY_SIZE,           /* WxH -> two uint16_t */
     KEY_FORMAT,         /* rgb565 | xrgb8888 -> psc_pixfmt_t */
     KEY_FILTER,         /* nearest | bilinear | mip -> psc_filter_t */
@@ -49,14 +50,17 @@ static const key_spec_t key_table[] = {
     KEY("display_format", KEY_FORMAT, display_format, 0, 0, false),
     KEY("display_buffers", KEY_U8, display_buffers, 1, 3, false),
     KEY("frame_rate", KEY_MILLI_U32, frame_rate_mhz, 1000, 240000, false),
-    KEY("input", KEY_BACKEND, input_backend, 0, 0, true),
+    KEY("input", KEY_BACKEND_LIST, input_backend, 0, 0, true),
     KEY("tour", KEY_PATH, tour, 0, 0, false),
     KEY("long_press_ms", KEY_U32, long_press_ms, 50, 10000, false),
+    KEY("stick_dead_zone", KEY_MILLI_U32, stick_dead_zone_milli, 0, 900, false),
+    KEY("stick_expo", KEY_MILLI_U32, stick_expo_milli, 0, 1000, false),
     KEY("clock", KEY_BACKEND, clock_backend, 0, 0, true),
     KEY("camera", KEY_BACKEND_NONE, camera_backend, 0, 0, false),
     KEY_WH("camera_size", camera_width, camera_height, 2, PSC_MAX_MAP_DIM, false),
     KEY("camera_rate", KEY_MILLI_U32, camera_rate_mhz, 1000, 240000, false),
     KEY("camera_buffers", KEY_U8, camera_buffers, 2, 8, false),
+    KEY("camera_scene", KEY_PATH, camera_scene, 0, 0, false),
     KEY("watchdog", KEY_BACKEND_NONE, watchdog_backend, 0, 0, false),
     KEY("watchdog_timeout_ms", KEY_U32, watchdog_timeout_ms, 100, 600000, false),
     KEY("frames_every", KEY_U32, frames_every, 0, 1000000, false),
@@ -250,6 +254,36 @@ static int board_parse_backend(board_parser_t *p, const key_spec_t *k, const cha
     return board_set_string(p, field, PSC_BOARD_NAME_MAX, k->key, value);
 }
 
+static char *board_trim(char *s);
+
+/* "gpio,usb": every name a backend of this build, none twice (the HAL
+ * merges the list into one input, psc_hal_input_multi.h). */
+static int board_parse_backend_list(board_parser_t *p, const key_spec_t *k, const char *value, char *field)
+{
+    char names[PSC_BOARD_NAME_MAX], *save = NULL, *tok;
+    char seen[PSC_BOARD_NAME_MAX + 2] = ",";
+
+    if (strchr(value, ',') == NULL)
+        return board_parse_backend(p, k, value, field);
+    if (strlen(value) >= sizeof names)
+        return board_fail(p, "%s list '%s' is too long", k->key, value);
+    strcpy(names, value);
+    for (tok = strtok_r(names, ",", &save); tok != NULL; tok = strtok_r(NULL, ",", &save)) {
+        char *name = board_trim(tok), key[PSC_BOARD_NAME_MAX + 2];
+        char scratch[PSC_BOARD_NAME_MAX];
+
+        snprintf(key, sizeof key, ",%s,", name);
+        if (*name == '\0' || strstr(seen, key) != NULL)
+            return board_fail(p, "%s list '%s' has an empty or repeated name", k->key, value);
+        if (board_parse_backend(p, k, name, scratch) != 0)
+            return -1;
+        snprintf(seen + strlen(seen), sizeof seen - strlen(seen), "%s,", name);
+    }
+    if (value[strlen(value) - 1] == ',' || value[0] == ',')
+        return board_fail(p, "%s list '%s' has an empty or repeated name", k->key, value);
+    return board_set_string(p, field, PSC_BOARD_NAME_MAX, k->key, value);
+}
+
 static int board_set_key(board_parser_t *p, const key_spec_t *k, const char *value)
 {
     psc_board_config_t *cfg = p->cfg;
@@ -259,6 +293,8 @@ static int board_set_key(board_parser_t *p, const key_spec_t *k, const char *val
     case KEY_BACKEND:
     case KEY_BACKEND_NONE:
         return board_parse_backend(p, k, value, field);
+    case KEY_BACKEND_LIST:
+        return board_parse_backend_list(p, k, value, field);
     case KEY_SIZE: {
         uint16_t wh[2] = { 0, 0 };
         int rc = board_parse_size(p, k, value, wh);
@@ -432,6 +468,11 @@ static int board_check(board_parser_t *p)
             psc_hal_error_set(p->err, p->errlen, "%s: the required key '%s' is missing", p->file, key_table[i].key);
             return -1;
         }
+    }
+    if (cfg->camera_scene[0] != '\0' && strcmp(cfg->camera_backend, "none") == 0) {
+        psc_hal_error_set(p->err, p->errlen, "%s: camera_scene is set but camera = none: a camera scene shows a "
+                          "camera's frames, name its backend (camera = v4l2)", p->file);
+        return -1;
     }
     if (cfg->pitch_min_mdeg >= cfg->pitch_max_mdeg)
         return board_fail_order(p, "pitch_min", cfg->pitch_min_mdeg, "pitch_max", cfg->pitch_max_mdeg);

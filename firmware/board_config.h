@@ -63,10 +63,12 @@ typedef struct {
     uint8_t display_buffers;                       /* display_buffers, 1..3 */
     uint32_t frame_rate_mhz;                       /* frame_rate, Hz */
 
-    char input_backend[PSC_BOARD_NAME_MAX];        /* input (required) */
+    char input_backend[PSC_BOARD_NAME_MAX];        /* input (required): a backend or "gpio,usb" */
     char tour[PSC_BOARD_PATH_MAX];                 /* tour: scripted input for the sim, "" = none */
     char tour_origin[PSC_BOARD_ORIGIN_MAX];
     uint32_t long_press_ms;                        /* long_press_ms */
+    uint32_t stick_dead_zone_milli;                /* stick_dead_zone: 0..0.9 of full deflection, x1000 */
+    uint32_t stick_expo_milli;                     /* stick_expo: 0 (linear) .. 1 (cubic), x1000 */
 
     char clock_backend[PSC_BOARD_NAME_MAX];        /* clock (required) */
 
@@ -74,6 +76,7 @@ typedef struct {
     uint16_t camera_width, camera_height;          /* camera_size */
     uint32_t camera_rate_mhz;                      /* camera_rate, Hz */
     uint8_t camera_buffers;                        /* camera_buffers */
+    char camera_scene[PSC_BOARD_PATH_MAX];         /* camera_scene: pack lending its LUTs to the live camera, "" = none */
 
     char watchdog_backend[PSC_BOARD_NAME_MAX];     /* watchdog, "none" = no watchdog */
     uint32_t watchdog_timeout_ms;                  /* watchdog_timeout_ms */

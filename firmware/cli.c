@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "frame_dump.h"
 #include "psc_hal.h"
 #include "psc_hal_parse.h"
 
@@ -12,6 +13,7 @@ const char *psc_cli_usage(void)
 {
     return "usage: periscope --board NAME [--boards-dir DIR] [--scene PACK] [--out DIR]\n"
            "                 [--tour FILE] [--frames-every K] [--max-frames N] [--quiet]\n"
+           "                 [--dump-frame N:PATH]...\n"
            "  --board NAME        read DIR/NAME/board.conf\n"
            "  --boards-dir DIR    where board descriptions live (default: boards)\n"
            "  --scene PACK        show this scene pack instead of the board's scene list\n"
@@ -19,7 +21,9 @@ const char *psc_cli_usage(void)
            "  --tour FILE         replay this tour script instead of the board's\n"
            "  --frames-every K    capture every K-th frame (0: none; default: the board's)\n"
            "  --max-frames N      stop after N frames (default: when the input quits)\n"
-           "  --quiet             no log line per input or quality event\n";
+           "  --quiet             no log line per input or quality event\n"
+           "  --dump-frame N:PATH write frame N (from 0) as presented to PATH: raw pixels, rows of\n"
+           "                      width x bytes per pixel, no header (repeatable, up to 8)\n";
 }
 
 /* A whole number for --frames-every / --max-frames. */
@@ -72,6 +76,16 @@ int psc_cli_parse(int argc, char *const *argv, psc_cli_options_t *o, char *err, 
             if (cli_number(a, v, 1000000, &n, err, errlen) != 0)
                 return -1;
             o->frames_every = n;
+        } else if (strcmp(a, "--dump-frame") == 0) {
+            if (o->dump_count == PSC_CLI_MAX_DUMPS) {
+                psc_hal_error_set(err, errlen, "--dump-frame is given more than %u times", PSC_CLI_MAX_DUMPS);
+                return -1;
+            }
+            if (psc_frame_dump_parse(v, &o->dumps[o->dump_count].frame, &o->dumps[o->dump_count].path) != 0) {
+                psc_hal_error_set(err, errlen, "--dump-frame needs FRAME:PATH (e.g. 30:/tmp/frame30.raw), got '%s'", v);
+                return -1;
+            }
+            o->dump_count++;
         } else if (strcmp(a, "--max-frames") == 0) {
             if (cli_number(a, v, UINT32_MAX, &n, err, errlen) != 0)
                 return -1;

@@ -3,13 +3,16 @@
  *
  *   periscope --board NAME [--boards-dir DIR] [--scene PACK] [--out DIR]
  *             [--tour FILE] [--frames-every K] [--max-frames N] [--quiet]
+ *             [--dump-frame N:PATH]...
  *
  * The board file is DIR/NAME/board.conf (DIR defaults to "boards"). --scene
  * replaces the board's scene list with one pack; --tour replaces its tour;
  * --out is where the sim display captures frames and the contact sheet goes
  * (default out/NAME); --frames-every overrides the board's capture period
  * (0 = no captures); --max-frames stops after N frames (0 = no limit), so a
- * real board can be smoke-tested without a tour.
+ * real board can be smoke-tested without a tour; --dump-frame writes the
+ * raw pixels of frame N (from 0) as presented to PATH (frame_dump.h), up to
+ * PSC_CLI_MAX_DUMPS times, for comparing a real display with the sim board.
  */
 #ifndef PSC_CLI_H
 #define PSC_CLI_H
@@ -17,6 +20,14 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+
+#define PSC_CLI_MAX_DUMPS 8u
+
+/** One --dump-frame request. */
+typedef struct {
+    uint32_t frame;
+    const char *path;
+} psc_cli_dump_t;
 
 /** Parsed command line; strings point into argv. */
 typedef struct {
@@ -29,6 +40,8 @@ typedef struct {
     uint32_t max_frames;        /* 0 = until the input says quit */
     bool quiet;                 /* no per-event log lines */
     bool help;                  /* --help: print usage, run nothing */
+    psc_cli_dump_t dumps[PSC_CLI_MAX_DUMPS];   /* --dump-frame N:PATH */
+    unsigned dump_count;
 } psc_cli_options_t;
 
 /**

@@ -11,6 +11,32 @@ void psc_controls_init(psc_controls_t *c)
     memset(c, 0, sizeof *c);
 }
 
+void psc_controls_set_stick_shape(psc_controls_t *c, uint32_t dead_zone_milli, uint32_t expo_milli)
+{
+    if (dead_zone_milli > 900u)
+        dead_zone_milli = 900u;
+    if (expo_milli > 1000u)
+        expo_milli = 1000u;
+    c->dead_zone_q15 = (int32_t)((dead_zone_milli * 32768u + 500u) / 1000u);
+    c->expo_q15 = (int32_t)((expo_milli * 32768u + 500u) / 1000u);
+}
+
+int32_t psc_controls_shape_axis(const psc_controls_t *c, int32_t value)
+{
+    int64_t x = value < 0 ? -(int64_t)value : value, dz = c->dead_zone_q15, e = c->expo_q15, out;
+
+    if (x > 32768)
+        x = 32768;
+    if (x <= dz)
+        return 0;
+    /* rescale (dz, 32768] onto (0, 32768]: continuous at the zone's edge */
+    x = ((x - dz) * 32768 + (32768 - dz) / 2) / (32768 - dz);
+    /* (1 - e) x + e x^3, all in Q15; exact identity when e = 0 */
+    out = (x * (32768 - e) + ((x * x * x) >> 30) * e + 16384) >> 15;
+    out = value < 0 ? -out : out;
+    return (int32_t)(out < PSC_HAL_AXIS_MIN ? PSC_HAL_AXIS_MIN : out > PSC_HAL_AXIS_MAX ? PSC_HAL_AXIS_MAX : out);
+}
+
 static void controls_release_device(psc_controls_t *c, uint8_t dev)
 {
     memset(c->held[dev], 0, sizeof c->held[dev]);
@@ -55,8 +81,9 @@ void psc_controls_apply(psc_controls_t *c, const psc_hal_input_event_t *ev)
     case PSC_HAL_INPUT_AXIS:
         if (ev->code >= PSC_HAL_AXIS_COUNT)
             break;
-        c->axis[dev][ev->code] = ev->value < PSC_HAL_AXIS_MIN ? PSC_HAL_AXIS_MIN
-                               : ev->value > PSC_HAL_AXIS_MAX ? PSC_HAL_AXIS_MAX : ev->value;
+        c->axis[dev][ev->code] = psc_controls_shape_axis(c, ev->value < PSC_HAL_AXIS_MIN ? PSC_HAL_AXIS_MIN
+                                                        : ev->value > PSC_HAL_AXIS_MAX ? PSC_HAL_AXIS_MAX
+                                                                                       : ev->value);
         break;
     case PSC_HAL_INPUT_QUIT:
         break;

@@ -9,6 +9,13 @@
  * sticks and buttons of every device add up, saturating at full deflection.
  * A device that leaves releases everything it held, so an unplugged gamepad
  * never leaves the view spinning.
+ *
+ * Stick shaping (board keys stick_dead_zone, stick_expo; both 0 = off, the
+ * default, so scripted tours stay exact): every AXIS value first loses a
+ * dead zone around the centre, the rest rescaled so that the edge of the
+ * zone is 0 and full deflection stays full (no jump); then the response
+ * curve blends linear and cubic, out = (1 - e) x + e x^3, fine control near
+ * the centre and full speed at the edge. Integer Q1.15 throughout.
  */
 #ifndef PSC_CONTROLS_H
 #define PSC_CONTROLS_H
@@ -25,10 +32,22 @@ typedef struct {
     uint32_t pressed[PSC_HAL_ACTION_COUNT];   /* presses not yet taken */
     uint32_t long_pressed[PSC_HAL_ACTION_COUNT];
     bool quit;
+    int32_t dead_zone_q15;    /* 0..29491 (0.9) */
+    int32_t expo_q15;         /* 0..32768 (1.0) */
 } psc_controls_t;
 
-/** Nothing held, no device present. */
+/** Nothing held, no device present, no stick shaping. */
 void psc_controls_init(psc_controls_t *c);
+
+/**
+ * Set the stick shaping from the board's values in thousandths:
+ * dead_zone_milli 0..900 of full deflection, expo_milli 0..1000 (larger
+ * values are clamped). Applies to AXIS events from then on.
+ */
+void psc_controls_set_stick_shape(psc_controls_t *c, uint32_t dead_zone_milli, uint32_t expo_milli);
+
+/** A Q1.15 stick value through the dead zone and response curve (see the header). */
+int32_t psc_controls_shape_axis(const psc_controls_t *c, int32_t value);
 
 /**
  * Apply one input event. Events with an out-of-range device, action or axis

@@ -3,6 +3,7 @@
  * board (firmware/app.c does the work, so tests can drive it without this
  * file), report, and on a capturing sim run write the contact sheet.
  */
+#include <signal.h>
 #include <stdio.h>
 
 #include "app.h"
@@ -31,6 +32,26 @@ static void main_report(const psc_app_stats_t *st, const char *out_dir)
         printf("periscope: output directory: %s (every %u-th frame)\n", out_dir, (unsigned)st->capture_every);
 }
 
+/* SIGTERM (systemd stopping the service) and SIGINT (Ctrl-C) end the frame
+ * loop cleanly, so the display's previous mode comes back and the watchdog
+ * says STOPPING=1. SA_RESETHAND: a second signal ends the program at once. */
+static void main_on_signal(int sig)
+{
+    (void)sig;
+    psc_app_request_stop();
+}
+
+static void main_catch_signals(void)
+{
+    struct sigaction sa;
+
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND;
+    sa.sa_handler = main_on_signal;
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGINT, &sa, NULL);
+}
+
 /* stdio would allocate stdout's buffer at the first log line, which comes
  * from inside the frame loop; giving it one now keeps the loop allocation-free. */
 static char main_stdout_buffer[4096];
@@ -52,6 +73,7 @@ int main(int argc, char **argv)
         fputs(psc_cli_usage(), stdout);
         return 0;
     }
+    main_catch_signals();
     if (psc_app_open(&opt, &app, err, sizeof err) != 0) {
         fprintf(stderr, "periscope: %s\n", err);
         return 1;

@@ -10,8 +10,14 @@
  * buffer (psc_envmap_t, ready for psc_viewer_init); the caller must queue it
  * back before the camera can fill it again. With every buffer dequeued the
  * camera starves and dequeue returns -EAGAIN.
- * Backends planned: v4l2 (mmap streaming, VIDIOC_DQBUF/QBUF, timestamps from
- * the buffer), sim (a generated test-pattern map, one frame per frame period).
+ * Backends: v4l2 (hal/v4l2/: mmap streaming, YUYV or MJPEG converted into
+ * map buffers, timestamps from the buffer, reopened after an unplug), sim (a
+ * generated test-pattern map, one frame per frame period).
+ *
+ * A camera may come and go (a USB cable): dequeue returns -ENODEV while the
+ * device is absent or lost; the backend keeps trying to reopen it by itself
+ * and dequeue returns frames again once it is back. Maps the caller holds
+ * stay valid (they are the backend's memory, not the driver's).
  */
 #ifndef PSC_HAL_CAMERA_H
 #define PSC_HAL_CAMERA_H
@@ -42,8 +48,10 @@ typedef struct {
 typedef struct {
     /* Mandatory. Start streaming. -EBUSY when already streaming. */
     int (*start)(psc_hal_camera_t *cam);
-    /* Mandatory. Take the oldest filled buffer. -EAGAIN when none is ready,
-     * -EINVAL when not streaming. Never blocks. */
+    /* Mandatory. Take the oldest filled buffer (a live camera may give the
+     * newest and drop older ones; sequence shows the gap). -EAGAIN when none
+     * is ready, -ENODEV while the device is absent or lost, -EINVAL when not
+     * streaming. Never blocks. */
     int (*dequeue)(psc_hal_camera_t *cam, psc_hal_camera_frame_t *frame);
     /* Mandatory. Give a dequeued buffer back to be filled again. -EINVAL for
      * a frame that is not dequeued. */

@@ -5,11 +5,15 @@
  * 2 = double buffering, 3 = triple). Each frame the caller asks for the back
  * buffer as a psc_surface_t, renders every pixel of it, and presents it; the
  * surface must not be touched after present until it is handed out again.
- * Backends planned behind this interface:
+ * Backends behind this interface:
  *   fbdev  one mmap'd virtual screen of buffer_count * height rows;
- *          present = FBIOPAN_DISPLAY to the back rows + FBIO_WAITFORVSYNC.
+ *          present = FBIOPAN_DISPLAY to the back rows + FBIO_WAITFORVSYNC
+ *          (drawn in memory and copied where the driver cannot pan or keeps
+ *          red and blue swapped) - hal/fbdev/.
  *   drm    KMS dumb buffers (DRM_IOCTL_MODE_CREATE_DUMB + mmap), one CRTC;
- *          present = drmModePageFlip and wait for the flip event.
+ *          present = drmModePageFlip and wait for the flip event - hal/drm/.
+ *   sdl    an SDL2 window: buffers in memory uploaded to a streaming texture
+ *          - hal/sdl/.
  *   sim    buffers in memory; present advances the simulated clock by one
  *          frame period and writes every K-th frame to a PNG file.
  *

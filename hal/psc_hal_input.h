@@ -10,22 +10,26 @@
  *   BUTTON_LONG               the button has been held for the long-press
  *                             time (sent once per press, before its UP);
  *   AXIS                      an axis moved: value is Q1.15, -32768..32767
- *                             (-1.0 .. just under +1.0); dead zone already
- *                             applied, so 0 means "let go";
+ *                             (-1.0 .. just under +1.0), the raw position:
+ *                             the firmware applies the board's dead zone
+ *                             and response curve (firmware/controls.h);
  *   DEVICE_ARRIVE / _LEAVE    a device was plugged in or removed; after a
  *                             LEAVE the firmware releases everything that
  *                             device held (no UP events follow);
  *   QUIT                      the input source asks the program to end (the
  *                             simulated tour reached its end; a real board
  *                             may map a service key to it).
- * Backends planned behind this interface:
- *   gpiod   libgpiod v2 line requests by line name ("input.line.home =
- *           BTN_HOME"), edge events, software debounce and long press timed
- *           with the HAL clock;
- *   usbhid  libusb: parse each gamepad's HID report descriptor to find its
- *           axes and buttons, hotplug callbacks for arrive/leave, axes scaled
- *           from the logical min..max to Q1.15;
- *   sim     a tour script (hal/sim/psc_sim_tour.h) replayed on the sim clock.
+ * Backends behind this interface:
+ *   gpio    libgpiod 1.6 or 2.x, lines by name ("input.line.home =
+ *           BTN_HOME"), edge events, kernel or software debounce, long press
+ *           (hal/gpio/);
+ *   usb     libusb: each gamepad's HID report descriptor parsed for its axes,
+ *           hat and buttons, hotplug arrive/leave, axes scaled from the
+ *           logical min..max to Q1.15 (hal/usb/);
+ *   sdl     the SDL2 window's keyboard and mouse and SDL game controllers,
+ *           for the desktop (hal/sdl/);
+ *   sim     a tour script (hal/sim/psc_sim_tour.h) replayed on the sim clock;
+ *   a list  "gpio,usb" merges backends into one input (psc_hal_input_multi.h).
  * Each event carries the device slot it came from (0..PSC_HAL_INPUT_MAX_DEVICES-1).
  */
 #ifndef PSC_HAL_INPUT_H

@@ -7,12 +7,14 @@
  * needs to remember which backend a device came from.
  */
 #include <stdio.h>
+#include <string.h>
 
 #include "psc_hal.h"
 #include "psc_hal_camera.h"
 #include "psc_hal_clock.h"
 #include "psc_hal_display.h"
 #include "psc_hal_input.h"
+#include "psc_hal_input_multi.h"
 #include "psc_hal_watchdog.h"
 
 /* The backend called name, or NULL with err saying what exists instead. */
@@ -59,8 +61,12 @@ void psc_hal_display_close(psc_hal_display_t *d)
 int psc_hal_input_open(const char *backend, const psc_hal_input_config_t *cfg,
                        psc_hal_input_t **out, char *err, size_t errlen)
 {
-    const psc_hal_backend_t *b = backend_lookup(backend, "input", err, errlen);
+    const psc_hal_backend_t *b;
 
+    /* "gpio,usb": several backends merged into one input (psc_hal_input_multi.h) */
+    if (backend != NULL && strchr(backend, ',') != NULL)
+        return psc_hal_input_multi_open(backend, cfg, out, err, errlen);
+    b = backend_lookup(backend, "input", err, errlen);
     *out = NULL;
     if (b == NULL)
         return -ENODEV;

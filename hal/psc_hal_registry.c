@@ -13,6 +13,14 @@
 
 static const psc_hal_backend_t *const registry[] = {
     &psc_hal_sim_backend,
+    &psc_hal_linux_backend,
+    &psc_hal_systemd_backend,
+    &psc_hal_v4l2_backend,
+    &psc_hal_fbdev_backend,
+    &psc_hal_drm_backend,
+    &psc_hal_sdl_backend,
+    &psc_hal_usb_backend,
+    &psc_hal_gpio_backend,
 };
 
 #define REGISTRY_COUNT (sizeof registry / sizeof registry[0])

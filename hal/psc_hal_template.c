@@ -16,7 +16,7 @@
  *   camera    start, dequeue, queue, stop, close (hal/sim/sim_camera.c is a
  *             complete example of the buffer bookkeeping).
  *   clock     now_us, sleep_until, close.
- *   watchdog  kick, close.
+ *   watchdog  kick, close (get_status and set_status are optional).
  * Rules the firmware relies on:
  *   - open allocates everything (buffers, tables, descriptor parsing);
  *     callbacks run in the frame loop and must not allocate;

@@ -2,8 +2,9 @@
  * psc_hal_watchdog.h - a watchdog the frame loop kicks once per frame, so a
  * hung kiosk is restarted instead of showing a frozen picture.
  *
- * Backends planned: systemd (sd_notify "READY=1" at open, "WATCHDOG=1" per
- * kick, the timeout from WATCHDOG_USEC), linux (/dev/watchdog with
+ * Backends: systemd (hal/linux/systemd_watchdog.c: sd_notify "READY=1" with
+ * the first kick, "WATCHDOG=1" every WATCHDOG_USEC / 2, "STATUS=" from
+ * set_status, "STOPPING=1" at close). Planned: linux (/dev/watchdog with
  * WDIOC_SETTIMEOUT / WDIOC_KEEPALIVE and the magic close 'V'). The sim
  * backend only records the kicks on the sim clock and reports the longest gap,
  * so a tour shows whether the loop would have kept a real watchdog fed.
@@ -32,6 +33,9 @@ typedef struct {
     int (*kick)(psc_hal_watchdog_t *wd);
     /* Optional. Counters for logs and tests. */
     int (*get_status)(psc_hal_watchdog_t *wd, psc_hal_watchdog_status_t *status);
+    /* Optional. Tell the supervisor what the device is doing, one line of
+     * text ("camera lost"), e.g. systemd's STATUS= for `systemctl status`. */
+    int (*set_status)(psc_hal_watchdog_t *wd, const char *text);
     /* Mandatory. Orderly shutdown: disarm (magic close / "STOPPING=1") and free. */
     void (*close)(psc_hal_watchdog_t *wd);
 } psc_hal_watchdog_ops_t;
@@ -62,6 +66,12 @@ static inline int psc_hal_watchdog_kick(psc_hal_watchdog_t *wd)
 static inline int psc_hal_watchdog_get_status(psc_hal_watchdog_t *wd, psc_hal_watchdog_status_t *status)
 {
     return wd->ops->get_status ? wd->ops->get_status(wd, status) : -ENOSYS;
+}
+
+/** Report a one-line status text to the supervisor; -ENOSYS when the backend has nowhere to show it. */
+static inline int psc_hal_watchdog_set_status(psc_hal_watchdog_t *wd, const char *text)
+{
+    return wd->ops->set_status ? wd->ops->set_status(wd, text) : -ENOSYS;
 }
 
 #endif

@@ -1,0 +1,58 @@
+/*
+ * camera_feed.h - the live camera as a scene's environment map.
+ *
+ * The device has no floating point to build viewer tables at start-up, so a
+ * camera scene borrows them: the board names a scene pack packed for this
+ * display (camera_scene = FILE.pano; its map is shown until the first camera
+ * frame arrives, so it can be a "camera starting" picture), and each new
+ * camera frame replaces the pack's map in the viewer. The pack's LUTs hold
+ * angles, not map positions, so they serve any map size; the camera's frames
+ * are equirectangular maps of the board's camera_size.
+ *
+ * Buffers: the feed holds exactly one dequeued frame - the one on screen -
+ * and gives it back to the camera when a newer one arrives; the camera fills
+ * the others meanwhile. After the camera is lost the held frame stays valid
+ * (it is the camera backend's memory), so the last picture stays up.
+ */
+#ifndef PSC_CAMERA_FEED_H
+#define PSC_CAMERA_FEED_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "psc_envmap.h"
+#include "psc_hal_camera.h"
+
+typedef struct {
+    psc_hal_camera_t *camera;        /* not owned */
+    psc_hal_camera_frame_t held;     /* the frame on screen, valid while holding */
+    bool holding;
+    psc_envmap_t map;                /* the viewer points at this; updated per frame */
+    bool had_frames;                 /* a frame ever arrived */
+    uint32_t frames;                 /* frames taken */
+    uint32_t dropped;                /* gaps in the camera's sequence numbers */
+} psc_camera_feed_t;
+
+/** A feed of camera (NULL: no camera; every poll then returns -ENODEV). */
+void psc_camera_feed_init(psc_camera_feed_t *f, psc_hal_camera_t *camera);
+
+/**
+ * Take the camera's newest frame if there is one: 0 when feed->map now
+ * describes a new frame, else the camera's -EAGAIN (nothing new) or -ENODEV
+ * (absent or lost; the camera keeps trying to reopen by itself). Never blocks.
+ */
+int psc_camera_feed_poll(psc_camera_feed_t *f);
+
+/** True when feed->map holds a frame (from now or from before a loss). */
+bool psc_camera_feed_has_map(const psc_camera_feed_t *f);
+
+/**
+ * The map description of a camera frame, for sizing the viewer's workspace
+ * at start-up before any frame exists: equirectangular, full sphere.
+ */
+psc_envmap_t psc_camera_feed_map_shape(uint16_t width, uint16_t height, psc_pixfmt_t format);
+
+/** Give the held frame back (before the camera stops). */
+void psc_camera_feed_release(psc_camera_feed_t *f);
+
+#endif

@@ -1,0 +1,504 @@
+/*
+ * test_firmware_devices.c - the firmware's side of the real devices: the
+ * missing-device indication (state, text, the pixels drawn), the 5x7 font,
+ * raw frame dumps, frame pacing with late frames skipped, and whole runs of
+ * the device program: a camera scene fed by the sim camera (the frame shown
+ * is exactly the camera's map through the scene pack's tables), and a board
+ * whose V4L2 camera is absent (it runs, shows the pack's picture and says
+ * NO CAMERA in the corner).
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "app.h"
+#include "camera_feed.h"
+#include "cli.h"
+#include "device_status.h"
+#include "frame_dump.h"
+#include "frame_pacer.h"
+#include "image_io.h"
+#include "overlay_font.h"
+#include "pack_build.h"
+#include "psc_pixel.h"
+#include "psc_testsupport.h"
+#include "psc_viewer.h"
+#include "sim/psc_hal_sim.h"
+#include "tsup_files.h"
+
+/* ---- device status ------------------------------------------------------------- */
+
+static void test_device_status_states(void **state)
+{
+    psc_device_status_t st;
+    char lines[PSC_DEVICE_STATUS_MAX_LINES][PSC_DEVICE_STATUS_LINE_MAX], text[160];
+    psc_hal_input_event_t leave = { .type = PSC_HAL_INPUT_DEVICE_LEAVE, .device = 2 };
+    psc_hal_input_event_t arrive = { .type = PSC_HAL_INPUT_DEVICE_ARRIVE, .device = 2 };
+    psc_hal_input_event_t button = { .type = PSC_HAL_INPUT_BUTTON_DOWN, .device = 2, .code = 1, .value = 1 };
+    (void)state;
+
+    psc_device_status_init(&st, true);
+    assert_true(psc_device_status_all_present(&st));
+    psc_device_status_text(&st, text, sizeof text);
+    assert_string_equal(text, "all devices present");
+    /* a camera that was never seen is absent; one that delivered, then failed, is lost */
+    assert_true(psc_device_status_camera(&st, -ENODEV, false));
+    assert_false(psc_device_status_camera(&st, -ENODEV, false));
+    assert_int_equal(psc_device_status_lines(&st, lines), 1);
+    assert_string_equal(lines[0], "NO CAMERA");
+    assert_true(psc_device_status_camera(&st, 0, true));
+    assert_false(psc_device_status_camera(&st, -EAGAIN, true));   /* no new frame is not a problem */
+    assert_true(psc_device_status_all_present(&st));
+    assert_true(psc_device_status_camera(&st, -ENODEV, true));
+    assert_int_equal(psc_device_status_lines(&st, lines), 1);
+    assert_string_equal(lines[0], "CAMERA LOST");
+    /* input devices leave and come back; other events change nothing */
+    assert_false(psc_device_status_input_event(&st, &button));
+    assert_true(psc_device_status_input_event(&st, &leave));
+    assert_false(psc_device_status_input_event(&st, &leave));
+    assert_true(psc_device_status_input_failed(&st, true));
+    assert_int_equal(psc_device_status_lines(&st, lines), 3);
+    assert_string_equal(lines[1], "INPUT FAILED");
+    assert_string_equal(lines[2], "INPUT 2 LOST");
+    psc_device_status_text(&st, text, sizeof text);
+    assert_string_equal(text, "camera lost, input failed, input 2 lost");
+    leave.device = 5;
+    psc_device_status_input_event(&st, &leave);
+    assert_int_equal(psc_device_status_lines(&st, lines), 3);
+    assert_string_equal(lines[2], "2 INPUTS LOST");
+    assert_true(psc_device_status_input_event(&st, &arrive));
+    assert_true(psc_device_status_input_failed(&st, false));
+    leave.device = 200;   /* out of range: ignored */
+    assert_false(psc_device_status_input_event(&st, &leave));
+    assert_int_equal(psc_device_status_lines(&st, lines), 2);
+    assert_string_equal(lines[1], "INPUT 5 LOST");
+    /* a board without a camera never reports one */
+    psc_device_status_init(&st, false);
+    assert_false(psc_device_status_camera(&st, -ENODEV, false));
+    assert_true(psc_device_status_all_present(&st));
+}
+
+static void test_device_status_drawing(void **state)
+{
+    enum { W = 640, H = 480 };
+    uint16_t *px = malloc((size_t)W * H * 2);
+    psc_surface_t s = { W, H, W * 2, PSC_PIX_RGB565, px };
+    psc_device_status_t st;
+    const uint16_t bg = 0x1234, amber = psc_xrgb_to_rgb565(0xFFC000u);
+    uint32_t changed = 0, amber_count = 0;
+    (void)state;
+
+    for (size_t i = 0; i < (size_t)W * H; i++)
+        px[i] = bg;
+    psc_device_status_init(&st, true);
+    psc_device_status_draw(&st, &s);   /* everything present: not a pixel changes */
+    for (size_t i = 0; i < (size_t)W * H; i++)
+        changed += px[i] != bg;
+    assert_int_equal(changed, 0);
+
+    psc_device_status_camera(&st, -ENODEV, true);
+    psc_device_status_draw(&st, &s);
+    /* scale 480/240 = 2: "CAMERA LOST" is 11 cells of 12 px = 132, box 140 x 22
+     * at 8 px from the top and right edges: x 492..631, y 8..29 */
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++) {
+            uint16_t p = px[y * W + x];
+            bool inside = x >= 492 && x < 632 && y >= 8 && y < 30;
+            if (!inside)
+                assert_int_equal(p, bg);
+            else
+                assert_true(p == 0 || p == amber);
+            amber_count += p == amber;
+        }
+    /* 'C' starts at (492 + 4 + 2, 8 + 4): its top row ".###." lights x 500..505 */
+    assert_int_equal(px[12 * W + 498], 0);
+    assert_int_equal(px[12 * W + 500], amber);
+    assert_int_equal(px[13 * W + 505], amber);
+    assert_int_equal(px[12 * W + 506], 0);
+    /* lit pixels: 4 per font pixel, font pixels counted from the glyphs */
+    uint32_t font_pixels = 0;
+    for (const char *c = "CAMERA LOST"; *c; c++)
+        for (unsigned r = 0; r < PSC_FONT_GLYPH_H; r++)
+            font_pixels += (uint32_t)__builtin_popcount(psc_font_glyph(*c)[r]);
+    assert_int_equal(amber_count, 4 * font_pixels);
+
+    /* a tiny XRGB surface: clipped, never written outside */
+    uint32_t small[20 * 10 + 20];
+    for (unsigned i = 0; i < 220; i++)
+        small[i] = 0xDEADBEEFu;
+    psc_surface_t t = { 20, 10, 20 * 4, PSC_PIX_XRGB8888, small };
+    psc_device_status_draw(&st, &t);
+    for (unsigned i = 200; i < 220; i++)
+        assert_int_equal(small[i], 0xDEADBEEFu);
+    assert_int_equal(small[4 * 20 + 0], 0xFF000000u);   /* the box reaches the left edge, clipped */
+    free(px);
+}
+
+static void test_font(void **state)
+{
+    const char *all = "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789 -:./!?";
+    (void)state;
+
+    /* every glyph distinct, lower case drawn as upper, unknown as '?' */
+    for (const char *a = all; *a; a++)
+        for (const char *b = a + 1; *b; b++)
+            assert_memory_not_equal(psc_font_glyph(*a), psc_font_glyph(*b), PSC_FONT_GLYPH_H);
+    assert_ptr_equal(psc_font_glyph('q'), psc_font_glyph('Q'));
+    assert_ptr_equal(psc_font_glyph('#'), psc_font_glyph('?'));
+    assert_ptr_equal(psc_font_glyph('\x7f'), psc_font_glyph('?'));
+    for (const char *a = all; *a; a++)
+        for (unsigned r = 0; r < PSC_FONT_GLYPH_H; r++)
+            assert_true(psc_font_glyph(*a)[r] < 32u);
+    assert_int_equal(psc_font_text_width("NO CAMERA", 3), 9 * 6 * 3);
+}
+
+/* ---- frame dumps and pacing ------------------------------------------------------- */
+
+static void test_frame_dump(void **state)
+{
+    uint16_t px[2 * 4] = { 0x0102, 0x0304, 0x0506, 0xFFFF, 0x0708, 0x090A, 0x0B0C, 0xFFFF };
+    psc_surface_t s = { 3, 2, 8, PSC_PIX_RGB565, px };
+    char path[400], err[300];
+    const char *p;
+    uint32_t frame;
+    size_t len;
+    uint8_t *data;
+    (void)state;
+
+    tsup_tmp_path(path, sizeof path, "dump", "frame.raw");
+    assert_int_equal(psc_frame_dump_write(path, &s, err, sizeof err), 0);
+    data = tsup_read_bytes(path, &len);
+    assert_non_null(data);
+    assert_int_equal(len, 12);   /* stride padding dropped */
+    const uint8_t want[12] = { 2, 1, 4, 3, 6, 5, 8, 7, 10, 9, 12, 11 };
+    assert_memory_equal(data, want, 12);
+    free(data);
+    unlink(path);
+    assert_int_equal(psc_frame_dump_write("/nonexistent-dir/frame.raw", &s, err, sizeof err), -1);
+    assert_non_null(strstr(err, "/nonexistent-dir/frame.raw: cannot create the frame dump"));
+
+    assert_int_equal(psc_frame_dump_parse("30:/tmp/a.raw", &frame, &p), 0);
+    assert_int_equal(frame, 30);
+    assert_string_equal(p, "/tmp/a.raw");
+    assert_int_equal(psc_frame_dump_parse("0:x", &frame, &p), 0);
+    assert_int_equal(frame, 0);
+    assert_int_equal(psc_frame_dump_parse("30:", &frame, &p), -1);
+    assert_int_equal(psc_frame_dump_parse(":x", &frame, &p), -1);
+    assert_int_equal(psc_frame_dump_parse("3a:x", &frame, &p), -1);
+    assert_int_equal(psc_frame_dump_parse("99999999999:x", &frame, &p), -1);
+
+    /* on the command line, up to 8 of them */
+    psc_cli_options_t o;
+    char *argv[] = { "periscope", "--board", "sim", "--dump-frame", "5:/tmp/f5.raw", "--dump-frame", "9:/tmp/f9.raw",
+                     NULL };
+    assert_int_equal(psc_cli_parse(7, argv, &o, err, sizeof err), 0);
+    assert_int_equal(o.dump_count, 2);
+    assert_int_equal(o.dumps[1].frame, 9);
+    assert_string_equal(o.dumps[1].path, "/tmp/f9.raw");
+    char *bad[] = { "periscope", "--board", "sim", "--dump-frame", "five:/tmp/f.raw", NULL };
+    assert_int_equal(psc_cli_parse(5, bad, &o, err, sizeof err), -1);
+    assert_non_null(strstr(err, "--dump-frame needs FRAME:PATH"));
+}
+
+static void test_frame_pacer(void **state)
+{
+    psc_frame_pacer_t p;
+    (void)state;
+
+    psc_frame_pacer_init(&p, 1000, 30000);
+    assert_int_equal(psc_frame_pacer_next(&p, 1000), 1000 + 33333);
+    assert_int_equal(psc_frame_pacer_next(&p, 1000 + 33333), 1000 + 66666);
+    assert_int_equal(psc_frame_pacer_next(&p, 1000 + 70000), 1000 + 100000);   /* a little late: no skip */
+    assert_int_equal(p.skipped, 0);
+    /* finished at 0.2 s, when frame 4 was due at 0.133 s: resume at 0.2333 s */
+    assert_int_equal(psc_frame_pacer_next(&p, 1000 + 200000), 1000 + 233333);
+    assert_int_equal(p.skipped, 3);
+    /* exactly on a boundary while late: the next one */
+    assert_int_equal(psc_frame_pacer_next(&p, 1000 + 300000), 1000 + 333333);
+    assert_int_equal(p.skipped, 5);
+    /* 30 fps stays exact over a long run (no accumulated rounding) */
+    psc_frame_pacer_init(&p, 0, 30000);
+    uint64_t t = 0;
+    for (unsigned i = 0; i < 108000; i++)
+        t = psc_frame_pacer_next(&p, t);
+    assert_int_equal(t, 3600000000u);
+    assert_int_equal(p.skipped, 0);
+}
+
+/* ---- whole runs ---------------------------------------------------------------- */
+
+static char root[300];
+
+static void write_text(const char *path, const char *text)
+{
+    assert_int_equal(tsup_write_bytes(path, text, strlen(text)), 0);
+}
+
+/* A small pack for a 160x120 display, of a smooth synthetic scene. */
+static void make_pack(const char *path)
+{
+    psc_image_t img = { 128, 64, malloc(128 * 64 * 4) };
+    psc_pack_options_t o;
+    uint8_t *buf;
+    size_t len;
+    char err[300];
+
+    for (uint32_t y = 0; y < 64; y++)
+        for (uint32_t x = 0; x < 128; x++)
+            img.xrgb[y * 128 + x] = 0xFF000000u | (x * 2u) << 16 | (y * 4u) << 8 | 0x40u;
+    psc_pack_options_default(&o);
+    o.display_width = 160;
+    o.display_height = 120;
+    o.lut_rows = 32;
+    o.lut_cols = 128;
+    if (psc_pack_build(&img, &o, &buf, &len, err, sizeof err) != 0)
+        fail_msg("pack: %s", err);
+    free(img.xrgb);
+    assert_int_equal(psc_write_file(path, buf, len, err, sizeof err), 0);
+    free(buf);
+}
+
+/* Run board NAME (in root) for frames frames, dumping frame dump_at. */
+static void run_board(const char *name, uint32_t frames, uint32_t dump_at, const char *dump_path)
+{
+    psc_cli_options_t opt;
+    psc_app_stats_t st;
+    psc_app_t *app = NULL;
+    char err[600];
+
+    memset(&opt, 0, sizeof opt);
+    opt.board = name;
+    opt.boards_dir = root;
+    opt.frames_every = 0;
+    opt.max_frames = frames;
+    opt.quiet = true;
+    opt.dumps[0] = (psc_cli_dump_t){ dump_at, dump_path };
+    opt.dump_count = 1;
+    if (psc_app_open(&opt, &app, err, sizeof err) != 0)
+        fail_msg("psc_app_open %s: %s", name, err);
+    if (psc_app_run(app, &st, err, sizeof err) != 0)
+        fail_msg("psc_app_run %s: %s", name, err);
+    assert_int_equal(st.frames, frames);
+    psc_app_close(app);
+}
+
+/* The frame the viewer makes of map with the pack's tables at its default view, calm quality. */
+static uint32_t *expected_frame(const psc_pack_t *pk, const psc_envmap_t *map)
+{
+    psc_viewer_t v;
+    size_t ws_size = psc_viewer_workspace_size(160, 120, map);
+    void *ws = aligned_alloc(64, (ws_size + 63) & ~(size_t)63);
+    uint32_t *px = malloc(160 * 120 * 4);
+    psc_surface_t out = { 160, 120, 160 * 4, PSC_PIX_XRGB8888, px };
+    psc_view_t view = { .yaw = pk->default_yaw, .pitch = pk->default_pitch, .hfov = pk->default_hfov,
+                        .filter = PSC_FILTER_MIP, .span_log2 = 2 };
+
+    assert_int_equal(psc_viewer_init(&v, map, pk->luts, pk->lut_count, 160, 120, ws, ws_size), PSC_OK);
+    psc_viewer_clamp(&v, &view, pk->hfov_min);
+    assert_int_equal(psc_viewer_render(&v, &view, &out), PSC_OK);
+    free(ws);
+    return px;
+}
+
+static void test_camera_scene_run(void **state)
+{
+    char dir[400], pack[400], conf[1200], path[500], dump[400], tour[400], err[300];
+    psc_pack_file_t pf;
+    size_t len;
+    uint8_t *got;
+    (void)state;
+
+    snprintf(pack, sizeof pack, "%s/cam.pano", root);
+    make_pack(pack);
+    assert_int_equal(psc_pack_file_load(pack, &pf, err, sizeof err), 0);
+
+    /* the sim camera (a test pattern at 15 Hz) as the live map of the camera
+     * scene; a tour that only waits, so nothing moves */
+    snprintf(tour, sizeof tour, "%s/still.txt", root);
+    write_text(tour, "wait 10s\nend\n");
+    snprintf(dir, sizeof dir, "%s/camboard", root);
+    mkdir(dir, 0755);
+    snprintf(path, sizeof path, "%s/board.conf", dir);
+    snprintf(conf, sizeof conf,
+             "display = sim\ndisplay_size = 160x120\ndisplay_format = xrgb8888\nframe_rate = 30\n"
+             "input = sim\ntour = %s\nclock = sim\ncamera = sim\ncamera_size = 256x128\ncamera_rate = 15\n"
+             "camera_scene = %s\nquality = fixed\n", tour, pack);
+    write_text(path, conf);
+    snprintf(dump, sizeof dump, "%s/cam9.raw", root);
+    run_board("camboard", 10, 9, dump);
+
+    /* frame 9 is drawn at 9/30 s: the camera's frame 4 (15 Hz) through the pack's tables */
+    uint32_t *map = malloc(256 * 128 * 4);
+    psc_sim_pattern_fill(map, 256 * 4, 256, 128, PSC_PIX_XRGB8888, 4);
+    psc_envmap_t cam = psc_camera_feed_map_shape(256, 128, PSC_PIX_XRGB8888);
+    cam.pixels = map;
+    uint32_t *want = expected_frame(&pf.pack, &cam);
+    got = tsup_read_bytes(dump, &len);
+    assert_non_null(got);
+    assert_int_equal(len, 160 * 120 * 4);
+    assert_memory_equal(got, want, len);
+    /* and it is not the pack's own picture */
+    uint32_t *own = expected_frame(&pf.pack, &pf.pack.map);
+    assert_memory_not_equal(got, own, len);
+    free(own);
+    free(want);
+    free(got);
+    free(map);
+    unlink(dump);
+    psc_pack_file_free(&pf);
+}
+
+static void test_absent_camera_run(void **state)
+{
+    char dir[400], pack[400], conf[1200], path[500], dump[400], tour[400], err[300];
+    psc_pack_file_t pf;
+    size_t len;
+    uint32_t *got, *want;
+    (void)state;
+
+    snprintf(pack, sizeof pack, "%s/cam.pano", root);
+    assert_int_equal(psc_pack_file_load(pack, &pf, err, sizeof err), 0);
+    snprintf(tour, sizeof tour, "%s/still.txt", root);
+    snprintf(dir, sizeof dir, "%s/nocam", root);
+    mkdir(dir, 0755);
+    snprintf(path, sizeof path, "%s/board.conf", dir);
+    snprintf(conf, sizeof conf,
+             "display = sim\ndisplay_size = 160x120\ndisplay_format = xrgb8888\nframe_rate = 30\n"
+             "input = sim\ntour = %s\nclock = sim\ncamera = v4l2\ncamera.device = /dev/periscope-no-such-video\n"
+             "camera_size = 256x128\ncamera_scene = %s\nquality = fixed\n", tour, pack);
+    write_text(path, conf);
+    snprintf(dump, sizeof dump, "%s/nocam.raw", root);
+    run_board("nocam", 40, 39, dump);   /* 1.3 s: the camera is retried and still absent */
+
+    /* the pack's own picture, with NO CAMERA in the top-right corner */
+    want = expected_frame(&pf.pack, &pf.pack.map);
+    psc_device_status_t st;
+    psc_device_status_init(&st, true);
+    psc_device_status_camera(&st, -ENODEV, false);
+    psc_device_status_draw(&st, &(psc_surface_t){ 160, 120, 160 * 4, PSC_PIX_XRGB8888, want });
+    got = (uint32_t *)(void *)tsup_read_bytes(dump, &len);
+    assert_non_null(got);
+    assert_int_equal(len, 160 * 120 * 4);
+    assert_memory_equal(got, want, len);
+    assert_int_equal(got[10 * 160 + 100], 0xFF000000u);   /* inside the box */
+    free(got);
+    free(want);
+    unlink(dump);
+    psc_pack_file_free(&pf);
+
+    /* camera_scene without a camera is a board mistake */
+    snprintf(conf, sizeof conf, "display = sim\ndisplay_size = 160x120\ninput = sim\nclock = sim\ncamera_scene = %s\n",
+             pack);
+    write_text(path, conf);
+    psc_cli_options_t opt = { .board = "nocam", .boards_dir = root, .frames_every = -1, .quiet = true };
+    psc_app_t *app = NULL;
+    assert_int_not_equal(psc_app_open(&opt, &app, err, sizeof err), 0);
+    assert_non_null(strstr(err, "camera_scene is set but camera = none"));
+}
+
+static void test_stop_request(void **state)
+{
+    char dir[400], conf[1200], path[500], pack[400], tour[400], err[300];
+    psc_app_stats_t st;
+    psc_app_t *app = NULL;
+    (void)state;
+
+    snprintf(pack, sizeof pack, "%s/cam.pano", root);
+    snprintf(tour, sizeof tour, "%s/still.txt", root);
+    snprintf(dir, sizeof dir, "%s/stop", root);
+    mkdir(dir, 0755);
+    snprintf(path, sizeof path, "%s/board.conf", dir);
+    snprintf(conf, sizeof conf, "display = sim\ndisplay_size = 160x120\ninput = sim\ntour = %s\nclock = sim\n"
+             "scene = %s\n", tour, pack);
+    write_text(path, conf);
+    psc_cli_options_t opt = { .board = "stop", .boards_dir = root, .frames_every = -1, .quiet = true };
+    assert_int_equal(psc_app_open(&opt, &app, err, sizeof err), 0);
+    psc_app_request_stop();   /* what SIGTERM does */
+    assert_int_equal(psc_app_run(app, &st, err, sizeof err), 0);
+    assert_int_equal(st.frames, 0);
+    opt.max_frames = 3;       /* the request was used up: the next run runs */
+    psc_app_close(app);
+    assert_int_equal(psc_app_open(&opt, &app, err, sizeof err), 0);
+    assert_int_equal(psc_app_run(app, &st, err, sizeof err), 0);
+    assert_int_equal(st.frames, 3);
+    psc_app_close(app);
+}
+
+/* Every board file in boards/ parses (run from the repository root). */
+static void test_board_files(void **state)
+{
+    const char *boards[] = { "sim", "x86-kiosk", "rpi-arm64", "desktop", "vm-fbdev", "vm-drm", "vm-camera", "vm-reference" };
+    (void)state;
+
+    for (size_t i = 0; i < sizeof boards / sizeof boards[0]; i++) {
+        char path[200], err[400];
+        psc_board_config_t cfg;
+        snprintf(path, sizeof path, "boards/%s/board.conf", boards[i]);
+        if (psc_board_config_load(path, &cfg, err, sizeof err) != 0)
+            fail_msg("%s", err);
+    }
+}
+
+/* The VM boards differ from their simulated reference in the display only,
+ * so a frame from vfb or bochs-drm can be compared with the reference's. */
+static void test_vm_boards_match_reference(void **state)
+{
+    psc_board_config_t ref, vm;
+    char err[400];
+    (void)state;
+
+    assert_int_equal(psc_board_config_load("boards/vm-reference/board.conf", &ref, err, sizeof err), 0);
+    assert_string_equal(ref.display_backend, "sim");
+    for (unsigned i = 0; i < 2; i++) {
+        assert_int_equal(psc_board_config_load(i ? "boards/vm-drm/board.conf" : "boards/vm-fbdev/board.conf", &vm,
+                                               err, sizeof err), 0);
+        assert_string_not_equal(vm.display_backend, "sim");
+        memcpy(vm.file, ref.file, sizeof vm.file);
+        memcpy(vm.display_backend, ref.display_backend, sizeof vm.display_backend);
+        memcpy(vm.tour_origin, ref.tour_origin, sizeof vm.tour_origin);
+        memcpy(vm.options, ref.options, sizeof vm.options);
+        vm.option_count = ref.option_count;
+        assert_memory_equal(&vm, &ref, sizeof vm);
+    }
+}
+
+static int group_setup(void **state)
+{
+    const char *tmp = getenv("PSC_TEST_TMPDIR");
+    (void)state;
+    snprintf(root, sizeof root, "%s/test_fwdev_%ld", tmp && *tmp ? tmp : "/tmp", (long)getpid());
+    return mkdir(root, 0755);
+}
+
+static int group_teardown(void **state)
+{
+    char cmd[400];
+    (void)state;
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", root);
+    return system(cmd) == 0 ? 0 : -1;
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_device_status_states),
+        cmocka_unit_test(test_device_status_drawing),
+        cmocka_unit_test(test_font),
+        cmocka_unit_test(test_frame_dump),
+        cmocka_unit_test(test_frame_pacer),
+        cmocka_unit_test(test_camera_scene_run),
+        cmocka_unit_test(test_absent_camera_run),
+        cmocka_unit_test(test_stop_request),
+        cmocka_unit_test(test_board_files),
+        cmocka_unit_test(test_vm_boards_match_reference),
+    };
+    return cmocka_run_group_tests(tests, group_setup, group_teardown);
+}
