@@ -63,7 +63,7 @@ FIRMWARE := $(BUILD)/bin/periscope
 TOOLS := $(patsubst host_tools/%.c,$(BUILD)/bin/%,$(TOOL_MAINS))
 TESTS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_MAINS))
 
-.PHONY: all deps run test check-core-nofloat check-clang install clean bench bench-callgrind
+.PHONY: all deps run test vm-test check-core-nofloat check-clang install clean bench bench-callgrind
 .DEFAULT_GOAL := all
 
 all: $(CORE_LIB) $(FIRMWARE) $(TOOLS)
@@ -131,6 +131,10 @@ test: deps
 	$(Q)$(MAKE) --no-print-directory check-core-nofloat
 	$(Q)$(MAKE) --no-print-directory check-clang
 	$(Q)sh tests/run_all.sh $(BUILD) $(TESTS)
+
+# Only the VM cases (part of `make test`): the real backends against real drivers under QEMU.
+vm-test: all
+	$(Q)sh tests/vm/run.sh --build $(BUILD)
 
 # core must not use floating point: compile it with the FPU registers taken
 # away (x86-64 -mgeneral-regs-only), so any float/double use fails to build.

@@ -1,0 +1,43 @@
+# The real firmware with the real v4l2 camera backend on vivid (YUYV frames
+# as the live map of the camera scene, boards/vm-camera, real-time clock),
+# and fault injection: vivid's "Disconnect" control unplugs the camera while
+# the firmware streams from it. The firmware must keep rendering, log the
+# loss and show CAMERA LOST, let go of the dead device (so the driver can be
+# unloaded), and pick up the new /dev/video0 of a reloaded driver.
+# vm-modules: vivid vfb
+# vm-needs: @bin/periscope
+# vm-needs: @probe/v4l2_probe
+# vm-needs: @probe/fb_probe
+# vm-before: sh "$VM_DIR/host_firmware.sh" prepare vm-camera
+# vm-expect: firmware.log v4l2 camera /dev/video0: YUYV
+# vm-expect: firmware.log devices: camera lost
+# vm-expect: firmware.log v4l2 camera /dev/video0: back
+# vm-expect: firmware.log devices: all devices present
+. /payload/guest_firmware.sh
+
+vm_log_has() {   # PATTERN (grep -i) in the firmware's log
+    grep -qi "$1" /share/firmware.log
+}
+
+vm_step "vfb and vivid"
+vm_modprobe vfb vfb_enable=1 videomemorysize=2457600 mode_option=640x480-32
+vm_modprobe vivid n_devs=1 node_types=0x1
+vm_wait_node /dev/fb0
+vm_wait_node /dev/video0
+vm_step "firmware on boards/vm-camera, held at frame 30"
+vm_fw_start vm-camera 30 -- --max-frames 1000000
+vm_fw_wait_frame 30
+vm_log_has 'v4l2 camera /dev/video0: YUYV' || vm_fail "the camera did not start"
+vm_run fb_probe dump /dev/fb0 >fb-30.raw
+vm_fw_release 30 fw-30.raw
+vm_step "unplug the camera (vivid Disconnect)"
+vm_run v4l2_probe press /dev/video0 Disconnect
+vm_until 300 vm_log_has 'devices: camera lost' || vm_fail "the firmware did not report the lost camera"
+kill -0 "$FW_PID" || vm_fail "the firmware died after the unplug"
+vm_step "the driver goes away and comes back"
+vm_until 100 rmmod vivid 2>/dev/null || vm_fail "vivid cannot be unloaded: the firmware still holds the dead camera"
+vm_modprobe vivid n_devs=1 node_types=0x1
+vm_until 300 vm_log_has 'devices: all devices present' || vm_fail "the firmware did not pick up the new camera"
+vm_step "stop the firmware (SIGTERM)"
+kill -TERM "$FW_PID"
+vm_fw_finish
