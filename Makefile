@@ -63,6 +63,9 @@ FIRMWARE := $(BUILD)/bin/periscope
 TOOLS := $(patsubst host_tools/%.c,$(BUILD)/bin/%,$(TOOL_MAINS))
 TESTS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_MAINS))
 
+# Objects reached through pattern rules would count as intermediate files and be
+# deleted after each link; keep them so a second build compiles nothing.
+.SECONDARY:
 .PHONY: all deps run test vm-test check-core-nofloat check-clang install clean bench bench-callgrind
 .DEFAULT_GOAL := all
 
@@ -174,8 +177,6 @@ $(BUILD)/obj/bench/%.o: bench/%.cpp
 	@$(if $(Q),echo "  CXX     $<")
 	$(Q)$(CXX) -std=c++17 -O2 -g -MMD -MP -Wall -Wextra -Werror -Icore -Ihost_tools/lib $(shell $(PKG_CONFIG) --cflags $(call bench_pkgs,$(firstword $(subst /, ,$*))) 2>/dev/null) -c $< -o $@
 
-# keep the bench objects between runs (they would count as intermediate files)
-.SECONDARY: $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard bench/*/*.c)) $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard bench/*/*.cpp))
 .SECONDEXPANSION:
 $(BUILD)/bench/%: $$(addprefix $(BUILD)/obj/,$$(addsuffix .o,$$(basename $$(wildcard bench/$$*/*.c bench/$$*/*.cpp)))) $(HOST_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
