@@ -9,11 +9,14 @@
 #include <signal.h>
 
 #include "app.h"
+#include "attract.h"
 #include "camera_feed.h"
 #include "controls.h"
 #include "device_status.h"
+#include "fisheye_build.h"
 #include "frame_dump.h"
 #include "frame_pacer.h"
+#include "hotspots.h"
 #include "motion.h"
 #include "object_scene.h"
 #include "pack_build.h"
@@ -68,10 +71,20 @@ struct psc_app {
     /* the live camera scene and missing-device indication (camera_feed.h, device_status.h) */
     psc_camera_feed_t feed;
     unsigned camera_scene;    /* index of the camera scene, PSC_BOARD_MAX_SCENES = none */
+    psc_fisheye_file_t fisheye;   /* camera_fisheye_table, buf NULL = none */
+    void *fisheye_map;            /* the remapped camera map (allocated at start-up) */
     psc_device_status_t devices;
     psc_cli_dump_t dumps[PSC_CLI_MAX_DUMPS];
     unsigned dump_count;
     psc_frame_pacer_t pacer;
+
+    /* kiosk behaviour: attract mode and the tour's hotspots (attract.h, hotspots.h) */
+    psc_attract_t attract;
+    bool input_activity;      /* a button event arrived this frame */
+    const psc_hotspot_t *hotspots;   /* the board's, or none with --scene */
+    unsigned hotspot_count;
+    uint32_t attract_starts;
+    uint32_t hotspot_follows;
 };
 
 /* Set from a signal handler (SIGTERM from systemd, Ctrl-C): the loop ends
@@ -183,6 +196,33 @@ static int app_open_devices(psc_app_t *app, const psc_cli_options_t *opt, char *
     return 0;
 }
 
+/* A dual-fisheye camera: load its table (whose frame must be the camera's
+ * frame) and allocate the map it fills; *shape becomes that map's. */
+static int app_load_fisheye(psc_app_t *app, psc_envmap_t *shape, char *err, size_t errlen)
+{
+    const psc_board_config_t *b = &app->board;
+    const psc_fisheye_t *t = &app->fisheye.table;
+
+    if (psc_fisheye_file_load(b->camera_fisheye_table, &app->fisheye, err, errlen) != 0)
+        return -1;
+    if (t->frame_width != b->camera_width || t->frame_height != b->camera_height) {
+        psc_hal_error_set(err, errlen, "%s: camera_fisheye_table %s was built for a %ux%u frame but camera_size is "
+                          "%ux%u (periscope-fisheye --frame %ux%u)", b->file, b->camera_fisheye_table,
+                          (unsigned)t->frame_width, (unsigned)t->frame_height, (unsigned)b->camera_width,
+                          (unsigned)b->camera_height, (unsigned)b->camera_width, (unsigned)b->camera_height);
+        return -1;
+    }
+    *shape = psc_fisheye_map_shape(t, b->display_format, NULL);
+    size_t size = ((size_t)shape->stride * shape->height + APP_WS_ALIGN - 1u) & ~(size_t)(APP_WS_ALIGN - 1u);
+    app->fisheye_map = aligned_alloc(APP_WS_ALIGN, size);
+    if (app->fisheye_map == NULL) {
+        psc_hal_error_set(err, errlen, "out of memory for the %ux%u fisheye camera map", (unsigned)shape->width,
+                          (unsigned)shape->height);
+        return -1;
+    }
+    return 0;
+}
+
 /* Load every scene pack and size the one workspace all of them can share. */
 static int app_load_scenes(psc_app_t *app, const psc_cli_options_t *opt, char *err, size_t errlen)
 {
@@ -208,6 +248,8 @@ static int app_load_scenes(psc_app_t *app, const psc_cli_options_t *opt, char *e
         app->camera_scene = app->scene_count;
         memcpy(app->scene_names[app->scene_count++], b->camera_scene, sizeof app->scene_names[0]);
         psc_envmap_t shape = psc_camera_feed_map_shape(b->camera_width, b->camera_height, b->display_format);
+        if (b->camera_fisheye_table[0] != '\0' && app_load_fisheye(app, &shape, err, errlen) != 0)
+            return -1;
         need = psc_viewer_workspace_size(app->mode.width, app->mode.height, &shape);
     }
     if (app->scene_count == 0) {
@@ -238,6 +280,14 @@ static int app_load_scenes(psc_app_t *app, const psc_cli_options_t *opt, char *e
         ws = psc_viewer_workspace_size(app->mode.width, app->mode.height, &pf->pack.map);
         if (ws > need)
             need = ws;
+    }
+    for (unsigned i = 0; i < app->hotspot_count; i++) {
+        if (app->is_object[app->hotspots[i].from_scene]) {
+            psc_hal_error_set(err, errlen, "%s:%u: hotspot in scene %u, which is an object (mesh) scene: hotspots "
+                              "are places in a panorama", b->file, app->hotspots[i].line,
+                              (unsigned)app->hotspots[i].from_scene);
+            return -1;
+        }
     }
     if (app->camera_scene < app->scene_count && app->is_object[app->camera_scene]) {
         psc_hal_error_set(err, errlen, "%s: camera_scene %s is a mesh pack; the camera needs a panorama pack's "
@@ -353,6 +403,14 @@ int psc_app_open(const psc_cli_options_t *opt, psc_app_t **out, char *err, size_
         snprintf(app->out_dir, sizeof app->out_dir, "out/%s", opt->board);
     if (!app->capture_every)
         app->out_dir[0] = '\0';
+    /* hotspots number the board's scenes: with --scene replacing the list they point nowhere */
+    if (opt->scene == NULL) {
+        app->hotspots = b->hotspots;
+        app->hotspot_count = b->hotspot_count;
+    } else if (b->hotspot_count != 0 && !app->quiet) {
+        printf("periscope: note: --scene replaces the scene list; the board's %u hotspot%s are not used\n",
+               b->hotspot_count, b->hotspot_count == 1 ? "" : "s");
+    }
 
     app->quality_cfg = (psc_quality_config_t){
         .adaptive = b->quality_adaptive,
@@ -378,6 +436,8 @@ int psc_app_open(const psc_cli_options_t *opt, psc_app_t **out, char *err, size_
         goto fail;
     }
     psc_camera_feed_init(&app->feed, app->camera);
+    if (app->fisheye_map != NULL)
+        psc_camera_feed_set_fisheye(&app->feed, &app->fisheye.table, app->fisheye_map);
     *out = app;
     return 0;
 fail:
@@ -428,6 +488,9 @@ static int app_poll_input(psc_app_t *app, uint64_t now, uint64_t start, uint32_t
 
     while ((rc = psc_hal_input_poll(app->input, now, &ev)) == 1) {
         psc_controls_apply(&app->controls, &ev);
+        if (ev.type == PSC_HAL_INPUT_BUTTON_DOWN || ev.type == PSC_HAL_INPUT_BUTTON_UP ||
+            ev.type == PSC_HAL_INPUT_BUTTON_LONG)
+            app->input_activity = true;   /* a person: attract mode stops (attract.h) */
         psc_device_status_input_event(&app->devices, &ev);
         app_log_event(app, &ev, frame, ev.time_us > start ? ev.time_us - start : 0);   /* arrivals at open predate the loop */
     }
@@ -457,10 +520,40 @@ static void app_log_quality(const psc_app_t *app, uint32_t frame, uint64_t t_us,
            (unsigned)(speed % 1000u));
 }
 
-/* One-shot requests: home, next and previous scene. */
+/* Follow a hotspot: its scene at its view, brought inside the new scene's
+ * limits (the frame's psc_viewer_clamp does the rest); home stays the
+ * scene's own default view. */
+static int app_follow_hotspot(psc_app_t *app, const psc_hotspot_t *h, uint32_t frame, char *err, size_t errlen)
+{
+    const psc_motion_config_t *c = &app->motion.cfg;
+    int32_t pitch;
+    psc_bam_t hfov;
+
+    if (!app->quiet)
+        printf("frame %5u  hotspot (line %u) -> scene %u: %s\n", (unsigned)frame, h->line, (unsigned)h->to_scene,
+               app->scene_names[h->to_scene]);
+    app->hotspot_follows++;
+    if (h->to_scene != app->scene)
+        app->scene_switches++;
+    if (app_enter_scene(app, h->to_scene, err, errlen) != 0)
+        return -1;
+    pitch = h->to_pitch < c->pitch_min ? c->pitch_min : h->to_pitch > c->pitch_max ? c->pitch_max : h->to_pitch;
+    hfov = h->to_hfov < c->hfov_min ? c->hfov_min : h->to_hfov > c->hfov_max ? c->hfov_max : h->to_hfov;
+    psc_motion_set_view(&app->motion, h->to_yaw, pitch, hfov);
+    return 0;
+}
+
+/* One-shot requests: home, next and previous scene, select (follow a hotspot). */
 static int app_handle_requests(psc_app_t *app, uint32_t frame, char *err, size_t errlen)
 {
     unsigned next = app->scene;
+
+    if (psc_controls_take_press(&app->controls, PSC_HAL_ACTION_SELECT) && !app->is_object[app->scene]) {
+        int pick = psc_hotspot_pick(app->hotspots, app->hotspot_count, app->scene, app->motion.yaw,
+                                    app->motion.pitch);
+        if (pick >= 0)
+            return app_follow_hotspot(app, &app->hotspots[pick], frame, err, errlen);
+    }
 
     if (psc_controls_take_press(&app->controls, PSC_HAL_ACTION_HOME))
         psc_motion_home(&app->motion);
@@ -535,6 +628,35 @@ static void app_dump_frame(psc_app_t *app, uint32_t frame, const psc_surface_t *
     }
 }
 
+/* Move the camera for this frame: the person's input through the motion
+ * model, or - after attract_idle_s without any - attract mode's slow turn.
+ * Input stops attract with the view where it is and the model at rest. */
+static void app_step_camera(psc_app_t *app, const psc_motion_input_t *in, uint64_t now, uint32_t dt, uint32_t frame)
+{
+    psc_motion_t *m = &app->motion;
+    bool activity = app->input_activity || in->yaw != 0 || in->pitch != 0 || in->zoom != 0;
+
+    app->input_activity = false;
+    if (activity) {
+        if (psc_attract_input(&app->attract, now) && !app->quiet)
+            printf("frame %5u  attract: off\n", (unsigned)frame);
+    } else if (!app->attract.active && psc_attract_update(&app->attract, now, m->yaw, m->pitch)) {
+        app->attract_starts++;
+        if (!app->quiet)
+            printf("frame %5u  attract: on\n", (unsigned)frame);
+    }
+    if (!app->attract.active) {
+        psc_motion_step(m, in, dt);
+        return;
+    }
+    psc_bam_t yaw;
+    int32_t pitch;
+    psc_attract_view(&app->attract, now, m->home_pitch, &yaw, &pitch);
+    m->homing = false;
+    m->yaw_rate = m->pitch_rate = m->hfov_rate = 0;
+    psc_motion_set_view(m, yaw, pitch, m->hfov);
+}
+
 int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen)
 {
     char devices_text[2][160] = { "all devices present", "" };
@@ -546,6 +668,8 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
 
     *stats = (psc_app_stats_t){ .capture_every = app->capture_every };
     psc_frame_pacer_init(&app->pacer, start, app->board.frame_rate_mhz);
+    psc_attract_init(&app->attract, app->board.attract_idle_ms, app_bam_from_mdeg(app->board.attract_rate_mdeg),
+                     start);
     app_view_for_frame(app, &prev);
     for (;;) {
         uint64_t now = psc_hal_clock_now_us(app->clock);
@@ -567,7 +691,7 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
                            sizeof devices_text[0]);
         devices_cur ^= 1u;
         psc_controls_motion_input(&app->controls, &in);
-        psc_motion_step(&app->motion, &in, dt);
+        app_step_camera(app, &in, now, dt, frame);
         app_view_for_frame(app, &view);
 
         uint32_t speed = psc_quality_speed(&prev, &view, dt);
@@ -590,6 +714,8 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
             rc = -1;
             break;
         }
+        if (!app->is_object[app->scene])
+            psc_hotspots_draw(app->hotspots, app->hotspot_count, app->scene, &view, &back);
         psc_device_status_draw(&app->devices, &back);
         if ((rc = psc_hal_display_present(app->display)) != 0) {
             psc_hal_error_set(err, errlen, "display (%s backend): present of frame %u failed: %s",
@@ -614,6 +740,8 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
     stats->fast_frames = app->quality.fast_frames_total;
     stats->quality_switches = app->quality.switches;
     stats->scene_switches = app->scene_switches;
+    stats->attract_starts = app->attract_starts;
+    stats->hotspot_follows = app->hotspot_follows;
     if (app->watchdog != NULL && psc_hal_watchdog_get_status(app->watchdog, &stats->watchdog) == 0)
         stats->watchdog_known = true;
     return rc;
@@ -628,6 +756,8 @@ void psc_app_close(psc_app_t *app)
         psc_hal_camera_stop(app->camera);
     free(app->workspace);
     free(app->ws3d);
+    free(app->fisheye_map);
+    psc_fisheye_file_free(&app->fisheye);
     for (unsigned i = 0; i < PSC_BOARD_MAX_SCENES; i++) {
         psc_pack_file_free(&app->packs[i]);
         psc_mesh_file_free(&app->meshes[i]);

@@ -4,8 +4,10 @@
  * order: psc_app_open / psc_app_run / psc_app_close.
  *
  * Frame loop, once per display frame:
- *   poll input -> controls -> motion step -> psc_viewer_clamp -> adaptive
- *   quality -> psc_viewer_render into the display's back buffer -> present
+ *   poll input -> controls -> select/home/scene requests (hotspots.h) ->
+ *   motion step, or attract mode's turn after the idle time (attract.h) ->
+ *   psc_viewer_clamp -> adaptive quality -> psc_viewer_render into the
+ *   display's back buffer -> hotspot markers, missing devices -> present
  *   -> kick the watchdog -> sleep until the next frame time.
  * Nothing in the loop allocates: every buffer is sized at open from the
  * board (display mode) and the packs (map and table sizes).
@@ -34,6 +36,8 @@ typedef struct {
     uint32_t fast_frames;         /* frames rendered in the fast (cheap) quality */
     uint32_t quality_switches;
     uint32_t scene_switches;
+    uint32_t attract_starts;      /* times attract mode began (attract.h) */
+    uint32_t hotspot_follows;     /* hotspots followed with select (hotspots.h) */
     uint32_t capture_every;       /* the sim display's capture period, 0 = none */
     bool watchdog_known;          /* the watchdog fields below are filled */
     psc_hal_watchdog_status_t watchdog;

@@ -26,7 +26,8 @@ typedef enum {
     KEY_MILLI_U32,      /* decimal x 1000 -> uint32_t */
     KEY_BOOL,           /* yes/no/true/false/on/off/1/0 -> bool */
     KEY_PATH,           /* text -> char[PSC_BOARD_PATH_MAX] */
-    KEY_SCENE           /* appended to scenes[] */
+    KEY_SCENE,          /* appended to scenes[] */
+    KEY_HOTSPOT         /* appended to hotspots[] (hotspots.h) */
 } key_type_t;
 
 typedef struct {
@@ -61,6 +62,7 @@ static const key_spec_t key_table[] = {
     KEY("camera_rate", KEY_MILLI_U32, camera_rate_mhz, 1000, 240000, false),
     KEY("camera_buffers", KEY_U8, camera_buffers, 2, 8, false),
     KEY("camera_scene", KEY_PATH, camera_scene, 0, 0, false),
+    KEY("camera_fisheye_table", KEY_PATH, camera_fisheye_table, 0, 0, false),
     KEY("watchdog", KEY_BACKEND_NONE, watchdog_backend, 0, 0, false),
     KEY("watchdog_timeout_ms", KEY_U32, watchdog_timeout_ms, 100, 600000, false),
     KEY("frames_every", KEY_U32, frames_every, 0, 1000000, false),
@@ -76,6 +78,9 @@ static const key_spec_t key_table[] = {
     KEY("hfov_min", KEY_MILLI, hfov_min_mdeg, 0, 170000, false),
     KEY("hfov_max", KEY_MILLI, hfov_max_mdeg, 0, 170000, false),
     KEY("pan_follows_zoom", KEY_BOOL, pan_follows_zoom, 0, 0, false),
+    KEY("attract_idle_s", KEY_MILLI_U32, attract_idle_ms, 0, 86400000, false),
+    KEY("attract_rate", KEY_MILLI, attract_rate_mdeg, -90000, 90000, false),
+    KEY("hotspot", KEY_HOTSPOT, hotspots, 0, 0, false),
     KEY("quality", KEY_QUALITY, quality_adaptive, 0, 0, false),
     KEY("quality_fast_speed", KEY_MILLI_U32, quality_fast_speed, 1, 100000, false),
     KEY("quality_settle_frames", KEY_U32, quality_settle_frames, 1, 10000, false),
@@ -132,6 +137,7 @@ void psc_board_config_defaults(psc_board_config_t *cfg)
     cfg->pitch_min_mdeg = -90000;
     cfg->pitch_max_mdeg = 90000;
     cfg->pan_follows_zoom = true;
+    cfg->attract_rate_mdeg = 5000;
     cfg->quality_adaptive = true;
     cfg->quality_fast_speed = 500;
     cfg->quality_settle_frames = 8;
@@ -345,6 +351,15 @@ static int board_set_key(board_parser_t *p, const key_spec_t *k, const char *val
         if (cfg->scene_count == PSC_BOARD_MAX_SCENES)
             return board_fail(p, "too many %s lines (at most %s)", k->key, "8");
         return board_set_string(p, cfg->scenes[cfg->scene_count++], PSC_BOARD_PATH_MAX, k->key, value);
+    case KEY_HOTSPOT: {
+        char why[200];
+        if (cfg->hotspot_count == PSC_HOTSPOT_MAX)
+            return board_fail(p, "too many %s lines (at most %s)", k->key, "32");
+        if (psc_hotspot_parse(value, &cfg->hotspots[cfg->hotspot_count], why, sizeof why) != 0)
+            return board_fail(p, "%s%s", why, "");
+        cfg->hotspots[cfg->hotspot_count++].line = p->line;
+        return 0;
+    }
     }
     return board_fail(p, "internal error: key %s has no type%s", k->key, "");
 }
@@ -420,7 +435,7 @@ static int board_parse_line(board_parser_t *p, char *line)
     for (unsigned i = 0; i < KEY_COUNT; i++) {
         if (strcmp(key, key_table[i].key) != 0)
             continue;
-        if (p->first_line[i] != 0 && key_table[i].type != KEY_SCENE) {
+        if (p->first_line[i] != 0 && key_table[i].type != KEY_SCENE && key_table[i].type != KEY_HOTSPOT) {
             char first[16];
             snprintf(first, sizeof first, "%u", p->first_line[i]);
             return board_fail(p, "%s is set twice (first on line %s)", key, first);
@@ -469,10 +484,28 @@ static int board_check(board_parser_t *p)
             return -1;
         }
     }
+    if (cfg->camera_fisheye_table[0] != '\0' && cfg->camera_scene[0] == '\0') {
+        psc_hal_error_set(p->err, p->errlen, "%s: camera_fisheye_table is set but camera_scene is not: the table "
+                          "turns a dual-fisheye camera's frames into the camera scene's map, name that scene "
+                          "(camera_scene = FILE.pano)", p->file);
+        return -1;
+    }
     if (cfg->camera_scene[0] != '\0' && strcmp(cfg->camera_backend, "none") == 0) {
         psc_hal_error_set(p->err, p->errlen, "%s: camera_scene is set but camera = none: a camera scene shows a "
                           "camera's frames, name its backend (camera = v4l2)", p->file);
         return -1;
+    }
+    /* hotspots name scenes by number: every number must be a scene of this board */
+    unsigned scenes = cfg->scene_count + (cfg->camera_scene[0] != '\0' ? 1u : 0u);
+    for (unsigned i = 0; i < cfg->hotspot_count; i++) {
+        const psc_hotspot_t *h = &cfg->hotspots[i];
+        unsigned bad = h->from_scene >= scenes ? h->from_scene : h->to_scene >= scenes ? h->to_scene : 0u;
+        if (h->from_scene >= scenes || h->to_scene >= scenes) {
+            psc_hal_error_set(p->err, p->errlen, "%s:%u: hotspot names scene %u, but this board has %u scene%s "
+                              "(numbered from 0 in the order of the scene lines, the camera scene last)",
+                              p->file, h->line, bad, scenes, scenes == 1 ? "" : "s");
+            return -1;
+        }
     }
     if (cfg->pitch_min_mdeg >= cfg->pitch_max_mdeg)
         return board_fail_order(p, "pitch_min", cfg->pitch_min_mdeg, "pitch_max", cfg->pitch_max_mdeg);

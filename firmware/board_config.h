@@ -3,7 +3,7 @@
  *
  * Format: one "key = value" per line; '#' at the start of a line or after a
  * space starts a comment; blank lines are ignored; keys are lower case.
- * Every key but "scene" (a list) may appear once. Paths are relative to the
+ * Every key but "scene" and "hotspot" (lists) may appear once. Paths are relative to the
  * directory the program runs in. The keys, their units and defaults are
  * listed in boards/README.md and in the table in board_config.c.
  *
@@ -28,6 +28,7 @@
 #include <stdint.h>
 #include "psc_hal.h"
 #include "psc_viewer.h"
+#include "hotspots.h"
 
 #define PSC_BOARD_NAME_MAX 32u
 #define PSC_BOARD_PATH_MAX 256u
@@ -77,6 +78,7 @@ typedef struct {
     uint32_t camera_rate_mhz;                      /* camera_rate, Hz */
     uint8_t camera_buffers;                        /* camera_buffers */
     char camera_scene[PSC_BOARD_PATH_MAX];         /* camera_scene: pack lending its LUTs to the live camera, "" = none */
+    char camera_fisheye_table[PSC_BOARD_PATH_MAX]; /* camera_fisheye_table: dual-fisheye -> map table, "" = none */
 
     char watchdog_backend[PSC_BOARD_NAME_MAX];     /* watchdog, "none" = no watchdog */
     uint32_t watchdog_timeout_ms;                  /* watchdog_timeout_ms */
@@ -96,6 +98,12 @@ typedef struct {
     int32_t pitch_min_mdeg, pitch_max_mdeg;   /* pitch_min, pitch_max */
     int32_t hfov_min_mdeg, hfov_max_mdeg;     /* hfov_min, hfov_max; 0 = the pack's / viewer's */
     bool pan_follows_zoom;              /* pan_follows_zoom: pan slower when zoomed in */
+
+    /* kiosk behaviour (attract.h, hotspots.h) */
+    uint32_t attract_idle_ms;           /* attract_idle_s: idle time before auto-rotating, 0 = never */
+    int32_t attract_rate_mdeg;          /* attract_rate: auto-rotation, deg/s (< 0 turns left) */
+    psc_hotspot_t hotspots[PSC_HOTSPOT_MAX];   /* hotspot lines, in order */
+    unsigned hotspot_count;
 
     /* adaptive quality */
     bool quality_adaptive;              /* quality = adaptive | fixed */

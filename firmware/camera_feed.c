@@ -11,6 +11,34 @@ void psc_camera_feed_init(psc_camera_feed_t *f, psc_hal_camera_t *camera)
     f->camera = camera;
 }
 
+void psc_camera_feed_set_fisheye(psc_camera_feed_t *f, const psc_fisheye_t *table, void *map_pixels)
+{
+    f->fisheye = table;
+    f->fisheye_map = map_pixels;
+}
+
+/* Fisheye mode: the frame is copied (remapped) into the feed's own map, so
+ * it goes back to the camera at once and nothing is held. */
+static int feed_remap(psc_camera_feed_t *f, const psc_hal_camera_frame_t *frame)
+{
+    psc_envmap_t shape = psc_fisheye_map_shape(f->fisheye, frame->map.format, f->fisheye_map);
+    psc_status_t s = psc_fisheye_remap(f->fisheye, &frame->map, f->fisheye_map, shape.stride, 0x000000u);
+
+    if (f->had_frames && frame->sequence > f->last_sequence + 1u)
+        f->dropped += frame->sequence - f->last_sequence - 1u;
+    f->last_sequence = frame->sequence;
+    psc_hal_camera_queue(f->camera, frame);
+    if (s != PSC_OK) {
+        f->rejected++;
+        return -EINVAL;
+    }
+    f->had_frames = true;
+    f->remapped = true;
+    f->frames++;
+    f->map = shape;
+    return 0;
+}
+
 int psc_camera_feed_poll(psc_camera_feed_t *f)
 {
     psc_hal_camera_frame_t frame;
@@ -21,6 +49,8 @@ int psc_camera_feed_poll(psc_camera_feed_t *f)
     rc = psc_hal_camera_dequeue(f->camera, &frame);
     if (rc != 0)
         return rc;
+    if (f->fisheye != NULL)
+        return feed_remap(f, &frame);
     if (f->holding) {
         if (frame.sequence > f->held.sequence + 1u)
             f->dropped += frame.sequence - f->held.sequence - 1u;
@@ -36,7 +66,7 @@ int psc_camera_feed_poll(psc_camera_feed_t *f)
 
 bool psc_camera_feed_has_map(const psc_camera_feed_t *f)
 {
-    return f->holding;
+    return f->holding || f->remapped;
 }
 
 psc_envmap_t psc_camera_feed_map_shape(uint16_t width, uint16_t height, psc_pixfmt_t format)

@@ -1,0 +1,135 @@
+/*
+ * periscope-fisheye - build the dual-fisheye table (core/psc_fisheye.h) that
+ * turns a dual-fisheye camera's frames into an equirectangular environment
+ * map on the device (board key camera_fisheye_table).
+ *
+ *   periscope-fisheye --frame WxH --front CX:CY:R[:FOV] --back CX:CY:R[:FOV]
+ *                     [--front-rot YAW:PITCH:ROLL] [--back-rot YAW:PITCH:ROLL]
+ *                     [--map WxH] -o table.pfish
+ *
+ * The lens model (equidistant, r = f * theta), the axes and the choice in the
+ * overlap are described in host_tools/lib/fisheye_build.h.
+ * Exit status: 0 done, 1 the work failed, 2 bad arguments.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli_parse.h"
+#include "fisheye_build.h"
+#include "pack_build.h"
+
+#define PROG "periscope-fisheye"
+#define DEFAULT_FOV 190.0
+
+static void print_usage(FILE *f)
+{
+    fprintf(f,
+            "usage: " PROG " --frame WxH --front CX:CY:R[:FOV] --back CX:CY:R[:FOV]\n"
+            "       [--front-rot YAW:PITCH:ROLL] [--back-rot YAW:PITCH:ROLL] [--map WxH] -o table.pfish\n"
+            "\n"
+            "Build the table that maps a dual-fisheye camera frame (WxH pixels) to an\n"
+            "equirectangular environment map (--map WxH, default 2H x H for a frame H high).\n"
+            "Each lens: circle centre CX:CY and radius R in frame pixels (pixel\n"
+            "centres are integers, (0,0) the top-left pixel), field of view FOV in degrees\n"
+            "(default %g). The front lens looks ahead (+Z), the back lens behind (-Z);\n"
+            "--*-rot corrects small mounting errors (degrees, within +-45). Equidistant\n"
+            "fisheye model r = f*theta with f = R / (FOV/2).\n",
+            DEFAULT_FOV);
+}
+
+#define usage_error(...) psc_cli_usage_error(PROG, __VA_ARGS__)
+
+/* "a:b:c[:d]": between min_n and max_n finite numbers separated by ':'. */
+static int parse_numbers(const char *s, double *v, unsigned min_n, unsigned max_n)
+{
+    char buf[128];
+    unsigned n = 0;
+    if (strlen(s) >= sizeof buf)
+        return -1;
+    strcpy(buf, s);
+    char *save = NULL;
+    for (char *tok = strtok_r(buf, ":", &save); tok; tok = strtok_r(NULL, ":", &save)) {
+        if (n == max_n || psc_cli_parse_double(tok, &v[n]) != 0)
+            return -1;
+        n++;
+    }
+    return n >= min_n ? 0 : -1;
+}
+
+int main(int argc, char **argv)
+{
+    psc_cli_t c = {argc, argv, 1};
+    psc_fisheye_rig_t rig;
+    const char *out = NULL;
+    uint16_t map_w = 0, map_h = 0;
+    int have_frame = 0, have_lens[2] = {0, 0};
+
+    memset(&rig, 0, sizeof rig);
+    while (c.index < argc) {
+        const char *arg = argv[c.index], *v = NULL;
+        int r;
+        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+            print_usage(stdout);
+            return 0;
+        }
+        if ((r = psc_cli_take_value(&c, "-o", &v)) != 0) {
+            if (r < 0)
+                return usage_error("option -o needs a value");
+            out = v;
+        } else if ((r = psc_cli_take_value(&c, "--frame", &v)) != 0) {
+            if (r < 0 || psc_cli_parse_size(v, PSC_FISHEYE_MAX_FRAME_DIM, &rig.frame_width, &rig.frame_height) != 0)
+                return usage_error("--frame: expected WxH, each 1..%u", PSC_FISHEYE_MAX_FRAME_DIM);
+            have_frame = 1;
+        } else if ((r = psc_cli_take_value(&c, "--map", &v)) != 0) {
+            if (r < 0 || psc_cli_parse_size(v, PSC_MAX_MAP_DIM, &map_w, &map_h) != 0 || map_w < 2 || map_h < 2)
+                return usage_error("--map: expected WxH, each 2..%u", PSC_MAX_MAP_DIM);
+        } else if ((r = psc_cli_take_value(&c, "--front", &v)) != 0 || (r = psc_cli_take_value(&c, "--back", &v)) != 0) {
+            unsigned k = strncmp(arg, "--front", 7) == 0 ? 0 : 1;
+            double n[4] = {0, 0, 0, DEFAULT_FOV};
+            if (r < 0 || parse_numbers(v, n, 3, 4) != 0)
+                return usage_error("%s: expected CX:CY:R or CX:CY:R:FOV (pixels, degrees)", k ? "--back" : "--front");
+            rig.lens[k].cx = n[0];
+            rig.lens[k].cy = n[1];
+            rig.lens[k].radius = n[2];
+            rig.lens[k].fov_deg = n[3];
+            have_lens[k] = 1;
+        } else if ((r = psc_cli_take_value(&c, "--front-rot", &v)) != 0 ||
+                   (r = psc_cli_take_value(&c, "--back-rot", &v)) != 0) {
+            unsigned k = strncmp(arg, "--front", 7) == 0 ? 0 : 1;
+            double n[3];
+            if (r < 0 || parse_numbers(v, n, 3, 3) != 0)
+                return usage_error("%s: expected YAW:PITCH:ROLL in degrees", k ? "--back-rot" : "--front-rot");
+            rig.lens[k].yaw_deg = n[0];
+            rig.lens[k].pitch_deg = n[1];
+            rig.lens[k].roll_deg = n[2];
+        } else {
+            return usage_error("unknown argument %s", arg);
+        }
+    }
+    if (!out)
+        return usage_error("no output given (-o table.pfish)");
+    if (!have_frame)
+        return usage_error("no frame size given (--frame WxH)");
+    if (!have_lens[0] || !have_lens[1])
+        return usage_error("both lenses are needed (--front CX:CY:R[:FOV] --back CX:CY:R[:FOV])");
+    if (map_w == 0) {
+        unsigned h = rig.frame_height < 2 ? 2u : rig.frame_height;
+        map_w = (uint16_t)(2u * h > PSC_MAX_MAP_DIM ? PSC_MAX_MAP_DIM : 2u * h);
+        map_h = (uint16_t)(map_w / 2u);
+    }
+
+    char err[512];
+    uint8_t *table = NULL;
+    size_t len = 0;
+    if (psc_fisheye_build(&rig, map_w, map_h, out, &table, &len, err, sizeof err) != 0 ||
+        psc_write_file(out, table, len, err, sizeof err) != 0) {
+        fprintf(stderr, PROG ": %s\n", err);
+        free(table);
+        return 1;
+    }
+    free(table);
+    printf("%s: %ux%u frame -> %ux%u map, %zu bytes\n", out, rig.frame_width, rig.frame_height, map_w, map_h, len);
+    return 0;
+}
