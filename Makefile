@@ -114,6 +114,9 @@ $(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(TESTSUP_LIB) $(FW_LIB) $(HAL_LIB) $(H
 
 -include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)
 
+# Per-concern make fragments (cross builds, microcontroller builds, images): mk/*.mk.
+-include $(sort $(wildcard mk/*.mk))
+
 # ---- run: the viewer on the simulated board --------------------------------
 SAMPLE_JPG := assets/pannellum-examplepano.jpg
 SAMPLE_PACK := out/sample.pano
