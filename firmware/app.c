@@ -469,7 +469,7 @@ static void app_format_time(char *buf, size_t len, uint64_t us)
 
 static void app_log_event(const psc_app_t *app, const psc_hal_input_event_t *ev, uint32_t frame, uint64_t t_us)
 {
-    char name[64] = "", when[32];
+    char name[160] = "", when[32]; /* USB product strings can be long */
 
     if (app->quiet || (ev->type != PSC_HAL_INPUT_DEVICE_ARRIVE && ev->type != PSC_HAL_INPUT_DEVICE_LEAVE))
         return;

@@ -79,7 +79,7 @@ unsigned psc_device_status_lines(const psc_device_status_t *st,
         if (st->input_lost[i] && lost++ == 0)
             first = i;
     if (lost == 1)
-        snprintf(lines[n++], PSC_DEVICE_STATUS_LINE_MAX, "INPUT %u LOST", first);
+        snprintf(lines[n++], PSC_DEVICE_STATUS_LINE_MAX, "INPUT %u LOST", first + 1u); /* people count from 1 */
     else if (lost > 1)
         snprintf(lines[n++], PSC_DEVICE_STATUS_LINE_MAX, "%u INPUTS LOST", lost);
     return n;

@@ -8,7 +8,7 @@
  * an input device slot is LOST after a DEVICE_LEAVE until it arrives again;
  * the input source as a whole FAILED when its poll returned an error.
  * Indication: a black box in the top-right corner with one line per problem
- * in amber ("NO CAMERA", "CAMERA LOST", "INPUT 2 LOST", "INPUT FAILED"),
+ * in amber ("NO CAMERA", "CAMERA LOST", "INPUT 2 LOST" (devices counted from 1), "INPUT FAILED"),
  * drawn over the rendered frame with integers only (overlay_font.h); the
  * font scale is the display height / 240 (at least 1). Nothing is drawn
  * while every device is present, so frames stay bit-exact with the viewer's.

@@ -67,9 +67,9 @@ static void test_device_status_states(void **state)
     assert_true(psc_device_status_input_failed(&st, true));
     assert_int_equal(psc_device_status_lines(&st, lines), 3);
     assert_string_equal(lines[1], "INPUT FAILED");
-    assert_string_equal(lines[2], "INPUT 2 LOST");
+    assert_string_equal(lines[2], "INPUT 3 LOST"); /* device slot 2, counted from 1 */
     psc_device_status_text(&st, text, sizeof text);
-    assert_string_equal(text, "camera lost, input failed, input 2 lost");
+    assert_string_equal(text, "camera lost, input failed, input 3 lost");
     leave.device = 5;
     psc_device_status_input_event(&st, &leave);
     assert_int_equal(psc_device_status_lines(&st, lines), 3);
@@ -79,7 +79,7 @@ static void test_device_status_states(void **state)
     leave.device = 200;   /* out of range: ignored */
     assert_false(psc_device_status_input_event(&st, &leave));
     assert_int_equal(psc_device_status_lines(&st, lines), 2);
-    assert_string_equal(lines[1], "INPUT 5 LOST");
+    assert_string_equal(lines[1], "INPUT 6 LOST");
     /* a board without a camera never reports one */
     psc_device_status_init(&st, false);
     assert_false(psc_device_status_camera(&st, -ENODEV, false));

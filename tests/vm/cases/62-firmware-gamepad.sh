@@ -20,7 +20,7 @@
 # vm-after: ! cmp -s fw-75.raw fw-85.raw
 # vm-expect: firmware.log input: gamepad 1d6b:0104
 # vm-expect: firmware.log input: device 0 left
-# vm-expect: firmware.log devices: input 0 lost
+# vm-expect: firmware.log devices: input 1 lost
 # vm-expect: firmware.log devices: all devices present
 . /payload/guest_hid_gadget.sh
 . /payload/guest_firmware.sh

@@ -18,7 +18,7 @@
 # vm-after: sh "$VM_DIR/host_firmware.sh" compare 45 fw-45.raw xrgb8888
 # vm-after: ! cmp -s fw-75.raw fw-85.raw
 # vm-expect: firmware.log left
-# vm-expect: firmware.log devices: input 0 lost
+# vm-expect: firmware.log devices: input 1 lost
 # vm-expect: firmware.log devices: all devices present
 . /payload/guest_gpio_sim.sh
 . /payload/guest_firmware.sh
