@@ -444,6 +444,9 @@ static int board_parse_line(board_parser_t *p, char *line)
             p->first_line[i] = p->line;
         return board_set_key(p, &key_table[i], value);
     }
+    /* build-time keys: the cross build reads them (mk/cross.mk), the firmware does not */
+    if (strcmp(key, "toolchain") == 0 || strcmp(key, "debian_arch") == 0)
+        return 0;
     return board_fail(p, "unknown key '%s' (boards/README.md lists the keys)%s", key, "");
 }
 

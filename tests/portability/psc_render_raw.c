@@ -1,0 +1,188 @@
+/*
+ * psc-render-raw - the bit-exact portability probe: renders views of a scene
+ * pack through core alone (psc_pack_parse, psc_viewer_*) and writes the raw
+ * surface bytes, so that it links with nothing but libc and builds for every
+ * architecture, even one without multiarch image libraries (riscv64 on
+ * Debian 12). tests/portability/run.sh runs it natively and under qemu-user
+ * and compares the bytes.
+ *
+ *   psc-render-raw PACK OUT.raw VIEW...
+ *   VIEW = FORMAT,FILTER,SPAN_LOG2,YAW,PITCH,HFOV
+ *     FORMAT rgb565 | xrgb8888, FILTER nearest | bilinear | mip,
+ *     YAW and HFOV binary angles (2^32 per turn, unsigned decimal),
+ *     PITCH a signed binary angle (2^30 = 90 degrees, decimal).
+ * Angles are integers so that no floating-point conversion sits between the
+ * command line and core. Every view is brought inside the pack's limits
+ * (psc_viewer_clamp) and rendered at the pack's display size; OUT.raw holds
+ * the frames one after another, rows packed (stride = width x bytes per pixel).
+ * Exit status: 0 done, 1 the work failed, 2 bad arguments.
+ */
+#include "psc_pack.h"
+#include "psc_viewer.h"
+
+#include <errno.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PROG "psc-render-raw"
+
+static int fail(const char *what, const char *detail)
+{
+    fprintf(stderr, PROG ": %s%s%s\n", what, detail ? ": " : "", detail ? detail : "");
+    return 1;
+}
+
+/* The whole file in 64-byte aligned memory (the pack parser wants aligned tables). */
+static void *read_file(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    void *buf = NULL;
+    long n;
+
+    if (!f)
+        return NULL;
+    if (fseek(f, 0, SEEK_END) == 0 && (n = ftell(f)) > 0 && fseek(f, 0, SEEK_SET) == 0 &&
+        posix_memalign(&buf, 64, (size_t)n) == 0) {
+        if (fread(buf, 1, (size_t)n, f) == (size_t)n) {
+            *len = (size_t)n;
+        } else {
+            free(buf);
+            buf = NULL;
+        }
+    }
+    fclose(f);
+    return buf;
+}
+
+static int parse_u32(const char *s, uint32_t *out)
+{
+    char *end;
+    unsigned long long v;
+
+    errno = 0;
+    v = strtoull(s, &end, 10);
+    if (errno != 0 || end == s || *end != '\0' || s[0] == '-' || v > 0xffffffffull)
+        return -1;
+    *out = (uint32_t)v;
+    return 0;
+}
+
+static int parse_i32(const char *s, int32_t *out)
+{
+    char *end;
+    long long v;
+
+    errno = 0;
+    v = strtoll(s, &end, 10);
+    if (errno != 0 || end == s || *end != '\0' || v < INT32_MIN || v > INT32_MAX)
+        return -1;
+    *out = (int32_t)v;
+    return 0;
+}
+
+/* "FORMAT,FILTER,SPAN_LOG2,YAW,PITCH,HFOV" -> view and format; -1 if malformed. */
+static int parse_view(char *spec, psc_view_t *view, psc_pixfmt_t *format)
+{
+    char *field[6];
+    uint32_t span;
+    unsigned n = 0;
+
+    for (char *tok = strtok(spec, ","); tok && n < 6; tok = strtok(NULL, ","))
+        field[n++] = tok;
+    if (n != 6 || strtok(NULL, ",") != NULL)
+        return -1;
+    if (strcmp(field[0], "rgb565") == 0)
+        *format = PSC_PIX_RGB565;
+    else if (strcmp(field[0], "xrgb8888") == 0)
+        *format = PSC_PIX_XRGB8888;
+    else
+        return -1;
+    if (strcmp(field[1], "nearest") == 0)
+        view->filter = PSC_FILTER_NEAREST;
+    else if (strcmp(field[1], "bilinear") == 0)
+        view->filter = PSC_FILTER_BILINEAR;
+    else if (strcmp(field[1], "mip") == 0)
+        view->filter = PSC_FILTER_MIP;
+    else
+        return -1;
+    if (parse_u32(field[2], &span) != 0 || span > 4 || parse_u32(field[3], &view->yaw) != 0 ||
+        parse_i32(field[4], &view->pitch) != 0 || parse_u32(field[5], &view->hfov) != 0)
+        return -1;
+    view->span_log2 = (uint8_t)span;
+    return 0;
+}
+
+static int render_views(const psc_pack_t *pack, FILE *out, char **specs, int count)
+{
+    uint16_t w = pack->display_width, h = pack->display_height;
+    size_t ws_size = psc_viewer_workspace_size(w, h, &pack->map);
+    size_t frame_max = (size_t)w * h * 4;
+    void *ws = NULL, *pixels = NULL;
+    psc_viewer_t viewer;
+    psc_status_t s;
+    int rc = 1;
+
+    if (posix_memalign(&ws, 64, ws_size) != 0 || posix_memalign(&pixels, 64, frame_max) != 0) {
+        rc = fail("out of memory", NULL);
+    } else if ((s = psc_viewer_init(&viewer, &pack->map, pack->luts, pack->lut_count, w, h, ws, ws_size)) != PSC_OK ||
+               (s = psc_viewer_set_levels(&viewer, pack->levels, pack->level_count)) != PSC_OK) {
+        rc = fail("cannot set up the viewer", psc_status_str(s));
+    } else {
+        rc = 0;
+        for (int i = 0; i < count && rc == 0; i++) {
+            psc_view_t view = {0};
+            psc_pixfmt_t format;
+            if (parse_view(specs[i], &view, &format) != 0) {
+                fprintf(stderr, PROG ": bad view '%s' (FORMAT,FILTER,SPAN_LOG2,YAW,PITCH,HFOV)\n", specs[i]);
+                rc = 2;
+                break;
+            }
+            uint32_t bpp = psc_pixfmt_bytes(format);
+            psc_surface_t surf = {.width = w, .height = h, .stride = (uint32_t)w * bpp, .format = format,
+                                  .pixels = pixels};
+            memset(pixels, 0, frame_max);
+            psc_viewer_clamp(&viewer, &view, pack->hfov_min);
+            if ((s = psc_viewer_render(&viewer, &view, &surf)) != PSC_OK)
+                rc = fail("rendering failed", psc_status_str(s));
+            else if (fwrite(pixels, 1, (size_t)surf.stride * h, out) != (size_t)surf.stride * h)
+                rc = fail("cannot write the output", strerror(errno));
+        }
+    }
+    free(pixels);
+    free(ws);
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    psc_pack_error_t perr;
+    psc_pack_t pack;
+    size_t len = 0;
+    void *buf;
+    FILE *out;
+    int rc;
+
+    if (argc < 4) {
+        fprintf(stderr, "usage: " PROG " PACK OUT.raw FORMAT,FILTER,SPAN_LOG2,YAW,PITCH,HFOV...\n");
+        return 2;
+    }
+    buf = read_file(argv[1], &len);
+    if (!buf)
+        return fail(argv[1], "cannot read");
+    if (psc_pack_parse(buf, len, &pack, &perr) != PSC_OK) {
+        free(buf);
+        return fail(argv[1], "not a valid scene pack");
+    }
+    out = fopen(argv[2], "wb");
+    if (!out) {
+        free(buf);
+        return fail(argv[2], strerror(errno));
+    }
+    rc = render_views(&pack, out, argv + 3, argc - 3);
+    if (fclose(out) != 0 && rc == 0)
+        rc = fail(argv[2], strerror(errno));
+    free(buf);
+    return rc;
+}

@@ -1,0 +1,124 @@
+#!/bin/sh
+# Bit-exact portability: the cross-built renderers of one board, run under
+# qemu-user, must give byte for byte what the x86-64 build gives.
+#   sh tests/portability/run.sh [--build BUILD] BOARD
+# BOARD is a board whose board.conf names `toolchain` and `debian_arch`
+# (rpi-arm64, rpi-armhf, riscv64, x86-kiosk); its programs are in build/BOARD/
+# (mk/cross.mk: `make BOARD=BOARD`, which `make test` runs for every board
+# whose compiler is installed). Compared:
+#   psc-render-raw (core + libc, static): raw frames of 2 map formats x
+#     2 output formats x 3 filters x 6 views (yaw 180, pitch +-90, spans);
+#   periscope-render (the real tool, dynamic, with the target's multiarch
+#     libraries through qemu's -L /usr/<triplet>): PNG files, where it was built.
+# Exit status: 0 equal, 1 a difference or a failure, 77 cannot run here (the
+# reason is printed: no qemu-user, or the board was not cross-built).
+set -u
+
+build=build
+while [ $# -gt 1 ]; do
+    case $1 in
+    --build) build=$2; shift 2 ;;
+    *) break ;;
+    esac
+done
+if [ $# -ne 1 ]; then
+    echo "usage: $0 [--build BUILD] BOARD" >&2
+    exit 2
+fi
+board=$1
+conf="boards/$board/board.conf"
+key() { sed -n "s/^[[:space:]]*$1[[:space:]]*=[[:space:]]*\([^[:space:]#]*\).*/\1/p" "$conf" | head -n 1; }
+prefix=$(key toolchain)
+arch=$(key debian_arch)
+if [ -z "$prefix" ] || [ -z "$arch" ]; then
+    echo "portability: $conf names no toolchain/debian_arch" >&2
+    exit 1
+fi
+triplet=${prefix%-}
+skip() { echo "portability: $board ($arch): SKIPPED: $*"; exit 77; }
+die() { echo "portability: $board ($arch): FAILED: $*"; exit 1; }
+
+# how to run the board's programs on this machine
+case $(uname -m):$arch in
+x86_64:amd64) runner="" ;;
+*:arm64) runner=qemu-aarch64 ;;
+*:armhf) runner=qemu-arm ;;
+*:riscv64) runner=qemu-riscv64 ;;
+*) skip "no qemu-user mapping for debian_arch '$arch' on $(uname -m)" ;;
+esac
+if [ -n "$runner" ] && ! command -v "$runner" >/dev/null 2>&1; then
+    skip "no $runner (Debian's qemu-user: sh scripts/cross-deps $board)"
+fi
+probe="build/$board/portability/psc-render-raw"
+tool="build/$board/bin/periscope-render"
+[ -x "$probe" ] || skip "not cross-built: no $probe (sh scripts/cross-deps $board; make BOARD=$board)"
+
+for p in "$build/bin/periscope-pack" "$build/bin/periscope-render" "$build/portability/psc-render-raw"; do
+    [ -x "$p" ] || die "no host program $p (make test builds it)"
+done
+
+tmp="${PSC_TEST_TMPDIR:-$build/test-tmp}/portability-$board"
+rm -rf "$tmp"
+mkdir -p "$tmp" || die "cannot create $tmp"
+
+# two packs of the bundled panorama, small enough for emulation: the map as RGB565 and as XRGB8888
+for fmt in rgb565 xrgb8888; do
+    "$build/bin/periscope-pack" assets/pannellum-examplepano.jpg -o "$tmp/$fmt.pano" --display 160x120 \
+        --format "$fmt" --quiet >"$tmp/pack.log" 2>&1 || { cat "$tmp/pack.log"; die "periscope-pack $fmt failed"; }
+done
+
+# views: YAW,PITCH,HFOV as binary angles (2^32 per turn; pitch 2^30 = 90 degrees) and SPAN_LOG2
+VIEWS="0,0,1073741824,2 2147483648,0,1073741824,2 447392427,1073741824,1073741824,2
+       3937053355,-1073741824,1073741824,2 1789569707,238609294,715827883,0 2863311531,-477218588,1431655765,4"
+specs=""
+for out in rgb565 xrgb8888; do
+    for filter in nearest bilinear mip; do
+        for v in $VIEWS; do
+            yaw=${v%%,*}; rest=${v#*,}; pitch=${rest%%,*}; rest=${rest#*,}; hfov=${rest%%,*}; span=${rest#*,}
+            specs="$specs $out,$filter,$span,$yaw,$pitch,$hfov"
+        done
+    done
+done
+
+frames=0
+for map in rgb565 xrgb8888; do
+    # shellcheck disable=SC2086
+    "$build/portability/psc-render-raw" "$tmp/$map.pano" "$tmp/ref-$map.raw" $specs ||
+        die "the x86-64 psc-render-raw failed"
+    # the comparison means something only if the frames do: yaw 0 and yaw 180 differ, and neither is blank
+    f0=$(head -c 38400 "$tmp/ref-$map.raw" | cksum)
+    f1=$(head -c 76800 "$tmp/ref-$map.raw" | tail -c 38400 | cksum)
+    blank=$(head -c 38400 /dev/zero | cksum)
+    [ "$f0" != "$f1" ] && [ "$f0" != "$blank" ] && [ "$f1" != "$blank" ] ||
+        die "the x86-64 reference frames are blank or all alike: the probe is broken"
+    # shellcheck disable=SC2086
+    $runner "$probe" "$tmp/$map.pano" "$tmp/$board-$map.raw" $specs || die "$probe under ${runner:-the host} failed"
+    cmp "$tmp/ref-$map.raw" "$tmp/$board-$map.raw" ||
+        die "psc-render-raw on a $map map: $board's bytes differ from x86-64's (first difference above)"
+    frames=$((frames + $(echo $specs | wc -w)))
+done
+echo "portability: $board ($arch): psc-render-raw: $frames frames equal to x86-64's ($(wc -c <"$tmp/ref-rgb565.raw") + $(wc -c <"$tmp/ref-xrgb8888.raw") bytes)"
+
+if [ ! -x "$tool" ]; then
+    echo "portability: $board ($arch): periscope-render not cross-built (no $arch image libraries: sh scripts/cross-deps $board): the core probe above stands alone"
+    exit 0
+fi
+# the real tool; the target's libraries come from Debian multiarch (/usr/lib/<triplet>)
+pngs=0
+for map in rgb565 xrgb8888; do
+    for args in "--filter nearest --format rgb565 --yaw 180 --pitch 0 --hfov 90" \
+                "--filter bilinear --format xrgb8888 --yaw 37.5 --pitch 90 --hfov 75" \
+                "--filter mip --format rgb565 --yaw -120 --pitch -90 --hfov 100" \
+                "--filter mip --format xrgb8888 --yaw 180 --pitch -33 --hfov 60 --span 1"; do
+        pngs=$((pngs + 1))
+        # shellcheck disable=SC2086
+        "$build/bin/periscope-render" "$tmp/$map.pano" $args -o "$tmp/ref-$pngs.png" 2>"$tmp/render.log" ||
+            { cat "$tmp/render.log"; die "the x86-64 periscope-render failed ($args)"; }
+        # shellcheck disable=SC2086
+        ${runner:+$runner -L /usr/$triplet} "$tool" "$tmp/$map.pano" $args -o "$tmp/$board-$pngs.png" \
+            2>"$tmp/render.log" || { cat "$tmp/render.log"; die "$tool failed ($args)"; }
+        cmp "$tmp/ref-$pngs.png" "$tmp/$board-$pngs.png" ||
+            die "periscope-render $args on a $map map: the PNG differs from x86-64's"
+    done
+done
+echo "portability: $board ($arch): periscope-render: $pngs PNG files equal to x86-64's"
