@@ -93,46 +93,40 @@ psc_envmap_t psc_fisheye_map_shape(const psc_fisheye_t *t, psc_pixfmt_t format, 
     return m;
 }
 
-/* Right and down neighbours: a zero fraction never reads past the last
- * column or row (the parser keeps positions <= (size-1)*16). */
-static void remap_xrgb(const psc_fisheye_t *t, const uint8_t *src, uint32_t sstride, uint8_t *dst,
-                       uint32_t dstride, uint32_t unseen)
+/*
+ * One loop for both pixel formats (is565 is a constant once inlined).
+ * Right and down neighbours: a zero fraction never reads past the last
+ * column or row (the parser keeps positions <= (size-1)*16).
+ */
+static PSC_ALWAYS_INLINE void remap_rows(const psc_fisheye_t *t, const uint8_t *src, uint32_t sstride, uint8_t *dst,
+                                         uint32_t dstride, uint32_t unseen, const bool is565)
 {
+    const uint32_t bpp = is565 ? 2u : 4u;
     const uint16_t *p = t->pos;
     for (uint32_t j = 0; j < t->map_height; j++) {
-        uint32_t *o = (uint32_t *)(void *)(dst + (size_t)j * dstride);
+        uint8_t *row = dst + (size_t)j * dstride;
         for (uint32_t i = 0; i < t->map_width; i++, p += 2) {
-            uint32_t x = p[0], y = p[1];
+            uint32_t x = p[0], y = p[1], px;
             if (x == PSC_FISHEYE_UNSEEN && y == PSC_FISHEYE_UNSEEN) {
-                o[i] = unseen;
-                continue;
+                px = unseen;
+            } else {
+                uint32_t fx = x & 15u, fy = y & 15u;
+                const uint8_t *r0 = src + (size_t)(y >> 4) * sstride + (size_t)(x >> 4) * bpp;
+                const uint8_t *r1 = r0 + (fy ? sstride : 0u);
+                uint32_t dx = fx ? bpp : 0u;
+                if (is565)
+                    px = psc_blend4_rgb565(*(const uint16_t *)(const void *)r0, *(const uint16_t *)(const void *)(r0 + dx),
+                                           *(const uint16_t *)(const void *)r1, *(const uint16_t *)(const void *)(r1 + dx),
+                                           fx << 1, fy << 1);
+                else
+                    px = psc_blend4_xrgb(*(const uint32_t *)(const void *)r0, *(const uint32_t *)(const void *)(r0 + dx),
+                                         *(const uint32_t *)(const void *)r1, *(const uint32_t *)(const void *)(r1 + dx),
+                                         fx << 4, fy << 4);
             }
-            uint32_t fx = x & 15u, fy = y & 15u;
-            const uint32_t *r0 = (const uint32_t *)(const void *)(src + (size_t)(y >> 4) * sstride) + (x >> 4);
-            const uint32_t *r1 = (const uint32_t *)(const void *)((const uint8_t *)r0 + (fy ? sstride : 0u));
-            uint32_t dx = fx ? 1u : 0u;
-            o[i] = psc_blend4_xrgb(r0[0], r0[dx], r1[0], r1[dx], fx << 4, fy << 4);
-        }
-    }
-}
-
-static void remap_rgb565(const psc_fisheye_t *t, const uint8_t *src, uint32_t sstride, uint8_t *dst,
-                         uint32_t dstride, uint16_t unseen)
-{
-    const uint16_t *p = t->pos;
-    for (uint32_t j = 0; j < t->map_height; j++) {
-        uint16_t *o = (uint16_t *)(void *)(dst + (size_t)j * dstride);
-        for (uint32_t i = 0; i < t->map_width; i++, p += 2) {
-            uint32_t x = p[0], y = p[1];
-            if (x == PSC_FISHEYE_UNSEEN && y == PSC_FISHEYE_UNSEEN) {
-                o[i] = unseen;
-                continue;
-            }
-            uint32_t fx = x & 15u, fy = y & 15u;
-            const uint16_t *r0 = (const uint16_t *)(const void *)(src + (size_t)(y >> 4) * sstride) + (x >> 4);
-            const uint16_t *r1 = (const uint16_t *)(const void *)((const uint8_t *)r0 + (fy ? sstride : 0u));
-            uint32_t dx = fx ? 1u : 0u;
-            o[i] = (uint16_t)psc_blend4_rgb565(r0[0], r0[dx], r1[0], r1[dx], fx << 1, fy << 1);
+            if (is565)
+                ((uint16_t *)(void *)row)[i] = (uint16_t)px;
+            else
+                ((uint32_t *)(void *)row)[i] = px;
         }
     }
 }
@@ -150,8 +144,8 @@ psc_status_t psc_fisheye_remap(const psc_fisheye_t *t, const psc_envmap_t *frame
     if (frame->stride < frame->width * bpp || dst_stride < (uint32_t)t->map_width * bpp)
         return PSC_ERR_ARG;
     if (frame->format == PSC_PIX_XRGB8888)
-        remap_xrgb(t, frame->pixels, frame->stride, dst, dst_stride, unseen_xrgb | 0xFF000000u);
+        remap_rows(t, frame->pixels, frame->stride, dst, dst_stride, unseen_xrgb | 0xFF000000u, false);
     else
-        remap_rgb565(t, frame->pixels, frame->stride, dst, dst_stride, psc_xrgb_to_rgb565(unseen_xrgb));
+        remap_rows(t, frame->pixels, frame->stride, dst, dst_stride, psc_xrgb_to_rgb565(unseen_xrgb), true);
     return PSC_OK;
 }
