@@ -1,0 +1,391 @@
+/*
+ * test_deb.c - the Debian package (mk/deb.mk, scripts/build-deb, packaging/deb/).
+ *
+ * `make test` builds the package of the native board (x86-kiosk on amd64) from
+ * this build's binaries into $PSC_BIN_DIR/../deb/. This test takes it apart
+ * with dpkg-deb and checks:
+ *  - the control fields: name, the VERSION file's version, the host's
+ *    architecture, Depends on adduser and the shared libraries;
+ *  - the file list: the program and host tools, the sample scene, the
+ *    documentation (copyright in Debian's machine-readable format, changelog,
+ *    the panorama's attribution byte for byte), the unit, the board config,
+ *    everything owned by root;
+ *  - conffiles names the board config, whose scene lines name the packaged
+ *    sample; the systemd unit's notify/watchdog/restart settings and user;
+ *    the maintainer scripts parse and guard starting the unit;
+ *  - the packaged periscope-render renders the packaged scene;
+ *  - `dpkg --root` installs it into a scratch root (scripts run chrootless,
+ *    DPKG_ROOT set: they must not touch this machine), registers the
+ *    conffile, and purges it again.
+ * Skipped with a message where dpkg-deb is missing or no package was built.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <glob.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#define SCENE "/usr/share/periscope/scenes/sample.pano"
+#define OUT_MAX 65536
+
+static char deb[1024];         /* the package, "" when skipping */
+static char root[1024];        /* dpkg-deb -x / -e of it */
+static char board[64];         /* the board it was built for (from its conffile) */
+static const char *skip_reason;
+
+/* Run a shell command; its standard output into out (if given). Returns the exit status. */
+static int run(char *out, size_t outlen, const char *fmt, ...)
+{
+    char cmd[4096];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(cmd, sizeof cmd, fmt, ap);
+    va_end(ap);
+    FILE *p = popen(cmd, "r");
+    if (!p)
+        return -1;
+    size_t n = 0;
+    char sink[4096];
+    for (;;) {
+        char *dst = out ? out + n : sink;
+        size_t room = out ? outlen - 1 - n : sizeof sink;
+        if (room == 0)
+            break;
+        size_t got = fread(dst, 1, room, p);
+        if (got == 0)
+            break;
+        if (out)
+            n += got;
+    }
+    if (out)
+        out[n] = '\0';
+    int st = pclose(p);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static char *read_file(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    char *buf = malloc(OUT_MAX);
+    size_t n = buf ? fread(buf, 1, OUT_MAX - 1, f) : 0;
+    fclose(f);
+    if (buf)
+        buf[n] = '\0';
+    return buf;
+}
+
+static char *root_file(const char *rel)
+{
+    char path[2048];
+    snprintf(path, sizeof path, "%s%s", root, rel);
+    return read_file(path);
+}
+
+/* One line of text (a whole line, exactly). */
+static int has_line(const char *text, const char *line)
+{
+    size_t n = strlen(line);
+    for (const char *p = text; p && *p; p = strchr(p, '\n') ? strchr(p, '\n') + 1 : NULL) {
+        if (strncmp(p, line, n) == 0 && (p[n] == '\n' || p[n] == '\0'))
+            return 1;
+    }
+    return 0;
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    if (run(NULL, 0, "command -v dpkg-deb >/dev/null 2>&1") != 0) {
+        skip_reason = "no dpkg-deb on this machine (dpkg)";
+        return 0;
+    }
+    const char *bin = getenv("PSC_BIN_DIR");
+    char dir[1024], pattern[1100];
+    snprintf(dir, sizeof dir, "%s/../deb", bin && *bin ? bin : "build/bin");
+    struct stat st;
+    if (stat(dir, &st) != 0) {
+        skip_reason = "no package was built (make test builds it; mk/deb.mk said why not)";
+        return 0;
+    }
+    snprintf(pattern, sizeof pattern, "%s/periscope_*_*.deb", dir);
+    glob_t g;
+    if (glob(pattern, 0, NULL, &g) != 0 || g.gl_pathc != 1) {
+        fprintf(stderr, "test_deb: want exactly one %s\n", pattern);
+        return -1;
+    }
+    snprintf(deb, sizeof deb, "%s", g.gl_pathv[0]);
+    globfree(&g);
+
+    /* absolute: dpkg --root runs the maintainer scripts from another directory */
+    const char *tmp = getenv("PSC_TEST_TMPDIR");
+    char *abs = realpath(tmp && *tmp ? tmp : "/tmp", NULL);
+    if (!abs) {
+        fprintf(stderr, "test_deb: no scratch directory %s\n", tmp);
+        return -1;
+    }
+    snprintf(root, sizeof root, "%s/deb-root", abs);
+    free(abs);
+    if (run(NULL, 0, "rm -rf '%s' && mkdir -p '%s' && dpkg-deb -x '%s' '%s' && dpkg-deb -e '%s' '%s/DEBIAN'", root,
+            root, deb, root, deb, root) != 0) {
+        fprintf(stderr, "test_deb: cannot unpack %s\n", deb);
+        return -1;
+    }
+    char *conffiles = root_file("/DEBIAN/conffiles");
+    if (!conffiles || sscanf(conffiles, "/etc/periscope/boards/%63[^/]/board.conf", board) != 1) {
+        fprintf(stderr, "test_deb: %s: conffiles names no /etc/periscope/boards/BOARD/board.conf\n", deb);
+        free(conffiles);
+        return -1;
+    }
+    free(conffiles);
+    printf("test_deb: %s (board %s)\n", deb, board);
+    return 0;
+}
+
+#define SKIP_IF_NO_PACKAGE()                                                                                  \
+    do {                                                                                                      \
+        if (skip_reason) {                                                                                    \
+            printf("test_deb: skipped: %s\n", skip_reason);                                                 \
+            skip();                                                                                           \
+        }                                                                                                     \
+    } while (0)
+
+static void field(const char *name, char *out, size_t n)
+{
+    assert_int_equal(run(out, n, "dpkg-deb -f '%s' %s", deb, name), 0);
+    out[strcspn(out, "\n")] = '\0';
+}
+
+static void test_control_fields(void **state)
+{
+    (void)state;
+    SKIP_IF_NO_PACKAGE();
+    char v[4096], want[256], arch[64];
+    field("Package", v, sizeof v);
+    assert_string_equal(v, "periscope");
+
+    char *version = read_file("VERSION");
+    assert_non_null(version);
+    version[strcspn(version, " \n")] = '\0';
+    field("Version", v, sizeof v);
+    assert_string_equal(v, version);
+    snprintf(want, sizeof want, "periscope_%s_", version);
+    assert_non_null(strstr(deb, want));
+    free(version);
+
+    assert_int_equal(run(arch, sizeof arch, "dpkg --print-architecture"), 0);
+    arch[strcspn(arch, "\n")] = '\0';
+    field("Architecture", v, sizeof v);
+    assert_string_equal(v, arch);
+
+    field("Depends", v, sizeof v);
+    assert_true(strncmp(v, "adduser, ", 9) == 0);
+    assert_non_null(strstr(v, "libc6 (>= "));
+    assert_non_null(strstr(v, "libdrm2"));
+    assert_non_null(strstr(v, "libpng16-16"));
+    field("Maintainer", v, sizeof v);
+    assert_non_null(strchr(v, '@'));
+    field("Installed-Size", v, sizeof v);
+    assert_true(atol(v) > 1000);
+    field("Description", v, sizeof v);
+    assert_true(strlen(v) > 10);
+}
+
+static void test_file_list(void **state)
+{
+    (void)state;
+    SKIP_IF_NO_PACKAGE();
+    static char list[OUT_MAX];
+    assert_int_equal(run(list, sizeof list, "dpkg-deb -c '%s'", deb), 0);
+    char conf[256];
+    snprintf(conf, sizeof conf, "./etc/periscope/boards/%s/board.conf", board);
+    const char *want[] = {"./usr/bin/periscope",
+                          "./usr/bin/periscope-pack",
+                          "./usr/bin/periscope-render",
+                          "./usr/bin/periscope-contact",
+                          "./usr/bin/periscope-fisheye",
+                          "." SCENE,
+                          "./usr/share/doc/periscope/copyright",
+                          "./usr/share/doc/periscope/changelog.gz",
+                          "./usr/share/doc/periscope/ATTRIBUTION.md",
+                          "./lib/systemd/system/periscope.service",
+                          conf};
+    for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
+        char line[300];
+        snprintf(line, sizeof line, " %s\n", want[i]);
+        if (!strstr(list, line))
+            fail_msg("%s is not in the package", want[i]);
+    }
+    /* every entry root-owned, nothing in /usr/local, no stray build paths */
+    for (char *l = list; *l; l = strchr(l, '\n') + 1) {
+        assert_non_null(strstr(l, " root/root "));
+        assert_null(strstr(l, "./usr/local"));
+        if (!strchr(l, '\n'))
+            break;
+    }
+    /* the programs are this machine's and run */
+    assert_int_equal(run(NULL, 0, "'%s/usr/bin/periscope' --help >/dev/null 2>&1", root), 0);
+    assert_int_equal(run(NULL, 0, "'%s/usr/bin/periscope-pack' --help >/dev/null 2>&1", root), 0);
+}
+
+static void test_conffile_and_board(void **state)
+{
+    (void)state;
+    SKIP_IF_NO_PACKAGE();
+    char want[256], rel[256];
+    snprintf(want, sizeof want, "/etc/periscope/boards/%s/board.conf\n", board);
+    char *conffiles = root_file("/DEBIAN/conffiles");
+    assert_non_null(conffiles);
+    assert_string_equal(conffiles, want); /* exactly the board config */
+    free(conffiles);
+
+    snprintf(rel, sizeof rel, "/etc/periscope/boards/%s/board.conf", board);
+    char *conf = root_file(rel);
+    assert_non_null(conf);
+    assert_true(has_line(conf, "scene = " SCENE));
+    /* every scene or camera_scene line names the packaged sample */
+    for (const char *p = conf; (p = strstr(p, "scene =")) != NULL; p++) {
+        assert_true(strncmp(p, "scene = " SCENE "\n", strlen("scene = " SCENE "\n")) == 0);
+    }
+    assert_true(has_line(conf, "watchdog = systemd"));
+    free(conf);
+}
+
+static void test_unit(void **state)
+{
+    (void)state;
+    SKIP_IF_NO_PACKAGE();
+    char *unit = root_file("/lib/systemd/system/periscope.service");
+    assert_non_null(unit);
+    char exec[256];
+    snprintf(exec, sizeof exec, "ExecStart=/usr/bin/periscope --board %s --boards-dir /etc/periscope/boards --quiet",
+             board);
+    const char *lines[] = {"[Unit]", "[Service]", "[Install]", "Type=notify", "NotifyAccess=main",
+                           "Restart=on-failure", "RestartSec=2", "StartLimitIntervalSec=120",
+                           "StartLimitBurst=5", "User=periscope", "Group=periscope",
+                           "WantedBy=multi-user.target", exec};
+    for (size_t i = 0; i < sizeof lines / sizeof lines[0]; i++) {
+        if (!has_line(unit, lines[i]))
+            fail_msg("the unit has no line '%s'", lines[i]);
+    }
+    /* the start limit belongs to [Unit], the restart policy to [Service] */
+    assert_true(strstr(unit, "StartLimitBurst=") < strstr(unit, "[Service]"));
+    const char *wd = strstr(unit, "\nWatchdogSec=");
+    assert_non_null(wd);
+    assert_true(atoi(wd + strlen("\nWatchdogSec=")) >= 1);
+    assert_null(strstr(unit, "@")); /* no template placeholder left */
+    free(unit);
+}
+
+static void test_docs_and_scripts(void **state)
+{
+    (void)state;
+    SKIP_IF_NO_PACKAGE();
+    char *copyright = root_file("/usr/share/doc/periscope/copyright");
+    assert_non_null(copyright);
+    assert_true(strncmp(copyright, "Format: https://www.debian.org/doc/packaging-manuals/copyright-format/1.0/\n",
+                        75) == 0);
+    assert_true(has_line(copyright, "Files: usr/share/periscope/scenes/*"));
+    assert_true(has_line(copyright, "License: CC-BY-SA-3.0"));
+    free(copyright);
+
+    char *ours = root_file("/usr/share/doc/periscope/ATTRIBUTION.md");
+    char *src = read_file("assets/ATTRIBUTION.md");
+    assert_non_null(ours);
+    assert_non_null(src);
+    assert_string_equal(ours, src);
+    free(ours);
+    free(src);
+
+    char top[512], version[64];
+    assert_int_equal(run(top, sizeof top, "gzip -dc '%s/usr/share/doc/periscope/changelog.gz' | head -n 1", root), 0);
+    assert_int_equal(run(version, sizeof version, "dpkg-deb -f '%s' Version", deb), 0);
+    version[strcspn(version, "\n")] = '\0';
+    char want[128];
+    snprintf(want, sizeof want, "periscope (%s) ", version);
+    assert_true(strncmp(top, want, strlen(want)) == 0);
+
+    const char *scripts[] = {"postinst", "prerm", "postrm"};
+    for (size_t i = 0; i < 3; i++) {
+        if (run(NULL, 0, "sh -n '%s/DEBIAN/%s'", root, scripts[i]) != 0)
+            fail_msg("DEBIAN/%s does not parse", scripts[i]);
+    }
+    char *postinst = root_file("/DEBIAN/postinst");
+    assert_non_null(postinst);
+    assert_non_null(strstr(postinst, "adduser --quiet --system --group --home /var/lib/periscope periscope"));
+    assert_non_null(strstr(postinst, "deb-systemd-helper enable"));
+    /* starts only on a running systemd: not in a chroot or image build */
+    assert_non_null(strstr(postinst, "[ -d /run/systemd/system ]"));
+    assert_true(strstr(postinst, "[ -d /run/systemd/system ]") < strstr(postinst, "deb-systemd-invoke restart"));
+    free(postinst);
+}
+
+static void test_scene_renders(void **state)
+{
+    (void)state;
+    SKIP_IF_NO_PACKAGE();
+    char png[1100];
+    snprintf(png, sizeof png, "%s-view.png", root);
+    unlink(png);
+    assert_int_equal(run(NULL, 0, "'%s/usr/bin/periscope-render' '%s" SCENE "' -o '%s' --yaw 30 2>&1", root, root, png),
+                     0);
+    struct stat st;
+    assert_int_equal(stat(png, &st), 0);
+    assert_true(st.st_size > 1000);
+}
+
+static void test_dpkg_root_install(void **state)
+{
+    (void)state;
+    SKIP_IF_NO_PACKAGE();
+    char inst[1100], out[OUT_MAX];
+    snprintf(inst, sizeof inst, "%s-installed", root);
+    assert_int_equal(run(NULL, 0,
+                         "rm -rf '%s' && mkdir -p '%s/var/lib/dpkg/info' '%s/var/lib/dpkg/updates' && "
+                         ": > '%s/var/lib/dpkg/status'",
+                         inst, inst, inst, inst),
+                     0);
+    /* chrootless: DPKG_ROOT is set, so the scripts leave this machine alone */
+    int rc = run(out, sizeof out,
+                 "dpkg --root='%s' --force-script-chrootless --force-depends --force-not-root --log=/dev/null "
+                 "-i '%s' 2>&1",
+                 inst, deb);
+    if (rc != 0)
+        fail_msg("dpkg --root -i failed (%d):\n%s", rc, out);
+    assert_int_equal(run(out, sizeof out, "dpkg --root='%s' -s periscope", inst), 0);
+    assert_true(has_line(out, "Status: install ok installed"));
+    char conf[256];
+    snprintf(conf, sizeof conf, " /etc/periscope/boards/%s/board.conf ", board);
+    assert_non_null(strstr(out, conf));
+    char path[2048];
+    snprintf(path, sizeof path, "%s/usr/bin/periscope", inst);
+    assert_int_equal(access(path, X_OK), 0);
+
+    rc = run(out, sizeof out, "dpkg --root='%s' --force-script-chrootless --force-not-root --log=/dev/null -P periscope 2>&1",
+             inst);
+    if (rc != 0)
+        fail_msg("dpkg --root -P failed (%d):\n%s", rc, out);
+    snprintf(path, sizeof path, "%s/etc/periscope/boards/%s/board.conf", inst, board);
+    assert_int_not_equal(access(path, F_OK), 0); /* purged, conffile too */
+    run(NULL, 0, "rm -rf '%s'", inst);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_control_fields),    cmocka_unit_test(test_file_list),
+        cmocka_unit_test(test_conffile_and_board), cmocka_unit_test(test_unit),
+        cmocka_unit_test(test_docs_and_scripts),  cmocka_unit_test(test_scene_renders),
+        cmocka_unit_test(test_dpkg_root_install),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
