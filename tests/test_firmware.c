@@ -26,6 +26,7 @@
 #include "sim/psc_sim_tour.h"
 #include "quality.h"
 #include "psc_testsupport.h"
+#include "tsup_pack.h"
 
 #define DEG(d) ((int64_t)llround((d) / 360.0 * 4294967296.0)) /* degrees -> bam, any sign */
 
@@ -586,28 +587,9 @@ static void test_sim_board_end_to_end(void **state)
     mkdir(dir, 0755);
 
     /* A tiny pack of the synthetic scene. */
-    psc_image_t img = {128, 64, malloc(128 * 64 * 4)};
-    assert_non_null(img.xrgb);
-    for (uint32_t y = 0; y < 64; y++)
-        for (uint32_t x = 0; x < 128; x++) {
-            double rgb[3];
-            tsup_synth_color(((x + 0.5) / 128 - 0.5) * 2 * TSUP_PI, (0.5 - (y + 0.5) / 64) * TSUP_PI, rgb);
-            img.xrgb[y * 128 + x] = 0xFF000000u | ((uint32_t)rgb[0] << 16) | ((uint32_t)rgb[1] << 8) | (uint32_t)rgb[2];
-        }
-    psc_pack_options_t o;
-    psc_pack_options_default(&o);
-    o.display_width = 96;
-    o.display_height = 64;
-    o.lut_rows = 32;
-    o.lut_cols = 24;
-    uint8_t *buf;
-    size_t len;
-    if (psc_pack_build(&img, &o, &buf, &len, err, sizeof(err)) != 0)
-        fail_msg("pack: %s", err);
-    free(img.xrgb);
     snprintf(pack, sizeof(pack), "%s/tiny.pano", root);
-    assert_int_equal(psc_write_file(pack, buf, len, err, sizeof(err)), 0);
-    free(buf);
+    if (tsup_write_synth_pack(pack, 128, 64, 96, 64, 32, 24, err, sizeof(err)) != 0)
+        fail_msg("pack: %s", err);
 
     /* 3 s of tour at 30 frames/s: a whip pan (fast quality), a look up, home. */
     snprintf(tourf, sizeof(tourf), "%s/tour.txt", root);

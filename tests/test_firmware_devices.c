@@ -30,6 +30,7 @@
 #include "pack_build.h"
 #include "psc_pixel.h"
 #include "psc_testsupport.h"
+#include "tsup_pack.h"
 #include "psc_viewer.h"
 #include "sim/psc_hal_sim.h"
 #include "tsup_files.h"
@@ -242,28 +243,12 @@ static void write_text(const char *path, const char *text)
     assert_int_equal(tsup_write_bytes(path, text, strlen(text)), 0);
 }
 
-/* A small pack for a 160x120 display, of a smooth synthetic scene. */
+/* A small pack for a 160x120 display, of the smooth synthetic scene. */
 static void make_pack(const char *path)
 {
-    psc_image_t img = { 128, 64, malloc(128 * 64 * 4) };
-    psc_pack_options_t o;
-    uint8_t *buf;
-    size_t len;
     char err[300];
-
-    for (uint32_t y = 0; y < 64; y++)
-        for (uint32_t x = 0; x < 128; x++)
-            img.xrgb[y * 128 + x] = 0xFF000000u | (x * 2u) << 16 | (y * 4u) << 8 | 0x40u;
-    psc_pack_options_default(&o);
-    o.display_width = 160;
-    o.display_height = 120;
-    o.lut_rows = 32;
-    o.lut_cols = 128;
-    if (psc_pack_build(&img, &o, &buf, &len, err, sizeof err) != 0)
+    if (tsup_write_synth_pack(path, 128, 64, 160, 120, 32, 128, err, sizeof err) != 0)
         fail_msg("pack: %s", err);
-    free(img.xrgb);
-    assert_int_equal(psc_write_file(path, buf, len, err, sizeof err), 0);
-    free(buf);
 }
 
 /* Run board NAME (in root) for frames frames, dumping frame dump_at. */

@@ -26,6 +26,7 @@
 #include "pack_build.h"
 #include "psc_pixel.h"
 #include "psc_testsupport.h"
+#include "tsup_pack.h"
 
 #define DEG(d) ((int64_t)llround((d) / 360.0 * 4294967296.0)) /* degrees -> bam, any sign */
 #define BAM_TO_DEG(b) ((double)(int32_t)(b) * 360.0 / 4294967296.0)
@@ -473,28 +474,9 @@ static void test_sim_board_follows_hotspot(void **state)
     mkdir(dir, 0755);
 
     /* a small pack of the synthetic scene */
-    psc_image_t img = { 256, 128, malloc(256 * 128 * 4) };
-    assert_non_null(img.xrgb);
-    for (uint32_t y = 0; y < 128; y++)
-        for (uint32_t x = 0; x < 256; x++) {
-            double rgb[3];
-            tsup_synth_color(((x + 0.5) / 256 - 0.5) * 2 * TSUP_PI, (0.5 - (y + 0.5) / 128) * TSUP_PI, rgb);
-            img.xrgb[y * 256 + x] = 0xFF000000u | ((uint32_t)rgb[0] << 16) | ((uint32_t)rgb[1] << 8) | (uint32_t)rgb[2];
-        }
-    psc_pack_options_t o;
-    psc_pack_options_default(&o);
-    o.display_width = 96;
-    o.display_height = 64;
-    o.lut_rows = 32;
-    o.lut_cols = 24;
-    uint8_t *buf;
-    size_t len;
-    if (psc_pack_build(&img, &o, &buf, &len, err, sizeof err) != 0)
-        fail_msg("pack: %s", err);
-    free(img.xrgb);
     snprintf(pack, sizeof pack, "%s/tiny.pano", root);
-    assert_int_equal(psc_write_file(pack, buf, len, err, sizeof err), 0);
-    free(buf);
+    if (tsup_write_synth_pack(pack, 256, 128, 96, 64, 32, 24, err, sizeof err) != 0)
+        fail_msg("pack: %s", err);
 
     /* scene 0's home view (yaw 0) is inside hotspot 1 only; select follows it to
      * scene 1 at yaw -120, pitch 20, hfov 70; 1 s after that nobody touches anything */
