@@ -8,6 +8,7 @@
 
 #include "errmsg.h"
 #include "fisheye_build.h"
+#include "file_read.h"
 #include "le_bytes.h"
 
 #define FISH_PI 3.14159265358979323846
@@ -217,28 +218,8 @@ int psc_fisheye_build(const psc_fisheye_rig_t *rig, uint16_t map_w, uint16_t map
 int psc_fisheye_file_load(const char *path, psc_fisheye_file_t *ff, char *err, size_t errlen)
 {
     memset(ff, 0, sizeof *ff);
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return psc_errorf(err, errlen, path, "cannot open: %s", strerror(errno));
-    long size = -1;
-    if (fseek(f, 0, SEEK_END) == 0)
-        size = ftell(f);
-    if (size <= 0 || (unsigned long)size > UINT32_MAX || fseek(f, 0, SEEK_SET) != 0) {
-        fclose(f);
-        return psc_errorf(err, errlen, path, size == 0 ? "file is empty" : "cannot read the file's size");
-    }
-    if (posix_memalign(&ff->buf, 64, (size_t)size) != 0) {
-        ff->buf = NULL;
-        fclose(f);
-        return psc_errorf(err, errlen, path, "out of memory for %ld bytes", size);
-    }
-    size_t got = fread(ff->buf, 1, (size_t)size, f);
-    fclose(f);
-    if (got != (size_t)size) {
-        psc_fisheye_file_free(ff);
-        return psc_errorf(err, errlen, path, "read error");
-    }
-    ff->len = (size_t)size;
+    if (psc_read_file_aligned(path, UINT32_MAX, &ff->buf, &ff->len, err, errlen) != 0)
+        return -1;
     psc_pack_error_t perr = {0};
     psc_status_t s = psc_fisheye_parse(ff->buf, ff->len, &ff->table, &perr);
     if (s != PSC_OK) {

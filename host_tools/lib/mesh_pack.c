@@ -5,6 +5,7 @@
  * every field stored little-endian byte by byte.
  */
 #include "mesh_pack.h"
+#include "file_read.h"
 #include "errmsg.h"
 #include "image_scale.h"
 #include "le_bytes.h"
@@ -293,30 +294,8 @@ int psc_mesh_parse_named(const char *name, const void *buf, size_t len, psc_mesh
 int psc_mesh_file_load(const char *path, psc_mesh_file_t *mf, char *err, size_t errlen)
 {
     memset(mf, 0, sizeof *mf);
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return psc_errorf(err, errlen, path, "cannot open: %s", strerror(errno));
-    if (fseek(f, 0, SEEK_END) != 0) {
-        fclose(f);
-        return psc_errorf(err, errlen, path, "cannot seek");
-    }
-    long size = ftell(f);
-    rewind(f);
-    if (size <= 0 || (unsigned long)size > UINT32_MAX) {
-        fclose(f);
-        return psc_errorf(err, errlen, path, size <= 0 ? "file is empty or unreadable" : "file is larger than 4 GiB");
-    }
-    if (posix_memalign(&mf->buf, 64, (size_t)size) != 0) {
-        fclose(f);
-        return psc_errorf(err, errlen, path, "out of memory for %ld bytes", size);
-    }
-    size_t got = fread(mf->buf, 1, (size_t)size, f);
-    fclose(f);
-    if (got != (size_t)size) {
-        psc_mesh_file_free(mf);
-        return psc_errorf(err, errlen, path, "read error");
-    }
-    mf->len = (size_t)size;
+    if (psc_read_file_aligned(path, UINT32_MAX, &mf->buf, &mf->len, err, errlen) != 0)
+        return -1;
     if (psc_mesh_parse_named(path, mf->buf, mf->len, &mf->mesh, err, errlen) != 0) {
         psc_mesh_file_free(mf);
         return -1;

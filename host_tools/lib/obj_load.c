@@ -2,6 +2,7 @@
  * obj_load.c - Wavefront OBJ reader (obj_load.h).
  */
 #include "obj_load.h"
+#include "file_read.h"
 #include "errmsg.h"
 
 #include <errno.h>
@@ -25,30 +26,34 @@ typedef struct {
     size_t n, cap;
 } uvec_t;
 
+/* The array v of n elements with room for one more (doubling from 256), or NULL when out of memory (v kept). */
+static void *reserve_one(void *v, size_t n, size_t *cap, size_t elem)
+{
+    if (n < *cap)
+        return v;
+    size_t c = *cap ? *cap * 2 : 256;
+    void *p = realloc(v, c * elem);
+    if (p)
+        *cap = c;
+    return p;
+}
+
 static int dpush(dvec_t *a, double x)
 {
-    if (a->n == a->cap) {
-        size_t cap = a->cap ? a->cap * 2 : 256;
-        double *p = realloc(a->v, cap * sizeof *p);
-        if (!p)
-            return -1;
-        a->v = p;
-        a->cap = cap;
-    }
+    double *v = reserve_one(a->v, a->n, &a->cap, sizeof *a->v);
+    if (!v)
+        return -1;
+    a->v = v;
     a->v[a->n++] = x;
     return 0;
 }
 
 static int upush(uvec_t *a, uint32_t x)
 {
-    if (a->n == a->cap) {
-        size_t cap = a->cap ? a->cap * 2 : 256;
-        uint32_t *p = realloc(a->v, cap * sizeof *p);
-        if (!p)
-            return -1;
-        a->v = p;
-        a->cap = cap;
-    }
+    uint32_t *v = reserve_one(a->v, a->n, &a->cap, sizeof *a->v);
+    if (!v)
+        return -1;
+    a->v = v;
     a->v[a->n++] = x;
     return 0;
 }
@@ -490,30 +495,10 @@ done:
 int psc_obj_load(const char *path, psc_model_t *m, char *note, size_t notelen, char *err, size_t errlen)
 {
     memset(m, 0, sizeof *m);
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return psc_errorf(err, errlen, path, "cannot open: %s", strerror(errno));
-    if (fseek(f, 0, SEEK_END) != 0) {
-        fclose(f);
-        return psc_errorf(err, errlen, path, "cannot seek");
-    }
-    long size = ftell(f);
-    rewind(f);
-    if (size < 0 || (unsigned long)size > OBJ_MAX_FILE) {
-        fclose(f);
-        return psc_errorf(err, errlen, path, "file is unreadable or larger than %u MiB", OBJ_MAX_FILE >> 20);
-    }
-    char *text = malloc((size_t)size + 1);
-    if (!text) {
-        fclose(f);
-        return psc_errorf(err, errlen, path, "out of memory");
-    }
-    size_t got = fread(text, 1, (size_t)size, f);
-    fclose(f);
-    if (got != (size_t)size) {
-        free(text);
-        return psc_errorf(err, errlen, path, "read error");
-    }
+    void *text;
+    size_t got;
+    if (psc_read_file_aligned(path, OBJ_MAX_FILE, &text, &got, err, errlen) != 0)
+        return -1;
     int rc = psc_obj_parse(path, text, got, m, note, notelen, err, errlen);
     free(text);
     return rc;

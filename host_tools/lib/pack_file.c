@@ -5,6 +5,7 @@
  */
 #include "pack_build.h"
 #include "errmsg.h"
+#include "file_read.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -15,61 +16,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-/* Read the whole file into a fresh PSC_PACK_ALIGN-aligned buffer. */
-static int read_aligned(const char *path, void **buf, size_t *len, char *err, size_t errlen)
-{
-    *buf = NULL;
-    *len = 0;
-    int fd = open(path, O_RDONLY);
-    if (fd < 0)
-        return psc_errorf(err, errlen, path, "cannot open: %s", strerror(errno));
-    struct stat st;
-    if (fstat(fd, &st) != 0) {
-        int e = errno;
-        close(fd);
-        return psc_errorf(err, errlen, path, "cannot stat: %s", strerror(e));
-    }
-    if (!S_ISREG(st.st_mode)) {
-        close(fd);
-        return psc_errorf(err, errlen, path, "not a regular file");
-    }
-    /* The format records sizes in 32 bits: anything larger cannot be a pack. */
-    if (st.st_size <= 0 || (unsigned long long)st.st_size > UINT32_MAX) {
-        close(fd);
-        return psc_errorf(err, errlen, path, st.st_size <= 0 ? "file is empty" : "file is larger than 4 GiB");
-    }
-    size_t size = (size_t)st.st_size;
-    void *mem = NULL;
-    if (posix_memalign(&mem, PSC_PACK_ALIGN, size) != 0) {
-        close(fd);
-        return psc_errorf(err, errlen, path, "out of memory for %zu bytes", size);
-    }
-    size_t got = 0;
-    while (got < size) {
-        ssize_t n = read(fd, (uint8_t *)mem + got, size - got);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n <= 0) {
-            int e = errno;
-            close(fd);
-            free(mem);
-            return n == 0 ? psc_errorf(err, errlen, path, "file shrank while being read")
-                          : psc_errorf(err, errlen, path, "read error: %s", strerror(e));
-        }
-        got += (size_t)n;
-    }
-    close(fd);
-    *buf = mem;
-    *len = size;
-    return 0;
-}
-
 int psc_pack_file_load(const char *path, psc_pack_file_t *pf, char *err, size_t errlen)
 {
     if (!path || !pf)
         return psc_errorf(err, errlen, path ? path : "(pack)", "no file or no pack to load into");
     memset(pf, 0, sizeof *pf);
-    if (read_aligned(path, &pf->buf, &pf->len, err, errlen) != 0)
+    if (psc_read_file_aligned(path, UINT32_MAX, &pf->buf, &pf->len, err, errlen) != 0)
         return -1;
     psc_pack_error_t perr = {0};
     psc_status_t s = psc_pack_parse(pf->buf, pf->len, &pf->pack, &perr);
