@@ -20,9 +20,10 @@
 #include <SDL.h>
 
 #include "psc_hal_option_bool.h"
+#include "psc_hal_buffer_ring.h"
 #include "sdl_internal.h"
 
-#define SDL_DISPLAY_MAX_BUFFERS 3u
+#define SDL_DISPLAY_MAX_BUFFERS PSC_HAL_RING_MAX_BUFFERS
 
 typedef struct {
     psc_hal_display_t base;     /* first: the HAL hands this pointer back to us */
@@ -30,9 +31,7 @@ typedef struct {
     SDL_Window *window;
     SDL_Renderer *renderer;
     SDL_Texture *texture;
-    psc_hal_display_mode_t mode;
-    uint8_t *buffers[SDL_DISPLAY_MAX_BUFFERS];
-    uint8_t front;
+    psc_hal_buffer_ring_t ring;   /* mode, buffers, front */
     char title[64];
 } sdl_display_t;
 
@@ -43,18 +42,9 @@ static sdl_display_t *to_sdl(psc_hal_display_t *d)
     return (sdl_display_t *)d;
 }
 
-static void fill_surface(const sdl_display_t *s, uint8_t index, psc_surface_t *out)
-{
-    out->width = s->mode.width;
-    out->height = s->mode.height;
-    out->stride = s->mode.stride;
-    out->format = s->mode.format;
-    out->pixels = s->buffers[index];
-}
-
 static int sdl_display_get_mode(psc_hal_display_t *d, psc_hal_display_mode_t *mode)
 {
-    *mode = to_sdl(d)->mode;
+    *mode = to_sdl(d)->ring.mode;
     return 0;
 }
 
@@ -62,26 +52,26 @@ static int sdl_display_get_back_buffer(psc_hal_display_t *d, psc_surface_t *surf
 {
     sdl_display_t *s = to_sdl(d);
 
-    fill_surface(s, (uint8_t)((s->front + 1u) % s->mode.buffer_count), surface);
+    psc_hal_buffer_ring_surface(&s->ring, psc_hal_buffer_ring_back(&s->ring), surface);
     return 0;
 }
 
 static int sdl_display_get_front_buffer(psc_hal_display_t *d, psc_surface_t *surface)
 {
-    fill_surface(to_sdl(d), to_sdl(d)->front, surface);
+    psc_hal_buffer_ring_surface(&to_sdl(d)->ring, to_sdl(d)->ring.front, surface);
     return 0;
 }
 
 static int sdl_display_present(psc_hal_display_t *d)
 {
     sdl_display_t *s = to_sdl(d);
-    uint8_t back = (uint8_t)((s->front + 1u) % s->mode.buffer_count);
+    uint8_t back = psc_hal_buffer_ring_back(&s->ring);
 
-    if (SDL_UpdateTexture(s->texture, NULL, s->buffers[back], (int)s->mode.stride) != 0 ||
+    if (SDL_UpdateTexture(s->texture, NULL, s->ring.buffers[back], (int)s->ring.mode.stride) != 0 ||
         SDL_RenderClear(s->renderer) != 0 || SDL_RenderCopy(s->renderer, s->texture, NULL, NULL) != 0)
         return -EIO;
     SDL_RenderPresent(s->renderer);
-    s->front = back;
+    s->ring.front = back;
     if (psc_sdl_inputs_open == 0) {
         /* nobody reads the window's events: keep the desktop happy, drop them */
         SDL_PumpEvents();
@@ -96,7 +86,7 @@ static int sdl_display_set_blank(psc_hal_display_t *d, bool blank)
 
     /* a desktop window cannot power the panel down: show black instead */
     if (blank) {
-        memset(s->buffers[s->front], 0, (size_t)s->mode.stride * s->mode.height);
+        memset(s->ring.buffers[s->ring.front], 0, (size_t)s->ring.mode.stride * s->ring.mode.height);
         SDL_RenderClear(s->renderer);
         SDL_RenderPresent(s->renderer);
     }
@@ -116,7 +106,7 @@ static void sdl_display_close(psc_hal_display_t *d)
     if (s->sdl_started)
         psc_sdl_quit(SDL_INIT_VIDEO);
     for (unsigned i = 0; i < SDL_DISPLAY_MAX_BUFFERS; i++)
-        free(s->buffers[i]);
+        free(s->ring.buffers[i]);
     free(s);
 }
 
@@ -160,13 +150,13 @@ int psc_sdl_display_open(const psc_hal_display_config_t *cfg, psc_hal_display_t 
     title = psc_hal_options_find(&cfg->options, "title");
     snprintf(s->title, sizeof s->title, "%s", title != NULL && title->value != NULL ? title->value : "periscope");
 
-    s->mode = (psc_hal_display_mode_t){
+    s->ring.mode = (psc_hal_display_mode_t){
         .width = cfg->width, .height = cfg->height, .format = cfg->format, .buffer_count = cfg->buffer_count,
         .stride = cfg->width * psc_pixfmt_bytes(cfg->format), .refresh_mhz = 0,
     };
     for (unsigned i = 0; i < cfg->buffer_count; i++) {
-        s->buffers[i] = calloc(cfg->height, s->mode.stride);
-        if (s->buffers[i] == NULL) {
+        s->ring.buffers[i] = calloc(cfg->height, s->ring.mode.stride);
+        if (s->ring.buffers[i] == NULL) {
             psc_hal_error_set(err, errlen, "sdl display: out of memory for %ux%u buffers", (unsigned)cfg->width,
                               (unsigned)cfg->height);
             rc = -ENOMEM;

@@ -10,21 +10,20 @@
 #include <sys/types.h>
 
 #include "image_io.h"
+#include "psc_hal_buffer_ring.h"
 #include "psc_hal_sim.h"
 #include "sim_internal.h"
 
-#define SIM_DISPLAY_MAX_BUFFERS 3u
+#define SIM_DISPLAY_MAX_BUFFERS PSC_HAL_RING_MAX_BUFFERS
 #define SIM_DISPLAY_PITCH_ALIGN 64u
 #define SIM_DISPLAY_PATH_MAX 1024u
 
 typedef struct {
     psc_hal_display_t base;   /* first: the HAL hands this pointer back to us */
-    psc_hal_display_mode_t mode;
     psc_hal_clock_t *clock;
     uint64_t start_us;        /* clock reading at open: frame 0's time */
     uint32_t frame_rate_mhz;
-    uint8_t *buffers[SIM_DISPLAY_MAX_BUFFERS];
-    uint8_t front;            /* index of the buffer "on screen" */
+    psc_hal_buffer_ring_t ring;   /* mode, buffers, front */
     uint32_t presents;
     uint32_t capture_every;   /* 0 = never */
     char capture_dir[SIM_DISPLAY_PATH_MAX];
@@ -71,18 +70,9 @@ static sim_display_t *to_sim(psc_hal_display_t *d)
     return (sim_display_t *)d;
 }
 
-static void sim_display_surface(const sim_display_t *s, uint8_t index, psc_surface_t *out)
-{
-    out->width = s->mode.width;
-    out->height = s->mode.height;
-    out->stride = s->mode.stride;
-    out->format = s->mode.format;
-    out->pixels = s->buffers[index];
-}
-
 static int sim_display_get_mode(psc_hal_display_t *d, psc_hal_display_mode_t *mode)
 {
-    *mode = to_sim(d)->mode;
+    *mode = to_sim(d)->ring.mode;
     return 0;
 }
 
@@ -90,7 +80,7 @@ static int sim_display_get_back_buffer(psc_hal_display_t *d, psc_surface_t *surf
 {
     sim_display_t *s = to_sim(d);
 
-    sim_display_surface(s, (uint8_t)((s->front + 1u) % s->mode.buffer_count), surface);
+    psc_hal_buffer_ring_surface(&s->ring, psc_hal_buffer_ring_back(&s->ring), surface);
     return 0;
 }
 
@@ -98,7 +88,7 @@ static int sim_display_get_front_buffer(psc_hal_display_t *d, psc_surface_t *sur
 {
     sim_display_t *s = to_sim(d);
 
-    sim_display_surface(s, s->front, surface);
+    psc_hal_buffer_ring_surface(&s->ring, s->ring.front, surface);
     return 0;
 }
 
@@ -109,7 +99,7 @@ static int sim_display_present(psc_hal_display_t *d)
     psc_surface_t shown;
     char err[256];
 
-    s->front = (uint8_t)((s->front + 1u) % s->mode.buffer_count);
+    psc_hal_buffer_ring_advance(&s->ring);
     s->presents++;
     /* Time of the next frame computed from the count, not by adding a
      * rounded period, so 30 fps stays exact over any number of frames. */
@@ -117,7 +107,7 @@ static int sim_display_present(psc_hal_display_t *d)
 
     if (s->capture_every == 0 || frame % s->capture_every != 0)
         return 0;
-    sim_display_surface(s, s->front, &shown);
+    psc_hal_buffer_ring_surface(&s->ring, s->ring.front, &shown);
     if (psc_sim_capture_path(s->path, sizeof s->path, s->capture_dir, frame) != 0) {
         fprintf(stderr, "sim display: capture path for frame %u is too long\n", (unsigned)frame);
         return -EIO;
@@ -138,7 +128,7 @@ static int sim_display_set_blank(psc_hal_display_t *d, bool blank)
     /* A blanked panel shows black: clear the front buffer so a capture of it
      * looks like what a person would see. */
     if (blank)
-        memset(s->buffers[s->front], 0, (size_t)s->mode.stride * s->mode.height);
+        memset(s->ring.buffers[s->ring.front], 0, (size_t)s->ring.mode.stride * s->ring.mode.height);
     return 0;
 }
 
@@ -147,7 +137,7 @@ static void sim_display_close(psc_hal_display_t *d)
     sim_display_t *s = to_sim(d);
 
     for (unsigned i = 0; i < SIM_DISPLAY_MAX_BUFFERS; i++)
-        free(s->buffers[i]);
+        free(s->ring.buffers[i]);
     free(s);
 }
 
@@ -204,13 +194,13 @@ int psc_sim_display_open(const psc_hal_display_config_t *cfg, psc_hal_display_t 
     s->clock = cfg->clock;
     s->start_us = cfg->clock != NULL ? psc_hal_clock_now_us(cfg->clock) : 0;
     s->frame_rate_mhz = cfg->frame_rate_mhz;
-    s->mode.width = cfg->width;
-    s->mode.height = cfg->height;
-    s->mode.format = cfg->format;
-    s->mode.stride = (cfg->width * psc_pixfmt_bytes(cfg->format) + SIM_DISPLAY_PITCH_ALIGN - 1u) &
+    s->ring.mode.width = cfg->width;
+    s->ring.mode.height = cfg->height;
+    s->ring.mode.format = cfg->format;
+    s->ring.mode.stride = (cfg->width * psc_pixfmt_bytes(cfg->format) + SIM_DISPLAY_PITCH_ALIGN - 1u) &
                      ~(SIM_DISPLAY_PITCH_ALIGN - 1u);
-    s->mode.refresh_mhz = cfg->frame_rate_mhz;
-    s->mode.buffer_count = cfg->buffer_count;
+    s->ring.mode.refresh_mhz = cfg->frame_rate_mhz;
+    s->ring.mode.buffer_count = cfg->buffer_count;
 
     rc = psc_hal_options_get_u32(&cfg->options, "capture_every", 0, 1000000, 0, &s->capture_every, err, errlen);
     if (rc != 0)
@@ -235,10 +225,10 @@ int psc_sim_display_open(const psc_hal_display_config_t *cfg, psc_hal_display_t 
             goto fail;
     }
 
-    bytes = (size_t)s->mode.stride * s->mode.height;
-    for (unsigned i = 0; i < s->mode.buffer_count; i++) {
-        s->buffers[i] = calloc(1, bytes);
-        if (s->buffers[i] == NULL)
+    bytes = (size_t)s->ring.mode.stride * s->ring.mode.height;
+    for (unsigned i = 0; i < s->ring.mode.buffer_count; i++) {
+        s->ring.buffers[i] = calloc(1, bytes);
+        if (s->ring.buffers[i] == NULL)
             goto nomem;
     }
     *out = &s->base;
