@@ -109,7 +109,9 @@ static int board_fail(board_parser_t *p, const char *fmt, const char *a, const c
 {
     char msg[256];
 
-    snprintf(msg, sizeof msg, fmt, a, b);
+    /* a long value (a list that is too long) is cut, and the cut shown */
+    if (snprintf(msg, sizeof msg, fmt, a, b) >= (int)sizeof msg)
+        memcpy(msg + sizeof msg - 4, "...", 4);
     psc_hal_error_set(p->err, p->errlen, "%s:%u: %s", p->file, p->line, msg);
     return -1;
 }
@@ -444,8 +446,12 @@ static int board_parse_line(board_parser_t *p, char *line)
             p->first_line[i] = p->line;
         return board_set_key(p, &key_table[i], value);
     }
-    /* build-time keys: the cross build reads them (mk/cross.mk), the firmware does not */
+    /* build-time keys: the cross build (mk/cross.mk) and the image scripts
+     * (scripts/boot-image: image.kernel, image.modules, ...) read them, the
+     * firmware does not. "image." alone names nothing. */
     if (strcmp(key, "toolchain") == 0 || strcmp(key, "debian_arch") == 0)
+        return 0;
+    if (strncmp(key, "image.", 6) == 0 && key[6] != '\0')
         return 0;
     return board_fail(p, "unknown key '%s' (boards/README.md lists the keys)%s", key, "");
 }

@@ -72,7 +72,12 @@ static void test_board_valid(void **state)
                        "scene = a.pano\n"
                        "scene = dir#1/b.pano\n"
                        "display.capture_dir = out/x\n"
-                       "input.script = tours/t.txt\n";
+                       "input.script = tours/t.txt\n"
+                       /* build-time keys (cross build, boot image): read by the scripts, skipped here */
+                       "toolchain = aarch64-linux-gnu-\n"
+                       "debian_arch = arm64\n"
+                       "image.kernel = linux-image-arm64\n"
+                       "image.modules = vc4 bochs\n";
     if (parse_board(text, &cfg, err, sizeof(err)) != 0)
         fail_msg("valid board refused: %s", err);
     assert_int_equal(cfg.display_format, PSC_PIX_XRGB8888);
@@ -131,6 +136,8 @@ static void test_board_errors(void **state)
     expect_board_error("pitch_min = 10\npitch_max = -10\n", "t/board.conf", "pitch_min");
     expect_board_error("hfov_min = 100\nhfov_max = 50\n", "t/board.conf", "hfov_min");
     expect_board_error("display_size = 8x8\n", "t/board.conf:5:", "display_size"); /* duplicate and too small */
+    expect_board_error("image. = x\n", "t/board.conf:5:", "image.");    /* the build prefix alone */
+    expect_board_error("imagekernel = x\n", "t/board.conf:5:", "imagekernel");
 
     /* A missing required key names the file and the key. */
     psc_board_config_t cfg;
