@@ -3,9 +3,9 @@
 #   make cross BOARD=rpi-armhf    the same, by name
 #   make cross-all                every board whose board.conf names a debian_arch
 # The board's `toolchain = PREFIX-` and `debian_arch = ARCH` lines pick the
-# compiler (PREFIXgcc) and the target's pkg-config directory
-# (/usr/lib/<triplet>/pkgconfig, Debian multiarch: scripts/cross-deps installs
-# both). Without the target's image libraries (libpng, libjpeg, zlib) only core
+# compiler (PREFIXgcc) and the target's libraries: Debian multiarch
+# (/usr/lib/<triplet>), or else the sysroot build/sysroot/ARCH
+# (scripts/cross-env decides, scripts/cross-deps installs either). Without the target's image libraries (libpng, libjpeg, zlib) only core
 # and psc-render-raw are built; without its device libraries (libdrm, libusb,
 # SDL2, libgpiod) not the firmware. Each case is said, not silent.
 # A board without debian_arch (a microcontroller) is not handled here.
@@ -30,16 +30,15 @@ $(PORT_RENDER): $(BUILD)/obj/tests/portability/psc_render_raw.o $(CORE_LIB)
 # $(call cross_make,BOARD,GOALS): GOALS of the sub-make for BOARD, or the most
 # of them its libraries allow. Fails if the board's compiler is missing.
 define cross_make
-	+$(Q)b='$(1)'; prefix='$(call board_key,$(1),toolchain)'; arch='$(call board_key,$(1),debian_arch)'; \
-	triplet=$${prefix%-}; pc="env PKG_CONFIG_LIBDIR=/usr/lib/$$triplet/pkgconfig:/usr/share/pkgconfig pkg-config"; \
-	if [ -z "$$prefix" ] || [ -z "$$arch" ]; then \
-		echo "cross: boards/$$b/board.conf needs 'toolchain = PREFIX-' and 'debian_arch = ARCH'"; exit 2; fi; \
+	+$(Q)b='$(1)'; env=$$(sh scripts/cross-env $$b) || exit 2; eval "$$env"; \
+	prefix=$$CROSS_PREFIX; arch=$$DEB_ARCH; pc=$$TARGET_PKG_CONFIG; \
 	if ! command -v "$${prefix}gcc" >/dev/null 2>&1; then \
 		echo "cross: $$b: no $${prefix}gcc (sh scripts/cross-deps $$b installs it)"; exit 1; fi; \
+	libs="Debian multiarch"; [ -z "$$SYSROOT" ] || libs="sysroot $${SYSROOT#$(CURDIR)/}"; \
 	goals="$(2)"; \
 	if [ -z "$$goals" ]; then \
 		if ! $$pc --exists $(IMG_PKGS); then \
-			echo "cross: $$b: no $(IMG_PKGS) for $$arch (multiarch -dev packages): building core and psc-render-raw only"; \
+			echo "cross: $$b: no $(IMG_PKGS) for $$arch (sh scripts/cross-deps $$b): building core and psc-render-raw only"; \
 			goals="build/$$b/lib/libpsc_core.a build/$$b/portability/psc-render-raw"; \
 		elif ! $$pc --exists $(HAL_PKGS); then \
 			echo "cross: $$b: no $(HAL_PKGS) for $$arch: building core and the host tools, not the firmware"; \
@@ -48,9 +47,9 @@ define cross_make
 			goals="all build/$$b/portability/psc-render-raw"; \
 		fi; \
 	fi; \
-	echo "  CROSS   $$b ($${prefix}gcc, $$arch) -> build/$$b/"; \
+	echo "  CROSS   $$b ($${prefix}gcc, $$arch, libraries: $$libs) -> build/$$b/"; \
 	$(MAKE) --no-print-directory PSC_CROSS_INNER=1 BOARD=$$b BUILD=build/$$b CROSS_COMPILE=$$prefix \
-		CC=$${prefix}gcc AR=$${prefix}ar PKG_CONFIG="$$pc" $$goals
+		CC="$$TARGET_CC" AR=$${prefix}ar PKG_CONFIG="$$pc" $$goals
 endef
 
 cross:

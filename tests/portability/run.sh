@@ -9,7 +9,8 @@
 #   psc-render-raw (core + libc, static): raw frames of 2 map formats x
 #     2 output formats x 3 filters x 6 views (yaw 180, pitch +-90, spans);
 #   periscope-render (the real tool, dynamic, with the target's multiarch
-#     libraries through qemu's -L /usr/<triplet>): PNG files, where it was built.
+#     libraries through qemu's -L /usr/<triplet>, or the sysroot's through
+#     -L build/sysroot/ARCH): PNG files, where it was built.
 # Exit status: 0 equal, 1 a difference or a failure, 77 cannot run here (the
 # reason is printed: no qemu-user, or the board was not cross-built).
 set -u
@@ -35,6 +36,10 @@ if [ -z "$prefix" ] || [ -z "$arch" ]; then
     exit 1
 fi
 triplet=${prefix%-}
+# the target's libraries: Debian multiarch, or the sysroot (scripts/cross-env)
+env=$(sh scripts/cross-env "$board") || exit 1
+eval "$env"
+libroot=${SYSROOT:-/usr/$triplet}
 skip() { echo "portability: $board ($arch): SKIPPED: $*"; exit 77; }
 die() { echo "portability: $board ($arch): FAILED: $*"; exit 1; }
 
@@ -104,6 +109,7 @@ if [ ! -x "$tool" ]; then
     exit 0
 fi
 # the real tool; the target's libraries come from Debian multiarch (/usr/lib/<triplet>)
+# or from the sysroot, which qemu's -L then names
 pngs=0
 for map in rgb565 xrgb8888; do
     for args in "--filter nearest --format rgb565 --yaw 180 --pitch 0 --hfov 90" \
@@ -115,7 +121,7 @@ for map in rgb565 xrgb8888; do
         "$build/bin/periscope-render" "$tmp/$map.pano" $args -o "$tmp/ref-$pngs.png" 2>"$tmp/render.log" ||
             { cat "$tmp/render.log"; die "the x86-64 periscope-render failed ($args)"; }
         # shellcheck disable=SC2086
-        ${runner:+$runner -L /usr/$triplet} "$tool" "$tmp/$map.pano" $args -o "$tmp/$board-$pngs.png" \
+        ${runner:+$runner -L $libroot} "$tool" "$tmp/$map.pano" $args -o "$tmp/$board-$pngs.png" \
             2>"$tmp/render.log" || { cat "$tmp/render.log"; die "$tool failed ($args)"; }
         cmp "$tmp/ref-$pngs.png" "$tmp/$board-$pngs.png" ||
             die "periscope-render $args on a $map map: the PNG differs from x86-64's"
