@@ -1,30 +1,42 @@
 # The bootable kiosk image of a Linux board (issue 6, "Deployment images"):
 #   make boot-image BOARD=rpi-arm64   the cross build, then scripts/boot-image:
 #                                     build/rpi-arm64/image/{vmlinuz,initramfs.cpio.gz,README}
-# `make test` makes the rpi-arm64 image when qemu-system-aarch64 and the
-# cross compiler are there, and tests/test_boot_arm64.c boots it
-# (tests/image/boot-arm64.sh). When this machine cannot make it (no arm64
-# libraries, no apt architecture, no download) the reason is kept in
-# build/rpi-arm64/image.why and the boot test is skipped saying so.
+#                                     and, with `image.sdcard = raspi`, the SD
+#                                     card periscope-rpi-arm64-sdcard.img
+# `make test` makes the image of every board with an `image.kernel` key
+# (rpi-arm64, rpi-armhf) whose cross compiler is there, and
+# tests/test_deploy.c checks the SD card and boots the images
+# (tests/image/). When this machine cannot make one (no target libraries, no
+# download) the reason is kept in build/BOARD/image.why and its tests are
+# skipped saying so.
 
 .PHONY: boot-image boot-image-test-prep
+
+# what scripts/boot-image and scripts/sdcard-image run on the host
+IMAGE_PACKAGES := cpio kmod dosfstools mtools fdisk
+# the boards with a deployment image
+IMAGE_BOARDS := $(sort $(foreach b,$(CROSS_BOARDS),$(if $(call board_key,$(b),image.kernel),$(b))))
 
 boot-image:
 	$(if $(BOARD),,$(error boot-image: name the board: make boot-image BOARD=<board> (one of: $(CROSS_BOARDS))))
 	$(call cross_make,$(BOARD),)
 	$(Q)$(MAKE) --no-print-directory $(BUILD)/bin/periscope-pack
+	$(Q)sh scripts/install-deps.sh $(IMAGE_PACKAGES)
 	$(Q)sh scripts/boot-image $(BOARD)
 
-# after portability-builds: both build into build/rpi-arm64/
+# after portability-builds: both build into build/<board>/
 test: boot-image-test-prep
 boot-image-test-prep: deps portability-builds
 	+$(Q)if [ -n "$$PSC_VM_SKIP" ]; then exit 0; fi; \
-	if ! command -v qemu-system-aarch64 >/dev/null 2>&1 || ! command -v aarch64-linux-gnu-gcc >/dev/null 2>&1; then exit 0; fi; \
-	mkdir -p build/rpi-arm64; rm -f build/rpi-arm64/image.why; \
-	if ! $(MAKE) --no-print-directory boot-image BOARD=rpi-arm64; then \
-		[ -s build/rpi-arm64/image.why ] || { echo "boot-image: failed (above)"; exit 1; }; \
-		echo "boot-image: not made, the boot test will be skipped: $$(cat build/rpi-arm64/image.why)"; \
-	fi
+	for b in $(IMAGE_BOARDS); do \
+		prefix=$$(sed -n 's/^[[:space:]]*toolchain[[:space:]]*=[[:space:]]*\([^[:space:]#]*\).*/\1/p' boards/$$b/board.conf | head -n 1); \
+		command -v "$${prefix}gcc" >/dev/null 2>&1 || continue; \
+		mkdir -p build/$$b; rm -f build/$$b/image.why; \
+		if ! $(MAKE) --no-print-directory boot-image BOARD=$$b; then \
+			[ -s build/$$b/image.why ] || { echo "boot-image: $$b failed (above)"; exit 1; }; \
+			echo "boot-image: $$b not made, its boot tests will be skipped: $$(cat build/$$b/image.why)"; \
+		fi; \
+	done
 
 # `make image BOARD=…` gives both deliverables: the .deb (mk/deb.mk) and the bootable image.
 image: boot-image

@@ -14,77 +14,20 @@
 #include <setjmp.h>
 #include <cmocka.h>
 
-#include <dirent.h>
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 #include <unistd.h>
+
+#include "tsup_script.h"
 
 #define PORT_SCRIPT "tests/portability/run.sh"
 #define PORT_MAX_BOARDS 32
 
-static char port_build[PATH_MAX];                    /* the make build directory */
-static char port_boards[PORT_MAX_BOARDS][64];        /* boards with a debian_arch */
-static char port_names[PORT_MAX_BOARDS][80];         /* "portability_" + board, for cmocka */
-
-/* The build directory: the parent of PSC_BIN_DIR (build/bin by default). */
-static void port_find_build(void)
-{
-    const char *bin = getenv("PSC_BIN_DIR");
-    char *slash;
-
-    snprintf(port_build, sizeof port_build, "%s", bin && *bin ? bin : "build/bin");
-    slash = strrchr(port_build, '/');
-    if (slash != NULL && slash != port_build)
-        *slash = '\0';
-    else
-        snprintf(port_build, sizeof port_build, ".");
-}
-
-/* Does boards/NAME/board.conf have a "debian_arch = ..." line? */
-static int port_is_linux_board(const char *name)
-{
-    char path[PATH_MAX], line[512];
-    int found = 0;
-    FILE *f;
-
-    snprintf(path, sizeof path, "boards/%s/board.conf", name);
-    f = fopen(path, "r");
-    if (f == NULL)
-        return 0;
-    while (!found && fgets(line, sizeof line, f) != NULL) {
-        const char *k = line + strspn(line, " \t");
-        if (strncmp(k, "debian_arch", 11) == 0 && strchr(" \t=", k[11]) != NULL)
-            found = 1;
-    }
-    fclose(f);
-    return found;
-}
-
-static int port_cmp_names(const void *a, const void *b)
-{
-    return strcmp(a, b);
-}
-
-static size_t port_list_boards(void)
-{
-    DIR *d = opendir("boards");
-    struct dirent *e;
-    size_t n = 0;
-
-    if (d == NULL)
-        return 0;
-    while (n < PORT_MAX_BOARDS && (e = readdir(d)) != NULL) {
-        if (e->d_name[0] == '.' || strlen(e->d_name) >= sizeof port_boards[0] || !port_is_linux_board(e->d_name))
-            continue;
-        snprintf(port_boards[n++], sizeof port_boards[0], "%s", e->d_name);
-    }
-    closedir(d);
-    qsort(port_boards, n, sizeof port_boards[0], port_cmp_names);
-    return n;
-}
+static char port_build[PATH_MAX];                             /* the make build directory */
+static char port_boards[PORT_MAX_BOARDS][TSUP_BOARD_NAME_MAX]; /* boards with a debian_arch */
+static char port_names[PORT_MAX_BOARDS][80];                  /* "portability_" + board, for cmocka */
 
 static void port_case(void **state)
 {
@@ -93,15 +36,14 @@ static void port_case(void **state)
     int st;
 
     snprintf(cmd, sizeof cmd, "sh %s --build '%s' '%s' 2>&1", PORT_SCRIPT, port_build, board);
-    fflush(stdout);
-    st = system(cmd);
-    if (st == -1 || !WIFEXITED(st))
+    st = tsup_script_status(cmd);
+    if (st == -1)
         fail_msg("%s: %s did not run to its end", board, PORT_SCRIPT);
-    if (WEXITSTATUS(st) == 77) {
+    if (st == 77) {
         print_message("portability %s skipped (reason above)\n", board);
         skip();
     }
-    if (WEXITSTATUS(st) != 0)
+    if (st != 0)
         fail_msg("%s: the cross-built renderers do not match x86-64 (output above)", board);
 }
 
@@ -114,8 +56,8 @@ int main(void)
         fprintf(stderr, "test_portability: %s not found: run from the repository root\n", PORT_SCRIPT);
         return 1;
     }
-    port_find_build();
-    n = port_list_boards();
+    tsup_build_dir(port_build, sizeof port_build);
+    n = tsup_boards_with_key("debian_arch", port_boards, PORT_MAX_BOARDS);
     if (n == 0) {
         fprintf(stderr, "test_portability: no board in boards/ names a debian_arch\n");
         return 1;

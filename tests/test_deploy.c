@@ -1,0 +1,173 @@
+/*
+ * test_deploy.c - what a device maker deploys, for each board with an
+ * `image.kernel` key (rpi-arm64, rpi-armhf); `make test` cross-builds and
+ * makes them first (mk/deb.mk, mk/image-boot.mk):
+ *   deb_<board>               the board's .deb taken apart, its renderer run
+ *                             under qemu-user (tests/image/deb-cross.sh);
+ *   sdcard_<board>            the SD card image has what a Pi's boot firmware
+ *                             reads (tests/image/sdcard-layout.sh), and the
+ *                             check fails on a card that is wrong;
+ *   boot_<board>_initramfs    the kernel and initramfs on QEMU's virt machine
+ *                             with a bochs-display: first frame, frames 20 and
+ *                             40 bit-exact with the simulated board;
+ *   boot_<board>_card         the same with the SD card as a disk: /init runs
+ *                             the board and scene copied into its periscope/;
+ *   boot_<board>_raspi        the card on QEMU's Raspberry Pi model, started
+ *                             as the Pi firmware would from config.txt.
+ * The work is tests/image/boot.sh (see its header). Skipped with the reason
+ * where QEMU or an image is missing, and with PSC_VM_SKIP=1 like the VM tests.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "tsup_files.h"
+#include "tsup_script.h"
+
+#define BOOT_SCRIPT "tests/image/boot.sh"
+#define LAYOUT_SCRIPT "tests/image/sdcard-layout.sh"
+#define DEB_SCRIPT "tests/image/deb-cross.sh"
+#define MAX_BOARDS 8
+#define MODES 3
+#define CASES_PER_BOARD (MODES + 2)
+
+static const char *const boot_modes[MODES] = { "initramfs", "card", "raspi" };
+
+typedef struct {
+    const char *board; /* one of boot_boards */
+    const char *mode;  /* a boot mode; NULL for the checks that boot nothing */
+} boot_case_t;
+
+static char boot_build[PATH_MAX];
+static char boot_boards[MAX_BOARDS][TSUP_BOARD_NAME_MAX];
+static boot_case_t boot_cases[MAX_BOARDS * CASES_PER_BOARD];
+static char boot_names[MAX_BOARDS * CASES_PER_BOARD][96];
+
+static int vm_skipped(void)
+{
+    const char *s = getenv("PSC_VM_SKIP");
+    return s != NULL && *s != '\0' && strcmp(s, "0") != 0;
+}
+
+/* Runs cmd: 0 passes, 77 skips (the script said why), anything else fails. */
+static void run_case(const char *cmd, const char *what)
+{
+    int st = tsup_script_status(cmd);
+
+    if (st == 77) {
+        print_message("%s skipped (reason above)\n", what);
+        skip();
+    }
+    if (st != 0)
+        fail_msg("%s failed (output above)", what);
+}
+
+static void sdcard_layout(void **state)
+{
+    const boot_case_t *c = *state;
+    char cmd[PATH_MAX + 128], what[128];
+
+    snprintf(cmd, sizeof cmd, "sh %s '%s' 2>&1", LAYOUT_SCRIPT, c->board);
+    snprintf(what, sizeof what, "the SD card image of %s", c->board);
+    run_case(cmd, what);
+}
+
+static void deb_package(void **state)
+{
+    const boot_case_t *c = *state;
+    char cmd[PATH_MAX + 128], what[128];
+
+    snprintf(cmd, sizeof cmd, "sh %s --build '%s' '%s' 2>&1", DEB_SCRIPT, boot_build, c->board);
+    snprintf(what, sizeof what, "the package of %s", c->board);
+    run_case(cmd, what);
+}
+
+static void boot_image(void **state)
+{
+    const boot_case_t *c = *state;
+    char cmd[PATH_MAX + 128], what[128];
+
+    if (vm_skipped()) {
+        print_message("boot %s %s skipped: PSC_VM_SKIP is set\n", c->board, c->mode);
+        skip();
+    }
+    snprintf(cmd, sizeof cmd, "sh %s --build '%s' '%s' %s 2>&1", BOOT_SCRIPT, boot_build, c->board, c->mode);
+    snprintf(what, sizeof what, "booting the %s image (%s)", c->board, c->mode);
+    run_case(cmd, what);
+}
+
+/* The layout check must fail on a wrong card: a copy of the first board's
+ * card with config.txt naming a kernel that is not there. */
+static void sdcard_layout_rejects_a_wrong_card(void **state)
+{
+    char card[PATH_MAX], cfg[PATH_MAX], src[PATH_MAX], cmd[5 * PATH_MAX];
+    static const char bad_cfg[] = "upstream_kernel=1\narm_64bit=1\nkernel=vmlinuz-missing\ninitramfs initrd.img\n";
+    int st;
+
+    (void)state;
+    snprintf(src, sizeof src, "build/%s/image/periscope-%s-sdcard.img", boot_boards[0], boot_boards[0]);
+    if (!tsup_file_exists(src) || system("command -v mcopy >/dev/null 2>&1") != 0) {
+        print_message("no %s (or no mtools): nothing to break\n", src);
+        skip();
+    }
+    tsup_tmp_path(card, sizeof card, "deploy", "card.img");
+    tsup_tmp_path(cfg, sizeof cfg, "deploy", "config.txt");
+    assert_int_equal(tsup_write_bytes(cfg, bad_cfg, sizeof bad_cfg - 1), 0);
+    snprintf(cmd, sizeof cmd, "cp --sparse=always '%s' '%s' && mcopy -o -i '%s@@4M' '%s' ::config.txt", src, card,
+             card, cfg);
+    assert_int_equal(tsup_script_status(cmd), 0);
+    print_message("a card whose config.txt names a missing kernel; the check must say FAIL:\n");
+    snprintf(cmd, sizeof cmd, "PSC_SDCARD_IMAGE='%s' sh %s '%s' 2>&1", card, LAYOUT_SCRIPT, boot_boards[0]);
+    st = tsup_script_status(cmd);
+    unlink(card);
+    unlink(cfg);
+    assert_int_equal(st, 1);
+}
+
+int main(void)
+{
+    static struct CMUnitTest tests[MAX_BOARDS * CASES_PER_BOARD + 1];
+    size_t nb, n = 0;
+
+    if (access(BOOT_SCRIPT, R_OK) != 0) {
+        fprintf(stderr, "test_deploy: %s not found: run from the repository root\n", BOOT_SCRIPT);
+        return 1;
+    }
+    tsup_build_dir(boot_build, sizeof boot_build);
+    nb = tsup_boards_with_key("image.kernel", boot_boards, MAX_BOARDS);
+    if (nb == 0) {
+        fprintf(stderr, "test_deploy: no board in boards/ has an image.kernel key\n");
+        return 1;
+    }
+    for (size_t b = 0; b < nb; b++) {
+        boot_case_t *c = &boot_cases[n];
+        c->board = boot_boards[b];
+        snprintf(boot_names[n], sizeof boot_names[n], "deb_%.63s", c->board);
+        tests[n] = (struct CMUnitTest){ .name = boot_names[n], .test_func = deb_package, .initial_state = c };
+        n++;
+        c = &boot_cases[n];
+        c->board = boot_boards[b];
+        snprintf(boot_names[n], sizeof boot_names[n], "sdcard_%.63s", c->board);
+        tests[n] = (struct CMUnitTest){ .name = boot_names[n], .test_func = sdcard_layout, .initial_state = c };
+        n++;
+        for (int m = 0; m < MODES; m++) {
+            c = &boot_cases[n];
+            c->board = boot_boards[b];
+            c->mode = boot_modes[m];
+            snprintf(boot_names[n], sizeof boot_names[n], "boot_%.63s_%.15s", c->board, c->mode);
+            tests[n] = (struct CMUnitTest){ .name = boot_names[n], .test_func = boot_image, .initial_state = c };
+            n++;
+        }
+    }
+    tests[n++] = (struct CMUnitTest){ .name = "sdcard_layout_rejects_a_wrong_card",
+                                      .test_func = sdcard_layout_rejects_a_wrong_card };
+    return _cmocka_run_group_tests("deploy", tests, n, NULL, NULL);
+}
