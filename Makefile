@@ -33,18 +33,31 @@ HOST_CFLAGS := $(BASE_CFLAGS) -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -Icore
 IMG_PKGS := libpng libjpeg zlib
 IMG_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(IMG_PKGS) 2>/dev/null)
 IMG_LIBS := $(shell $(PKG_CONFIG) --libs $(IMG_PKGS) 2>/dev/null || echo -lpng -ljpeg -lz)
-# The device backends' libraries (hal/<backend>/): USB gamepads, DRM/KMS,
-# the SDL2 desktop window, GPIO buttons. libgpiod's major version picks its API.
-HAL_PKGS := libusb-1.0 libdrm sdl2 libgpiod libjpeg
-HAL_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(HAL_PKGS) 2>/dev/null) \
+# The device backends compiled in, one folder each (hal/<backend>/), and the
+# library each needs: DRM/KMS, the SDL2 desktop window, USB gamepads, GPIO
+# buttons, V4L2 cameras (MJPEG). All by default; a board's `backends` line
+# narrows its cross build (mk/cross.mk: a kiosk leaves out SDL2 and the
+# desktop stack it pulls in). sim and linux (clock, systemd watchdog) need no
+# library and are always in. libgpiod's major version picks its API.
+HAL_ALL_BACKENDS := sim linux fbdev drm sdl usb gpio v4l2
+HAL_BACKENDS ?= $(HAL_ALL_BACKENDS)
+override HAL_BACKENDS := $(sort sim linux $(filter $(HAL_ALL_BACKENDS),$(HAL_BACKENDS)))
+hal_pkg_drm := libdrm
+hal_pkg_sdl := sdl2
+hal_pkg_usb := libusb-1.0
+hal_pkg_gpio := libgpiod
+hal_pkg_v4l2 := libjpeg
+HAL_PKGS := $(sort $(foreach b,$(HAL_BACKENDS),$(hal_pkg_$(b))))
+HAL_CFLAGS := $(if $(HAL_PKGS),$(shell $(PKG_CONFIG) --cflags $(HAL_PKGS) 2>/dev/null)) \
+	$(foreach b,$(filter-out $(HAL_BACKENDS),$(HAL_ALL_BACKENDS)),-DPSC_HAL_WITHOUT_$(b)) \
 	-DPSC_GPIOD_MAJOR=$(firstword $(subst ., ,$(shell $(PKG_CONFIG) --modversion libgpiod 2>/dev/null || echo 0)))
-HAL_LIBS := $(shell $(PKG_CONFIG) --libs $(HAL_PKGS) 2>/dev/null)
+HAL_LIBS := $(if $(HAL_PKGS),$(shell $(PKG_CONFIG) --libs $(HAL_PKGS) 2>/dev/null))
 CMOCKA_CFLAGS := $(shell $(PKG_CONFIG) --cflags cmocka 2>/dev/null)
 CMOCKA_LIBS := $(shell $(PKG_CONFIG) --libs cmocka 2>/dev/null || echo -lcmocka)
 LDLIBS_HOST := -lm
 
 CORE_SRC := $(sort $(wildcard core/*.c))
-HAL_SRC := $(sort $(wildcard hal/*.c hal/*/*.c))
+HAL_SRC := $(sort $(wildcard hal/*.c) $(foreach b,$(HAL_BACKENDS),$(wildcard hal/$(b)/*.c)))
 HOSTLIB_SRC := $(sort $(wildcard host_tools/lib/*.c))
 FW_SRC := $(sort $(wildcard firmware/*.c))
 FW_MAIN := firmware/main.c
@@ -66,7 +79,7 @@ TESTS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_MAINS))
 # Objects reached through pattern rules would count as intermediate files and be
 # deleted after each link; keep them so a second build compiles nothing.
 .SECONDARY:
-.PHONY: all deps run test vm-test check-core-nofloat check-clang install clean bench bench-callgrind
+.PHONY: all deps run test vm-test check-core-nofloat check-clang install clean bench bench-callgrind FORCE
 .DEFAULT_GOAL := all
 
 all: $(CORE_LIB) $(FIRMWARE) $(TOOLS)
@@ -89,6 +102,14 @@ $(BUILD)/lib/%.a:
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  AR      $@")
 	$(Q)rm -f $@ && $(AR) rcs $@ $^
+
+# The backend table is compiled for this build's HAL_BACKENDS: recompile it
+# when the list changes (the file's time moves only then).
+$(BUILD)/obj/hal/psc_hal_registry.o: $(BUILD)/hal-backends.txt
+$(BUILD)/hal-backends.txt: FORCE
+	@mkdir -p $(@D)
+	@echo '$(HAL_BACKENDS)' | cmp -s - $@ || echo '$(HAL_BACKENDS)' >$@
+FORCE:
 
 $(CORE_LIB): $(call obj,$(CORE_SRC))
 $(HAL_LIB): $(call obj,$(HAL_SRC))

@@ -446,10 +446,11 @@ static int board_parse_line(board_parser_t *p, char *line)
             p->first_line[i] = p->line;
         return board_set_key(p, &key_table[i], value);
     }
-    /* build-time keys: the cross build (mk/cross.mk) and the image scripts
+    /* build-time keys: the cross build (mk/cross.mk: toolchain, debian_arch,
+     * backends) and the image scripts
      * (scripts/boot-image: image.kernel, image.modules, ...) read them, the
      * firmware does not. "image." alone names nothing. */
-    if (strcmp(key, "toolchain") == 0 || strcmp(key, "debian_arch") == 0)
+    if (strcmp(key, "toolchain") == 0 || strcmp(key, "debian_arch") == 0 || strcmp(key, "backends") == 0)
         return 0;
     if (strncmp(key, "image.", 6) == 0 && key[6] != '\0')
         return 0;

@@ -11,16 +11,30 @@
 #include "psc_hal.h"
 #include "psc_hal_backends.h"
 
+/* A build may leave backends out (the Makefile's HAL_BACKENDS, a board's
+ * `backends` line): it then defines PSC_HAL_WITHOUT_<folder> for each. */
 static const psc_hal_backend_t *const registry[] = {
     &psc_hal_sim_backend,
     &psc_hal_linux_backend,
     &psc_hal_systemd_backend,
+#ifndef PSC_HAL_WITHOUT_v4l2
     &psc_hal_v4l2_backend,
+#endif
+#ifndef PSC_HAL_WITHOUT_fbdev
     &psc_hal_fbdev_backend,
+#endif
+#ifndef PSC_HAL_WITHOUT_drm
     &psc_hal_drm_backend,
+#endif
+#ifndef PSC_HAL_WITHOUT_sdl
     &psc_hal_sdl_backend,
+#endif
+#ifndef PSC_HAL_WITHOUT_usb
     &psc_hal_usb_backend,
+#endif
+#ifndef PSC_HAL_WITHOUT_gpio
     &psc_hal_gpio_backend,
+#endif
 };
 
 #define REGISTRY_COUNT (sizeof registry / sizeof registry[0])

@@ -9,8 +9,9 @@
 # and psc-render-raw are built; without its device libraries (libdrm, libusb,
 # SDL2, libgpiod) not the firmware. Each case is said, not silent.
 # A board without debian_arch (a microcontroller) is not handled here.
-# The cross build is a sub-make with BUILD, CROSS_COMPILE and PKG_CONFIG set,
-# so the rules of the Makefile serve it unchanged.
+# The cross build is a sub-make with BUILD, CROSS_COMPILE and PKG_CONFIG set
+# (and HAL_BACKENDS from the board's `backends` line), so the rules of the
+# Makefile serve it unchanged.
 
 .PHONY: cross cross-all portability-builds $(addprefix cross-board-,$(CROSS_BOARDS))
 
@@ -49,7 +50,7 @@ define cross_make
 	fi; \
 	echo "  CROSS   $$b ($${prefix}gcc, $$arch, libraries: $$libs) -> build/$$b/"; \
 	$(MAKE) --no-print-directory PSC_CROSS_INNER=1 BOARD=$$b BUILD=build/$$b CROSS_COMPILE=$$prefix \
-		CC="$$TARGET_CC" AR=$${prefix}ar PKG_CONFIG="$$pc" $$goals
+		CC="$$TARGET_CC" AR=$${prefix}ar PKG_CONFIG="$$pc" $${HAL_BACKENDS:+HAL_BACKENDS="$$HAL_BACKENDS"} $$goals
 endef
 
 cross:

@@ -76,6 +76,7 @@ static void test_board_valid(void **state)
                        /* build-time keys (cross build, boot image): read by the scripts, skipped here */
                        "toolchain = aarch64-linux-gnu-\n"
                        "debian_arch = arm64\n"
+                       "backends = drm fbdev usb gpio\n"
                        "image.kernel = linux-image-arm64\n"
                        "image.modules = vc4 bochs\n";
     if (parse_board(text, &cfg, err, sizeof(err)) != 0)

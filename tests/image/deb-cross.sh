@@ -3,7 +3,8 @@
 # BOARD=...: build/BOARD/periscope_<version>_<arch>.deb), taken apart:
 #   - Package, Version (the VERSION file's) and Architecture (the board's
 #     debian_arch); Depends names a package for every shared library the
-#     packaged periscope needs (dpkg-shlibdeps, from multiarch or the sysroot);
+#     packaged periscope needs (dpkg-shlibdeps, from multiarch or the sysroot),
+#     and it links no SDL2 when the board's `backends` line leaves sdl out;
 #   - every program in /usr/bin is an ELF of the board's architecture;
 #   - the conffile is the board's description, naming the packaged sample;
 #   - the packaged periscope-render, run under qemu-user with the target's
@@ -57,8 +58,16 @@ for p in "$tmp"/root/usr/bin/*; do
     m=$(od -An -tu2 -j18 -N2 "$p" | tr -d ' ')
     [ "$m" = "$machine" ] || fail "$(basename "$p") is for ELF machine $m, $DEB_ARCH is $machine"
 done
-# every library periscope needs has its package in Depends (by the sysroot's or dpkg's shlibs)
-for so in $("${CROSS_PREFIX}readelf" -d "$tmp/root/usr/bin/periscope" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p'); do
+# every library periscope needs has its package in Depends (by the sysroot's or dpkg's shlibs),
+# and none of a backend the board leaves out (`backends`: a kiosk without SDL2)
+needed=$("${CROSS_PREFIX}readelf" -d "$tmp/root/usr/bin/periscope" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p')
+if [ -n "$HAL_BACKENDS" ]; then
+    case " $HAL_BACKENDS " in
+    *" sdl "*) ;;
+    *) ! echo "$needed" | grep -q '^libSDL2' || fail "periscope links SDL2, which boards/$board leaves out" ;;
+    esac
+fi
+for so in $needed; do
     case $so in
     libc.so.*|libm.so.*) pkg=libc6 ;;
     libdrm.so.*) pkg=libdrm2 ;;
