@@ -11,7 +11,9 @@
 # A board without debian_arch (a microcontroller) is not handled here.
 # The cross build is a sub-make with BUILD, CROSS_COMPILE and PKG_CONFIG set
 # (and HAL_BACKENDS from the board's `backends` line), so the rules of the
-# Makefile serve it unchanged.
+# Makefile serve it unchanged. What it builds is what a device runs: it is
+# hardened the way Debian builds its packages (dpkg-buildflags with
+# hardening=+all: fortified libc calls, stack protector, full RELRO).
 
 .PHONY: cross cross-all portability-builds $(addprefix cross-board-,$(CROSS_BOARDS))
 
@@ -48,9 +50,13 @@ define cross_make
 			goals="all build/$$b/portability/psc-render-raw"; \
 		fi; \
 	fi; \
+	hard=""; if command -v dpkg-buildflags >/dev/null 2>&1; then \
+		bf="env DEB_BUILD_MAINT_OPTIONS=hardening=+all DEB_HOST_ARCH=$$arch dpkg-buildflags --get"; \
+		hard="$$($$bf CPPFLAGS) $$($$bf CFLAGS)"; hard_ld=$$($$bf LDFLAGS); fi; \
 	echo "  CROSS   $$b ($${prefix}gcc, $$arch, libraries: $$libs) -> build/$$b/"; \
 	$(MAKE) --no-print-directory PSC_CROSS_INNER=1 BOARD=$$b BUILD=build/$$b CROSS_COMPILE=$$prefix \
-		CC="$$TARGET_CC" AR=$${prefix}ar PKG_CONFIG="$$pc" $${HAL_BACKENDS:+HAL_BACKENDS="$$HAL_BACKENDS"} $$goals
+		CC="$$TARGET_CC" AR=$${prefix}ar PKG_CONFIG="$$pc" $${HAL_BACKENDS:+HAL_BACKENDS="$$HAL_BACKENDS"} \
+		CFLAGS="$$hard $(CFLAGS)" LDFLAGS="$$hard_ld $(LDFLAGS)" $$goals
 endef
 
 cross:

@@ -16,7 +16,7 @@
 
 DEB_VERSION := $(shell tr -d ' \n' < VERSION 2>/dev/null)
 DEB_SAMPLE_JPG := assets/pannellum-examplepano.jpg
-DEB_INPUTS := VERSION scripts/build-deb $(wildcard packaging/deb/*) assets/ATTRIBUTION.md
+DEB_INPUTS := VERSION scripts/build-deb $(wildcard packaging/deb/* packaging/man/*.1) assets/ATTRIBUTION.md
 DEB_HOST_ARCH := $(shell dpkg --print-architecture 2>/dev/null)
 # the board built natively for `make test`: x86-kiosk on amd64, else the first of that architecture
 DEB_HOST_BOARD := $(firstword $(foreach b,x86-kiosk $(filter-out x86-kiosk,$(CROSS_BOARDS)),\

@@ -20,41 +20,22 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
+#include <unistd.h>
 
 #include "image_io.h"
 #include "mcu/cm_view.h"
+#include "tsup_script.h"
 
 #define CM_BOARD "cortex-m7"
 #define CM_OUT "build/" CM_BOARD
 
 static char host_build[PATH_MAX]; /* the host build: the parent of PSC_BIN_DIR */
 
-static void find_host_build(void)
-{
-    const char *bin = getenv("PSC_BIN_DIR");
-    snprintf(host_build, sizeof host_build, "%s", bin && *bin ? bin : "build/bin");
-    char *slash = strrchr(host_build, '/');
-    if (slash != NULL && slash != host_build)
-        *slash = '\0';
-    else
-        snprintf(host_build, sizeof host_build, ".");
-}
-
-static int shell(const char *cmd)
-{
-    fflush(stdout);
-    int st = system(cmd);
-    if (st == -1 || !WIFEXITED(st))
-        return -1;
-    return WEXITSTATUS(st);
-}
-
 static bool have(const char *prog)
 {
     char cmd[256];
     snprintf(cmd, sizeof cmd, "command -v %s >/dev/null 2>&1", prog);
-    return shell(cmd) == 0;
+    return tsup_script_status(cmd) == 0;
 }
 
 static void make_board(const char *target)
@@ -63,7 +44,7 @@ static void make_board(const char *target)
     snprintf(cmd, sizeof cmd, "make --no-print-directory BOARD=" CM_BOARD " CM_HOST_BUILD='%s' %s 2>&1",
              host_build, target);
     printf("test_cortex_m: %s\n", cmd);
-    assert_int_equal(shell(cmd), 0);
+    assert_int_equal(tsup_script_status(cmd), 0);
 }
 
 static bool skip_without_toolchain(void)
@@ -95,9 +76,9 @@ static void test_cm7_check_can_fail(void **state)
         return;
     }
     make_board("mcu");
-    assert_int_equal(shell("sh tests/mcu/check-symbols.sh arm-none-eabi-nm " CM_OUT "/selftest-float.elf"), 1);
-    assert_int_equal(shell("sh tests/mcu/check-symbols.sh arm-none-eabi-nm " CM_OUT "/selftest-alloc.elf"), 1);
-    assert_int_equal(shell("sh tests/mcu/check-symbols.sh arm-none-eabi-nm " CM_OUT "/cm_test.elf"), 0);
+    assert_int_equal(tsup_script_status("sh tests/mcu/check-symbols.sh arm-none-eabi-nm " CM_OUT "/selftest-float.elf"), 1);
+    assert_int_equal(tsup_script_status("sh tests/mcu/check-symbols.sh arm-none-eabi-nm " CM_OUT "/selftest-alloc.elf"), 1);
+    assert_int_equal(tsup_script_status("sh tests/mcu/check-symbols.sh arm-none-eabi-nm " CM_OUT "/cm_test.elf"), 0);
 }
 
 static int hexval(int c)
@@ -180,7 +161,7 @@ static void test_cm7_qemu_bit_exact(void **state)
 
 int main(void)
 {
-    find_host_build();
+    tsup_build_dir(host_build, sizeof host_build);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_cm7_build_no_float_no_heap),
         cmocka_unit_test(test_cm7_check_can_fail),

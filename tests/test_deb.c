@@ -6,8 +6,8 @@
  * with dpkg-deb and checks:
  *  - the control fields: name, the VERSION file's version, the host's
  *    architecture, Depends on adduser and the shared libraries;
- *  - the file list: the program and host tools, the sample scene, the
- *    documentation (copyright in Debian's machine-readable format, changelog,
+ *  - the file list: the program and host tools with their manual pages, the
+ *    sample scene, the documentation (copyright in Debian's machine-readable format, changelog,
  *    the panorama's attribution byte for byte), the unit, the board config,
  *    everything owned by root;
  *  - conffiles names the board config, whose scene lines name the packaged
@@ -218,6 +218,11 @@ static void test_file_list(void **state)
                           "./usr/share/doc/periscope/changelog.gz",
                           "./usr/share/doc/periscope/ATTRIBUTION.md",
                           "./lib/systemd/system/periscope.service",
+                          "./usr/share/man/man1/periscope.1.gz",
+                          "./usr/share/man/man1/periscope-pack.1.gz",
+                          "./usr/share/man/man1/periscope-render.1.gz",
+                          "./usr/share/man/man1/periscope-contact.1.gz",
+                          "./usr/share/man/man1/periscope-fisheye.1.gz",
                           conf};
     for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
         char line[300];

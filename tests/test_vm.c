@@ -21,8 +21,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 #include <unistd.h>
+
+#include "tsup_script.h"
 
 #define VM_MAX_CASES 64
 #define VM_RUN_SCRIPT "tests/vm/run.sh"
@@ -32,30 +33,6 @@ static char vm_runs[PATH_MAX];                   /* this run's results: vm_runs/
 static char vm_case_names[VM_MAX_CASES][64];     /* case names, as run.sh --list prints them */
 static char vm_test_names[VM_MAX_CASES][72];     /* "vm_" + case name, for cmocka */
 static char vm_skip_reason[PATH_MAX + 512];              /* non-empty: skip every case, saying this */
-
-/* The build directory: the parent of PSC_BIN_DIR (build/bin by default). */
-static void vm_find_build(void)
-{
-    const char *bin = getenv("PSC_BIN_DIR");
-    char *slash;
-
-    snprintf(vm_build, sizeof vm_build, "%s", bin && *bin ? bin : "build/bin");
-    slash = strrchr(vm_build, '/');
-    if (slash != NULL && slash != vm_build)
-        *slash = '\0';
-    else
-        snprintf(vm_build, sizeof vm_build, ".");
-}
-
-/* Run a shell command; its exit status, or -1 when it did not exit. */
-static int vm_shell(const char *cmd)
-{
-    int st = system(cmd);
-
-    if (st == -1 || !WIFEXITED(st))
-        return -1;
-    return WEXITSTATUS(st);
-}
 
 static int vm_group_setup(void **state)
 {
@@ -67,13 +44,13 @@ static int vm_group_setup(void **state)
         return 0;
     /* a run directory of our own: other `make test` runs in this tree may be booting VMs too */
     snprintf(cmd, sizeof cmd, "mkdir -p '%s/vm/runs'", vm_build);
-    rc = vm_shell(cmd);
+    rc = tsup_script_status(cmd);
     if (rc == 0 && snprintf(vm_runs, sizeof vm_runs, "%s/vm/runs/test_vm-XXXXXX", vm_build) < (int)sizeof vm_runs &&
         mkdtemp(vm_runs) != NULL) {
         /* run.sh prints a line per case and the reasons for anything skipped */
         snprintf(cmd, sizeof cmd, "sh %s --build '%s' --runs '%s' 2>&1", VM_RUN_SCRIPT, vm_build, vm_runs);
         fflush(stdout);
-        rc = vm_shell(cmd);
+        rc = tsup_script_status(cmd);
     } else {
         fprintf(stderr, "test_vm: cannot create a run directory under %s/vm/runs\n", vm_build);
         snprintf(vm_runs, sizeof vm_runs, "(no run directory)");
@@ -93,7 +70,7 @@ static void vm_show_tail(const char *casename, const char *file)
     snprintf(cmd, sizeof cmd, "echo '---- %s/%s/%s:'; tail -n 30 '%s/%s/%s' 2>/dev/null", vm_runs, casename, file,
              vm_runs, casename, file);
     fflush(stdout);
-    (void)vm_shell(cmd);
+    (void)tsup_script_status(cmd);
 }
 
 static void vm_case(void **state)
@@ -161,7 +138,7 @@ int main(void)
         fprintf(stderr, "test_vm: %s not found: run from the repository root\n", VM_RUN_SCRIPT);
         return 1;
     }
-    vm_find_build();
+    tsup_build_dir(vm_build, sizeof vm_build);
     n = vm_list_cases();
     if (n == 0) {
         fprintf(stderr, "test_vm: %s --list named no cases\n", VM_RUN_SCRIPT);

@@ -24,8 +24,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 #include <unistd.h>
+
+#include "tsup_script.h"
 
 #define GPIOD2_CASE "63-firmware-buttons"
 #define GPIOD2_CHECK "scripts/gpiod2-check"
@@ -33,33 +34,6 @@
 #define GPIOD2_SKIPPED 77   /* what both scripts exit with when they cannot run here */
 
 static char gpiod2_build[PATH_MAX];   /* the make build directory */
-
-/* The build directory: the parent of PSC_BIN_DIR (build/bin by default), as test_vm. */
-static void gpiod2_find_build(void)
-{
-    const char *bin = getenv("PSC_BIN_DIR");
-    char *slash;
-
-    snprintf(gpiod2_build, sizeof gpiod2_build, "%s", bin && *bin ? bin : "build/bin");
-    slash = strrchr(gpiod2_build, '/');
-    if (slash != NULL && slash != gpiod2_build)
-        *slash = '\0';
-    else
-        snprintf(gpiod2_build, sizeof gpiod2_build, ".");
-}
-
-/* Run a shell command with its output shown; its exit status, or -1 when it did not exit. */
-static int gpiod2_shell(const char *cmd)
-{
-    int st;
-
-    fflush(stdout);
-    fflush(stderr);
-    st = system(cmd);
-    if (st == -1 || !WIFEXITED(st))
-        return -1;
-    return WEXITSTATUS(st);
-}
 
 static void test_vm_firmware_buttons_gpiod2(void **state)
 {
@@ -75,7 +49,7 @@ static void test_vm_firmware_buttons_gpiod2(void **state)
     }
     /* the 2.x build, brought up to date; the script says why when it skips or fails */
     snprintf(cmd, sizeof cmd, "sh %s --offline --build '%s' 2>&1", GPIOD2_CHECK, gpiod2_build);
-    rc = gpiod2_shell(cmd);
+    rc = tsup_script_status(cmd);
     if (rc == GPIOD2_SKIPPED) {
         print_message("vm case %s (libgpiod 2.x) skipped: no libgpiod 2.x unpacked in %s/gpiod2 "
                       "(sh %s fetches it from bookworm-backports; CI does it in scripts/vm-deps)\n",
@@ -88,13 +62,13 @@ static void test_vm_firmware_buttons_gpiod2(void **state)
 
     /* the VM case with the 2.x firmware: a run directory of our own, as test_vm */
     snprintf(cmd, sizeof cmd, "mkdir -p '%s/vm/runs'", gpiod2_build);
-    assert_int_equal(gpiod2_shell(cmd), 0);
+    assert_int_equal(tsup_script_status(cmd), 0);
     if (snprintf(runs, sizeof runs, "%s/vm/runs/test_vm_gpiod2-XXXXXX", gpiod2_build) >= (int)sizeof runs ||
         mkdtemp(runs) == NULL)
         fail_msg("test_vm_gpiod2: cannot create a run directory under %s/vm/runs", gpiod2_build);
     snprintf(cmd, sizeof cmd, "PSC_BIN_DIR='%s/gpiod2-build/bin' sh %s --build '%s' --runs '%s' %s 2>&1",
              gpiod2_build, GPIOD2_RUN, gpiod2_build, runs, GPIOD2_CASE);
-    rc = gpiod2_shell(cmd);
+    rc = tsup_script_status(cmd);
     if (rc == GPIOD2_SKIPPED) {
         print_message("vm case %s (libgpiod 2.x) skipped: the VM tests cannot run here (reason above)\n",
                       GPIOD2_CASE);
@@ -128,6 +102,6 @@ int main(void)
                 GPIOD2_RUN);
         return 1;
     }
-    gpiod2_find_build();
+    tsup_build_dir(gpiod2_build, sizeof gpiod2_build);
     return cmocka_run_group_tests_name("vm_gpiod2", tests, NULL, NULL);
 }

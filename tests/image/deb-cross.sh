@@ -5,7 +5,8 @@
 #     debian_arch); Depends names a package for every shared library the
 #     packaged periscope needs (dpkg-shlibdeps, from multiarch or the sysroot),
 #     and it links no SDL2 when the board's `backends` line leaves sdl out;
-#   - every program in /usr/bin is an ELF of the board's architecture;
+#   - every program in /usr/bin is an ELF of the board's architecture and has
+#     its manual page;
 #   - the conffile is the board's description, naming the packaged sample;
 #   - the packaged periscope-render, run under qemu-user with the target's
 #     libraries, renders the packaged sample scene to the same PNG bytes as
@@ -52,8 +53,9 @@ field() { sed -n "s/^$1: //p" "$ctl"; }
 [ "$(field Architecture)" = "$DEB_ARCH" ] || fail "Architecture is '$(field Architecture)', the board's is $DEB_ARCH"
 depends=$(field Depends)
 
-# each program: an ELF of the board's machine (e_machine, little-endian at byte 18)
+# each program: an ELF of the board's machine (e_machine, little-endian at byte 18), with its manual page
 for p in "$tmp"/root/usr/bin/*; do
+    [ -f "$tmp/root/usr/share/man/man1/$(basename "$p").1.gz" ] || fail "no manual page for $(basename "$p")"
     [ "$(od -An -tx1 -N4 "$p" | tr -d ' \n')" = 7f454c46 ] || fail "$(basename "$p") is not an ELF file"
     m=$(od -An -tu2 -j18 -N2 "$p" | tr -d ' ')
     [ "$m" = "$machine" ] || fail "$(basename "$p") is for ELF machine $m, $DEB_ARCH is $machine"
@@ -69,7 +71,7 @@ if [ -n "$HAL_BACKENDS" ]; then
 fi
 for so in $needed; do
     case $so in
-    libc.so.*|libm.so.*) pkg=libc6 ;;
+    libc.so.*|libm.so.*|ld-linux*) pkg=libc6 ;;
     libdrm.so.*) pkg=libdrm2 ;;
     libusb-1.0.so.*) pkg=libusb-1.0-0 ;;
     libSDL2-2.0.so.*) pkg=libsdl2-2.0-0 ;;
