@@ -13,7 +13,9 @@
  *   boot_<board>_card         the same with the SD card as a disk: /init runs
  *                             the board and scene copied into its periscope/;
  *   boot_<board>_raspi        the card on QEMU's Raspberry Pi model, started
- *                             as the Pi firmware would from config.txt.
+ *                             as the Pi firmware would from config.txt;
+ *   reproducible_<board>      the image built again from the same tree gives
+ *                             the same initramfs and SD card bytes.
  * The work is tests/image/boot.sh (see its header). Skipped with the reason
  * where QEMU or an image is missing, and with PSC_VM_SKIP=1 like the VM tests.
  */
@@ -35,9 +37,10 @@
 #define BOOT_SCRIPT "tests/image/boot.sh"
 #define LAYOUT_SCRIPT "tests/image/sdcard-layout.sh"
 #define DEB_SCRIPT "tests/image/deb-cross.sh"
+#define REPRO_SCRIPT "tests/image/reproducible.sh"
 #define MAX_BOARDS 8
 #define MODES 3
-#define CASES_PER_BOARD (MODES + 2)
+#define CASES_PER_BOARD (MODES + 3)
 
 static const char *const boot_modes[MODES] = { "initramfs", "card", "raspi" };
 
@@ -87,6 +90,16 @@ static void deb_package(void **state)
 
     snprintf(cmd, sizeof cmd, "sh %s --build '%s' '%s' 2>&1", DEB_SCRIPT, boot_build, c->board);
     snprintf(what, sizeof what, "the package of %s", c->board);
+    run_case(cmd, what);
+}
+
+static void image_reproducible(void **state)
+{
+    const boot_case_t *c = *state;
+    char cmd[PATH_MAX + 128], what[128];
+
+    snprintf(cmd, sizeof cmd, "sh %s --build '%s' '%s' 2>&1", REPRO_SCRIPT, boot_build, c->board);
+    snprintf(what, sizeof what, "rebuilding the %s image", c->board);
     run_case(cmd, what);
 }
 
@@ -157,6 +170,11 @@ int main(void)
         c->board = boot_boards[b];
         snprintf(boot_names[n], sizeof boot_names[n], "sdcard_%.63s", c->board);
         tests[n] = (struct CMUnitTest){ .name = boot_names[n], .test_func = sdcard_layout, .initial_state = c };
+        n++;
+        c = &boot_cases[n];
+        c->board = boot_boards[b];
+        snprintf(boot_names[n], sizeof boot_names[n], "reproducible_%.63s", c->board);
+        tests[n] = (struct CMUnitTest){ .name = boot_names[n], .test_func = image_reproducible, .initial_state = c };
         n++;
         for (int m = 0; m < MODES; m++) {
             c = &boot_cases[n];
