@@ -1,8 +1,8 @@
 # The bootable kiosk image of a Linux board (issue 6, "Deployment images"):
 #   make boot-image BOARD=rpi-arm64   the cross build, then scripts/boot-image:
 #                                     build/rpi-arm64/image/{vmlinuz,initramfs.cpio.gz,README}
-#                                     and, with `image.sdcard = raspi`, the SD
-#                                     card periscope-rpi-arm64-sdcard.img
+#                                     and, with `image.disk = raspi|efi`, the
+#                                     bootable disk periscope-rpi-arm64.img
 # `make test` makes the image of every board with an `image.kernel` key
 # (rpi-arm64, rpi-armhf) whose cross compiler is there, and
 # tests/test_deploy.c checks the SD card and boots the images
@@ -12,7 +12,7 @@
 
 .PHONY: boot-image boot-image-test-prep
 
-# what scripts/boot-image and scripts/sdcard-image run on the host
+# what scripts/boot-image and scripts/disk-image run on the host
 IMAGE_PACKAGES := cpio kmod dosfstools mtools fdisk
 # the boards with a deployment image
 IMAGE_BOARDS := $(sort $(foreach b,$(CROSS_BOARDS),$(if $(call board_key,$(b),image.kernel),$(b))))

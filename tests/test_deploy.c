@@ -1,21 +1,23 @@
 /*
  * test_deploy.c - what a device maker deploys, for each board with an
- * `image.kernel` key (rpi-arm64, rpi-armhf); `make test` cross-builds and
- * makes them first (mk/deb.mk, mk/image-boot.mk):
+ * `image.kernel` key (rpi-arm64, rpi-armhf, x86-kiosk); `make test`
+ * cross-builds and makes them first (mk/deb.mk, mk/image-boot.mk):
  *   deb_<board>               the board's .deb taken apart, its renderer run
  *                             under qemu-user (tests/image/deb-cross.sh);
- *   sdcard_<board>            the SD card image has what a Pi's boot firmware
- *                             reads (tests/image/sdcard-layout.sh), and the
- *                             check fails on a card that is wrong;
- *   boot_<board>_initramfs    the kernel and initramfs on QEMU's virt machine
+ *   disk_<board>              the bootable disk image (a Pi's SD card, a PC's
+ *                             UEFI stick) has what the machine's firmware
+ *                             reads (tests/image/disk-layout.sh), and the
+ *                             check fails on a disk that is wrong;
+ *   reproducible_<board>      the image built again from the same tree gives
+ *                             the same initramfs and disk bytes;
+ *   boot_<board>_initramfs    the kernel and initramfs on QEMU (virt, q35)
  *                             with a bochs-display: first frame, frames 20 and
  *                             40 bit-exact with the simulated board;
- *   boot_<board>_card         the same with the SD card as a disk: /init runs
- *                             the board and scene copied into its periscope/;
- *   boot_<board>_raspi        the card on QEMU's Raspberry Pi model, started
- *                             as the Pi firmware would from config.txt;
- *   reproducible_<board>      the image built again from the same tree gives
- *                             the same initramfs and SD card bytes.
+ *   boot_<board>_card         the same with the disk attached: /init runs the
+ *                             board and scene copied into its periscope/;
+ *   boot_<board>_firmware     the disk started by the machine's firmware: the
+ *                             Pi model as its boot firmware would, OVMF
+ *                             through systemd-boot (frames checked).
  * The work is tests/image/boot.sh (see its header). Skipped with the reason
  * where QEMU or an image is missing, and with PSC_VM_SKIP=1 like the VM tests.
  */
@@ -35,14 +37,14 @@
 #include "tsup_script.h"
 
 #define BOOT_SCRIPT "tests/image/boot.sh"
-#define LAYOUT_SCRIPT "tests/image/sdcard-layout.sh"
+#define LAYOUT_SCRIPT "tests/image/disk-layout.sh"
 #define DEB_SCRIPT "tests/image/deb-cross.sh"
 #define REPRO_SCRIPT "tests/image/reproducible.sh"
 #define MAX_BOARDS 8
 #define MODES 3
 #define CASES_PER_BOARD (MODES + 3)
 
-static const char *const boot_modes[MODES] = { "initramfs", "card", "raspi" };
+static const char *const boot_modes[MODES] = { "initramfs", "card", "firmware" };
 
 typedef struct {
     const char *board; /* one of boot_boards */
@@ -73,13 +75,13 @@ static void run_case(const char *cmd, const char *what)
         fail_msg("%s failed (output above)", what);
 }
 
-static void sdcard_layout(void **state)
+static void disk_layout(void **state)
 {
     const boot_case_t *c = *state;
     char cmd[PATH_MAX + 128], what[128];
 
     snprintf(cmd, sizeof cmd, "sh %s '%s' 2>&1", LAYOUT_SCRIPT, c->board);
-    snprintf(what, sizeof what, "the SD card image of %s", c->board);
+    snprintf(what, sizeof what, "the disk image of %s", c->board);
     run_case(cmd, what);
 }
 
@@ -117,31 +119,26 @@ static void boot_image(void **state)
     run_case(cmd, what);
 }
 
-/* The layout check must fail on a wrong card: a copy of the first board's
- * card with config.txt naming a kernel that is not there. */
-static void sdcard_layout_rejects_a_wrong_card(void **state)
+/* The layout check must fail on a wrong disk: a copy of the first board's
+ * disk without the initramfs its boot files name. */
+static void disk_layout_rejects_a_wrong_disk(void **state)
 {
-    char card[PATH_MAX], cfg[PATH_MAX], src[PATH_MAX], cmd[5 * PATH_MAX];
-    static const char bad_cfg[] = "upstream_kernel=1\narm_64bit=1\nkernel=vmlinuz-missing\ninitramfs initrd.img\n";
+    char disk[PATH_MAX], src[PATH_MAX], cmd[4 * PATH_MAX];
     int st;
 
     (void)state;
-    snprintf(src, sizeof src, "build/%s/image/periscope-%s-sdcard.img", boot_boards[0], boot_boards[0]);
-    if (!tsup_file_exists(src) || system("command -v mcopy >/dev/null 2>&1") != 0) {
+    snprintf(src, sizeof src, "build/%s/image/periscope-%s.img", boot_boards[0], boot_boards[0]);
+    if (!tsup_file_exists(src) || system("command -v mdel >/dev/null 2>&1") != 0) {
         print_message("no %s (or no mtools): nothing to break\n", src);
         skip();
     }
-    tsup_tmp_path(card, sizeof card, "deploy", "card.img");
-    tsup_tmp_path(cfg, sizeof cfg, "deploy", "config.txt");
-    assert_int_equal(tsup_write_bytes(cfg, bad_cfg, sizeof bad_cfg - 1), 0);
-    snprintf(cmd, sizeof cmd, "cp --sparse=always '%s' '%s' && mcopy -o -i '%s@@4M' '%s' ::config.txt", src, card,
-             card, cfg);
+    tsup_tmp_path(disk, sizeof disk, "deploy", "disk.img");
+    snprintf(cmd, sizeof cmd, "cp --sparse=always '%s' '%s' && mdel -i '%s@@4M' ::initrd.img", src, disk, disk);
     assert_int_equal(tsup_script_status(cmd), 0);
-    print_message("a card whose config.txt names a missing kernel; the check must say FAIL:\n");
-    snprintf(cmd, sizeof cmd, "PSC_SDCARD_IMAGE='%s' sh %s '%s' 2>&1", card, LAYOUT_SCRIPT, boot_boards[0]);
+    print_message("a disk without its initramfs; the check must say FAIL:\n");
+    snprintf(cmd, sizeof cmd, "PSC_DISK_IMAGE='%s' sh %s '%s' 2>&1", disk, LAYOUT_SCRIPT, boot_boards[0]);
     st = tsup_script_status(cmd);
-    unlink(card);
-    unlink(cfg);
+    unlink(disk);
     assert_int_equal(st, 1);
 }
 
@@ -168,8 +165,8 @@ int main(void)
         n++;
         c = &boot_cases[n];
         c->board = boot_boards[b];
-        snprintf(boot_names[n], sizeof boot_names[n], "sdcard_%.63s", c->board);
-        tests[n] = (struct CMUnitTest){ .name = boot_names[n], .test_func = sdcard_layout, .initial_state = c };
+        snprintf(boot_names[n], sizeof boot_names[n], "disk_%.63s", c->board);
+        tests[n] = (struct CMUnitTest){ .name = boot_names[n], .test_func = disk_layout, .initial_state = c };
         n++;
         c = &boot_cases[n];
         c->board = boot_boards[b];
@@ -185,7 +182,7 @@ int main(void)
             n++;
         }
     }
-    tests[n++] = (struct CMUnitTest){ .name = "sdcard_layout_rejects_a_wrong_card",
-                                      .test_func = sdcard_layout_rejects_a_wrong_card };
+    tests[n++] = (struct CMUnitTest){ .name = "disk_layout_rejects_a_wrong_disk",
+                                      .test_func = disk_layout_rejects_a_wrong_disk };
     return _cmocka_run_group_tests("deploy", tests, n, NULL, NULL);
 }

@@ -1,31 +1,37 @@
 #!/bin/sh
 # tests/image/boot.sh - boot a board's kiosk image (make boot-image
-# BOARD=...: build/BOARD/image/) under QEMU's `virt` machine (TCG) with a
-# bochs-display, and check from the host that the viewer the image's /init
-# starts reached its first frame and shows the expected view.
+# BOARD=...: build/BOARD/image/) under QEMU (TCG) with a bochs-display (the
+# `virt` machine for ARM, q35 for amd64), and check from the host that the
+# viewer the image's /init starts reached its first frame and shows the
+# expected view.
 #
-#   usage: sh tests/image/boot.sh [--build DIR] BOARD [initramfs|card|raspi]
+#   usage: sh tests/image/boot.sh [--build DIR] BOARD [initramfs|card|firmware]
 #
 #   initramfs  the image's kernel and initramfs alone. /init takes the board
 #              from the run's 9p share (`periscope.share=1`, share/kiosk.env):
 #              boards/vm-drm, the VM harness's deterministic DRM board (sim
 #              clock and tour), with the image's own firmware and scene.
-#   card       the same, plus the board's SD card image (scripts/sdcard-image)
-#              as a virtio disk, with a board.conf, the tour and the scene
-#              copied into its periscope/ folder the way a kiosk maker would:
-#              /init must find the PERISCOPE partition, mount it and run that
-#              board in that folder (kiosk.env names no board then).
-#   raspi      the SD card on QEMU's Raspberry Pi model (raspi3b for arm64,
-#              raspi2b for armhf) as the Pi's boot firmware would start it: the
-#              kernel, initramfs and device tree that the card's config.txt
-#              names, with the card's cmdline.txt, the card as the SD card. The
-#              console (the serial port of the device tree's stdout-path) must
-#              show /init taking the board from the card's periscope/ folder on
-#              /dev/mmcblk0p1. QEMU has no model of the Pi's display pipeline
-#              (vc4), so no frame is checked here: the display is proven on
-#              the virt machine by the two modes above.
+#   card       the same, plus the board's disk image (scripts/disk-image) as a
+#              virtio disk, with a board.conf, the tour and the scene copied
+#              into its periscope/ folder the way a kiosk maker would: /init
+#              must find the PERISCOPE partition, mount it and run that board
+#              in that folder (kiosk.env names no board then).
+#   firmware   the disk image started by the machine's own firmware:
+#              - image.disk = raspi: QEMU's Raspberry Pi model (raspi3b for
+#                arm64, raspi2b for armhf), loaded as the Pi's boot firmware
+#                would (the kernel, initramfs and device tree that the card's
+#                config.txt names, its cmdline.txt, the card as the SD card).
+#                The console (the serial port of the device tree's
+#                stdout-path) must show /init taking the board from the card's
+#                periscope/ folder on /dev/mmcblk0p1. QEMU has no model of the
+#                Pi's display pipeline (vc4), so no frame is checked: the
+#                display is proven on the virt machine by the two modes above.
+#              - image.disk = efi: OVMF (UEFI) boots the image as a USB stick
+#                through its systemd-boot, with the card mode's board and scene
+#                in periscope/ and the share added to the boot entry; frames
+#                are checked as in the card mode.
 #
-# In the first two modes frames 20 and 40 (the firmware's dumps of the presented DRM
+# Except for the Pi model, frames 20 and 40 (the firmware's dumps of the presented DRM
 # buffer) must equal, bit for bit, the simulated board boards/vm-reference
 # run on the host over the same scene (tests/vm/host_firmware.sh does the
 # reference and the comparison). The boot time (kernel start to frame 0 on
@@ -50,7 +56,9 @@ case $PSC_BIN_DIR in /*) ;; *) PSC_BIN_DIR=$(pwd)/$PSC_BIN_DIR ;; esac
 VM_PROBES=$build/vm/probes
 export VM_ROOT VM_DIR VM_PROBES PSC_BIN_DIR
 img=$VM_ROOT/build/$board/image
-card_img=$img/periscope-$board-sdcard.img
+card_img=$img/periscope-$board.img
+disk_kind=$(sed -n 's/^[[:space:]]*image\.disk[[:space:]]*=[[:space:]]*\([^[:space:]#]*\).*/\1/p' \
+    "$VM_ROOT/boards/$board/board.conf" 2>/dev/null | head -n 1)
 FRAMES="20 40"
 name="boot $board ($mode)"
 
@@ -69,10 +77,11 @@ fail() {
 
 arch=$(sed -n 's/^[[:space:]]*debian_arch[[:space:]]*=[[:space:]]*\([^[:space:]#]*\).*/\1/p' \
     "$VM_ROOT/boards/$board/board.conf" 2>/dev/null | head -n 1)
-# QEMU's virt machine for the board's architecture: its console is the PL011
+# QEMU's machine for the board's architecture, and its serial console
 case $arch in
-arm64) qemu=qemu-system-aarch64 machine="-M virt -cpu cortex-a57" ;;
-armhf) qemu=qemu-system-arm machine="-M virt,highmem=off -cpu cortex-a15" ;;
+arm64) qemu=qemu-system-aarch64 machine="-M virt -cpu cortex-a57" console=ttyAMA0 ;;
+armhf) qemu=qemu-system-arm machine="-M virt,highmem=off -cpu cortex-a15" console=ttyAMA0 ;;
+amd64) qemu=qemu-system-x86_64 machine="-M q35" console=ttyS0 ;;
 *) skip "no QEMU virt machine set up here for debian_arch '$arch' (boards/$board)" ;;
 esac
 command -v $qemu >/dev/null 2>&1 || skip "$qemu is not installed (Debian: qemu-system-arm)"
@@ -84,17 +93,17 @@ fi
 [ -x "$PSC_BIN_DIR/periscope" ] || skip "$PSC_BIN_DIR/periscope is not built (make)"
 case $mode in
 initramfs) ;;
-card|raspi)
-    [ -f "$card_img" ] || skip "no SD card image $card_img (image.sdcard in boards/$board/board.conf)"
+card|firmware)
+    [ -f "$card_img" ] || skip "no disk image $card_img (image.disk in boards/$board/board.conf)"
     command -v mcopy >/dev/null 2>&1 || skip "no mcopy (Debian: mtools)"
     ;;
-*) echo "usage: $0 [--build DIR] BOARD [initramfs|card|raspi]" >&2; exit 2 ;;
+*) echo "usage: $0 [--build DIR] BOARD [initramfs|card|firmware]" >&2; exit 2 ;;
 esac
 run=$VM_ROOT/build/$board/image-test-$mode
 rm -rf "$run"
 mkdir -p "$run/share" || exit 1
 
-if [ "$mode" = raspi ]; then
+if [ "$mode" = firmware ] && [ "$disk_kind" = raspi ]; then
     # the Pi model, its device tree, and the serial port its stdout-path names
     case $arch in
     arm64) qemu=qemu-system-aarch64 machine="-M raspi3b" dtb=bcm2837-rpi-3-b.dtb serial="-serial null -serial" ;;
@@ -165,7 +174,8 @@ for f in $FRAMES; do
 done
 
 disk=""
-if [ "$mode" = card ]; then
+boot="-kernel $img/vmlinuz -initrd $img/initramfs.cpio.gz"
+if [ "$mode" != initramfs ]; then
     # the kiosk maker's folder: vm-drm with its scene and tour beside it
     sed -e 's|^scene = .*|scene = scene.pano|' -e 's|^tour = .*|tour = tour.txt|' \
         boards/vm-drm/board.conf >"$run/board.conf"
@@ -184,14 +194,29 @@ PSC_ARGS="--scene /usr/share/periscope/scenes/sample.pano --max-frames $((last +
 EOF
 fi
 
+cmdline="console=$console panic=-1 quiet loglevel=5 periscope.share=1"
+if [ "$mode" = firmware ]; then
+    # UEFI: OVMF boots the image as a USB stick; its systemd-boot entry gets the share
+    [ "$disk_kind" = efi ] || skip "no firmware boot for image.disk '$disk_kind' here"
+    ovmf=/usr/share/ovmf/OVMF.fd
+    [ "$arch" = amd64 ] || skip "no UEFI firmware set up here for $arch"
+    [ -f "$ovmf" ] || skip "no $ovmf (Debian: ovmf)"
+    mcopy -n -i "$run/card.img@@4M" ::loader/loader.conf "$run/loader.conf" || fail "no loader/loader.conf"
+    entry=$(sed -n 's/^default[[:space:]]*//p' "$run/loader.conf")
+    mcopy -n -i "$run/card.img@@4M" "::loader/entries/$entry" "$run/entry.conf" || fail "no boot entry $entry"
+    sed -i "s|^options .*|& periscope.share=1 panic=-1|" "$run/entry.conf"
+    mcopy -o -i "$run/card.img@@4M" "$run/entry.conf" "::loader/entries/$entry" || fail "cannot update $entry"
+    disk="-device qemu-xhci -drive if=none,file=$run/card.img,format=raw,id=stick -device usb-storage,drive=stick"
+    boot="-bios $ovmf"
+    cmdline=""
+fi
+
 t0=$(date +%s.%N)
 # shellcheck disable=SC2086
 timeout -k 5 "${PSC_BOOT_TIMEOUT:-300}" $qemu $machine -accel tcg -m 768 -smp 1 \
     -nodefaults -no-user-config -display none -no-reboot \
     -serial "file:$run/console.log" -monitor none \
-    -device bochs-display $disk \
-    -kernel "$img/vmlinuz" -initrd "$img/initramfs.cpio.gz" \
-    -append "console=ttyAMA0 panic=-1 quiet loglevel=5 periscope.share=1" \
+    -device bochs-display $disk $boot ${cmdline:+-append "$cmdline"} \
     -virtfs "local,path=$run/share,mount_tag=share,security_model=none,id=share" >"$run/qemu.log" 2>&1
 qrc=$?
 wall=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
@@ -199,7 +224,7 @@ wall=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
 [ -f "$run/share/status" ] || fail "the image's /init reported no result"
 [ "$(cat "$run/share/status")" = 0 ] || fail "the viewer exited with status $(cat "$run/share/status")"
 grep -q 'first frame at' "$run/console.log" || fail "no 'first frame' line on the serial console"
-if [ "$mode" = card ]; then
+if [ "$mode" != initramfs ]; then
     grep -q 'board and scenes from the card' "$run/console.log" ||
         fail "/init did not take the board from the card's periscope/ folder"
 fi

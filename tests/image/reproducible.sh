@@ -1,7 +1,7 @@
 #!/bin/sh
 # tests/image/reproducible.sh - a board's deployment image is reproducible:
 # scripts/boot-image run again into a scratch directory (PSC_IMAGE_OUT) from
-# the same tree gives the initramfs and the SD card image of
+# the same tree gives the initramfs and the disk image of
 # build/BOARD/image/ byte for byte (file times are SOURCE_DATE_EPOCH, the
 # FAT volume and disk ids come from the board's name).
 #
@@ -29,7 +29,7 @@ epoch=$(cat "$img/source-date-epoch" 2>/dev/null) || { echo "$name: SKIPPED: $im
 SOURCE_DATE_EPOCH=$epoch PSC_IMAGE_OUT=$tmp sh scripts/boot-image "$board" >"$tmp.log" 2>&1 ||
     { cat "$tmp.log"; echo "$name: FAIL: scripts/boot-image did not build the image again"; exit 1; }
 files="initramfs.cpio.gz vmlinuz"
-[ -f "$img/periscope-$board-sdcard.img" ] && files="$files periscope-$board-sdcard.img"
+[ -f "$img/periscope-$board.img" ] && files="$files periscope-$board.img"
 for f in $files; do
     cmp -s "$img/$f" "$tmp/$f" || { echo "$name: FAIL: $f differs between two builds of the same tree"; exit 1; }
 done
