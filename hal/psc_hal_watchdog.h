@@ -4,8 +4,9 @@
  *
  * Backends: systemd (hal/linux/systemd_watchdog.c: sd_notify "READY=1" with
  * the first kick, "WATCHDOG=1" every WATCHDOG_USEC / 2, "STATUS=" from
- * set_status, "STOPPING=1" at close). Planned: linux (/dev/watchdog with
- * WDIOC_SETTIMEOUT / WDIOC_KEEPALIVE and the magic close 'V'). The sim
+ * set_status, "STOPPING=1" at close); linux (hal/linux/dev_watchdog.c: the
+ * kernel's /dev/watchdog0, WDIOC_SETTIMEOUT, a write per quarter timeout and
+ * the magic close 'V'). The sim
  * backend only records the kicks on the sim clock and reports the longest gap,
  * so a tour shows whether the loop would have kept a real watchdog fed.
  */

@@ -13,7 +13,10 @@
  *   boot_<board>_initramfs    the kernel and initramfs on QEMU (virt, q35)
  *                             with a bochs-display: first frame, frames 20 and
  *                             40 bit-exact with the simulated board;
- *   boot_<board>_card         the same with the disk attached: /init runs the
+ *   boot_<board>_own          the image as it ships: its own board and scene,
+ *                             the screen's preferred mode, the hardware
+ *                             watchdog kicked (amd64) or turned off (none);
+ *   boot_<board>_card         the initramfs boot with the disk attached: /init runs the
  *                             board and scene copied into its periscope/;
  *   boot_<board>_firmware     the disk started by the machine's firmware: the
  *                             Pi model as its boot firmware would, OVMF
@@ -41,10 +44,10 @@
 #define DEB_SCRIPT "tests/image/deb-cross.sh"
 #define REPRO_SCRIPT "tests/image/reproducible.sh"
 #define MAX_BOARDS 8
-#define MODES 3
+#define MODES 4
 #define CASES_PER_BOARD (MODES + 3)
 
-static const char *const boot_modes[MODES] = { "initramfs", "card", "firmware" };
+static const char *const boot_modes[MODES] = { "initramfs", "own", "card", "firmware" };
 
 typedef struct {
     const char *board; /* one of boot_boards */

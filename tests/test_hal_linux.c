@@ -314,6 +314,51 @@ static void test_watchdog_outside_systemd_and_errors(void **state)
     clear_env();
 }
 
+/* ---- the kernel's watchdog device: what can be checked without one ---------
+ * (tests/vm/cases/65-firmware-watchdog.sh runs it on QEMU's i6300esb) */
+
+static void test_dev_watchdog_errors(void **state)
+{
+    char err[300], file[900];
+    psc_hal_clock_t *clk = sim_clock();
+    psc_hal_watchdog_t *wd = NULL;
+    (void)state;
+
+    /* no such device: the path and a hint at the driver */
+    psc_hal_option_t missing = { "device", "/nonexistent/watchdog9", "b.conf:4" };
+    psc_hal_watchdog_config_t cfg = { .timeout_ms = 2000, .clock = clk, .options = { &missing, 1 } };
+    assert_int_equal(psc_hal_watchdog_open("linux", &cfg, &wd, err, sizeof err), -ENOENT);
+    assert_null(wd);
+    assert_non_null(strstr(err, "cannot open /nonexistent/watchdog9"));
+    assert_non_null(strstr(err, "driver"));
+
+    /* a file that is no watchdog: refused before anything is written to it */
+    tsup_tmp_path(file, sizeof file, "hal_linux", "not-a-watchdog");
+    assert_int_equal(tsup_write_bytes(file, "", 0), 0);
+    psc_hal_option_t plain = { "device", file, "b.conf:5" };
+    cfg.options = (psc_hal_options_t){ &plain, 1 };
+    assert_int_equal(psc_hal_watchdog_open("linux", &cfg, &wd, err, sizeof err), -ENOTTY);
+    assert_null(wd);
+    assert_non_null(strstr(err, "is not a watchdog device"));
+    size_t len = 99;
+    uint8_t *bytes = tsup_read_bytes(file, &len);
+    assert_non_null(bytes);
+    assert_int_equal(len, 0);
+    free(bytes);
+    unlink(file);
+
+    /* an unknown option with its origin; a timeout out of range */
+    psc_hal_option_t typo = { "devcie", "/dev/watchdog0", "b.conf:6" };
+    cfg.options = (psc_hal_options_t){ &typo, 1 };
+    assert_int_equal(psc_hal_watchdog_open("linux", &cfg, &wd, err, sizeof err), -EINVAL);
+    assert_non_null(strstr(err, "b.conf:6"));
+    cfg.options = (psc_hal_options_t){ &missing, 1 };
+    cfg.timeout_ms = 600001;
+    assert_int_equal(psc_hal_watchdog_open("linux", &cfg, &wd, err, sizeof err), -EINVAL);
+    assert_non_null(strstr(err, "600001"));
+    psc_hal_clock_close(clk);
+}
+
 /* ---- the clock ------------------------------------------------------------- */
 
 static void test_linux_clock(void **state)
@@ -350,6 +395,7 @@ int main(void)
         cmocka_unit_test(test_datagrams_abstract_socket_no_watchdog),
         cmocka_unit_test(test_watchdog_outside_systemd_and_errors),
         cmocka_unit_test(test_linux_clock),
+        cmocka_unit_test(test_dev_watchdog_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -5,13 +5,21 @@
 # viewer the image's /init starts reached its first frame and shows the
 # expected view.
 #
-#   usage: sh tests/image/boot.sh [--build DIR] BOARD [initramfs|card|firmware]
+#   usage: sh tests/image/boot.sh [--build DIR] BOARD [initramfs|own|card|firmware]
 #
 #   initramfs  the image's kernel and initramfs alone. /init takes the board
 #              from the run's 9p share (`periscope.share=1`, share/kiosk.env):
 #              boards/vm-drm, the VM harness's deterministic DRM board (sim
-#              clock and tour), with the image's own firmware and scene.
-#   card       the same, plus the board's disk image (scripts/disk-image) as a
+#              clock and tour), with the image's own firmware and scene. The
+#              console must also show /init turning off the image's own
+#              board's hardware watchdog, as the machine has none.
+#   own        the image as it ships: its own board (boards/kiosk-image: the
+#              real clock, the screen's preferred mode, the hardware watchdog)
+#              and scene, 60 frames; kiosk.env only bounds the run. On amd64
+#              the machine has a watchdog (i6300esb) and the viewer must have
+#              kicked it; elsewhere /init must say it runs without one.
+#              Frames follow the real clock, so they are not compared.
+#   card       the same as initramfs, plus the board's disk image (scripts/disk-image) as a
 #              virtio disk, with a board.conf, the tour and the scene copied
 #              into its periscope/ folder the way a kiosk maker would: /init
 #              must find the PERISCOPE partition, mount it and run that board
@@ -97,7 +105,8 @@ card|firmware)
     [ -f "$card_img" ] || skip "no disk image $card_img (image.disk in boards/$board/board.conf)"
     command -v mcopy >/dev/null 2>&1 || skip "no mcopy (Debian: mtools)"
     ;;
-*) echo "usage: $0 [--build DIR] BOARD [initramfs|card|firmware]" >&2; exit 2 ;;
+own) ;;
+*) echo "usage: $0 [--build DIR] BOARD [initramfs|own|card|firmware]" >&2; exit 2 ;;
 esac
 run=$VM_ROOT/build/$board/image-test-$mode
 rm -rf "$run"
@@ -175,7 +184,10 @@ done
 
 disk=""
 boot="-kernel $img/vmlinuz -initrd $img/initramfs.cpio.gz"
-if [ "$mode" != initramfs ]; then
+if [ "$mode" = own ]; then
+    echo 'PSC_ARGS="--max-frames 60"' >kiosk.env
+    [ "$arch" = amd64 ] && disk="-device i6300esb -action watchdog=inject-nmi"
+elif [ "$mode" != initramfs ]; then
     # the kiosk maker's folder: vm-drm with its scene and tour beside it
     sed -e 's|^scene = .*|scene = scene.pano|' -e 's|^tour = .*|tour = tour.txt|' \
         boards/vm-drm/board.conf >"$run/board.conf"
@@ -224,11 +236,33 @@ wall=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
 [ -f "$run/share/status" ] || fail "the image's /init reported no result"
 [ "$(cat "$run/share/status")" = 0 ] || fail "the viewer exited with status $(cat "$run/share/status")"
 grep -q 'first frame at' "$run/console.log" || fail "no 'first frame' line on the serial console"
+if [ "$mode" = own ]; then
+    grep -q '^periscope: 60 frames rendered' "$run/share/firmware.log" || fail "the image's own board did not render 60 frames"
+    if [ "$arch" = amd64 ]; then
+        grep -q '^periscope: watchdog: 60 kicks' "$run/share/firmware.log" ||
+            fail "the viewer did not kick the machine's hardware watchdog"
+        ! grep -q 'NMI received' "$run/console.log" || fail "the hardware watchdog fired"
+        what="the hardware watchdog kicked"
+    else
+        grep -q 'no hardware watchdog (/dev/watchdog0): running without one' "$run/console.log" ||
+            fail "/init did not turn off the watchdog of a board on a machine without one"
+        what="no hardware watchdog here: run without"
+    fi
+    set -- $(cat "$run/share/boot-times")
+    echo "$name: kernel $(cat "$img/kernel-version"): the image's own board ($(sed -n 's/^drm display [^:]*: \([0-9x@.]* Hz [A-Z0-9]*\),.*/\1/p' \
+        "$run/share/firmware.log" | head -n 1)): first frame at $4 s after kernel start, 60 frames; $what; VM wall time $wall s (TCG)"
+    exit 0
+fi
 if [ "$mode" != initramfs ]; then
     grep -q 'board and scenes from the card' "$run/console.log" ||
         fail "/init did not take the board from the card's periscope/ folder"
 fi
 grep -q '^frame *0 .*dumped' "$run/share/firmware.log" || fail "the viewer's log shows no frame 0"
+# the image's own board asks for the hardware watchdog, which this machine lacks
+if [ "$mode" = initramfs ]; then
+    grep -q 'no hardware watchdog (/dev/watchdog0): running without one' "$run/console.log" ||
+        fail "/init did not turn off the watchdog of a board on a machine without one"
+fi
 for f in $FRAMES; do
     sh "$VM_DIR/host_firmware.sh" compare "$f" "fw-$f.raw" xrgb8888 >>"$run/host.log" 2>&1 ||
         fail "frame $f differs from the simulated board's ($(tail -n 2 "$run/host.log" | tr '\n' ' '))"
