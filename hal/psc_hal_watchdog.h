@@ -57,6 +57,17 @@ int psc_hal_watchdog_open(const char *backend, const psc_hal_watchdog_config_t *
 /** Disarm and close a watchdog opened with psc_hal_watchdog_open (NULL is ignored). */
 void psc_hal_watchdog_close(psc_hal_watchdog_t *wd);
 
+/* ---- for backends (psc_hal_watchdog_count.c) ------------------------------ */
+
+/** The timeout within 1..600000 ms and, when needs_clock, a clock: 0 or -EINVAL naming the backend. */
+int psc_hal_watchdog_check_config(const psc_hal_watchdog_config_t *cfg, const char *backend, bool needs_clock,
+                                  char *err, size_t errlen);
+
+/** Count a kick at now_us: kicks, the longest gap since *last_kick_us (then set to now_us), and
+ *  would_have_fired when that gap exceeded timeout_us. */
+void psc_hal_watchdog_count_kick(psc_hal_watchdog_status_t *st, uint64_t *last_kick_us, uint64_t now_us,
+                                 uint64_t timeout_us);
+
 /** Feed the watchdog. */
 static inline int psc_hal_watchdog_kick(psc_hal_watchdog_t *wd)
 {

@@ -44,16 +44,9 @@ static const char *const dev_watchdog_known_options[] = { "device", NULL };
 static int dev_watchdog_kick(psc_hal_watchdog_t *wd)
 {
     dev_watchdog_t *s = (dev_watchdog_t *)wd;
-    uint64_t now = psc_hal_clock_now_us(s->clock);
-    uint64_t gap = now - s->last_kick_us;
     struct timespec t;
 
-    if (gap > s->status.longest_gap_us)
-        s->status.longest_gap_us = gap;
-    if (gap > s->timeout_us)
-        s->status.would_have_fired = true;
-    s->last_kick_us = now;
-    s->status.kicks++;
+    psc_hal_watchdog_count_kick(&s->status, &s->last_kick_us, psc_hal_clock_now_us(s->clock), s->timeout_us);
     clock_gettime(CLOCK_MONOTONIC, &t);
     if (psc_linux_timespec_diff_us(&t, &s->last_write) < s->interval_us)
         return 0;
@@ -93,14 +86,9 @@ int psc_dev_watchdog_open(const psc_hal_watchdog_config_t *cfg, psc_hal_watchdog
     int secs, rc;
 
     *out = NULL;
-    if (cfg->clock == NULL) {
-        psc_hal_error_set(err, errlen, "linux watchdog: needs the board's clock");
-        return -EINVAL;
-    }
-    if (cfg->timeout_ms < 1 || cfg->timeout_ms > 600000) {
-        psc_hal_error_set(err, errlen, "linux watchdog: timeout %u ms is outside 1..600000", (unsigned)cfg->timeout_ms);
-        return -EINVAL;
-    }
+    rc = psc_hal_watchdog_check_config(cfg, "linux", true, err, errlen);
+    if (rc != 0)
+        return rc;
     rc = psc_hal_options_check(&cfg->options, dev_watchdog_known_options, "watchdog", "linux", err, errlen);
     if (rc != 0)
         return rc;

@@ -45,14 +45,8 @@ static int systemd_watchdog_kick(psc_hal_watchdog_t *wd)
 {
     systemd_watchdog_t *s = (systemd_watchdog_t *)wd;
     uint64_t now = psc_hal_clock_now_us(s->clock);
-    uint64_t gap = now - s->last_kick_us;
 
-    if (gap > s->status.longest_gap_us)
-        s->status.longest_gap_us = gap;
-    if (gap > s->timeout_us)
-        s->status.would_have_fired = true;
-    s->last_kick_us = now;
-    s->status.kicks++;
+    psc_hal_watchdog_count_kick(&s->status, &s->last_kick_us, now, s->timeout_us);
     if (!s->ready_sent) {
         s->ready_sent = true;
         s->last_sent_us = now;
@@ -107,15 +101,9 @@ int psc_systemd_watchdog_open(const psc_hal_watchdog_config_t *cfg, psc_hal_watc
     int rc;
 
     *out = NULL;
-    if (cfg->clock == NULL) {
-        psc_hal_error_set(err, errlen, "systemd watchdog: needs the board's clock");
-        return -EINVAL;
-    }
-    if (cfg->timeout_ms < 1 || cfg->timeout_ms > 600000) {
-        psc_hal_error_set(err, errlen, "systemd watchdog: timeout %u ms is outside 1..600000",
-                          (unsigned)cfg->timeout_ms);
-        return -EINVAL;
-    }
+    rc = psc_hal_watchdog_check_config(cfg, "systemd", true, err, errlen);
+    if (rc != 0)
+        return rc;
     rc = psc_hal_options_check(&cfg->options, systemd_watchdog_known_options, "watchdog", "systemd", err, errlen);
     if (rc != 0)
         return rc;

@@ -22,14 +22,8 @@ static int sim_watchdog_kick(psc_hal_watchdog_t *wd)
 {
     sim_watchdog_t *s = (sim_watchdog_t *)wd;
     uint64_t now = s->clock ? psc_hal_clock_now_us(s->clock) : s->last_us;
-    uint64_t gap = now - s->last_us;
 
-    if (gap > s->status.longest_gap_us)
-        s->status.longest_gap_us = gap;
-    if (gap > s->timeout_us)
-        s->status.would_have_fired = true;
-    s->last_us = now;
-    s->status.kicks++;
+    psc_hal_watchdog_count_kick(&s->status, &s->last_us, now, s->timeout_us);
     return 0;
 }
 
@@ -56,11 +50,9 @@ int psc_sim_watchdog_open(const psc_hal_watchdog_config_t *cfg, psc_hal_watchdog
     int rc;
 
     *out = NULL;
-    if (cfg->timeout_ms < 1 || cfg->timeout_ms > 600000) {
-        psc_hal_error_set(err, errlen, "sim watchdog: timeout %u ms is outside 1..600000",
-                          (unsigned)cfg->timeout_ms);
-        return -EINVAL;
-    }
+    rc = psc_hal_watchdog_check_config(cfg, "sim", false, err, errlen);
+    if (rc != 0)
+        return rc;
     rc = psc_hal_options_check(&cfg->options, sim_watchdog_known_options, "watchdog", "sim", err, errlen);
     if (rc != 0)
         return rc;
