@@ -29,8 +29,8 @@ test: boot-image-test-prep
 boot-image-test-prep: deps portability-builds
 	+$(Q)if [ -n "$$PSC_VM_SKIP" ]; then exit 0; fi; \
 	for b in $(IMAGE_BOARDS); do \
-		prefix=$$(sed -n 's/^[[:space:]]*toolchain[[:space:]]*=[[:space:]]*\([^[:space:]#]*\).*/\1/p' boards/$$b/board.conf | head -n 1); \
-		command -v "$${prefix}gcc" >/dev/null 2>&1 || continue; \
+		env=$$(sh scripts/cross-env $$b) || exit 1; eval "$$env"; \
+		command -v "$${CROSS_PREFIX}gcc" >/dev/null 2>&1 || continue; \
 		mkdir -p build/$$b; rm -f build/$$b/image.why; \
 		if ! $(MAKE) --no-print-directory boot-image BOARD=$$b; then \
 			[ -s build/$$b/image.why ] || { echo "boot-image: $$b failed (above)"; exit 1; }; \

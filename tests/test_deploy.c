@@ -10,15 +10,15 @@
  *                             check fails on a disk that is wrong;
  *   reproducible_<board>      the image built again from the same tree gives
  *                             the same initramfs and disk bytes;
- *   boot_<board>_initramfs    the kernel and initramfs on QEMU (virt, q35)
+ *   boot_initramfs_<board>    the kernel and initramfs on QEMU (virt, q35)
  *                             with a bochs-display: first frame, frames 20 and
  *                             40 bit-exact with the simulated board;
- *   boot_<board>_own          the image as it ships: its own board and scene,
+ *   boot_own_<board>          the image as it ships: its own board and scene,
  *                             the screen's preferred mode, the hardware
  *                             watchdog kicked (amd64) or turned off (none);
- *   boot_<board>_card         the initramfs boot with the disk attached: /init runs the
+ *   boot_card_<board>         the initramfs boot with the disk attached: /init runs the
  *                             board and scene copied into its periscope/;
- *   boot_<board>_firmware     the disk started by the machine's firmware: the
+ *   boot_firmware_<board>     the disk started by the machine's firmware: the
  *                             Pi model as its boot firmware would, OVMF
  *                             through systemd-boot (frames checked).
  * The work is tests/image/boot.sh (see its header). Skipped with the reason
@@ -39,87 +39,53 @@
 #include "tsup_files.h"
 #include "tsup_script.h"
 
-#define BOOT_SCRIPT "tests/image/boot.sh"
 #define LAYOUT_SCRIPT "tests/image/disk-layout.sh"
-#define DEB_SCRIPT "tests/image/deb-cross.sh"
-#define REPRO_SCRIPT "tests/image/reproducible.sh"
 #define MAX_BOARDS 8
-#define MODES 4
-#define CASES_PER_BOARD (MODES + 3)
 
-static const char *const boot_modes[MODES] = { "initramfs", "own", "card", "firmware" };
+/* One kind of check: every board gets one case per kind, named
+ * PREFIX_<board>, run as `sh SCRIPT --build B BOARD [MODE]`. */
+typedef struct {
+    const char *prefix;
+    const char *script;
+    const char *mode;  /* the boot mode, or NULL */
+} deploy_kind_t;
+
+static const deploy_kind_t deploy_kinds[] = {
+    { "deb", "tests/image/deb-cross.sh", NULL },
+    { "disk", LAYOUT_SCRIPT, NULL },
+    { "reproducible", "tests/image/reproducible.sh", NULL },
+    { "boot_initramfs", "tests/image/boot.sh", "initramfs" },
+    { "boot_own", "tests/image/boot.sh", "own" },
+    { "boot_card", "tests/image/boot.sh", "card" },
+    { "boot_firmware", "tests/image/boot.sh", "firmware" },
+};
+#define KINDS (sizeof deploy_kinds / sizeof deploy_kinds[0])
 
 typedef struct {
-    const char *board; /* one of boot_boards */
-    const char *mode;  /* a boot mode; NULL for the checks that boot nothing */
-} boot_case_t;
+    const char *board; /* one of deploy_boards */
+    const deploy_kind_t *kind;
+} deploy_case_t;
 
-static char boot_build[PATH_MAX];
-static char boot_boards[MAX_BOARDS][TSUP_BOARD_NAME_MAX];
-static boot_case_t boot_cases[MAX_BOARDS * CASES_PER_BOARD];
-static char boot_names[MAX_BOARDS * CASES_PER_BOARD][96];
+static char deploy_build[PATH_MAX];
+static char deploy_boards[MAX_BOARDS][TSUP_BOARD_NAME_MAX];
+static deploy_case_t deploy_cases[MAX_BOARDS * KINDS];
+static char deploy_names[MAX_BOARDS * KINDS][96];
 
-static int vm_skipped(void)
+/* The boots are skipped, like the VM tests, with PSC_VM_SKIP set. */
+static void deploy_case(void **state)
 {
-    const char *s = getenv("PSC_VM_SKIP");
-    return s != NULL && *s != '\0' && strcmp(s, "0") != 0;
-}
+    const deploy_case_t *c = *state;
+    const char *vmskip = getenv("PSC_VM_SKIP");
+    char cmd[2 * PATH_MAX], what[128];
 
-/* Runs cmd: 0 passes, 77 skips (the script said why), anything else fails. */
-static void run_case(const char *cmd, const char *what)
-{
-    int st = tsup_script_status(cmd);
-
-    if (st == 77) {
-        print_message("%s skipped (reason above)\n", what);
+    if (c->kind->mode != NULL && vmskip != NULL && *vmskip != '\0' && strcmp(vmskip, "0") != 0) {
+        print_message("%s %s skipped: PSC_VM_SKIP is set\n", c->kind->prefix, c->board);
         skip();
     }
-    if (st != 0)
-        fail_msg("%s failed (output above)", what);
-}
-
-static void disk_layout(void **state)
-{
-    const boot_case_t *c = *state;
-    char cmd[PATH_MAX + 128], what[128];
-
-    snprintf(cmd, sizeof cmd, "sh %s '%s' 2>&1", LAYOUT_SCRIPT, c->board);
-    snprintf(what, sizeof what, "the disk image of %s", c->board);
-    run_case(cmd, what);
-}
-
-static void deb_package(void **state)
-{
-    const boot_case_t *c = *state;
-    char cmd[PATH_MAX + 128], what[128];
-
-    snprintf(cmd, sizeof cmd, "sh %s --build '%s' '%s' 2>&1", DEB_SCRIPT, boot_build, c->board);
-    snprintf(what, sizeof what, "the package of %s", c->board);
-    run_case(cmd, what);
-}
-
-static void image_reproducible(void **state)
-{
-    const boot_case_t *c = *state;
-    char cmd[PATH_MAX + 128], what[128];
-
-    snprintf(cmd, sizeof cmd, "sh %s --build '%s' '%s' 2>&1", REPRO_SCRIPT, boot_build, c->board);
-    snprintf(what, sizeof what, "rebuilding the %s image", c->board);
-    run_case(cmd, what);
-}
-
-static void boot_image(void **state)
-{
-    const boot_case_t *c = *state;
-    char cmd[PATH_MAX + 128], what[128];
-
-    if (vm_skipped()) {
-        print_message("boot %s %s skipped: PSC_VM_SKIP is set\n", c->board, c->mode);
-        skip();
-    }
-    snprintf(cmd, sizeof cmd, "sh %s --build '%s' '%s' %s 2>&1", BOOT_SCRIPT, boot_build, c->board, c->mode);
-    snprintf(what, sizeof what, "booting the %s image (%s)", c->board, c->mode);
-    run_case(cmd, what);
+    snprintf(cmd, sizeof cmd, "sh %s --build '%s' '%s' %s 2>&1", c->kind->script, deploy_build, c->board,
+             c->kind->mode != NULL ? c->kind->mode : "");
+    snprintf(what, sizeof what, "%s %s", c->kind->prefix, c->board);
+    tsup_script_case(cmd, what);
 }
 
 /* The layout check must fail on a wrong disk: a copy of the first board's
@@ -130,7 +96,7 @@ static void disk_layout_rejects_a_wrong_disk(void **state)
     int st;
 
     (void)state;
-    snprintf(src, sizeof src, "build/%s/image/periscope-%s.img", boot_boards[0], boot_boards[0]);
+    snprintf(src, sizeof src, "build/%s/image/periscope-%s.img", deploy_boards[0], deploy_boards[0]);
     if (!tsup_file_exists(src) || system("command -v mdel >/dev/null 2>&1") != 0) {
         print_message("no %s (or no mtools): nothing to break\n", src);
         skip();
@@ -139,7 +105,8 @@ static void disk_layout_rejects_a_wrong_disk(void **state)
     snprintf(cmd, sizeof cmd, "cp --sparse=always '%s' '%s' && mdel -i '%s@@4M' ::initrd.img", src, disk, disk);
     assert_int_equal(tsup_script_status(cmd), 0);
     print_message("a disk without its initramfs; the check must say FAIL:\n");
-    snprintf(cmd, sizeof cmd, "PSC_DISK_IMAGE='%s' sh %s '%s' 2>&1", disk, LAYOUT_SCRIPT, boot_boards[0]);
+    snprintf(cmd, sizeof cmd, "PSC_DISK_IMAGE='%s' sh %s --build '%s' '%s' 2>&1", disk, LAYOUT_SCRIPT, deploy_build,
+             deploy_boards[0]);
     st = tsup_script_status(cmd);
     unlink(disk);
     assert_int_equal(st, 1);
@@ -147,42 +114,25 @@ static void disk_layout_rejects_a_wrong_disk(void **state)
 
 int main(void)
 {
-    static struct CMUnitTest tests[MAX_BOARDS * CASES_PER_BOARD + 1];
+    static struct CMUnitTest tests[MAX_BOARDS * KINDS + 1];
     size_t nb, n = 0;
 
-    if (access(BOOT_SCRIPT, R_OK) != 0) {
-        fprintf(stderr, "test_deploy: %s not found: run from the repository root\n", BOOT_SCRIPT);
+    if (access(LAYOUT_SCRIPT, R_OK) != 0) {
+        fprintf(stderr, "test_deploy: %s not found: run from the repository root\n", LAYOUT_SCRIPT);
         return 1;
     }
-    tsup_build_dir(boot_build, sizeof boot_build);
-    nb = tsup_boards_with_key("image.kernel", boot_boards, MAX_BOARDS);
+    tsup_build_dir(deploy_build, sizeof deploy_build);
+    nb = tsup_boards_with_key("image.kernel", deploy_boards, MAX_BOARDS);
     if (nb == 0) {
         fprintf(stderr, "test_deploy: no board in boards/ has an image.kernel key\n");
         return 1;
     }
     for (size_t b = 0; b < nb; b++) {
-        boot_case_t *c = &boot_cases[n];
-        c->board = boot_boards[b];
-        snprintf(boot_names[n], sizeof boot_names[n], "deb_%.63s", c->board);
-        tests[n] = (struct CMUnitTest){ .name = boot_names[n], .test_func = deb_package, .initial_state = c };
-        n++;
-        c = &boot_cases[n];
-        c->board = boot_boards[b];
-        snprintf(boot_names[n], sizeof boot_names[n], "disk_%.63s", c->board);
-        tests[n] = (struct CMUnitTest){ .name = boot_names[n], .test_func = disk_layout, .initial_state = c };
-        n++;
-        c = &boot_cases[n];
-        c->board = boot_boards[b];
-        snprintf(boot_names[n], sizeof boot_names[n], "reproducible_%.63s", c->board);
-        tests[n] = (struct CMUnitTest){ .name = boot_names[n], .test_func = image_reproducible, .initial_state = c };
-        n++;
-        for (int m = 0; m < MODES; m++) {
-            c = &boot_cases[n];
-            c->board = boot_boards[b];
-            c->mode = boot_modes[m];
-            snprintf(boot_names[n], sizeof boot_names[n], "boot_%.63s_%.15s", c->board, c->mode);
-            tests[n] = (struct CMUnitTest){ .name = boot_names[n], .test_func = boot_image, .initial_state = c };
-            n++;
+        for (size_t k = 0; k < KINDS; k++, n++) {
+            deploy_cases[n] = (deploy_case_t){ deploy_boards[b], &deploy_kinds[k] };
+            snprintf(deploy_names[n], sizeof deploy_names[n], "%s_%.63s", deploy_kinds[k].prefix, deploy_boards[b]);
+            tests[n] = (struct CMUnitTest){ .name = deploy_names[n], .test_func = deploy_case,
+                                            .initial_state = &deploy_cases[n] };
         }
     }
     tests[n++] = (struct CMUnitTest){ .name = "disk_layout_rejects_a_wrong_disk",

@@ -16,17 +16,9 @@
 # Exit 0 passed, 1 failed (the reason printed), 77 skipped (no package, no qemu-user).
 set -u
 cd "$(dirname "$0")/../.." || exit 1
-
-build=build
-if [ "${1:-}" = "--build" ]; then
-    build=$2
-    shift 2
-fi
-board=${1:-}
-[ -n "$board" ] || { echo "usage: $0 [--build DIR] BOARD" >&2; exit 2; }
-name="deb $board"
-skip() { echo "$name: SKIPPED: $*"; exit 77; }
-fail() { echo "$name: FAIL: $*"; exit 1; }
+kind=deb
+. tests/image/lib.sh
+image_args "[--build DIR] BOARD" "$@"
 env=$(sh scripts/cross-env "$board") || exit 1
 eval "$env"
 version=$(tr -d ' \n' <VERSION)

@@ -19,30 +19,25 @@
 #   - EFI/BOOT/BOOTX64.EFI a PE image (MZ), loader/loader.conf naming its
 #     default entry, that entry's linux and initrd lines.
 #
-#   usage: sh tests/image/disk-layout.sh BOARD
+#   usage: sh tests/image/disk-layout.sh [--build DIR] BOARD
 # PSC_DISK_IMAGE names another image to check (the test's broken copy).
 # Exit 0 passed, 1 failed (the reason printed), 77 skipped (no image, no mtools).
 set -u
 cd "$(dirname "$0")/../.." || exit 1
-
-board=${1:-}
-[ -n "$board" ] || { echo "usage: $0 BOARD" >&2; exit 2; }
-conf=boards/$board/board.conf
+kind=disk
+. tests/image/lib.sh
+image_args "[--build DIR] BOARD" "$@"
 img=build/$board/image
 disk=${PSC_DISK_IMAGE:-$img/periscope-$board.img}
-name="disk $board"
-skip() { echo "$name: SKIPPED: $*"; exit 77; }
-fail() { echo "$name: FAIL: $*"; exit 1; }
-key() { sed -n "s/^[[:space:]]*$1[[:space:]]*=[[:space:]]*\([^#]*\).*/\1/p" "$conf" | head -n 1 | sed 's/[[:space:]]*$//'; }
 
 [ -f "$disk" ] || skip "no $disk (make boot-image BOARD=$board)"
 PATH=$PATH:/usr/sbin:/sbin
 for t in sfdisk mcopy mdir mlabel; do
     command -v $t >/dev/null 2>&1 || skip "no $t (Debian: fdisk, mtools)"
 done
-arch=$(key debian_arch)
-kind=$(key image.disk)
-tmp=build/$board/image-test-disk
+arch=$(board_key debian_arch)
+disk_kind=$(board_key image.disk)
+tmp=${PSC_TEST_TMPDIR:-$build/test-tmp}/disk-$board
 rm -rf "$tmp"
 mkdir -p "$tmp"
 fat="$disk@@4M"
@@ -57,7 +52,7 @@ echo "$line" | grep -q 'start= *8192,' || fail "the partition does not start at 
 mlabel -i "$fat" -s :: 2>/dev/null | grep -q 'PERISCOPE' || fail "the FAT volume is not labelled PERISCOPE"
 get periscope/README.txt README.txt
 
-case $kind in
+case $disk_kind in
 raspi)
     grep -q '^label: dos' "$tmp/table" || fail "not an MBR (dos) partition table"
     echo "$line" | grep -q 'type=c' || fail "the partition type is not c (FAT32 LBA): $line"
@@ -79,7 +74,7 @@ raspi)
     # device trees: each pattern matched, each file a flattened device tree
     mdir -b -i "$fat" :: 2>/dev/null | sed 's|^::/||' >"$tmp/files"
     dtbs=0
-    for pat in $(key image.dtbs); do
+    for pat in $(board_key image.dtbs); do
         matched=0
         for f in $(cat "$tmp/files"); do
             # shellcheck disable=SC2254
@@ -109,7 +104,7 @@ efi)
     initrd=$(sed -n 's|^initrd[[:space:]]*/*||p' "$tmp/entry.conf")
     what="GPT, EFI system partition at 4 MiB; systemd-boot as EFI/BOOT/$efi, entry $entry"
     ;;
-*) fail "boards/$board/board.conf: image.disk is '$kind', neither raspi nor efi" ;;
+*) fail "boards/$board/board.conf: image.disk is '$disk_kind', neither raspi nor efi" ;;
 esac
 
 # the kernel and initramfs the boot files name: there, and the built ones

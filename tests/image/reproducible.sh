@@ -9,29 +9,23 @@
 # Exit 0 passed, 1 failed (the reason printed), 77 skipped (no image here).
 set -u
 cd "$(dirname "$0")/../.." || exit 1
-
-build=build
-if [ "${1:-}" = "--build" ]; then
-    build=$2
-    shift 2
-fi
-board=${1:-}
-[ -n "$board" ] || { echo "usage: $0 [--build DIR] BOARD" >&2; exit 2; }
-name="reproducible $board"
+kind=reproducible
+. tests/image/lib.sh
+image_args "[--build DIR] BOARD" "$@"
 img=build/$board/image
-[ -f "$img/initramfs.cpio.gz" ] || { echo "$name: SKIPPED: no $img/initramfs.cpio.gz (make boot-image BOARD=$board)"; exit 77; }
+[ -f "$img/initramfs.cpio.gz" ] || skip "no $img/initramfs.cpio.gz (make boot-image BOARD=$board)"
 tmp=${PSC_TEST_TMPDIR:-$build/test-tmp}/reproducible-$board
 rm -rf "$tmp"
 mkdir -p "$tmp"
 case $tmp in /*) ;; *) tmp=$(pwd)/$tmp ;; esac
 # the same inputs: the tree, and the time the first build stamped its files with
-epoch=$(cat "$img/source-date-epoch" 2>/dev/null) || { echo "$name: SKIPPED: $img has no source-date-epoch (built before it was kept)"; exit 77; }
+epoch=$(cat "$img/source-date-epoch" 2>/dev/null) || skip "$img has no source-date-epoch (built before it was kept)"
 SOURCE_DATE_EPOCH=$epoch PSC_IMAGE_OUT=$tmp sh scripts/boot-image "$board" >"$tmp.log" 2>&1 ||
-    { cat "$tmp.log"; echo "$name: FAIL: scripts/boot-image did not build the image again"; exit 1; }
+    { cat "$tmp.log"; fail "scripts/boot-image did not build the image again"; }
 files="initramfs.cpio.gz vmlinuz"
 [ -f "$img/periscope-$board.img" ] && files="$files periscope-$board.img"
 for f in $files; do
-    cmp -s "$img/$f" "$tmp/$f" || { echo "$name: FAIL: $f differs between two builds of the same tree"; exit 1; }
+    cmp -s "$img/$f" "$tmp/$f" || fail "$f differs between two builds of the same tree"
 done
 echo "$name: built twice, $files equal byte for byte"
 rm -rf "$tmp" "$tmp.log"

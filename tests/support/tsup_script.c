@@ -1,6 +1,12 @@
 /* tsup_script.c - boards, build directory and exit status for script-driven tests (see tsup_script.h). */
 #include "tsup_script.h"
 
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
 #include <dirent.h>
 #include <limits.h>
 #include <stdio.h>
@@ -74,4 +80,16 @@ int tsup_script_status(const char *cmd)
     if (st == -1 || !WIFEXITED(st))
         return -1;
     return WEXITSTATUS(st);
+}
+
+void tsup_script_case(const char *cmd, const char *what)
+{
+    int st = tsup_script_status(cmd);
+
+    if (st == 77) {
+        print_message("%s skipped (reason above)\n", what);
+        skip();
+    }
+    if (st != 0)
+        fail_msg("%s failed (output above; exit status %d)", what, st);
 }

@@ -30,4 +30,11 @@ void tsup_build_dir(char *buf, size_t n);
  */
 int tsup_script_status(const char *cmd);
 
+/**
+ * A cmocka case's verdict from a script (tests/portability, tests/image):
+ * runs cmd; exit 0 passes, 77 skips (the script printed why), anything
+ * else fails naming what.
+ */
+void tsup_script_case(const char *cmd, const char *what);
+
 #endif
