@@ -56,7 +56,7 @@ CMOCKA_CFLAGS := $(shell $(PKG_CONFIG) --cflags cmocka 2>/dev/null)
 CMOCKA_LIBS := $(shell $(PKG_CONFIG) --libs cmocka 2>/dev/null || echo -lcmocka)
 LDLIBS_HOST := -lm
 
-CORE_SRC := $(sort $(wildcard core/*.c))
+CORE_SRC := $(sort $(wildcard core/*/*.c))
 HAL_SRC := $(sort $(wildcard hal/*.c) $(foreach b,$(HAL_BACKENDS),$(wildcard hal/$(b)/*.c)))
 HOSTLIB_SRC := $(sort $(wildcard host_tools/lib/*.c))
 FW_SRC := $(sort $(wildcard firmware/*.c))
@@ -173,7 +173,7 @@ check-core-nofloat:
 	$(Q)if printf 'double psc_selftest(double x);\ndouble psc_selftest(double x) { return x * 0.5; }\n' | \
 		$(CC) $(NOFLOAT_FLAGS) -x c -c - -o /dev/null 2>/dev/null; then \
 		echo "check-core-nofloat: the check itself is broken (a float function compiled)"; exit 1; fi
-	$(Q)for f in $(CORE_SRC) core/*.h; do $(CC) -fpreprocessed -dD -E -P -x c $$f 2>/dev/null | \
+	$(Q)for f in $(CORE_SRC) $(wildcard core/*/*.h); do $(CC) -fpreprocessed -dD -E -P -x c $$f 2>/dev/null | \
 		grep -nE '\b(float|double)\b|#include *<(stdio|stdlib|string|math|unistd|fcntl|time|pthread|sys/)' && \
 		{ echo "check-core-nofloat: $$f uses floating point or a hosted header"; exit 1; }; done; true
 

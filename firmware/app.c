@@ -24,7 +24,7 @@
 #include "psc_hal_clock.h"
 #include "psc_hal_display.h"
 #include "psc_hal_input.h"
-#include "psc_viewer.h"
+#include "viewer/psc_viewer.h"
 #include "quality.h"
 
 #define APP_MAX_HAL_OPTIONS (PSC_BOARD_MAX_OPTIONS + 4u)

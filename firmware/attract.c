@@ -4,7 +4,7 @@
  */
 #include "attract.h"
 #include "motion.h"
-#include "psc_fixed.h"
+#include "base/psc_fixed.h"
 
 #define US_PER_S 1000000u
 

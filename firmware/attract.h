@@ -25,7 +25,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
-#include "psc_types.h"
+#include "base/psc_types.h"
 
 /** How fast the pitch settles back to the scene's default while attracting (halves every 1.5 s). */
 #define PSC_ATTRACT_PITCH_HALF_LIFE_US 1500000u

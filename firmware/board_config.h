@@ -27,7 +27,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include "psc_hal.h"
-#include "psc_viewer.h"
+#include "viewer/psc_viewer.h"
 #include "hotspots.h"
 
 #define PSC_BOARD_NAME_MAX 32u

@@ -16,7 +16,7 @@
  *
  * Dual-fisheye cameras (board key camera_fisheye_table): each frame is two
  * fisheye circles, not a map. With a table set (psc_camera_feed_set_fisheye)
- * every new frame is remapped through it (core/psc_fisheye.h, integer
+ * every new frame is remapped through it (core/fisheye/psc_fisheye.h, integer
  * bilinear) into one map buffer the caller allocated at start-up, and the
  * frame goes straight back to the camera; feed->map then describes that
  * buffer (equirectangular, the table's map size).
@@ -27,9 +27,9 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "psc_envmap.h"
+#include "envmap/psc_envmap.h"
 #include "psc_hal_camera.h"
-#include "psc_fisheye.h"
+#include "fisheye/psc_fisheye.h"
 
 typedef struct {
     psc_hal_camera_t *camera;        /* not owned */

@@ -21,7 +21,7 @@
 #include <stdint.h>
 
 #include "psc_hal_input.h"
-#include "psc_types.h"
+#include "base/psc_types.h"
 
 #define PSC_DEVICE_STATUS_MAX_LINES 4u
 #define PSC_DEVICE_STATUS_LINE_MAX 24u

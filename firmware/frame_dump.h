@@ -15,7 +15,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "psc_types.h"
+#include "base/psc_types.h"
 
 /**
  * Write surface s to path (created or truncated) in the format above with

@@ -7,7 +7,7 @@
 
 #include "hotspots.h"
 #include "overlay_font.h"
-#include "psc_fixed.h"
+#include "base/psc_fixed.h"
 #include "psc_hal_parse.h"
 
 #define HOTSPOT_WORDS 9u

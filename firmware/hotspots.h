@@ -33,8 +33,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
-#include "psc_types.h"
-#include "psc_viewer.h"
+#include "base/psc_types.h"
+#include "viewer/psc_viewer.h"
 
 #define PSC_HOTSPOT_MAX 32u
 /** Marker radius at scale 1 (display height 240), in pixels. */

@@ -6,7 +6,7 @@
  * the same path whatever the frame rate, up to one bam per step.
  */
 #include "motion.h"
-#include "psc_fixed.h"
+#include "base/psc_fixed.h"
 
 #define US_PER_S 1000000
 

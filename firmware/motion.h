@@ -30,7 +30,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
-#include "psc_types.h"
+#include "base/psc_types.h"
 
 /** Rates below this (0.05 deg/s) stop instead of decaying forever. */
 #define PSC_MOTION_STOP_RATE ((int64_t)PSC_BAM_FROM_MDEG(50))

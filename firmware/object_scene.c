@@ -1,7 +1,7 @@
 /* object_scene.c - the "object" scene type (object_scene.h). */
 #include "object_scene.h"
-#include "psc_3d_orbit.h"
-#include "psc_3d_render.h"
+#include "3d/psc_3d_orbit.h"
+#include "3d/psc_3d_render.h"
 
 static psc_3d_config_t object_config(const psc_mesh_t *m, uint16_t width, uint16_t height, psc_bam_t hfov)
 {

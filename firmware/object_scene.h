@@ -1,5 +1,5 @@
 /*
- * object_scene.h - the "object" scene type: a mesh pack (core/psc_mesh.h)
+ * object_scene.h - the "object" scene type: a mesh pack (core/mesh/psc_mesh.h)
  * shown with the 3D pipeline instead of a panorama. A board's scene line
  * names it like any scene (the file's magic tells the two apart); the
  * joystick's yaw and pitch orbit the camera around the model (so the model
@@ -14,7 +14,7 @@
 
 #include <stddef.h>
 #include "mesh_pack.h"
-#include "psc_viewer.h"
+#include "viewer/psc_viewer.h"
 
 #define PSC_OBJECT_ORBIT_DIST_Q16 (5 * PSC_Q16_ONE / 2)   /* 2.5 R */
 #define PSC_OBJECT_DEFAULT_YAW PSC_BAM_FROM_MDEG(30000)

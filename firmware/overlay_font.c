@@ -5,7 +5,7 @@
 #include <stddef.h>
 
 #include "overlay_font.h"
-#include "psc_pixel.h"
+#include "base/psc_pixel.h"
 
 typedef struct {
     char c;

@@ -12,7 +12,7 @@
 #define PSC_OVERLAY_FONT_H
 
 #include <stdint.h>
-#include "psc_types.h"
+#include "base/psc_types.h"
 
 #define PSC_FONT_GLYPH_W 5u
 #define PSC_FONT_GLYPH_H 7u

@@ -18,7 +18,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
-#include "psc_viewer.h"
+#include "viewer/psc_viewer.h"
 
 /** The thresholds and the two qualities (from the board file). */
 typedef struct {

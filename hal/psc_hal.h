@@ -43,7 +43,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdbool.h>
-#include "psc_types.h"
+#include "base/psc_types.h"
 
 /**
  * One backend-specific setting, taken from a board file line "display.NAME =

@@ -23,7 +23,7 @@
 #define PSC_HAL_CAMERA_H
 
 #include "psc_hal.h"
-#include "psc_envmap.h"
+#include "envmap/psc_envmap.h"
 
 #define PSC_HAL_CAMERA_MAX_BUFFERS 8u
 

@@ -1,5 +1,5 @@
 /*
- * periscope-fisheye - build the dual-fisheye table (core/psc_fisheye.h) that
+ * periscope-fisheye - build the dual-fisheye table (core/fisheye/psc_fisheye.h) that
  * turns a dual-fisheye camera's frames into an equirectangular environment
  * map on the device (board key camera_fisheye_table).
  *

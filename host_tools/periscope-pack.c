@@ -336,7 +336,7 @@ int main(int argc, char **argv)
      * cannot parse must never reach a device. */
     progress_show("verifying", 0, &prog);
     psc_pack_t parsed;
-    psc_pack_error_t perr = {0};
+    psc_container_error_t perr = {0};
     psc_status_t s = psc_pack_parse(pack, len, &parsed, &perr);
     if (s != PSC_OK) {
         progress_end(&prog, false);

@@ -12,7 +12,7 @@
 #include "image_io.h"
 #include "model_render.h"
 #include "pack_build.h"
-#include "psc_viewer.h"
+#include "viewer/psc_viewer.h"
 
 #include <stdarg.h>
 #include <stdbool.h>

@@ -29,7 +29,7 @@
 #include "mesh_pack.h"
 #include "obj_load.h"
 #include "object_scene.h"
-#include "psc_3d_render.h"
+#include "3d/psc_3d_render.h"
 #include "psc_testsupport.h"
 #include "tsup_3d.h"
 
@@ -46,8 +46,8 @@ static void fix_crc(uint8_t *p, size_t len)
 {
     if (len < 24)
         return;
-    tsup_wr32(p + PSC_PACK_CRC_OFFSET, 0);
-    tsup_wr32(p + PSC_PACK_CRC_OFFSET, (uint32_t)crc32(0L, p, (uInt)len));
+    tsup_wr32(p + PSC_CONTAINER_CRC_OFFSET, 0);
+    tsup_wr32(p + PSC_CONTAINER_CRC_OFFSET, (uint32_t)crc32(0L, p, (uInt)len));
 }
 
 static psc_image_t small_image(uint32_t w, uint32_t h)
@@ -65,7 +65,7 @@ static void build(const psc_model_t *m, const psc_image_t *tex, uint8_t **buf, s
         fail_msg("psc_mesh_pack_build: %s", err);
 }
 
-static psc_status_t parse_copy(const uint8_t *p, size_t len, psc_mesh_t *out, psc_pack_error_t *err)
+static psc_status_t parse_copy(const uint8_t *p, size_t len, psc_mesh_t *out, psc_container_error_t *err)
 {
     /* malloc'd memory is aligned to 8 or more. */
     uint8_t *b = exact_copy(p, len);
@@ -90,7 +90,7 @@ static void test_roundtrip(void **state)
     build(&m, &img, &buf, &len);
     uint8_t *b = exact_copy(buf, len);
     psc_mesh_t p;
-    psc_pack_error_t err = {0};
+    psc_container_error_t err = {0};
     assert_int_equal(psc_mesh_parse(b, len, &p, &err), PSC_OK);
     assert_int_equal(p.vertex_count, m.vertex_count);
     assert_int_equal(p.triangle_count, m.triangle_count);
@@ -140,7 +140,7 @@ static void test_truncated_every_length(void **state)
     build(&m, &img, &buf, &len);
     for (size_t n = 0; n < len; n++) {
         psc_mesh_t p;
-        psc_pack_error_t err = {NULL, 0};
+        psc_container_error_t err = {NULL, 0};
         psc_status_t s = parse_copy(buf, n, &p, &err);
         if (s != PSC_ERR_TRUNCATED)
             fail_msg("cut to %zu of %zu bytes: %s (%s), expected truncated", n, len, psc_status_str(s),
@@ -158,7 +158,7 @@ static void expect(uint8_t *b, size_t len, int recrc, psc_status_t want, const c
     if (recrc)
         fix_crc(b, len);
     psc_mesh_t p;
-    psc_pack_error_t err = {NULL, 0xFFFFFFFFu};
+    psc_container_error_t err = {NULL, 0xFFFFFFFFu};
     psc_status_t s = parse_copy(b, len, &p, &err);
     if (s != want)
         fail_msg("%s: %s (%s), expected %s", what, psc_status_str(s), err.what ? err.what : "-", psc_status_str(want));
@@ -170,9 +170,9 @@ static void expect(uint8_t *b, size_t len, int recrc, psc_status_t want, const c
 
 static uint8_t *entry_of(uint8_t *b, uint32_t type)
 {
-    unsigned n = tsup_rd16(b + 24);
+    unsigned n = tsup_rd16(b + PSC_CONTAINER_SECTION_COUNT_OFFSET);
     for (unsigned i = 0; i < n; i++) {
-        uint8_t *e = b + PSC_MESH_HEADER_SIZE + 16 * i;
+        uint8_t *e = b + PSC_CONTAINER_HEADER_SIZE + PSC_CONTAINER_SECTION_SIZE * i;
         if (tsup_rd32(e) == type)
             return e;
     }
@@ -197,10 +197,10 @@ static void test_bad_packs(void **state)
     RESET(); tsup_wr16(b + 8, 2); expect(b, len, 1, PSC_ERR_VERSION, "major version");
     RESET(); tsup_wr16(b + 10, 9); expect(b, len, 1, PSC_OK, "newer minor version");
     RESET(); b[len - 1] ^= 1; expect(b, len, 0, PSC_ERR_CRC, "payload bit flip");
-    RESET(); tsup_wr32(b + 16, (uint32_t)len - 1); expect(b, len, 1, PSC_ERR_CORRUPT, "trailing bytes");
+    RESET(); tsup_wr32(b + PSC_CONTAINER_FILE_SIZE_OFFSET, (uint32_t)len - 1); expect(b, len, 1, PSC_ERR_CORRUPT, "trailing bytes");
     RESET(); tsup_wr32(b + 12, 16); expect(b, len, 1, PSC_ERR_CORRUPT, "header size");
-    RESET(); tsup_wr16(b + 24, 0); expect(b, len, 1, PSC_ERR_CORRUPT, "no sections");
-    RESET(); tsup_wr16(b + 24, 17); expect(b, len, 1, PSC_ERR_CORRUPT, "17 sections");
+    RESET(); tsup_wr16(b + PSC_CONTAINER_SECTION_COUNT_OFFSET, 0); expect(b, len, 1, PSC_ERR_CORRUPT, "no sections");
+    RESET(); tsup_wr16(b + PSC_CONTAINER_SECTION_COUNT_OFFSET, 17); expect(b, len, 1, PSC_ERR_CORRUPT, "17 sections");
     RESET(); tsup_wr32(entry_of(b, PSC_SECTION_MESH_POS) + 4, tsup_rd32(entry_of(b, PSC_SECTION_MESH_POS) + 4) + 4);
     expect(b, len, 1, PSC_ERR_CORRUPT, "misaligned section");
     RESET(); tsup_wr32(entry_of(b, PSC_SECTION_MESH_INDEX) + 8, 0xFFFFFFF0u);
@@ -280,7 +280,7 @@ static void test_fuzz(void **state)
         uint8_t *exact = exact_copy(b, n);
         free(b);
         psc_mesh_t p;
-        psc_pack_error_t err = {NULL, 0};
+        psc_container_error_t err = {NULL, 0};
         psc_status_t st = psc_mesh_parse(exact, n, &p, &err);
         if (st == PSC_OK) {
             parsed++;
@@ -293,7 +293,7 @@ static void test_fuzz(void **state)
                 rendered++;
         } else {
             assert_non_null(err.what);
-            assert_true(err.offset <= n || n < PSC_MESH_HEADER_SIZE);
+            assert_true(err.offset <= n || n < PSC_CONTAINER_HEADER_SIZE);
         }
         free(exact);
     }

@@ -29,7 +29,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "psc_3d_render.h"
+#include "3d/psc_3d_render.h"
 #include "psc_testsupport.h"
 #include "tsup_3d.h"
 

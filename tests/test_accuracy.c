@@ -27,7 +27,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "psc_viewer.h"
+#include "viewer/psc_viewer.h"
 #include "psc_testsupport.h"
 
 typedef struct {

@@ -11,7 +11,7 @@
 #include <string.h>
 #include <zlib.h>
 
-#include "psc_crc32.h"
+#include "base/psc_crc32.h"
 #include "psc_testsupport.h"
 
 static void test_check_value(void **state)

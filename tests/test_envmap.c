@@ -1,4 +1,4 @@
-/* test_envmap.c - map descriptions (core/psc_envmap.h): names, checks and default coverage. */
+/* test_envmap.c - map descriptions (core/envmap/psc_envmap.h): names, checks and default coverage. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -9,7 +9,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "psc_envmap.h"
+#include "envmap/psc_envmap.h"
 #include "psc_testsupport.h"
 
 static uint8_t pixels[16];

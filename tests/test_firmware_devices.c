@@ -28,10 +28,10 @@
 #include "image_io.h"
 #include "overlay_font.h"
 #include "pack_build.h"
-#include "psc_pixel.h"
+#include "base/psc_pixel.h"
 #include "psc_testsupport.h"
 #include "tsup_pack.h"
-#include "psc_viewer.h"
+#include "viewer/psc_viewer.h"
 #include "sim/psc_hal_sim.h"
 #include "tsup_files.h"
 

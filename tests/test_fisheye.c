@@ -25,10 +25,10 @@
 #include "cli.h"
 #include "fisheye_build.h"
 #include "pack_build.h"
-#include "psc_crc32.h"
-#include "psc_fisheye.h"
+#include "base/psc_crc32.h"
+#include "fisheye/psc_fisheye.h"
 #include "psc_hal_camera.h"
-#include "psc_pixel.h"
+#include "base/psc_pixel.h"
 #include "psc_testsupport.h"
 #include "sim/psc_hal_sim.h"
 #include "tsup_files.h"
@@ -67,7 +67,7 @@ static uint8_t *build_table(const psc_fisheye_rig_t *rig, uint16_t mw, uint16_t 
     memcpy(al, raw, *len);
     free(raw);
     if (t) {
-        psc_pack_error_t pe = {0};
+        psc_container_error_t pe = {0};
         assert_int_equal(psc_fisheye_parse(al, *len, t, &pe), PSC_OK);
     }
     return al;
@@ -379,7 +379,7 @@ static void fix_crc(uint8_t *b, size_t len)
     tsup_wr32(b + PSC_CONTAINER_CRC_OFFSET, psc_crc32(0, b, len));
 }
 
-static psc_status_t parse_copy(const uint8_t *b, size_t len, psc_fisheye_t *t, psc_pack_error_t *pe)
+static psc_status_t parse_copy(const uint8_t *b, size_t len, psc_fisheye_t *t, psc_container_error_t *pe)
 {
     uint8_t *c = NULL;
     assert_int_equal(posix_memalign((void **)&c, 64, len ? len : 1), 0);
@@ -392,7 +392,7 @@ static psc_status_t parse_copy(const uint8_t *b, size_t len, psc_fisheye_t *t, p
 static void expect_bad(uint8_t *b, size_t len, psc_status_t want, const char *what)
 {
     psc_fisheye_t t;
-    psc_pack_error_t pe = {0};
+    psc_container_error_t pe = {0};
     fix_crc(b, len);
     psc_status_t s = psc_fisheye_parse(b, len, &t, &pe);
     if (s != want || pe.what == NULL || strstr(pe.what, what) == NULL)
@@ -408,7 +408,7 @@ static void test_parse_truncated(void **state)
     uint8_t *b = build_table(&rig, 32, 16, &len, NULL);
     for (size_t n = 0; n < len; n++) {
         psc_fisheye_t t;
-        psc_pack_error_t pe = {0};
+        psc_container_error_t pe = {0};
         psc_status_t s = parse_copy(b, n, &t, &pe);
         assert_int_not_equal(s, PSC_OK);
         assert_non_null(pe.what);
@@ -427,9 +427,9 @@ static void test_parse_corrupt(void **state)
     uint8_t *orig = build_table(&rig, 32, 16, &len, NULL);
     uint8_t *b = NULL;
     assert_int_equal(posix_memalign((void **)&b, 64, len + 64), 0);
-    const size_t info = 64, pos = 128, e0 = PSC_CONTAINER_HEADER_SIZE, e1 = e0 + 16;
+    const size_t info = 64, pos = 128, e0 = PSC_CONTAINER_HEADER_SIZE, e1 = e0 + PSC_CONTAINER_SECTION_SIZE;
     psc_fisheye_t t;
-    psc_pack_error_t pe;
+    psc_container_error_t pe;
 
 #define RESET() memcpy(b, orig, len)
     RESET();
@@ -442,7 +442,7 @@ static void test_parse_corrupt(void **state)
     memcpy(b, "PSCPANO\x1a", 8);   /* another Periscope file */
     expect_bad(b, len, PSC_ERR_MAGIC, "not a dual-fisheye table");
     RESET();
-    tsup_wr16(b + 8, 2);
+    tsup_wr16(b + PSC_CONTAINER_VERSION_MAJOR_OFFSET, 2);
     expect_bad(b, len, PSC_ERR_VERSION, "major version");
     RESET();
     tsup_wr16(b + info, 0);
@@ -539,7 +539,7 @@ static void test_parse_fuzz(void **state)
         }
         fix_crc(b, len);
         psc_fisheye_t t;
-        psc_pack_error_t pe = {0};
+        psc_container_error_t pe = {0};
         psc_status_t s = psc_fisheye_parse(b, len, &t, &pe);
         if (s != PSC_OK) {
             assert_non_null(pe.what);

@@ -1,5 +1,5 @@
 /*
- * test_fixed.c - core/psc_fixed.h and the binary-angle macro of psc_types.h
+ * test_fixed.c - core/base/psc_fixed.h and the binary-angle macro of psc_types.h
  * against independent references (exact integer arithmetic, or libm in
  * double where the function approximates a transcendental).
  */
@@ -13,7 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "psc_fixed.h"
+#include "base/psc_fixed.h"
 #include "psc_testsupport.h"
 
 __extension__ typedef __int128 i128;

@@ -39,7 +39,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "psc_viewer.h"
+#include "viewer/psc_viewer.h"
 #include "psc_testsupport.h"
 
 #define BILINEAR_MIN_DB 38.0

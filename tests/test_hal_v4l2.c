@@ -22,7 +22,7 @@
 
 #include "psc_hal_camera.h"
 #include "psc_hal_clock.h"
-#include "psc_pixel.h"
+#include "base/psc_pixel.h"
 #include "psc_testsupport.h"
 #include "tsup_files.h"
 #include "v4l2/psc_v4l2_convert.h"

@@ -24,7 +24,7 @@
 #include "hotspots.h"
 #include "motion.h"
 #include "pack_build.h"
-#include "psc_pixel.h"
+#include "base/psc_pixel.h"
 #include "psc_testsupport.h"
 #include "tsup_pack.h"
 

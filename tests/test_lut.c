@@ -1,5 +1,5 @@
 /*
- * test_lut.c - the scanline-coherent table (core/psc_lut.h) as built by
+ * test_lut.c - the scanline-coherent table (core/lut/psc_lut.h) as built by
  * host_tools/lib/lut_build.c: the stored octant plus the reflections that
  * psc_lut.h documents must reproduce the whole cylinder, a in [-180, 180)
  * degrees and u in [-u_max, u_max], within the Q0.16 quantisation.
@@ -15,7 +15,7 @@
 #include <stdlib.h>
 
 #include "lut_build.h"
-#include "psc_lut.h"
+#include "lut/psc_lut.h"
 #include "psc_testsupport.h"
 
 #define UNIT (TSUP_PI / 2.0 / 65536.0) /* one Q0.16 step of 90 degrees, in radians */

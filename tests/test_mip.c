@@ -23,8 +23,8 @@
 
 #include "map_pyramid.h"
 #include "pack_build.h"
-#include "psc_pack.h"
-#include "psc_viewer.h"
+#include "pack/psc_pack.h"
+#include "viewer/psc_viewer.h"
 #include "psc_testsupport.h"
 
 #define SAMPLE "assets/pannellum-examplepano.jpg"
@@ -96,7 +96,7 @@ static int load_sample(sample_t *s, unsigned levels)
         fprintf(stderr, "%s\n", err);
         return -1;
     }
-    psc_pack_error_t perr;
+    psc_container_error_t perr;
     return psc_pack_parse(s->pack_bytes, s->pack_len, &s->pack, &perr) == PSC_OK ? 0 : -1;
 }
 
@@ -128,16 +128,16 @@ static void test_pack_levels(void **state)
     /* a level whose section is renamed to leave a gap is refused */
     uint8_t *copy = malloc(s.pack_len);
     memcpy(copy, s.pack_bytes, s.pack_len);
-    unsigned nsec = tsup_rd16(copy + 24);
+    unsigned nsec = tsup_rd16(copy + PSC_CONTAINER_SECTION_COUNT_OFFSET);
     for (unsigned i = 0; i < nsec; i++) {
-        uint8_t *e = copy + PSC_PACK_HEADER_SIZE + i * PSC_PACK_SECTION_SIZE;
+        uint8_t *e = copy + PSC_CONTAINER_HEADER_SIZE + i * PSC_CONTAINER_SECTION_SIZE;
         if (tsup_rd32(e) == PSC_SECTION_MAP_LEVEL(2))
             tsup_wr32(e, PSC_SECTION_MAP_LEVEL(11));
     }
-    tsup_wr32(copy + PSC_PACK_CRC_OFFSET, 0);
-    tsup_wr32(copy + PSC_PACK_CRC_OFFSET, (uint32_t)crc32(0, copy, (unsigned)s.pack_len));
+    tsup_wr32(copy + PSC_CONTAINER_CRC_OFFSET, 0);
+    tsup_wr32(copy + PSC_CONTAINER_CRC_OFFSET, (uint32_t)crc32(0, copy, (unsigned)s.pack_len));
     psc_pack_t bad;
-    psc_pack_error_t perr;
+    psc_container_error_t perr;
     assert_int_equal(psc_pack_parse(copy, s.pack_len, &bad, &perr), PSC_ERR_CORRUPT);
     printf("  gap in the levels: \"%s\" (offset %u)\n", perr.what, (unsigned)perr.offset);
     free(copy);

@@ -23,10 +23,11 @@
 #include <zlib.h>
 
 #include "lut_build.h"
+#include "container_write.h"
 #include "pack_build.h"
-#include "psc_crc32.h"
-#include "psc_pack.h"
-#include "psc_viewer.h"
+#include "base/psc_crc32.h"
+#include "pack/psc_pack.h"
+#include "viewer/psc_viewer.h"
 #include "psc_testsupport.h"
 
 #define IMG_W 64
@@ -75,8 +76,8 @@ static uint8_t *exact_copy(const uint8_t *p, size_t len)
 
 static void fix_crc(uint8_t *p, size_t len)
 {
-    tsup_wr32(p + PSC_PACK_CRC_OFFSET, 0);
-    tsup_wr32(p + PSC_PACK_CRC_OFFSET, (uint32_t)crc32(0L, p, (uInt)len));
+    tsup_wr32(p + PSC_CONTAINER_CRC_OFFSET, 0);
+    tsup_wr32(p + PSC_CONTAINER_CRC_OFFSET, (uint32_t)crc32(0L, p, (uInt)len));
 }
 
 typedef struct {
@@ -106,22 +107,22 @@ static pack_t small_pack(psc_pixfmt_t fmt)
 /* Section table entry i of a pack. */
 static uint8_t *section_entry(uint8_t *p, unsigned i)
 {
-    return p + tsup_rd32(p + 12) + (size_t)i * PSC_PACK_SECTION_SIZE;
+    return p + tsup_rd32(p + PSC_CONTAINER_HEADER_SIZE_OFFSET) + (size_t)i * PSC_CONTAINER_SECTION_SIZE;
 }
 
 /* The index of the n-th section of a type (-1 if none). */
 static int find_section(const uint8_t *p, uint32_t type, unsigned n)
 {
-    unsigned count = tsup_rd16(p + 24);
+    unsigned count = tsup_rd16(p + PSC_CONTAINER_SECTION_COUNT_OFFSET);
     for (unsigned i = 0; i < count; i++) {
-        const uint8_t *e = p + tsup_rd32(p + 12) + (size_t)i * PSC_PACK_SECTION_SIZE;
-        if (tsup_rd32(e) == type && n-- == 0)
+        const uint8_t *e = p + tsup_rd32(p + PSC_CONTAINER_HEADER_SIZE_OFFSET) + (size_t)i * PSC_CONTAINER_SECTION_SIZE;
+        if (tsup_rd32(e + PSC_CONTAINER_ENTRY_TYPE_OFFSET) == type && n-- == 0)
             return (int)i;
     }
     return -1;
 }
 
-static psc_status_t parse_copy(const uint8_t *p, size_t len, psc_pack_t *out, psc_pack_error_t *err)
+static psc_status_t parse_copy(const uint8_t *p, size_t len, psc_pack_t *out, psc_container_error_t *err)
 {
     uint8_t *b = exact_copy(p, len);
     psc_status_t s = psc_pack_parse(b, len, out, err);
@@ -133,7 +134,7 @@ static psc_status_t parse_copy(const uint8_t *p, size_t len, psc_pack_t *out, ps
 static void expect_status(const uint8_t *p, size_t len, psc_status_t want, const char *what)
 {
     psc_pack_t out;
-    psc_pack_error_t err = {NULL, 0xFFFFFFFFu};
+    psc_container_error_t err = {NULL, 0xFFFFFFFFu};
     psc_status_t s = parse_copy(p, len, &out, &err);
     if (s != want)
         fail_msg("%s: status %s (%s), expected %s", what, psc_status_str(s), err.what ? err.what : "(no message)",
@@ -142,7 +143,7 @@ static void expect_status(const uint8_t *p, size_t len, psc_status_t want, const
         return;
     assert_non_null(err.what);
     assert_true(strlen(err.what) > 0);
-    assert_true(err.offset <= len || len < PSC_PACK_HEADER_SIZE);
+    assert_true(err.offset <= len || len < PSC_CONTAINER_HEADER_SIZE);
 }
 
 /* A pack assembled from (type, payload) parts: header, table, 64-aligned payloads, CRC. */
@@ -154,43 +155,32 @@ typedef struct {
 
 static pack_t assemble(const part_t *parts, unsigned n, uint16_t minor)
 {
-    size_t pos = PSC_PACK_HEADER_SIZE + (size_t)n * PSC_PACK_SECTION_SIZE, offs[32];
-    assert_true(n <= 32);
-    for (unsigned i = 0; i < n; i++) {
-        pos = (pos + PSC_PACK_ALIGN - 1) / PSC_PACK_ALIGN * PSC_PACK_ALIGN;
-        offs[i] = pos;
-        pos += parts[i].size;
-    }
+    /* the one container writer; the format copy may carry more sections
+     * than a reader accepts, so the parser's limit can be tested */
+    psc_container_format_t fmt = psc_pack_format;
+    psc_container_part_t cp[PSC_CONTAINER_WRITE_MAX_SECTIONS];
+    char err[256] = "";
     pack_t p;
-    p.len = pos;
-    p.buf = calloc(1, pos);
-    assert_non_null(p.buf);
-    memcpy(p.buf, PSC_PACK_MAGIC, PSC_PACK_MAGIC_LEN);
-    tsup_wr16(p.buf + 8, PSC_PACK_VERSION_MAJOR);
-    tsup_wr16(p.buf + 10, minor);
-    tsup_wr32(p.buf + 12, PSC_PACK_HEADER_SIZE);
-    tsup_wr32(p.buf + 16, (uint32_t)pos);
-    tsup_wr16(p.buf + 24, (uint16_t)n);
-    for (unsigned i = 0; i < n; i++) {
-        uint8_t *e = p.buf + PSC_PACK_HEADER_SIZE + (size_t)i * PSC_PACK_SECTION_SIZE;
-        tsup_wr32(e, parts[i].type);
-        tsup_wr32(e + 4, (uint32_t)offs[i]);
-        tsup_wr32(e + 8, parts[i].size);
-        memcpy(p.buf + offs[i], parts[i].data, parts[i].size);
-    }
-    fix_crc(p.buf, p.len);
+
+    assert_true(n <= PSC_CONTAINER_WRITE_MAX_SECTIONS);
+    fmt.version_minor = minor;
+    fmt.max_sections = PSC_CONTAINER_WRITE_MAX_SECTIONS;
+    for (unsigned i = 0; i < n; i++)
+        cp[i] = (psc_container_part_t){parts[i].type, parts[i].data, parts[i].size};
+    if (psc_container_write(&fmt, cp, n, &p.buf, &p.len, "assembled pack", err, sizeof err) != 0)
+        fail_msg("psc_container_write: %s", err);
     return p;
 }
 
 /* The parts of a built pack, in its order. */
 static unsigned split_pack(const uint8_t *p, part_t *parts)
 {
-    unsigned n = tsup_rd16(p + 24);
+    unsigned n = tsup_rd16(p + PSC_CONTAINER_SECTION_COUNT_OFFSET);
     for (unsigned i = 0; i < n; i++) {
-        const uint8_t *e = p + tsup_rd32(p + 12) + (size_t)i * PSC_PACK_SECTION_SIZE;
-        parts[i].type = tsup_rd32(e);
-        parts[i].data = p + tsup_rd32(e + 4);
-        parts[i].size = tsup_rd32(e + 8);
+        const uint8_t *e = p + tsup_rd32(p + PSC_CONTAINER_HEADER_SIZE_OFFSET) + (size_t)i * PSC_CONTAINER_SECTION_SIZE;
+        parts[i].type = tsup_rd32(e + PSC_CONTAINER_ENTRY_TYPE_OFFSET);
+        parts[i].data = p + tsup_rd32(e + PSC_CONTAINER_ENTRY_START_OFFSET);
+        parts[i].size = tsup_rd32(e + PSC_CONTAINER_ENTRY_SIZE_OFFSET);
     }
     return n;
 }
@@ -215,7 +205,7 @@ static void check_roundtrip(psc_pixfmt_t fmt, psc_projection_t proj, int partial
     pack_t pk = build_pack(&o);
     uint8_t *b = exact_copy(pk.buf, pk.len);
     psc_pack_t p;
-    psc_pack_error_t err = {NULL, 0};
+    psc_container_error_t err = {NULL, 0};
     psc_status_t s = psc_pack_parse(b, pk.len, &p, &err);
     if (s != PSC_OK)
         fail_msg("valid pack refused: %s: %s", psc_status_str(s), err.what ? err.what : "?");
@@ -251,7 +241,7 @@ static void check_roundtrip(psc_pixfmt_t fmt, psc_projection_t proj, int partial
     /* Map bytes: in place, and the image converted as documented. */
     int mi = find_section(b, PSC_SECTION_MAP0, 0);
     assert_true(mi >= 0);
-    assert_ptr_equal(p.map.pixels, b + tsup_rd32(section_entry(b, (unsigned)mi) + 4));
+    assert_ptr_equal(p.map.pixels, b + tsup_rd32(section_entry(b, (unsigned)mi) + PSC_CONTAINER_ENTRY_START_OFFSET));
     psc_image_t img = synth_image(IMG_W, IMG_H);
     for (unsigned y = 0; y < IMG_H; y++)
         for (unsigned x = 0; x < IMG_W; x++) {
@@ -274,7 +264,7 @@ static void check_roundtrip(psc_pixfmt_t fmt, psc_projection_t proj, int partial
     if (fmt == PSC_PIX_PAL8) {
         int pi = find_section(b, PSC_SECTION_PALETTE, 0);
         assert_true(pi >= 0);
-        assert_ptr_equal(p.map.palette, b + tsup_rd32(section_entry(b, (unsigned)pi) + 4));
+        assert_ptr_equal(p.map.palette, b + tsup_rd32(section_entry(b, (unsigned)pi) + PSC_CONTAINER_ENTRY_START_OFFSET));
     }
 
     /* Tables: two (narrow up to the switch, wide up to the maximum), entries as psc_lut_build makes them. */
@@ -334,7 +324,7 @@ static void test_forward_compatible(void **state)
 {
     (void)state;
     pack_t base = small_pack(PSC_PIX_RGB565);
-    part_t parts[20];
+    part_t parts[PSC_CONTAINER_WRITE_MAX_SECTIONS];
     unsigned n = split_pack(base.buf, parts);
     static const uint8_t extra[100] = {1, 2, 3};
     parts[n++] = (part_t){PSC_FOURCC('X', 'T', 'R', 'A'), extra, sizeof(extra)};
@@ -345,7 +335,7 @@ static void test_forward_compatible(void **state)
     assert_int_equal(out.lut_count, 2);
     free(p.buf);
     /* The unknown section first, the LUTs before the map. */
-    part_t re[20];
+    part_t re[PSC_CONTAINER_WRITE_MAX_SECTIONS];
     re[0] = parts[n - 1];
     unsigned k = 1;
     for (unsigned i = 0; i < n - 1; i++)
@@ -358,7 +348,7 @@ static void test_forward_compatible(void **state)
     assert_int_equal(parse_copy(p.buf, p.len, &out, NULL), PSC_OK);
     assert_int_equal(out.map.width, IMG_W);
     free(p.buf);
-    /* The full 16 sections are allowed. */
+    /* The full PSC_PACK_MAX_SECTIONS sections are allowed. */
     k = 0;
     for (unsigned i = 0; i < n; i++)
         re[k++] = parts[i];
@@ -378,7 +368,7 @@ static void test_truncated_every_length(void **state)
     pack_t p = small_pack(PSC_PIX_PAL8);
     for (size_t len = 0; len < p.len; len++) {
         psc_pack_t out;
-        psc_pack_error_t err = {NULL, 0};
+        psc_container_error_t err = {NULL, 0};
         psc_status_t s = parse_copy(p.buf, len, &out, &err);
         if (s != PSC_ERR_TRUNCATED)
             fail_msg("pack cut to %zu of %zu bytes: %s (%s), expected truncated", len, p.len, psc_status_str(s),
@@ -397,7 +387,7 @@ static void test_bad_headers(void **state)
 
     expect_status(b, p.len, PSC_OK, "valid");
     /* magic */
-    for (unsigned i = 0; i < PSC_PACK_MAGIC_LEN; i++) {
+    for (unsigned i = 0; i < PSC_CONTAINER_MAGIC_SIZE; i++) {
         memcpy(b, p.buf, p.len);
         b[i] ^= 0x20;
         fix_crc(b, p.len);
@@ -407,7 +397,7 @@ static void test_bad_headers(void **state)
     static const uint16_t majors[] = {0, 2, 0x100, 0xFFFF};
     for (size_t i = 0; i < sizeof(majors) / sizeof(majors[0]); i++) {
         memcpy(b, p.buf, p.len);
-        tsup_wr16(b + 8, majors[i]);
+        tsup_wr16(b + PSC_CONTAINER_VERSION_MAJOR_OFFSET, majors[i]);
         expect_status(b, p.len, PSC_ERR_VERSION, "major version, stale CRC");
         fix_crc(b, p.len);
         expect_status(b, p.len, PSC_ERR_VERSION, "major version");
@@ -427,7 +417,7 @@ static void test_bad_headers(void **state)
         expect_status(b, p.len, PSC_ERR_CRC, "flipped bit");
     }
     memcpy(b, p.buf, p.len);
-    b[PSC_PACK_CRC_OFFSET + 3] ^= 0x80;
+    b[PSC_CONTAINER_CRC_OFFSET + 3] ^= 0x80;
     expect_status(b, p.len, PSC_ERR_CRC, "flipped CRC field");
     memcpy(b, p.buf, p.len);
     b[p.len - 1] ^= 1;
@@ -435,37 +425,37 @@ static void test_bad_headers(void **state)
 
     /* Sizes in the header. */
     memcpy(b, p.buf, p.len);
-    tsup_wr32(b + 16, (uint32_t)p.len + 1);
+    tsup_wr32(b + PSC_CONTAINER_FILE_SIZE_OFFSET, (uint32_t)p.len + 1);
     fix_crc(b, p.len);
     expect_status(b, p.len, PSC_ERR_TRUNCATED, "file size beyond the buffer");
     memcpy(b, p.buf, p.len);
-    tsup_wr32(b + 16, (uint32_t)p.len - 64);
+    tsup_wr32(b + PSC_CONTAINER_FILE_SIZE_OFFSET, (uint32_t)p.len - 64);
     fix_crc(b, p.len);
     expect_status(b, p.len, PSC_ERR_CORRUPT, "file size short of the buffer");
     memcpy(b, p.buf, p.len);
-    tsup_wr32(b + 12, 16);
+    tsup_wr32(b + PSC_CONTAINER_HEADER_SIZE_OFFSET, 16);
     fix_crc(b, p.len);
     expect_status(b, p.len, PSC_ERR_CORRUPT, "header size below 32");
     memcpy(b, p.buf, p.len);
-    tsup_wr32(b + 12, 0xFFFFFFF0u);
+    tsup_wr32(b + PSC_CONTAINER_HEADER_SIZE_OFFSET, 0xFFFFFFF0u);
     fix_crc(b, p.len);
     expect_status(b, p.len, PSC_ERR_CORRUPT, "header size past the end");
     memcpy(b, p.buf, p.len);
-    tsup_wr16(b + 24, 0);
+    tsup_wr16(b + PSC_CONTAINER_SECTION_COUNT_OFFSET, 0);
     fix_crc(b, p.len);
     expect_status(b, p.len, PSC_ERR_CORRUPT, "no sections");
     memcpy(b, p.buf, p.len);
-    tsup_wr16(b + 24, PSC_PACK_MAX_SECTIONS + 1);
+    tsup_wr16(b + PSC_CONTAINER_SECTION_COUNT_OFFSET, PSC_PACK_MAX_SECTIONS + 1);
     fix_crc(b, p.len);
     expect_status(b, p.len, PSC_ERR_CORRUPT, "too many sections");
     memcpy(b, p.buf, p.len);
-    tsup_wr16(b + 24, 0xFFFF);
+    tsup_wr16(b + PSC_CONTAINER_SECTION_COUNT_OFFSET, 0xFFFF);
     fix_crc(b, p.len);
     expect_status(b, p.len, PSC_ERR_CORRUPT, "65535 sections");
 
     /* Arguments. */
     psc_pack_t out;
-    psc_pack_error_t err = {NULL, 0};
+    psc_container_error_t err = {NULL, 0};
     assert_int_equal(psc_pack_parse(NULL, p.len, &out, &err), PSC_ERR_ARG);
     assert_non_null(err.what);
     assert_int_equal(psc_pack_parse(b, p.len, NULL, NULL), PSC_ERR_ARG);
@@ -487,8 +477,8 @@ static void test_bad_sections(void **state)
     int si = find_section(p.buf, PSC_SECTION_SCENE, 0), mi = find_section(p.buf, PSC_SECTION_MAP0, 0);
     int li = find_section(p.buf, PSC_SECTION_LUT, 0), l2 = find_section(p.buf, PSC_SECTION_LUT, 1);
     assert_true(si >= 0 && mi >= 0 && li >= 0 && l2 >= 0);
-    uint32_t scene_off = tsup_rd32(section_entry(p.buf, (unsigned)si) + 4);
-    uint32_t lut_off = tsup_rd32(section_entry(p.buf, (unsigned)li) + 4);
+    uint32_t scene_off = tsup_rd32(section_entry(p.buf, (unsigned)si) + PSC_CONTAINER_ENTRY_START_OFFSET);
+    uint32_t lut_off = tsup_rd32(section_entry(p.buf, (unsigned)li) + PSC_CONTAINER_ENTRY_START_OFFSET);
 
 #define MUTATE(stmt, want, what) \
     do {                                  \
@@ -499,18 +489,18 @@ static void test_bad_sections(void **state)
     } while (0)
 
     /* Section bounds, alignment, overlap. */
-    MUTATE(tsup_wr32(section_entry(b, (unsigned)l2) + 8, tsup_rd32(section_entry(b, (unsigned)l2) + 8) + 4),
+    MUTATE(tsup_wr32(section_entry(b, (unsigned)l2) + PSC_CONTAINER_ENTRY_SIZE_OFFSET, tsup_rd32(section_entry(b, (unsigned)l2) + PSC_CONTAINER_ENTRY_SIZE_OFFSET) + 4),
            PSC_ERR_CORRUPT, "last section runs past the end");
-    MUTATE(tsup_wr32(section_entry(b, (unsigned)l2) + 4, (uint32_t)(p.len + 64) & ~63u), PSC_ERR_CORRUPT,
+    MUTATE(tsup_wr32(section_entry(b, (unsigned)l2) + PSC_CONTAINER_ENTRY_START_OFFSET, (uint32_t)(p.len + 64) & ~63u), PSC_ERR_CORRUPT,
            "section starts past the end");
-    MUTATE(tsup_wr32(section_entry(b, (unsigned)l2) + 4, 0xFFFFFFC0u), PSC_ERR_CORRUPT, "section offset near 4 GiB");
-    MUTATE(tsup_wr32(section_entry(b, (unsigned)l2) + 8, 0xFFFFFFFFu), PSC_ERR_CORRUPT, "section size near 4 GiB");
-    MUTATE(tsup_wr32(section_entry(b, (unsigned)mi) + 4, tsup_rd32(section_entry(b, (unsigned)mi) + 4) + 4),
+    MUTATE(tsup_wr32(section_entry(b, (unsigned)l2) + PSC_CONTAINER_ENTRY_START_OFFSET, 0xFFFFFFC0u), PSC_ERR_CORRUPT, "section offset near 4 GiB");
+    MUTATE(tsup_wr32(section_entry(b, (unsigned)l2) + PSC_CONTAINER_ENTRY_SIZE_OFFSET, 0xFFFFFFFFu), PSC_ERR_CORRUPT, "section size near 4 GiB");
+    MUTATE(tsup_wr32(section_entry(b, (unsigned)mi) + PSC_CONTAINER_ENTRY_START_OFFSET, tsup_rd32(section_entry(b, (unsigned)mi) + PSC_CONTAINER_ENTRY_START_OFFSET) + 4),
            PSC_ERR_CORRUPT, "misaligned section");
-    MUTATE(tsup_wr32(section_entry(b, (unsigned)mi) + 4, tsup_rd32(section_entry(b, (unsigned)mi) + 4) + 32),
+    MUTATE(tsup_wr32(section_entry(b, (unsigned)mi) + PSC_CONTAINER_ENTRY_START_OFFSET, tsup_rd32(section_entry(b, (unsigned)mi) + PSC_CONTAINER_ENTRY_START_OFFSET) + 32),
            PSC_ERR_CORRUPT, "section misaligned by 32");
-    MUTATE(tsup_wr32(section_entry(b, (unsigned)li) + 4, scene_off), PSC_ERR_CORRUPT, "overlapping sections");
-    MUTATE(tsup_wr32(section_entry(b, (unsigned)si) + 4, 0), PSC_ERR_CORRUPT, "section over the header");
+    MUTATE(tsup_wr32(section_entry(b, (unsigned)li) + PSC_CONTAINER_ENTRY_START_OFFSET, scene_off), PSC_ERR_CORRUPT, "overlapping sections");
+    MUTATE(tsup_wr32(section_entry(b, (unsigned)si) + PSC_CONTAINER_ENTRY_START_OFFSET, 0), PSC_ERR_CORRUPT, "section over the header");
 
     /* Missing required sections (type renamed: skipped as unknown). */
     MUTATE(tsup_wr32(section_entry(b, (unsigned)si), PSC_FOURCC('s', 'c', 'e', 'n')), PSC_ERR_CORRUPT, "no SCEN");
@@ -519,12 +509,12 @@ static void test_bad_sections(void **state)
            PSC_ERR_CORRUPT, "no LUT");
 
     /* Section contents. */
-    MUTATE(tsup_wr32(section_entry(b, (unsigned)si) + 8, 44), PSC_ERR_CORRUPT, "SCEN too short");
-    MUTATE(tsup_wr32(section_entry(b, (unsigned)mi) + 8, tsup_rd32(section_entry(b, (unsigned)mi) + 8) - 2),
+    MUTATE(tsup_wr32(section_entry(b, (unsigned)si) + PSC_CONTAINER_ENTRY_SIZE_OFFSET, 44), PSC_ERR_CORRUPT, "SCEN too short");
+    MUTATE(tsup_wr32(section_entry(b, (unsigned)mi) + PSC_CONTAINER_ENTRY_SIZE_OFFSET, tsup_rd32(section_entry(b, (unsigned)mi) + PSC_CONTAINER_ENTRY_SIZE_OFFSET) - 2),
            PSC_ERR_CORRUPT, "MAP0 size not width x height");
-    MUTATE(tsup_wr32(section_entry(b, (unsigned)li) + 8, tsup_rd32(section_entry(b, (unsigned)li) + 8) - 4),
+    MUTATE(tsup_wr32(section_entry(b, (unsigned)li) + PSC_CONTAINER_ENTRY_SIZE_OFFSET, tsup_rd32(section_entry(b, (unsigned)li) + PSC_CONTAINER_ENTRY_SIZE_OFFSET) - 4),
            PSC_ERR_CORRUPT, "LUT size not rows x cols");
-    MUTATE(tsup_wr32(section_entry(b, (unsigned)li) + 8, 8), PSC_ERR_TRUNCATED, "LUT shorter than its header");
+    MUTATE(tsup_wr32(section_entry(b, (unsigned)li) + PSC_CONTAINER_ENTRY_SIZE_OFFSET, 8), PSC_ERR_TRUNCATED, "LUT shorter than its header");
     MUTATE(tsup_wr32(b + lut_off + 8, tsup_bam_from_deg(130.0)), PSC_ERR_CORRUPT, "LUTs out of hfov order");
     MUTATE(tsup_wr32(b + lut_off + 4, 0), PSC_ERR_CORRUPT, "LUT u_max 0");
 
@@ -563,7 +553,7 @@ static void test_bad_sections(void **state)
     fix_crc(b, p.len);
     expect_status(b, p.len, PSC_ERR_CORRUPT, "PAL8 without PALT");
     memcpy(b, p.buf, p.len);
-    tsup_wr32(section_entry(b, (unsigned)pi) + 8, 1020);
+    tsup_wr32(section_entry(b, (unsigned)pi) + PSC_CONTAINER_ENTRY_SIZE_OFFSET, 1020);
     fix_crc(b, p.len);
     expect_status(b, p.len, PSC_ERR_CORRUPT, "PALT of 255 entries");
     free(b);
@@ -571,7 +561,7 @@ static void test_bad_sections(void **state)
 
     /* Duplicates and too many LUTs, assembled. */
     p = small_pack(PSC_PIX_RGB565);
-    part_t parts[20], re[20];
+    part_t parts[PSC_CONTAINER_WRITE_MAX_SECTIONS], re[PSC_CONTAINER_WRITE_MAX_SECTIONS];
     unsigned n = split_pack(p.buf, parts), k;
     pack_t q;
     k = 0;
@@ -637,7 +627,7 @@ static void test_file_load(void **state)
         fail_msg("loading a valid pack: %s", err);
     assert_int_equal(pf.len, p.len);
     assert_memory_equal(pf.buf, p.buf, p.len);
-    assert_int_equal(((uintptr_t)pf.buf) % PSC_PACK_ALIGN, 0);
+    assert_int_equal(((uintptr_t)pf.buf) % PSC_CONTAINER_ALIGN, 0);
     assert_int_equal(pf.pack.map.width, IMG_W);
     assert_int_equal(pf.pack.lut_count, 2);
     psc_pack_file_free(&pf);
@@ -773,13 +763,13 @@ static void mutate(uint8_t *b, size_t len, tsup_rng_t *rng)
     unsigned nh = 0;
     for (unsigned o = 8; o < 32; o += 2)
         hot[nh++] = o;
-    unsigned count = tsup_rd16(b + 24) <= 8 ? tsup_rd16(b + 24) : 8;
-    uint32_t hs = tsup_rd32(b + 12);
-    for (unsigned i = 0; i < count && hs + (i + 1) * 16u <= len && nh < 60; i++) {
-        const uint8_t *e = b + hs + i * 16u;
-        hot[nh++] = hs + i * 16u + 4;
-        hot[nh++] = hs + i * 16u + 8;
-        uint32_t off = tsup_rd32(e + 4);
+    unsigned count = tsup_rd16(b + PSC_CONTAINER_SECTION_COUNT_OFFSET) <= 8 ? tsup_rd16(b + PSC_CONTAINER_SECTION_COUNT_OFFSET) : 8;
+    uint32_t hs = tsup_rd32(b + PSC_CONTAINER_HEADER_SIZE_OFFSET);
+    for (unsigned i = 0; i < count && hs + (i + 1) * PSC_CONTAINER_SECTION_SIZE <= len && nh < 60; i++) {
+        const uint8_t *e = b + hs + i * PSC_CONTAINER_SECTION_SIZE;
+        hot[nh++] = hs + i * PSC_CONTAINER_SECTION_SIZE + PSC_CONTAINER_ENTRY_START_OFFSET;
+        hot[nh++] = hs + i * PSC_CONTAINER_SECTION_SIZE + PSC_CONTAINER_ENTRY_SIZE_OFFSET;
+        uint32_t off = tsup_rd32(e + PSC_CONTAINER_ENTRY_START_OFFSET);
         if (off < len && nh < 60)
             hot[nh++] = off + tsup_rng_below(rng, 48) / 2 * 2;
     }
@@ -846,12 +836,12 @@ static void test_fuzz(void **state)
             free(b);
             b = c;
             if (tsup_rng_below(&rng, 2)) {
-                tsup_wr32(b + 16, (uint32_t)len);
+                tsup_wr32(b + PSC_CONTAINER_FILE_SIZE_OFFSET, (uint32_t)len);
                 fix_crc(b, len);
             }
         }
         psc_pack_t p;
-        psc_pack_error_t err = {NULL, 0};
+        psc_container_error_t err = {NULL, 0};
         psc_status_t s = psc_pack_parse(b, len, &p, &err);
         assert_true((int)s >= PSC_OK && s <= PSC_ERR_UNSUPPORTED);
         by_status[s]++;

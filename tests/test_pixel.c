@@ -1,4 +1,4 @@
-/* test_pixel.c - core/psc_pixel.h conversions and the bilinear blend, exhaustively where possible. */
+/* test_pixel.c - core/base/psc_pixel.h conversions and the bilinear blend, exhaustively where possible. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -7,7 +7,7 @@
 
 #include <stdio.h>
 
-#include "psc_pixel.h"
+#include "base/psc_pixel.h"
 #include "psc_testsupport.h"
 
 static void test_rgb565_expand_all(void **state)

@@ -38,7 +38,7 @@
 #include "angle_conv.h"
 #include "image_io.h"
 #include "pack_build.h"
-#include "psc_viewer.h"
+#include "viewer/psc_viewer.h"
 #include "psc_testsupport.h"
 #include "tsup_files.h"
 

@@ -13,7 +13,7 @@
  * pixels (width x height per frame), as the viewer bench does.
  */
 #include "render3d.h"
-#include "psc_pixel.h"
+#include "base/psc_pixel.h"
 #include "image_io.h"
 
 #include <math.h>

@@ -8,7 +8,7 @@
  * 16-bit depth, back faces culled, RGB565 colour buffer.
  */
 #include "render3d.h"
-#include "psc_fixed.h"
+#include "base/psc_fixed.h"
 
 #include <GL/osmesa.h>
 #include <GL/gl.h>

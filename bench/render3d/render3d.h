@@ -1,6 +1,6 @@
 /*
  * render3d.h - the 3D benchmark's scene and the two renderers it times:
- * Periscope's integer pipeline (core/psc_3d_render.h) and Mesa's OSMesa
+ * Periscope's integer pipeline (core/3d/psc_3d_render.h) and Mesa's OSMesa
  * (softpipe, llvmpipe single-threaded), on the same textured, lit teapot.
  */
 #ifndef BENCH_RENDER3D_H
@@ -9,7 +9,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
-#include "psc_3d_render.h"
+#include "3d/psc_3d_render.h"
 
 #define R3D_TEAPOT_STEPS 13u    /* 32 patches x 13 x 13 x 2 = 10816 triangles */
 #define R3D_TEXTURE_SIDE 256u

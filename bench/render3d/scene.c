@@ -6,7 +6,7 @@
 #include "render3d.h"
 #include "mesh_pack.h"
 #include "model.h"
-#include "psc_3d_orbit.h"
+#include "3d/psc_3d_orbit.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -7,8 +7,8 @@
 
 #include "bench_viewer.h"
 #include "image_io.h"
-#include "psc_pack.h"
-#include "psc_viewer.h"
+#include "pack/psc_pack.h"
+#include "viewer/psc_viewer.h"
 
 #include <stdbool.h>
 #include <stdio.h>

@@ -92,7 +92,7 @@ int bv_pack_make(const psc_image_t *img, psc_pixfmt_t fmt, uint16_t display_w, u
         fprintf(stderr, "viewer bench: psc_pack_build: %s\n", err);
         return -1;
     }
-    psc_pack_error_t perr = {0};
+    psc_container_error_t perr = {0};
     psc_status_t s = psc_pack_parse(p->buf, p->len, &p->pack, &perr);
     if (s != PSC_OK) {
         fprintf(stderr, "viewer bench: the built pack does not parse: %s (offset %u)\n",

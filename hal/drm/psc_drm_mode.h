@@ -19,7 +19,7 @@
 #include <stdint.h>
 #include <xf86drmMode.h>
 
-#include "psc_types.h"
+#include "base/psc_types.h"
 
 typedef enum {
     PSC_DRM_MODE_BOARD = 0,

@@ -28,7 +28,7 @@
 #include <stdint.h>
 #include <linux/fb.h>
 
-#include "psc_types.h"
+#include "base/psc_types.h"
 
 typedef enum {
     PSC_FBDEV_PAN = 1,

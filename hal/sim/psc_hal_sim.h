@@ -22,7 +22,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
-#include "psc_types.h"
+#include "base/psc_types.h"
 
 /**
  * The file name the sim display captures frame n to: "<dir>/frame_NNNNNN.png".

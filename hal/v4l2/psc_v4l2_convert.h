@@ -32,7 +32,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
-#include "psc_types.h"
+#include "base/psc_types.h"
 
 /** Widest camera frame (source) accepted; the MJPEG row buffer is sized for it. */
 #define PSC_V4L2_MAX_SRC_WIDTH 8192u

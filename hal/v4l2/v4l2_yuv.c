@@ -7,7 +7,7 @@
  * numerators stay below 2^43, so int64_t arithmetic cannot overflow; the
  * division by the constant D compiles to a multiply.
  */
-#include "psc_pixel.h"
+#include "base/psc_pixel.h"
 #include "psc_v4l2_convert.h"
 
 /* D = 219 * 224 * 500 * 587: the denominators of E'Y (219), E'Pb/E'Pr (224),

@@ -1,11 +1,11 @@
 /*
  * angle_conv.h - degrees (doubles, host side) to and from the binary angles of
- * core/psc_types.h (2^32 units per turn), rounded to nearest.
+ * core/base/psc_types.h (2^32 units per turn), rounded to nearest.
  */
 #ifndef PSC_ANGLE_CONV_H
 #define PSC_ANGLE_CONV_H
 
-#include "psc_types.h"
+#include "base/psc_types.h"
 
 /** Any angle in degrees to an unsigned binary angle (wraps modulo 360). */
 psc_bam_t psc_bam_from_deg(double deg);

@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <zlib.h>
+#include "container_write.h"
 
 #include "errmsg.h"
 #include "fisheye_build.h"
@@ -154,31 +154,19 @@ int psc_fisheye_build(const psc_fisheye_rig_t *rig, uint16_t map_w, uint16_t map
         return -1;
     if (map_w < 2 || map_h < 2 || map_w > PSC_MAX_MAP_DIM || map_h > PSC_MAX_MAP_DIM)
         return psc_errorf(err, errlen, name, "map size %ux%u out of range (2..%u)", map_w, map_h, PSC_MAX_MAP_DIM);
-    const size_t nsec = 2, info_off = 64, pos_off = 128;
-    size_t pos_size = (size_t)map_w * map_h * PSC_FISHEYE_ENTRY_SIZE, len = pos_off + pos_size;
-    if (len > UINT32_MAX)
-        return psc_errorf(err, errlen, name, "the table would exceed 4 GiB");
-    uint8_t *b = calloc(1, len);
-    if (!b)
-        return psc_errorf(err, errlen, name, "out of memory for %zu bytes", len);
-    memcpy(b, PSC_FISHEYE_MAGIC, PSC_FISHEYE_MAGIC_LEN);
-    psc_put_le16(b + 8, PSC_FISHEYE_VERSION_MAJOR);
-    psc_put_le16(b + 10, PSC_FISHEYE_VERSION_MINOR);
-    psc_put_le32(b + 12, PSC_CONTAINER_HEADER_SIZE);
-    psc_put_le32(b + 16, (uint32_t)len);
-    psc_put_le16(b + 24, (uint16_t)nsec);
-    uint8_t *e = b + PSC_CONTAINER_HEADER_SIZE;
-    psc_put_le32(e, PSC_SECTION_FISHEYE_INFO);
-    psc_put_le32(e + 4, (uint32_t)info_off);
-    psc_put_le32(e + 8, PSC_FISHEYE_INFO_SIZE);
-    psc_put_le32(e + 16, PSC_SECTION_FISHEYE_POS);
-    psc_put_le32(e + 20, (uint32_t)pos_off);
-    psc_put_le32(e + 24, (uint32_t)pos_size);
+    psc_container_layout_t l;
+    psc_container_layout_init(&l, &psc_fisheye_format);
+    int info = psc_container_layout_add(&l, PSC_SECTION_FISHEYE_INFO, PSC_FISHEYE_INFO_SIZE);
+    int pos = psc_container_layout_add(&l, PSC_SECTION_FISHEYE_POS, (uint64_t)map_w * map_h * PSC_FISHEYE_ENTRY_SIZE);
+    uint8_t *b;
+    if (info < 0 || pos < 0 || psc_container_layout_alloc(&l, &b, name, err, errlen) != 0)
+        return -1;
+    size_t info_off = (size_t)l.slot[info].offset, len = (size_t)l.file_size;
     psc_put_le16(b + info_off, rig->frame_width);
     psc_put_le16(b + info_off + 2, rig->frame_height);
     psc_put_le16(b + info_off + 4, map_w);
     psc_put_le16(b + info_off + 6, map_h);
-    uint8_t *p = b + pos_off;
+    uint8_t *p = b + l.slot[pos].offset;
     double one = (double)(1u << PSC_FISHEYE_FRAC_BITS);
     for (unsigned row = 0; row < map_h; row++)
         for (unsigned col = 0; col < map_w; col++, p += PSC_FISHEYE_ENTRY_SIZE) {
@@ -192,7 +180,7 @@ int psc_fisheye_build(const psc_fisheye_rig_t *rig, uint16_t map_w, uint16_t map
             psc_put_le16(p, (uint16_t)lround(x * one));
             psc_put_le16(p + 2, (uint16_t)lround(y * one));
         }
-    psc_put_le32(b + PSC_CONTAINER_CRC_OFFSET, (uint32_t)crc32(0L, b, (uInt)len));
+    psc_container_finish(&l, b);
 
     /* The device's own parser must accept what was written. */
     void *check = NULL;
@@ -202,7 +190,7 @@ int psc_fisheye_build(const psc_fisheye_rig_t *rig, uint16_t map_w, uint16_t map
     }
     memcpy(check, b, len);
     psc_fisheye_t t;
-    psc_pack_error_t perr = {0};
+    psc_container_error_t perr = {0};
     psc_status_t s = psc_fisheye_parse(check, len, &t, &perr);
     free(check);
     if (s != PSC_OK) {
@@ -220,7 +208,7 @@ int psc_fisheye_file_load(const char *path, psc_fisheye_file_t *ff, char *err, s
     memset(ff, 0, sizeof *ff);
     if (psc_read_file_aligned(path, UINT32_MAX, &ff->buf, &ff->len, err, errlen) != 0)
         return -1;
-    psc_pack_error_t perr = {0};
+    psc_container_error_t perr = {0};
     psc_status_t s = psc_fisheye_parse(ff->buf, ff->len, &ff->table, &perr);
     if (s != PSC_OK) {
         psc_fisheye_file_free(ff);

@@ -1,6 +1,6 @@
 /*
  * fisheye_build.h - the dual-fisheye lens model in double precision, and the
- * table file (core/psc_fisheye.h) built from it.
+ * table file (core/fisheye/psc_fisheye.h) built from it.
  *
  * Lens model: equidistant fisheye, r = f * theta, where theta is the angle
  * between a ray and the lens axis and r the distance in pixels from the
@@ -29,7 +29,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "psc_fisheye.h"
+#include "fisheye/psc_fisheye.h"
 
 /** One lens: its image circle in the frame, field of view and mounting corrections. */
 typedef struct {

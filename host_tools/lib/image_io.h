@@ -7,7 +7,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
-#include "psc_types.h"
+#include "base/psc_types.h"
 
 /** An image in memory, pixels 0xFFRRGGBB, row-major, no padding. */
 typedef struct {

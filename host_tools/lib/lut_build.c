@@ -1,4 +1,4 @@
-/* lut_build.c - double-precision table generation for core/psc_lut.h. */
+/* lut_build.c - double-precision table generation for core/lut/psc_lut.h. */
 #include "lut_build.h"
 
 #include <math.h>

@@ -1,11 +1,11 @@
 /*
  * lut_build.h - compute a scanline-coherent look-up table in double precision
- * (the format and geometry are defined in core/psc_lut.h).
+ * (the format and geometry are defined in core/lut/psc_lut.h).
  */
 #ifndef PSC_LUT_BUILD_H
 #define PSC_LUT_BUILD_H
 
-#include "psc_lut.h"
+#include "lut/psc_lut.h"
 
 /** The exact angles for cylinder point (a, u): lon, lat in radians (see psc_lut.h). */
 void psc_lut_exact_angles(double a, double u, double *lon, double *lat);

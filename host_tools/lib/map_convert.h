@@ -1,6 +1,6 @@
 /*
  * map_convert.h - convert an image's pixels to an environment-map pixel
- * format (core/psc_types.h): RGB565 rounded to nearest, XRGB8888 as is,
+ * format (core/base/psc_types.h): RGB565 rounded to nearest, XRGB8888 as is,
  * PAL8 through a palette chosen for the image. Output is little-endian rows
  * of width * bytes-per-pixel bytes, no padding (the pack's "MAP0" layout).
  */
@@ -8,7 +8,7 @@
 #define PSC_MAP_CONVERT_H
 
 #include <stdint.h>
-#include "psc_types.h"
+#include "base/psc_types.h"
 #include "image_io.h"
 
 /** Progress report: stage name and percent done (the psc_pack_options_t callback). */

@@ -1,5 +1,5 @@
 /*
- * mesh_pack.c - lay out, write and load mesh packs (format: core/psc_mesh.h).
+ * mesh_pack.c - lay out, write and load mesh packs (format: core/mesh/psc_mesh.h).
  * Sections in file order: MINF, VPOS, VNRM, VTEX, VCOL, TIDX, TEXR (the
  * optional ones only when present); payloads on 64-byte boundaries, gaps zero,
  * every field stored little-endian byte by byte.
@@ -8,15 +8,15 @@
 #include "file_read.h"
 #include "errmsg.h"
 #include "image_scale.h"
+#include "container_write.h"
 #include "le_bytes.h"
-#include "psc_pixel.h"
+#include "base/psc_pixel.h"
 
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <zlib.h>
 
 #define UV_LIMIT 8.0
 
@@ -227,34 +227,13 @@ int psc_mesh_pack_build(const psc_model_t *m, const psc_image_t *texture, const 
         np++;
     }
 
-    /* Lay out: header, table, aligned payloads. */
-    size_t at = PSC_MESH_HEADER_SIZE + (size_t)np * PSC_PACK_SECTION_SIZE, offs[8];
-    for (unsigned i = 0; i < np; i++) {
-        at = (at + PSC_PACK_ALIGN - 1) / PSC_PACK_ALIGN * PSC_PACK_ALIGN;
-        offs[i] = at;
-        at += parts[i].size;
-    }
-    if (at > UINT32_MAX) {
-        rc = psc_errorf(err, errlen, name, "the mesh pack would exceed 4 GiB");
+    psc_container_part_t out_parts[8];
+    for (unsigned i = 0; i < np; i++)
+        out_parts[i] = (psc_container_part_t){parts[i].type, parts[i].data, parts[i].size};
+    uint8_t *b;
+    size_t at;
+    if (psc_container_write(&psc_mesh_format, out_parts, np, &b, &at, name, err, errlen) != 0)
         goto done;
-    }
-    uint8_t *b = zalloc(at);
-    if (!b)
-        goto oom;
-    memcpy(b, PSC_MESH_MAGIC, PSC_MESH_MAGIC_LEN);
-    psc_put_le16(b + 8, PSC_MESH_VERSION_MAJOR);
-    psc_put_le16(b + 10, PSC_MESH_VERSION_MINOR);
-    psc_put_le32(b + 12, PSC_MESH_HEADER_SIZE);
-    psc_put_le32(b + 16, (uint32_t)at);
-    psc_put_le16(b + 24, (uint16_t)np);
-    for (unsigned i = 0; i < np; i++) {
-        uint8_t *e = b + PSC_MESH_HEADER_SIZE + (size_t)i * PSC_PACK_SECTION_SIZE;
-        psc_put_le32(e, parts[i].type);
-        psc_put_le32(e + 4, (uint32_t)offs[i]);
-        psc_put_le32(e + 8, parts[i].size);
-        memcpy(b + offs[i], parts[i].data, parts[i].size);
-    }
-    psc_put_le32(b + PSC_PACK_CRC_OFFSET, (uint32_t)crc32(0L, b, (uInt)at));
 
     /* The device's own parser must accept what was written. */
     void *check = NULL;
@@ -283,7 +262,7 @@ done:
 
 int psc_mesh_parse_named(const char *name, const void *buf, size_t len, psc_mesh_t *mesh, char *err, size_t errlen)
 {
-    psc_pack_error_t perr = {0};
+    psc_container_error_t perr = {0};
     psc_status_t s = psc_mesh_parse(buf, len, mesh, &perr);
     if (s != PSC_OK)
         return psc_errorf(err, errlen, name, "%s (offset %u): %s", perr.what ? perr.what : "invalid mesh pack",
@@ -311,7 +290,7 @@ void psc_mesh_file_free(psc_mesh_file_t *mf)
 
 bool psc_file_is_mesh_pack(const char *path)
 {
-    char magic[PSC_MESH_MAGIC_LEN];
+    char magic[PSC_CONTAINER_MAGIC_SIZE];
     FILE *f = fopen(path, "rb");
     if (!f)
         return false;

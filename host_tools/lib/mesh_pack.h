@@ -1,5 +1,5 @@
 /*
- * mesh_pack.h - write a mesh pack (format: core/psc_mesh.h) from a host
+ * mesh_pack.h - write a mesh pack (format: core/mesh/psc_mesh.h) from a host
  * model, and load one from a file the way the device does. Host side: heap
  * and stdio are fine here.
  */
@@ -11,7 +11,7 @@
 #include <stdint.h>
 #include "image_io.h"
 #include "model.h"
-#include "psc_mesh.h"
+#include "mesh/psc_mesh.h"
 
 typedef struct {
     psc_pixfmt_t texture_format;   /* RGB565 (default) or XRGB8888 */

@@ -1,9 +1,9 @@
 /*
  * model.h - a triangle model on the host, in double precision: what the OBJ
  * loader reads and the shape generators make, and what the mesh pack writer
- * turns into a device mesh (core/psc_mesh.h).
+ * turns into a device mesh (core/mesh/psc_mesh.h).
  *
- * Conventions are core's (core/psc_3d_math.h, core/psc_mesh.h): X right,
+ * Conventions are core's (core/3d/psc_3d_math.h, core/mesh/psc_mesh.h): X right,
  * Y up, +Z ahead; a triangle's formula cross product (v1 - v0) x (v2 - v0)
  * points to its front (outward on closed shapes); texture coordinates have
  * (0, 0) at the top-left of the image, v down (the OBJ loader flips OBJ's v).

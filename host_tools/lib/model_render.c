@@ -9,8 +9,8 @@
 #include "mesh_pack.h"
 #include "obj_load.h"
 #include "pack_build.h"
-#include "psc_3d_orbit.h"
-#include "psc_3d_render.h"
+#include "3d/psc_3d_orbit.h"
+#include "3d/psc_3d_render.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,6 +1,6 @@
 /*
  * model_render.h - periscope-render's model mode: one view of an OBJ file or
- * a mesh pack through the device's 3D pipeline (core/psc_3d_render.h).
+ * a mesh pack through the device's 3D pipeline (core/3d/psc_3d_render.h).
  *
  *   periscope-render MODEL.{obj,pmesh} --orbit YAW,PITCH,DIST --hfov F --size WxH
  *       [--texture T.png] [--cull back|none] [--tiles N] [--depth depth.pgm]

@@ -1,15 +1,16 @@
 /*
- * pack_build.c - lay out and write a scene pack (format: core/psc_pack.h).
+ * pack_build.c - lay out and write a scene pack (format: core/pack/psc_pack.h).
  *
  * Sections, in file order and in the table: SCEN, MAP0, PALT (PAL8 only),
  * then the LUTs in increasing hfov_max. Each payload starts on a
- * PSC_PACK_ALIGN boundary; the gaps are zero. Every multi-byte field is
+ * 64-byte boundary (container_write.h); the gaps are zero. Every multi-byte field is
  * stored little-endian byte by byte at the offset the core structs give it,
  * so the file is the same whatever the host.
  */
 #include "pack_build.h"
 #include "map_pyramid.h"
 #include "angle_conv.h"
+#include "container_write.h"
 #include "le_bytes.h"
 #include "lut_build.h"
 #include "map_convert.h"
@@ -20,19 +21,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <zlib.h>
-
-/* Header field offsets, from the layout table in psc_pack.h. */
-enum {
-    HDR_VERSION_MAJOR = 8,
-    HDR_VERSION_MINOR = 10,
-    HDR_HEADER_SIZE = 12,
-    HDR_FILE_SIZE = 16,
-    HDR_SECTION_COUNT = 24,
-    SEC_TYPE = 0,
-    SEC_OFFSET = 4,
-    SEC_SIZE = 8
-};
 
 #define PALETTE_BYTES (256u * 4u)
 #define MAX_BUILD_LUTS 2u
@@ -142,11 +130,6 @@ static const char *coverage_rule(psc_projection_t p)
     return "";
 }
 
-static uint64_t align_up(uint64_t v)
-{
-    return (v + PSC_PACK_ALIGN - 1u) / PSC_PACK_ALIGN * PSC_PACK_ALIGN;
-}
-
 /* The map's coverage must suit its projection (psc_envmap_check). */
 static int check_coverage(psc_envmap_t *map, const psc_image_t *img, char *err, size_t errlen)
 {
@@ -168,52 +151,10 @@ static int check_coverage(psc_envmap_t *map, const psc_image_t *img, char *err, 
                       psc_projection_name(map->projection), psc_status_str(s), coverage_rule(map->projection));
 }
 
-/* One section being laid out. */
-typedef struct {
-    uint32_t type;
-    uint64_t offset, size;
-} section_t;
-
-typedef struct {
-    section_t sec[PSC_PACK_MAX_SECTIONS];
-    unsigned count;
-    uint64_t end;   /* end of the last payload: the file size (set by layout_place) */
-} layout_t;
-
-static section_t *layout_add(layout_t *l, uint32_t type, uint64_t size)
+/* Pack sections never outnumber PSC_PACK_MAX_SECTIONS: scene, map, levels, palette, tables. */
+static psc_container_slot_t *layout_add(psc_container_layout_t *l, uint32_t type, uint64_t size)
 {
-    section_t *s = &l->sec[l->count++];
-    s->type = type;
-    s->size = size;
-    return s;
-}
-
-/* Place payloads after the header and table (sized now that every section is known), each aligned. */
-static void layout_place(layout_t *l)
-{
-    uint64_t pos = PSC_PACK_HEADER_SIZE + (uint64_t)l->count * PSC_PACK_SECTION_SIZE;
-    for (unsigned i = 0; i < l->count; i++) {
-        l->sec[i].offset = align_up(pos);
-        pos = l->sec[i].offset + l->sec[i].size;
-    }
-    l->end = pos;
-}
-
-static void write_header(uint8_t *file, const layout_t *l)
-{
-    memcpy(file, PSC_PACK_MAGIC, PSC_PACK_MAGIC_LEN);
-    psc_put_le16(file + HDR_VERSION_MAJOR, PSC_PACK_VERSION_MAJOR);
-    psc_put_le16(file + HDR_VERSION_MINOR, PSC_PACK_VERSION_MINOR);
-    psc_put_le32(file + HDR_HEADER_SIZE, PSC_PACK_HEADER_SIZE);
-    psc_put_le32(file + HDR_FILE_SIZE, (uint32_t)l->end);
-    psc_put_le16(file + HDR_SECTION_COUNT, (uint16_t)l->count);
-    /* CRC and reserved fields stay zero for now. */
-    for (unsigned i = 0; i < l->count; i++) {
-        uint8_t *e = file + PSC_PACK_HEADER_SIZE + (size_t)i * PSC_PACK_SECTION_SIZE;
-        psc_put_le32(e + SEC_TYPE, l->sec[i].type);
-        psc_put_le32(e + SEC_OFFSET, (uint32_t)l->sec[i].offset);
-        psc_put_le32(e + SEC_SIZE, (uint32_t)l->sec[i].size);
-    }
+    return &l->slot[psc_container_layout_add(l, type, size)];
 }
 
 #define SCENE_FIELD(p, f) ((p) + offsetof(psc_pack_scene_raw_t, f))
@@ -264,7 +205,7 @@ typedef struct {
     double hfov_deg;
     uint16_t rows, cols;
     const char *stage;
-    section_t *section;
+    psc_container_slot_t *section;
 } lut_plan_t;
 
 /* Tables: a narrow one up to the switch angle, a wide one up to the maximum
@@ -287,19 +228,6 @@ static unsigned plan_luts(const psc_pack_options_t *opt, lut_plan_t *plan)
         plan[i].section = NULL;
     }
     return n;
-}
-
-/* zlib's crc32 takes 32-bit lengths: feed large files in pieces. */
-static uint32_t file_crc(const uint8_t *p, size_t len)
-{
-    uLong crc = crc32(0L, Z_NULL, 0);
-    while (len > 0) {
-        uInt n = len > (1u << 30) ? (1u << 30) : (uInt)len;
-        crc = crc32(crc, p, n);
-        p += n;
-        len -= n;
-    }
-    return (uint32_t)crc;
 }
 
 /* Build each table into scratch entries, then store it little-endian in the file. */
@@ -345,7 +273,7 @@ static unsigned pyramid_level_count(const psc_envmap_t *map, const psc_pack_opti
 }
 
 /* Filter level k from level k-1 and store it in the map's format (PAL8 through level 0's palette). */
-static int write_levels(uint8_t *file, const psc_image_t *img, const psc_envmap_t *map, section_t *const *sec,
+static int write_levels(uint8_t *file, const psc_image_t *img, const psc_envmap_t *map, psc_container_slot_t *const *sec,
                         unsigned nlevels, const uint32_t *palette, const psc_pack_options_t *opt)
 {
     psc_image_t prev = *img, cur;
@@ -401,28 +329,22 @@ int psc_pack_build(const psc_image_t *img, const psc_pack_options_t *opt_in, uin
     lut_plan_t plan[MAX_BUILD_LUTS];
     unsigned nluts = plan_luts(opt, plan);
 
-    layout_t l = {0};
-    section_t *scene = layout_add(&l, PSC_SECTION_SCENE, sizeof(psc_pack_scene_raw_t));
-    section_t *pixels = layout_add(&l, PSC_SECTION_MAP0, (uint64_t)map.stride * map.height);
+    psc_container_layout_t l;
+    psc_container_layout_init(&l, &psc_pack_format);
+    psc_container_slot_t *scene = layout_add(&l, PSC_SECTION_SCENE, sizeof(psc_pack_scene_raw_t));
+    psc_container_slot_t *pixels = layout_add(&l, PSC_SECTION_MAP0, (uint64_t)map.stride * map.height);
     unsigned nlevels = pyramid_level_count(&map, opt);
-    section_t *level_sec[PSC_PACK_MAX_LEVELS] = {pixels};
+    psc_container_slot_t *level_sec[PSC_PACK_MAX_LEVELS] = {pixels};
     for (unsigned k = 1; k < nlevels; k++)
         level_sec[k] = layout_add(&l, PSC_SECTION_MAP_LEVEL(k),
                                   (uint64_t)(map.width >> k) * (map.height >> k) * psc_pixfmt_bytes(map.format));
-    section_t *palette = opt->format == PSC_PIX_PAL8 ? layout_add(&l, PSC_SECTION_PALETTE, PALETTE_BYTES) : NULL;
+    psc_container_slot_t *palette = opt->format == PSC_PIX_PAL8 ? layout_add(&l, PSC_SECTION_PALETTE, PALETTE_BYTES) : NULL;
     for (unsigned i = 0; i < nluts; i++)
         plan[i].section = layout_add(&l, PSC_SECTION_LUT,
                                      sizeof(psc_pack_lut_raw_t) + psc_lut_bytes(plan[i].rows, plan[i].cols));
-    layout_place(&l);
-    if (l.end > UINT32_MAX)
-        return build_fail(err, errlen, "the pack would be %llu bytes, over the format's 4 GiB limit",
-                          (unsigned long long)l.end);
-
-    void *mem = NULL;
-    if (posix_memalign(&mem, PSC_PACK_ALIGN, (size_t)l.end) != 0)
-        return build_fail(err, errlen, "out of memory for a %llu-byte pack", (unsigned long long)l.end);
-    uint8_t *file = mem;
-    memset(file, 0, (size_t)l.end);
+    uint8_t *file;
+    if (psc_container_layout_alloc(&l, &file, NULL, err, errlen) != 0)
+        return -1;
     uint32_t pal[PALETTE_BYTES / 4u];
 
     if (psc_map_convert(img, opt->format, file + pixels->offset, palette ? pal : NULL, opt->progress,
@@ -447,12 +369,11 @@ int psc_pack_build(const psc_image_t *img, const psc_pack_options_t *opt_in, uin
     /* The switch angle is stored as the narrow table's exact reach, so that
      * "narrowest table whose hfov_max >= hfov" and the threshold agree. */
     write_scene(file + scene->offset, &map, opt, built[0].hfov_max, built[nluts - 1].hfov_max);
-    write_header(file, &l);
     report(opt, "checksum", 0);
-    psc_put_le32(file + PSC_PACK_CRC_OFFSET, file_crc(file, (size_t)l.end));
+    psc_container_finish(&l, file);
     report(opt, "checksum", 100);
 
     *out = file;
-    *out_len = (size_t)l.end;
+    *out_len = (size_t)l.file_size;
     return 0;
 }

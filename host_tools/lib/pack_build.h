@@ -1,5 +1,5 @@
 /*
- * pack_build.h - build a scene pack (format: core/psc_pack.h) from an image,
+ * pack_build.h - build a scene pack (format: core/pack/psc_pack.h) from an image,
  * and load one from a file. Host side: uses the heap and stdio freely.
  */
 #ifndef PSC_PACK_BUILD_H
@@ -7,7 +7,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
-#include "psc_pack.h"
+#include "pack/psc_pack.h"
 #include "image_io.h"
 
 typedef struct {

@@ -23,7 +23,7 @@ int psc_pack_file_load(const char *path, psc_pack_file_t *pf, char *err, size_t 
     memset(pf, 0, sizeof *pf);
     if (psc_read_file_aligned(path, UINT32_MAX, &pf->buf, &pf->len, err, errlen) != 0)
         return -1;
-    psc_pack_error_t perr = {0};
+    psc_container_error_t perr = {0};
     psc_status_t s = psc_pack_parse(pf->buf, pf->len, &pf->pack, &perr);
     if (s != PSC_OK) {
         psc_errorf(err, errlen, path, "%s (offset %u): %s", perr.what ? perr.what : "invalid pack",

@@ -11,9 +11,9 @@
  * tests/mcu/cortex-m.ld), no libc calls but what the compiler emits
  * (memcpy/memset), no heap, no floating point.
  */
-#include "psc_crc32.h"
-#include "psc_pack.h"
-#include "psc_viewer.h"
+#include "base/psc_crc32.h"
+#include "pack/psc_pack.h"
+#include "viewer/psc_viewer.h"
 #include "cm_view.h"
 
 /* ---- semihosting (Arm semihosting v2, M-profile: BKPT 0xAB) ------------------ */
@@ -111,7 +111,7 @@ static bool fail(const char *what, psc_status_t s)
 static bool run(void)
 {
     size_t len = (size_t)(_binary_scene_pano_end - _binary_scene_pano_start);
-    psc_pack_error_t perr;
+    psc_container_error_t perr;
     psc_status_t s = psc_pack_parse(_binary_scene_pano_start, len, &pack, &perr);
     if (s != PSC_OK)
         return fail("scene pack", s);

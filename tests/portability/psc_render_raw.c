@@ -17,8 +17,8 @@
  * the frames one after another, rows packed (stride = width x bytes per pixel).
  * Exit status: 0 done, 1 the work failed, 2 bad arguments.
  */
-#include "psc_pack.h"
-#include "psc_viewer.h"
+#include "pack/psc_pack.h"
+#include "viewer/psc_viewer.h"
 
 #include <errno.h>
 #include <stdint.h>
@@ -157,7 +157,7 @@ static int render_views(const psc_pack_t *pack, FILE *out, char **specs, int cou
 
 int main(int argc, char **argv)
 {
-    psc_pack_error_t perr;
+    psc_container_error_t perr;
     psc_pack_t pack;
     size_t len = 0;
     void *buf;

@@ -2,7 +2,7 @@
  * psc_testsupport.h - shared helpers for Periscope's tests (host only: double,
  * heap and libc allowed). Built into libpsc_testsupport.a from tests/support/.
  *
- * Conventions are those of core/psc_types.h and core/psc_envmap.h, restated
+ * Conventions are those of core/base/psc_types.h and core/envmap/psc_envmap.h, restated
  * here in double precision so that the tests check core against an
  * independent implementation:
  *  - angles in radians unless a name says _deg; lon in [-pi, pi), lat in
@@ -19,10 +19,10 @@
 
 #include <stddef.h>
 #include <stdint.h>
-#include "psc_types.h"
-#include "psc_envmap.h"
-#include "psc_lut.h"
-#include "psc_viewer.h"
+#include "base/psc_types.h"
+#include "envmap/psc_envmap.h"
+#include "lut/psc_lut.h"
+#include "viewer/psc_viewer.h"
 
 #define TSUP_PI 3.14159265358979323846
 #define TSUP_DEG (TSUP_PI / 180.0)

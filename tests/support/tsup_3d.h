@@ -18,7 +18,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
-#include "psc_3d_render.h"
+#include "3d/psc_3d_render.h"
 #include "model.h"
 
 /** A mesh the tests own, built from a geometry. */

@@ -1,0 +1,387 @@
+/*
+ * psc_3d_render.c - the frame loop of the 3D pipeline (psc_3d_render.h).
+ */
+#include "3d/psc_3d_render.h"
+#include "base/psc_fixed.h"
+#include "base/psc_pixel.h"
+
+/* One transformed vertex. */
+typedef struct {
+    psc_clip_vertex_t cv;     /* camera position and attributes */
+    psc_raster_vertex_t rv;   /* projected (valid when outcode == 0) */
+    uint8_t outcode;          /* PSC_CLIP_* bits, or CACHE_BAD */
+} vcache_t;
+
+#define CACHE_BAD 0x80u
+
+_Static_assert(sizeof(vcache_t) <= PSC_3D_VERTEX_CACHE_BYTES, "vertex cache entry larger than documented");
+
+static bool config_ok(const psc_3d_config_t *c)
+{
+    if (!c || c->width == 0 || c->height == 0 || c->width > PSC_MAX_OUT_DIM || c->height > PSC_MAX_OUT_DIM)
+        return false;
+    if ((c->tile_width == 0) != (c->tile_height == 0))
+        return false;
+    if (c->depth_bits != 16 && c->depth_bits != 32)
+        return false;
+    if (c->hfov < PSC_3D_HFOV_MIN || c->hfov > PSC_3D_HFOV_MAX)
+        return false;
+    if (c->near_q16 <= 0 || (int64_t)c->far_q16 < 2 * (int64_t)c->near_q16 ||
+        (int64_t)c->far_q16 > (int64_t)c->near_q16 * PSC_3D_FAR_NEAR_RATIO_MAX)
+        return false;
+    return c->max_vertices <= (1u << 24);
+}
+
+size_t psc_3d_depth_bytes(const psc_3d_config_t *c)
+{
+    if (!config_ok(c))
+        return 0;
+    uint32_t w = c->tile_width ? c->tile_width : c->width, h = c->tile_height ? c->tile_height : c->height;
+    if (w > c->width)
+        w = c->width;
+    if (h > c->height)
+        h = c->height;
+    return (size_t)w * h * (c->depth_bits / 8u);
+}
+
+static size_t align8(size_t v)
+{
+    return (v + 7u) & ~(size_t)7u;
+}
+
+size_t psc_3d_workspace_size(const psc_3d_config_t *c)
+{
+    if (!config_ok(c))
+        return 0;
+    return align8(psc_3d_depth_bytes(c)) + (size_t)c->max_vertices * sizeof(vcache_t);
+}
+
+psc_status_t psc_3d_init(psc_3d_t *r, const psc_3d_config_t *cfg, void *ws, size_t ws_size)
+{
+    if (!r || !config_ok(cfg) || !ws || ((uintptr_t)ws & 7u) != 0)
+        return PSC_ERR_ARG;
+    if (ws_size < psc_3d_workspace_size(cfg))
+        return PSC_ERR_NOMEM;
+    *r = (psc_3d_t){0};
+    r->cfg = *cfg;
+    if (r->cfg.tile_width == 0 || r->cfg.tile_width > cfg->width)
+        r->cfg.tile_width = cfg->width;
+    if (r->cfg.tile_height == 0 || r->cfg.tile_height > cfg->height)
+        r->cfg.tile_height = cfg->height;
+    r->depth_bytes = psc_3d_depth_bytes(cfg);
+    r->depth = ws;
+    r->cache = (uint8_t *)ws + align8(r->depth_bytes);
+    /* f = (W/2) / tan(hfov/2) in Q24.8. */
+    int32_t s30, c30;
+    psc_sincos(cfg->hfov / 2u, &s30, &c30);
+    r->vol.f_q8 = psc_div_round64((int64_t)cfg->width * 128 * c30, s30);
+    r->vol.gx_q8 = ((int64_t)cfg->width * 128) + (int64_t)PSC_3D_GUARD_PX * 256;
+    r->vol.gy_q8 = ((int64_t)cfg->height * 128) + (int64_t)PSC_3D_GUARD_PX * 256;
+    r->vol.near_q16 = cfg->near_q16;
+    r->vol.far_q16 = cfg->far_q16;
+    r->depth_k_q30 = psc_div_round64((int64_t)cfg->far_q16 << 30, (int64_t)cfg->far_q16 - cfg->near_q16);
+    return PSC_OK;
+}
+
+void psc_3d_draw_defaults(psc_3d_draw_t *d, const psc_mesh_t *mesh)
+{
+    *d = (psc_3d_draw_t){0};
+    d->mesh = mesh;
+    psc_mat4_identity(&d->camera_from_object);
+    d->shade = PSC_SHADE_GOURAUD;
+    d->filter = PSC_TEX_BILINEAR;
+    d->blend = PSC_BLEND_REPLACE;
+    d->cull_back = true;
+    d->depth_test = true;
+    d->light_dir = (psc_vec3_q16_t){0, 0, -PSC_Q16_ONE};
+    d->ambient_q8 = 64;
+    d->color = mesh ? mesh->base_color : 0xFFFFFFu;
+}
+
+/* ---- vertices ------------------------------------------------------------------- */
+
+/* Raster position, depth and perspective weight of a point inside the volume (near <= z <= far). */
+static void project(const psc_3d_t *r, const psc_clip_vertex_t *c, psc_raster_vertex_t *o)
+{
+    int64_t z = c->z;
+    o->x_q4 = (int32_t)((int64_t)r->cfg.width * 8 + psc_div_round64((int64_t)c->x * r->vol.f_q8, z * 16));
+    o->y_q4 = (int32_t)((int64_t)r->cfg.height * 8 - psc_div_round64((int64_t)c->y * r->vol.f_q8, z * 16));
+    o->q_q28 = (int32_t)psc_div_round64((int64_t)r->vol.near_q16 << 28, z);
+    /* depth = (1 - near/z) far / (far - near): (z - near)/z in Q1.31 times K in Q2.30. */
+    uint64_t ratio = ((uint64_t)(z - r->vol.near_q16) << 31) / (uint64_t)z;
+    uint64_t d = (ratio * (uint64_t)r->depth_k_q30 + ((uint64_t)1 << 28)) >> 29;
+    o->depth_q32 = d > 0xFFFFFFFFu ? 0xFFFFFFFFu : (uint32_t)d;
+    o->u_q16 = c->u_q16;
+    o->v_q16 = c->v_q16;
+    o->color = ((uint32_t)c->r << 16) | ((uint32_t)c->g << 8) | (uint32_t)c->b;
+    o->light_q8 = c->light_q8;
+}
+
+static int32_t light_of(const psc_3d_draw_t *d, const psc_mesh_t *m, uint32_t i)
+{
+    if (!d->lit || !m->normal_q14)
+        return 256;
+    const int16_t *n = &m->normal_q14[3u * i];
+    psc_vec3_q16_t nc = psc_mat4_apply_dir(&d->camera_from_object,
+                                           (psc_vec3_q16_t){(int32_t)n[0] * 4, (int32_t)n[1] * 4, (int32_t)n[2] * 4});
+    nc = psc_vec3_normalize(nc);
+    int64_t dot = ((int64_t)nc.x * d->light_dir.x + (int64_t)nc.y * d->light_dir.y +
+                   (int64_t)nc.z * d->light_dir.z) >> 16; /* Q16.16, <= 1.0 */
+    if (dot < 0)
+        dot = 0;
+    if (dot > PSC_Q16_ONE)
+        dot = PSC_Q16_ONE;
+    int32_t amb = d->ambient_q8 < 0 ? 0 : d->ambient_q8 > 256 ? 256 : d->ambient_q8;
+    return amb + (int32_t)psc_shr_round64((int64_t)(256 - amb) * dot, 16);
+}
+
+static void transform_draw(const psc_3d_t *r, const psc_3d_draw_t *d, vcache_t *out)
+{
+    const psc_mesh_t *m = d->mesh;
+    for (uint32_t i = 0; i < m->vertex_count; i++) {
+        vcache_t *c = &out[i];
+        psc_vec3_q16_t p, cam;
+        if (m->position_q15)
+            p = (psc_vec3_q16_t){(int32_t)m->position_q15[3u * i] * 2, (int32_t)m->position_q15[3u * i + 1] * 2,
+                                 (int32_t)m->position_q15[3u * i + 2] * 2};
+        else
+            p = (psc_vec3_q16_t){m->position_q16[3u * i], m->position_q16[3u * i + 1], m->position_q16[3u * i + 2]};
+        if (!psc_mat4_apply(&d->camera_from_object, p, &cam)) {
+            c->outcode = CACHE_BAD;
+            continue;
+        }
+        int32_t l = light_of(d, m, i);
+        uint32_t col = (m->color ? m->color[i] : d->color) & 0xFFFFFFu;
+        int32_t cr = (int32_t)(col >> 16 & 255u), cg = (int32_t)(col >> 8 & 255u), cb = (int32_t)(col & 255u);
+        if (d->lit && d->shade != PSC_SHADE_TEXTURE) {
+            cr = (cr * l + 128) >> 8;
+            cg = (cg * l + 128) >> 8;
+            cb = (cb * l + 128) >> 8;
+        }
+        c->cv = (psc_clip_vertex_t){cam.x, cam.y, cam.z,
+                                    m->uv_q12 ? (int32_t)m->uv_q12[2u * i] * 16 : 0,
+                                    m->uv_q12 ? (int32_t)m->uv_q12[2u * i + 1] * 16 : 0,
+                                    cr, cg, cb, l};
+        c->outcode = (uint8_t)psc_clip_outcode(&r->vol, cam.x, cam.y, cam.z);
+        if (c->outcode == 0)
+            project(r, &c->cv, &c->rv);
+    }
+}
+
+/* ---- triangles ---------------------------------------------------------------- */
+
+static int64_t area2_of(const psc_raster_vertex_t *a, const psc_raster_vertex_t *b, const psc_raster_vertex_t *c)
+{
+    return ((int64_t)b->x_q4 - a->x_q4) * ((int64_t)c->y_q4 - a->y_q4) -
+           ((int64_t)c->x_q4 - a->x_q4) * ((int64_t)b->y_q4 - a->y_q4);
+}
+
+typedef struct {
+    const psc_3d_t *r;
+    psc_raster_target_t target;
+    psc_raster_state_t state;
+    int32_t rect_q4[4];       /* tile in raster units: x0, y0, x1, y1 (pixel edges) */
+    psc_3d_stats_t *stats;
+    bool count_once;          /* first tile: count per-triangle statistics */
+} tile_ctx_t;
+
+static bool outside_tile(const tile_ctx_t *t, const psc_raster_vertex_t *a, const psc_raster_vertex_t *b,
+                         const psc_raster_vertex_t *c)
+{
+    /* Conservative: a triangle whose box misses the tile's pixel edges draws nothing in it. */
+    return (a->x_q4 < t->rect_q4[0] && b->x_q4 < t->rect_q4[0] && c->x_q4 < t->rect_q4[0]) ||
+           (a->y_q4 < t->rect_q4[1] && b->y_q4 < t->rect_q4[1] && c->y_q4 < t->rect_q4[1]) ||
+           (a->x_q4 > t->rect_q4[2] && b->x_q4 > t->rect_q4[2] && c->x_q4 > t->rect_q4[2]) ||
+           (a->y_q4 > t->rect_q4[3] && b->y_q4 > t->rect_q4[3] && c->y_q4 > t->rect_q4[3]);
+}
+
+static void draw_clipped(tile_ctx_t *t, const psc_3d_draw_t *d, const vcache_t *a, const vcache_t *b,
+                         const vcache_t *c, unsigned planes)
+{
+    psc_clip_vertex_t in[3] = {a->cv, b->cv, c->cv}, poly[PSC_3D_CLIP_MAX_VERTICES];
+    psc_raster_vertex_t rv[PSC_3D_CLIP_MAX_VERTICES];
+    unsigned n = psc_clip_polygon(&t->r->vol, planes, in, 3, poly);
+    if (t->count_once)
+        t->stats->clipped++;
+    if (n < 3) {
+        if (t->count_once)
+            t->stats->outside++;
+        return;
+    }
+    for (unsigned i = 0; i < n; i++)
+        project(t->r, &poly[i], &rv[i]);
+    /* The flat colour stays the original first vertex's (the provoking vertex). */
+    uint32_t flat = ((uint32_t)a->cv.r << 16) | ((uint32_t)a->cv.g << 8) | (uint32_t)a->cv.b;
+    int64_t area = 0;
+    for (unsigned i = 1; i + 1 < n; i++)
+        area += area2_of(&rv[0], &rv[i], &rv[i + 1]);
+    if (area == 0 || (d->cull_back && area < 0)) {
+        if (t->count_once)
+            *(area == 0 ? &t->stats->outside : &t->stats->culled) += 1;
+        return;
+    }
+    for (unsigned i = 1; i + 1 < n; i++) {
+        /* A fan piece whose winding disagrees with the polygon's is a
+         * rounding sliver of a degenerate polygon: skip it. */
+        int64_t ai = area2_of(&rv[0], &rv[i], &rv[i + 1]);
+        if (ai == 0 || (ai < 0) != (area < 0))
+            continue;
+        psc_raster_vertex_t p0 = rv[0];
+        if (d->shade == PSC_SHADE_FLAT)
+            p0.color = flat;
+        t->stats->pixels += psc_raster_triangle(&t->target, &t->state, &p0, &rv[i], &rv[i + 1]);
+    }
+}
+
+static void draw_mesh(tile_ctx_t *t, const psc_3d_draw_t *d, const vcache_t *cache)
+{
+    const psc_mesh_t *m = d->mesh;
+    for (uint32_t k = 0; k < m->triangle_count; k++) {
+        const vcache_t *a = &cache[m->index[3u * k]], *b = &cache[m->index[3u * k + 1]],
+                       *c = &cache[m->index[3u * k + 2]];
+        unsigned oa = a->outcode, ob = b->outcode, oc = c->outcode;
+        if (((oa | ob | oc) & CACHE_BAD) || (oa & ob & oc) != 0) {
+            if (t->count_once)
+                t->stats->outside++;
+            continue;
+        }
+        if ((oa | ob | oc) != 0) {
+            draw_clipped(t, d, a, b, c, oa | ob | oc);
+            continue;
+        }
+        /* After the first tile (which counts the statistics) the cheap box test goes first. */
+        if (!t->count_once && outside_tile(t, &a->rv, &b->rv, &c->rv))
+            continue;
+        int64_t area = area2_of(&a->rv, &b->rv, &c->rv);
+        if (area == 0 || (d->cull_back && area < 0)) {
+            if (t->count_once)
+                *(area == 0 ? &t->stats->outside : &t->stats->culled) += 1;
+            continue;
+        }
+        if (outside_tile(t, &a->rv, &b->rv, &c->rv))
+            continue;
+        t->stats->pixels += psc_raster_triangle(&t->target, &t->state, &a->rv, &b->rv, &c->rv);
+    }
+}
+
+/* ---- frame ---------------------------------------------------------------------- */
+
+static bool draw_ok(const psc_3d_draw_t *d)
+{
+    const psc_mesh_t *m = d->mesh;
+    if (!m || !m->index || (!m->position_q15 && !m->position_q16) || d->shade > PSC_SHADE_TEXTURE)
+        return false;
+    for (unsigned r = 0; r < 3; r++)
+        for (unsigned c = 0; c < 3; c++)
+            if (d->camera_from_object.m[r][c] > PSC_MAT_LINEAR_MAX_Q16 ||
+                d->camera_from_object.m[r][c] < -PSC_MAT_LINEAR_MAX_Q16)
+                return false;
+    if (d->shade == PSC_SHADE_TEXTURE && !d->texture && !m->has_texture)
+        return false;
+    /* Indices are trusted only after this check (a parsed pack has passed it already). */
+    for (uint32_t i = 0; i < m->triangle_count * 3u; i++)
+        if (m->index[i] >= m->vertex_count)
+            return false;
+    return true;
+}
+
+static void clear_tile(const psc_3d_t *r, const psc_surface_t *out, const uint32_t *clear, uint16_t x0, uint16_t y0,
+                       uint16_t x1, uint16_t y1)
+{
+    size_t zn = (size_t)(x1 - x0) * (y1 - y0);
+    if (r->cfg.depth_bits == 16) {
+        uint16_t *z = r->depth;
+        for (size_t i = 0; i < zn; i++)
+            z[i] = 0xFFFFu;
+    } else {
+        uint32_t *z = r->depth;
+        for (size_t i = 0; i < zn; i++)
+            z[i] = 0xFFFFFFFFu;
+    }
+    if (!clear)
+        return;
+    for (uint32_t y = y0; y < y1; y++) {
+        uint8_t *row = (uint8_t *)out->pixels + (size_t)y * out->stride;
+        if (out->format == PSC_PIX_RGB565) {
+            uint16_t c = psc_xrgb_to_rgb565(*clear);
+            for (uint32_t x = x0; x < x1; x++)
+                ((uint16_t *)(void *)row)[x] = c;
+        } else {
+            for (uint32_t x = x0; x < x1; x++)
+                ((uint32_t *)(void *)row)[x] = 0xFF000000u | *clear;
+        }
+    }
+}
+
+static void export_depth(const psc_3d_t *r, uint16_t x0, uint16_t y0, uint16_t x1, uint16_t y1)
+{
+    uint32_t tw = (uint32_t)(x1 - x0);
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = x0; x < x1; x++) {
+            size_t i = (size_t)(y - y0) * tw + (x - x0);
+            r->depth_out[(size_t)y * r->cfg.width + x] =
+                r->cfg.depth_bits == 16 ? ((const uint16_t *)r->depth)[i]
+                                        : (uint16_t)(((const uint32_t *)r->depth)[i] >> 16);
+        }
+}
+
+psc_status_t psc_3d_render(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, const uint32_t *clear_xrgb,
+                           const psc_surface_t *out, psc_3d_stats_t *stats)
+{
+    psc_3d_stats_t local;
+    if (!stats)
+        stats = &local;
+    *stats = (psc_3d_stats_t){0};
+    if (!r || (!draws && n > 0) || !out || !out->pixels || out->width != r->cfg.width ||
+        out->height != r->cfg.height || (out->format != PSC_PIX_RGB565 && out->format != PSC_PIX_XRGB8888) ||
+        out->stride < (uint32_t)out->width * psc_pixfmt_bytes(out->format))
+        return PSC_ERR_ARG;
+    uint64_t total = 0;
+    for (unsigned i = 0; i < n; i++) {
+        if (!draw_ok(&draws[i]))
+            return PSC_ERR_ARG;
+        total += draws[i].mesh->vertex_count;
+    }
+    if (total > r->cfg.max_vertices)
+        return PSC_ERR_NOMEM;
+
+    vcache_t *cache = r->cache;
+    size_t base = 0;
+    for (unsigned i = 0; i < n; i++) {
+        transform_draw(r, &draws[i], cache + base);
+        base += draws[i].mesh->vertex_count;
+        stats->triangles += draws[i].mesh->triangle_count;
+    }
+
+    uint16_t tw = r->cfg.tile_width, th = r->cfg.tile_height;
+    bool first = true;
+    for (uint32_t ty = 0; ty < r->cfg.height; ty += th) {
+        for (uint32_t tx = 0; tx < r->cfg.width; tx += tw) {
+            uint16_t x0 = (uint16_t)tx, y0 = (uint16_t)ty;
+            uint16_t x1 = (uint16_t)(tx + tw > r->cfg.width ? r->cfg.width : tx + tw);
+            uint16_t y1 = (uint16_t)(ty + th > r->cfg.height ? r->cfg.height : ty + th);
+            clear_tile(r, out, clear_xrgb, x0, y0, x1, y1);
+            tile_ctx_t t = {
+                .r = r,
+                .target = {out, r->depth, (uint32_t)(x1 - x0) * (r->cfg.depth_bits / 8u), r->cfg.depth_bits, x0, y0,
+                           x1, y1},
+                .rect_q4 = {(int32_t)x0 * 16, (int32_t)y0 * 16, (int32_t)x1 * 16, (int32_t)y1 * 16},
+                .stats = stats,
+                .count_once = first,
+            };
+            base = 0;
+            for (unsigned i = 0; i < n; i++) {
+                const psc_3d_draw_t *d = &draws[i];
+                t.state = (psc_raster_state_t){d->shade, d->filter, d->blend, d->depth_test,
+                                               d->shade == PSC_SHADE_TEXTURE && d->lit,
+                                               d->texture ? d->texture : &d->mesh->texture};
+                draw_mesh(&t, d, cache + base);
+                base += d->mesh->vertex_count;
+            }
+            if (r->depth_out)
+                export_depth(r, x0, y0, x1, y1);
+            first = false;
+        }
+    }
+    return PSC_OK;
+}

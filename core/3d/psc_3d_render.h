@@ -1,0 +1,119 @@
+/*
+ * psc_3d_render.h - the integer 3D pipeline: meshes -> camera space ->
+ * lighting -> clipping -> projection -> back-face culling -> rasterizer.
+ *
+ * Conventions: axes and matrices psc_3d_math.h; clipping and projection
+ * psc_3d_clip.h; raster coordinates, fill rule, depth and shading
+ * psc_raster.h; meshes psc_mesh.h.
+ *
+ * Per frame (psc_3d_render):
+ *  1. Every vertex of every draw is transformed to camera space once
+ *     (camera_from_object, Q16.16), lit (Lambert: ambient + (1 - ambient)
+ *     max(0, N.L), 8-bit) and, when inside the clip volume, projected to
+ *     raster coordinates with its depth and perspective weight: the vertex
+ *     cache.
+ *  2. For each tile (the whole screen when tile_width == 0), the colour and
+ *     depth of the tile are cleared and every triangle is drawn clipped to
+ *     the tile rectangle. A triangle whose vertices all lie inside the clip
+ *     volume uses the cache; one outside a common plane is dropped; the others
+ *     are clipped (psc_clip_polygon), projected and drawn as a fan.
+ *  3. Back-face culling (per draw) uses the projected winding: front faces
+ *     have a positive doubled area (clockwise on the screen, psc_mesh.h),
+ *     which after near-plane clipping is exactly the seed's V.N < 0 test.
+ * Because every value a pixel gets depends only on the triangle and the
+ * pixel (psc_raster.h), tile mode writes the same bytes as full-buffer mode.
+ *
+ * Memory (all from the caller's workspace, sized by psc_3d_workspace_size):
+ *  - depth: tile_width x tile_height (or width x height) x 2 or 4 bytes;
+ *  - vertex cache: PSC_3D_VERTEX_CACHE_BYTES per vertex of a frame.
+ * Rendering allocates nothing.
+ */
+#ifndef PSC_3D_RENDER_H
+#define PSC_3D_RENDER_H
+
+#include "base/psc_types.h"
+#include "3d/psc_3d_math.h"
+#include "3d/psc_3d_clip.h"
+#include "mesh/psc_mesh.h"
+#include "raster/psc_raster.h"
+
+/* Field of view limits: 1 degree (the viewer's PSC_HFOV_MIN) to 170 degrees. */
+#define PSC_3D_HFOV_MIN PSC_BAM_FROM_MDEG(1000)
+#define PSC_3D_HFOV_MAX PSC_BAM_FROM_MDEG(170000)
+/* far / near may be at most 2^16 (keeps the perspective weight q >= 2^12). */
+#define PSC_3D_FAR_NEAR_RATIO_MAX 65536
+
+typedef struct {
+    uint16_t width, height;           /* output, 1..PSC_MAX_OUT_DIM */
+    uint16_t tile_width, tile_height; /* 0, 0: one full-screen depth buffer */
+    uint8_t depth_bits;               /* 16 or 32 */
+    psc_bam_t hfov;                   /* horizontal field of view */
+    int32_t near_q16, far_q16;        /* 0 < near, 2 near <= far <= 2^16 near */
+    uint32_t max_vertices;            /* vertices of all draws of one frame together */
+} psc_3d_config_t;
+
+/** One mesh drawn with one transform and one state. */
+typedef struct {
+    const psc_mesh_t *mesh;
+    psc_mat4_q16_t camera_from_object;  /* linear part within +-256.0 */
+    psc_shade_t shade;
+    psc_tex_filter_t filter;
+    psc_blend_t blend;
+    bool cull_back;                   /* drop triangles whose projected winding is negative */
+    bool depth_test;
+    bool lit;                         /* Lambert lighting from the mesh's normals */
+    psc_vec3_q16_t light_dir;         /* toward the light, camera space, unit length */
+    int32_t ambient_q8;               /* 0..256 */
+    uint32_t color;                   /* XRGB: vertex colour when the mesh has none */
+    const psc_texture_t *texture;     /* TEXTURE: NULL takes the mesh's */
+} psc_3d_draw_t;
+
+/** A draw with the defaults: Gouraud, back faces culled, depth tested, unlit, the mesh's colours. */
+void psc_3d_draw_defaults(psc_3d_draw_t *d, const psc_mesh_t *mesh);
+
+/** What a frame did. */
+typedef struct {
+    uint32_t triangles;     /* submitted (each counted once, not per tile) */
+    uint32_t culled;        /* back faces dropped */
+    uint32_t outside;       /* wholly outside a plane, zero-area, or unrepresentable */
+    uint32_t clipped;       /* needed clipping (counted once) */
+    uint64_t pixels;        /* pixels written after the depth test */
+} psc_3d_stats_t;
+
+/* Bytes of vertex cache per vertex. */
+#define PSC_3D_VERTEX_CACHE_BYTES 72u
+
+typedef struct {
+    psc_3d_config_t cfg;
+    psc_clip_volume_t vol;
+    int64_t depth_k_q30;     /* far / (far - near), Q2.30 */
+    void *depth;             /* tile or screen depth buffer */
+    size_t depth_bytes;
+    void *cache;             /* max_vertices entries */
+    uint16_t *depth_out;     /* optional: width x height receives the final depth (top 16 bits) */
+} psc_3d_t;
+
+/** Workspace bytes for a configuration (0 if it is invalid). */
+size_t psc_3d_workspace_size(const psc_3d_config_t *cfg);
+
+/** Depth-buffer bytes of a configuration (what tile mode saves). */
+size_t psc_3d_depth_bytes(const psc_3d_config_t *cfg);
+
+/**
+ * Prepare a renderer. ws: psc_3d_workspace_size() bytes aligned to 8.
+ * PSC_ERR_ARG for a configuration outside its documented ranges,
+ * PSC_ERR_NOMEM for a short workspace.
+ */
+psc_status_t psc_3d_init(psc_3d_t *r, const psc_3d_config_t *cfg, void *ws, size_t ws_size);
+
+/**
+ * Render draws[0..n) into out (cfg.width x cfg.height, RGB565 or XRGB8888).
+ * clear_xrgb: the background each tile starts from, or NULL to keep the
+ * surface's pixels (the depth is cleared either way). stats may be NULL.
+ * PSC_ERR_ARG for a bad surface or draw, PSC_ERR_NOMEM when the draws have
+ * more vertices than cfg.max_vertices.
+ */
+psc_status_t psc_3d_render(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, const uint32_t *clear_xrgb,
+                           const psc_surface_t *out, psc_3d_stats_t *stats);
+
+#endif

@@ -1,0 +1,387 @@
+/*
+ * psc_raster.c - triangle setup and the per-pixel loops (conventions: psc_raster.h).
+ *
+ * Setup computes, once per triangle, three edge functions and the attribute
+ * planes. Planes are kept modulo 2^64 (uint64_t): a gradient times a
+ * coordinate offset may exceed int64 at pixels far outside a thin triangle,
+ * but at every pixel the triangle covers the true value is in range, and
+ * modular arithmetic makes the stepped value equal to the exact one there.
+ * The loops are instantiated per (shading, surface format, depth bits,
+ * filter, texture format) from one always-inline body, so each combination
+ * runs without per-pixel branches on the state.
+ */
+#include "raster/psc_raster.h"
+#include "base/psc_fixed.h"
+#include "base/psc_pixel.h"
+
+/* Extra fraction bits of each plane: the numerators stay below 2^55 for
+ * coordinates below 2^19 (PSC_RASTER_COORD_MAX_Q4 differences), so
+ * numerator * 2^F < 2^63. */
+#define DEPTH_F 8u
+#define COLOR_F 16u
+#define Q_F 8u
+#define UV_F 8u
+#define LIGHT_F 16u
+#define UV_SPAN_MAX_Q16 (INT64_C(16) << 16)
+
+typedef struct {
+    uint64_t base;     /* value << F at the first pixel centre of the loop */
+    uint64_t step_x;   /* per pixel to the right */
+    uint64_t step_y;   /* per row down */
+} plane_t;
+
+typedef struct {
+    int64_t e[3], ex[3], ey[3];  /* biased edge values at the first pixel centre, steps */
+    plane_t depth, r, g, b, q, uq, vq, light;
+    int32_t px0, py0, px1, py1;  /* inclusive pixel bounds, inside the target */
+    uint32_t flat;
+} setup_t;
+
+psc_status_t psc_texture_init(psc_texture_t *t, uint16_t width, uint16_t height, psc_pixfmt_t format,
+                              uint32_t stride, const void *pixels)
+{
+    if (!t || !pixels || width == 0 || height == 0 || width > PSC_TEXTURE_MAX_DIM ||
+        height > PSC_TEXTURE_MAX_DIM || (width & (width - 1u)) != 0 || (height & (height - 1u)) != 0 ||
+        (format != PSC_PIX_RGB565 && format != PSC_PIX_XRGB8888) ||
+        stride < (uint32_t)width * psc_pixfmt_bytes(format))
+        return PSC_ERR_ARG;
+    uint8_t wl = 0, hl = 0;
+    while ((1u << wl) < width)
+        wl++;
+    while ((1u << hl) < height)
+        hl++;
+    *t = (psc_texture_t){width, height, wl, hl, format, stride, pixels};
+    return PSC_OK;
+}
+
+/* Value of a plane rounded to an integer (the uint64 -> int64 conversion is
+ * modular on every compiler Periscope supports). */
+static PSC_ALWAYS_INLINE int64_t plane_value(uint64_t v, unsigned f)
+{
+    return (int64_t)(v + ((uint64_t)1 << (f - 1u))) >> f;
+}
+
+/* The plane through (x[i], y[i], val[i]) with f extra fraction bits, based at
+ * the raster point (cx, cy). */
+static void plane_setup(plane_t *p, const int64_t val[3], const int64_t x[3], const int64_t y[3], int64_t area2,
+                        unsigned f, int64_t cx, int64_t cy)
+{
+    int64_t d1 = val[1] - val[0], d2 = val[2] - val[0];
+    int64_t dx1 = x[1] - x[0], dy1 = y[1] - y[0], dx2 = x[2] - x[0], dy2 = y[2] - y[0];
+    int64_t na = d1 * dy2 - d2 * dy1, nb = d2 * dx1 - d1 * dx2;
+    int64_t a = psc_div_round64(na * ((int64_t)1 << f), area2);
+    int64_t b = psc_div_round64(nb * ((int64_t)1 << f), area2);
+    p->base = (uint64_t)val[0] * ((uint64_t)1 << f) + (uint64_t)a * (uint64_t)(cx - x[0]) +
+              (uint64_t)b * (uint64_t)(cy - y[0]);
+    p->step_x = (uint64_t)a * (uint64_t)PSC_RASTER_SUBPIXEL_ONE;
+    p->step_y = (uint64_t)b * (uint64_t)PSC_RASTER_SUBPIXEL_ONE;
+}
+
+static void plane3(plane_t *p, int64_t a, int64_t b, int64_t c, const int64_t x[3], const int64_t y[3],
+                   int64_t area2, unsigned f, int64_t cx, int64_t cy)
+{
+    const int64_t v[3] = {a, b, c};
+    plane_setup(p, v, x, y, area2, f, cx, cy);
+}
+
+static int64_t clamp64(int64_t v, int64_t lo, int64_t hi)
+{
+    return v < lo ? lo : v > hi ? hi : v;
+}
+
+/* ---- texels and pixels -------------------------------------------------------- */
+
+static PSC_ALWAYS_INLINE uint32_t texel(const psc_texture_t *t, int fmt565, uint32_t x, uint32_t y)
+{
+    const uint8_t *row = (const uint8_t *)t->pixels + (size_t)y * t->stride;
+    if (fmt565)
+        return psc_rgb565_to_xrgb(((const uint16_t *)(const void *)row)[x]);
+    return ((const uint32_t *)(const void *)row)[x];
+}
+
+static PSC_ALWAYS_INLINE uint32_t modulate(uint32_t c, uint32_t l)
+{
+    uint32_t rb = ((c & 0xFF00FFu) * l + 0x800080u) >> 8 & 0xFF00FFu; /* l <= 256: lanes stay apart */
+    uint32_t g = ((c & 0xFF00u) * l + 0x8000u) >> 8 & 0xFF00u;
+    return 0xFF000000u | rb | g;
+}
+
+static PSC_ALWAYS_INLINE uint32_t add_sat(uint32_t a, uint32_t b)
+{
+    uint32_t out = 0xFF000000u;
+    for (unsigned s = 0; s < 24; s += 8) {
+        uint32_t v = ((a >> s) & 0xFFu) + ((b >> s) & 0xFFu);
+        out |= (v > 255u ? 255u : v) << s;
+    }
+    return out;
+}
+
+static PSC_ALWAYS_INLINE void put_pixel(uint8_t *row, int32_t x, int out565, psc_blend_t blend, uint32_t c)
+{
+    if (out565) {
+        uint16_t *p = (uint16_t *)(void *)row + x;
+        *p = psc_xrgb_to_rgb565(blend == PSC_BLEND_ADD ? add_sat(psc_rgb565_to_xrgb(*p), c) : c);
+    } else {
+        uint32_t *p = (uint32_t *)(void *)row + x;
+        *p = 0xFF000000u | (blend == PSC_BLEND_ADD ? add_sat(*p, c) : c);
+    }
+}
+
+/* ---- the loop ------------------------------------------------------------------ */
+
+static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster_target_t *t,
+                                              const psc_raster_state_t *st, const int shade, const int out565,
+                                              const int zbits, const int bilinear, const int tex565)
+{
+    const psc_texture_t *tex = st->texture;
+    const psc_blend_t blend = st->blend;
+    const bool mod = st->modulate;
+    const uint32_t wmask = tex ? tex->width - 1u : 0, hmask = tex ? tex->height - 1u : 0;
+    const int64_t tw = tex ? tex->width : 0, th = tex ? tex->height : 0;
+    uint32_t written = 0;
+    int64_t e0r = s->e[0], e1r = s->e[1], e2r = s->e[2];
+    uint64_t dr = s->depth.base, rr = s->r.base, gr = s->g.base, br = s->b.base;
+    uint64_t qr = s->q.base, ur = s->uq.base, vr = s->vq.base, lr = s->light.base;
+    uint8_t *srow = (uint8_t *)t->surface->pixels + (size_t)s->py0 * t->surface->stride;
+    uint8_t *zrow = zbits ? (uint8_t *)t->depth + (size_t)(s->py0 - t->y0) * t->depth_stride : 0;
+
+    for (int32_t y = s->py0; y <= s->py1; y++) {
+        int64_t e0 = e0r, e1 = e1r, e2 = e2r;
+        uint64_t d = dr, r = rr, g = gr, b = br, q = qr, u = ur, v = vr, l = lr;
+        for (int32_t x = s->px0; x <= s->px1; x++) {
+            if ((e0 | e1 | e2) >= 0) {
+                int draw = 1;
+                uint32_t z = 0;
+                if (zbits) {
+                    z = (uint32_t)clamp64(plane_value(d, DEPTH_F), 0, INT64_C(0xFFFFFFFF));
+                    if (zbits == 16) {
+                        uint16_t *zp = (uint16_t *)(void *)zrow + (x - t->x0);
+                        uint16_t z16 = (uint16_t)(z >> 16);
+                        draw = z16 < *zp;
+                        if (draw)
+                            *zp = z16;
+                    } else {
+                        uint32_t *zp = (uint32_t *)(void *)zrow + (x - t->x0);
+                        draw = z < *zp;
+                        if (draw)
+                            *zp = z;
+                    }
+                }
+                if (draw) {
+                    uint32_t c;
+                    if (shade == PSC_SHADE_FLAT) {
+                        c = s->flat;
+                    } else if (shade == PSC_SHADE_GOURAUD) {
+                        uint32_t cr = (uint32_t)clamp64(plane_value(r, COLOR_F), 0, 255);
+                        uint32_t cg = (uint32_t)clamp64(plane_value(g, COLOR_F), 0, 255);
+                        uint32_t cb = (uint32_t)clamp64(plane_value(b, COLOR_F), 0, 255);
+                        c = (cr << 16) | (cg << 8) | cb;
+                    } else {
+                        /* One division per pixel: 1/q, then u = (u/w) / (1/w). */
+                        int64_t qq = clamp64(plane_value(q, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
+                        int64_t inv = (INT64_C(1) << 40) / qq; /* 2^12 .. 2^28 */
+                        int64_t uu = psc_shr_round64(plane_value(u, UV_F) * inv, 24);
+                        int64_t vv = psc_shr_round64(plane_value(v, UV_F) * inv, 24);
+                        if (bilinear) {
+                            int64_t tx = (uu * tw >> 8) - 128, ty = (vv * th >> 8) - 128;
+                            uint32_t fx = (uint32_t)tx & 255u, fy = (uint32_t)ty & 255u;
+                            uint32_t ix = (uint32_t)(tx >> 8), iy = (uint32_t)(ty >> 8);
+                            uint32_t x0 = ix & wmask, x1 = (ix + 1u) & wmask;
+                            uint32_t y0 = iy & hmask, y1 = (iy + 1u) & hmask;
+                            c = psc_blend4_xrgb(texel(tex, tex565, x0, y0), texel(tex, tex565, x1, y0),
+                                                texel(tex, tex565, x0, y1), texel(tex, tex565, x1, y1), fx, fy);
+                        } else {
+                            c = texel(tex, tex565, (uint32_t)(uu * tw >> 16) & wmask,
+                                      (uint32_t)(vv * th >> 16) & hmask);
+                        }
+                        if (mod)
+                            c = modulate(c, (uint32_t)clamp64(plane_value(l, LIGHT_F), 0, 256));
+                    }
+                    put_pixel(srow, x, out565, blend, c);
+                    written++;
+                }
+            }
+            e0 += s->ex[0];
+            e1 += s->ex[1];
+            e2 += s->ex[2];
+            if (zbits)
+                d += s->depth.step_x;
+            if (shade == PSC_SHADE_GOURAUD) {
+                r += s->r.step_x;
+                g += s->g.step_x;
+                b += s->b.step_x;
+            }
+            if (shade == PSC_SHADE_TEXTURE) {
+                q += s->q.step_x;
+                u += s->uq.step_x;
+                v += s->vq.step_x;
+                l += s->light.step_x;
+            }
+        }
+        e0r += s->ey[0];
+        e1r += s->ey[1];
+        e2r += s->ey[2];
+        dr += s->depth.step_y;
+        rr += s->r.step_y;
+        gr += s->g.step_y;
+        br += s->b.step_y;
+        qr += s->q.step_y;
+        ur += s->uq.step_y;
+        vr += s->vq.step_y;
+        lr += s->light.step_y;
+        srow += t->surface->stride;
+        if (zbits)
+            zrow += t->depth_stride;
+    }
+    return written;
+}
+
+/* One instantiation per state combination. */
+#define LOOP(shade, zb, bil, t565)                                                                 \
+    (out565 ? raster_loop(s, t, st, shade, 1, zb, bil, t565) : raster_loop(s, t, st, shade, 0, zb, bil, t565))
+
+static uint32_t dispatch_z(const setup_t *s, const psc_raster_target_t *t, const psc_raster_state_t *st,
+                           int out565, int zb)
+{
+    bool tex565 = st->shade == PSC_SHADE_TEXTURE && st->texture->format == PSC_PIX_RGB565;
+    bool bil = st->filter == PSC_TEX_BILINEAR;
+#define BY_Z(shade, bil_, t565_)                                                                   \
+    (zb == 0 ? LOOP(shade, 0, bil_, t565_) : zb == 16 ? LOOP(shade, 16, bil_, t565_) : LOOP(shade, 32, bil_, t565_))
+    switch (st->shade) {
+    case PSC_SHADE_FLAT:
+        return BY_Z(PSC_SHADE_FLAT, 0, 0);
+    case PSC_SHADE_GOURAUD:
+        return BY_Z(PSC_SHADE_GOURAUD, 0, 0);
+    case PSC_SHADE_TEXTURE:
+        if (bil)
+            return tex565 ? BY_Z(PSC_SHADE_TEXTURE, 1, 1) : BY_Z(PSC_SHADE_TEXTURE, 1, 0);
+        return tex565 ? BY_Z(PSC_SHADE_TEXTURE, 0, 1) : BY_Z(PSC_SHADE_TEXTURE, 0, 0);
+    }
+#undef BY_Z
+    return 0;
+}
+#undef LOOP
+
+/* ---- setup ------------------------------------------------------------------- */
+
+static bool coord_ok(const psc_raster_vertex_t *v)
+{
+    return v->x_q4 >= -PSC_RASTER_COORD_MAX_Q4 && v->x_q4 <= PSC_RASTER_COORD_MAX_Q4 &&
+           v->y_q4 >= -PSC_RASTER_COORD_MAX_Q4 && v->y_q4 <= PSC_RASTER_COORD_MAX_Q4;
+}
+
+static bool state_ok(const psc_raster_target_t *t, const psc_raster_state_t *st)
+{
+    const psc_surface_t *sf = t->surface;
+    if (!sf || !sf->pixels || (sf->format != PSC_PIX_RGB565 && sf->format != PSC_PIX_XRGB8888))
+        return false;
+    if (t->x0 >= t->x1 || t->y0 >= t->y1 || t->x1 > sf->width || t->y1 > sf->height)
+        return false;
+    if (st->depth_test && (!t->depth || (t->depth_bits != 16 && t->depth_bits != 32)))
+        return false;
+    if (st->shade == PSC_SHADE_TEXTURE) {
+        const psc_texture_t *x = st->texture;
+        if (!x || !x->pixels || x->width == 0 || x->height == 0 || (x->width & (x->width - 1u)) != 0 ||
+            (x->height & (x->height - 1u)) != 0)
+            return false;
+    }
+    return st->shade <= PSC_SHADE_TEXTURE;
+}
+
+uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_state_t *st,
+                             const psc_raster_vertex_t *v0, const psc_raster_vertex_t *v1,
+                             const psc_raster_vertex_t *v2)
+{
+    if (!t || !st || !v0 || !v1 || !v2 || !state_ok(t, st) || !coord_ok(v0) || !coord_ok(v1) || !coord_ok(v2))
+        return 0;
+    const psc_raster_vertex_t *v[3] = {v0, v1, v2};
+    int64_t x[3], y[3];
+    for (unsigned i = 0; i < 3; i++) {
+        x[i] = v[i]->x_q4;
+        y[i] = v[i]->y_q4;
+    }
+    int64_t area2 = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+    if (area2 == 0)
+        return 0;
+    if (area2 < 0) { /* make the interior positive: swap v1 and v2 (v0 stays the provoking vertex) */
+        const psc_raster_vertex_t *tv = v[1];
+        v[1] = v[2];
+        v[2] = tv;
+        int64_t tx = x[1], ty = y[1];
+        x[1] = x[2];
+        y[1] = y[2];
+        x[2] = tx;
+        y[2] = ty;
+        area2 = -area2;
+    }
+
+    setup_t s;
+    /* Pixels whose centres 16i + 8 can lie in [min, max], inside the target. */
+    int64_t xmin = x[0] < x[1] ? (x[0] < x[2] ? x[0] : x[2]) : (x[1] < x[2] ? x[1] : x[2]);
+    int64_t xmax = x[0] > x[1] ? (x[0] > x[2] ? x[0] : x[2]) : (x[1] > x[2] ? x[1] : x[2]);
+    int64_t ymin = y[0] < y[1] ? (y[0] < y[2] ? y[0] : y[2]) : (y[1] < y[2] ? y[1] : y[2]);
+    int64_t ymax = y[0] > y[1] ? (y[0] > y[2] ? y[0] : y[2]) : (y[1] > y[2] ? y[1] : y[2]);
+    int64_t px0 = (xmin + 7) >> 4, px1 = (xmax - 8) >> 4, py0 = (ymin + 7) >> 4, py1 = (ymax - 8) >> 4;
+    if (px0 < t->x0)
+        px0 = t->x0;
+    if (py0 < t->y0)
+        py0 = t->y0;
+    if (px1 > (int64_t)t->x1 - 1)
+        px1 = (int64_t)t->x1 - 1;
+    if (py1 > (int64_t)t->y1 - 1)
+        py1 = (int64_t)t->y1 - 1;
+    if (px0 > px1 || py0 > py1)
+        return 0;
+    s.px0 = (int32_t)px0;
+    s.px1 = (int32_t)px1;
+    s.py0 = (int32_t)py0;
+    s.py1 = (int32_t)py1;
+    int64_t cx = px0 * 16 + 8, cy = py0 * 16 + 8;
+
+    for (unsigned k = 0; k < 3; k++) {
+        unsigned a = k, b = (k + 1u) % 3u;
+        int64_t dx = x[b] - x[a], dy = y[b] - y[a];
+        bool top_left = dy < 0 || (dy == 0 && dx > 0);
+        s.e[k] = dx * (cy - y[a]) - dy * (cx - x[a]) - (top_left ? 0 : 1);
+        s.ex[k] = -dy * PSC_RASTER_SUBPIXEL_ONE;
+        s.ey[k] = dx * PSC_RASTER_SUBPIXEL_ONE;
+    }
+
+    s.depth = s.r = s.g = s.b = s.q = s.uq = s.vq = s.light = (plane_t){0, 0, 0};
+    s.flat = v0->color & 0xFFFFFFu;
+    if (st->depth_test)
+        plane3(&s.depth, v[0]->depth_q32, v[1]->depth_q32, v[2]->depth_q32, x, y, area2, DEPTH_F, cx, cy);
+    if (st->shade == PSC_SHADE_GOURAUD) {
+        plane3(&s.r, v[0]->color >> 16 & 255, v[1]->color >> 16 & 255, v[2]->color >> 16 & 255, x, y, area2,
+               COLOR_F, cx, cy);
+        plane3(&s.g, v[0]->color >> 8 & 255, v[1]->color >> 8 & 255, v[2]->color >> 8 & 255, x, y, area2,
+               COLOR_F, cx, cy);
+        plane3(&s.b, v[0]->color & 255, v[1]->color & 255, v[2]->color & 255, x, y, area2, COLOR_F, cx, cy);
+    } else if (st->shade == PSC_SHADE_TEXTURE) {
+        int64_t q[3], uq[3], vq[3];
+        /* Shift u and v by the whole number below their minimum: free under
+         * repeat wrapping, and it bounds u/w and v/w. */
+        int64_t umin = v[0]->u_q16, vmin = v[0]->v_q16;
+        for (unsigned i = 1; i < 3; i++) {
+            if (v[i]->u_q16 < umin)
+                umin = v[i]->u_q16;
+            if (v[i]->v_q16 < vmin)
+                vmin = v[i]->v_q16;
+        }
+        umin = (umin >> 16) * 65536;
+        vmin = (vmin >> 16) * 65536;
+        for (unsigned i = 0; i < 3; i++) {
+            q[i] = clamp64(v[i]->q_q28, PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
+            uq[i] = psc_shr_round64(clamp64(v[i]->u_q16 - umin, 0, UV_SPAN_MAX_Q16) * q[i], 16);
+            vq[i] = psc_shr_round64(clamp64(v[i]->v_q16 - vmin, 0, UV_SPAN_MAX_Q16) * q[i], 16);
+        }
+        plane_setup(&s.q, q, x, y, area2, Q_F, cx, cy);
+        plane_setup(&s.uq, uq, x, y, area2, UV_F, cx, cy);
+        plane_setup(&s.vq, vq, x, y, area2, UV_F, cx, cy);
+        if (st->modulate)
+            plane3(&s.light, clamp64(v[0]->light_q8, 0, 256), clamp64(v[1]->light_q8, 0, 256),
+                   clamp64(v[2]->light_q8, 0, 256), x, y, area2, LIGHT_F, cx, cy);
+    }
+    int out565 = t->surface->format == PSC_PIX_RGB565;
+    return dispatch_z(&s, t, st, out565, st->depth_test ? t->depth_bits : 0);
+}

@@ -1,0 +1,125 @@
+/*
+ * psc_raster.h - the triangle rasterizer: edge functions, top-left fill rule,
+ * depth buffer, flat / Gouraud / perspective-correct texture shading.
+ *
+ * Conventions:
+ *  - Raster coordinates: x right, y down, in 1/16 pixel (Q27.4, "_q4",
+ *    PSC_RASTER_SUBPIXEL_BITS = 4). Pixel (i, j) covers [i, i+1) x [j, j+1)
+ *    and is sampled at its centre (16i + 8, 16j + 8). Vertices must lie within
+ *    +-PSC_RASTER_COORD_MAX_Q4; the pipeline's guard-band clipping keeps them
+ *    there (triangles beyond are refused, never wrapped).
+ *  - Edge function of edge a->b at p: E = (bx-ax)(py-ay) - (by-ay)(px-ax),
+ *    exact in int64 (coordinates < 2^18, products < 2^38). A triangle is
+ *    inside-positive when its doubled area E_01(v2) > 0; the rasterizer
+ *    swaps two vertices of a negative one (culling is the pipeline's job) and
+ *    skips a zero-area one.
+ *  - Fill rule, top-left: a pixel centre exactly on an edge belongs to the
+ *    triangle only if the edge is a left edge (by < ay: the interior lies to
+ *    its right) or a top edge (horizontal, bx > ax: the interior lies below).
+ *    Two triangles sharing an edge therefore never both draw, nor both miss,
+ *    a pixel on it.
+ *  - Attributes are planes over the raster: value(p) = v0 + a (px - x0) +
+ *    b (py - y0), with the gradients a, b rounded once per triangle to F
+ *    extra fraction bits and evaluated exactly (modulo 2^64, see the .c) at
+ *    each pixel centre. A pixel's value depends only on the triangle and the
+ *    pixel, never on where a span or tile started: tile mode is byte-identical.
+ *  - Depth: normalised depth in Q0.32 (uint32: 0 at the near plane,
+ *    0xFFFFFFFF at the far plane), affine in 1/z so linear on the screen.
+ *    A 32-bit buffer stores it whole, a 16-bit buffer its top 16 bits. A pixel
+ *    is written when its depth is strictly less than the stored one.
+ *  - Colours: XRGB8888 (0xXXRRGGBB); RGB565 targets receive psc_xrgb_to_rgb565.
+ *    Gouraud colours are linear on the screen (the classic Gouraud shading).
+ *  - Textures: (u, v) in Q16.16 with (0, 0) the top-left corner of the image,
+ *    (1, 1) the bottom-right; u right, v down; repeat wrapping; power-of-two
+ *    sizes. Perspective-correct per pixel: u/w, v/w and 1/w are planes and
+ *    each pixel divides once (q = near/z in Q4.28). Bilinear filtering samples
+ *    at texel centres with 8-bit weights (psc_blend4_xrgb). Within one
+ *    triangle, texture coordinates are shifted by a common whole number (free
+ *    under repeat wrapping) and must then span less than 16.0; wider spans are
+ *    clamped.
+ */
+#ifndef PSC_RASTER_H
+#define PSC_RASTER_H
+
+#include "base/psc_types.h"
+
+#define PSC_RASTER_SUBPIXEL_BITS 4
+#define PSC_RASTER_SUBPIXEL_ONE (1 << PSC_RASTER_SUBPIXEL_BITS)
+/* Largest |raster coordinate| accepted: 2^18 sixteenths = 16384 pixels. */
+#define PSC_RASTER_COORD_MAX_Q4 (INT32_C(1) << 18)
+/* Perspective weight q = near/z, Q4.28: 1.0 at the near plane; the pipeline
+ * keeps far/near <= 2^16, so q >= 2^12. */
+#define PSC_RASTER_Q_ONE (INT32_C(1) << 28)
+#define PSC_RASTER_Q_MIN (INT32_C(1) << 12)
+/* Texture sizes: powers of two up to this. */
+#define PSC_TEXTURE_MAX_DIM 4096u
+
+/** One vertex as the rasterizer sees it (after projection). */
+typedef struct {
+    int32_t x_q4, y_q4;      /* raster position in 1/16 pixel */
+    uint32_t depth_q32;      /* normalised depth: 0 near plane .. 0xFFFFFFFF far plane */
+    int32_t q_q28;           /* near / z, Q4.28, in [PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE] */
+    int32_t u_q16, v_q16;    /* texture coordinates */
+    uint32_t color;          /* XRGB8888: flat (first vertex) and Gouraud colour */
+    int32_t light_q8;        /* 0..256: texture modulation (1.0 = 256) */
+} psc_raster_vertex_t;
+
+typedef enum {
+    PSC_SHADE_FLAT = 0,    /* every pixel takes the first vertex's colour (the provoking vertex) */
+    PSC_SHADE_GOURAUD = 1, /* vertex colours, interpolated linearly on the screen */
+    PSC_SHADE_TEXTURE = 2  /* perspective-correct texture, optionally times light_q8 */
+} psc_shade_t;
+
+typedef enum {
+    PSC_TEX_NEAREST = 0,
+    PSC_TEX_BILINEAR = 1
+} psc_tex_filter_t;
+
+typedef enum {
+    PSC_BLEND_REPLACE = 0, /* the pixel becomes the colour */
+    PSC_BLEND_ADD = 1      /* per-channel saturating add (counts writes in tests) */
+} psc_blend_t;
+
+/** A texture the caller owns: power-of-two sides, RGB565 or XRGB8888 texels. */
+typedef struct {
+    uint16_t width, height;
+    uint8_t width_log2, height_log2;
+    psc_pixfmt_t format;
+    uint32_t stride;          /* bytes per row */
+    const void *pixels;
+} psc_texture_t;
+
+/** Describe pixels as a texture: PSC_ERR_ARG unless the sides are powers of two within limits. */
+psc_status_t psc_texture_init(psc_texture_t *t, uint16_t width, uint16_t height, psc_pixfmt_t format,
+                              uint32_t stride, const void *pixels);
+
+/** How to draw. */
+typedef struct {
+    psc_shade_t shade;
+    psc_tex_filter_t filter;
+    psc_blend_t blend;
+    bool depth_test;          /* test against and write the depth buffer */
+    bool modulate;            /* TEXTURE: multiply texels by the interpolated light_q8 */
+    const psc_texture_t *texture;  /* TEXTURE only */
+} psc_raster_state_t;
+
+/** Where to draw: a rectangle of a surface, with a depth buffer covering exactly that rectangle. */
+typedef struct {
+    const psc_surface_t *surface;  /* RGB565 or XRGB8888 */
+    void *depth;                   /* depth of pixel (x0, y0) first; NULL when no test is made */
+    uint32_t depth_stride;         /* bytes per depth row */
+    uint8_t depth_bits;            /* 16 or 32 */
+    uint16_t x0, y0, x1, y1;       /* pixels [x0, x1) x [y0, y1), inside the surface */
+} psc_raster_target_t;
+
+/**
+ * Draw one triangle into the target's rectangle. Returns the number of
+ * pixels written (after the depth test). Triangles with a vertex beyond
+ * PSC_RASTER_COORD_MAX_Q4, zero area, or a texture state without a valid
+ * texture draw nothing.
+ */
+uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_state_t *st,
+                             const psc_raster_vertex_t *v0, const psc_raster_vertex_t *v1,
+                             const psc_raster_vertex_t *v2);
+
+#endif

@@ -1,0 +1,287 @@
+/*
+ * psc_viewer.c - set-up and the scanline renderer (see psc_viewer.h).
+ *
+ * One output scanline at a time:
+ *   1. its LUT angle a = pitch + v[y] picks two LUT rows and a blend weight;
+ *   2. every N-th pixel reads the LUT (bilinear over those rows and the two
+ *      columns around u = x * u_step[y]), reflects the octant, adds the yaw
+ *      and converts the angles to a map (row, col);
+ *   3. the pixels in between interpolate (row, col) linearly, the column
+ *      taking the short way round the 360 degree seam;
+ *   4. near the poles, where polar angles bend too fast for linear interpolation,
+ *      spans read the LUT at every pixel, and in the small cap where even the
+ *      LUT's cells are too coarse, pixels are computed exactly with CORDIC.
+ */
+#include "viewer/psc_viewer_internal.h"
+
+/* 2^32 / (2 pi): binary-angle units per radian. */
+#define BAM_PER_RAD INT64_C(683565276)
+/* (pi/2) * 2^24: a quarter turn in Q8.24 radians. */
+#define QUARTER_TURN_Q24 INT64_C(26353589)
+#define MIN_OUT_DIM 8u
+
+/* ---- workspace ------------------------------------------------------------ */
+
+typedef struct {
+    size_t scan, lat_table, row_width, palette565, row_offsets, samples, total;
+} ws_layout_t;
+
+static size_t align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
+
+static bool map_is_fast(const psc_envmap_t *m)
+{
+    return m->lon_span == 0 && (m->projection == PSC_PROJ_EQUIRECT || m->projection == PSC_PROJ_CYLINDER ||
+                                m->projection == PSC_PROJ_SINE);
+}
+
+static ws_layout_t ws_layout(uint16_t out_width, uint16_t out_height, const psc_envmap_t *m)
+{
+    ws_layout_t l = {0};
+    size_t at = 0;
+    l.scan = at;
+    at += align8((size_t)out_height * sizeof(psc_scanline_t));
+    l.lat_table = at;
+    if (m->projection == PSC_PROJ_CYLINDER || m->projection == PSC_PROJ_SINE)
+        at += align8(PSC_LAT_TABLE_SIZE * sizeof(int32_t));
+    l.row_width = at;
+    if (m->projection == PSC_PROJ_ELLIPTICAL || m->projection == PSC_PROJ_DIAMOND)
+        at += align8((size_t)m->height * sizeof(int32_t));
+    l.palette565 = at;
+    if (m->format == PSC_PIX_PAL8)
+        at += align8(256u * sizeof(uint16_t));
+    l.row_offsets = at;
+    if (map_is_fast(m)) /* rows -1 .. H, the outer two repeating the edge rows */
+        at += align8(((size_t)m->height + 2u) * sizeof(uint32_t));
+    l.samples = at;
+    at += align8(((size_t)out_width + 4u) * sizeof(psc_scan_sample_t));
+    l.total = at;
+    return l;
+}
+
+size_t psc_viewer_workspace_size(uint16_t out_width, uint16_t out_height, const psc_envmap_t *m)
+{
+    return m ? ws_layout(out_width, out_height, m).total : 0;
+}
+
+psc_status_t psc_viewer_init(psc_viewer_t *v, const psc_envmap_t *map, const psc_lut_t *luts,
+                             unsigned lut_count, uint16_t out_width, uint16_t out_height, void *ws,
+                             size_t ws_size)
+{
+    if (!v || !map || !luts || lut_count == 0 || lut_count > PSC_VIEWER_MAX_LUTS || !ws ||
+        ((uintptr_t)ws & 7u) != 0)
+        return PSC_ERR_ARG;
+    if (out_width < MIN_OUT_DIM || out_height < MIN_OUT_DIM || out_width > PSC_MAX_OUT_DIM ||
+        out_height > PSC_MAX_OUT_DIM)
+        return PSC_ERR_ARG;
+    psc_status_t s = psc_envmap_check(map);
+    if (s != PSC_OK)
+        return s;
+    for (unsigned i = 0; i < lut_count; i++) {
+        if ((s = psc_lut_check(&luts[i])) != PSC_OK)
+            return s;
+        if (i > 0 && luts[i].hfov_max <= luts[i - 1].hfov_max)
+            return PSC_ERR_ARG;
+    }
+    ws_layout_t l = ws_layout(out_width, out_height, map);
+    if (ws_size < l.total)
+        return PSC_ERR_NOMEM;
+
+    *v = (psc_viewer_t){0};
+    v->map = map;
+    psc_map_addressing_init(&v->addr, map);
+    for (unsigned i = 0; i < lut_count; i++)
+        v->luts[i] = &luts[i];
+    v->lut_count = (uint8_t)lut_count;
+    v->out_width = out_width;
+    v->out_height = out_height;
+    v->levels = map;
+    v->level_count = 1;
+    /* 2 * rows per radian, Q16: rows per bam (Q32) times bam per radian. */
+    v->lod_base_q8 = psc_log2_q8((uint64_t)((v->addr.row_per_bam_q32 * BAM_PER_RAD) >> 15)) - 16 * 256 + MIP_LOD_BIAS_Q8;
+    uint8_t *base = ws;
+    v->scan = (psc_scanline_t *)(void *)(base + l.scan);
+    if (l.row_width != l.lat_table) {
+        v->lat_to_row = (int32_t *)(void *)(base + l.lat_table);
+        psc_lat_table_init(v->lat_to_row, map);
+    }
+    if (l.palette565 != l.row_width) {
+        v->row_width_q16 = (int32_t *)(void *)(base + l.row_width);
+        psc_row_width_init(v->row_width_q16, map);
+    }
+    if (l.row_offsets != l.palette565) {
+        v->palette565 = (uint16_t *)(void *)(base + l.palette565);
+        for (unsigned i = 0; i < 256; i++)
+            v->palette565[i] = psc_xrgb_to_rgb565(map->palette[i]);
+    }
+    if (l.samples != l.row_offsets) {
+        v->row_offsets = (uint32_t *)(void *)(base + l.row_offsets);
+        for (int32_t r = -1; r <= (int32_t)map->height; r++) {
+            int32_t c = r < 0 ? 0 : r >= (int32_t)map->height ? (int32_t)map->height - 1 : r;
+            v->row_offsets[r + 1] = (uint32_t)c * map->stride;
+        }
+    }
+    v->samples = (psc_scan_sample_t *)(void *)(base + l.samples);
+    /* Columns from a binary angle: a shift when the width is a power of two. */
+    v->col_shift = 0;
+    for (unsigned k = 1; k <= 16; k++)
+        if (map->width == 1u << k)
+            v->col_shift = (uint8_t)(32u - k);
+    v->half_col_bam = (uint32_t)((((uint64_t)1 << 31) + map->width / 2u) / map->width);
+    return PSC_OK;
+}
+
+psc_status_t psc_viewer_set_levels(psc_viewer_t *v, const psc_envmap_t *levels, unsigned count)
+{
+    if (!v || !levels || count == 0 || count > PSC_VIEWER_MAX_LEVELS)
+        return PSC_ERR_ARG;
+    const psc_envmap_t *m = v->map;
+    for (unsigned k = 0; k < count; k++) {
+        const psc_envmap_t *l = &levels[k];
+        if (l->projection != m->projection || l->format != m->format || l->lon_min != m->lon_min ||
+            l->lon_span != m->lon_span || l->lat_top != m->lat_top || l->lat_bottom != m->lat_bottom ||
+            ((uint32_t)l->width << k) != m->width || ((uint32_t)l->height << k) != m->height || !l->pixels ||
+            l->stride < (uint32_t)l->width * psc_pixfmt_bytes(l->format) ||
+            (m->format == PSC_PIX_PAL8 && l->palette != m->palette))
+            return PSC_ERR_ARG;
+    }
+    v->levels = levels;
+    v->level_count = (uint8_t)count;
+    return PSC_OK;
+}
+
+psc_bam_t psc_viewer_hfov_max(const psc_viewer_t *v)
+{
+    return v->luts[v->lut_count - 1]->hfov_max;
+}
+
+/* ---- zoom: the per-scanline scale-factor table ------------------------------ */
+
+void psc_viewer_set_zoom(psc_viewer_t *v, psc_bam_t hfov)
+{
+    const psc_lut_t *lut = v->luts[v->lut_count - 1];
+    for (unsigned i = 0; i < v->lut_count; i++) {
+        if (v->luts[i]->hfov_max >= hfov) {
+            lut = v->luts[i];
+            break;
+        }
+    }
+    if (hfov == v->cached_hfov && lut == v->cached_lut)
+        return;
+    /* Distance to the viewing plane in half-pixels: W / tan(hfov / 2), Q24.8. */
+    int32_t s, c;
+    psc_sincos(hfov / 2u, &s, &c);
+    v->dist_q8 = (uint32_t)psc_div_round64((int64_t)v->out_width * c * 256, s);
+    uint64_t cols1 = lut->cols - 1u;
+    for (unsigned y = 0; y < v->out_height; y++) {
+        int32_t yc = (int32_t)v->out_height - 1 - 2 * (int32_t)y; /* half-pixels, up */
+        uint32_t mag_q8;                                          /* sqrt(yc^2 + d^2), Q8 */
+        v->scan[y].v = (int32_t)psc_atan2(yc * 256, (int32_t)v->dist_q8, &mag_q8);
+        /* u = x cos(v) / d = x / sqrt(y^2 + d^2): LUT columns per half-pixel,
+         * (cols-1) / (u_max * mag), Q8.24, in two exact-enough divisions. */
+        uint64_t t = (cols1 << 40) / mag_q8;
+        uint64_t step = ((t << 16) + lut->u_max_q24 / 2u) / lut->u_max_q24;
+        v->scan[y].u_step_q24 = step > UINT32_MAX ? UINT32_MAX : (uint32_t)step;
+        v->scan[y].mag_q8 = mag_q8;
+    }
+    v->cached_hfov = hfov;
+    v->cached_lut = lut;
+}
+
+/* ---- frame set-up: the polar caps --------------------------------------------- */
+
+/*
+ * Interpolating polar angles over a step of s radians at a distance e from a
+ * pole is off by about s^2 / (8 e) (the chord bows away from the pole).
+ * Returns the latitude beyond which that exceeds 1/POLE_TOLERANCE_DIV map pixel,
+ * with s added so that a step whose ends are outside cannot pass over it.
+ */
+#define POLE_TOLERANCE_DIV 4 /* tolerance: a quarter of a map pixel */
+static int32_t polar_cap_lat(const psc_viewer_t *v, int64_t s_q24)
+{
+    int64_t full_turn_cols = v->addr.col_per_bam_q32; /* map columns per turn */
+    int64_t tol = (4 * QUARTER_TURN_Q24) / (POLE_TOLERANCE_DIV * full_turn_cols); /* Q8.24 rad */
+    if (tol < 1)
+        tol = 1;
+    int64_t e = (s_q24 * s_q24) / (8 * tol) + s_q24;
+    if (e >= QUARTER_TURN_Q24)
+        return 0; /* everything */
+    int64_t cap = (e * BAM_PER_RAD) >> 24;
+    return (int32_t)(PSC_BAM_90 - (uint32_t)cap);
+}
+
+/* Angle between two pixels n apart at the view's centre: 2n / dist, Q8.24 rad. */
+static int64_t pixel_step_q24(const psc_viewer_t *v, unsigned n)
+{
+    return ((int64_t)n << 33) / v->dist_q8;
+}
+
+/* The two caps: where the LUT's own cells are too coarse (exact CORDIC per
+ * pixel), and where only the span interpolation is (LUT read per pixel). */
+static void polar_caps(const psc_viewer_t *v, const psc_lut_t *lut, unsigned span, int32_t *exact, int32_t *per_pixel)
+{
+    int64_t cell = QUARTER_TURN_Q24 / (lut->rows - 1);
+    int64_t cell_u = (int64_t)lut->u_max_q24 / (lut->cols - 1);
+    if (cell_u > cell)
+        cell = cell_u;
+    int64_t one = pixel_step_q24(v, 1), s = pixel_step_q24(v, span);
+    *exact = polar_cap_lat(v, cell > one ? cell : one);
+    *per_pixel = polar_cap_lat(v, s > cell ? s : cell);
+}
+
+/* ---- public entry points ------------------------------------------------------- */
+
+static psc_status_t frame_begin(psc_viewer_t *v, const psc_view_t *view, psc_sink_t sink, psc_frame_t *f)
+{
+    if (!v || !view || view->span_log2 > PSC_SPAN_LOG2_MAX ||
+        (view->filter != PSC_FILTER_NEAREST && view->filter != PSC_FILTER_BILINEAR && view->filter != PSC_FILTER_MIP) ||
+        view->pitch > (int32_t)PSC_BAM_90 || view->pitch < -(int32_t)PSC_BAM_90 || view->hfov < PSC_HFOV_MIN ||
+        view->hfov > psc_viewer_hfov_max(v))
+        return PSC_ERR_ARG;
+    psc_viewer_set_zoom(v, view->hfov);
+    *f = (psc_frame_t){0};
+    f->v = v;
+    f->view = view;
+    f->lut = v->cached_lut;
+    f->span = 1u << view->span_log2;
+    f->sink = sink;
+    /* The pyramid applies to full-turn rectangular maps that have one. */
+    f->mip = view->filter == PSC_FILTER_MIP && v->level_count > 1 && v->addr.fast;
+    f->filter = view->filter == PSC_FILTER_MIP ? PSC_FILTER_BILINEAR : view->filter;
+    psc_sincos((psc_bam_t)view->pitch, &f->sin_pitch, &f->cos_pitch);
+    polar_caps(v, f->lut, f->span, &f->cap_exact, &f->cap_per_pixel);
+    return PSC_OK;
+}
+
+psc_status_t psc_viewer_render(psc_viewer_t *v, const psc_view_t *view, const psc_surface_t *out)
+{
+    if (!out || !out->pixels || out->width != v->out_width || out->height != v->out_height)
+        return PSC_ERR_ARG;
+    if (out->format != PSC_PIX_RGB565 && out->format != PSC_PIX_XRGB8888)
+        return PSC_ERR_UNSUPPORTED;
+    if (out->stride < (uint32_t)out->width * psc_pixfmt_bytes(out->format))
+        return PSC_ERR_ARG;
+    psc_frame_t f;
+    psc_status_t s = frame_begin(v, view, out->format == PSC_PIX_RGB565 ? PSC_SINK_RGB565 : PSC_SINK_XRGB8888, &f);
+    if (s != PSC_OK)
+        return s;
+    for (unsigned y = 0; y < v->out_height; y++) {
+        f.dst = (uint8_t *)out->pixels + (size_t)y * out->stride;
+        psc_scanline_render(&f, y);
+    }
+    return PSC_OK;
+}
+
+psc_status_t psc_viewer_trace_row(psc_viewer_t *v, const psc_view_t *view, uint16_t y, int32_t *row_q16,
+                                  int32_t *col_q16)
+{
+    if (!row_q16 || !col_q16 || !v || y >= v->out_height)
+        return PSC_ERR_ARG;
+    psc_frame_t f;
+    psc_status_t s = frame_begin(v, view, PSC_SINK_TRACE, &f);
+    if (s != PSC_OK)
+        return s;
+    f.trace_row = row_q16;
+    f.trace_col = col_q16;
+    psc_scanline_render(&f, y);
+    return PSC_OK;
+}
