@@ -24,24 +24,43 @@ endif
 
 WARN := -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototypes -Wpointer-arith -Wvla
 OPT ?= -O2 -g
+VERSION := $(shell cat VERSION 2>/dev/null || echo 0)
 CFLAGS ?=
 BASE_CFLAGS := -std=c11 $(WARN) $(OPT) -MMD -MP
+# Each layer compiles with the include paths of what it may use, and no more
+# (firmware -> hal -> io -> core, host_tools -> io -> core; scripts/check-layers
+# checks every #include against the same table).
 # core/ is freestanding: no libc beyond the freestanding headers.
 CORE_CFLAGS := $(BASE_CFLAGS) -ffreestanding -Icore
-HOST_CFLAGS := $(BASE_CFLAGS) -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -Icore -Ihal -Ihost_tools/lib -Ifirmware
+HOSTED_DEFS := -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -DPSC_VERSION='"$(VERSION)"'
+IO_INC := -Icore -Iio
+HAL_INC := $(IO_INC) -Ihal
+FW_INC := $(HAL_INC) -Ifirmware
+TOOLS_INC := $(IO_INC) -Ihost_tools/lib
+TEST_INC := $(FW_INC) -Ihost_tools/lib -Itests/support
 
+# The image libraries: io's PNG files (libpng) and the host tools' JPEG
+# decoding and pack CRCs (libjpeg, zlib).
+IO_PKGS := libpng
+IO_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(IO_PKGS) 2>/dev/null)
+IO_LIBS := $(shell $(PKG_CONFIG) --libs $(IO_PKGS) 2>/dev/null || echo -lpng)
 IMG_PKGS := libpng libjpeg zlib
 IMG_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(IMG_PKGS) 2>/dev/null)
 IMG_LIBS := $(shell $(PKG_CONFIG) --libs $(IMG_PKGS) 2>/dev/null || echo -lpng -ljpeg -lz)
 # The device backends compiled in, one folder each (hal/<backend>/), and the
-# library each needs: DRM/KMS, the SDL2 desktop window, USB gamepads, GPIO
-# buttons, V4L2 cameras (MJPEG). All by default; a board's `backends` line
-# narrows its cross build (mk/cross.mk: a kiosk leaves out SDL2 and the
-# desktop stack it pulls in). sim and linux (clock, systemd watchdog) need no
-# library and are always in. libgpiod's major version picks its API.
+# library each needs: the simulated board's PNG captures, DRM/KMS, the SDL2
+# desktop window, USB gamepads, GPIO buttons, V4L2 cameras (MJPEG). All by
+# default; a board's `backends` line narrows its cross build (mk/cross.mk: a
+# kiosk leaves out SDL2 and the desktop stack it pulls in, and the sim's
+# captures with libpng). linux (clock, systemd and kernel watchdogs) and the
+# sim's deterministic devices need no library and are always in: the VM and
+# image tests drive real displays with the sim clock and tour input.
+# libgpiod's major version picks its API. The device program links exactly
+# these libraries: nothing of the host tools.
 HAL_ALL_BACKENDS := sim linux fbdev drm sdl usb gpio v4l2
 HAL_BACKENDS ?= $(HAL_ALL_BACKENDS)
-override HAL_BACKENDS := $(sort sim linux $(filter $(HAL_ALL_BACKENDS),$(HAL_BACKENDS)))
+override HAL_BACKENDS := $(sort linux $(filter $(HAL_ALL_BACKENDS),$(HAL_BACKENDS)))
+hal_pkg_sim := libpng
 hal_pkg_drm := libdrm
 hal_pkg_sdl := sdl2
 hal_pkg_usb := libusb-1.0
@@ -49,7 +68,7 @@ hal_pkg_gpio := libgpiod
 hal_pkg_v4l2 := libjpeg
 HAL_PKGS := $(sort $(foreach b,$(HAL_BACKENDS),$(hal_pkg_$(b))))
 HAL_CFLAGS := $(if $(HAL_PKGS),$(shell $(PKG_CONFIG) --cflags $(HAL_PKGS) 2>/dev/null)) \
-	$(foreach b,$(filter-out $(HAL_BACKENDS),$(HAL_ALL_BACKENDS)),-DPSC_HAL_WITHOUT_$(b)) \
+	$(foreach b,$(filter-out sim $(HAL_BACKENDS),$(HAL_ALL_BACKENDS)),-DPSC_HAL_WITHOUT_$(b)) \
 	-DPSC_GPIOD_MAJOR=$(firstword $(subst ., ,$(shell $(PKG_CONFIG) --modversion libgpiod 2>/dev/null || echo 0)))
 HAL_LIBS := $(if $(HAL_PKGS),$(shell $(PKG_CONFIG) --libs $(HAL_PKGS) 2>/dev/null))
 CMOCKA_CFLAGS := $(shell $(PKG_CONFIG) --cflags cmocka 2>/dev/null)
@@ -57,7 +76,11 @@ CMOCKA_LIBS := $(shell $(PKG_CONFIG) --libs cmocka 2>/dev/null || echo -lcmocka)
 LDLIBS_HOST := -lm
 
 CORE_SRC := $(sort $(wildcard core/*/*.c))
-HAL_SRC := $(sort $(wildcard hal/*.c) $(foreach b,$(HAL_BACKENDS),$(wildcard hal/$(b)/*.c)))
+SIM_CAPTURE_SRC := $(if $(filter sim,$(HAL_BACKENDS)),hal/sim/sim_capture_png.c hal/sim/sim_capture_sheet.c,\
+	hal/sim/sim_capture_none.c)
+HAL_SRC := $(sort $(wildcard hal/*.c) $(filter-out hal/sim/sim_capture_%.c,$(wildcard hal/sim/*.c)) \
+	$(SIM_CAPTURE_SRC) $(foreach b,$(filter-out sim,$(HAL_BACKENDS)),$(wildcard hal/$(b)/*.c)))
+IO_SRC := $(sort $(wildcard io/*.c))
 HOSTLIB_SRC := $(sort $(wildcard host_tools/lib/*.c))
 FW_SRC := $(sort $(wildcard firmware/*.c))
 FW_MAIN := firmware/main.c
@@ -68,6 +91,7 @@ TEST_MAINS := $(sort $(wildcard tests/test_*.c))
 obj = $(patsubst %.c,$(BUILD)/obj/%.o,$(1))
 
 CORE_LIB := $(BUILD)/lib/libpsc_core.a
+IO_LIB := $(BUILD)/lib/libpsc_io.a
 HAL_LIB := $(BUILD)/lib/libpsc_hal.a
 HOST_LIB := $(BUILD)/lib/libpsc_hosttools.a
 FW_LIB := $(BUILD)/lib/libpsc_firmware.a
@@ -79,10 +103,10 @@ TESTS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_MAINS))
 # Objects reached through pattern rules would count as intermediate files and be
 # deleted after each link; keep them so a second build compiles nothing.
 .SECONDARY:
-.PHONY: all deps run test vm-test check-core-nofloat check-clang install clean bench bench-callgrind FORCE
+.PHONY: all deps run test vm-test check-core-nofloat check-layers check-clang install clean bench bench-callgrind FORCE
 .DEFAULT_GOAL := all
 
-all: $(CORE_LIB) $(FIRMWARE) $(TOOLS)
+all: $(CORE_LIB) $(IO_LIB) $(FIRMWARE) $(TOOLS)
 
 deps:
 	$(Q)sh scripts/install-deps.sh
@@ -93,10 +117,31 @@ $(BUILD)/obj/core/%.o: core/%.c
 	@$(if $(Q),echo "  CC      $<")
 	$(Q)$(CC) $(CORE_CFLAGS) $(CFLAGS) -c $< -o $@
 
+$(BUILD)/obj/io/%.o: io/%.c
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  CC      $<")
+	$(Q)$(CC) $(BASE_CFLAGS) $(HOSTED_DEFS) $(IO_INC) $(IO_CFLAGS) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/obj/hal/%.o: hal/%.c
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  CC      $<")
+	$(Q)$(CC) $(BASE_CFLAGS) $(HOSTED_DEFS) $(HAL_INC) $(HAL_CFLAGS) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/obj/firmware/%.o: firmware/%.c
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  CC      $<")
+	$(Q)$(CC) $(BASE_CFLAGS) $(HOSTED_DEFS) $(FW_INC) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/obj/host_tools/%.o: host_tools/%.c
+	@mkdir -p $(@D)
+	@$(if $(Q),echo "  CC      $<")
+	$(Q)$(CC) $(BASE_CFLAGS) $(HOSTED_DEFS) $(TOOLS_INC) $(IMG_CFLAGS) $(CFLAGS) -c $< -o $@
+
+# tests (and their helpers) see every layer: they drive each one
 $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  CC      $<")
-	$(Q)$(CC) $(HOST_CFLAGS) $(IMG_CFLAGS) $(HAL_CFLAGS) $(CMOCKA_CFLAGS) $(CFLAGS) -Itests/support -c $< -o $@
+	$(Q)$(CC) $(BASE_CFLAGS) $(HOSTED_DEFS) $(TEST_INC) $(IMG_CFLAGS) $(HAL_CFLAGS) $(CMOCKA_CFLAGS) $(CFLAGS) -c $< -o $@
 
 $(BUILD)/lib/%.a:
 	@mkdir -p $(@D)
@@ -112,23 +157,25 @@ $(BUILD)/hal-backends.txt: FORCE
 FORCE:
 
 $(CORE_LIB): $(call obj,$(CORE_SRC))
+$(IO_LIB): $(call obj,$(IO_SRC))
 $(HAL_LIB): $(call obj,$(HAL_SRC))
 $(HOST_LIB): $(call obj,$(HOSTLIB_SRC))
 $(FW_LIB): $(call obj,$(filter-out $(FW_MAIN),$(FW_SRC)))
 $(TESTSUP_LIB): $(call obj,$(TESTSUP_SRC))
 
-# Dependencies point one way: firmware -> hal -> core, host_tools -> core.
-$(FIRMWARE): $(call obj,$(FW_MAIN)) $(FW_LIB) $(HAL_LIB) $(HOST_LIB) $(CORE_LIB)
+# Dependencies point one way: firmware -> hal -> io -> core, host_tools -> io -> core.
+# The device program links its backends' libraries and nothing of the host tools.
+$(FIRMWARE): $(call obj,$(FW_MAIN)) $(FW_LIB) $(HAL_LIB) $(IO_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HAL_LIBS) $(IMG_LIBS) $(LDLIBS_HOST)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HAL_LIBS) $(LDLIBS_HOST)
 
-$(BUILD)/bin/%: $(BUILD)/obj/host_tools/%.o $(HOST_LIB) $(CORE_LIB)
+$(BUILD)/bin/%: $(BUILD)/obj/host_tools/%.o $(HOST_LIB) $(IO_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(IMG_LIBS) $(LDLIBS_HOST)
 
-$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(TESTSUP_LIB) $(FW_LIB) $(HAL_LIB) $(HOST_LIB) $(CORE_LIB)
+$(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(TESTSUP_LIB) $(FW_LIB) $(HAL_LIB) $(HOST_LIB) $(IO_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(CMOCKA_LIBS) $(HAL_LIBS) $(IMG_LIBS) $(LDLIBS_HOST)
@@ -156,6 +203,7 @@ run: deps
 test: deps
 	$(Q)$(MAKE) --no-print-directory all $(TESTS)
 	$(Q)$(MAKE) --no-print-directory check-core-nofloat
+	$(Q)$(MAKE) --no-print-directory check-layers
 	$(Q)$(MAKE) --no-print-directory check-clang
 	$(Q)sh tests/run_all.sh $(BUILD) $(TESTS)
 
@@ -176,6 +224,15 @@ check-core-nofloat:
 	$(Q)for f in $(CORE_SRC) $(wildcard core/*/*.h); do $(CC) -fpreprocessed -dD -E -P -x c $$f 2>/dev/null | \
 		grep -nE '\b(float|double)\b|#include *<(stdio|stdlib|string|math|unistd|fcntl|time|pthread|sys/)' && \
 		{ echo "check-core-nofloat: $$f uses floating point or a hosted header"; exit 1; }; done; true
+
+# Dependencies point one way (README.md, "Layout"): every #include of core/,
+# io/, hal/, firmware/ and host_tools/ against the table in scripts/check-layers,
+# resolved by the compiler with each layer's include paths; the self-test
+# proves the check refuses a breach of each kind.
+check-layers:
+	@echo "  CHECK   layers: each folder includes only what its layer may"
+	$(Q)sh scripts/check-layers --cc $(CC)
+	$(Q)sh scripts/check-layers --cc $(CC) --self-test >/dev/null
 
 # Everything (tests included) must also build warning-free with clang.
 check-clang:
@@ -199,10 +256,10 @@ bench_pkgs = $(shell cat bench/$(1)/pkg-config 2>/dev/null)
 $(BUILD)/obj/bench/%.o: bench/%.cpp
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  CXX     $<")
-	$(Q)$(CXX) -std=c++17 -O2 -g -MMD -MP -Wall -Wextra -Werror -Icore -Ihost_tools/lib $(shell $(PKG_CONFIG) --cflags $(call bench_pkgs,$(firstword $(subst /, ,$*))) 2>/dev/null) -c $< -o $@
+	$(Q)$(CXX) -std=c++17 -O2 -g -MMD -MP -Wall -Wextra -Werror -Icore -Iio -Ihost_tools/lib $(shell $(PKG_CONFIG) --cflags $(call bench_pkgs,$(firstword $(subst /, ,$*))) 2>/dev/null) -c $< -o $@
 
 .SECONDEXPANSION:
-$(BUILD)/bench/%: $$(addprefix $(BUILD)/obj/,$$(addsuffix .o,$$(basename $$(wildcard bench/$$*/*.c bench/$$*/*.cpp)))) $(HOST_LIB) $(CORE_LIB)
+$(BUILD)/bench/%: $$(addprefix $(BUILD)/obj/,$$(addsuffix .o,$$(basename $$(wildcard bench/$$*/*.c bench/$$*/*.cpp)))) $(HOST_LIB) $(IO_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(if $(wildcard bench/$*/*.cpp),$(CXX),$(CC)) $(LDFLAGS) -o $@ $^ $(shell $(PKG_CONFIG) --libs $(call bench_pkgs,$*) 2>/dev/null) $(IMG_LIBS) $(LDLIBS_HOST)

@@ -1,14 +1,13 @@
 /*
  * main.c - the device program `periscope`: parse the command line, run the
  * board (firmware/app.c does the work, so tests can drive it without this
- * file), report, and on a capturing sim run write the contact sheet.
+ * file), and report.
  */
 #include <signal.h>
 #include <stdio.h>
 
 #include "app.h"
 #include "cli.h"
-#include "contact_sheet.h"
 
 static void main_report(const psc_app_stats_t *st, const char *out_dir)
 {
@@ -80,21 +79,8 @@ int main(int argc, char **argv)
     }
     rc = psc_app_run(app, &stats, err, sizeof err);
     main_report(&stats, psc_app_out_dir(app));
-    if (rc != 0) {
+    if (rc != 0)
         fprintf(stderr, "periscope: %s\n", err);
-    } else if (stats.capture_every != 0 && stats.frames != 0) {
-        char sheet[600];
-        uint32_t thumbs;
-
-        snprintf(sheet, sizeof sheet, "%s/contact.png", psc_app_out_dir(app));
-        if (psc_contact_sheet_write(psc_app_out_dir(app), stats.frames, stats.capture_every, sheet, &thumbs,
-                                    err, sizeof err) != 0) {
-            fprintf(stderr, "periscope: contact sheet: %s\n", err);
-            rc = -1;
-        } else {
-            printf("periscope: contact sheet: %s (%u frames)\n", sheet, (unsigned)thumbs);
-        }
-    }
     psc_app_close(app);
     return rc == 0 ? 0 : 1;
 }

@@ -19,6 +19,7 @@
 #include "cli_parse.h"
 #include "fisheye_build.h"
 #include "pack_build.h"
+#include "psc_io_file.h"
 
 #define PROG "periscope-fisheye"
 #define DEFAULT_FOV 190.0
@@ -124,7 +125,7 @@ int main(int argc, char **argv)
     uint8_t *table = NULL;
     size_t len = 0;
     if (psc_fisheye_build(&rig, map_w, map_h, out, &table, &len, err, sizeof err) != 0 ||
-        psc_write_file(out, table, len, err, sizeof err) != 0) {
+        psc_io_write_atomic(out, table, len, err, sizeof err) != 0) {
         fprintf(stderr, PROG ": %s\n", err);
         free(table);
         return 1;

@@ -9,6 +9,7 @@
 #include "cli_parse.h"
 #include "image_io.h"
 #include "pack_build.h"
+#include "psc_io_file.h"
 
 #include <stdarg.h>
 #include <stdbool.h>
@@ -346,7 +347,7 @@ int main(int argc, char **argv)
         return 1;
     }
     progress_show("writing", 0, &prog);
-    rc = psc_write_file(a.out, pack, len, err, sizeof err);
+    rc = psc_io_write_atomic(a.out, pack, len, err, sizeof err);
     progress_end(&prog, rc == 0);
     if (rc != 0) {
         fprintf(stderr, PROG ": %s\n", err);

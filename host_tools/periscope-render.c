@@ -12,6 +12,8 @@
 #include "image_io.h"
 #include "model_render.h"
 #include "pack_build.h"
+#include "psc_io_load.h"
+#include "psc_io_png.h"
 #include "viewer/psc_viewer.h"
 
 #include <stdarg.h>
@@ -215,8 +217,8 @@ int main(int argc, char **argv)
         return rc;
 
     char err[512];
-    psc_pack_file_t pf;
-    if (psc_pack_file_load(a.pack, &pf, err, sizeof err) != 0) {
+    psc_io_pack_t pf;
+    if (psc_io_pack_load(a.pack, &pf, err, sizeof err) != 0) {
         fprintf(stderr, PROG ": %s\n", err);
         return 1;
     }
@@ -251,7 +253,7 @@ int main(int argc, char **argv)
         psc_viewer_clamp(&viewer, &view, pack->hfov_min);
         note_clamped(&want, &view);
         if (render_frames(&viewer, &view, &out, a.repeat) == 0) {
-            if (psc_surface_write_png(a.out, &out, err, sizeof err) != 0)
+            if (psc_io_png_write(a.out, &out, err, sizeof err) != 0)
                 fprintf(stderr, PROG ": %s\n", err);
             else
                 rc = 0;
@@ -259,6 +261,6 @@ int main(int argc, char **argv)
     }
     free(out.pixels);
     free(ws);
-    psc_pack_file_free(&pf);
+    psc_io_pack_free(&pf);
     return rc;
 }

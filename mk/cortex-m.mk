@@ -106,13 +106,14 @@ $(CM_OUT)/memory.ld: $(CM_CONF) mk/cortex-m.mk
 cm-host-tools:
 	$(Q)$(MAKE) -s --no-print-directory BOARD= CROSS_COMPILE= BUILD=$(CM_HOST_BUILD) \
 		$(CM_HOST_BUILD)/bin/periscope-pack $(CM_HOST_BUILD)/bin/periscope-render \
-		$(CM_HOST_BUILD)/lib/libpsc_hosttools.a $(CM_HOST_BUILD)/lib/libpsc_core.a
+		$(CM_HOST_BUILD)/lib/libpsc_hosttools.a $(CM_HOST_BUILD)/lib/libpsc_io.a $(CM_HOST_BUILD)/lib/libpsc_core.a
 
 $(CM_OUT)/host/mkscene: tests/mcu/mkscene.c | cm-host-tools
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  HOSTCC  $@")
-	$(Q)$(CM_HOSTCC) $(HOST_CFLAGS) $(IMG_CFLAGS) $< -o $@ $(CM_HOST_BUILD)/lib/libpsc_hosttools.a \
-		$(CM_HOST_BUILD)/lib/libpsc_core.a $(IMG_LIBS) $(LDLIBS_HOST)
+	$(Q)$(CM_HOSTCC) $(BASE_CFLAGS) $(HOSTED_DEFS) $(TOOLS_INC) $(IMG_CFLAGS) $< -o $@ \
+		$(CM_HOST_BUILD)/lib/libpsc_hosttools.a $(CM_HOST_BUILD)/lib/libpsc_io.a $(CM_HOST_BUILD)/lib/libpsc_core.a \
+		$(IMG_LIBS) $(LDLIBS_HOST)
 
 $(CM_OUT)/scene.pano: $(CM_SCENE_SRC) $(CM_OUT)/host/mkscene $(CM_CONF) | cm-host-tools
 	$(Q)$(CM_OUT)/host/mkscene $(CM_SCENE_SRC) $(CM_OUT)/scene.png $(CM_SCENE_SIZE)

@@ -34,6 +34,7 @@
 #include "viewer/psc_viewer.h"
 #include "sim/psc_hal_sim.h"
 #include "tsup_files.h"
+#include "psc_io_load.h"
 
 /* ---- device status ------------------------------------------------------------- */
 
@@ -296,14 +297,14 @@ static uint32_t *expected_frame(const psc_pack_t *pk, const psc_envmap_t *map)
 static void test_camera_scene_run(void **state)
 {
     char dir[400], pack[400], conf[1200], path[500], dump[400], tour[400], err[300];
-    psc_pack_file_t pf;
+    psc_io_pack_t pf;
     size_t len;
     uint8_t *got;
     (void)state;
 
     snprintf(pack, sizeof pack, "%s/cam.pano", root);
     make_pack(pack);
-    assert_int_equal(psc_pack_file_load(pack, &pf, err, sizeof err), 0);
+    assert_int_equal(psc_io_pack_load(pack, &pf, err, sizeof err), 0);
 
     /* the sim camera (a test pattern at 15 Hz) as the live map of the camera
      * scene; a tour that only waits, so nothing moves */
@@ -338,19 +339,19 @@ static void test_camera_scene_run(void **state)
     free(got);
     free(map);
     unlink(dump);
-    psc_pack_file_free(&pf);
+    psc_io_pack_free(&pf);
 }
 
 static void test_absent_camera_run(void **state)
 {
     char dir[400], pack[400], conf[1200], path[500], dump[400], tour[400], err[300];
-    psc_pack_file_t pf;
+    psc_io_pack_t pf;
     size_t len;
     uint32_t *got, *want;
     (void)state;
 
     snprintf(pack, sizeof pack, "%s/cam.pano", root);
-    assert_int_equal(psc_pack_file_load(pack, &pf, err, sizeof err), 0);
+    assert_int_equal(psc_io_pack_load(pack, &pf, err, sizeof err), 0);
     snprintf(tour, sizeof tour, "%s/still.txt", root);
     snprintf(dir, sizeof dir, "%s/nocam", root);
     mkdir(dir, 0755);
@@ -377,7 +378,7 @@ static void test_absent_camera_run(void **state)
     free(got);
     free(want);
     unlink(dump);
-    psc_pack_file_free(&pf);
+    psc_io_pack_free(&pf);
 
     /* camera_scene without a camera is a board mistake */
     snprintf(conf, sizeof conf, "display = sim\ndisplay_size = 160x120\ninput = sim\nclock = sim\ncamera_scene = %s\n",

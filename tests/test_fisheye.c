@@ -32,6 +32,8 @@
 #include "psc_testsupport.h"
 #include "sim/psc_hal_sim.h"
 #include "tsup_files.h"
+#include "psc_io_load.h"
+#include "psc_io_file.h"
 
 /* ---- rigs ------------------------------------------------------------------------ */
 
@@ -572,11 +574,11 @@ static void test_file_and_tool(void **state)
 {
     (void)state;
     char path[400], cmd[1200], err[600];
-    psc_fisheye_file_t ff;
+    psc_io_fisheye_t ff;
     const char *bin = getenv("PSC_BIN_DIR");
 
     snprintf(path, sizeof path, "%s/missing.pfish", root);
-    assert_int_equal(psc_fisheye_file_load(path, &ff, err, sizeof err), -1);
+    assert_int_equal(psc_io_fisheye_load(path, &ff, err, sizeof err), -1);
     assert_true(tsup_msg_starts_with_path(err, path));
 
     /* the tool writes exactly what the library builds */
@@ -585,7 +587,7 @@ static void test_file_and_tool(void **state)
              "--back 770:253.5:250.5:194 --front-rot 2:-1.5:3 --back-rot=-1:2:-2.5 --map 600x300 -o %s >/dev/null",
              bin ? bin : "build/bin", path);
     assert_int_equal(system(cmd), 0);
-    assert_int_equal(psc_fisheye_file_load(path, &ff, err, sizeof err), 0);
+    assert_int_equal(psc_io_fisheye_load(path, &ff, err, sizeof err), 0);
     psc_fisheye_rig_t rig = skewed_rig();
     uint8_t *want = NULL;
     size_t len;
@@ -593,7 +595,7 @@ static void test_file_and_tool(void **state)
     assert_int_equal(ff.len, len);
     assert_memory_equal(ff.buf, want, len);
     free(want);
-    psc_fisheye_file_free(&ff);
+    psc_io_fisheye_free(&ff);
 
     /* a damaged file: the message names it and the problem */
     size_t n;
@@ -601,7 +603,7 @@ static void test_file_and_tool(void **state)
     bytes[200] ^= 1;
     assert_int_equal(tsup_write_bytes(path, bytes, n), 0);
     free(bytes);
-    assert_int_equal(psc_fisheye_file_load(path, &ff, err, sizeof err), -1);
+    assert_int_equal(psc_io_fisheye_load(path, &ff, err, sizeof err), -1);
     assert_true(tsup_msg_starts_with_path(err, path));
     assert_non_null(strstr(err, "CRC"));
 
@@ -696,7 +698,7 @@ static void make_pack(const char *path)
     if (psc_pack_build(&img, &o, &buf, &len, err, sizeof err) != 0)
         fail_msg("pack: %s", err);
     free(img.xrgb);
-    assert_int_equal(psc_write_file(path, buf, len, err, sizeof err), 0);
+    assert_int_equal(psc_io_write_atomic(path, buf, len, err, sizeof err), 0);
     free(buf);
 }
 
@@ -741,12 +743,12 @@ static void test_firmware_fisheye_scene(void **state)
 {
     (void)state;
     char pack[400], table[400], dump[400], err[800];
-    psc_pack_file_t pf;
-    psc_fisheye_file_t ff;
+    psc_io_pack_t pf;
+    psc_io_fisheye_t ff;
 
     snprintf(pack, sizeof pack, "%s/fish.pano", root);
     make_pack(pack);
-    assert_int_equal(psc_pack_file_load(pack, &pf, err, sizeof err), 0);
+    assert_int_equal(psc_io_pack_load(pack, &pf, err, sizeof err), 0);
     /* the sim camera's 256x128 frames read as a dual-fisheye frame */
     psc_fisheye_rig_t rig = small_rig();
     rig.frame_width = 256;
@@ -759,7 +761,7 @@ static void test_firmware_fisheye_scene(void **state)
     snprintf(table, sizeof table, "%s/fish.pfish", root);
     assert_int_equal(tsup_write_bytes(table, tb, len), 0);
     free(tb);
-    assert_int_equal(psc_fisheye_file_load(table, &ff, err, sizeof err), 0);
+    assert_int_equal(psc_io_fisheye_load(table, &ff, err, sizeof err), 0);
 
     write_board("fishboard", pack, table, "256x128");
     snprintf(dump, sizeof dump, "%s/fish9.raw", root);
@@ -802,8 +804,8 @@ static void test_firmware_fisheye_scene(void **state)
     write_board("fishmissing", pack, dump, "256x128");
     assert_int_equal(run_board("fishmissing", 2, 0, dump, err, sizeof err), -1);
     assert_non_null(strstr(err, "nofile.pfish"));
-    psc_fisheye_file_free(&ff);
-    psc_pack_file_free(&pf);
+    psc_io_fisheye_free(&ff);
+    psc_io_pack_free(&pf);
 
     /* the key needs a camera scene */
     psc_board_config_t cfg;

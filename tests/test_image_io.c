@@ -3,7 +3,7 @@
  * writing of images and surfaces.
  *
  *  - PNG write -> load is exact for random images of many shapes;
- *  - psc_surface_write_png / psc_surface_to_image expand every one of the
+ *  - psc_io_png_write / psc_surface_to_image expand every one of the
  *    65536 RGB565 values by bit replication, and copy XRGB8888 surfaces with
  *    any stride (padding and the X byte ignored);
  *  - JPEGs written here with libjpeg (colour 4:4:4 q95, greyscale, progressive
@@ -38,6 +38,7 @@
 #include "image_io.h"
 #include "psc_testsupport.h"
 #include "tsup_files.h"
+#include "psc_io_png.h"
 
 #define ERRLEN 512
 
@@ -189,8 +190,8 @@ static void test_surface_rgb565_every_value(void **state)
 
     char path[512], err[ERRLEN];
     tmp_path(path, sizeof path, "rgb565.png");
-    if (psc_surface_write_png(path, &s, err, sizeof err) != 0)
-        fail_msg("psc_surface_write_png: %s", err);
+    if (psc_io_png_write(path, &s, err, sizeof err) != 0)
+        fail_msg("psc_io_png_write: %s", err);
     psc_image_t png = load_ok(path);
     psc_image_t mem;
     assert_int_equal(psc_surface_to_image(&s, &mem), 0);
@@ -236,8 +237,8 @@ static void test_surface_xrgb8888(void **state)
     s.pixels = buf;
     char path[512], err[ERRLEN];
     tmp_path(path, sizeof path, "xrgb.png");
-    if (psc_surface_write_png(path, &s, err, sizeof err) != 0)
-        fail_msg("psc_surface_write_png: %s", err);
+    if (psc_io_png_write(path, &s, err, sizeof err) != 0)
+        fail_msg("psc_io_png_write: %s", err);
     psc_image_t png = load_ok(path), mem;
     assert_int_equal(psc_surface_to_image(&s, &mem), 0);
     assert_int_equal(png.width, W);
@@ -256,7 +257,7 @@ static void test_surface_xrgb8888(void **state)
     bad[3].pixels = NULL;
     for (int i = 0; i < 4; i++) {
         memset(err, 0, sizeof err);
-        assert_int_equal(psc_surface_write_png(path, &bad[i], err, sizeof err), -1);
+        assert_int_equal(psc_io_png_write(path, &bad[i], err, sizeof err), -1);
         if (!tsup_msg_starts_with_path(err, path))
             fail_msg("invalid surface %d: message \"%s\" does not begin with the path", i, err);
         assert_false(tsup_file_exists(path));

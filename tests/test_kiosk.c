@@ -27,6 +27,7 @@
 #include "base/psc_pixel.h"
 #include "psc_testsupport.h"
 #include "tsup_pack.h"
+#include "psc_io_load.h"
 
 #define DEG(d) ((int64_t)llround((d) / 360.0 * 4294967296.0)) /* degrees -> bam, any sign */
 #define BAM_TO_DEG(b) ((double)(int32_t)(b) * 360.0 / 4294967296.0)
@@ -521,8 +522,8 @@ static void test_sim_board_follows_hotspot(void **state)
 
     /* frame 12 is scene 1 at the hotspot's target view, bit for bit what the
      * viewer renders there (scene 1 has no hotspots, so no marker) */
-    psc_pack_file_t pf;
-    if (psc_pack_file_load(pack, &pf, err, sizeof err) != 0)
+    psc_io_pack_t pf;
+    if (psc_io_pack_load(pack, &pf, err, sizeof err) != 0)
         fail_msg("%s", err);
     size_t ws_size = psc_viewer_workspace_size(96, 64, &pf.pack.map);
     void *ws = aligned_alloc(64, (ws_size + 63) & ~(size_t)63);
@@ -548,7 +549,7 @@ static void test_sim_board_follows_hotspot(void **state)
     assert_true(memcmp(got, want, sizeof want) != 0);
     free(got);
     free(ws);
-    psc_pack_file_free(&pf);
+    psc_io_pack_free(&pf);
 
     /* --scene replaces the list: hotspots are dropped, select does nothing */
     opt.scene = pack;

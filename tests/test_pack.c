@@ -29,6 +29,8 @@
 #include "pack/psc_pack.h"
 #include "viewer/psc_viewer.h"
 #include "psc_testsupport.h"
+#include "psc_io_load.h"
+#include "psc_io_file.h"
 
 #define IMG_W 64
 #define IMG_H 32
@@ -621,24 +623,24 @@ static void test_file_load(void **state)
     pack_t p = small_pack(PSC_PIX_RGB565);
     char path[512], err[512];
     tmp_path(path, sizeof(path), "good.pano");
-    assert_int_equal(psc_write_file(path, p.buf, p.len, err, sizeof(err)), 0);
-    psc_pack_file_t pf;
-    if (psc_pack_file_load(path, &pf, err, sizeof(err)) != 0)
+    assert_int_equal(psc_io_write_atomic(path, p.buf, p.len, err, sizeof(err)), 0);
+    psc_io_pack_t pf;
+    if (psc_io_pack_load(path, &pf, err, sizeof(err)) != 0)
         fail_msg("loading a valid pack: %s", err);
     assert_int_equal(pf.len, p.len);
     assert_memory_equal(pf.buf, p.buf, p.len);
     assert_int_equal(((uintptr_t)pf.buf) % PSC_CONTAINER_ALIGN, 0);
     assert_int_equal(pf.pack.map.width, IMG_W);
     assert_int_equal(pf.pack.lut_count, 2);
-    psc_pack_file_free(&pf);
+    psc_io_pack_free(&pf);
 
     /* A corrupt file: the message names the file and the problem. */
     char bad[512];
     tmp_path(bad, sizeof(bad), "corrupt.pano");
     p.buf[p.len / 2] ^= 0x55;
-    assert_int_equal(psc_write_file(bad, p.buf, p.len, err, sizeof(err)), 0);
+    assert_int_equal(psc_io_write_atomic(bad, p.buf, p.len, err, sizeof(err)), 0);
     err[0] = 0;
-    assert_int_equal(psc_pack_file_load(bad, &pf, err, sizeof(err)), -1);
+    assert_int_equal(psc_io_pack_load(bad, &pf, err, sizeof(err)), -1);
     printf("  corrupt file: \"%s\"\n", err);
     assert_non_null(strstr(err, bad));
     assert_non_null(strstr(err, "CRC") ? strstr(err, "CRC") : strstr(err, "checksum"));
@@ -647,41 +649,41 @@ static void test_file_load(void **state)
     /* A truncated file. */
     char cut[512];
     tmp_path(cut, sizeof(cut), "cut.pano");
-    assert_int_equal(psc_write_file(cut, p.buf, p.len / 3, err, sizeof(err)), 0);
+    assert_int_equal(psc_io_write_atomic(cut, p.buf, p.len / 3, err, sizeof(err)), 0);
     err[0] = 0;
-    assert_int_equal(psc_pack_file_load(cut, &pf, err, sizeof(err)), -1);
+    assert_int_equal(psc_io_pack_load(cut, &pf, err, sizeof(err)), -1);
     printf("  truncated file: \"%s\"\n", err);
     assert_non_null(strstr(err, cut));
 
     /* Not a pack at all, an empty file, a missing file, a directory. */
     char txt[512];
     tmp_path(txt, sizeof(txt), "notes.txt");
-    assert_int_equal(psc_write_file(txt, "hello, world\n", 13, err, sizeof(err)), 0);
+    assert_int_equal(psc_io_write_atomic(txt, "hello, world\n", 13, err, sizeof(err)), 0);
     err[0] = 0;
-    assert_int_equal(psc_pack_file_load(txt, &pf, err, sizeof(err)), -1);
+    assert_int_equal(psc_io_pack_load(txt, &pf, err, sizeof(err)), -1);
     printf("  text file: \"%s\"\n", err);
     assert_non_null(strstr(err, txt));
     char empty[512];
     tmp_path(empty, sizeof(empty), "empty.pano");
-    assert_int_equal(psc_write_file(empty, "", 0, err, sizeof(err)), 0);
+    assert_int_equal(psc_io_write_atomic(empty, "", 0, err, sizeof(err)), 0);
     err[0] = 0;
-    assert_int_equal(psc_pack_file_load(empty, &pf, err, sizeof(err)), -1);
+    assert_int_equal(psc_io_pack_load(empty, &pf, err, sizeof(err)), -1);
     assert_non_null(strstr(err, empty));
     char missing[512];
     tmp_path(missing, sizeof(missing), "does-not-exist.pano");
     err[0] = 0;
-    assert_int_equal(psc_pack_file_load(missing, &pf, err, sizeof(err)), -1);
+    assert_int_equal(psc_io_pack_load(missing, &pf, err, sizeof(err)), -1);
     printf("  missing file: \"%s\"\n", err);
     assert_non_null(strstr(err, missing));
     const char *dir = getenv("PSC_TEST_TMPDIR");
     dir = dir && *dir ? dir : "/tmp";
     err[0] = 0;
-    assert_int_equal(psc_pack_file_load(dir, &pf, err, sizeof(err)), -1);
+    assert_int_equal(psc_io_pack_load(dir, &pf, err, sizeof(err)), -1);
     assert_non_null(strstr(err, dir));
     /* A tiny error buffer is never overrun. */
     char tiny[8];
     memset(tiny, 'x', sizeof(tiny));
-    assert_int_equal(psc_pack_file_load(missing, &pf, tiny, 5), -1);
+    assert_int_equal(psc_io_pack_load(missing, &pf, tiny, 5), -1);
     assert_int_equal(tiny[5], 'x');
     assert_true(memchr(tiny, 0, 5) != NULL);
 

@@ -8,7 +8,7 @@
  *    xrgb8888 and pal8 scene packs whose maps hold the image (exactly for
  *    xrgb8888, rounded to nearest for rgb565, within a bound for pal8);
  *  - periscope-render's PNG is bit-exact with an in-process render of the same
- *    pack through the device's path (psc_pack_file_load, psc_viewer_init,
+ *    pack through the device's path (psc_io_pack_load, psc_viewer_init,
  *    psc_viewer_set_levels, psc_viewer_clamp, psc_viewer_render, as
  *    firmware/app.c), for views at yaw 180, pitch +-90, spans 1 and 16,
  *    nearest, bilinear and mip, both output formats, an odd size and clamped
@@ -41,6 +41,7 @@
 #include "viewer/psc_viewer.h"
 #include "psc_testsupport.h"
 #include "tsup_files.h"
+#include "psc_io_load.h"
 
 extern char **environ;
 
@@ -195,9 +196,9 @@ static void test_pack(void **state)
     (void)state;
     need_packs();
     for (int f = 0; f < 3; f++) {
-        psc_pack_file_t pf;
+        psc_io_pack_t pf;
         char err[512];
-        if (psc_pack_file_load(fx.pack[f], &pf, err, sizeof err) != 0)
+        if (psc_io_pack_load(fx.pack[f], &pf, err, sizeof err) != 0)
             fail_msg("%s", err);
         const psc_envmap_t *m = &pf.pack.map;
         assert_int_equal(m->format, pack_formats[f]);
@@ -231,7 +232,7 @@ static void test_pack(void **state)
         /* Exact for xrgb8888 and rgb565 (after the documented rounding); the 256-colour median-cut
          * palette of this scene comes within 32 (measured: 22). */
         assert_true(max_err <= (f == 2 ? 32 : 0));
-        psc_pack_file_free(&pf);
+        psc_io_pack_free(&pf);
     }
     /* Without --quiet the tool says what it wrote. */
     char out[512];
@@ -287,9 +288,9 @@ static const view_case_t views[] = {
 /* The same view rendered in this process, exactly as the device does, as an image. */
 static psc_image_t render_in_process(const char *pack_path, const view_case_t *vc, psc_view_t *used)
 {
-    psc_pack_file_t pf;
+    psc_io_pack_t pf;
     char err[512];
-    if (psc_pack_file_load(pack_path, &pf, err, sizeof err) != 0)
+    if (psc_io_pack_load(pack_path, &pf, err, sizeof err) != 0)
         fail_msg("%s", err);
     const psc_pack_t *p = &pf.pack;
     uint16_t w = vc->w ? vc->w : p->display_width, h = vc->h ? vc->h : p->display_height;
@@ -316,7 +317,7 @@ static psc_image_t render_in_process(const char *pack_path, const view_case_t *v
     assert_int_equal(psc_surface_to_image(&out, &img), 0);
     free(out.pixels);
     free(ws);
-    psc_pack_file_free(&pf);
+    psc_io_pack_free(&pf);
     return img;
 }
 

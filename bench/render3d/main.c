@@ -15,6 +15,7 @@
 #include "render3d.h"
 #include "base/psc_pixel.h"
 #include "image_io.h"
+#include "psc_io_png.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -93,7 +94,7 @@ static int run_table(const char *self, const char *out_dir)
                 psc_surface_t sf = {w, h, (uint32_t)w * 2, PSC_PIX_RGB565, dst};
                 snprintf(png, sizeof png, "%s/render3d-%s-%ux%u.png", out_dir, rows[r].driver ? rows[r].driver : "periscope",
                          (unsigned)w, (unsigned)h);
-                if (psc_surface_write_png(png, &sf, err, sizeof err) != 0)
+                if (psc_io_png_write(png, &sf, err, sizeof err) != 0)
                     fprintf(stderr, "render3d bench: %s\n", err);
             }
             if (!res[z][r].ok)

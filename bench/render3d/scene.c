@@ -7,6 +7,7 @@
 #include "mesh_pack.h"
 #include "model.h"
 #include "3d/psc_3d_orbit.h"
+#include "psc_io_load.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -49,7 +50,7 @@ int r3d_scene_make(r3d_scene_t *s)
     memcpy(s->pack, bytes, len);
     free(bytes);
     s->pack_len = len;
-    if (psc_mesh_parse_named("teapot", s->pack, len, &s->mesh, err, sizeof err) != 0) {
+    if (psc_io_mesh_parse_named("teapot", s->pack, len, &s->mesh, err, sizeof err) != 0) {
         fprintf(stderr, "render3d bench: %s\n", err);
         return -1;
     }

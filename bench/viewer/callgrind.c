@@ -14,6 +14,8 @@
 #include "bench_support.h"
 #include "angle_conv.h"
 #include "pack_build.h"
+#include "psc_io_load.h"
+#include "psc_io_file.h"
 
 #include <spawn.h>
 #include <stdlib.h>
@@ -125,8 +127,8 @@ int bv_callgrind_child(const char *pack_path, const char *mode)
         return 2;
     }
     char err[512];
-    psc_pack_file_t pf;
-    if (psc_pack_file_load(pack_path, &pf, err, sizeof err) != 0) {
+    psc_io_pack_t pf;
+    if (psc_io_pack_load(pack_path, &pf, err, sizeof err) != 0) {
         fprintf(stderr, "viewer bench: %s\n", err);
         return 1;
     }
@@ -148,7 +150,7 @@ int bv_callgrind_child(const char *pack_path, const char *mode)
     free(ws);
     free(c.out565.pixels);
     free(c.out8888.pixels);
-    psc_pack_file_free(&pf);
+    psc_io_pack_free(&pf);
     return rc;
 }
 
@@ -316,7 +318,7 @@ int bv_callgrind_main(const char *self, const char *out_dir)
     fprintf(stderr, "viewer bench: packing the sample for %ux%u (RGB565)\n", CG_W, CG_H);
     if (bv_load_sample(BV_SAMPLE, &img) == 0 && bv_pack_make(&img, PSC_PIX_RGB565, CG_W, CG_H, &pack) == 0) {
         psc_image_free(&img);
-        if (psc_write_file(pack_path, pack.buf, pack.len, err, sizeof err) != 0)
+        if (psc_io_write_atomic(pack_path, pack.buf, pack.len, err, sizeof err) != 0)
             fprintf(stderr, "viewer bench: %s\n", err);
         else if (run_modes(self, pack_path, dir, counts) == 0)
             rc = 0;

@@ -1,6 +1,6 @@
 /*
  * psc_hal_sim.h - what the simulated board offers beyond the generic HAL, for
- * the firmware's sim-only tooling (contact sheet) and for tests.
+ * tests.
  *
  * The sim backend ("sim" in a board file) provides every device kind:
  *   clock     starts at 0 us; each display present moves it to exactly
@@ -10,7 +10,9 @@
  *             Options: capture_dir (directory, created if missing),
  *             capture_every (K >= 0; 0 = never): after presenting frame n
  *             (0-based) with n % K == 0 it writes the frame to
- *             psc_sim_capture_path(capture_dir, n).
+ *             psc_sim_capture_path(capture_dir, n); contact_sheet (a
+ *             PNG path): when the display closes, a grid of the captured
+ *             frames, labelled with their numbers, is written there.
  *   input     a tour script (psc_sim_tour.h). Option: script (file path,
  *             required). Long presses use the config's long_press_ms.
  *   camera    an equirectangular test pattern (psc_sim_pattern_fill), a new

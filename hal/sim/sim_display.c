@@ -9,7 +9,6 @@
 #include <sys/stat.h>
 #include <sys/types.h>
 
-#include "image_io.h"
 #include "psc_hal_buffer_ring.h"
 #include "psc_hal_sim.h"
 #include "sim_internal.h"
@@ -27,10 +26,11 @@ typedef struct {
     uint32_t presents;
     uint32_t capture_every;   /* 0 = never */
     char capture_dir[SIM_DISPLAY_PATH_MAX];
+    char contact_sheet[SIM_DISPLAY_PATH_MAX];   /* written at close when non-empty */
     char path[SIM_DISPLAY_PATH_MAX + 32];   /* capture file name, built without allocating */
 } sim_display_t;
 
-static const char *const sim_display_known_options[] = { "capture_dir", "capture_every", NULL };
+static const char *const sim_display_known_options[] = { "capture_dir", "capture_every", "contact_sheet", NULL };
 
 int psc_sim_capture_path(char *buf, size_t len, const char *dir, uint32_t frame)
 {
@@ -112,7 +112,7 @@ static int sim_display_present(psc_hal_display_t *d)
         fprintf(stderr, "sim display: capture path for frame %u is too long\n", (unsigned)frame);
         return -EIO;
     }
-    if (psc_surface_write_png(s->path, &shown, err, sizeof err) != 0) {
+    if (psc_sim_capture_write(s->path, &shown, err, sizeof err) != 0) {
         /* present has no error buffer: the generic interface keeps runtime
          * errors to an errno, so the host-only sim says why on stderr. */
         fprintf(stderr, "sim display: frame %u not captured: %s\n", (unsigned)frame, err);
@@ -132,10 +132,26 @@ static int sim_display_set_blank(psc_hal_display_t *d, bool blank)
     return 0;
 }
 
+/* The run at a glance, once it is over (sim_capture_sheet.c). */
+static void sim_display_write_contact_sheet(const sim_display_t *s)
+{
+    char err[1200];
+    uint32_t thumbs;
+
+    if (s->contact_sheet[0] == '\0' || s->capture_every == 0 || s->presents == 0)
+        return;
+    if (psc_sim_contact_sheet_write(s->capture_dir, s->presents, s->capture_every, s->contact_sheet, &thumbs, err,
+                                    sizeof err) != 0)
+        fprintf(stderr, "sim display: contact sheet: %s\n", err);
+    else
+        printf("sim display: contact sheet: %s (%u frames)\n", s->contact_sheet, (unsigned)thumbs);
+}
+
 static void sim_display_close(psc_hal_display_t *d)
 {
     sim_display_t *s = to_sim(d);
 
+    sim_display_write_contact_sheet(s);
     for (unsigned i = 0; i < SIM_DISPLAY_MAX_BUFFERS; i++)
         free(s->ring.buffers[i]);
     free(s);
@@ -177,7 +193,7 @@ static int sim_display_check_config(const psc_hal_display_config_t *cfg, char *e
 
 int psc_sim_display_open(const psc_hal_display_config_t *cfg, psc_hal_display_t **out, char *err, size_t errlen)
 {
-    const psc_hal_option_t *dir;
+    const psc_hal_option_t *dir, *sheet;
     sim_display_t *s;
     size_t bytes;
     int rc;
@@ -223,6 +239,22 @@ int psc_sim_display_open(const psc_hal_display_config_t *cfg, psc_hal_display_t 
         rc = make_dirs(s->capture_dir, err, errlen);
         if (rc != 0)
             goto fail;
+    }
+    if (s->capture_every != 0 && !psc_sim_capture_available()) {
+        psc_hal_error_set(err, errlen, "sim display: this build has no PNG captures (its board's backends line "
+                          "leaves out sim), so it cannot capture every %u frames", (unsigned)s->capture_every);
+        rc = -EINVAL;
+        goto fail;
+    }
+    sheet = psc_hal_options_find(&cfg->options, "contact_sheet");
+    if (sheet != NULL && sheet->value != NULL) {
+        if (strlen(sheet->value) >= sizeof s->contact_sheet) {
+            psc_hal_error_set(err, errlen, "%s: contact_sheet is longer than %u characters",
+                              sheet->origin ? sheet->origin : "sim display", SIM_DISPLAY_PATH_MAX - 1u);
+            rc = -EINVAL;
+            goto fail;
+        }
+        strcpy(s->contact_sheet, sheet->value);
     }
 
     bytes = (size_t)s->ring.mode.stride * s->ring.mode.height;

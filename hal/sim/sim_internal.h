@@ -28,6 +28,25 @@ int psc_sim_camera_open(const psc_hal_camera_config_t *cfg, psc_hal_camera_t **o
 int psc_sim_watchdog_open(const psc_hal_watchdog_config_t *cfg, psc_hal_watchdog_t **out, char *err, size_t errlen);
 
 /**
+ * Whether this build can capture (sim_capture_png.c with libpng; a build
+ * without `sim` in its backends line has sim_capture_none.c instead).
+ */
+bool psc_sim_capture_available(void);
+
+/** Write one captured frame as a PNG (sim_capture_png.c). 0, or -1 with err. */
+int psc_sim_capture_write(const char *path, const psc_surface_t *s, char *err, size_t errlen);
+
+/**
+ * Build a contact sheet of a run of `frames` frames captured every `every`
+ * frames in capture_dir (sim_capture_sheet.c) and write it to out_path;
+ * *thumbs receives how many frames it shows. 0, or -1 with err naming the
+ * capture or output file and the problem (a missing capture is an error:
+ * the sheet must show what the run produced).
+ */
+int psc_sim_contact_sheet_write(const char *capture_dir, uint32_t frames, uint32_t every, const char *out_path,
+                                uint32_t *thumbs, char *err, size_t errlen);
+
+/**
  * Move a sim clock forward to t_us (never back). Returns false, and does
  * nothing, when clk is not a sim clock: the sim display may be paired with a
  * real clock, and then time simply runs by itself.

@@ -1,6 +1,6 @@
 /* container_write.c - lay out and write a sectioned file (container_write.h). */
 #include "container_write.h"
-#include "errmsg.h"
+#include "psc_io_error.h"
 #include "le_bytes.h"
 
 #include <stdarg.h>
@@ -22,7 +22,7 @@ static int write_fail(char *err, size_t errlen, const char *name, const char *fm
     vsnprintf(why, sizeof why, fmt, ap);
     va_end(ap);
     if (name != NULL)
-        return psc_errorf(err, errlen, name, "%s", why);
+        return psc_io_errorf(err, errlen, name, "%s", why);
     if (err && errlen > 0)
         snprintf(err, errlen, "%s", why);
     return -1;

@@ -6,9 +6,9 @@
 #include <string.h>
 #include "container_write.h"
 
-#include "errmsg.h"
+#include "psc_io_error.h"
 #include "fisheye_build.h"
-#include "file_read.h"
+#include "psc_io_file.h"
 #include "le_bytes.h"
 
 #define FISH_PI 3.14159265358979323846
@@ -130,18 +130,18 @@ int psc_fisheye_rig_check(const psc_fisheye_rig_t *rig, char *err, size_t errlen
     static const char *names[2] = {"front", "back"};
     if (rig->frame_width < 1 || rig->frame_height < 1 || rig->frame_width > PSC_FISHEYE_MAX_FRAME_DIM ||
         rig->frame_height > PSC_FISHEYE_MAX_FRAME_DIM)
-        return psc_errorf(err, errlen, "fisheye", "frame size %ux%u out of range (1..%u)", rig->frame_width,
+        return psc_io_errorf(err, errlen, "fisheye", "frame size %ux%u out of range (1..%u)", rig->frame_width,
                           rig->frame_height, PSC_FISHEYE_MAX_FRAME_DIM);
     for (unsigned k = 0; k < 2; k++) {
         const psc_fisheye_lens_t *l = &rig->lens[k];
         if (!(l->radius > 0.0) || !(l->fov_deg > 0.0 && l->fov_deg < 360.0))
-            return psc_errorf(err, errlen, "fisheye", "%s lens: radius must be > 0 and field of view in (0, 360) "
+            return psc_io_errorf(err, errlen, "fisheye", "%s lens: radius must be > 0 and field of view in (0, 360) "
                               "degrees (got %g px, %g deg)", names[k], l->radius, l->fov_deg);
         if (!(l->cx >= 0.0 && l->cy >= 0.0 && l->cx <= rig->frame_width - 1.0 && l->cy <= rig->frame_height - 1.0))
-            return psc_errorf(err, errlen, "fisheye", "%s lens: circle centre (%g, %g) is outside the %ux%u frame",
+            return psc_io_errorf(err, errlen, "fisheye", "%s lens: circle centre (%g, %g) is outside the %ux%u frame",
                               names[k], l->cx, l->cy, rig->frame_width, rig->frame_height);
         if (!(fabs(l->yaw_deg) <= 45.0 && fabs(l->pitch_deg) <= 45.0 && fabs(l->roll_deg) <= 45.0))
-            return psc_errorf(err, errlen, "fisheye", "%s lens: yaw/pitch/roll corrections must be within +-45 "
+            return psc_io_errorf(err, errlen, "fisheye", "%s lens: yaw/pitch/roll corrections must be within +-45 "
                               "degrees", names[k]);
     }
     return 0;
@@ -153,7 +153,7 @@ int psc_fisheye_build(const psc_fisheye_rig_t *rig, uint16_t map_w, uint16_t map
     if (psc_fisheye_rig_check(rig, err, errlen) != 0)
         return -1;
     if (map_w < 2 || map_h < 2 || map_w > PSC_MAX_MAP_DIM || map_h > PSC_MAX_MAP_DIM)
-        return psc_errorf(err, errlen, name, "map size %ux%u out of range (2..%u)", map_w, map_h, PSC_MAX_MAP_DIM);
+        return psc_io_errorf(err, errlen, name, "map size %ux%u out of range (2..%u)", map_w, map_h, PSC_MAX_MAP_DIM);
     psc_container_layout_t l;
     psc_container_layout_init(&l, &psc_fisheye_format);
     int info = psc_container_layout_add(&l, PSC_SECTION_FISHEYE_INFO, PSC_FISHEYE_INFO_SIZE);
@@ -186,7 +186,7 @@ int psc_fisheye_build(const psc_fisheye_rig_t *rig, uint16_t map_w, uint16_t map
     void *check = NULL;
     if (posix_memalign(&check, 64, len) != 0) {
         free(b);
-        return psc_errorf(err, errlen, name, "out of memory for %zu bytes", len);
+        return psc_io_errorf(err, errlen, name, "out of memory for %zu bytes", len);
     }
     memcpy(check, b, len);
     psc_fisheye_t t;
@@ -195,31 +195,10 @@ int psc_fisheye_build(const psc_fisheye_rig_t *rig, uint16_t map_w, uint16_t map
     free(check);
     if (s != PSC_OK) {
         free(b);
-        return psc_errorf(err, errlen, name, "internal error: the table does not parse: %s (offset %u)",
+        return psc_io_errorf(err, errlen, name, "internal error: the table does not parse: %s (offset %u)",
                           perr.what ? perr.what : "?", (unsigned)perr.offset);
     }
     *out = b;
     *out_len = len;
     return 0;
-}
-
-int psc_fisheye_file_load(const char *path, psc_fisheye_file_t *ff, char *err, size_t errlen)
-{
-    memset(ff, 0, sizeof *ff);
-    if (psc_read_file_aligned(path, UINT32_MAX, &ff->buf, &ff->len, err, errlen) != 0)
-        return -1;
-    psc_container_error_t perr = {0};
-    psc_status_t s = psc_fisheye_parse(ff->buf, ff->len, &ff->table, &perr);
-    if (s != PSC_OK) {
-        psc_fisheye_file_free(ff);
-        return psc_errorf(err, errlen, path, "not a usable dual-fisheye table: %s (offset %u): %s",
-                          perr.what ? perr.what : "?", (unsigned)perr.offset, psc_status_str(s));
-    }
-    return 0;
-}
-
-void psc_fisheye_file_free(psc_fisheye_file_t *ff)
-{
-    free(ff->buf);
-    memset(ff, 0, sizeof *ff);
 }

@@ -86,15 +86,4 @@ int psc_fisheye_rig_check(const psc_fisheye_rig_t *rig, char *err, size_t errlen
 int psc_fisheye_build(const psc_fisheye_rig_t *rig, uint16_t map_w, uint16_t map_h, const char *name,
                       uint8_t **out, size_t *out_len, char *err, size_t errlen);
 
-/** A table loaded from disk: the aligned file bytes and the parsed view of them. */
-typedef struct {
-    void *buf;       /* 64-byte aligned, malloc'd */
-    size_t len;
-    psc_fisheye_t table;
-} psc_fisheye_file_t;
-
-/** Read and parse a table file; errors name the file, the problem and its offset. */
-int psc_fisheye_file_load(const char *path, psc_fisheye_file_t *ff, char *err, size_t errlen);
-void psc_fisheye_file_free(psc_fisheye_file_t *ff);
-
 #endif

@@ -1,5 +1,6 @@
 /*
- * image_io.h - read JPEG/PNG images and write PNG images (libjpeg-turbo, libpng).
+ * image_io.h - read JPEG/PNG images and write PNG images (libjpeg-turbo here,
+ * libpng through io/psc_io_png.h, which also writes surfaces: psc_io_png_write).
  * Errors are returned as 0/-1 with a message naming the file and the problem.
  */
 #ifndef PSC_IMAGE_IO_H
@@ -21,12 +22,6 @@ void psc_image_free(psc_image_t *img);
 
 /** Write an 8-bit RGB PNG of img. */
 int psc_image_write_png(const char *path, const psc_image_t *img, char *err, size_t errlen);
-
-/**
- * Write an 8-bit RGB PNG of a surface (RGB565 expanded to 8 bits by bit
- * replication: r8 = r5 << 3 | r5 >> 2, g8 = g6 << 2 | g6 >> 4; XRGB8888 as is).
- */
-int psc_surface_write_png(const char *path, const psc_surface_t *s, char *err, size_t errlen);
 
 /** Convert a surface to an XRGB image with the same expansion (malloc'd). 0 / -1. */
 int psc_surface_to_image(const psc_surface_t *s, psc_image_t *img);

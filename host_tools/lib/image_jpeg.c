@@ -6,7 +6,7 @@
  * is refused instead of being shown with grey blocks.
  */
 #include "image_codecs.h"
-#include "errmsg.h"
+#include "psc_io_error.h"
 
 #include <setjmp.h>
 #include <stdlib.h>
@@ -76,7 +76,7 @@ static int jpeg_run(jpeg_job_t *job, FILE *f, const char *path, psc_image_t *img
 {
     struct jpeg_decompress_struct *cinfo = &job->cinfo;
     if (setjmp(job->fail.jump))
-        return psc_errorf(err, errlen, path, "corrupt or truncated JPEG: %s", job->fail.msg);
+        return psc_io_errorf(err, errlen, path, "corrupt or truncated JPEG: %s", job->fail.msg);
 
     /* Set first: destroying a half-created object is safe (its memory pool is NULL). */
     job->created = true;
@@ -87,7 +87,7 @@ static int jpeg_run(jpeg_job_t *job, FILE *f, const char *path, psc_image_t *img
     bool cmyk = cinfo->jpeg_color_space == JCS_CMYK || cinfo->jpeg_color_space == JCS_YCCK;
     if (!cmyk && cinfo->jpeg_color_space != JCS_GRAYSCALE && cinfo->jpeg_color_space != JCS_YCbCr &&
         cinfo->jpeg_color_space != JCS_RGB)
-        return psc_errorf(err, errlen, path, "unsupported JPEG colour space %d", (int)cinfo->jpeg_color_space);
+        return psc_io_errorf(err, errlen, path, "unsupported JPEG colour space %d", (int)cinfo->jpeg_color_space);
     if (psc_image_alloc(img, cinfo->image_width, cinfo->image_height, path, err, errlen) != 0)
         return -1;
 
@@ -96,17 +96,17 @@ static int jpeg_run(jpeg_job_t *job, FILE *f, const char *path, psc_image_t *img
     unsigned channels = (unsigned)cinfo->output_components;
     if (cinfo->output_width != img->width || cinfo->output_height != img->height ||
         channels != (cmyk ? 4u : 3u))
-        return psc_errorf(err, errlen, path, "JPEG decoder produced an unexpected layout");
+        return psc_io_errorf(err, errlen, path, "JPEG decoder produced an unexpected layout");
 
     job->row = malloc((size_t)img->width * channels);
     if (!job->row)
-        return psc_errorf(err, errlen, path, "out of memory");
+        return psc_io_errorf(err, errlen, path, "out of memory");
     bool inverted = cinfo->saw_Adobe_marker;
     while (cinfo->output_scanline < cinfo->output_height) {
         uint32_t y = cinfo->output_scanline;
         JSAMPROW rows[1] = {job->row};
         if (jpeg_read_scanlines(cinfo, rows, 1) != 1)
-            return psc_errorf(err, errlen, path, "JPEG data ends at row %u", (unsigned)y);
+            return psc_io_errorf(err, errlen, path, "JPEG data ends at row %u", (unsigned)y);
         uint32_t *dst = img->xrgb + (size_t)y * img->width;
         for (uint32_t x = 0; x < img->width; x++) {
             const JSAMPLE *p = job->row + (size_t)x * channels;
@@ -123,7 +123,7 @@ int psc_jpeg_decode(FILE *f, const char *path, psc_image_t *img, char *err, size
 {
     jpeg_job_t *job = calloc(1, sizeof *job);
     if (!job)
-        return psc_errorf(err, errlen, path, "out of memory");
+        return psc_io_errorf(err, errlen, path, "out of memory");
     job->cinfo.err = jpeg_std_error(&job->fail.mgr);
     job->fail.mgr.error_exit = jpeg_fail_exit;
     job->fail.mgr.emit_message = jpeg_fail_message;

@@ -5,8 +5,9 @@
  * every field stored little-endian byte by byte.
  */
 #include "mesh_pack.h"
-#include "file_read.h"
-#include "errmsg.h"
+#include "psc_io_error.h"
+#include "psc_io_file.h"
+#include "psc_io_load.h"
 #include "image_scale.h"
 #include "container_write.h"
 #include "le_bytes.h"
@@ -66,7 +67,7 @@ static int build_texture(const psc_image_t *tex, const psc_mesh_pack_options_t *
     bool own = false;
     if (w != tex->width || h != tex->height) {
         if (psc_image_box_resize(tex, w, h, &sized) != 0)
-            return psc_errorf(err, errlen, name, "out of memory resizing the texture to %ux%u", (unsigned)w,
+            return psc_io_errorf(err, errlen, name, "out of memory resizing the texture to %ux%u", (unsigned)w,
                               (unsigned)h);
         own = true;
     }
@@ -77,7 +78,7 @@ static int build_texture(const psc_image_t *tex, const psc_mesh_pack_options_t *
     if (!part->data) {
         if (own)
             psc_image_free(&sized);
-        return psc_errorf(err, errlen, name, "out of memory for a %ux%u texture", (unsigned)w, (unsigned)h);
+        return psc_io_errorf(err, errlen, name, "out of memory for a %ux%u texture", (unsigned)w, (unsigned)h);
     }
     psc_put_le16(part->data, (uint16_t)w);
     psc_put_le16(part->data + 2, (uint16_t)h);
@@ -114,24 +115,24 @@ int psc_mesh_pack_build(const psc_model_t *m, const psc_image_t *texture, const 
     if (!name)
         name = "(mesh)";
     if (!m || m->vertex_count == 0 || m->triangle_count == 0)
-        return psc_errorf(err, errlen, name, "the model has no triangles");
+        return psc_io_errorf(err, errlen, name, "the model has no triangles");
     if (m->vertex_count > PSC_MESH_MAX_VERTICES)
-        return psc_errorf(err, errlen, name, "the model has %u distinct vertices; a mesh pack holds at most %u",
+        return psc_io_errorf(err, errlen, name, "the model has %u distinct vertices; a mesh pack holds at most %u",
                           (unsigned)m->vertex_count, PSC_MESH_MAX_VERTICES);
     if (m->triangle_count > PSC_MESH_MAX_TRIANGLES)
-        return psc_errorf(err, errlen, name, "the model has %u triangles; a mesh pack holds at most %u",
+        return psc_io_errorf(err, errlen, name, "the model has %u triangles; a mesh pack holds at most %u",
                           (unsigned)m->triangle_count, PSC_MESH_MAX_TRIANGLES);
     if (texture && !m->uv)
-        return psc_errorf(err, errlen, name, "a texture was given but the model has no texture coordinates");
+        return psc_io_errorf(err, errlen, name, "a texture was given but the model has no texture coordinates");
     if (o.texture_format != PSC_PIX_RGB565 && o.texture_format != PSC_PIX_XRGB8888)
-        return psc_errorf(err, errlen, name, "texture format must be RGB565 or XRGB8888");
+        return psc_io_errorf(err, errlen, name, "texture format must be RGB565 or XRGB8888");
     uint32_t nv = m->vertex_count, nt = m->triangle_count;
     for (size_t i = 0; i < (size_t)nv * 3; i++)
         if (!isfinite(m->pos[i]))
-            return psc_errorf(err, errlen, name, "vertex %zu has a coordinate that is not a finite number", i / 3 + 1);
+            return psc_io_errorf(err, errlen, name, "vertex %zu has a coordinate that is not a finite number", i / 3 + 1);
     for (size_t i = 0; i < (size_t)nt * 3; i++)
         if (m->index[i] >= nv)
-            return psc_errorf(err, errlen, name, "triangle %zu uses vertex %u of %u", i / 3 + 1,
+            return psc_io_errorf(err, errlen, name, "triangle %zu uses vertex %u of %u", i / 3 + 1,
                               (unsigned)m->index[i] + 1, (unsigned)nv);
 
     part_t parts[8];
@@ -186,12 +187,12 @@ int psc_mesh_pack_build(const psc_model_t *m, const psc_image_t *texture, const 
             vmax = fmax(vmax, m->uv[2 * v + 1]);
         }
         if (!isfinite(umin) || !isfinite(umax) || !isfinite(vmin) || !isfinite(vmax)) {
-            rc = psc_errorf(err, errlen, name, "a texture coordinate is not a finite number");
+            rc = psc_io_errorf(err, errlen, name, "a texture coordinate is not a finite number");
             goto done;
         }
         double du = floor(umin), dv = floor(vmin);
         if (umax - du >= UV_LIMIT || vmax - dv >= UV_LIMIT) {
-            rc = psc_errorf(err, errlen, name,
+            rc = psc_io_errorf(err, errlen, name,
                             "texture coordinates span u %g..%g, v %g..%g: a mesh pack holds spans below %g",
                             umin, umax, vmin, vmax, UV_LIMIT);
             goto done;
@@ -243,7 +244,7 @@ int psc_mesh_pack_build(const psc_model_t *m, const psc_image_t *texture, const 
     }
     memcpy(check, b, at);
     psc_mesh_t parsed;
-    rc = psc_mesh_parse_named(name, check, at, &parsed, err, errlen);
+    rc = psc_io_mesh_parse_named(name, check, at, &parsed, err, errlen);
     free(check);
     if (rc != 0) {
         free(b);
@@ -254,47 +255,8 @@ int psc_mesh_pack_build(const psc_model_t *m, const psc_image_t *texture, const 
     rc = 0;
     goto done;
 oom:
-    rc = psc_errorf(err, errlen, name, "out of memory building the mesh pack");
+    rc = psc_io_errorf(err, errlen, name, "out of memory building the mesh pack");
 done:
     free_parts(parts, np);
     return rc;
-}
-
-int psc_mesh_parse_named(const char *name, const void *buf, size_t len, psc_mesh_t *mesh, char *err, size_t errlen)
-{
-    psc_container_error_t perr = {0};
-    psc_status_t s = psc_mesh_parse(buf, len, mesh, &perr);
-    if (s != PSC_OK)
-        return psc_errorf(err, errlen, name, "%s (offset %u): %s", perr.what ? perr.what : "invalid mesh pack",
-                          (unsigned)perr.offset, psc_status_str(s));
-    return 0;
-}
-
-int psc_mesh_file_load(const char *path, psc_mesh_file_t *mf, char *err, size_t errlen)
-{
-    memset(mf, 0, sizeof *mf);
-    if (psc_read_file_aligned(path, UINT32_MAX, &mf->buf, &mf->len, err, errlen) != 0)
-        return -1;
-    if (psc_mesh_parse_named(path, mf->buf, mf->len, &mf->mesh, err, errlen) != 0) {
-        psc_mesh_file_free(mf);
-        return -1;
-    }
-    return 0;
-}
-
-void psc_mesh_file_free(psc_mesh_file_t *mf)
-{
-    free(mf->buf);
-    memset(mf, 0, sizeof *mf);
-}
-
-bool psc_file_is_mesh_pack(const char *path)
-{
-    char magic[PSC_CONTAINER_MAGIC_SIZE];
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return false;
-    bool yes = fread(magic, 1, sizeof magic, f) == sizeof magic && memcmp(magic, PSC_MESH_MAGIC, sizeof magic) == 0;
-    fclose(f);
-    return yes;
 }

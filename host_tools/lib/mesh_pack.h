@@ -1,7 +1,7 @@
 /*
  * mesh_pack.h - write a mesh pack (format: core/mesh/psc_mesh.h) from a host
- * model, and load one from a file the way the device does. Host side: heap
- * and stdio are fine here.
+ * model (loading one is io/psc_io_load.h). Host side: heap and stdio are
+ * fine here.
  */
 #ifndef PSC_MESH_PACK_H
 #define PSC_MESH_PACK_H
@@ -33,22 +33,5 @@ void psc_mesh_pack_options_default(psc_mesh_pack_options_t *o);
  */
 int psc_mesh_pack_build(const psc_model_t *m, const psc_image_t *texture, const psc_mesh_pack_options_t *o,
                         const char *name, uint8_t **out, size_t *out_len, char *err, size_t errlen);
-
-/** A mesh pack loaded from disk: aligned bytes and the parsed mesh pointing into them. */
-typedef struct {
-    void *buf;
-    size_t len;
-    psc_mesh_t mesh;
-} psc_mesh_file_t;
-
-/** Read and parse a mesh pack; errors name the file, the problem and its offset. */
-int psc_mesh_file_load(const char *path, psc_mesh_file_t *mf, char *err, size_t errlen);
-void psc_mesh_file_free(psc_mesh_file_t *mf);
-
-/** Parse a mesh pack already in memory (aligned to 8), with the same messages. */
-int psc_mesh_parse_named(const char *name, const void *buf, size_t len, psc_mesh_t *mesh, char *err, size_t errlen);
-
-/** true if the file starts with the mesh pack magic. */
-bool psc_file_is_mesh_pack(const char *path);
 
 #endif

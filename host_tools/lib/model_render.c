@@ -2,9 +2,12 @@
  * model_render.c - periscope-render's model mode (model_render.h).
  */
 #include "model_render.h"
+#include "psc_io_error.h"
+#include "psc_io_file.h"
+#include "psc_io_load.h"
+#include "psc_io_png.h"
 #include "angle_conv.h"
 #include "cli_parse.h"
-#include "errmsg.h"
 #include "image_io.h"
 #include "mesh_pack.h"
 #include "obj_load.h"
@@ -46,7 +49,7 @@ bool psc_model_render_wanted(int argc, char **argv)
                 return true;
             continue;
         }
-        if (ends_with_obj(argv[i]) || psc_file_is_mesh_pack(argv[i]))
+        if (ends_with_obj(argv[i]) || psc_io_file_has_magic(argv[i], PSC_MESH_MAGIC, PSC_CONTAINER_MAGIC_SIZE))
             return true;
     }
     return false;
@@ -169,10 +172,10 @@ static int parse_args(const char *prog, int argc, char **argv, model_args_t *a)
 }
 
 /* The model as a parsed mesh pack in an aligned buffer (from an OBJ: built in memory). */
-static int load_mesh(const model_args_t *a, psc_mesh_file_t *mf, char *err, size_t errlen)
+static int load_mesh(const model_args_t *a, psc_io_mesh_t *mf, char *err, size_t errlen)
 {
-    if (psc_file_is_mesh_pack(a->model))
-        return psc_mesh_file_load(a->model, mf, err, errlen);
+    if (psc_io_file_has_magic(a->model, PSC_MESH_MAGIC, PSC_CONTAINER_MAGIC_SIZE))
+        return psc_io_mesh_load(a->model, mf, err, errlen);
     psc_model_t m;
     char note[600];
     if (psc_obj_load(a->model, &m, note, sizeof note, err, errlen) != 0)
@@ -190,21 +193,21 @@ static int load_mesh(const model_args_t *a, psc_mesh_file_t *mf, char *err, size
     size_t len = 0;
     if (psc_mesh_pack_build(&m, tex.xrgb ? &tex : NULL, NULL, a->model, &bytes, &len, err, errlen) != 0)
         goto done;
-    if (a->write_pack && psc_write_file(a->write_pack, bytes, len, err, errlen) != 0) {
+    if (a->write_pack && psc_io_write_atomic(a->write_pack, bytes, len, err, errlen) != 0) {
         free(bytes);
         goto done;
     }
     memset(mf, 0, sizeof *mf);
     if (posix_memalign(&mf->buf, 64, len) != 0) {
         free(bytes);
-        psc_errorf(err, errlen, a->model, "out of memory");
+        psc_io_errorf(err, errlen, a->model, "out of memory");
         goto done;
     }
     memcpy(mf->buf, bytes, len);
     free(bytes);
     mf->len = len;
-    if (psc_mesh_parse_named(a->model, mf->buf, len, &mf->mesh, err, errlen) != 0) {
-        psc_mesh_file_free(mf);
+    if (psc_io_mesh_parse_named(a->model, mf->buf, len, &mf->mesh, err, errlen) != 0) {
+        psc_io_mesh_free(mf);
         goto done;
     }
     rc = 0;
@@ -215,7 +218,7 @@ done:
 }
 
 /* A --texture for a mesh pack: the image at power-of-two sides, RGB565, through the pack writer's rules. */
-static int override_texture(const model_args_t *a, psc_mesh_file_t *mf, psc_mesh_file_t *texpack, char *err,
+static int override_texture(const model_args_t *a, psc_io_mesh_t *mf, psc_io_mesh_t *texpack, char *err,
                             size_t errlen)
 {
     /* A one-triangle pack carrying the texture: the same conversion as psc_mesh_pack_build. */
@@ -234,12 +237,12 @@ static int override_texture(const model_args_t *a, psc_mesh_file_t *mf, psc_mesh
     memset(texpack, 0, sizeof *texpack);
     if (posix_memalign(&texpack->buf, 64, len) != 0) {
         free(bytes);
-        return psc_errorf(err, errlen, a->texture, "out of memory");
+        return psc_io_errorf(err, errlen, a->texture, "out of memory");
     }
     memcpy(texpack->buf, bytes, len);
     free(bytes);
     texpack->len = len;
-    if (psc_mesh_parse_named(a->texture, texpack->buf, len, &texpack->mesh, err, errlen) != 0)
+    if (psc_io_mesh_parse_named(a->texture, texpack->buf, len, &texpack->mesh, err, errlen) != 0)
         return -1;
     mf->mesh.texture = texpack->mesh.texture;
     mf->mesh.has_texture = mf->mesh.uv_q12 != NULL;
@@ -253,13 +256,13 @@ static int write_depth_pgm(const char *path, const uint16_t *z, uint16_t w, uint
     size_t len = (size_t)n + (size_t)w * h * 2;
     uint8_t *b = malloc(len);
     if (!b)
-        return psc_errorf(err, errlen, path, "out of memory");
+        return psc_io_errorf(err, errlen, path, "out of memory");
     memcpy(b, head, (size_t)n);
     for (size_t i = 0; i < (size_t)w * h; i++) { /* PGM samples are big-endian */
         b[n + 2 * i] = (uint8_t)(z[i] >> 8);
         b[n + 2 * i + 1] = (uint8_t)z[i];
     }
-    int rc = psc_write_file(path, b, len, err, errlen);
+    int rc = psc_io_write_atomic(path, b, len, err, errlen);
     free(b);
     return rc;
 }
@@ -280,7 +283,7 @@ int psc_model_render_main(const char *prog, int argc, char **argv)
     if (rc != 0)
         return rc;
     char err[768];
-    psc_mesh_file_t mf, texpack = {0};
+    psc_io_mesh_t mf, texpack = {0};
     if (load_mesh(&a, &mf, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
         return 1;
@@ -289,7 +292,7 @@ int psc_model_render_main(const char *prog, int argc, char **argv)
     void *ws = NULL;
     uint16_t *zout = NULL;
     psc_surface_t out = {a.width, a.height, (uint32_t)a.width * psc_pixfmt_bytes(a.format), a.format, NULL};
-    if (a.texture && psc_file_is_mesh_pack(a.model) && override_texture(&a, &mf, &texpack, err, sizeof err) != 0) {
+    if (a.texture && psc_io_file_has_magic(a.model, PSC_MESH_MAGIC, PSC_CONTAINER_MAGIC_SIZE) && override_texture(&a, &mf, &texpack, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
@@ -346,7 +349,7 @@ int psc_model_render_main(const char *prog, int argc, char **argv)
         fprintf(stderr, "%s: %lu frames of %ux%u, %u triangles (%u culled, %u outside): %.3f ms per frame (best %.3f)\n",
                 prog, a.repeat, (unsigned)a.width, (unsigned)a.height, (unsigned)st.triangles, (unsigned)st.culled,
                 (unsigned)st.outside, total / a.repeat * 1e3, best * 1e3);
-    if (psc_surface_write_png(a.out, &out, err, sizeof err) != 0 ||
+    if (psc_io_png_write(a.out, &out, err, sizeof err) != 0 ||
         (a.depth && write_depth_pgm(a.depth, zout, a.width, a.height, err, sizeof err) != 0)) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
@@ -356,7 +359,7 @@ done:
     free(ws);
     free(zout);
     free(out.pixels);
-    psc_mesh_file_free(&mf);
-    psc_mesh_file_free(&texpack);
+    psc_io_mesh_free(&mf);
+    psc_io_mesh_free(&texpack);
     return rc;
 }

@@ -2,8 +2,8 @@
  * obj_load.c - Wavefront OBJ reader (obj_load.h).
  */
 #include "obj_load.h"
-#include "file_read.h"
-#include "errmsg.h"
+#include "psc_io_file.h"
+#include "psc_io_error.h"
 
 #include <errno.h>
 #include <math.h>
@@ -148,7 +148,7 @@ static int obj_fail(obj_t *o, const char *fmt, ...)
     va_end(ap);
     char where[600];
     snprintf(where, sizeof where, "%s:%u", o->name, o->line);
-    return psc_errorf(o->err, o->errlen, where, "%s", msg);
+    return psc_io_errorf(o->err, o->errlen, where, "%s", msg);
 }
 
 static const char *skip_ws(const char *p, const char *end)
@@ -445,7 +445,7 @@ int psc_obj_parse(const char *name, const char *text, size_t len, psc_model_t *m
     }
     o.line = 0;
     if (o.tris.n == 0) {
-        psc_errorf(err, errlen, o.name, "no faces: nothing to draw");
+        psc_io_errorf(err, errlen, o.name, "no faces: nothing to draw");
         goto done;
     }
     size_t nv = o.corners.n / 3;
@@ -455,7 +455,7 @@ int psc_obj_parse(const char *name, const char *text, size_t len, psc_model_t *m
     m->normal = malloc(nv * 3 * sizeof(double));
     m->uv = o.any_tex ? calloc(nv * 2, sizeof(double)) : NULL;
     if (!m->pos || !m->normal || (o.any_tex && !m->uv)) {
-        psc_errorf(err, errlen, o.name, "out of memory");
+        psc_io_errorf(err, errlen, o.name, "out of memory");
         goto done;
     }
     for (size_t v = 0; v < nv; v++) {
@@ -473,7 +473,7 @@ int psc_obj_parse(const char *name, const char *text, size_t len, psc_model_t *m
     m->index = o.tris.v;
     o.tris.v = NULL;
     if (o.missing_normal && smooth_normals(&o, m) != 0) {
-        psc_errorf(err, errlen, o.name, "out of memory");
+        psc_io_errorf(err, errlen, o.name, "out of memory");
         goto done;
     }
     if (o.mtllib[0])
@@ -497,7 +497,7 @@ int psc_obj_load(const char *path, psc_model_t *m, char *note, size_t notelen, c
     memset(m, 0, sizeof *m);
     void *text;
     size_t got;
-    if (psc_read_file_aligned(path, OBJ_MAX_FILE, &text, &got, err, errlen) != 0)
+    if (psc_io_read_aligned(path, OBJ_MAX_FILE, &text, &got, err, errlen) != 0)
         return -1;
     int rc = psc_obj_parse(path, text, got, m, note, notelen, err, errlen);
     free(text);

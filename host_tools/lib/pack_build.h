@@ -1,6 +1,7 @@
 /*
- * pack_build.h - build a scene pack (format: core/pack/psc_pack.h) from an image,
- * and load one from a file. Host side: uses the heap and stdio freely.
+ * pack_build.h - build a scene pack (format: core/pack/psc_pack.h) from an
+ * image (loading one is io/psc_io_load.h). Host side: uses the heap and
+ * stdio freely.
  */
 #ifndef PSC_PACK_BUILD_H
 #define PSC_PACK_BUILD_H
@@ -37,19 +38,5 @@ void psc_pack_options_default(psc_pack_options_t *o);
  */
 int psc_pack_build(const psc_image_t *img, const psc_pack_options_t *opt,
                    uint8_t **out, size_t *out_len, char *err, size_t errlen);
-
-/** A pack loaded from disk: the aligned file bytes and the parsed view of them. */
-typedef struct {
-    void *buf;       /* 64-byte aligned, malloc'd */
-    size_t len;
-    psc_pack_t pack;
-} psc_pack_file_t;
-
-/** Read and parse a pack file; errors name the file and the problem. */
-int psc_pack_file_load(const char *path, psc_pack_file_t *pf, char *err, size_t errlen);
-void psc_pack_file_free(psc_pack_file_t *pf);
-
-/** Write bytes to a file (atomically: temp file then rename). 0 / -1 with err. */
-int psc_write_file(const char *path, const void *data, size_t len, char *err, size_t errlen);
 
 #endif

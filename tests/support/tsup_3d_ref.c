@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "image_io.h"
+#include "psc_io_png.h"
 
 typedef struct {
     double p[3];      /* camera space */
@@ -283,5 +284,5 @@ void tsup_save_png(const psc_surface_t *s, const char *name)
     const char *dir = getenv("PSC_TEST_TMPDIR");
     char path[512], err[256];
     snprintf(path, sizeof path, "%s/%s", dir && *dir ? dir : ".", name);
-    (void)psc_surface_write_png(path, s, err, sizeof err);
+    (void)psc_io_png_write(path, s, err, sizeof err);
 }

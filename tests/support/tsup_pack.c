@@ -5,6 +5,7 @@
 #include "pack_build.h"
 #include "psc_testsupport.h"
 #include "tsup_pack.h"
+#include "psc_io_file.h"
 
 int tsup_write_synth_pack(const char *path, uint32_t map_w, uint32_t map_h, uint16_t disp_w, uint16_t disp_h,
                           uint16_t lut_rows, uint16_t lut_cols, char *err, size_t errlen)
@@ -31,7 +32,7 @@ int tsup_write_synth_pack(const char *path, uint32_t map_w, uint32_t map_h, uint
     free(img.xrgb);
     if (rc != 0)
         return -1;
-    rc = psc_write_file(path, buf, len, err, errlen);
+    rc = psc_io_write_atomic(path, buf, len, err, errlen);
     free(buf);
     return rc;
 }

@@ -1,10 +1,10 @@
-/* errmsg.c - "PATH: problem" messages for the host tools (see errmsg.h). */
-#include "errmsg.h"
+/* psc_io_error.c - "PATH: problem" messages (psc_io_error.h). */
+#include "psc_io_error.h"
 
 #include <stdarg.h>
 #include <stdio.h>
 
-int psc_errorf(char *err, size_t errlen, const char *path, const char *fmt, ...)
+int psc_io_errorf(char *err, size_t errlen, const char *path, const char *fmt, ...)
 {
     if (err && errlen > 0) {
         int n = snprintf(err, errlen, "%s: ", path ? path : "(no file)");

@@ -1,14 +1,24 @@
 /*
- * contact_sheet.c - a grid of shrunken captured frames (contact_sheet.h).
+ * sim_capture_sheet.c - after a simulated run, one PNG that shows the whole
+ * run at a glance: the captured frames, shrunk by an integer factor to about
+ * 160 pixels wide (box filter: the average of each factor x factor block),
+ * in a grid of SHEET_COLUMNS columns, each labelled with its frame number.
+ * The sim display writes it when it closes (option contact_sheet): it reads
+ * its own captures back, after the frame loop, so its heap use never
+ * touches the no-allocation rule of the loop.
  */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "contact_sheet.h"
-#include "image_io.h"
 #include "psc_hal.h"
-#include "sim/psc_hal_sim.h"
+#include "psc_hal_sim.h"
+#include "psc_io_png.h"
+#include "sim_internal.h"
+
+#define SHEET_COLUMNS 6u
+#define SHEET_THUMB_WIDTH 160u
+#define SHEET_MAX_THUMBS 60u   /* more captures: an evenly spread subset */
 
 #define SHEET_GAP 6u
 #define SHEET_BACKGROUND 0xFF202020u
@@ -17,11 +27,17 @@
 #define SHEET_LABEL_HEIGHT (5u * SHEET_DIGIT_SCALE + 4u)
 
 /* 3x5 digit glyphs, one bit per pixel, top row in the highest 3 bits. */
+/* The sheet being drawn: XRGB pixels, rows without padding. */
+typedef struct {
+    uint32_t width, height;
+    uint32_t *xrgb;
+} sheet_t;
+
 static const uint16_t sheet_digits[10] = {
     075557, 026227, 071747, 071717, 055711, 074717, 074757, 071111, 075757, 075717,
 };
 
-static void sheet_put_digit(psc_image_t *sheet, uint32_t x0, uint32_t y0, unsigned d)
+static void sheet_put_digit(sheet_t *sheet, uint32_t x0, uint32_t y0, unsigned d)
 {
     for (unsigned row = 0; row < 5; row++) {
         unsigned bits = (sheet_digits[d] >> (3u * (4u - row))) & 7u;
@@ -38,7 +54,7 @@ static void sheet_put_digit(psc_image_t *sheet, uint32_t x0, uint32_t y0, unsign
     }
 }
 
-static void sheet_put_number(psc_image_t *sheet, uint32_t x, uint32_t y, uint32_t n)
+static void sheet_put_number(sheet_t *sheet, uint32_t x, uint32_t y, uint32_t n)
 {
     char text[12];
     int len = snprintf(text, sizeof text, "%u", (unsigned)n);
@@ -48,7 +64,7 @@ static void sheet_put_number(psc_image_t *sheet, uint32_t x, uint32_t y, uint32_
 }
 
 /* Average each f x f block of img into the sheet at (x0, y0). */
-static void sheet_put_thumb(psc_image_t *sheet, const psc_image_t *img, uint32_t f, uint32_t x0, uint32_t y0)
+static void sheet_put_thumb(sheet_t *sheet, const psc_surface_t *img, uint32_t f, uint32_t x0, uint32_t y0)
 {
     uint32_t tw = img->width / f, th = img->height / f, n = f * f;
 
@@ -56,7 +72,7 @@ static void sheet_put_thumb(psc_image_t *sheet, const psc_image_t *img, uint32_t
         for (uint32_t tx = 0; tx < tw; tx++) {
             uint32_t r = 0, g = 0, b = 0;
             for (uint32_t y = ty * f; y < ty * f + f; y++) {
-                const uint32_t *p = img->xrgb + (size_t)y * img->width + tx * f;
+                const uint32_t *p = (const uint32_t *)((const uint8_t *)img->pixels + (size_t)y * img->stride) + tx * f;
                 for (uint32_t x = 0; x < f; x++) {
                     r += (p[x] >> 16) & 0xFFu;
                     g += (p[x] >> 8) & 0xFFu;
@@ -71,10 +87,11 @@ static void sheet_put_thumb(psc_image_t *sheet, const psc_image_t *img, uint32_t
     }
 }
 
-int psc_contact_sheet_write(const char *capture_dir, uint32_t frames, uint32_t every, const char *out_path,
+int psc_sim_contact_sheet_write(const char *capture_dir, uint32_t frames, uint32_t every, const char *out_path,
                             uint32_t *thumbs, char *err, size_t errlen)
 {
-    psc_image_t sheet = { 0 }, img = { 0 };
+    sheet_t sheet = { 0, 0, NULL };
+    psc_surface_t img = { 0, 0, 0, PSC_PIX_XRGB8888, NULL };
     char path[1100];
     uint32_t captures, shown, step, f = 1, tw = 0, th = 0, cols, rows;
     int rc = -1;
@@ -85,21 +102,21 @@ int psc_contact_sheet_write(const char *capture_dir, uint32_t frames, uint32_t e
         return -1;
     }
     captures = (frames + every - 1u) / every;   /* frames 0, K, 2K, ... < frames */
-    step = (captures + PSC_CONTACT_MAX_THUMBS - 1u) / PSC_CONTACT_MAX_THUMBS;
+    step = (captures + SHEET_MAX_THUMBS - 1u) / SHEET_MAX_THUMBS;
     shown = (captures + step - 1u) / step;
-    cols = shown < PSC_CONTACT_COLUMNS ? shown : PSC_CONTACT_COLUMNS;
+    cols = shown < SHEET_COLUMNS ? shown : SHEET_COLUMNS;
     rows = (shown + cols - 1u) / cols;
 
     for (uint32_t i = 0; i < shown; i++) {
         uint32_t frame = i * step * every;
 
         if (psc_sim_capture_path(path, sizeof path, capture_dir, frame) != 0 ||
-            psc_image_load(path, &img, err, errlen) != 0)
+            psc_io_png_read(path, PSC_MAX_OUT_DIM, &img, err, errlen) != 0)
             goto out;
         if (sheet.xrgb == NULL) {
             /* the first capture fixes the layout; every capture has the display's size */
-            f = img.width > PSC_CONTACT_THUMB_WIDTH ? (img.width + PSC_CONTACT_THUMB_WIDTH / 2u) /
-                                                          PSC_CONTACT_THUMB_WIDTH : 1u;
+            f = img.width > SHEET_THUMB_WIDTH ? (img.width + SHEET_THUMB_WIDTH / 2u) /
+                                                          SHEET_THUMB_WIDTH : 1u;
             tw = img.width / f;
             th = img.height / f;
             sheet.width = SHEET_GAP + cols * (tw + SHEET_GAP);
@@ -122,14 +139,16 @@ int psc_contact_sheet_write(const char *capture_dir, uint32_t frames, uint32_t e
         uint32_t y0 = SHEET_GAP + (i / cols) * (th + SHEET_LABEL_HEIGHT + SHEET_GAP);
         sheet_put_thumb(&sheet, &img, f, x0, y0);
         sheet_put_number(&sheet, x0, y0 + th + 3u, frame);
-        psc_image_free(&img);
+        free(img.pixels);
+        img.pixels = NULL;
     }
-    if (psc_image_write_png(out_path, &sheet, err, errlen) != 0)
+    psc_surface_t out = {(uint16_t)sheet.width, (uint16_t)sheet.height, sheet.width * 4u, PSC_PIX_XRGB8888, sheet.xrgb};
+    if (psc_io_png_write(out_path, &out, err, errlen) != 0)
         goto out;
     *thumbs = shown;
     rc = 0;
 out:
-    psc_image_free(&img);
+    free(img.pixels);
     free(sheet.xrgb);
     return rc;
 }

@@ -1,0 +1,48 @@
+/*
+ * app_internal.h - the device program's state, shared by start-up and
+ * shutdown (app.c) and the frame loop (frame_loop.c). Each part is its own
+ * module's: devices.h, scene_list.h, kiosk.h, controls.h, motion.h, quality.h.
+ */
+#ifndef PSC_APP_INTERNAL_H
+#define PSC_APP_INTERNAL_H
+
+#include "app.h"
+#include "controls.h"
+#include "devices.h"
+#include "frame_pacer.h"
+#include "kiosk.h"
+#include "motion.h"
+#include "quality.h"
+#include "scene_list.h"
+
+struct psc_app {
+    psc_board_config_t board;
+    char board_path[PSC_BOARD_PATH_MAX + 64];
+    char out_dir[PSC_BOARD_PATH_MAX];
+    uint32_t capture_every;
+    uint32_t max_frames;
+    bool quiet;
+    psc_cli_dump_t dumps[PSC_CLI_MAX_DUMPS];
+    unsigned dump_count;
+
+    psc_devices_t dev;
+    psc_scene_list_t scenes;
+    psc_kiosk_t kiosk;
+    psc_controls_t controls;
+    psc_motion_t motion;
+    psc_quality_config_t quality_cfg;
+    psc_quality_t quality;
+    psc_frame_pacer_t pacer;
+    uint32_t scene_switches;
+};
+
+/**
+ * Put scene i on screen with the camera at its home view: its limits and
+ * the board's rates become the motion model's. 0, or -1 with err.
+ */
+int psc_app_enter_scene(psc_app_t *app, unsigned i, char *err, size_t errlen);
+
+/** millidegrees (or per second) to bam in 64 bits, rounded to nearest: 720 deg/s is two turns. */
+int64_t psc_app_bam_from_mdeg(int64_t mdeg);
+
+#endif

@@ -1,0 +1,62 @@
+/*
+ * kiosk.h - what makes the device program a kiosk rather than a viewer:
+ * attract mode (a slow turn after the idle time, handed back without a jump
+ * when someone touches the controls, attract.h), the tour's hotspots
+ * followed with select (hotspots.h), and the one-shot buttons: home, next
+ * and previous scene. It decides; the frame loop carries the decision out.
+ */
+#ifndef PSC_KIOSK_H
+#define PSC_KIOSK_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "attract.h"
+#include "controls.h"
+#include "hotspots.h"
+#include "motion.h"
+
+typedef struct {
+    psc_attract_t attract;
+    const psc_hotspot_t *hotspots;     /* the board's, or none with --scene */
+    unsigned hotspot_count;
+    bool quiet;                        /* no log lines */
+    uint32_t attract_starts;           /* for the closing report */
+    uint32_t hotspot_follows;
+} psc_kiosk_t;
+
+/** A scene change the kiosk asks for this frame. */
+typedef struct {
+    unsigned scene;                    /* where to go */
+    const psc_hotspot_t *via;          /* the hotspot followed (its view is where to look), or NULL */
+} psc_kiosk_go_t;
+
+/** Start: attract after idle_ms without input (0 = never) turning at rate bam/s; now_us starts the idle time. */
+void psc_kiosk_init(psc_kiosk_t *k, uint32_t idle_ms, int64_t rate, uint64_t now_us, const psc_hotspot_t *hotspots,
+                    unsigned hotspot_count, bool quiet);
+
+/**
+ * Take this frame's one-shot presses from c: select follows the hotspot in
+ * view (in a scene with places), home starts the glide home on m, next and
+ * previous step through the scene_count scenes. Returns true with *go set
+ * when the scene is to change.
+ */
+bool psc_kiosk_requests(psc_kiosk_t *k, psc_controls_t *c, psc_motion_t *m, unsigned scene, unsigned scene_count,
+                        bool places, psc_kiosk_go_t *go);
+
+/**
+ * Move the camera this frame: the person's input through the motion model,
+ * or - after the idle time without any - attract mode's slow turn. activity
+ * is a button event this frame; stick input counts too. Input stops
+ * attract with the view where it is and the model at rest.
+ */
+void psc_kiosk_step_camera(psc_kiosk_t *k, psc_motion_t *m, const psc_motion_input_t *in, bool activity,
+                           uint64_t now_us, uint32_t dt_us, uint32_t frame);
+
+/**
+ * The view a followed hotspot opens, brought inside the new scene's limits
+ * (m's, set by entering that scene); home stays the scene's own default.
+ */
+void psc_kiosk_look_through(const psc_hotspot_t *h, psc_motion_t *m);
+
+#endif

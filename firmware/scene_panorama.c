@@ -1,0 +1,164 @@
+/*
+ * scene_panorama.c - the panorama scene: a scene pack (core/pack/psc_pack.h)
+ * shown by the look-up-table viewer, with the tour's hotspots drawn on it.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "psc_hal.h"
+#include "psc_io_load.h"
+#include "scene.h"
+#include "scene_panorama.h"
+
+/* millidegrees to bam in 64 bits, rounded to nearest */
+static int64_t panorama_bam_from_mdeg(int64_t mdeg)
+{
+    int64_t n = mdeg * 4294967296LL;
+
+    return (n + (n >= 0 ? 180000 : -180000)) / 360000;
+}
+
+/* A bam angle as degrees with 2 decimals ("20.00"), for messages. */
+static void panorama_format_degrees(char *buf, size_t len, psc_bam_t bam)
+{
+    uint64_t cdeg = ((uint64_t)bam * 36000u + 2147483648u) >> 32;
+
+    snprintf(buf, len, "%llu.%02llu", (unsigned long long)(cdeg / 100u), (unsigned long long)(cdeg % 100u));
+}
+
+int psc_panorama_load(psc_scene_t *s, psc_panorama_t *p, char *err, size_t errlen)
+{
+    const psc_scene_env_t *env = s->env;
+
+    if (psc_io_pack_load(s->path, &p->file, err, errlen) != 0)
+        return -1;
+    if (p->file.pack.display_width != env->width || p->file.pack.display_height != env->height)
+        fprintf(stderr, "periscope: note: %s was packed for a %ux%u display, this one is %ux%u; "
+                        "it will render, with tables not tuned for this size\n",
+                s->path, (unsigned)p->file.pack.display_width, (unsigned)p->file.pack.display_height,
+                (unsigned)env->width, (unsigned)env->height);
+    return 0;
+}
+
+int psc_panorama_show(psc_scene_t *s, psc_panorama_t *p, const psc_envmap_t *map, const char *what, char *err,
+                      size_t errlen)
+{
+    const psc_pack_t *pk = &p->file.pack;
+    psc_status_t st = psc_viewer_init(&p->viewer, map, pk->luts, pk->lut_count, s->env->width, s->env->height,
+                                      p->ws, p->ws_size);
+
+    /* the pyramid belongs to the pack's own map only */
+    if (st == PSC_OK && map == &pk->map)
+        st = psc_viewer_set_levels(&p->viewer, pk->levels, pk->level_count);
+    if (st != PSC_OK) {
+        psc_hal_error_set(err, errlen, "%s: %s: %s", s->path, what, psc_status_str(st));
+        return -1;
+    }
+    return 0;
+}
+
+int psc_panorama_enter(psc_scene_t *s, psc_panorama_t *p, void *ws, size_t ws_size, psc_scene_limits_t *lim,
+                       char *err, size_t errlen)
+{
+    const psc_board_config_t *b = s->env->board;
+    const psc_pack_t *pk = &p->file.pack;
+
+    p->ws = ws;
+    p->ws_size = ws_size;
+    if (psc_panorama_show(s, p, &pk->map, "the viewer cannot show this scene", err, errlen) != 0)
+        return -1;
+    *lim = (psc_scene_limits_t){
+        .pitch_min = (int32_t)panorama_bam_from_mdeg(b->pitch_min_mdeg),
+        .pitch_max = (int32_t)panorama_bam_from_mdeg(b->pitch_max_mdeg),
+        .hfov_min = pk->hfov_min,
+        .hfov_max = psc_viewer_hfov_max(&p->viewer),
+        .pan_follows_zoom = b->pan_follows_zoom,
+        .home = { .yaw = pk->default_yaw, .pitch = pk->default_pitch, .hfov = pk->default_hfov },
+    };
+    /* the board may narrow the zoom range, never widen it past the tables */
+    if (b->hfov_min_mdeg != 0 && (psc_bam_t)panorama_bam_from_mdeg(b->hfov_min_mdeg) > lim->hfov_min)
+        lim->hfov_min = (psc_bam_t)panorama_bam_from_mdeg(b->hfov_min_mdeg);
+    if (b->hfov_max_mdeg != 0 && (psc_bam_t)panorama_bam_from_mdeg(b->hfov_max_mdeg) < lim->hfov_max)
+        lim->hfov_max = (psc_bam_t)panorama_bam_from_mdeg(b->hfov_max_mdeg);
+    if (lim->hfov_min >= lim->hfov_max) {
+        char lo[16], hi[16];
+        panorama_format_degrees(lo, sizeof lo, pk->hfov_min);
+        panorama_format_degrees(hi, sizeof hi, psc_viewer_hfov_max(&p->viewer));
+        psc_hal_error_set(err, errlen, "%s: hfov_min/hfov_max leave no zoom range for scene %s, which "
+                          "allows hfov %s to %s degrees", b->file, s->path, lo, hi);
+        return -1;
+    }
+    p->hfov_min = lim->hfov_min;
+    return 0;
+}
+
+/* ---- the ops -------------------------------------------------------------------------------- */
+
+static int panorama_load(psc_scene_t *s, const psc_scene_env_t *env, char *err, size_t errlen)
+{
+    psc_panorama_t *p = calloc(1, sizeof *p);
+
+    (void)env;
+    if (p == NULL) {
+        psc_hal_error_set(err, errlen, "%s: out of memory", s->path);
+        return -1;
+    }
+    s->state = p;
+    return psc_panorama_load(s, p, err, errlen);
+}
+
+static size_t panorama_workspace_size(const psc_scene_t *s, const psc_scene_env_t *env)
+{
+    const psc_panorama_t *p = s->state;
+
+    return psc_viewer_workspace_size(env->width, env->height, &p->file.pack.map);
+}
+
+static int panorama_enter(psc_scene_t *s, const psc_scene_env_t *env, void *ws, size_t ws_size,
+                          psc_scene_limits_t *lim, char *err, size_t errlen)
+{
+    (void)env;
+    return psc_panorama_enter(s, s->state, ws, ws_size, lim, err, errlen);
+}
+
+void psc_panorama_clamp(psc_scene_t *s, psc_view_t *view)
+{
+    psc_panorama_t *p = s->state;
+
+    psc_viewer_clamp(&p->viewer, view, p->hfov_min);
+}
+
+psc_status_t psc_panorama_render(psc_scene_t *s, const psc_view_t *view, const psc_surface_t *out)
+{
+    psc_panorama_t *p = s->state;
+
+    return psc_viewer_render(&p->viewer, view, out);
+}
+
+void psc_panorama_overlay(psc_scene_t *s, const psc_view_t *view, const psc_surface_t *out)
+{
+    psc_hotspots_draw(s->env->hotspots, s->env->hotspot_count, s->index, view, out);
+}
+
+void psc_panorama_unload(psc_scene_t *s)
+{
+    psc_panorama_t *p = s->state;
+
+    if (p != NULL)
+        psc_io_pack_free(&p->file);
+    free(p);
+    s->state = NULL;
+}
+
+const psc_scene_ops_t psc_scene_panorama = {
+    .name = "panorama",
+    .magic = PSC_PACK_MAGIC,
+    .places = true,
+    .load = panorama_load,
+    .workspace_size = panorama_workspace_size,
+    .enter = panorama_enter,
+    .clamp = psc_panorama_clamp,
+    .render = psc_panorama_render,
+    .overlay = psc_panorama_overlay,
+    .unload = psc_panorama_unload,
+};

@@ -1,0 +1,28 @@
+/*
+ * psc_io_file.h - whole files in and out: read a file into a fresh 64-byte
+ * aligned buffer, the way the in-place parsers of core want it, and replace a
+ * file atomically so that a reader never sees half of one.
+ */
+#ifndef PSC_IO_FILE_H
+#define PSC_IO_FILE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#define PSC_IO_FILE_ALIGN 64u
+
+/**
+ * Read path (a regular, non-empty file of at most max_size bytes) into *buf
+ * (malloc'd, PSC_IO_FILE_ALIGN-aligned; free()) and *len. 0, or -1 with err
+ * naming the file and the problem.
+ */
+int psc_io_read_aligned(const char *path, uint64_t max_size, void **buf, size_t *len, char *err, size_t errlen);
+
+/** Write bytes to a file atomically (a temporary beside it, then rename). 0 / -1 with err. */
+int psc_io_write_atomic(const char *path, const void *data, size_t len, char *err, size_t errlen);
+
+/** True when path can be opened and starts with the n bytes of magic. */
+bool psc_io_file_has_magic(const char *path, const char *magic, size_t n);
+
+#endif

@@ -1,0 +1,100 @@
+/*
+ * psc_io_load.c - load scene packs, mesh packs and fisheye tables by path and
+ * parse them with core's parsers (exactly what the device does).
+ */
+#include "psc_io_load.h"
+#include "psc_io_error.h"
+#include "psc_io_file.h"
+
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+int psc_io_container_errorf(char *err, size_t errlen, const char *name, const char *prefix, psc_status_t s,
+                            const psc_container_error_t *e)
+{
+    return psc_io_errorf(err, errlen, name, "%s%s (offset %u): %s", prefix, e->what ? e->what : "invalid file",
+                         (unsigned)e->offset, psc_status_str(s));
+}
+
+int psc_io_container_read(const char *path, void **buf, size_t *len, char *err, size_t errlen)
+{
+    if (!path)
+        return psc_io_errorf(err, errlen, "(file)", "no file to load");
+    return psc_io_read_aligned(path, UINT32_MAX, buf, len, err, errlen);
+}
+
+int psc_io_pack_load(const char *path, psc_io_pack_t *pf, char *err, size_t errlen)
+{
+    psc_container_error_t e = {0};
+    psc_status_t s;
+
+    memset(pf, 0, sizeof *pf);
+    if (psc_io_container_read(path, &pf->buf, &pf->len, err, errlen) != 0)
+        return -1;
+    if ((s = psc_pack_parse(pf->buf, pf->len, &pf->pack, &e)) != PSC_OK) {
+        psc_io_pack_free(pf);
+        return psc_io_container_errorf(err, errlen, path, "", s, &e);
+    }
+    return 0;
+}
+
+void psc_io_pack_free(psc_io_pack_t *pf)
+{
+    if (!pf)
+        return;
+    free(pf->buf);
+    memset(pf, 0, sizeof *pf);
+}
+
+int psc_io_mesh_parse_named(const char *name, const void *buf, size_t len, psc_mesh_t *mesh, char *err,
+                            size_t errlen)
+{
+    psc_container_error_t e = {0};
+    psc_status_t s = psc_mesh_parse(buf, len, mesh, &e);
+
+    return s == PSC_OK ? 0 : psc_io_container_errorf(err, errlen, name, "", s, &e);
+}
+
+int psc_io_mesh_load(const char *path, psc_io_mesh_t *mf, char *err, size_t errlen)
+{
+    memset(mf, 0, sizeof *mf);
+    if (psc_io_container_read(path, &mf->buf, &mf->len, err, errlen) != 0)
+        return -1;
+    if (psc_io_mesh_parse_named(path, mf->buf, mf->len, &mf->mesh, err, errlen) != 0) {
+        psc_io_mesh_free(mf);
+        return -1;
+    }
+    return 0;
+}
+
+void psc_io_mesh_free(psc_io_mesh_t *mf)
+{
+    if (!mf)
+        return;
+    free(mf->buf);
+    memset(mf, 0, sizeof *mf);
+}
+
+int psc_io_fisheye_load(const char *path, psc_io_fisheye_t *ff, char *err, size_t errlen)
+{
+    psc_container_error_t e = {0};
+    psc_status_t s;
+
+    memset(ff, 0, sizeof *ff);
+    if (psc_io_container_read(path, &ff->buf, &ff->len, err, errlen) != 0)
+        return -1;
+    if ((s = psc_fisheye_parse(ff->buf, ff->len, &ff->table, &e)) != PSC_OK) {
+        psc_io_fisheye_free(ff);
+        return psc_io_container_errorf(err, errlen, path, "not a usable dual-fisheye table: ", s, &e);
+    }
+    return 0;
+}
+
+void psc_io_fisheye_free(psc_io_fisheye_t *ff)
+{
+    if (!ff)
+        return;
+    free(ff->buf);
+    memset(ff, 0, sizeof *ff);
+}
