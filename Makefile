@@ -188,7 +188,7 @@ $(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(TESTSUP_LIB) $(FW_LIB) $(HAL_LIB) $(H
 # ---- run: the viewer on the simulated board --------------------------------
 SAMPLE_JPG := assets/pannellum-examplepano.jpg
 SAMPLE_PACK := out/sample.pano
-SIM_DISPLAY := $(shell sed -n 's/^display_size[ =]*//p' boards/sim/board.conf 2>/dev/null | head -1)
+SIM_DISPLAY := $(shell sh scripts/board-key sim display_size)
 
 $(SAMPLE_PACK): $(SAMPLE_JPG) $(BUILD)/bin/periscope-pack boards/sim/board.conf
 	@mkdir -p $(@D)

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "board_config.h"
+#include "board_file.h"
 #include "psc_hal_parse.h"
 
 typedef enum {
@@ -262,8 +263,6 @@ static int board_parse_backend(board_parser_t *p, const key_spec_t *k, const cha
     return board_set_string(p, field, PSC_BOARD_NAME_MAX, k->key, value);
 }
 
-static char *board_trim(char *s);
-
 /* "gpio,usb": every name a backend of this build, none twice (the HAL
  * merges the list into one input, psc_hal_input_multi.h). */
 static int board_parse_backend_list(board_parser_t *p, const key_spec_t *k, const char *value, char *field)
@@ -277,7 +276,7 @@ static int board_parse_backend_list(board_parser_t *p, const key_spec_t *k, cons
         return board_fail(p, "%s list '%s' is too long", k->key, value);
     strcpy(names, value);
     for (tok = strtok_r(names, ",", &save); tok != NULL; tok = strtok_r(NULL, ",", &save)) {
-        char *name = board_trim(tok), key[PSC_BOARD_NAME_MAX + 2];
+        char *name = psc_board_trim(tok), key[PSC_BOARD_NAME_MAX + 2];
         char scratch[PSC_BOARD_NAME_MAX];
 
         snprintf(key, sizeof key, ",%s,", name);
@@ -387,48 +386,9 @@ static int board_add_option(board_parser_t *p, psc_board_dev_t dev, const char *
     return 0;
 }
 
-static char *board_trim(char *s)
+/* One "key = value" line of the board file (board_file.h did the syntax). */
+static int board_parse_line(board_parser_t *p, const char *key, const char *value)
 {
-    char *e;
-
-    while (*s == ' ' || *s == '\t')
-        s++;
-    e = s + strlen(s);
-    while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r'))
-        *--e = '\0';
-    return s;
-}
-
-static int board_parse_line(board_parser_t *p, char *line)
-{
-    char *key, *value, *eq;
-
-    /* a comment starts at '#' at the line start or after blank space, so a
-     * path may still contain '#' */
-    for (char *c = line; *c; c++) {
-        if (*c == '#' && (c == line || c[-1] == ' ' || c[-1] == '\t')) {
-            *c = '\0';
-            break;
-        }
-    }
-    key = board_trim(line);
-    if (*key == '\0')
-        return 0;
-    eq = strchr(key, '=');
-    if (eq == NULL)
-        return board_fail(p, "expected 'key = value', got '%s'%s", key, "");
-    *eq = '\0';
-    value = board_trim(eq + 1);
-    key = board_trim(key);
-    if (*key == '\0')
-        return board_fail(p, "a line starts with '=': the key is missing%s%s", "", "");
-    for (const char *c = key; *c; c++)
-        if (!((*c >= 'a' && *c <= 'z') || (*c >= '0' && *c <= '9') || *c == '_' || *c == '.'))
-            return board_fail(p, "'%s' is not a key (keys are lower case letters, digits, '_' and '.')%s",
-                              key, "");
-    if (*value == '\0')
-        return board_fail(p, "%s has no value%s", key, "");
-
     for (unsigned d = 0; d < PSC_BOARD_DEV_COUNT; d++) {
         size_t n = strlen(dev_prefix[d]);
         if (strncmp(key, dev_prefix[d], n) == 0)
@@ -528,60 +488,42 @@ int psc_board_config_parse(const char *text, size_t len, const char *file, psc_b
                            char *err, size_t errlen)
 {
     board_parser_t p = { .cfg = cfg, .file = file, .err = err, .errlen = errlen };
-    size_t pos = 0;
+    psc_board_lines_t *lines = malloc(sizeof *lines);
+    const char *key, *value;
+    char why[PSC_BOARD_LINE_MAX + 128];
+    int rc;
 
     snprintf(cfg->file, sizeof cfg->file, "%s", file);
-    while (pos < len) {
-        char line[PSC_BOARD_PATH_MAX + 128];
-        size_t start = pos, n;
-
-        while (pos < len && text[pos] != '\n')
-            pos++;
-        n = pos - start;
-        pos++;
-        p.line++;
-        if (memchr(text + start, '\0', n) != NULL)
-            return board_fail(&p, "the line contains a NUL byte (is this a text file?)%s%s", "", "");
-        if (n >= sizeof line)
-            return board_fail(&p, "the line is longer than %s characters%s", "383", "");
-        memcpy(line, text + start, n);
-        line[n] = '\0';
-        if (board_parse_line(&p, line) != 0)
-            return -1;
+    if (lines == NULL) {
+        psc_hal_error_set(err, errlen, "%s: out of memory", file);
+        return -1;
     }
+    psc_board_lines_init(lines, text, len);
+    while ((rc = psc_board_lines_next(lines, &key, &value, why, sizeof why)) == 1) {
+        p.line = lines->line;
+        if (board_parse_line(&p, key, value) != 0)
+            break;
+    }
+    p.line = lines->line;
+    free(lines);
+    if (rc < 0)
+        return board_fail(&p, "%s%s", why, "");
+    if (rc > 0)
+        return -1;
     return board_check(&p);
 }
 
 int psc_board_config_load(const char *path, psc_board_config_t *cfg, char *err, size_t errlen)
 {
-    enum { BOARD_FILE_MAX = 64 * 1024 };
-    FILE *f = fopen(path, "rb");
-    char *buf;
+    char *text;
     size_t len;
     int rc;
 
     psc_board_config_defaults(cfg);
-    if (f == NULL) {
-        psc_hal_error_set(err, errlen, "cannot read board file %s: %s", path, strerror(errno));
+    if (psc_board_file_read(path, &text, &len, err, errlen) != 0)
         return -1;
-    }
-    buf = malloc(BOARD_FILE_MAX + 1);
-    if (buf == NULL) {
-        fclose(f);
-        psc_hal_error_set(err, errlen, "%s: out of memory", path);
-        return -1;
-    }
-    len = fread(buf, 1, BOARD_FILE_MAX + 1, f);
-    if (ferror(f) || len > BOARD_FILE_MAX) {
-        psc_hal_error_set(err, errlen, ferror(f) ? "cannot read board file %s: read error"
-                                                 : "board file %s is larger than 64 KiB", path);
-        fclose(f);
-        free(buf);
-        return -1;
-    }
-    fclose(f);
-    rc = psc_board_config_parse(buf, len, path, cfg, err, errlen);
-    free(buf);
+    rc = psc_board_config_parse(text, len, path, cfg, err, errlen);
+    free(text);
     return rc;
 }
 

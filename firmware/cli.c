@@ -1,6 +1,7 @@
 /*
- * cli.c - parse the device program's command line (see cli.h). Kept out of
- * main.c so tests can feed it argument vectors.
+ * cli.c - parse the device program's command line (see cli.h) with the
+ * programs' one convention (io/psc_io_cli.h). Kept out of main.c so tests
+ * can feed it argument vectors.
  */
 #include <string.h>
 
@@ -8,12 +9,14 @@
 #include "frame_dump.h"
 #include "psc_hal.h"
 #include "psc_hal_parse.h"
+#include "psc_io_cli.h"
 
 const char *psc_cli_usage(void)
 {
     return "usage: periscope --board NAME [--boards-dir DIR] [--scene PACK] [--out DIR]\n"
            "                 [--tour FILE] [--frames-every K] [--max-frames N] [--quiet]\n"
            "                 [--dump-frame N:PATH]...\n"
+           "       periscope --board NAME --print-key KEY\n"
            "  --board NAME        read DIR/NAME/board.conf\n"
            "  --boards-dir DIR    where board descriptions live (default: boards)\n"
            "  --scene PACK        show this scene pack instead of the board's scene list\n"
@@ -23,7 +26,12 @@ const char *psc_cli_usage(void)
            "  --max-frames N      stop after N frames (default: when the input quits)\n"
            "  --quiet             no log line per input or quality event\n"
            "  --dump-frame N:PATH write frame N (from 0) as presented to PATH: raw pixels, rows of\n"
-           "                      width x bytes per pixel, no header (repeatable, up to 8)\n";
+           "                      width x bytes per pixel, no header (repeatable, up to 8)\n"
+           "  --print-key KEY     print the board file's value of KEY as written, and run nothing\n"
+           "                      (the build and image scripts read board files this way)\n"
+           "  --version           the program's version\n"
+           "  --help              this text\n"
+           "Options take their value as --opt VALUE or --opt=VALUE.\n";
 }
 
 /* A whole number for --frames-every / --max-frames. */
@@ -37,63 +45,89 @@ static int cli_number(const char *flag, const char *value, int64_t max, int64_t 
     return 0;
 }
 
+enum {
+    OPT_BOARD = 0x100, OPT_BOARDS_DIR, OPT_SCENE, OPT_OUT, OPT_TOUR, OPT_FRAMES_EVERY, OPT_MAX_FRAMES, OPT_QUIET,
+    OPT_DUMP_FRAME, OPT_PRINT_KEY,
+};
+
+static const struct option cli_options[] = {
+    {"board", required_argument, NULL, OPT_BOARD},
+    {"boards-dir", required_argument, NULL, OPT_BOARDS_DIR},
+    {"scene", required_argument, NULL, OPT_SCENE},
+    {"out", required_argument, NULL, OPT_OUT},
+    {"tour", required_argument, NULL, OPT_TOUR},
+    {"frames-every", required_argument, NULL, OPT_FRAMES_EVERY},
+    {"max-frames", required_argument, NULL, OPT_MAX_FRAMES},
+    {"quiet", no_argument, NULL, OPT_QUIET},
+    {"dump-frame", required_argument, NULL, OPT_DUMP_FRAME},
+    {"print-key", required_argument, NULL, OPT_PRINT_KEY},
+    PSC_IO_CLI_COMMON_OPTIONS,
+};
+
+/* One option and its value into o. */
+static int cli_take(psc_cli_options_t *o, int opt, const char *name, const char *v, char *err, size_t errlen)
+{
+    int64_t n;
+
+    if (v != NULL && v[0] == '\0') {
+        psc_hal_error_set(err, errlen, "option '%s' needs a value", name);
+        return -1;
+    }
+    switch (opt) {
+    case OPT_BOARD: o->board = v; break;
+    case OPT_BOARDS_DIR: o->boards_dir = v; break;
+    case OPT_SCENE: o->scene = v; break;
+    case OPT_OUT: o->out_dir = v; break;
+    case OPT_TOUR: o->tour = v; break;
+    case OPT_QUIET: o->quiet = true; break;
+    case OPT_PRINT_KEY: o->print_key = v; break;
+    case OPT_FRAMES_EVERY:
+        if (cli_number(name, v, 1000000, &n, err, errlen) != 0)
+            return -1;
+        o->frames_every = n;
+        break;
+    case OPT_MAX_FRAMES:
+        if (cli_number(name, v, UINT32_MAX, &n, err, errlen) != 0)
+            return -1;
+        o->max_frames = (uint32_t)n;
+        break;
+    case OPT_DUMP_FRAME:
+        if (o->dump_count == PSC_CLI_MAX_DUMPS) {
+            psc_hal_error_set(err, errlen, "--dump-frame is given more than %u times", PSC_CLI_MAX_DUMPS);
+            return -1;
+        }
+        if (psc_frame_dump_parse(v, &o->dumps[o->dump_count].frame, &o->dumps[o->dump_count].path) != 0) {
+            psc_hal_error_set(err, errlen, "--dump-frame needs FRAME:PATH (e.g. 30:/tmp/frame30.raw), got '%s'", v);
+            return -1;
+        }
+        o->dump_count++;
+        break;
+    }
+    return 0;
+}
+
 int psc_cli_parse(int argc, char *const *argv, psc_cli_options_t *o, char *err, size_t errlen)
 {
-    *o = (psc_cli_options_t){ .boards_dir = "boards", .frames_every = -1 };
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        int64_t n;
+    psc_io_cli_t c;
+    int opt;
 
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            o->help = true;
+    *o = (psc_cli_options_t){ .boards_dir = "boards", .frames_every = -1 };
+    /* getopt moves the arguments that are not options behind the options */
+    psc_io_cli_begin(&c, argc, (char **)argv, "h", cli_options);
+    while ((opt = psc_io_cli_next(&c, err, errlen)) != 0) {
+        if (opt < 0)
+            return -1;
+        if (opt == PSC_IO_CLI_HELP || opt == PSC_IO_CLI_VERSION) {
+            o->help = opt == PSC_IO_CLI_HELP;
+            o->version = opt == PSC_IO_CLI_VERSION;
             return 0;
         }
-        if (strcmp(a, "--quiet") == 0) {
-            o->quiet = true;
-            continue;
-        }
-        if (strncmp(a, "--", 2) != 0) {
-            psc_hal_error_set(err, errlen, "unexpected argument '%s' (options start with --)", a);
+        if (cli_take(o, opt, c.name, c.arg, err, errlen) != 0)
             return -1;
-        }
-        if (v == NULL || v[0] == '\0') {
-            psc_hal_error_set(err, errlen, "%s needs a value", a);
-            return -1;
-        }
-        i++;
-        if (strcmp(a, "--board") == 0) {
-            o->board = v;
-        } else if (strcmp(a, "--boards-dir") == 0) {
-            o->boards_dir = v;
-        } else if (strcmp(a, "--scene") == 0) {
-            o->scene = v;
-        } else if (strcmp(a, "--out") == 0) {
-            o->out_dir = v;
-        } else if (strcmp(a, "--tour") == 0) {
-            o->tour = v;
-        } else if (strcmp(a, "--frames-every") == 0) {
-            if (cli_number(a, v, 1000000, &n, err, errlen) != 0)
-                return -1;
-            o->frames_every = n;
-        } else if (strcmp(a, "--dump-frame") == 0) {
-            if (o->dump_count == PSC_CLI_MAX_DUMPS) {
-                psc_hal_error_set(err, errlen, "--dump-frame is given more than %u times", PSC_CLI_MAX_DUMPS);
-                return -1;
-            }
-            if (psc_frame_dump_parse(v, &o->dumps[o->dump_count].frame, &o->dumps[o->dump_count].path) != 0) {
-                psc_hal_error_set(err, errlen, "--dump-frame needs FRAME:PATH (e.g. 30:/tmp/frame30.raw), got '%s'", v);
-                return -1;
-            }
-            o->dump_count++;
-        } else if (strcmp(a, "--max-frames") == 0) {
-            if (cli_number(a, v, UINT32_MAX, &n, err, errlen) != 0)
-                return -1;
-            o->max_frames = (uint32_t)n;
-        } else {
-            psc_hal_error_set(err, errlen, "unknown option '%s'", a);
-            return -1;
-        }
+    }
+    if (psc_io_cli_rest(&c) < argc) {
+        psc_hal_error_set(err, errlen, "unexpected argument '%s' (options start with --)", argv[psc_io_cli_rest(&c)]);
+        return -1;
     }
     if (o->board == NULL) {
         psc_hal_error_set(err, errlen, "--board NAME is required (e.g. --board sim)");

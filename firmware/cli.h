@@ -4,7 +4,11 @@
  *   periscope --board NAME [--boards-dir DIR] [--scene PACK] [--out DIR]
  *             [--tour FILE] [--frames-every K] [--max-frames N] [--quiet]
  *             [--dump-frame N:PATH]...
+ *   periscope --board NAME --print-key KEY
+ *   periscope --help | --version
  *
+ * Options follow the programs' one convention (io/psc_io_cli.h): --opt VALUE
+ * or --opt=VALUE, whole option names only.
  * The board file is DIR/NAME/board.conf (DIR defaults to "boards"). --scene
  * replaces the board's scene list with one pack; --tour replaces its tour;
  * --out is where the sim display captures frames and the contact sheet goes
@@ -40,13 +44,16 @@ typedef struct {
     uint32_t max_frames;        /* 0 = until the input says quit */
     bool quiet;                 /* no per-event log lines */
     bool help;                  /* --help: print usage, run nothing */
+    bool version;               /* --version: print the version, run nothing */
+    const char *print_key;      /* --print-key KEY: print the board file's KEY, run nothing */
     psc_cli_dump_t dumps[PSC_CLI_MAX_DUMPS];   /* --dump-frame N:PATH */
     unsigned dump_count;
 } psc_cli_options_t;
 
 /**
- * Parse argv[1..argc). Returns 0 (with help set for --help), or -1 with err
- * naming the bad argument and what was expected.
+ * Parse argv[1..argc) (getopt may reorder argv). Returns 0 (with help or
+ * version set for --help / --version, and then nothing else checked), or -1
+ * with err naming the bad argument and what was expected.
  */
 int psc_cli_parse(int argc, char *const *argv, psc_cli_options_t *o, char *err, size_t errlen);
 

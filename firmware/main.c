@@ -7,7 +7,9 @@
 #include <stdio.h>
 
 #include "app.h"
+#include "board_file.h"
 #include "cli.h"
+#include "psc_io_cli.h"
 
 static void main_report(const psc_app_stats_t *st, const char *out_dir)
 {
@@ -51,6 +53,26 @@ static void main_catch_signals(void)
     sigaction(SIGINT, &sa, NULL);
 }
 
+/* --print-key: a board file's value as the device reads it (0 found, 1 not set, 2 unreadable). */
+static int main_print_key(const psc_cli_options_t *opt)
+{
+    char path[PSC_BOARD_LINE_MAX * 2], value[PSC_BOARD_LINE_MAX], err[600];
+    int rc;
+
+    snprintf(path, sizeof path, "%s/%s/board.conf", opt->boards_dir, opt->board);
+    rc = psc_board_file_value(path, opt->print_key, value, sizeof value, err, sizeof err);
+    if (rc < 0) {
+        fprintf(stderr, "periscope: %s\n", err);
+        return 2;
+    }
+    if (rc == 0) {
+        fprintf(stderr, "periscope: %s sets no %s\n", path, opt->print_key);
+        return 1;
+    }
+    printf("%s\n", value);
+    return 0;
+}
+
 /* stdio would allocate stdout's buffer at the first log line, which comes
  * from inside the frame loop; giving it one now keeps the loop allocation-free. */
 static char main_stdout_buffer[4096];
@@ -64,14 +86,18 @@ int main(int argc, char **argv)
     int rc;
 
     setvbuf(stdout, main_stdout_buffer, _IOLBF, sizeof main_stdout_buffer);
-    if (psc_cli_parse(argc, argv, &opt, err, sizeof err) != 0) {
-        fprintf(stderr, "periscope: %s\n%s", err, psc_cli_usage());
-        return 2;
-    }
+    if (psc_cli_parse(argc, argv, &opt, err, sizeof err) != 0)
+        return psc_io_cli_usage_error("periscope", "%s", err);
     if (opt.help) {
         fputs(psc_cli_usage(), stdout);
         return 0;
     }
+    if (opt.version) {
+        psc_io_cli_print_version("periscope");
+        return 0;
+    }
+    if (opt.print_key != NULL)
+        return main_print_key(&opt);
     main_catch_signals();
     if (psc_app_open(&opt, &app, err, sizeof err) != 0) {
         fprintf(stderr, "periscope: %s\n", err);

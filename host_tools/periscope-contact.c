@@ -7,6 +7,7 @@
  * Exit status: 0 done, 1 the work failed, 2 bad arguments.
  */
 #include "cli_parse.h"
+#include "psc_io_cli.h"
 #include "image_io.h"
 #include "image_scale.h"
 
@@ -16,7 +17,6 @@
 #include <string.h>
 
 #define PROG "periscope-contact"
-#define EXIT_USAGE PSC_CLI_EXIT_USAGE
 #define GAP 4u                     /* pixels between and around thumbnails */
 #define BACKGROUND 0xFF202020u     /* dark grey: frames stand out, gaps stay quiet */
 #define DEFAULT_COLUMNS 4ul
@@ -30,11 +30,17 @@ static void print_usage(FILE *f)
             "usage: " PROG " -o sheet.png [--columns C] [--thumb-width W] FRAME.png...\n"
             "\n"
             "Tile frames (PNG or JPEG) into one contact sheet, each shrunk to W pixels wide\n"
-            "(default %lu) with a box filter, C per row (default %lu), in argument order.\n",
+            "(default %lu) with a box filter, C per row (default %lu), in argument order.\n"
+            "\n"
+            "  -o sheet.png        output PNG\n"
+            "  --columns C         thumbnails per row, 1..64\n"
+            "  --thumb-width W     thumbnail width in pixels, 8..4096\n"
+            "  --version           the program's version\n"
+            "  --help              this text\n",
             DEFAULT_THUMB_WIDTH, DEFAULT_COLUMNS);
 }
 
-#define usage_error(...) psc_cli_usage_error(PROG, __VA_ARGS__)
+#define usage_error(...) psc_io_cli_usage_error(PROG, __VA_ARGS__)
 
 typedef struct {
     const char *out;
@@ -43,38 +49,50 @@ typedef struct {
     int nframes;
 } args_t;
 
+static const struct option contact_options[] = {
+    {"columns", required_argument, NULL, 'c'},
+    {"thumb-width", required_argument, NULL, 'w'},
+    PSC_IO_CLI_COMMON_OPTIONS,
+};
+
 static int parse_args(int argc, char **argv, args_t *a)
 {
-    psc_cli_t c = {argc, argv, 1};
+    psc_io_cli_t c;
+    char why[160];
+    int opt;
+
     a->frames = calloc((size_t)argc, sizeof *a->frames);
     if (!a->frames) {
         fprintf(stderr, PROG ": out of memory\n");
         return 1;
     }
-    while (c.index < argc) {
-        const char *arg = argv[c.index], *v = NULL;
-        int r;
-        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+    psc_io_cli_begin(&c, argc, argv, "ho:", contact_options);
+    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
+        const char *v = c.arg;
+        switch (opt) {
+        case PSC_IO_CLI_HELP:
             print_usage(stdout);
             exit(0);
-        }
-        if ((r = psc_cli_take_value(&c, "-o", &v)) != 0) {
-            if (r < 0)
-                return usage_error("option -o needs a value");
+        case PSC_IO_CLI_VERSION:
+            psc_io_cli_print_version(PROG);
+            exit(0);
+        case 'o':
             a->out = v;
-        } else if ((r = psc_cli_take_value(&c, "--columns", &v)) != 0) {
-            if (r < 0 || psc_cli_parse_uint(v, 1, 64, &a->columns) != 0)
+            break;
+        case 'c':
+            if (psc_cli_parse_uint(v, 1, 64, &a->columns) != 0)
                 return usage_error("--columns: expected a count of 1..64");
-        } else if ((r = psc_cli_take_value(&c, "--thumb-width", &v)) != 0) {
-            if (r < 0 || psc_cli_parse_uint(v, 8, MAX_THUMB_WIDTH, &a->thumb_width) != 0)
+            break;
+        case 'w':
+            if (psc_cli_parse_uint(v, 8, MAX_THUMB_WIDTH, &a->thumb_width) != 0)
                 return usage_error("--thumb-width: expected pixels, 8..%lu", MAX_THUMB_WIDTH);
-        } else if (arg[0] == '-' && arg[1] != '\0') {
-            return usage_error("unknown option %s", arg);
-        } else {
-            a->frames[a->nframes++] = arg;
-            c.index++;
+            break;
+        default:
+            return usage_error("%s", why);
         }
     }
+    for (int i = psc_io_cli_rest(&c); i < argc; i++)
+        a->frames[a->nframes++] = argv[i];
     if (!a->out)
         return usage_error("no output given (-o sheet.png)");
     if (a->nframes == 0)

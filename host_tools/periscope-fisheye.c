@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "cli_parse.h"
+#include "psc_io_cli.h"
 #include "fisheye_build.h"
 #include "pack_build.h"
 #include "psc_io_file.h"
@@ -36,11 +37,12 @@ static void print_usage(FILE *f)
             "centres are integers, (0,0) the top-left pixel), field of view FOV in degrees\n"
             "(default %g). The front lens looks ahead (+Z), the back lens behind (-Z);\n"
             "--*-rot corrects small mounting errors (degrees, within +-45). Equidistant\n"
-            "fisheye model r = f*theta with f = R / (FOV/2).\n",
+            "fisheye model r = f*theta with f = R / (FOV/2).\n"
+            "Options take their value as --opt VALUE or --opt=VALUE; --version, --help.\n",
             DEFAULT_FOV);
 }
 
-#define usage_error(...) psc_cli_usage_error(PROG, __VA_ARGS__)
+#define usage_error(...) psc_io_cli_usage_error(PROG, __VA_ARGS__)
 
 /* "a:b:c[:d]": between min_n and max_n finite numbers separated by ':'. */
 static int parse_numbers(const char *s, double *v, unsigned min_n, unsigned max_n)
@@ -59,56 +61,71 @@ static int parse_numbers(const char *s, double *v, unsigned min_n, unsigned max_
     return n >= min_n ? 0 : -1;
 }
 
+static const struct option fisheye_options[] = {
+    {"frame", required_argument, NULL, 'f'},      {"map", required_argument, NULL, 'm'},
+    {"front", required_argument, NULL, 'F'},      {"back", required_argument, NULL, 'B'},
+    {"front-rot", required_argument, NULL, 'R'},  {"back-rot", required_argument, NULL, 'r'},
+    PSC_IO_CLI_COMMON_OPTIONS,
+};
+
 int main(int argc, char **argv)
 {
-    psc_cli_t c = {argc, argv, 1};
+    psc_io_cli_t c;
     psc_fisheye_rig_t rig;
     const char *out = NULL;
     uint16_t map_w = 0, map_h = 0;
-    int have_frame = 0, have_lens[2] = {0, 0};
+    int have_frame = 0, have_lens[2] = {0, 0}, opt;
+    char why[160];
 
     memset(&rig, 0, sizeof rig);
-    while (c.index < argc) {
-        const char *arg = argv[c.index], *v = NULL;
-        int r;
-        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+    psc_io_cli_begin(&c, argc, argv, "ho:", fisheye_options);
+    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
+        const char *v = c.arg;
+        unsigned k = opt == 'B' || opt == 'r';   /* the back lens */
+        double n[4] = {0, 0, 0, DEFAULT_FOV};
+        switch (opt) {
+        case PSC_IO_CLI_HELP:
             print_usage(stdout);
             return 0;
-        }
-        if ((r = psc_cli_take_value(&c, "-o", &v)) != 0) {
-            if (r < 0)
-                return usage_error("option -o needs a value");
+        case PSC_IO_CLI_VERSION:
+            psc_io_cli_print_version(PROG);
+            return 0;
+        case 'o':
             out = v;
-        } else if ((r = psc_cli_take_value(&c, "--frame", &v)) != 0) {
-            if (r < 0 || psc_cli_parse_size(v, PSC_FISHEYE_MAX_FRAME_DIM, &rig.frame_width, &rig.frame_height) != 0)
+            break;
+        case 'f':
+            if (psc_cli_parse_size(v, PSC_FISHEYE_MAX_FRAME_DIM, &rig.frame_width, &rig.frame_height) != 0)
                 return usage_error("--frame: expected WxH, each 1..%u", PSC_FISHEYE_MAX_FRAME_DIM);
             have_frame = 1;
-        } else if ((r = psc_cli_take_value(&c, "--map", &v)) != 0) {
-            if (r < 0 || psc_cli_parse_size(v, PSC_MAX_MAP_DIM, &map_w, &map_h) != 0 || map_w < 2 || map_h < 2)
+            break;
+        case 'm':
+            if (psc_cli_parse_size(v, PSC_MAX_MAP_DIM, &map_w, &map_h) != 0 || map_w < 2 || map_h < 2)
                 return usage_error("--map: expected WxH, each 2..%u", PSC_MAX_MAP_DIM);
-        } else if ((r = psc_cli_take_value(&c, "--front", &v)) != 0 || (r = psc_cli_take_value(&c, "--back", &v)) != 0) {
-            unsigned k = strncmp(arg, "--front", 7) == 0 ? 0 : 1;
-            double n[4] = {0, 0, 0, DEFAULT_FOV};
-            if (r < 0 || parse_numbers(v, n, 3, 4) != 0)
+            break;
+        case 'F':
+        case 'B':
+            if (parse_numbers(v, n, 3, 4) != 0)
                 return usage_error("%s: expected CX:CY:R or CX:CY:R:FOV (pixels, degrees)", k ? "--back" : "--front");
             rig.lens[k].cx = n[0];
             rig.lens[k].cy = n[1];
             rig.lens[k].radius = n[2];
             rig.lens[k].fov_deg = n[3];
             have_lens[k] = 1;
-        } else if ((r = psc_cli_take_value(&c, "--front-rot", &v)) != 0 ||
-                   (r = psc_cli_take_value(&c, "--back-rot", &v)) != 0) {
-            unsigned k = strncmp(arg, "--front", 7) == 0 ? 0 : 1;
-            double n[3];
-            if (r < 0 || parse_numbers(v, n, 3, 3) != 0)
+            break;
+        case 'R':
+        case 'r':
+            if (parse_numbers(v, n, 3, 3) != 0)
                 return usage_error("%s: expected YAW:PITCH:ROLL in degrees", k ? "--back-rot" : "--front-rot");
             rig.lens[k].yaw_deg = n[0];
             rig.lens[k].pitch_deg = n[1];
             rig.lens[k].roll_deg = n[2];
-        } else {
-            return usage_error("unknown argument %s", arg);
+            break;
+        default:
+            return usage_error("%s", why);
         }
     }
+    if (psc_io_cli_rest(&c) < argc)
+        return usage_error("unexpected argument '%s'", argv[psc_io_cli_rest(&c)]);
     if (!out)
         return usage_error("no output given (-o table.pfish)");
     if (!have_frame)

@@ -9,6 +9,7 @@
 #include "cli_parse.h"
 #include "image_io.h"
 #include "pack_build.h"
+#include "psc_io_cli.h"
 #include "psc_io_file.h"
 
 #include <stdarg.h>
@@ -19,7 +20,6 @@
 #include <unistd.h>
 
 #define PROG "periscope-pack"
-#define EXIT_USAGE PSC_CLI_EXIT_USAGE
 
 static void print_usage(FILE *f)
 {
@@ -45,10 +45,12 @@ static void print_usage(FILE *f)
             "  --levels N                  map pyramid levels incl. the map, for --filter mip\n"
             "                              (default: as many as the size allows; 1: none)\n"
             "  --quiet                     no progress or summary\n"
-            "  --help                      this text\n");
+            "  --version                   the program's version\n"
+            "  --help                      this text\n"
+            "Options take their value as --opt VALUE or --opt=VALUE, before or after the image.\n");
 }
 
-#define usage_error(...) psc_cli_usage_error(PROG, __VA_ARGS__)
+#define usage_error(...) psc_io_cli_usage_error(PROG, __VA_ARGS__)
 
 static bool parse_format(const char *s, psc_pixfmt_t *f)
 {
@@ -211,38 +213,36 @@ static int parse_lat_range(const char *v, psc_pack_options_t *o)
     return 0;
 }
 
+static const struct option pack_options[] = {
+    {"display", required_argument, NULL, 1},   {"format", required_argument, NULL, 1},
+    {"projection", required_argument, NULL, 1}, {"lon-range", required_argument, NULL, 1},
+    {"lat-range", required_argument, NULL, 1},  {"hfov-min", required_argument, NULL, 1},
+    {"lut-switch", required_argument, NULL, 1}, {"hfov-max", required_argument, NULL, 1},
+    {"lut-size", required_argument, NULL, 1},   {"levels", required_argument, NULL, 1},
+    {"quiet", no_argument, NULL, 'q'},          PSC_IO_CLI_COMMON_OPTIONS,
+};
+
 static int parse_args(int argc, char **argv, args_t *a)
 {
-    psc_cli_t c = {argc, argv, 1};
-    while (c.index < argc) {
-        const char *arg = argv[c.index], *v = NULL;
-        int r;
-        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+    psc_io_cli_t c;
+    char why[160];
+    int opt;
+
+    psc_io_cli_begin(&c, argc, argv, "ho:", pack_options);
+    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
+        const char *name = c.name, *v = c.arg;
+        if (opt < 0)
+            return usage_error("%s", why);
+        if (opt == PSC_IO_CLI_HELP) {
             print_usage(stdout);
             exit(0);
         }
-        if (psc_cli_take_flag(&c, "--quiet")) {
+        if (opt == PSC_IO_CLI_VERSION) {
+            psc_io_cli_print_version(PROG);
+            exit(0);
+        }
+        if (opt == 'q') {
             a->quiet = true;
-            continue;
-        }
-        static const char *const valued[] = {"-o", "--display", "--format", "--projection", "--lon-range",
-                                             "--lat-range", "--hfov-min", "--lut-switch", "--hfov-max",
-                                             "--lut-size", "--levels"};
-        const char *name = NULL;
-        for (size_t i = 0; i < sizeof valued / sizeof valued[0] && !name; i++) {
-            r = psc_cli_take_value(&c, valued[i], &v);
-            if (r < 0)
-                return usage_error("option %s needs a value", valued[i]);
-            if (r > 0)
-                name = valued[i];
-        }
-        if (!name) {
-            if (arg[0] == '-' && arg[1] != '\0')
-                return usage_error("unknown option %s", arg);
-            if (a->in)
-                return usage_error("more than one input image given (%s)", arg);
-            a->in = arg;
-            c.index++;
             continue;
         }
         psc_pack_options_t *o = &a->opt;
@@ -281,6 +281,11 @@ static int parse_args(int argc, char **argv, args_t *a)
         }
         if (rc != 0)
             return rc;
+    }
+    for (int i = psc_io_cli_rest(&c); i < argc; i++) {
+        if (a->in)
+            return usage_error("more than one input image given (%s)", argv[i]);
+        a->in = argv[i];
     }
     if (!a->in)
         return usage_error("%s", "no input image given");

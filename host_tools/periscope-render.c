@@ -9,6 +9,7 @@
  */
 #include "angle_conv.h"
 #include "cli_parse.h"
+#include "psc_io_cli.h"
 #include "image_io.h"
 #include "model_render.h"
 #include "pack_build.h"
@@ -24,7 +25,6 @@
 #include <time.h>
 
 #define PROG "periscope-render"
-#define EXIT_USAGE PSC_CLI_EXIT_USAGE
 #define MAX_REPEAT 100000ul
 
 static void print_usage(FILE *f)
@@ -45,10 +45,12 @@ static void print_usage(FILE *f)
             "  --size WxH          output size (default: the pack's display size)\n"
             "  --format F          output surface: rgb565 (default) or xrgb8888\n"
             "  -o view.png         output PNG\n"
-            "  --help              this text\n");
+            "  --version           the program's version\n"
+            "  --help              this text\n"
+            "Options take their value as --opt VALUE or --opt=VALUE, before or after the pack.\n");
 }
 
-#define usage_error(...) psc_cli_usage_error(PROG, __VA_ARGS__)
+#define usage_error(...) psc_io_cli_usage_error(PROG, __VA_ARGS__)
 
 typedef struct {
     const char *pack, *out;
@@ -119,36 +121,40 @@ static int parse_value(args_t *a, const char *name, const char *v)
     return 0;
 }
 
+static const struct option render_options[] = {
+    {"yaw", required_argument, NULL, 1},    {"pitch", required_argument, NULL, 1},
+    {"hfov", required_argument, NULL, 1},   {"filter", required_argument, NULL, 1},
+    {"span", required_argument, NULL, 1},   {"repeat", required_argument, NULL, 1},
+    {"size", required_argument, NULL, 1},   {"format", required_argument, NULL, 1},
+    PSC_IO_CLI_COMMON_OPTIONS,
+};
+
 static int parse_args(int argc, char **argv, args_t *a)
 {
-    static const char *const valued[] = {"-o",    "--yaw",    "--pitch",  "--hfov", "--filter",
-                                         "--span", "--repeat", "--size", "--format"};
-    psc_cli_t c = {argc, argv, 1};
-    while (c.index < argc) {
-        const char *arg = argv[c.index], *v = NULL, *name = NULL;
-        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+    psc_io_cli_t c;
+    char why[160];
+    int opt;
+
+    psc_io_cli_begin(&c, argc, argv, "ho:", render_options);
+    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
+        if (opt < 0)
+            return usage_error("%s", why);
+        if (opt == PSC_IO_CLI_HELP) {
             print_usage(stdout);
             exit(0);
         }
-        for (size_t i = 0; i < sizeof valued / sizeof valued[0] && !name; i++) {
-            int r = psc_cli_take_value(&c, valued[i], &v);
-            if (r < 0)
-                return usage_error("option %s needs a value", valued[i]);
-            if (r > 0)
-                name = valued[i];
+        if (opt == PSC_IO_CLI_VERSION) {
+            psc_io_cli_print_version(PROG);
+            exit(0);
         }
-        if (name) {
-            int rc = parse_value(a, name, v);
-            if (rc != 0)
-                return rc;
-            continue;
-        }
-        if (arg[0] == '-' && arg[1] != '\0')
-            return usage_error("unknown option %s", arg);
+        int rc = parse_value(a, c.name, c.arg);
+        if (rc != 0)
+            return rc;
+    }
+    for (int i = psc_io_cli_rest(&c); i < argc; i++) {
         if (a->pack)
-            return usage_error("more than one pack given (%s)", arg);
-        a->pack = arg;
-        c.index++;
+            return usage_error("more than one pack given (%s)", argv[i]);
+        a->pack = argv[i];
     }
     if (!a->pack)
         return usage_error("no pack given");

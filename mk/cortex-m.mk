@@ -22,7 +22,7 @@
 # Toolchain on Debian: apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi (qemu-system-arm to run it).
 
 CM_CONF := $(if $(BOARD),$(wildcard boards/$(BOARD)/board.conf))
-cm_key = $(strip $(shell sed -n 's/^$(1)[[:space:]]*=[[:space:]]*//p' $(CM_CONF) | head -n 1))
+cm_key = $(strip $(shell sh scripts/board-key $(CM_CONF) $(1)))
 CM_BOARD := $(if $(CM_CONF),$(if $(filter core-only,$(call cm_key,build)),$(BOARD)))
 
 .PHONY: mcu mcu-run cm-host-tools

@@ -17,8 +17,8 @@
 
 .PHONY: cross cross-all portability-builds $(addprefix cross-board-,$(CROSS_BOARDS))
 
-board_key = $(shell sed -n 's/^[[:space:]]*$(2)[[:space:]]*=[[:space:]]*\([^[:space:]\#]*\).*/\1/p' \
-	boards/$(1)/board.conf 2>/dev/null | head -n 1)
+# A board's key, read by the device's own reader of board files (scripts/board-key).
+board_key = $(shell sh scripts/board-key $(1) $(2))
 CROSS_BOARDS := $(sort $(foreach c,$(wildcard boards/*/board.conf),\
 	$(if $(call board_key,$(notdir $(patsubst %/,%,$(dir $(c)))),debian_arch),$(notdir $(patsubst %/,%,$(dir $(c)))))))
 
@@ -83,7 +83,7 @@ test: portability-builds
 portability-builds: deps
 	$(Q)$(MAKE) --no-print-directory $(PORT_RENDER) $(BUILD)/bin/periscope-render
 	+$(Q)for b in $(CROSS_BOARDS); do \
-		prefix=$$(sed -n 's/^[[:space:]]*toolchain[[:space:]]*=[[:space:]]*\([^[:space:]#]*\).*/\1/p' boards/$$b/board.conf | head -n 1); \
+		prefix=$$(sh scripts/board-key $$b toolchain); \
 		command -v "$${prefix}gcc" >/dev/null 2>&1 || continue; \
 		$(MAKE) --no-print-directory PSC_CROSS_INNER=1 BUILD=$(BUILD) cross-probe-$$b || exit 1; \
 	done

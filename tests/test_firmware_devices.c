@@ -7,6 +7,7 @@
  * whose V4L2 camera is absent (it runs, shows the pack's picture and says
  * NO CAMERA in the corner).
  */
+#include <dirent.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -20,6 +21,8 @@
 #include <unistd.h>
 
 #include "app.h"
+#include "board_config.h"
+#include "board_file.h"
 #include "camera_feed.h"
 #include "cli.h"
 #include "device_status.h"
@@ -418,19 +421,62 @@ static void test_stop_request(void **state)
     psc_app_close(app);
 }
 
-/* Every board file in boards/ parses (run from the repository root). */
+/* What scripts/board-key prints for a key of a board (the build's reader). */
+static void board_key_output(const char *board, const char *key, char *out, size_t len)
+{
+    char cmd[300];
+    FILE *p;
+
+    snprintf(cmd, sizeof cmd, "sh scripts/board-key %s %s", board, key);
+    p = popen(cmd, "r");
+    assert_non_null(p);
+    out[0] = '\0';
+    if (fgets(out, (int)len, p) == NULL)
+        out[0] = '\0';
+    out[strcspn(out, "\n")] = '\0';
+    assert_int_equal(pclose(p), 0);
+}
+
+/* Every board file in boards/ (found by walking the folder, run from the
+ * repository root) is read the way its builds read it: a board the device
+ * runs parses with the device's parser, and the build's reader
+ * (scripts/board-key) agrees with it; a core-only board (a microcontroller:
+ * no device program) is well-formed for the build's reader. */
 static void test_board_files(void **state)
 {
-    const char *boards[] = { "sim", "x86-kiosk", "rpi-arm64", "desktop", "vm-fbdev", "vm-drm", "vm-camera", "vm-reference" };
+    DIR *dir = opendir("boards");
+    struct dirent *e;
+    unsigned device_boards = 0, core_boards = 0;
     (void)state;
 
-    for (size_t i = 0; i < sizeof boards / sizeof boards[0]; i++) {
-        char path[200], err[400];
+    assert_non_null(dir);
+    while ((e = readdir(dir)) != NULL) {
+        char path[300], err[400], build[64], size[64], want[64];
         psc_board_config_t cfg;
-        snprintf(path, sizeof path, "boards/%s/board.conf", boards[i]);
+        struct stat st;
+
+        snprintf(path, sizeof path, "boards/%s/board.conf", e->d_name);
+        if (e->d_name[0] == '.' || stat(path, &st) != 0)
+            continue;
+        int has_build = psc_board_file_value(path, "build", build, sizeof build, err, sizeof err);
+        if (has_build < 0)
+            fail_msg("%s", err);
+        board_key_output(e->d_name, "display_size", size, sizeof size);
+        if (has_build == 1 && strcmp(build, "core-only") == 0) {
+            core_boards++;
+            continue;
+        }
         if (psc_board_config_load(path, &cfg, err, sizeof err) != 0)
             fail_msg("%s", err);
+        snprintf(want, sizeof want, "%ux%u", (unsigned)cfg.display_width, (unsigned)cfg.display_height);
+        if (strcmp(size, want) != 0)
+            fail_msg("%s: scripts/board-key reads display_size '%s', the device %s", path, size, want);
+        device_boards++;
     }
+    closedir(dir);
+    printf("  %u device boards parse, %u core-only boards are well-formed\n", device_boards, core_boards);
+    assert_true(device_boards >= 15);
+    assert_true(core_boards >= 1);
 }
 
 /* The VM boards differ from their simulated reference in the display only,

@@ -517,6 +517,71 @@ static void test_exit_codes(void **state)
     unlink(bad);
 }
 
+/* ---- one command-line convention ---------------------------------------------------------------------------- */
+
+/* Every program, the device's and the tools': --help, --version, --opt=value
+ * and --opt value alike, options after files, and one wording for mistakes. */
+static void test_command_line_convention(void **state)
+{
+    (void)state;
+    need_packs();
+    static const char *const programs[] = {"periscope", "periscope-pack", "periscope-render", "periscope-contact",
+                                           "periscope-fisheye"};
+    char version[64], said[96];
+    size_t vlen;
+    char *v = (char *)tsup_read_bytes("VERSION", &vlen);
+    assert_non_null(v);
+    snprintf(version, sizeof version, "%.*s", (int)strcspn(v, " \n"), v);
+    free(v);
+    snprintf(said, sizeof said, "(Periscope) %s\n", version);
+    for (size_t i = 0; i < sizeof programs / sizeof programs[0]; i++) {
+        const char *help[] = {"--help", NULL}, *usage[] = {"usage:", NULL};
+        const char *ver[] = {"--version", NULL}, *ver_said[] = {said, NULL};
+        const char *bogus[] = {"--bogus-option", NULL}, *unknown[] = {"unknown option '--bogus-option'", NULL};
+        expect_run(programs[i], help, 0, usage);
+        expect_run(programs[i], ver, 0, ver_said);
+        expect_run(programs[i], bogus, 2, unknown);
+    }
+
+    /* a typo is not taken for the option it resembles */
+    const char *typo[] = {"--board", "sim", "--scen", fx.pack[0], NULL};
+    const char *typo_said[] = {"unknown option '--scen' (did you mean '--scene'?)", NULL};
+    expect_run("periscope", typo, 2, typo_said);
+    const char *typo2[] = {fx.png, "--displ", "160x120", NULL};
+    const char *typo2_said[] = {"unknown option '--displ' (did you mean '--display'?)", NULL};
+    expect_run("periscope-pack", typo2, 2, typo2_said);
+    const char *novalue[] = {"--board", NULL}, *novalue_said[] = {"option '--board' needs a value", NULL};
+    expect_run("periscope", novalue, 2, novalue_said);
+    const char *flagvalue[] = {fx.png, "--quiet=yes", NULL}, *flagvalue_said[] = {"option '--quiet' takes no value", NULL};
+    expect_run("periscope-pack", flagvalue, 2, flagvalue_said);
+
+    /* --board=sim and --board sim are one thing */
+    const char *key_eq[] = {"--board=sim", "--print-key=display_size", NULL};
+    const char *key_sp[] = {"--print-key", "display_size", "--board", "sim", NULL}, *size[] = {"640x480", NULL};
+    expect_run("periscope", key_eq, 0, size);
+    expect_run("periscope", key_sp, 0, size);
+
+    /* the same view asked for both ways renders the same bytes */
+    char a_png[512], b_png[512];
+    tmp_path(a_png, sizeof a_png, "view-eq.png");
+    tmp_path(b_png, sizeof b_png, "view-sp.png");
+    const char *eq[] = {"--yaw=30", "--pitch=-10", "--size=80x60", "--filter=nearest", fx.pack[0], "-o", a_png, NULL};
+    const char *sp[] = {fx.pack[0], "--yaw", "30", "--pitch", "-10", "--size", "80x60", "--filter", "nearest",
+                        "-o", b_png, NULL};
+    expect_run("periscope-render", eq, 0, NULL);
+    expect_run("periscope-render", sp, 0, NULL);
+    size_t la, lb;
+    uint8_t *pa = tsup_read_bytes(a_png, &la), *pb = tsup_read_bytes(b_png, &lb);
+    assert_non_null(pa);
+    assert_non_null(pb);
+    assert_int_equal(la, lb);
+    assert_memory_equal(pa, pb, la);
+    free(pa);
+    free(pb);
+    unlink(a_png);
+    unlink(b_png);
+}
+
 /* ---- contact sheets ---------------------------------------------------------------------------------------- */
 
 static void render_frame(const char *png, const char *yaw)
@@ -618,6 +683,7 @@ int main(void)
         cmocka_unit_test(test_pack),
         cmocka_unit_test(test_render_matches_device_path),
         cmocka_unit_test(test_exit_codes),
+        cmocka_unit_test(test_command_line_convention),
         cmocka_unit_test(test_contact),
     };
     return cmocka_run_group_tests(tests, NULL, teardown_all);

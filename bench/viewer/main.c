@@ -9,6 +9,7 @@
  */
 #include "bench_support.h"
 #include "cli_parse.h"
+#include "psc_io_cli.h"
 
 #include <errno.h>
 #include <stdlib.h>
@@ -53,7 +54,7 @@ int main(int argc, char **argv)
             out = argv[++i];
         } else if (strcmp(a, "--reps") == 0 && i + 1 < argc) {
             if (psc_cli_parse_uint(argv[++i], 1, 7, &reps) != 0)
-                return psc_cli_usage_error(PROG, "--reps '%s': expected 1..7", argv[i]);
+                return psc_io_cli_usage_error(PROG, "--reps '%s': expected 1..7", argv[i]);
         } else if (strcmp(a, "--callgrind") == 0) {
             callgrind = true;
         } else if (strcmp(a, "--quick") == 0) {

@@ -1,41 +1,10 @@
 /* cli_parse.c - strict command-line value parsers (see cli_parse.h). */
 #include "cli_parse.h"
 
-#include <stdarg.h>
-#include <stdio.h>
-
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-int psc_cli_take_value(psc_cli_t *c, const char *name, const char **value)
-{
-    const char *arg = c->argv[c->index];
-    size_t n = strlen(name);
-    if (strncmp(arg, name, n) != 0)
-        return 0;
-    if (arg[n] == '=') {
-        *value = arg + n + 1;
-        c->index++;
-        return 1;
-    }
-    if (arg[n] != '\0')
-        return 0;
-    if (c->index + 1 >= c->argc)
-        return -1;
-    *value = c->argv[c->index + 1];
-    c->index += 2;
-    return 1;
-}
-
-int psc_cli_take_flag(psc_cli_t *c, const char *name)
-{
-    if (strcmp(c->argv[c->index], name) != 0)
-        return 0;
-    c->index++;
-    return 1;
-}
 
 int psc_cli_parse_double(const char *s, double *out)
 {
@@ -99,15 +68,4 @@ int psc_cli_parse_pair(const char *s, double *a, double *b)
     *a = va;
     *b = vb;
     return 0;
-}
-
-int psc_cli_usage_error(const char *prog, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    fprintf(stderr, "%s: ", prog);
-    vfprintf(stderr, fmt, ap);
-    fprintf(stderr, "\n(try %s --help)\n", prog);
-    va_end(ap);
-    return PSC_CLI_EXIT_USAGE;
 }

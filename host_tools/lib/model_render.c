@@ -2,6 +2,7 @@
  * model_render.c - periscope-render's model mode (model_render.h).
  */
 #include "model_render.h"
+#include "psc_io_cli.h"
 #include "psc_io_error.h"
 #include "psc_io_file.h"
 #include "psc_io_load.h"
@@ -45,7 +46,7 @@ bool psc_model_render_wanted(int argc, char **argv)
 {
     for (int i = 1; i < argc; i++) {
         if (argv[i][0] == '-') {
-            if (strcmp(argv[i], "--orbit") == 0)
+            if (strcmp(argv[i], "--orbit") == 0 || strncmp(argv[i], "--orbit=", 8) == 0)
                 return true;
             continue;
         }
@@ -77,7 +78,9 @@ static void usage(const char *prog, FILE *f)
             "  --format F          output surface: rgb565 (default) or xrgb8888\n"
             "  --repeat K          render K times and report the time per frame\n"
             "  --write-pack P      also write the mesh pack the view was drawn from\n"
-            "  -o view.png         output PNG\n",
+            "  -o view.png         output PNG\n"
+            "  --version           the program's version\n"
+            "  --help              this text\n",
             prog);
 }
 
@@ -89,85 +92,92 @@ static int parse_orbit(const char *v, model_args_t *a)
     return a->pitch >= -90 && a->pitch <= 90 && a->dist >= 1.0 / 64 && a->dist <= 256 ? 0 : -1;
 }
 
+static const struct option model_options[] = {
+    {"orbit", required_argument, NULL, 1},   {"hfov", required_argument, NULL, 1},
+    {"size", required_argument, NULL, 1},    {"texture", required_argument, NULL, 1},
+    {"cull", required_argument, NULL, 1},    {"tiles", required_argument, NULL, 1},
+    {"depth", required_argument, NULL, 1},   {"depth-bits", required_argument, NULL, 1},
+    {"shade", required_argument, NULL, 1},   {"filter", required_argument, NULL, 1},
+    {"format", required_argument, NULL, 1},  {"repeat", required_argument, NULL, 1},
+    {"write-pack", required_argument, NULL, 1},
+    PSC_IO_CLI_COMMON_OPTIONS,
+};
+
 static int parse_args(const char *prog, int argc, char **argv, model_args_t *a)
 {
-    static const char *const valued[] = {"-o",      "--orbit",  "--hfov",   "--size",       "--texture",
-                                         "--cull",  "--tiles",  "--depth",  "--depth-bits", "--shade",
-                                         "--filter", "--format", "--repeat", "--write-pack"};
-    psc_cli_t c = {argc, argv, 1};
-    while (c.index < argc) {
-        const char *arg = argv[c.index], *v = NULL, *name = NULL;
-        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+    psc_io_cli_t c;
+    char why[160];
+    int opt;
+
+    psc_io_cli_begin(&c, argc, argv, "ho:", model_options);
+    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
+        const char *name = c.name, *v = c.arg;
+        if (opt < 0)
+            return psc_io_cli_usage_error(prog, "%s (model mode)", why);
+        if (opt == PSC_IO_CLI_HELP) {
             usage(prog, stdout);
             exit(0);
         }
-        for (size_t i = 0; i < sizeof valued / sizeof valued[0] && !name; i++) {
-            int r = psc_cli_take_value(&c, valued[i], &v);
-            if (r < 0)
-                return psc_cli_usage_error(prog, "option %s needs a value", valued[i]);
-            if (r > 0)
-                name = valued[i];
-        }
-        if (!name) {
-            if (arg[0] == '-' && arg[1] != '\0')
-                return psc_cli_usage_error(prog, "unknown option %s (model mode)", arg);
-            if (a->model)
-                return psc_cli_usage_error(prog, "more than one model given (%s)", arg);
-            a->model = arg;
-            c.index++;
-            continue;
+        if (opt == PSC_IO_CLI_VERSION) {
+            psc_io_cli_print_version(prog);
+            exit(0);
         }
         if (strcmp(name, "-o") == 0) {
             a->out = v;
         } else if (strcmp(name, "--orbit") == 0) {
             if (parse_orbit(v, a) != 0)
-                return psc_cli_usage_error(prog, "--orbit '%s': expected YAW,PITCH,DIST (pitch -90..90, dist 1/64..256)",
+                return psc_io_cli_usage_error(prog, "--orbit '%s': expected YAW,PITCH,DIST (pitch -90..90, dist 1/64..256)",
                                            v);
         } else if (strcmp(name, "--hfov") == 0) {
             if (psc_cli_parse_double(v, &a->hfov) != 0 || !(a->hfov >= 1.0 && a->hfov <= 170.0))
-                return psc_cli_usage_error(prog, "--hfov '%s': expected degrees in 1..170", v);
+                return psc_io_cli_usage_error(prog, "--hfov '%s': expected degrees in 1..170", v);
         } else if (strcmp(name, "--size") == 0) {
             if (psc_cli_parse_size(v, PSC_MAX_OUT_DIM, &a->width, &a->height) != 0)
-                return psc_cli_usage_error(prog, "--size '%s': expected WxH, each 1..%u", v, (unsigned)PSC_MAX_OUT_DIM);
+                return psc_io_cli_usage_error(prog, "--size '%s': expected WxH, each 1..%u", v, (unsigned)PSC_MAX_OUT_DIM);
         } else if (strcmp(name, "--texture") == 0) {
             a->texture = v;
         } else if (strcmp(name, "--cull") == 0) {
             if (strcmp(v, "back") != 0 && strcmp(v, "none") != 0)
-                return psc_cli_usage_error(prog, "--cull '%s': expected back or none", v);
+                return psc_io_cli_usage_error(prog, "--cull '%s': expected back or none", v);
             a->cull = strcmp(v, "back") == 0;
         } else if (strcmp(name, "--tiles") == 0) {
             if (psc_cli_parse_uint(v, 0, PSC_MAX_OUT_DIM, &a->tile) != 0)
-                return psc_cli_usage_error(prog, "--tiles '%s': expected a tile side of 0..%u pixels", v,
+                return psc_io_cli_usage_error(prog, "--tiles '%s': expected a tile side of 0..%u pixels", v,
                                            (unsigned)PSC_MAX_OUT_DIM);
         } else if (strcmp(name, "--depth") == 0) {
             a->depth = v;
         } else if (strcmp(name, "--depth-bits") == 0) {
             if (psc_cli_parse_uint(v, 16, 32, &a->depth_bits) != 0 || (a->depth_bits != 16 && a->depth_bits != 32))
-                return psc_cli_usage_error(prog, "--depth-bits '%s': expected 16 or 32", v);
+                return psc_io_cli_usage_error(prog, "--depth-bits '%s': expected 16 or 32", v);
         } else if (strcmp(name, "--shade") == 0) {
             a->shade = strcmp(v, "flat") == 0 ? PSC_SHADE_FLAT : strcmp(v, "gouraud") == 0 ? PSC_SHADE_GOURAUD
                        : strcmp(v, "texture") == 0 ? PSC_SHADE_TEXTURE : -2;
             if (a->shade == -2)
-                return psc_cli_usage_error(prog, "--shade '%s': expected flat, gouraud or texture", v);
+                return psc_io_cli_usage_error(prog, "--shade '%s': expected flat, gouraud or texture", v);
         } else if (strcmp(name, "--filter") == 0) {
             if (strcmp(v, "nearest") != 0 && strcmp(v, "bilinear") != 0)
-                return psc_cli_usage_error(prog, "--filter '%s': expected nearest or bilinear", v);
+                return psc_io_cli_usage_error(prog, "--filter '%s': expected nearest or bilinear", v);
             a->filter = strcmp(v, "nearest") == 0 ? PSC_TEX_NEAREST : PSC_TEX_BILINEAR;
         } else if (strcmp(name, "--format") == 0) {
             if (strcmp(v, "rgb565") != 0 && strcmp(v, "xrgb8888") != 0)
-                return psc_cli_usage_error(prog, "--format '%s': expected rgb565 or xrgb8888", v);
+                return psc_io_cli_usage_error(prog, "--format '%s': expected rgb565 or xrgb8888", v);
             a->format = strcmp(v, "rgb565") == 0 ? PSC_PIX_RGB565 : PSC_PIX_XRGB8888;
         } else if (strcmp(name, "--repeat") == 0) {
             if (psc_cli_parse_uint(v, 1, MAX_REPEAT, &a->repeat) != 0)
-                return psc_cli_usage_error(prog, "--repeat '%s': expected a count of 1..%lu", v, MAX_REPEAT);
+                return psc_io_cli_usage_error(prog, "--repeat '%s': expected a count of 1..%lu", v, MAX_REPEAT);
         } else if (strcmp(name, "--write-pack") == 0) {
             a->write_pack = v;
         }
     }
+    for (int i = psc_io_cli_rest(&c); i < argc; i++) {
+        if (a->model)
+            return psc_io_cli_usage_error(prog, "more than one model given (%s)", argv[i]);
+        a->model = argv[i];
+    }
     if (!a->model)
-        return psc_cli_usage_error(prog, "no model given");
+        return psc_io_cli_usage_error(prog, "no model given");
     if (!a->out)
-        return psc_cli_usage_error(prog, "no output given (-o view.png)");
+        return psc_io_cli_usage_error(prog, "no output given (-o view.png)");
     return 0;
 }
 

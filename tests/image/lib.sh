@@ -29,7 +29,7 @@ image_args() {
 }
 
 board_key() {
-    sed -n "s/^[[:space:]]*$1[[:space:]]*=[[:space:]]*\([^#]*\).*/\1/p" "$conf" | head -n 1 | sed 's/[[:space:]]*$//'
+    sh scripts/board-key "$conf" "$1"
 }
 
 skip() {
