@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Periscope - build, run and test.
 #   make run     the viewer on the simulated board with the bundled panorama
 #   make test    every test (unit, golden, fuzz, integration, clang build, no-float check)
@@ -11,6 +12,7 @@ endif
 ifeq ($(origin AR),default)
 AR := $(CROSS_COMPILE)ar
 endif
+NM ?= $(CROSS_COMPILE)nm
 PKG_CONFIG ?= pkg-config
 PREFIX ?= /usr/local
 DESTDIR ?=
@@ -229,10 +231,18 @@ check-core-nofloat:
 # io/, hal/, firmware/ and host_tools/ against the table in scripts/check-layers,
 # resolved by the compiler with each layer's include paths; the self-test
 # proves the check refuses a breach of each kind.
-check-layers:
+# The device program must also link none of the host tools' code: no symbol
+# defined in libpsc_hosttools.a may be defined in periscope.
+check-layers: $(FIRMWARE) $(HOST_LIB)
 	@echo "  CHECK   layers: each folder includes only what its layer may"
 	$(Q)sh scripts/check-layers --cc $(CC)
 	$(Q)sh scripts/check-layers --cc $(CC) --self-test >/dev/null
+	@echo "  CHECK   $(FIRMWARE) links no host-tool code"
+	$(Q)$(NM) -g --defined-only $(HOST_LIB) | awk 'NF == 3 { print $$3 }' | sort -u >$(BUILD)/hosttools.syms
+	$(Q)$(NM) --defined-only $(FIRMWARE) | awk 'NF == 3 { print $$3 }' | sort -u | \
+		comm -12 - $(BUILD)/hosttools.syms >$(BUILD)/firmware-hosttools.syms
+	$(Q)if [ -s $(BUILD)/firmware-hosttools.syms ]; then \
+		echo "check-layers: $(FIRMWARE) contains host-tool code:"; cat $(BUILD)/firmware-hosttools.syms; exit 1; fi
 
 # Everything (tests included) must also build warning-free with clang.
 check-clang:

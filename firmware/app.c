@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * app.c - start-up and shutdown of the device program (app.h): the board
  * file, the devices, the scenes, the kiosk behaviour, in that order, and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * app.h - the device program's runtime: start-up (board file, devices, scene
  * packs, every buffer), the frame loop, and shutdown, in that symmetric

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * app_internal.h - the device program's state, shared by start-up and
  * shutdown (app.c) and the frame loop (frame_loop.c). Each part is its own

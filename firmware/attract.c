@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * attract.c - the idle timer and the auto-rotating view of attract mode
  * (attract.h).

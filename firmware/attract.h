@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * attract.h - attract mode: a kiosk nobody has touched for a while slowly
  * turns on its own, so passers-by see that it is alive, and hands control

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * board_config.c - parse boards/<name>/board.conf into psc_board_config_t.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * board_config.h - the board description file, boards/<name>/board.conf.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* board_file.c - the syntax of board files (board_file.h). */
 #include <errno.h>
 #include <stdio.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * board_file.h - the syntax of a board file (boards/<name>/board.conf),
  * apart from what its keys mean: one "key = value" per line; '#' at the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * camera_feed.c - the live camera as a scene's map (camera_feed.h).
  */

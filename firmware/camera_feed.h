@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * camera_feed.h - the live camera as a scene's environment map.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * cli.c - parse the device program's command line (see cli.h) with the
  * programs' one convention (io/psc_io_cli.h). Kept out of main.c so tests

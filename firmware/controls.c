@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * controls.c - input events to held buttons, stick positions and one-shot
  * requests (see controls.h).

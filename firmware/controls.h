@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * controls.h - what the person at the kiosk is doing, built from HAL input
  * events: which buttons are held, where each stick is, which devices are

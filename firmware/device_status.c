@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * device_status.c - missing-device bookkeeping and its on-screen indication
  * (device_status.h).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * device_status.h - which configured devices are missing, shown on screen
  * and told to the supervisor, so a kiosk with an unplugged camera or gamepad

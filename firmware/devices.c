@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* devices.c - open, poll and close the program's devices (devices.h). */
 #include <stdio.h>
 #include <string.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * devices.h - the device program's devices, opened through the HAL from the
  * board file: clock, display, input, watchdog and camera (the last two

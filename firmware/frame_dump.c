@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * frame_dump.c - raw dumps of presented frames (frame_dump.h).
  */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * frame_dump.h - write a presented frame's pixels to a file, so a test
  * harness can compare what a real display showed with what the simulated

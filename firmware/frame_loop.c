@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * frame_loop.c - the device program's frame loop (psc_app_run, app.h):
  *   poll input -> controls -> kiosk requests (scene changes, home) -> camera

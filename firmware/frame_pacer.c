@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * frame_pacer.c - absolute frame deadlines with skipping when late
  * (frame_pacer.h).

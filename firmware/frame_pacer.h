@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * frame_pacer.h - when the next frame is due: absolute deadlines
  * start + n * period on the monotonic HAL clock (the "linux" clock sleeps to

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * hotspots.c - hotspot lines, the select geometry and the on-screen markers
  * (hotspots.h).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * hotspots.h - hotspots that link scenes into a tour: a spot in one scene
  * (a direction and a radius) that, when the person at the kiosk looks at it

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* kiosk.c - attract mode, hotspots and the one-shot buttons (kiosk.h). */
 #include <stdio.h>
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * kiosk.h - what makes the device program a kiosk rather than a viewer:
  * attract mode (a slow turn after the idle time, handed back without a jump

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * main.c - the device program `periscope`: parse the command line, run the
  * board (firmware/app.c does the work, so tests can drive it without this

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * motion.c - the view camera's dynamics (conventions in motion.h).
  *

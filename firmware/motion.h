@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * motion.h - the view camera's motion: yaw, pitch and zoom driven by sticks
  * and buttons, with acceleration, inertia and limits. Integer only.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * overlay_font.c - the 5x7 font and clipped integer drawing (overlay_font.h).
  * The glyphs were drawn for this file, row by row below ('#' = on).

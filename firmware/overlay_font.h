@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * overlay_font.h - a 5x7 pixel font and integer drawing for the few words
  * the device shows on top of the picture ("CAMERA LOST"), so a kiosk can say

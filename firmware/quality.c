@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * quality.c - adaptive rendering quality (see quality.h).
  */

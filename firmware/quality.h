@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * quality.h - adaptive rendering quality: while the view moves fast, render
  * cheaply (nearest-neighbour pixels, the LUT read every 8 or 16 pixels) to

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * scene.h - the one scene interface of the device program. A scene is what
  * the frame loop draws: a panorama (scene pack), an object (mesh pack), the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * scene_camera.c - the live camera scene: each new camera frame (or, with a
  * dual-fisheye camera, the frame remapped through its table) becomes the map

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* scene_list.c - load, switch and free the device's scenes (scene_list.h). */
 #include <stdlib.h>
 #include <string.h>

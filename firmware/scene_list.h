@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * scene_list.h - the device's scenes: the board's scene lines (or the one
  * --scene names) and its camera scene, each loaded at start-up by the kind

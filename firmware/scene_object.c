@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* scene_object.c - the object scene (scene_object.h). */
 #include <stdlib.h>
 

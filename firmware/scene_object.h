@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * scene_object.h - the object scene: a mesh pack (core/mesh/psc_mesh.h)
  * shown with the 3D pipeline instead of a panorama. A board's scene line

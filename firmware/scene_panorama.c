@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * scene_panorama.c - the panorama scene: a scene pack (core/pack/psc_pack.h)
  * shown by the look-up-table viewer, with the tour's hotspots drawn on it.

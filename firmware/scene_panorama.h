@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * scene_panorama.h - the panorama scene's state and steps, shared with the
  * camera scene (scene_camera.c), which is a panorama whose map is replaced

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal.h - conventions shared by every part of Periscope's hardware
  * abstraction layer (HAL), and the backend registry.

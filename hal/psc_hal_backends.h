@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_backends.h - every backend this tree can build, as one const
  * descriptor each. A porter adding a backend declares it here and lists it in

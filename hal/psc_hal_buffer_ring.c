@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* psc_hal_buffer_ring.c - memory display buffers drawn into in turn (psc_hal_buffer_ring.h). */
 #include "psc_hal_buffer_ring.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_buffer_ring.h - display buffers in plain memory, drawn into in turn:
  * the back buffer is the one after the front one, and presenting makes it the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_button.c - debounce and long press of one button (psc_hal_button.h).
  */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_button.h - one push button's debounce and long-press logic, as a
  * pure state machine driven by explicit times, so every backend (GPIO

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_camera.h - a video source whose frames are environment maps (a
  * 360-degree camera delivering equirectangular frames, or a fixed camera

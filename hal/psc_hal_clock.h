@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_clock.h - the monotonic clock every other device and the frame loop
  * keep time with.

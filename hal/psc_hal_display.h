@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_display.h - a display the firmware renders whole frames into.
  *

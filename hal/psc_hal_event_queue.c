@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_event_queue.c - bounded time-ordered input event queue
  * (psc_hal_event_queue.h). A sorted array: queues hold tens of events, so

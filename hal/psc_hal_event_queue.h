@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_event_queue.h - a bounded, time-ordered queue of input events for
  * backends that gather events from several sources (GPIO lines, gamepads,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_input.h - buttons, joysticks and their hot-plugging, delivered as a
  * queue of logical events.

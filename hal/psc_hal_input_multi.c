@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_input_multi.c - merge several input backends into one
  * (psc_hal_input_multi.h). One look-ahead event per backend is enough to

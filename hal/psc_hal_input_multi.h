@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_input_multi.h - several input backends as one input source, for a
  * kiosk with buttons AND a gamepad: board line "input = gpio,usb".

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_input_names.c - the names of logical actions and axes as written in
  * board files and tour scripts. One table, so the board parser, the tour

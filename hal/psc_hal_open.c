@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_open.c - open and close devices of any kind by backend name.
  *

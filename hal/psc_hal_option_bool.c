@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_option_bool.c - yes/no backend options (psc_hal_option_bool.h).
  */

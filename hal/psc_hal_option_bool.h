@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_option_bool.h - yes/no backend options ("display.set_mode = no"),
  * read the same way by every backend: yes, no, true, false, on, off, 1, 0

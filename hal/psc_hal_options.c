@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_options.c - error text and backend-specific board options.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_parse.c - decimal text to scaled integers, without strtod: the
  * firmware and HAL keep floating point out of the device program entirely,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_parse.h - integer-only parsing of the decimal numbers people write
  * in board files and tour scripts ("0.5", "-90", "1.25s").

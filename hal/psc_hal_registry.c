@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_registry.c - the table of compiled-in backends and lookup by name.
  *

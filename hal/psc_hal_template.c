@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_template.c - the skeleton of a new backend. Copy it to
  * hal/<name>/<name>_display.c (and friends), rename "template" to the

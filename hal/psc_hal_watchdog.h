@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_watchdog.h - a watchdog the frame loop kicks once per frame, so a
  * hung kiosk is restarted instead of showing a frozen picture.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_watchdog_count.c - what every watchdog backend does alike: check
  * the board's timeout (and, for the real ones, that there is a clock), and

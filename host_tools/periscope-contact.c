@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * periscope-contact - tile rendered frames into one contact sheet PNG, each
  * shrunk with a box filter, in reading order with thin gaps between them.

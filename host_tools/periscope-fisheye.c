@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * periscope-fisheye - build the dual-fisheye table (core/fisheye/psc_fisheye.h) that
  * turns a dual-fisheye camera's frames into an equirectangular environment

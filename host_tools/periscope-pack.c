@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * periscope-pack - build a scene pack (.pano) from a JPEG or PNG panorama.
  *

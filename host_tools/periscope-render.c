@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * periscope-render - render one view of a scene pack to a PNG through core's
  * psc_viewer_render, the same code path the device runs.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* psc_io_cli.c - the command-line convention (psc_io_cli.h), on getopt_long. */
 #include "psc_io_cli.h"
 

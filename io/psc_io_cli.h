@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_io_cli.h - the one command-line convention of every Periscope program,
  * the device's and the desktop tools': GNU long options through getopt_long,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* psc_io_error.c - "PATH: problem" messages (psc_io_error.h). */
 #include "psc_io_error.h"
 

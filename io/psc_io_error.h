@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_io_error.h - the hosted layer's error messages: "PATH: problem",
  * formatted into the caller's buffer, so that library functions never print

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* psc_io_file.c - whole files into aligned memory, atomic replacement (psc_io_file.h). */
 #include "psc_io_file.h"
 #include "psc_io_error.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_io_file.h - whole files in and out: read a file into a fresh 64-byte
  * aligned buffer, the way the in-place parsers of core want it, and replace a

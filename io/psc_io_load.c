@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_io_load.c - load scene packs, mesh packs and fisheye tables by path and
  * parse them with core's parsers (exactly what the device does).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_io_load.h - load Periscope's sectioned files by path, the way the
  * device does: the whole file into 64-byte aligned memory, then core's own

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_io_png.c - PNG files with libpng (psc_io_png.h): decoding of any colour
  * type and bit depth to 0xFFRRGGBB (alpha dropped), and 8-bit RGB encoding

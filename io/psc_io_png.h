@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_io_png.h - PNG files (libpng) for the device's captures and the host
  * tools alike: read any PNG (every colour type and depth) into XRGB8888

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # mk/cortex-m.mk - bare-metal microcontroller boards: `make BOARD=cortex-m7`.
 #
 # A board whose boards/<name>/board.conf says `build = core-only` gets the

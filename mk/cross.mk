@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Cross builds for Linux boards (boards/README.md, "Cross builds").
 #   make BOARD=rpi-arm64          firmware, host tools and core into build/rpi-arm64/
 #   make cross BOARD=rpi-armhf    the same, by name

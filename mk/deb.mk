@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Debian packages (README.md, "Deploying to a Raspberry Pi"; packaging/deb/).
 #   make image BOARD=rpi-arm64    cross-builds (mk/cross.mk) and packages
 #                                 build/rpi-arm64/periscope_<ver>_arm64.deb

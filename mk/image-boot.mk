@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # The bootable kiosk image of a Linux board (issue 6, "Deployment images"):
 #   make boot-image BOARD=rpi-arm64   the cross build, then scripts/boot-image:
 #                                     build/rpi-arm64/image/{vmlinuz,initramfs.cpio.gz,README}

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # Installs the Debian packages Periscope needs to build, run and test on the host.
 # Used by `make run`, `make test` and .ci/run alike, so a fresh machine needs
 # nothing else. As root it installs; with sudo it uses sudo; otherwise it

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # Run cmocka test programs and sum up their results.
 #   usage: sh tests/run_all.sh BUILD_DIR TEST_PROGRAM...
 # Each program's output is shown (and kept in BUILD_DIR/test-logs/NAME.log).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_3d_golden.c - rendered 3D views against the double-precision
  * reference renderer (tests/support/tsup_3d_ref.c): generated meshes (cube,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_3d_mesh.c - mesh packs (host_tools/lib/mesh_pack.c -> core psc_mesh_parse)
  * and the OBJ loader (host_tools/lib/obj_load.c).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_3d_raster.c - the rasterizer's and the pipeline's exact properties.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_accuracy.c - where the viewer samples, against the exact geometry.
  *

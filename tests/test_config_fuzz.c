@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_config_fuzz.c - the board file parser (firmware/board_config.h) and
  * the tour script parser (hal/sim/psc_sim_tour.h) on truncated and corrupt

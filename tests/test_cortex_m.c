@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_cortex_m.c - the Cortex-M build (mk/cortex-m.mk) as cmocka cases:
  *  - `make BOARD=cortex-m7` cross-builds core/ and the test program

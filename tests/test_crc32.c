@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_crc32.c - psc_crc32 against zlib's crc32 (CRC-32/ISO-HDLC). */
 #include <stdarg.h>
 #include <stddef.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_deb.c - the Debian package (mk/deb.mk, scripts/build-deb, packaging/deb/).
  *
@@ -299,6 +300,9 @@ static void test_docs_and_scripts(void **state)
     assert_non_null(copyright);
     assert_true(strncmp(copyright, "Format: https://www.debian.org/doc/packaging-manuals/copyright-format/1.0/\n",
                         75) == 0);
+    assert_true(has_line(copyright, "Files: *"));
+    assert_true(has_line(copyright, "License: Expat"));   /* the source tree's LICENSE: MIT */
+    assert_null(strstr(copyright, "all rights reserved"));
     assert_true(has_line(copyright, "Files: usr/share/periscope/scenes/*"));
     assert_true(has_line(copyright, "License: CC-BY-SA-3.0"));
     free(copyright);

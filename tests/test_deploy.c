@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_deploy.c - what a device maker deploys, for each board with an
  * `image.kernel` key (rpi-arm64, rpi-armhf, x86-kiosk); `make test`

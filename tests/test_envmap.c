@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_envmap.c - map descriptions (core/envmap/psc_envmap.h): names, checks and default coverage. */
 #include <stdarg.h>
 #include <stddef.h>

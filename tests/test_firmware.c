@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_firmware.c - the device program's logic: board files
  * (firmware/board_config.h), tour scripts (hal/sim/psc_sim_tour.h), the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_firmware_devices.c - the firmware's side of the real devices: the
  * missing-device indication (state, text, the pixels drawn), the 5x7 font,

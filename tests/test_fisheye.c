@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_fisheye.c - dual-fisheye cameras: the lens model's conventions, the
  * table's positions against the exact double-precision mapping, a synthetic

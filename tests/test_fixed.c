@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_fixed.c - core/base/psc_fixed.h and the binary-angle macro of psc_types.h
  * against independent references (exact integer arithmetic, or libm in

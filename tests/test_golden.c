@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_golden.c - rendered views against the double-precision reference
  * renderer (tests/support), on synthetic maps of every projection, format

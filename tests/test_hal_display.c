@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_hal_display.c - the fbdev and DRM displays' decisions without the
  * devices (hal/fbdev/psc_fbdev_mode.h, hal/drm/psc_drm_mode.h): pixel

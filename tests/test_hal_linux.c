@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_hal_linux.c - the "linux" clock and the "systemd" sd_notify watchdog
  * (hal/linux/). The watchdog is checked against a Unix datagram socket the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_hal_sdl.c - the SDL2 backend headless (SDL_VIDEODRIVER=dummy): the
  * window display opens, presents and shows exactly the frame drawn (read

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_hal_v4l2.c - the V4L2 camera without a camera (hal/v4l2/): the
  * BT.601 YUYV conversion exact for all 2^24 inputs against an independent

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_hid.c - the HID report descriptor parser and report decoder
  * (hal/usb/psc_hid_parse.h) on real descriptors written byte by byte from

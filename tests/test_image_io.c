@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_image_io.c - host_tools/lib/image_io.h: PNG and JPEG loading, PNG
  * writing of images and surfaces.

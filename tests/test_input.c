@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_input.c - the input backends' logic that needs no hardware:
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_kiosk.c - the kiosk behaviours: attract mode (firmware/attract.h) and
  * hotspots linking scenes (firmware/hotspots.h): timing on a deterministic

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_lut.c - the scanline-coherent table (core/lut/psc_lut.h) as built by
  * host_tools/lib/lut_build.c: the stored octant plus the reflections that

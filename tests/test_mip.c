@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_mip.c - the map pyramid and PSC_FILTER_MIP.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_pack.c - scene packs: psc_pack_build (host) -> psc_pack_parse (core).
  *

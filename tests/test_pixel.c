@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_pixel.c - core/base/psc_pixel.h conversions and the bilinear blend, exhaustively where possible. */
 #include <stdarg.h>
 #include <stddef.h>

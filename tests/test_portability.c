@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * Bit-exact portability: for every board whose board.conf names a
  * debian_arch (boards/README.md, "Cross builds"), the programs cross-built

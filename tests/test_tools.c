@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_tools.c - the command-line tools as a user runs them: periscope-pack,
  * periscope-render and periscope-contact, started as programs (posix_spawn)

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_vm.c - the VM tests as cmocka cases: the real HAL backends and the
  * real firmware against real Linux drivers (vfb, bochs DRM, vivid, a USB HID

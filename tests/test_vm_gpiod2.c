@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * test_vm_gpiod2.c - the GPIO buttons backend built against libgpiod 2.x
  * (PSC_GPIOD_MAJOR=2), proven like the 1.6 build: the real firmware on

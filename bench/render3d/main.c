@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * render3d - how fast Periscope's integer 3D pipeline draws a textured model,
  * side by side in one run with Mesa's OSMesa software rasterizers (issue 3).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * mesa.c - the same scene through Mesa's OSMesa software rasterizer, in a
  * child process so that GALLIUM_DRIVER (softpipe or llvmpipe) and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * render3d.h - the 3D benchmark's scene and the two renderers it times:
  * Periscope's integer pipeline (core/3d/psc_3d_render.h) and Mesa's OSMesa

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * scene.c - the benchmark scene (a textured, lit Utah teapot of 10816
  * triangles, as the device would load it from a mesh pack) and the timed

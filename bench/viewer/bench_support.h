@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * bench_support.h - the C side of the viewer benchmark: scenes (the sample,
  * its 2x upscale, packs), result rows and their report, the callgrind mode.

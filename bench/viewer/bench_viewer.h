@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * bench_viewer.h - what the files of the viewer benchmark share (bench/viewer/).
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * callgrind.c - `make bench-callgrind`: instructions per output pixel for each
  * Periscope mode, counted by valgrind's callgrind (repeatable where timings

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // cv_remap.cpp - the OpenCV side of the viewer benchmark: cv::remap through
 // fixed-point maps, what an engineer would reach for instead of Periscope.
 // C entry points (bench_viewer.h); C++ exceptions never cross into C.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * viewer - how fast Periscope's viewer renders, side by side in one run with
  * OpenCV's cv::remap and a naive float renderer (issue 4).

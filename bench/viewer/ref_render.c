@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * ref_render.c - the float mapping every non-Periscope renderer uses, and the
  * naive renderer built on it: what a programmer writes first, one atan2 and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * report.c - the benchmark's one table, the notes under it (table memory,
  * zoom-out against zoom-in, the issue's goals) and the same as JSON.

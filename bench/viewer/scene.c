@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * scene.c - the benchmark's inputs: the bundled sample, an 8192x4096 map made
  * from it in memory (large maps are not committed), OpenCV-order copies, and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * speed.c - the timed sweep behind `make bench`: every map size, output size
  * and field of view, each renderer over the same sequences of views.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_3d_clip.c - Sutherland-Hodgman clipping in camera space (psc_3d_clip.h).
  */

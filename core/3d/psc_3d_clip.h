@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_3d_clip.h - clipping polygons in camera space against the view volume.
  *

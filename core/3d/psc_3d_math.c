@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_3d_math.c - Q16.16 matrices and vectors (conventions: psc_3d_math.h).
  */

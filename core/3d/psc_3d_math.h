@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_3d_math.h - fixed-point vectors and 4x4 matrices for the 3D pipeline.
  *

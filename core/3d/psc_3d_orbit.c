@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_3d_orbit.c - orbit camera around a bounding box (psc_3d_orbit.h).
  */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_3d_orbit.h - an orbit camera around a mesh: the view periscope-render's
  * --orbit and the firmware's object scene use.

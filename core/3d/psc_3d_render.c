@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_3d_render.c - the frame loop of the 3D pipeline (psc_3d_render.h).
  */

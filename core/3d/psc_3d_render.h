@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_3d_render.h - the integer 3D pipeline: meshes -> camera space ->
  * lighting -> clipping -> projection -> back-face culling -> rasterizer.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* psc_container.c - checks shared by every sectioned Periscope file (psc_container.h). */
 #include "base/psc_container.h"
 #include "base/psc_crc32.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_container.h - the one sectioned file layout of every Periscope file
  * (scene packs, mesh packs, fisheye tables, and the formats to come). The

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* psc_crc32.c - CRC-32/ISO-HDLC, reflected polynomial 0xEDB88320, byte-wise table. */
 #include "base/psc_crc32.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_crc32.h - CRC-32/ISO-HDLC (the zlib / PNG / Ethernet CRC), from a
  * constant 1 KiB table (read-only data: flash on a microcontroller, no RAM).

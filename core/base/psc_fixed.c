@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_fixed.c - integer square root, rounded division and CORDIC trigonometry.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_fixed.h - fixed-point arithmetic: rounding shifts, square roots and
  * CORDIC trigonometry on binary angles.

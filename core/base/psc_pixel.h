@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_pixel.h - pixel conversions and blends shared by the samplers.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* psc_status.c - human-readable status codes. */
 #include "base/psc_types.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_types.h - types and conventions shared by every part of Periscope's core.
  *

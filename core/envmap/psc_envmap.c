@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* psc_envmap.c - environment map descriptions: names, checks, default coverage. */
 #include "envmap/psc_envmap.h"
 #include "base/psc_fixed.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_envmap.h - environment maps: a scene projected onto a surface of
  * revolution and stored as rows of pixels (seed US 5,748,194, "environment map").

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* psc_fisheye.c - the dual-fisheye table: parse in place and remap frames (psc_fisheye.h). */
 #include "fisheye/psc_fisheye.h"
 #include "base/psc_pixel.h"

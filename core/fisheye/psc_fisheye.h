@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_fisheye.h - the dual-fisheye table (.pfish): for every pixel of an
  * equirectangular environment map, where to read it in a dual-fisheye camera

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* psc_lut.c - checks on look-up table descriptions. */
 #include "lut/psc_lut.h"
 #include "base/psc_fixed.h"

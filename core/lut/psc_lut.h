@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_lut.h - the scanline-coherent cylindrical look-up table (seed US 5,748,194).
  *

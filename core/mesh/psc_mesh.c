@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_mesh.c - validate and parse a mesh pack in place (format: psc_mesh.h).
  * Every field is read byte-wise little-endian and range-checked before use;

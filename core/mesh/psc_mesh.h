@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_mesh.h - a triangle mesh in memory, and the mesh pack (.pmesh) that
  * holds one on the device, read in place like the scene pack (psc_pack.h).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_pack.c - validate and parse a scene pack in place (format: psc_pack.h).
  * Every field is read byte-wise little-endian and range-checked before use;

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_pack.h - the scene pack (.pano): one file with an environment map and
  * every table the viewer needs. Written by host_tools/periscope-pack, read in

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_raster.c - triangle setup and the per-pixel loops (conventions: psc_raster.h).
  *

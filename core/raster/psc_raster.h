@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_raster.h - the triangle rasterizer: edge functions, top-left fill rule,
  * depth buffer, flat / Gouraud / perspective-correct texture shading.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_viewer.c - set-up and the scanline renderer (see psc_viewer.h).
  *

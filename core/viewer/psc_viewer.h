@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_viewer.h - render perspective views of an environment map through a
  * scanline-coherent look-up table (seed US 5,748,194).

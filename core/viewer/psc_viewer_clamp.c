@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_viewer_clamp.c - keep a requested view inside what the map shows.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_viewer_geometry.c - the angle <-> map-index conversions and the exact
  * (CORDIC) ray directions the viewer shares between its paths.

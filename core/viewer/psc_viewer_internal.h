@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_viewer_internal.h - what the viewer's source files share; not part of
  * the public API.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_viewer_mip.c - sampling the map pyramid (PSC_FILTER_MIP).
  *

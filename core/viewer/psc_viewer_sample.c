@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_viewer_sample.c - the general sampler: any projection, partial maps,
  * one pixel at a time. Columns wrap around a full turn (within the row's own

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_viewer_scan.c - one output scanline: LUT samples, then spans between them.
  *

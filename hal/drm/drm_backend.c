@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * drm_backend.c - the "drm" backend descriptor: a DRM/KMS card as the
  * display (board: "display = drm").

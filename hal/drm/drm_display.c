@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * drm_display.c - the "drm" display: KMS through libdrm on /dev/dri/cardN
  * (bochs-display in the VM tests, vc4 on a Raspberry Pi, i915/amdgpu on an

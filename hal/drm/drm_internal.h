@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * drm_internal.h - the DRM display's open function, for its backend
  * descriptor (drm_backend.c). Not for the firmware.

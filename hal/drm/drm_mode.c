@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * drm_mode.c - mode choice, format mapping and connector names of the DRM
  * display (psc_drm_mode.h).

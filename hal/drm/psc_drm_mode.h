@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_drm_mode.h - the DRM/KMS display's decisions that need no device:
  * which mode of a connector to use, connector names, pixel formats. Apart

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * fbdev_backend.c - the "fbdev" backend descriptor: a Linux framebuffer
  * device as the display (board: "display = fbdev").

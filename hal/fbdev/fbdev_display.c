@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * fbdev_display.c - the "fbdev" display: a Linux framebuffer device
  * (/dev/fbN: vfb in the VM tests, simplefb or a DRM driver's fbdev

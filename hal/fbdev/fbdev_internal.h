@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * fbdev_internal.h - the fbdev display's open function, for its backend
  * descriptor (fbdev_backend.c). Not for the firmware.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * fbdev_mode.c - format recognition, mode request and buffering plan of the
  * fbdev display (psc_fbdev_mode.h).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_fbdev_mode.h - the Linux framebuffer (fbdev) display's decisions that
  * need no device: which pixel layouts it can draw, the mode it asks the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_gpio_input.c - the "gpio" input backend: push buttons on GPIO lines,
  * found by line name on any chip (psc_gpio_lines.h), debounced, with long

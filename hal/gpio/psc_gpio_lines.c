@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_gpio_lines.c - named GPIO input lines through libgpiod 1.6 or 2.x
  * (psc_gpio_lines.h). The chip search and the bookkeeping are shared; the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_gpio_lines.h - GPIO input lines found by NAME on whichever chip has
  * them, requested for both-edge events, read without blocking. The only

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * dev_watchdog.c - the "linux" watchdog: the kernel's watchdog device
  * (/dev/watchdog0: bcm2835_wdt on a Raspberry Pi, iTCO_wdt or sp5100_tco on

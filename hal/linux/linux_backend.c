@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * linux_backend.c - the descriptors of the plain-Linux backends:
  *   "linux"    clock: CLOCK_MONOTONIC with absolute-deadline sleeps;

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * linux_clock.c - the "linux" clock: CLOCK_MONOTONIC, microseconds since
  * open, and absolute-time sleeps (clock_nanosleep with TIMER_ABSTIME).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * linux_internal.h - what the "linux" and "systemd" backends (clock, watchdog
  * device, sd_notify watchdog) share with their descriptors. Not for the firmware.

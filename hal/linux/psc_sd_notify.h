@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_sd_notify.h - systemd's service notification protocol, written by hand
  * so the firmware needs no libsystemd (one fewer library on a small image).

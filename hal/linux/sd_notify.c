@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * sd_notify.c - the sd_notify datagram protocol (psc_sd_notify.h).
  *

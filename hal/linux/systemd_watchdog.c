@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * systemd_watchdog.c - the "systemd" watchdog: the frame loop's kicks become
  * sd_notify datagrams (psc_sd_notify.h), so systemd restarts a kiosk whose

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * sdl_backend.c - the "sdl" backend: an SDL2 window as the display and its
  * keyboard, mouse and SDL game controllers as the input, for developing on a

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * sdl_display.c - the SDL2 window display. Frames are drawn into buffers in
  * memory (so get_front_buffer can read back exactly what was shown) and

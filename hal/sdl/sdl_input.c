@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * sdl_input.c - keyboard, mouse and SDL game controllers as one input
  * source, mapped to the same actions and axes as a kiosk's buttons and

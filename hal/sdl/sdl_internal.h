@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * sdl_internal.h - what the SDL2 display and input share: SDL start-up, and
  * whether an SDL input is open (so the display knows whether it must pump

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hal_sim.h - what the simulated board offers beyond the generic HAL, for
  * tests.

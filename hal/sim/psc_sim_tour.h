@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_sim_tour.h - tour scripts: scripted input for the simulated board
  * (the grammar is documented at the top of sim_tour.c).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * sim_backend.c - the "sim" backend descriptor: how the registry finds the
  * simulated devices when a board file says "display = sim" and so on.

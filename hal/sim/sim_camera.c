@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * sim_camera.c - the simulated board's camera: V4L2-style buffer streaming
  * whose frames are the equirectangular test pattern of psc_sim_pattern_fill.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * sim_capture_none.c - the sim's captures in a build without them: a board
  * whose backends line leaves `sim` out (a kiosk) still gets the simulated

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * sim_capture_png.c - the sim display's captures as PNG files (io's libpng
  * writer). With the contact sheet (sim_capture_sheet.c) this is the part of

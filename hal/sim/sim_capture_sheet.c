@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * sim_capture_sheet.c - after a simulated run, one PNG that shows the whole
  * run at a glance: the captured frames, shrunk by an integer factor to about

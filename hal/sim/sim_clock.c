@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * sim_clock.c - the simulated board's clock: starts at 0 and moves only when
  * told to. The sim display moves it one frame period per present and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * sim_display.c - the simulated board's display: frame buffers in memory,
  * presents that advance the sim clock by one frame period, and PNG capture of

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * sim_input.c - the simulated board's input: a tour script (psc_sim_tour.h)
  * replayed against the clock the firmware polls with. The whole script is

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * sim_internal.h - what the simulated devices share among themselves and with
  * the backend descriptor (sim_backend.c). Not for the firmware: it talks to

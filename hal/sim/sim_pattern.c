@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * sim_pattern.c - the sim camera's test picture. Every feature sits at a known
  * angle (hue = longitude, grid every 30 degrees, coloured polar caps), so a

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * sim_watchdog.c - the simulated board's watchdog: it cannot reset anything,
  * so it records each kick on the sim clock and remembers the longest gap.

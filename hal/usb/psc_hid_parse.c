@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hid_parse.c - HID report descriptor parser and input report decoder
  * for joysticks and gamepads (psc_hid_parse.h). Written from the HID 1.11

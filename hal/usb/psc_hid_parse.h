@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_hid_parse.h - USB HID report descriptors of joysticks and gamepads,
  * reduced to what a panorama kiosk needs, and the decoding of their input

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_usb_desc.c - the gamepad interface in raw USB descriptors
  * (psc_usb_desc.h). Each descriptor starts with bLength and bDescriptorType;

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_usb_desc.h - find the gamepad interface of a USB device from its raw
  * standard descriptors: what reading a usbfs node (/dev/bus/usb/BBB/DDD)

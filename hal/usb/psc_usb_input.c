@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_usb_input.c - the "usb" input backend: USB joysticks and gamepads
  * through libusb-1.0, read by their HID report descriptors (no built-in

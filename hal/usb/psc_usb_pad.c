@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_usb_pad.c - gamepad reports to HAL input events (psc_usb_pad.h).
  */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_usb_pad.h - one gamepad's reports turned into HAL input events: the
  * part of the USB backend that needs no USB. The backend (psc_usb_input.c)

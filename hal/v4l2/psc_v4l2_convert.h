@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_v4l2_convert.h - turning camera frames (YUYV 4:2:2 or Motion-JPEG)
  * into environment-map pixels (RGB565 or XRGB8888), resampled to the map's

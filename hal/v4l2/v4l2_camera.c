@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * v4l2_camera.c - the "v4l2" camera: a V4L2 capture device (a UVC webcam or
  * 360-degree camera, vivid in the VM tests) streamed with mmap buffers, each

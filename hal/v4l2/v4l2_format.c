@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * v4l2_format.c - format choice, frame checks, option parsing and the
  * per-frame conversion dispatch of the V4L2 camera (v4l2_internal.h).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * v4l2_internal.h - the V4L2 camera's decisions that need no device (format
  * choice, frame checks, option parsing, frame conversion dispatch), apart

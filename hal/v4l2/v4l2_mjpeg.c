@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * v4l2_mjpeg.c - Motion-JPEG camera frames decoded with libjpeg(-turbo)
  * straight from the mmap'd V4L2 buffer (jpeg_mem_src) into the map, one

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * v4l2_yuv.c - exact integer BT.601 YUYV to RGB conversion and nearest
  * resampling (psc_v4l2_convert.h).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* angle_conv.c - degree <-> binary angle conversions (see angle_conv.h). */
 #include "angle_conv.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * angle_conv.h - degrees (doubles, host side) to and from the binary angles of
  * core/base/psc_types.h (2^32 units per turn), rounded to nearest.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* cli_parse.c - strict command-line value parsers (see cli_parse.h). */
 #include "cli_parse.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * cli_parse.h - strict parsing of command-line values for the host tools
  * (the options themselves: io/psc_io_cli.h).

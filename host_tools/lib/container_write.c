@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* container_write.c - lay out and write a sectioned file (container_write.h). */
 #include "container_write.h"
 #include "psc_io_error.h"

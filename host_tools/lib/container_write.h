@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * container_write.h - the one writer of Periscope's sectioned files (layout:
  * core/base/psc_container.h). Every pack tool lays its sections out here, so

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* fisheye_build.c - the dual-fisheye lens model and its table file (fisheye_build.h). */
 #include <errno.h>
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * fisheye_build.h - the dual-fisheye lens model in double precision, and the
  * table file (core/fisheye/psc_fisheye.h) built from it.

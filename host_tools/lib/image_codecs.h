@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * image_codecs.h - the JPEG decoder behind image_io.h (internal to
  * host_tools/lib; PNG is io/psc_io_png.h). It takes the path only to name it

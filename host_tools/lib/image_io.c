@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * image_io.c - the image_io.h front end: pick the decoder from the file's
  * first bytes, and turn surfaces into images and PNG files.

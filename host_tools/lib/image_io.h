@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * image_io.h - read JPEG/PNG images and write PNG images (libjpeg-turbo here,
  * libpng through io/psc_io_png.h, which also writes surfaces: psc_io_png_write).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * image_jpeg.c - JPEG decoding with libjpeg(-turbo) into 0xFFRRGGBB pixels.
  * libjpeg reports fatal errors through error_exit, which must not return:

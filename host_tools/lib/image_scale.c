@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* image_scale.c - area-weighted (box filter) resizing, done separably (see image_scale.h). */
 #include "image_scale.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * image_scale.h - shrink images for previews and contact sheets.
  */

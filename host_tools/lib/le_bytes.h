@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * le_bytes.h - store integers little-endian byte by byte, as the pack format
  * requires, whatever the host's byte order and alignment.

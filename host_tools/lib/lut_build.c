@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* lut_build.c - double-precision table generation for core/lut/psc_lut.h. */
 #include "lut_build.h"
 

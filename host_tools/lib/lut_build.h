@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * lut_build.h - compute a scanline-coherent look-up table in double precision
  * (the format and geometry are defined in core/lut/psc_lut.h).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* map_convert.c - image pixels to map pixel formats (see map_convert.h). */
 #include "map_convert.h"
 #include "le_bytes.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * map_convert.h - convert an image's pixels to an environment-map pixel
  * format (core/base/psc_types.h): RGB565 rounded to nearest, XRGB8888 as is,

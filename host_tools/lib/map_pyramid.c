@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* map_pyramid.c - filtered halving of environment maps (map_pyramid.h). */
 #include "map_pyramid.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * map_pyramid.h - the environment map's levels for PSC_FILTER_MIP: each level
  * half the size of the one before, filtered so that zoomed-out views do not alias.

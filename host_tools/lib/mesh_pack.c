@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * mesh_pack.c - lay out, write and load mesh packs (format: core/mesh/psc_mesh.h).
  * Sections in file order: MINF, VPOS, VNRM, VTEX, VCOL, TIDX, TEXR (the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * mesh_pack.h - write a mesh pack (format: core/mesh/psc_mesh.h) from a host
  * model (loading one is io/psc_io_load.h). Host side: heap and stdio are

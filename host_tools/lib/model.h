@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * model.h - a triangle model on the host, in double precision: what the OBJ
  * loader reads and the shape generators make, and what the mesh pack writer

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * model_render.c - periscope-render's model mode (model_render.h).
  */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * model_render.h - periscope-render's model mode: one view of an OBJ file or
  * a mesh pack through the device's 3D pipeline (core/3d/psc_3d_render.h).

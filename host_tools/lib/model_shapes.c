@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * model_shapes.c - generated models: cube, sphere, torus and the Utah teapot
  * (model.h). Every triangle is wound so that its formula cross product points

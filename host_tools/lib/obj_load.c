@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * obj_load.c - Wavefront OBJ reader (obj_load.h).
  */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * obj_load.h - read a Wavefront OBJ file into a host model (model.h).
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * pack_build.c - lay out and write a scene pack (format: core/pack/psc_pack.h).
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * pack_build.h - build a scene pack (format: core/pack/psc_pack.h) from an
  * image (loading one is io/psc_io_load.h). Host side: uses the heap and

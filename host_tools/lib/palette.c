@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * palette.c - palette choice by median cut and nearest-colour mapping (see palette.h).
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * palette.h - choose a 256-colour palette for an image and map colours to it
  * (for PAL8 maps). The quantizer is a variance-based median cut refined by a

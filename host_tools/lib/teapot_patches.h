@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * teapot_patches.h - the Utah teapot's Bezier patches (included once, by model_shapes.c).
  *

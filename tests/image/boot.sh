@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # tests/image/boot.sh - boot a board's kiosk image (make boot-image
 # BOARD=...: build/BOARD/image/) under QEMU (TCG) with a bochs-display (the
 # `virt` machine for ARM, q35 for amd64), and check from the host that the

@@ -1,10 +1,12 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # tests/image/deb-cross.sh - a cross-built board's Debian package (make deb
 # BOARD=...: build/BOARD/periscope_<version>_<arch>.deb), taken apart:
 #   - Package, Version (the VERSION file's) and Architecture (the board's
 #     debian_arch); Depends names a package for every shared library the
 #     packaged periscope needs (dpkg-shlibdeps, from multiarch or the sysroot),
-#     and it links no SDL2 when the board's `backends` line leaves sdl out;
+#     and it links no SDL2 when the board's `backends` line leaves sdl out, no
+#     libpng without sim, no libjpeg without v4l2 and never zlib;
 #   - every program in /usr/bin is an ELF of the board's architecture and has
 #     its manual page;
 #   - the conffile is the board's description, naming the packaged sample;
@@ -60,7 +62,18 @@ if [ -n "$HAL_BACKENDS" ]; then
     *" sdl "*) ;;
     *) ! echo "$needed" | grep -q '^libSDL2' || fail "periscope links SDL2, which boards/$board leaves out" ;;
     esac
+    # the device program links nothing of the host tools: libpng comes only
+    # with the sim's PNG captures, libjpeg only with V4L2's MJPEG, zlib never
+    case " $HAL_BACKENDS " in
+    *" sim "*) ;;
+    *) ! echo "$needed" | grep -q '^libpng' || fail "periscope links libpng, which only the sim's captures need" ;;
+    esac
+    case " $HAL_BACKENDS " in
+    *" v4l2 "*) ;;
+    *) ! echo "$needed" | grep -q '^libjpeg' || fail "periscope links libjpeg without the v4l2 backend" ;;
+    esac
 fi
+! echo "$needed" | grep -q '^libz\.' || fail "periscope links zlib, a host tools' library"
 for so in $needed; do
     case $so in
     libc.so.*|libm.so.*|ld-linux*) pkg=libc6 ;;

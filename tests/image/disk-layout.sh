@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # tests/image/disk-layout.sh - what a machine's firmware needs from a board's
 # bootable disk image (scripts/disk-image, build/BOARD/image/periscope-BOARD.img),
 # read back from the image file itself:

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # tests/image/lib.sh - what the image test scripts share; sourced from the
 # repository root after the script has set `kind` (its verdict lines' first
 # word: "boot", "disk", "deb", "reproducible"):

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # tests/image/reproducible.sh - a board's deployment image is reproducible:
 # scripts/boot-image run again into a scratch directory (PSC_IMAGE_OUT) from
 # the same tree gives the initramfs and the disk image of

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # check-symbols.sh - fail if a bare-metal image or object links floating point
 # or heap allocation.
 #   usage: sh tests/mcu/check-symbols.sh NM FILE...   (NM: e.g. arm-none-eabi-nm)

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * cm_main.c - the Cortex-M test program: the integer core alone on a bare
  * microcontroller. It parses the scene pack linked into flash

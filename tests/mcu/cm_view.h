@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * cm_view.h - the one view the microcontroller test program (cm_main.c)
  * renders, shared with the host test that renders it again and compares the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * mkscene.c - host helper of the Cortex-M build: scale a panorama down to a
  * tiny one (box filter) so that its scene pack fits a microcontroller's flash.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc-render-raw - the bit-exact portability probe: renders views of a scene
  * pack through core alone (psc_pack_parse, psc_viewer_*) and writes the raw

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # Bit-exact portability: the cross-built renderers of one board, run under
 # qemu-user, must give byte for byte what the x86-64 build gives.
 #   sh tests/portability/run.sh [--build BUILD] BOARD

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * psc_testsupport.h - shared helpers for Periscope's tests (host only: double,
  * heap and libc allowed). Built into libpsc_testsupport.a from tests/support/.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * tsup_3d.h - test helpers for the 3D pipeline (host only: double, heap).
  *

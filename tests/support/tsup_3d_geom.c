@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* tsup_3d_geom.c - generated meshes, test meshes, textures and cameras (tsup_3d.h). */
 #include "tsup_3d.h"
 #include "psc_testsupport.h"

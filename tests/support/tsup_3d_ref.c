@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * tsup_3d_ref.c - the double-precision reference renderer of the 3D
  * pipeline (tsup_3d.h): independent of core's fixed point, sharing only its

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* tsup_env.c - look-up tables, viewers and output surfaces built in memory for a test. */
 #include "psc_testsupport.h"
 #include "lut_build.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* tsup_files.c - scratch files and message checks for the file-parser tests (see tsup_files.h). */
 #include "tsup_files.h"
 

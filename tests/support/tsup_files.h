@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * tsup_files.h - scratch files and error-message checks shared by the tests
  * of parsers that read files (image I/O, board/tour files, the host tools).

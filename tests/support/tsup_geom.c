@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* tsup_geom.c - angles, random numbers and exact double-precision geometry for tests. */
 #include "psc_testsupport.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* tsup_pack.c - small packs of the synthetic scene on disk (tsup_pack.h). */
 #include <stddef.h>
 #include <stdlib.h>

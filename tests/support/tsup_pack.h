@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * tsup_pack.h - small scene packs of the synthetic scene, written to disk for
  * tests that run the device program or the tools on a real file.

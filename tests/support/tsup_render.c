@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* tsup_render.c - double-precision reference renderer and image metrics. */
 #include "psc_testsupport.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* tsup_script.c - boards, build directory and exit status for script-driven tests (see tsup_script.h). */
 #include "tsup_script.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * tsup_script.h - the tests that drive a shell script (the cross-built
  * renderers under qemu-user, the boot images under qemu-system): which

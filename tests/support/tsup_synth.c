@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* tsup_synth.c - the synthetic panorama: an analytic scene sampled into maps of every projection and format. */
 #include "psc_testsupport.h"
 

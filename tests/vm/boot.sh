@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # tests/vm/boot.sh - sourced by the VM harness: boot one case.
 #
 # A case is tests/vm/cases/NAME.sh, a busybox sh script run inside the VM

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # tests/vm/guest.sh - helpers for the case scripts, sourced inside the VM by
 # /init before the case. A case is a busybox sh script; it passes when it
 # exits 0. Everything it prints lands in the host's run directory

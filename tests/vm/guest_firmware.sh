@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # tests/vm/guest_firmware.sh - inside the VM: run the real firmware
 # (build/bin/periscope, "# vm-needs: @bin/periscope") on a VM board in
 # /share, and stop it at chosen frames without any timing.

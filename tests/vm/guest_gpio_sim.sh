@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # tests/vm/guest_gpio_sim.sh - inside the VM: simulated GPIO chips with
 # gpio-sim (built out of tree by gpio-sim/build.sh, loaded from extra/). A
 # chip is made in configfs with named lines; its lines are inputs whose

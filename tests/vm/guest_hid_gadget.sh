@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # tests/vm/guest_hid_gadget.sh - inside the VM: a USB HID gamepad made with
 # the kernel's USB gadget stack. dummy_hcd is a software USB host controller
 # wired to a software device controller (dummy_udc.0); a configfs gadget

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # tests/vm/host_firmware.sh - the host's side of the firmware VM cases, run
 # from a case's vm-before / vm-after lines in the run's share directory
 # (the VM's /share, where the firmware runs with the same relative paths).

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # tests/vm/initramfs.sh - sourced by the VM harness: build (once per kernel
 # and module set) the VM's base initramfs: static busybox, tests/vm/init, and
 # the kernel modules the cases name plus everything they depend on, with a

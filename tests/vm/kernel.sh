@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # tests/vm/kernel.sh - sourced by the VM harness: pick the Debian kernel the
 # VM boots. Sets VM_KVER (e.g. 6.1.0-56-amd64), VM_KERNEL (its vmlinuz),
 # VM_MODDIR (its /lib/modules tree) and VM_HEADERS (its linux-headers tree,

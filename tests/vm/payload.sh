@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # tests/vm/payload.sh - sourced by the VM harness: stage host programs for
 # the VM. The programs are the host's own builds (the probes, the firmware),
 # dynamically linked, so each one travels with the shared libraries ldd finds

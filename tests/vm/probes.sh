@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # tests/vm/probes.sh - sourced by the VM harness: build the small C programs
 # the cases run inside the VM (tests/vm/probes/*.c) with the host compiler
 # and the project's warning flags, one program per file. A probe that needs

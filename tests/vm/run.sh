@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # tests/vm/run.sh - prove the real HAL backends against real Linux drivers:
 # boot Debian's own kernel in QEMU (TCG; KVM is not needed) with a busybox
 # initramfs, run one case script per VM (tests/vm/cases/*.sh), and bring the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # tests/vm/screendump.sh - sourced by the VM harness: let a case photograph
 # the VM's screen. QEMU's monitor `screendump` writes what the emulated
 # display device scans out (as a PPM), which is an independent read-back of

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # The harness itself: the VM boots Debian's kernel, loads modules, and the
 # results come back over the 9p share (a file written here is checked on the
 # host by the expect line below, the exit status by the harness).

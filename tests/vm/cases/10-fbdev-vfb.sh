@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # fbdev against the real vfb driver: the mode it reports, switching between
 # 32 and 16 bits per pixel, a double-height virtual screen with pan-display (the
 # fbdev backend's double buffering), and the test pattern written through

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # V4L2 capture against the real vivid driver: capabilities and formats,
 # YUYV 640x480 mmap streaming with poll (frame size, rising sequence numbers,
 # vivid's colour bars in the picture), then an unplug: vivid's "Disconnect"

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # DRM/KMS against the real bochs driver on QEMU's bochs-display: dumb-buffer
 # capability, a connected connector with a 640x480 mode, two XRGB8888 dumb
 # buffers, a mode set and page flips that each complete with an event (the

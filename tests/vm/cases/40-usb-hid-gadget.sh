@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # A USB gamepad through libusb against the real kernel USB stack: a configfs
 # HID gadget on dummy_hcd enumerates as a device with a HID interface; the
 # probe finds it, claims it, fetches the report descriptor with a control

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # GPIO buttons against the real gpiolib character device, with gpio-sim
 # (built out of tree) standing in for the board's pins: lines found by name
 # on whichever chip has them, edge events on both edges as the simulated

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # The real firmware on the real fbdev backend (vfb): boards/vm-fbdev runs the
 # sim tour with the sim clock, so its frames are a pure function of the
 # inputs and must equal the simulated board's (boards/vm-reference, run on

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # The real firmware on the real DRM backend (bochs-drm on QEMU's
 # bochs-display): boards/vm-drm, like vm-fbdev, must show exactly the
 # simulated board's frames 20 and 40. Checked twice: the firmware's dump of

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # The real firmware with the real usb input backend: a USB HID gamepad made
 # by the kernel's gadget stack (dummy_hcd), found by libusb, its report
 # descriptor parsed, its reports read. Reports change only while the

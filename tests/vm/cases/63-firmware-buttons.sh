@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # The real firmware with the real gpio input backend (libgpiod) on buttons
 # made with gpio-sim (built out of tree): lines found by name, edges read
 # as presses. Pulls change only while the firmware is held at a frame, so

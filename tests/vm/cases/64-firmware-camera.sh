@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # The real firmware with the real v4l2 camera backend on vivid (YUYV frames
 # as the live map of the camera scene, boards/vm-camera, real-time clock),
 # and fault injection: vivid's "Disconnect" control unplugs the camera while

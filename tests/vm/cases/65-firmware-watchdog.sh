@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # The "linux" watchdog on a real watchdog driver (QEMU's i6300esb, whose
 # action here is an NMI the guest counts instead of a reset): boards/vm-watchdog
 # arms /dev/watchdog0 with a 2 s timeout.

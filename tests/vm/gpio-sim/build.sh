@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # tests/vm/gpio-sim/build.sh - sourced by the VM harness: build gpio-sim.ko
 # for the VM's kernel out of tree, once per kernel (cached).
 #

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * drm_probe - check a KMS driver (bochs on QEMU's bochs-display in the VM)
  * the way the DRM backend will use it, through libdrm: capabilities, a

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * fb_probe - check the fbdev driver behind a /dev/fbN the way the fbdev
  * backend will use it: mode query, switching the depth (XRGB8888 and

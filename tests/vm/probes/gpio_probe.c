@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * gpio_probe - check a GPIO chip's lines through the kernel's GPIO character
  * device (uAPI v2, linux/gpio.h, no libgpiod: the probe tests the driver, the

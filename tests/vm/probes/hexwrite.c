@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * hexwrite - write bytes given in hex to a file, one write(2) per argument:
  * a HID report descriptor into the gadget's configfs `report_desc`, or

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * hid_probe - read a USB HID gamepad through libusb the way the USB joystick
  * backend will: find the device, take the interface from a kernel driver

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * probe_util.h - what every VM probe shares: failing with a reason, parsing
  * numbers from the command line, and the deterministic test pattern the host

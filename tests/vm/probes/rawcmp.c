@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * rawcmp - compare two raw frames pixel by pixel, each in its own layout, on
  * the RGB channels only (the X byte of a 32-bit pixel is padding a display

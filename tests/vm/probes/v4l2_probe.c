@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * v4l2_probe - check a V4L2 capture driver (vivid in the VM) the way the
  * camera backend will use it: format negotiation, mmap streaming with poll,
