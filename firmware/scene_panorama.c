@@ -11,14 +11,6 @@
 #include "scene.h"
 #include "scene_panorama.h"
 
-/* millidegrees to bam in 64 bits, rounded to nearest */
-static int64_t panorama_bam_from_mdeg(int64_t mdeg)
-{
-    int64_t n = mdeg * 4294967296LL;
-
-    return (n + (n >= 0 ? 180000 : -180000)) / 360000;
-}
-
 /* A bam angle as degrees with 2 decimals ("20.00"), for messages. */
 static void panorama_format_degrees(char *buf, size_t len, psc_bam_t bam)
 {
@@ -69,18 +61,18 @@ int psc_panorama_enter(psc_scene_t *s, psc_panorama_t *p, void *ws, size_t ws_si
     if (psc_panorama_show(s, p, &pk->map, "the viewer cannot show this scene", err, errlen) != 0)
         return -1;
     *lim = (psc_scene_limits_t){
-        .pitch_min = (int32_t)panorama_bam_from_mdeg(b->pitch_min_mdeg),
-        .pitch_max = (int32_t)panorama_bam_from_mdeg(b->pitch_max_mdeg),
+        .pitch_min = (int32_t)PSC_BAM_FROM_MDEG(b->pitch_min_mdeg),
+        .pitch_max = (int32_t)PSC_BAM_FROM_MDEG(b->pitch_max_mdeg),
         .hfov_min = pk->hfov_min,
         .hfov_max = psc_viewer_hfov_max(&p->viewer),
         .pan_follows_zoom = b->pan_follows_zoom,
         .home = { .yaw = pk->default_yaw, .pitch = pk->default_pitch, .hfov = pk->default_hfov },
     };
     /* the board may narrow the zoom range, never widen it past the tables */
-    if (b->hfov_min_mdeg != 0 && (psc_bam_t)panorama_bam_from_mdeg(b->hfov_min_mdeg) > lim->hfov_min)
-        lim->hfov_min = (psc_bam_t)panorama_bam_from_mdeg(b->hfov_min_mdeg);
-    if (b->hfov_max_mdeg != 0 && (psc_bam_t)panorama_bam_from_mdeg(b->hfov_max_mdeg) < lim->hfov_max)
-        lim->hfov_max = (psc_bam_t)panorama_bam_from_mdeg(b->hfov_max_mdeg);
+    if (b->hfov_min_mdeg != 0 && PSC_BAM_FROM_MDEG(b->hfov_min_mdeg) > lim->hfov_min)
+        lim->hfov_min = PSC_BAM_FROM_MDEG(b->hfov_min_mdeg);
+    if (b->hfov_max_mdeg != 0 && PSC_BAM_FROM_MDEG(b->hfov_max_mdeg) < lim->hfov_max)
+        lim->hfov_max = PSC_BAM_FROM_MDEG(b->hfov_max_mdeg);
     if (lim->hfov_min >= lim->hfov_max) {
         char lo[16], hi[16];
         panorama_format_degrees(lo, sizeof lo, pk->hfov_min);
