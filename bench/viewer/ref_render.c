@@ -5,7 +5,7 @@
  * one asin per output pixel. The cv::remap rows build their float maps with
  * the very same function, so the two differ only in how they sample.
  *
- * Geometry as in the README: output pixel (i, j) looks along
+ * Geometry as in docs/viewer.md: output pixel (i, j) looks along
  * (i + 0.5 - W/2, H/2 - j - 0.5, d), turned up by the pitch, then right by the
  * yaw; map column (lon / 2pi + 0.5) * mapW - 0.5, row (0.5 - lat / pi) * mapH - 0.5.
  */

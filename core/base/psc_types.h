@@ -2,7 +2,7 @@
 /*
  * psc_types.h - types and conventions shared by every part of Periscope's core.
  *
- * Conventions (the README repeats them; code follows them exactly):
+ * Conventions (docs/viewer.md repeats them; code follows them exactly):
  *  - Angles are binary angles (psc_bam_t): 2^32 units = one full turn, so
  *    1 unit = 360/2^32 degrees and wrap-around at 360 degrees is free
  *    (unsigned overflow). Signed angles (pitch, latitude) use int32_t in the

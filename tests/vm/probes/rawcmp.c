@@ -72,7 +72,7 @@ static void raw_load(raw_frame_t *f, uint32_t w, uint32_t h)
                    f->layout == RAW_PPM ? "ppm" : "raw", want);
 }
 
-/* Pixel i as 0xRRGGBB with 5/6-bit channels widened by bit replication (README: Pixels). */
+/* Pixel i as 0xRRGGBB with 5/6-bit channels widened by bit replication (docs/viewer.md: Pixels). */
 static uint32_t raw_rgb(const raw_frame_t *f, size_t i)
 {
     const uint8_t *p = f->data + f->offset + i * raw_bytes_per_pixel(f->layout);
