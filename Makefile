@@ -196,10 +196,18 @@ $(SAMPLE_PACK): $(SAMPLE_JPG) $(BUILD)/bin/periscope-pack boards/sim/board.conf
 	@mkdir -p $(@D)
 	$(BUILD)/bin/periscope-pack $(SAMPLE_JPG) -o $@ --display $(or $(SIM_DISPLAY),640x480) --format rgb565
 
+# The sample character: Thom (assets/thom, CC0) with his two actions, skinned from Thom2's bones.
+THOM := assets/thom
+SAMPLE_CHARACTER := out/thom.ppk
+$(SAMPLE_CHARACTER): $(THOM)/Thom.mdl $(THOM)/Thom2.mdl $(THOM)/ResoluteWalk.act $(THOM)/Wave.act $(BUILD)/bin/periscope-patch
+	@mkdir -p $(@D)
+	$(BUILD)/bin/periscope-patch $(THOM)/Thom.mdl --skin-from $(THOM)/Thom2.mdl --action $(THOM)/ResoluteWalk.act \
+		--action $(THOM)/Wave.act -o $@
+
 run: deps
 	$(Q)$(MAKE) --no-print-directory all
-	$(Q)$(MAKE) --no-print-directory $(SAMPLE_PACK)
-	$(FIRMWARE) --board sim --scene $(SAMPLE_PACK) --out out/run
+	$(Q)$(MAKE) --no-print-directory $(SAMPLE_PACK) $(SAMPLE_CHARACTER)
+	$(FIRMWARE) --board sim --out out/run
 
 # ---- test ------------------------------------------------------------------
 test: deps

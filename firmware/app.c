@@ -108,7 +108,7 @@ int psc_app_open(const psc_cli_options_t *opt, psc_app_t **out, char *err, size_
     /* hotspots number the board's scenes: with --scene replacing the list they point nowhere */
     psc_scene_env_t env = {
         .board = b, .width = app->dev.mode.width, .height = app->dev.mode.height, .format = app->dev.mode.format,
-        .feed = &app->dev.feed,
+        .feed = &app->dev.feed, .now_us = psc_hal_clock_now_us(app->dev.clock),
     };
     if (opt->scene == NULL) {
         env.hotspots = b->hotspots;

@@ -228,6 +228,7 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
         }
         psc_devices_poll_camera(&app->dev);
         scene = psc_scene_list_current(&app->scenes);
+        app->scenes.env.now_us = now;
         if (scene->ops->update != NULL && scene->ops->update(scene, err, errlen) != 0) {
             rc = -1;
             break;

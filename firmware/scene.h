@@ -2,7 +2,8 @@
 /*
  * scene.h - the one scene interface of the device program. A scene is what
  * the frame loop draws: a panorama (scene pack), an object (mesh pack), the
- * live camera through a pack's tables, and the kinds to come. Each kind is
+ * live camera through a pack's tables, an animated character (patch pack),
+ * and the kinds to come. Each kind is
  * one file (scene_<kind>.c) that fills a psc_scene_ops_t; the frame loop,
  * the kiosk behaviour and the scene list know scenes only through it.
  *
@@ -38,6 +39,7 @@ typedef struct {
     psc_camera_feed_t *feed;           /* the live camera (camera scenes) */
     const psc_hotspot_t *hotspots;     /* the tour's hotspots (scenes with places draw theirs) */
     unsigned hotspot_count;
+    uint64_t now_us;                   /* the HAL clock at this frame (scenes that move read it) */
 } psc_scene_env_t;
 
 /** Where the view may go in a scene, and where it starts and goes home to. */
@@ -86,5 +88,6 @@ struct psc_scene {
 extern const psc_scene_ops_t psc_scene_panorama;
 extern const psc_scene_ops_t psc_scene_object;
 extern const psc_scene_ops_t psc_scene_camera;
+extern const psc_scene_ops_t psc_scene_character;
 
 #endif

@@ -5,6 +5,7 @@
  *
  *   periscope-render PACK [--yaw Y] [--pitch P] [--hfov F] -o view.png [options]
  *   periscope-render MODEL.{obj,pmesh} --orbit Y,P,D ... -o view.png   (model mode: model_render.h)
+ *   periscope-render MODEL.{mdl,bpt,ppk} --orbit Y,P,D ... -o view.png (patch mode: patch_render.h)
  *
  * Exit status: 0 done, 1 the work failed, 2 bad arguments.
  */
@@ -14,6 +15,7 @@
 #include "image_io.h"
 #include "model_render.h"
 #include "pack_build.h"
+#include "patch_render.h"
 #include "psc_io_load.h"
 #include "psc_io_png.h"
 #include "viewer/psc_viewer.h"
@@ -33,6 +35,7 @@ static void print_usage(FILE *f)
     fprintf(f,
             "usage: " PROG " PACK.pano -o view.png [options]\n"
             "       " PROG " MODEL.{obj,pmesh} --orbit Y,P,D -o view.png [options]  (see --help with a model)\n"
+            "       " PROG " MODEL.{mdl,bpt,ppk} -o view.png [options]  (see --help with a patch model)\n"
             "\n"
             "Render a perspective view of a scene pack with the device's renderer.\n"
             "\n"
@@ -215,6 +218,8 @@ static int render_frames(psc_viewer_t *viewer, const psc_view_t *view, const psc
 
 int main(int argc, char **argv)
 {
+    if (psc_patch_render_wanted(argc, argv))
+        return psc_patch_render_main(PROG, argc, argv);
     if (psc_model_render_wanted(argc, argv))
         return psc_model_render_main(PROG, argc, argv);
     args_t a = {.filter = PSC_FILTER_BILINEAR, .span_log2 = PSC_SPAN_LOG2_DEFAULT, .repeat = 1,

@@ -77,6 +77,35 @@ void psc_io_mesh_free(psc_io_mesh_t *mf)
     memset(mf, 0, sizeof *mf);
 }
 
+int psc_io_patch_parse_named(const char *name, const void *buf, size_t len, psc_patch_model_t *model, char *err,
+                             size_t errlen)
+{
+    psc_container_error_t e = {0};
+    psc_status_t s = psc_patch_parse(buf, len, model, &e);
+
+    return s == PSC_OK ? 0 : psc_io_container_errorf(err, errlen, name, "not a usable patch pack: ", s, &e);
+}
+
+int psc_io_patch_load(const char *path, psc_io_patch_t *pf, char *err, size_t errlen)
+{
+    memset(pf, 0, sizeof *pf);
+    if (psc_io_container_read(path, &pf->buf, &pf->len, err, errlen) != 0)
+        return -1;
+    if (psc_io_patch_parse_named(path, pf->buf, pf->len, &pf->model, err, errlen) != 0) {
+        psc_io_patch_free(pf);
+        return -1;
+    }
+    return 0;
+}
+
+void psc_io_patch_free(psc_io_patch_t *pf)
+{
+    if (!pf)
+        return;
+    free(pf->buf);
+    memset(pf, 0, sizeof *pf);
+}
+
 int psc_io_fisheye_load(const char *path, psc_io_fisheye_t *ff, char *err, size_t errlen)
 {
     psc_container_error_t e = {0};

@@ -19,6 +19,7 @@
 #include "fisheye/psc_fisheye.h"
 #include "mesh/psc_mesh.h"
 #include "pack/psc_pack.h"
+#include "patch/psc_patch.h"
 
 /** A scene pack loaded from disk: the aligned file bytes and the parsed view of them. */
 typedef struct {
@@ -49,6 +50,19 @@ void psc_io_mesh_free(psc_io_mesh_t *mf);
 /** Parse a mesh pack already in memory (aligned to 8), with the same messages (name: for them). */
 int psc_io_mesh_parse_named(const char *name, const void *buf, size_t len, psc_mesh_t *mesh, char *err,
                             size_t errlen);
+
+/** A patch pack loaded from disk. */
+typedef struct {
+    void *buf;
+    size_t len;
+    psc_patch_model_t model;
+} psc_io_patch_t;
+
+int psc_io_patch_load(const char *path, psc_io_patch_t *pf, char *err, size_t errlen);
+void psc_io_patch_free(psc_io_patch_t *pf);
+/** Parse a patch pack already in memory (aligned to 8), with the same messages (name: for them). */
+int psc_io_patch_parse_named(const char *name, const void *buf, size_t len, psc_patch_model_t *model, char *err,
+                             size_t errlen);
 
 int psc_io_fisheye_load(const char *path, psc_io_fisheye_t *ff, char *err, size_t errlen);
 void psc_io_fisheye_free(psc_io_fisheye_t *ff);

@@ -527,7 +527,7 @@ static void test_command_line_convention(void **state)
     (void)state;
     need_packs();
     static const char *const programs[] = {"periscope", "periscope-pack", "periscope-render", "periscope-contact",
-                                           "periscope-fisheye"};
+                                           "periscope-fisheye", "periscope-patch"};
     char version[64], said[96];
     size_t vlen;
     char *v = (char *)tsup_read_bytes("VERSION", &vlen);
@@ -579,6 +579,50 @@ static void test_command_line_convention(void **state)
     assert_memory_equal(pa, pb, la);
     free(pa);
     free(pb);
+    unlink(a_png);
+    unlink(b_png);
+}
+
+/* ---- characters -------------------------------------------------------------------------------------------- */
+
+/* periscope-patch writes the pack periscope-render draws; the model drawn directly gives the same bytes; the
+ * stats line is there and says no crack; mistakes get their messages. */
+static void test_patch_tools(void **state)
+{
+    (void)state;
+    char ppk[512], a_png[512], b_png[512];
+    tmp_path(ppk, sizeof ppk, "thom.ppk");
+    tmp_path(a_png, sizeof a_png, "thom-pack.png");
+    tmp_path(b_png, sizeof b_png, "thom-model.png");
+    const char *build[] = {"assets/thom/Thom.mdl", "--skin-from", "assets/thom/Thom2.mdl", "--action",
+                           "assets/thom/ResoluteWalk.act", "--action=assets/thom/Wave.act", "-o", ppk, NULL};
+    const char *built[] = {"392 patches", "52 bones", "2 actions", NULL};
+    expect_run("periscope-patch", build, 0, built);
+    const char *from_pack[] = {ppk, "--play", "Wave", "--time", "1.1", "--orbit", "200,10,2.5", "--size", "160x120",
+                               "--stats", "-o", a_png, NULL};
+    const char *stats[] = {"patches=", "triangles=", "max_chord_err=", "crack_edges=0 ", "culled=", NULL};
+    expect_run("periscope-render", from_pack, 0, stats);
+    const char *from_model[] = {"assets/thom/Thom.mdl", "--skin-from", "assets/thom/Thom2.mdl", "--action",
+                                "assets/thom/ResoluteWalk.act", "--action", "assets/thom/Wave.act", "--play=Wave",
+                                "--time=1.1", "--orbit=200,10,2.5", "--size=160x120", "-o", b_png, NULL};
+    expect_run("periscope-render", from_model, 0, NULL);
+    size_t la, lb;
+    uint8_t *pa = tsup_read_bytes(a_png, &la), *pb = tsup_read_bytes(b_png, &lb);
+    assert_non_null(pa);
+    assert_non_null(pb);
+    assert_int_equal(la, lb);
+    assert_memory_equal(pa, pb, la);
+    free(pa);
+    free(pb);
+    const char *no_action[] = {ppk, "--play", "Dance", "-o", a_png, NULL};
+    const char *no_action_said[] = {"has no action named 'Dance'", NULL};
+    expect_run("periscope-render", no_action, 1, no_action_said);
+    const char *missing[] = {"no/such/model.mdl", "-o", ppk, NULL}, *missing_said[] = {"no/such/model.mdl", NULL};
+    expect_run("periscope-patch", missing, 1, missing_said);
+    const char *act_on_pack[] = {ppk, "--action", "assets/thom/Wave.act", "-o", a_png, NULL};
+    const char *act_on_pack_said[] = {"carries its actions", NULL};
+    expect_run("periscope-render", act_on_pack, 1, act_on_pack_said);
+    unlink(ppk);
     unlink(a_png);
     unlink(b_png);
 }
@@ -685,6 +729,7 @@ int main(void)
         cmocka_unit_test(test_render_matches_device_path),
         cmocka_unit_test(test_exit_codes),
         cmocka_unit_test(test_command_line_convention),
+        cmocka_unit_test(test_patch_tools),
         cmocka_unit_test(test_contact),
     };
     return cmocka_run_group_tests(tests, NULL, teardown_all);

@@ -16,9 +16,17 @@
  * command line and core. Every view is brought inside the pack's limits
  * (psc_viewer_clamp) and rendered at the pack's display size; OUT.raw holds
  * the frames one after another, rows packed (stride = width x bytes per pixel).
+ * A patch pack (core/patch/psc_patch.h) instead: a character posed, its
+ * patches tessellated and drawn by the 3D pipeline at 160x120,
+ *   VIEW = FORMAT,ACTION,TIME_MS,YAW,PITCH,TOL_PX_Q16
+ *     ACTION an index into the pack's actions or -1 (the rest pose), the
+ *     orbit camera at 2.5 R with hfov 50 degrees.
  * Exit status: 0 done, 1 the work failed, 2 bad arguments.
  */
+#include "3d/psc_3d_orbit.h"
+#include "3d/psc_3d_render.h"
 #include "pack/psc_pack.h"
+#include "patch/psc_patch_frame.h"
 #include "viewer/psc_viewer.h"
 
 #include <errno.h>
@@ -156,6 +164,98 @@ static int render_views(const psc_pack_t *pack, FILE *out, char **specs, int cou
     return rc;
 }
 
+/* ---- patch packs ---------------------------------------------------------------------------------------- */
+
+#define PATCH_W 160u
+#define PATCH_H 120u
+
+static int render_patch_view(const psc_patch_model_t *m, psc_patch_t *p, void *ws3d, size_t ws3d_size, char *spec,
+                             void *pixels, FILE *out)
+{
+    char *field[6];
+    unsigned n = 0;
+    int32_t action, pitch, tol;
+    uint32_t time_ms, yaw;
+    psc_pixfmt_t format;
+
+    for (char *tok = strtok(spec, ","); tok && n < 6; tok = strtok(NULL, ","))
+        field[n++] = tok;
+    if (n != 6 || (strcmp(field[0], "rgb565") != 0 && strcmp(field[0], "xrgb8888") != 0) ||
+        parse_i32(field[1], &action) != 0 || parse_u32(field[2], &time_ms) != 0 || parse_u32(field[3], &yaw) != 0 ||
+        parse_i32(field[4], &pitch) != 0 || parse_i32(field[5], &tol) != 0 || tol <= 0) {
+        fprintf(stderr, PROG ": bad view (FORMAT,ACTION,TIME_MS,YAW,PITCH,TOL_PX_Q16)\n");
+        return 2;
+    }
+    format = strcmp(field[0], "rgb565") == 0 ? PSC_PIX_RGB565 : PSC_PIX_XRGB8888;
+    psc_bam_t hfov = 0x238E38E4u;   /* 50 degrees */
+    psc_3d_config_t cfg = {PATCH_W, PATCH_H, 0, 0, 32, hfov, 0, 0, PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES};
+    psc_vec3_q16_t lo = {m->lo_q16[0], m->lo_q16[1], m->lo_q16[2]}, hi = {m->hi_q16[0], m->hi_q16[1], m->hi_q16[2]};
+    psc_patch_camera_t cam = {0};
+    psc_status_t s = psc_3d_orbit(lo, hi, yaw, pitch, 5 * PSC_Q16_ONE / 2, &cam.camera_from_object, &cfg.near_q16,
+                                  &cfg.far_q16);
+    int32_t s30, c30;
+    psc_sincos(hfov / 2u, &s30, &c30);
+    cam.focal_px_q16 = (int32_t)psc_div_round64((int64_t)PATCH_W * 32768 * c30, s30);
+    cam.tol_px_q16 = tol;
+    cam.near_q16 = cfg.near_q16;
+    cam.cull = true;
+    psc_3d_t r;
+    if (s == PSC_OK) {
+        psc_patch_pose(p, action, time_ms);
+        psc_patch_tangents(p);
+        s = psc_patch_tessellate(p, &cam, NULL);
+    }
+    if (s == PSC_OK)
+        s = psc_3d_init(&r, &cfg, ws3d, ws3d_size);
+    psc_surface_t surf = {PATCH_W, PATCH_H, PATCH_W * psc_pixfmt_bytes(format), format, pixels};
+    if (s == PSC_OK) {
+        psc_3d_draw_t d[PSC_PATCH_MAX_BATCHES];
+        for (unsigned b = 0; b < p->batch_count; b++) {
+            psc_3d_draw_defaults(&d[b], &p->batch[b]);
+            d[b].camera_from_object = cam.camera_from_object;
+            d[b].lit = true;
+            d[b].light_dir = psc_vec3_normalize((psc_vec3_q16_t){-26000, 39000, -45000});
+            d[b].ambient_q8 = 72;
+        }
+        uint32_t bg = 0x30343Cu;
+        s = psc_3d_render(&r, d, p->batch_count, &bg, &surf, NULL);
+    }
+    if (s != PSC_OK)
+        return fail("patch frame failed", psc_status_str(s));
+    size_t bytes = (size_t)surf.stride * PATCH_H;
+    return fwrite(pixels, 1, bytes, out) == bytes ? 0 : fail("cannot write the output", strerror(errno));
+}
+
+static int render_patch(const void *buf, size_t len, FILE *out, char **specs, int count)
+{
+    psc_patch_model_t m;
+    psc_container_error_t e;
+    psc_patch_limits_t lim = {PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES, 1u << 20, PSC_PATCH_MAX_DEPTH};
+    psc_3d_config_t cfg = {PATCH_W, PATCH_H, 0, 0, 32, 0x238E38E4u, PSC_Q16_ONE, 4 * PSC_Q16_ONE,
+                           PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES};
+    psc_patch_t p;
+    void *ws = NULL, *ws3d = NULL, *pixels = NULL;
+    int rc = 1;
+
+    if (psc_patch_parse(buf, len, &m, &e) != PSC_OK)
+        return fail("not a valid patch pack", e.what);
+    size_t ws_size = psc_patch_workspace_size(&m, &lim), ws3d_size = psc_3d_workspace_size(&cfg);
+    if (posix_memalign(&ws, 64, ws_size) != 0 || posix_memalign(&ws3d, 64, ws3d_size) != 0 ||
+        posix_memalign(&pixels, 64, PATCH_W * PATCH_H * 4) != 0) {
+        rc = fail("out of memory", NULL);
+    } else if (psc_patch_init(&p, &m, &lim, ws, ws_size) != PSC_OK) {
+        rc = fail("cannot set up the tessellator", NULL);
+    } else {
+        rc = 0;
+        for (int i = 0; i < count && rc == 0; i++)
+            rc = render_patch_view(&m, &p, ws3d, ws3d_size, specs[i], pixels, out);
+    }
+    free(pixels);
+    free(ws3d);
+    free(ws);
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     psc_container_error_t perr;
@@ -172,6 +272,18 @@ int main(int argc, char **argv)
     buf = read_file(argv[1], &len);
     if (!buf)
         return fail(argv[1], "cannot read");
+    if (len >= PSC_CONTAINER_MAGIC_SIZE && memcmp(buf, PSC_PATCH_MAGIC, PSC_CONTAINER_MAGIC_SIZE) == 0) {
+        out = fopen(argv[2], "wb");
+        if (!out) {
+            free(buf);
+            return fail(argv[2], strerror(errno));
+        }
+        rc = render_patch(buf, len, out, argv + 3, argc - 3);
+        if (fclose(out) != 0 && rc == 0)
+            rc = fail(argv[2], strerror(errno));
+        free(buf);
+        return rc;
+    }
     if (psc_pack_parse(buf, len, &pack, &perr) != PSC_OK) {
         free(buf);
         return fail(argv[1], "not a valid scene pack");

@@ -1,0 +1,344 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * patch - how fast the Hash patch character plays: Thom (assets/thom) waving
+ * (Wave.act) at 800x480, side by side in one run with the same frames drawn
+ * from a pre-tessellated static mesh by the same 3D pipeline (what a
+ * renderer that cannot re-tessellate would draw).
+ *
+ *   build/bench/patch --out bench/results              the timed table (`make bench`)
+ *   build/bench/patch --callgrind --out bench/results  instructions per frame under callgrind
+ *                                                      (`make bench-callgrind`)
+ *
+ * Per frame: pose (channels, bones, skinning) + tangents, tessellation
+ * (psc_patch_tessellate), drawing (psc_3d_render, 16-bit depth, Gouraud, lit,
+ * RGB565). The frames step the action at 60 Hz, the camera turns 3 degrees
+ * a frame, one core, best of PASSES passes.
+ */
+#include "patch_load.h"
+#include "3d/psc_3d_orbit.h"
+#include "3d/psc_3d_render.h"
+#include "base/psc_fixed.h"
+#include "patch/psc_patch_frame.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define W 800u
+#define H 480u
+#define FRAMES 134u             /* Wave.act's 2.23 s at 60 Hz */
+#define PASSES 3u
+#define CG_FRAMES 8u
+#define WAVE_ACTION 1
+
+static const psc_patch_limits_t limits = {98304u, 131072u, PSC_PATCH_MAX_DEPTH};   /* the character scene's */
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+typedef struct {
+    psc_io_patch_t pf;
+    psc_patch_t p;
+    void *ws, *ws3d, *pixels;
+    size_t ws_size, ws3d_size;
+} bench_t;
+
+static int setup(bench_t *b)
+{
+    psc_patch_load_opts_t o = {.actions = {"assets/thom/ResoluteWalk.act", "assets/thom/Wave.act"},
+                               .action_count = 2, .skin_from = "assets/thom/Thom2.mdl", .quiet = true};
+    char err[768];
+    memset(b, 0, sizeof *b);
+    if (psc_patch_load_any("assets/thom/Thom.mdl", &o, &b->pf, err, sizeof err) != 0) {
+        fprintf(stderr, "patch bench: %s (run from the repository)\n", err);
+        return -1;
+    }
+    psc_3d_config_t cfg = {W, H, 0, 0, 16, 0x238E38E4u, PSC_Q16_ONE, 4 * PSC_Q16_ONE, limits.max_vertices};
+    b->ws_size = psc_patch_workspace_size(&b->pf.model, &limits);
+    b->ws3d_size = psc_3d_workspace_size(&cfg);
+    if (posix_memalign(&b->ws, 64, b->ws_size) != 0 || posix_memalign(&b->ws3d, 64, b->ws3d_size) != 0 ||
+        posix_memalign(&b->pixels, 64, (size_t)W * H * 2) != 0 ||
+        psc_patch_init(&b->p, &b->pf.model, &limits, b->ws, b->ws_size) != PSC_OK) {
+        fprintf(stderr, "patch bench: out of memory\n");
+        return -1;
+    }
+    return 0;
+}
+
+static void teardown(bench_t *b)
+{
+    free(b->ws);
+    free(b->ws3d);
+    free(b->pixels);
+    psc_io_patch_free(&b->pf);
+}
+
+/* camera k of the run, and the 3D configuration that goes with it */
+static void view(const bench_t *b, unsigned k, double tol_px, psc_patch_camera_t *cam, psc_3d_config_t *cfg)
+{
+    const psc_patch_model_t *m = &b->pf.model;
+    psc_vec3_q16_t lo = {m->lo_q16[0], m->lo_q16[1], m->lo_q16[2]}, hi = {m->hi_q16[0], m->hi_q16[1], m->hi_q16[2]};
+    *cfg = (psc_3d_config_t){W, H, 0, 0, 16, 0x238E38E4u, 0, 0, limits.max_vertices};
+    *cam = (psc_patch_camera_t){0};
+    psc_bam_t yaw = (psc_bam_t)(0x8E38E38Eu + k * 0x2222222u);   /* from 200 degrees, 3 degrees a frame */
+    psc_3d_orbit(lo, hi, yaw, 0x071C71C7 / 16, 5 * PSC_Q16_ONE / 2, &cam->camera_from_object, &cfg->near_q16,
+                 &cfg->far_q16);
+    cam->focal_px_q16 = (int32_t)lround(W / 2.0 / tan(25.0 * M_PI / 180.0) * 65536.0);
+    cam->tol_px_q16 = (int32_t)lround(tol_px * 65536.0);
+    cam->near_q16 = cfg->near_q16;
+    cam->cull = true;
+}
+
+static void draw(bench_t *b, const psc_mesh_t *meshes, unsigned n, const psc_patch_camera_t *cam,
+                 const psc_3d_config_t *cfg)
+{
+    psc_3d_t r;
+    psc_3d_draw_t d[PSC_PATCH_MAX_BATCHES];
+    psc_surface_t out = {W, H, W * 2, PSC_PIX_RGB565, b->pixels};
+    uint32_t bg = 0x30343Cu;
+    psc_3d_init(&r, cfg, b->ws3d, b->ws3d_size);
+    for (unsigned i = 0; i < n; i++) {
+        psc_3d_draw_defaults(&d[i], &meshes[i]);
+        d[i].camera_from_object = cam->camera_from_object;
+        d[i].lit = true;
+        d[i].light_dir = psc_vec3_normalize((psc_vec3_q16_t){-26000, 39000, -45000});
+        d[i].ambient_q8 = 72;
+    }
+    psc_3d_render(&r, d, n, &bg, &out, NULL);
+}
+
+typedef struct {
+    double pose, tess, draw;     /* ms per frame */
+    double patches, triangles;   /* per frame */
+} result_t;
+
+static result_t run_animated(bench_t *b, double tol_px)
+{
+    result_t best = {1e30, 1e30, 1e30, 0, 0};
+    for (unsigned pass = 0; pass < PASSES; pass++) {
+        double tp = 0, tt = 0, td = 0, patches = 0, tris = 0;
+        for (unsigned k = 0; k < FRAMES; k++) {
+            psc_patch_camera_t cam;
+            psc_3d_config_t cfg;
+            psc_patch_stats_t st;
+            view(b, k, tol_px, &cam, &cfg);
+            double t0 = now_s();
+            psc_patch_pose(&b->p, WAVE_ACTION, k * 1000u / 60u);
+            psc_patch_tangents(&b->p);
+            double t1 = now_s();
+            psc_patch_tessellate(&b->p, &cam, &st);
+            double t2 = now_s();
+            draw(b, b->p.batch, b->p.batch_count, &cam, &cfg);
+            double t3 = now_s();
+            tp += t1 - t0;
+            tt += t2 - t1;
+            td += t3 - t2;
+            patches += st.patches;
+            tris += st.triangles;
+        }
+        if (tp + tt + td < best.pose + best.tess + best.draw)
+            best = (result_t){tp / FRAMES * 1e3, tt / FRAMES * 1e3, td / FRAMES * 1e3, patches / FRAMES,
+                              tris / FRAMES};
+    }
+    return best;
+}
+
+/* The reference: the rest pose tessellated once at 0.5 px, drawn as a static mesh every frame. */
+static result_t run_static(bench_t *b)
+{
+    psc_patch_camera_t cam;
+    psc_3d_config_t cfg;
+    psc_patch_stats_t st;
+    view(b, 0, 0.5, &cam, &cfg);
+    cam.cull = false;   /* a static mesh must hold every side */
+    psc_patch_pose(&b->p, -1, 0);
+    psc_patch_tangents(&b->p);
+    psc_patch_tessellate(&b->p, &cam, &st);
+    psc_mesh_t meshes[PSC_PATCH_MAX_BATCHES];
+    unsigned n = b->p.batch_count;
+    int32_t *pos[PSC_PATCH_MAX_BATCHES];
+    for (unsigned i = 0; i < n; i++) {   /* copies: the tessellator's output is reused below */
+        meshes[i] = b->p.batch[i];
+        pos[i] = malloc(12u * meshes[i].vertex_count);
+        memcpy(pos[i], meshes[i].position_q16, 12u * meshes[i].vertex_count);
+        meshes[i].position_q16 = pos[i];
+    }
+    result_t best = {0, 0, 1e30, 0, st.triangles};
+    for (unsigned pass = 0; pass < PASSES; pass++) {
+        double td = 0;
+        for (unsigned k = 0; k < FRAMES; k++) {
+            view(b, k, 0.5, &cam, &cfg);
+            double t0 = now_s();
+            draw(b, meshes, n, &cam, &cfg);
+            td += now_s() - t0;
+        }
+        if (td / FRAMES * 1e3 < best.draw)
+            best.draw = td / FRAMES * 1e3;
+    }
+    for (unsigned i = 0; i < n; i++)
+        free(pos[i]);
+    return best;
+}
+
+static int run_table(const char *out_dir)
+{
+    bench_t b;
+    if (setup(&b) != 0)
+        return 1;
+    static const double tols[] = {0.25, 0.5, 1.0};
+    result_t r[3], s;
+    for (unsigned i = 0; i < 3; i++)
+        r[i] = run_animated(&b, tols[i]);
+    s = run_static(&b);
+    printf("Hash patches: Thom (%u patches, %u CPs, %u bones) playing Wave.act at %ux%u, RGB565, one core,\n"
+           "%u frames at 60 Hz, camera turning 3 degrees a frame, best of %u passes (ms per frame):\n\n",
+           (unsigned)b.pf.model.face_count, (unsigned)b.pf.model.cp_count, (unsigned)b.pf.model.bone_count, W, H,
+           FRAMES, PASSES);
+    printf("| | pose+tangents | tessellate | draw | total | frames/s | patches/s | triangles/frame | triangles/s |\n"
+           "|---|---|---|---|---|---|---|---|---|\n");
+    for (unsigned i = 0; i < 3; i++) {
+        double total = r[i].pose + r[i].tess + r[i].draw;
+        printf("| patches, %.2f px | %.3f | %.3f | %.3f | %.3f | %.0f | %.0f | %.0f | %.2fM |\n", tols[i], r[i].pose,
+               r[i].tess, r[i].draw, total, 1e3 / total, r[i].patches * 1e3 / total, r[i].triangles,
+               r[i].triangles / total / 1e3);
+    }
+    printf("| static mesh (rest, 0.5 px) | - | - | %.3f | %.3f | %.0f | - | %.0f | %.2fM |\n\n", s.draw, s.draw,
+           1e3 / s.draw, s.triangles, s.triangles / s.draw / 1e3);
+    double t05 = r[1].pose + r[1].tess + r[1].draw;
+    psc_3d_config_t cfg = {W, H, 0, 0, 16, 0x238E38E4u, PSC_Q16_ONE, 4 * PSC_Q16_ONE, limits.max_vertices};
+    printf("At 0.5 px the animated character costs %.2fx the static mesh's frame; %.0f frames/s (goal: 60).\n"
+           "Memory: patch workspace %zu bytes (limits %u vertices, %u triangles), 3D workspace at %ux%u %zu bytes,\n"
+           "the pack %zu bytes.\n",
+           t05 / s.draw, 1e3 / t05, b.ws_size, limits.max_vertices, limits.max_triangles, W, H,
+           psc_3d_workspace_size(&cfg), b.pf.len);
+    char path[512];
+    snprintf(path, sizeof path, "%s/patch.json", out_dir);
+    FILE *j = fopen(path, "w");
+    if (j) {
+        fprintf(j, "{\n  \"benchmark\": \"patch\",\n  \"size\": \"%ux%u\",\n  \"frames\": %u,\n  \"rows\": [\n", W, H,
+                FRAMES);
+        for (unsigned i = 0; i < 3; i++)
+            fprintf(j, "    {\"tol_px\": %.2f, \"pose_ms\": %.4f, \"tessellate_ms\": %.4f, \"draw_ms\": %.4f, "
+                       "\"triangles\": %.0f},\n", tols[i], r[i].pose, r[i].tess, r[i].draw, r[i].triangles);
+        fprintf(j, "    {\"static_mesh\": true, \"draw_ms\": %.4f, \"triangles\": %.0f}\n  ],\n"
+                   "  \"workspace_bytes\": %zu\n}\n", s.draw, s.triangles, b.ws_size);
+        fclose(j);
+    }
+    teardown(&b);
+    return 0;
+}
+
+/* ---- callgrind -------------------------------------------------------------------------------------------- */
+
+__attribute__((noinline)) static void cg_frames(bench_t *b)
+{
+    for (unsigned k = 0; k < CG_FRAMES; k++) {
+        psc_patch_camera_t cam;
+        psc_3d_config_t cfg;
+        view(b, k, 0.5, &cam, &cfg);
+        psc_patch_pose(&b->p, WAVE_ACTION, 500u + k * 1000u / 60u);
+        psc_patch_tangents(&b->p);
+        psc_patch_tessellate(&b->p, &cam, NULL);
+        draw(b, b->p.batch, b->p.batch_count, &cam, &cfg);
+    }
+}
+
+static int cg_child(void)
+{
+    bench_t b;
+    if (setup(&b) != 0)
+        return 1;
+    cg_frames(&b);
+    teardown(&b);
+    return 0;
+}
+
+/* instructions under callgrind, toggled on fn; -1 on failure */
+static double callgrind_count(const char *self, const char *fn)
+{
+    char dir[] = "/tmp/periscope-patchcg-XXXXXX";
+    if (!mkdtemp(dir))
+        return -1;
+    char cmd[8192], out[128], line[256];
+    snprintf(out, sizeof out, "%s/cg.out", dir);
+    snprintf(cmd, sizeof cmd,
+             "valgrind --tool=callgrind --quiet --collect-atstart=no --toggle-collect=%s "
+             "--callgrind-out-file=%s '%s' --callgrind-child >/dev/null",
+             fn, out, self);
+    if (system(cmd) != 0)
+        return -1;
+    FILE *f = fopen(out, "r");
+    double ir = -1;
+    while (f && fgets(line, sizeof line, f)) {
+        double v;
+        if (sscanf(line, "totals: %lf", &v) == 1 || sscanf(line, "summary: %lf", &v) == 1)
+            ir = v;
+    }
+    if (f)
+        fclose(f);
+    remove(out);
+    rmdir(dir);
+    return ir;
+}
+
+static int run_callgrind(const char *self, const char *out_dir)
+{
+    if (system("valgrind --version >/dev/null 2>&1") != 0) {
+        fprintf(stderr, "patch bench: valgrind is not installed; run `make bench-callgrind`, which installs it\n");
+        return 1;
+    }
+    static const char *const fns[] = {"cg_frames", "psc_patch_pose", "psc_patch_tangents", "psc_patch_tessellate",
+                                      "psc_3d_render"};
+    double ir[5];
+    for (unsigned i = 0; i < 5; i++)
+        if ((ir[i] = callgrind_count(self, fns[i])) <= 0) {
+            fprintf(stderr, "patch bench: the callgrind run (%s) failed\n", fns[i]);
+            return 1;
+        }
+    printf("Hash patches under callgrind: Thom waving at %ux%u, 0.5 px, %u frames: instructions per frame\n"
+           "total %.0f = pose %.0f + tangents %.0f + tessellate %.0f + draw %.0f\n",
+           W, H, CG_FRAMES, ir[0] / CG_FRAMES, ir[1] / CG_FRAMES, ir[2] / CG_FRAMES, ir[3] / CG_FRAMES,
+           ir[4] / CG_FRAMES);
+    char path[512];
+    snprintf(path, sizeof path, "%s/patch-callgrind.json", out_dir);
+    FILE *j = fopen(path, "w");
+    if (j) {
+        fprintf(j, "{\n  \"benchmark\": \"patch-callgrind\",\n  \"frames\": %u,\n  \"per_frame\": {\"total\": %.0f, "
+                   "\"pose\": %.0f, \"tangents\": %.0f, \"tessellate\": %.0f, \"draw\": %.0f}\n}\n",
+                CG_FRAMES, ir[0] / CG_FRAMES, ir[1] / CG_FRAMES, ir[2] / CG_FRAMES, ir[3] / CG_FRAMES,
+                ir[4] / CG_FRAMES);
+        fclose(j);
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    const char *out = "bench/results";
+    bool callgrind = false;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--callgrind-child") == 0)
+            return cg_child();
+        if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
+            out = argv[++i];
+        } else if (strcmp(argv[i], "--callgrind") == 0) {
+            callgrind = true;
+        } else {
+            fprintf(stderr, "usage: build/bench/patch [--out DIR] [--callgrind]\n");
+            return 2;
+        }
+    }
+    char self[4096];
+    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (n <= 0)
+        return 1;
+    self[n] = '\0';
+    return callgrind ? run_callgrind(self, out) : run_table(out);
+}

@@ -1,0 +1,182 @@
+/* SPDX-License-Identifier: MIT */
+/* psc_patch_curve.c - halving, flatness, MakeFlat and normals of cubic splines (psc_patch_curve.h). */
+#include "patch/psc_patch_curve.h"
+#include "base/psc_fixed.h"
+
+/* The midpoint, rounded to nearest: symmetric in a and b. */
+static inline int32_t mid(int32_t a, int32_t b)
+{
+    return (int32_t)(((int64_t)a + b + 1) >> 1);
+}
+
+void psc_curve_split(const psc_curve_t *c, psc_curve_t *left, psc_curve_t *right)
+{
+    for (unsigned a = 0; a < 3; a++) {
+        int32_t m01 = mid(c->p[0][a], c->p[1][a]), m12 = mid(c->p[1][a], c->p[2][a]);
+        int32_t m23 = mid(c->p[2][a], c->p[3][a]);
+        int32_t m012 = mid(m01, m12), m123 = mid(m12, m23), ctr = mid(m012, m123);
+        int32_t p0 = c->p[0][a], p3 = c->p[3][a];
+        left->p[0][a] = p0;
+        left->p[1][a] = m01;
+        left->p[2][a] = m012;
+        left->p[3][a] = ctr;
+        right->p[0][a] = ctr;
+        right->p[1][a] = m123;
+        right->p[2][a] = m23;
+        right->p[3][a] = p3;
+    }
+}
+
+void psc_curve_reverse(const psc_curve_t *c, psc_curve_t *out)
+{
+    psc_curve_t t = *c;
+    for (unsigned k = 0; k < 4; k++)
+        for (unsigned a = 0; a < 3; a++)
+            out->p[k][a] = t.p[3 - k][a];
+}
+
+/* |v| for an int64 vector whose components stay within 2^31. */
+static uint32_t length64(const int64_t v[3])
+{
+    uint64_t s = (uint64_t)(v[0] * v[0]) + (uint64_t)(v[1] * v[1]) + (uint64_t)(v[2] * v[2]);
+    return psc_isqrt64(s);
+}
+
+int32_t psc_vec_length_q16(const int32_t v[3])
+{
+    int64_t w[3] = {v[0], v[1], v[2]};
+    uint32_t l = length64(w);
+    return l > INT32_MAX ? INT32_MAX : (int32_t)l;
+}
+
+/* A unit vector (Q16.16) along an int64 vector of any size: shifted down
+ * until its squares fit, then divided by its length. */
+static void unit_from64(const int64_t v[3], int32_t out[3])
+{
+    int64_t w[3] = {v[0], v[1], v[2]};
+    int64_t big = 0;
+
+    for (unsigned a = 0; a < 3; a++) {
+        int64_t m = w[a] < 0 ? -w[a] : w[a];
+        if (m > big)
+            big = m;
+    }
+    while (big > ((int64_t)1 << 30)) {
+        for (unsigned a = 0; a < 3; a++)
+            w[a] = psc_shr_round64(w[a], 1);
+        big >>= 1;
+    }
+    uint32_t len = length64(w);
+    if (len == 0) {
+        out[0] = out[1] = out[2] = 0;
+        return;
+    }
+    for (unsigned a = 0; a < 3; a++)
+        out[a] = (int32_t)psc_div_round64(w[a] * PSC_Q16_ONE, len);
+}
+
+void psc_vec_normalize_q16(const int32_t v[3], int32_t out[3])
+{
+    int64_t w[3] = {v[0], v[1], v[2]};
+    unit_from64(w, out);
+}
+
+void psc_vec_cross_q16(const int32_t a[3], const int32_t b[3], int32_t out[3])
+{
+    out[0] = (int32_t)psc_shr_round64((int64_t)a[1] * b[2] - (int64_t)a[2] * b[1], 16);
+    out[1] = (int32_t)psc_shr_round64((int64_t)a[2] * b[0] - (int64_t)a[0] * b[2], 16);
+    out[2] = (int32_t)psc_shr_round64((int64_t)a[0] * b[1] - (int64_t)a[1] * b[0], 16);
+}
+
+int32_t psc_vec_dot_q16(const int32_t a[3], const int32_t b[3])
+{
+    return (int32_t)psc_shr_round64((int64_t)a[0] * b[0] + (int64_t)a[1] * b[1] + (int64_t)a[2] * b[2], 16);
+}
+
+/* The dot product of two int64 vectors whose components stay within 2^29 (the second derivatives). */
+static int64_t dot64(const int64_t a[3], const int64_t b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+bool psc_curve_needs_split(const psc_curve_t *c, psc_curve_kind_t kind, int32_t t_q16, bool *c_left, bool *c_right)
+{
+    int64_t d1[3], d2[3];
+
+    *c_left = *c_right = true;
+    if (kind == PSC_CURVE_C) {
+        int64_t d[3];
+        for (unsigned a = 0; a < 3; a++)
+            d[a] = 3 * ((int64_t)c->p[0][a] - c->p[1][a] - c->p[2][a] + c->p[3][a]);
+        return length64(d) > (uint32_t)t_q16;
+    }
+    for (unsigned a = 0; a < 3; a++) {
+        d1[a] = 4 * (int64_t)c->p[0][a] - 6 * (int64_t)c->p[1][a] + 2 * (int64_t)c->p[3][a];
+        d2[a] = 2 * (int64_t)c->p[0][a] - 6 * (int64_t)c->p[2][a] + 4 * (int64_t)c->p[3][a];
+    }
+    /* the halves' end second derivatives, from B''(0) = 2 d1 - d2, B''(1/2) ~ d1 + d2, B''(1) = 2 d2 - d1 */
+    int64_t e0[3], em[3], e1[3];
+    for (unsigned a = 0; a < 3; a++) {
+        e0[a] = 2 * d1[a] - d2[a];
+        em[a] = d1[a] + d2[a];
+        e1[a] = 2 * d2[a] - d1[a];
+    }
+    *c_left = dot64(e0, em) >= 0;
+    *c_right = dot64(em, e1) >= 0;
+    uint64_t l1 = length64(d1);
+    if (l1 > (uint64_t)t_q16)
+        return true;
+    return l1 + length64(d2) > (uint64_t)t_q16;
+}
+
+void psc_curve_make_flat(psc_curve_t *c)
+{
+    int32_t chord[3], u[3], d[3];
+
+    for (unsigned a = 0; a < 3; a++)
+        chord[a] = c->p[3][a] - c->p[0][a];
+    psc_vec_normalize_q16(chord, u);
+    if (u[0] == 0 && u[1] == 0 && u[2] == 0)
+        return;
+    for (unsigned a = 0; a < 3; a++)
+        d[a] = c->p[1][a] - c->p[0][a];
+    int32_t l1 = psc_vec_length_q16(d);
+    for (unsigned a = 0; a < 3; a++)
+        d[a] = c->p[2][a] - c->p[3][a];
+    int32_t l2 = psc_vec_length_q16(d);
+    /* the seed writes p2 = p3 + |p2 - p3| (p3 - p0)^, which would put p2 beyond
+     * p3; it lies before p3, toward p0 */
+    for (unsigned a = 0; a < 3; a++) {
+        c->p[1][a] = c->p[0][a] + psc_mul_q16(l1, u[a]);
+        c->p[2][a] = c->p[3][a] - psc_mul_q16(l2, u[a]);
+    }
+}
+
+void psc_curve_mid_normal(const psc_curve_t *c, psc_curve_kind_t kind, const int32_t n0[3], const int32_t n3[3],
+                          int32_t out[3])
+{
+    int64_t avg[3];
+
+    for (unsigned a = 0; a < 3; a++)
+        avg[a] = (int64_t)n0[a] + n3[a];
+    if (kind == PSC_CURVE_S) {
+        /* (navg x t) x t = -(the part of navg perpendicular to t) |t|^2: keep that part */
+        int64_t t64[3];
+        int32_t t[3], nv[3];
+        for (unsigned a = 0; a < 3; a++)
+            t64[a] = (int64_t)c->p[3][a] + c->p[2][a] - c->p[1][a] - c->p[0][a];
+        unit_from64(t64, t);
+        for (unsigned a = 0; a < 3; a++)
+            nv[a] = (int32_t)avg[a];
+        int32_t along = psc_vec_dot_q16(nv, t);
+        for (unsigned a = 0; a < 3; a++)
+            avg[a] = (int64_t)nv[a] - psc_mul_q16(along, t[a]);
+        if (avg[0] == 0 && avg[1] == 0 && avg[2] == 0)
+            for (unsigned a = 0; a < 3; a++)
+                avg[a] = (int64_t)n0[a] + n3[a];
+    }
+    unit_from64(avg, out);
+    if (out[0] == 0 && out[1] == 0 && out[2] == 0)
+        for (unsigned a = 0; a < 3; a++)
+            out[a] = n0[a];
+}

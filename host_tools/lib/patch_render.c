@@ -1,0 +1,396 @@
+/* SPDX-License-Identifier: MIT */
+/* patch_render.c - periscope-render's patch mode (patch_render.h). */
+#include "patch_render.h"
+#include "cli_parse.h"
+#include "patch_load.h"
+#include "patch_measure.h"
+#include "psc_io_cli.h"
+#include "psc_io_error.h"
+#include "psc_io_file.h"
+#include "psc_io_png.h"
+#include "3d/psc_3d_orbit.h"
+#include "3d/psc_3d_render.h"
+#include "angle_conv.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define MAX_REPEAT 100000ul
+#define BACKGROUND 0x30343Cu
+
+typedef struct {
+    const char *model, *out, *depth, *dump_obj, *play;
+    psc_patch_load_opts_t load;
+    double yaw, pitch, dist, hfov, flatness, tol_px, time;
+    uint16_t width, height;
+    bool cull, stats;
+    unsigned long tile, repeat;
+    psc_pixfmt_t format;
+} patch_args_t;
+
+bool psc_patch_render_wanted(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++)
+        if (argv[i][0] != '-' && psc_patch_load_wanted(argv[i]))
+            return true;
+    return false;
+}
+
+static void usage(const char *prog, FILE *f)
+{
+    fprintf(f,
+            "usage: %s MODEL.{mdl,bpt,ppk} -o view.png [options]\n"
+            "\n"
+            "Render a Hash patch character (Animation:Master model, Newell .bpt patches or a\n"
+            "patch pack), posed by an action, with the device's tessellator and 3D pipeline.\n"
+            "\n"
+            "  --orbit Y,P,D       camera at D x R from the rest pose's box centre (R: half its\n"
+            "                      diagonal), turned up by P then right by Y degrees (default 30,10,2.5)\n"
+            "  --hfov F            horizontal field of view in degrees (default 50)\n"
+            "  --size WxH          output size (default 640x480)\n"
+            "  --flatness TOL      allowed chord error as a fraction of R, everywhere\n"
+            "  --tol-px P          allowed chord error in pixels at each curve's depth (default 0.5)\n"
+            "  --action A.act      an action for an A:M model (repeat for more; the first plays)\n"
+            "  --play NAME         which of the character's actions plays (default: the first)\n"
+            "  --time T            seconds into the action (default 0; it loops)\n"
+            "  --skin-from D.mdl   take CP-to-bone assignments from another model of the character\n"
+            "  --deform B1,B2,..   the bones that deform a model that assigns no CP to a bone\n"
+            "  --bvh M.bvh         a motion capture, retargeted by bone name (after the actions)\n"
+            "  --bvh-map MAP       \"bvh_joint = model bone\" lines (default: common mocap names)\n"
+            "  --cull back|none    drop patches and triangles facing away (default back)\n"
+            "  --tiles N           render in N x N pixel tiles (0: full screen)\n"
+            "  --depth D.pgm       also write the normalised depth as a 16-bit PGM\n"
+            "  --format F          output surface: rgb565 (default) or xrgb8888\n"
+            "  --stats             print patches=N triangles=T max_chord_err=E crack_edges=C culled=K\n"
+            "                      (E as a fraction of R, measured; C: shared edges whose sides differ)\n"
+            "  --dump-obj T.obj    write the tessellation drawn as an OBJ file\n"
+            "  --write-pack P.ppk  write the patch pack the view was drawn from\n"
+            "  --repeat K          pose, tessellate and draw K times, and report the time per frame\n"
+            "  -o view.png         output PNG\n"
+            "  --version           the program's version\n"
+            "  --help              this text\n",
+            prog);
+}
+
+static const struct option patch_options[] = {
+    {"orbit", required_argument, NULL, 1},     {"hfov", required_argument, NULL, 1},
+    {"size", required_argument, NULL, 1},      {"flatness", required_argument, NULL, 1},
+    {"tol-px", required_argument, NULL, 1},    {"action", required_argument, NULL, 1},
+    {"play", required_argument, NULL, 1},      {"time", required_argument, NULL, 1},
+    {"skin-from", required_argument, NULL, 1}, {"deform", required_argument, NULL, 1},
+    {"bvh", required_argument, NULL, 1},       {"bvh-map", required_argument, NULL, 1},
+    {"cull", required_argument, NULL, 1},      {"tiles", required_argument, NULL, 1},
+    {"depth", required_argument, NULL, 1},     {"format", required_argument, NULL, 1},
+    {"stats", no_argument, NULL, 1},           {"dump-obj", required_argument, NULL, 1},
+    {"write-pack", required_argument, NULL, 1}, {"repeat", required_argument, NULL, 1},
+    PSC_IO_CLI_COMMON_OPTIONS,
+};
+
+static int parse_value(const char *prog, patch_args_t *a, const char *name, const char *v)
+{
+    char extra;
+    if (strcmp(name, "-o") == 0) {
+        a->out = v;
+    } else if (strcmp(name, "--orbit") == 0) {
+        if (sscanf(v, "%lf,%lf,%lf%c", &a->yaw, &a->pitch, &a->dist, &extra) != 3 || !(a->pitch >= -90) ||
+            !(a->pitch <= 90) || !(a->dist >= 1.0 / 64) || !(a->dist <= 256))
+            return psc_io_cli_usage_error(prog, "--orbit '%s': expected YAW,PITCH,DIST (pitch -90..90, dist 1/64..256)", v);
+    } else if (strcmp(name, "--hfov") == 0) {
+        if (psc_cli_parse_double(v, &a->hfov) != 0 || !(a->hfov >= 1.0 && a->hfov <= 170.0))
+            return psc_io_cli_usage_error(prog, "--hfov '%s': expected degrees in 1..170", v);
+    } else if (strcmp(name, "--size") == 0) {
+        if (psc_cli_parse_size(v, PSC_MAX_OUT_DIM, &a->width, &a->height) != 0)
+            return psc_io_cli_usage_error(prog, "--size '%s': expected WxH, each 1..%u", v, (unsigned)PSC_MAX_OUT_DIM);
+    } else if (strcmp(name, "--flatness") == 0) {
+        if (psc_cli_parse_double(v, &a->flatness) != 0 || !(a->flatness >= 1e-4 && a->flatness <= 1.0))
+            return psc_io_cli_usage_error(prog, "--flatness '%s': expected a fraction of R in 0.0001..1", v);
+    } else if (strcmp(name, "--tol-px") == 0) {
+        if (psc_cli_parse_double(v, &a->tol_px) != 0 || !(a->tol_px >= 0.01 && a->tol_px <= 1000.0))
+            return psc_io_cli_usage_error(prog, "--tol-px '%s': expected pixels in 0.01..1000", v);
+    } else if (strcmp(name, "--action") == 0) {
+        if (a->load.action_count >= PSC_PATCH_LOAD_MAX_ACTIONS)
+            return psc_io_cli_usage_error(prog, "at most %u actions", PSC_PATCH_LOAD_MAX_ACTIONS);
+        a->load.actions[a->load.action_count++] = v;
+    } else if (strcmp(name, "--play") == 0) {
+        a->play = v;
+    } else if (strcmp(name, "--time") == 0) {
+        if (psc_cli_parse_double(v, &a->time) != 0 || !(a->time >= 0.0 && a->time <= 3600.0))
+            return psc_io_cli_usage_error(prog, "--time '%s': expected seconds in 0..3600", v);
+    } else if (strcmp(name, "--skin-from") == 0) {
+        a->load.skin_from = v;
+    } else if (strcmp(name, "--deform") == 0) {
+        a->load.deform = v;
+    } else if (strcmp(name, "--bvh") == 0) {
+        if (a->load.capture_count >= PSC_PATCH_LOAD_MAX_ACTIONS)
+            return psc_io_cli_usage_error(prog, "at most %u captures", PSC_PATCH_LOAD_MAX_ACTIONS);
+        a->load.captures[a->load.capture_count++] = v;
+    } else if (strcmp(name, "--bvh-map") == 0) {
+        a->load.capture_map = v;
+    } else if (strcmp(name, "--cull") == 0) {
+        if (strcmp(v, "back") != 0 && strcmp(v, "none") != 0)
+            return psc_io_cli_usage_error(prog, "--cull '%s': expected back or none", v);
+        a->cull = strcmp(v, "back") == 0;
+    } else if (strcmp(name, "--tiles") == 0) {
+        if (psc_cli_parse_uint(v, 0, PSC_MAX_OUT_DIM, &a->tile) != 0)
+            return psc_io_cli_usage_error(prog, "--tiles '%s': expected a tile side of 0..%u pixels", v,
+                                          (unsigned)PSC_MAX_OUT_DIM);
+    } else if (strcmp(name, "--depth") == 0) {
+        a->depth = v;
+    } else if (strcmp(name, "--format") == 0) {
+        if (strcmp(v, "rgb565") != 0 && strcmp(v, "xrgb8888") != 0)
+            return psc_io_cli_usage_error(prog, "--format '%s': expected rgb565 or xrgb8888", v);
+        a->format = strcmp(v, "rgb565") == 0 ? PSC_PIX_RGB565 : PSC_PIX_XRGB8888;
+    } else if (strcmp(name, "--stats") == 0) {
+        a->stats = true;
+    } else if (strcmp(name, "--dump-obj") == 0) {
+        a->dump_obj = v;
+    } else if (strcmp(name, "--write-pack") == 0) {
+        a->load.write_pack = v;
+    } else if (strcmp(name, "--repeat") == 0) {
+        if (psc_cli_parse_uint(v, 1, MAX_REPEAT, &a->repeat) != 0)
+            return psc_io_cli_usage_error(prog, "--repeat '%s': expected a count of 1..%lu", v, MAX_REPEAT);
+    }
+    return 0;
+}
+
+static int parse_args(const char *prog, int argc, char **argv, patch_args_t *a)
+{
+    psc_io_cli_t c;
+    char why[160];
+    int opt;
+
+    psc_io_cli_begin(&c, argc, argv, "ho:", patch_options);
+    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
+        if (opt < 0)
+            return psc_io_cli_usage_error(prog, "%s (patch mode)", why);
+        if (opt == PSC_IO_CLI_HELP) {
+            usage(prog, stdout);
+            exit(0);
+        }
+        if (opt == PSC_IO_CLI_VERSION) {
+            psc_io_cli_print_version(prog);
+            exit(0);
+        }
+        int rc = parse_value(prog, a, c.name, c.arg);
+        if (rc != 0)
+            return rc;
+    }
+    for (int i = psc_io_cli_rest(&c); i < argc; i++) {
+        if (a->model)
+            return psc_io_cli_usage_error(prog, "more than one model given (%s)", argv[i]);
+        a->model = argv[i];
+    }
+    if (!a->model)
+        return psc_io_cli_usage_error(prog, "no model given");
+    if (!a->out)
+        return psc_io_cli_usage_error(prog, "no output given (-o view.png)");
+    if (a->flatness > 0.0 && a->tol_px > 0.0)
+        return psc_io_cli_usage_error(prog, "--flatness and --tol-px both given: choose one");
+    return 0;
+}
+
+/* A tessellator over model m with its own workspace. */
+typedef struct {
+    psc_patch_t p;
+    void *ws;
+} tess_t;
+
+static int tess_new(tess_t *t, const psc_patch_model_t *m, uint8_t max_depth)
+{
+    psc_patch_limits_t lim = {PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES, 1u << 21, max_depth};
+    size_t size = psc_patch_workspace_size(m, &lim);
+    t->ws = NULL;
+    if (size == 0 || posix_memalign(&t->ws, 64, size) != 0)
+        return -1;
+    return psc_patch_init(&t->p, m, &lim, t->ws, size) == PSC_OK ? 0 : -1;
+}
+
+static int find_action(const psc_patch_model_t *m, const char *name)
+{
+    if (m->action_count == 0)
+        return -1;
+    if (name == NULL)
+        return 0;
+    for (uint32_t i = 0; i < m->action_count; i++)
+        if (strncmp(m->actions[i].name, name, sizeof m->actions[i].name) == 0)
+            return (int)i;
+    return -2;
+}
+
+static int write_depth_pgm(const char *path, const uint16_t *z, uint16_t w, uint16_t h, char *err, size_t errlen)
+{
+    char head[64];
+    int n = snprintf(head, sizeof head, "P5\n%u %u\n65535\n", (unsigned)w, (unsigned)h);
+    size_t len = (size_t)n + (size_t)w * h * 2;
+    uint8_t *b = malloc(len);
+    if (!b)
+        return psc_io_errorf(err, errlen, path, "out of memory");
+    memcpy(b, head, (size_t)n);
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        b[n + 2 * i] = (uint8_t)(z[i] >> 8);
+        b[n + 2 * i + 1] = (uint8_t)z[i];
+    }
+    int rc = psc_io_write_atomic(path, b, len, err, errlen);
+    free(b);
+    return rc;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* Pose, solve and tessellate one tessellator. */
+static psc_status_t frame(psc_patch_t *p, int action, uint32_t ms, const psc_patch_camera_t *cam,
+                          psc_patch_stats_t *st)
+{
+    psc_patch_pose(p, action, ms);
+    psc_patch_tangents(p);
+    return psc_patch_tessellate(p, cam, st);
+}
+
+/* The stats line: cracks and chord error measured on culling-free tessellations of the same frame. */
+static int print_stats(const psc_patch_model_t *m, int action, uint32_t ms, const psc_patch_camera_t *cam,
+                       const psc_patch_stats_t *st)
+{
+    tess_t open = {0}, ref = {0};
+    psc_patch_camera_t c = *cam, rc = *cam;
+    int result = -1;
+    c.cull = false;
+    rc.cull = false;
+    rc.tol_px_q16 = 0;
+    rc.tol_units_q16 = 1;   /* every edge and patch to the depth cap */
+    if (tess_new(&open, m, PSC_PATCH_MAX_DEPTH) != 0 || tess_new(&ref, m, PSC_PATCH_MAX_DEPTH) != 0 ||
+        frame(&open.p, action, ms, &c, NULL) != PSC_OK || frame(&ref.p, action, ms, &rc, NULL) != PSC_OK)
+        goto done;
+    long cracks = psc_patch_measure_cracks(&open.p);
+    double chord = psc_patch_measure_chord(&open.p, &ref.p);
+    if (cracks < 0 || chord < 0)
+        goto done;
+    printf("patches=%u triangles=%u max_chord_err=%.6f crack_edges=%ld culled=%u\n", (unsigned)st->patches,
+           (unsigned)st->triangles, chord, cracks, (unsigned)st->culled);
+    result = 0;
+done:
+    free(open.ws);
+    free(ref.ws);
+    return result;
+}
+
+int psc_patch_render_main(const char *prog, int argc, char **argv)
+{
+    patch_args_t a = {.yaw = 30, .pitch = 10, .dist = 2.5, .hfov = 50, .width = 640, .height = 480, .cull = true,
+                      .format = PSC_PIX_RGB565, .repeat = 1};
+    int rc = parse_args(prog, argc, argv, &a);
+    if (rc != 0)
+        return rc;
+    if (a.flatness == 0.0 && a.tol_px == 0.0)
+        a.tol_px = 0.5;
+    char err[768];
+    psc_io_patch_t pf;
+    if (psc_patch_load_any(a.model, &a.load, &pf, err, sizeof err) != 0) {
+        fprintf(stderr, "%s: %s\n", prog, err);
+        return 1;
+    }
+    const psc_patch_model_t *m = &pf.model;
+    rc = 1;
+    tess_t t = {0};
+    void *ws = NULL;
+    uint16_t *zout = NULL;
+    psc_surface_t out = {a.width, a.height, (uint32_t)a.width * psc_pixfmt_bytes(a.format), a.format, NULL};
+    int action = find_action(m, a.play);
+    if (action == -2) {
+        fprintf(stderr, "%s: %s has no action named '%s'\n", prog, a.model, a.play);
+        goto done;
+    }
+    if (tess_new(&t, m, PSC_PATCH_MAX_DEPTH) != 0) {
+        fprintf(stderr, "%s: out of memory for the tessellation of %s\n", prog, a.model);
+        goto done;
+    }
+    psc_vec3_q16_t lo = {m->lo_q16[0], m->lo_q16[1], m->lo_q16[2]}, hi = {m->hi_q16[0], m->hi_q16[1], m->hi_q16[2]};
+    psc_patch_camera_t cam = {0};
+    int32_t near_q16, far_q16;
+    if (psc_3d_orbit(lo, hi, psc_bam_from_deg(a.yaw), psc_sbam_from_deg(a.pitch), (int32_t)lround(a.dist * 65536.0),
+                     &cam.camera_from_object, &near_q16, &far_q16) != PSC_OK) {
+        fprintf(stderr, "%s: %s: the orbit view does not fit the fixed-point range\n", prog, a.model);
+        goto done;
+    }
+    double focal = a.width / 2.0 / tan(a.hfov * M_PI / 360.0);
+    cam.focal_px_q16 = (int32_t)lround(focal * 65536.0);
+    cam.tol_px_q16 = a.tol_px > 0.0 ? (int32_t)lround(a.tol_px * 65536.0) : 0;
+    cam.tol_units_q16 = a.flatness > 0.0 ? (int32_t)lround(a.flatness * 65536.0) : 0;
+    cam.near_q16 = near_q16;
+    cam.cull = a.cull;
+    uint32_t ms = (uint32_t)lround(a.time * 1000.0);
+    psc_patch_stats_t st;
+    psc_status_t s;
+    double t_tess = 0.0, t_draw = 0.0;
+    psc_3d_config_t cfg = {a.width, a.height, (uint16_t)a.tile, (uint16_t)a.tile, 32, psc_bam_from_deg(a.hfov),
+                           near_q16, far_q16, PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES};
+    size_t ws_size = psc_3d_workspace_size(&cfg);
+    psc_3d_t r;
+    if (ws_size == 0 || posix_memalign(&ws, 64, ws_size) != 0 ||
+        !(out.pixels = calloc((size_t)out.stride * out.height, 1)) ||
+        (a.depth && !(zout = calloc((size_t)a.width * a.height, 2)))) {
+        fprintf(stderr, "%s: out of memory for a %ux%u view\n", prog, (unsigned)a.width, (unsigned)a.height);
+        goto done;
+    }
+    if ((s = psc_3d_init(&r, &cfg, ws, ws_size)) != PSC_OK) {
+        fprintf(stderr, "%s: %s: cannot set up the renderer: %s\n", prog, a.model, psc_status_str(s));
+        goto done;
+    }
+    r.depth_out = zout;
+    for (unsigned long k = 0; k < a.repeat; k++) {
+        double t0 = now_s();
+        /* a repeated run plays the action from the given time on, a frame at 60 Hz */
+        uint32_t at = ms + (uint32_t)(k * 1000ul / 60ul);
+        if ((s = frame(&t.p, action, at, &cam, &st)) != PSC_OK) {
+            fprintf(stderr, "%s: %s: tessellation failed: %s\n", prog, a.model, psc_status_str(s));
+            goto done;
+        }
+        double t1 = now_s();
+        psc_3d_draw_t d[PSC_PATCH_MAX_BATCHES];
+        for (unsigned b = 0; b < t.p.batch_count; b++) {
+            psc_3d_draw_defaults(&d[b], &t.p.batch[b]);
+            d[b].camera_from_object = cam.camera_from_object;
+            d[b].cull_back = a.cull;
+            d[b].lit = true;
+            d[b].light_dir = psc_vec3_normalize((psc_vec3_q16_t){-26000, 39000, -45000});
+            d[b].ambient_q8 = 72;
+        }
+        uint32_t bg = BACKGROUND;
+        if ((s = psc_3d_render(&r, d, t.p.batch_count, &bg, &out, NULL)) != PSC_OK) {
+            fprintf(stderr, "%s: %s: drawing failed: %s\n", prog, a.model, psc_status_str(s));
+            goto done;
+        }
+        t_tess += t1 - t0;
+        t_draw += now_s() - t1;
+    }
+    if (a.repeat > 1)
+        fprintf(stderr, "%s: %lu frames of %ux%u: pose+tessellate %.3f ms, draw %.3f ms per frame (%u patches, "
+                "%u triangles, %u reused)\n", prog, a.repeat, (unsigned)a.width, (unsigned)a.height,
+                t_tess / a.repeat * 1e3, t_draw / a.repeat * 1e3, (unsigned)st.patches, (unsigned)st.triangles,
+                (unsigned)st.reused);
+    if (psc_io_png_write(a.out, &out, err, sizeof err) != 0 ||
+        (a.depth && write_depth_pgm(a.depth, zout, a.width, a.height, err, sizeof err) != 0) ||
+        (a.dump_obj && psc_patch_write_obj(&t.p, a.dump_obj, err, sizeof err) != 0)) {
+        fprintf(stderr, "%s: %s\n", prog, err);
+        goto done;
+    }
+    if (a.stats && print_stats(m, action, ms, &cam, &st) != 0) {
+        fprintf(stderr, "%s: %s: out of memory measuring the tessellation\n", prog, a.model);
+        goto done;
+    }
+    rc = 0;
+done:
+    free(t.ws);
+    free(ws);
+    free(zout);
+    free(out.pixels);
+    psc_io_patch_free(&pf);
+    return rc;
+}
