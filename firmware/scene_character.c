@@ -81,15 +81,9 @@ psc_status_t psc_scene_character_draw(const psc_patch_model_t *m, int action, ui
     if ((s = psc_3d_init(&r, &c, bytes + head + patch_bytes, ws_size - head - patch_bytes)) != PSC_OK)
         return s;
     psc_3d_draw_t d[PSC_PATCH_MAX_BATCHES];
-    for (unsigned b = 0; b < p->batch_count; b++) {
-        psc_3d_draw_defaults(&d[b], &p->batch[b]);
-        d[b].camera_from_object = cam.camera_from_object;
-        d[b].lit = true;
-        d[b].light_dir = psc_vec3_normalize((psc_vec3_q16_t){-26000, 39000, -45000});
-        d[b].ambient_q8 = 72;
-    }
+    unsigned n = psc_patch_draws(p, &cam, d);
     uint32_t bg = PSC_OBJECT_BACKGROUND;
-    return psc_3d_render(&r, d, p->batch_count, &bg, out, NULL);
+    return psc_3d_render(&r, d, n, &bg, out, NULL);
 }
 
 /* ---- which action plays when ------------------------------------------------------------------------------ */

@@ -352,15 +352,7 @@ static void random_mesh(tsup_rng_t *r, psc_patch_src_t *s, bool closed)
     s->color = malloc(sizeof *s->color);
     s->color[0] = 0xC0C0C0;
     s->color_count = 1;
-    for (unsigned a = 0; a < 3; a++) {
-        s->lo[a] = INFINITY;
-        s->hi[a] = -INFINITY;
-    }
-    for (size_t i = 0; i < s->point_count; i++)
-        for (unsigned a = 0; a < 3; a++) {
-            s->lo[a] = fmin(s->lo[a], s->point[i][a]);
-            s->hi[a] = fmax(s->hi[a], s->point[i][a]);
-        }
+    psc_patch_src_bounds(s);
 }
 
 /* Pack a host character and parse it in place. */
@@ -460,16 +452,11 @@ static void draw(const psc_patch_t *p, const psc_patch_camera_t *cam, int32_t ne
     uint16_t *zout = calloc((size_t)out->width * out->height, 2);
     r.r.depth_out = zout;
     psc_3d_draw_t d[PSC_PATCH_MAX_BATCHES];
-    for (unsigned b = 0; b < p->batch_count; b++) {
-        psc_3d_draw_defaults(&d[b], &p->batch[b]);
-        d[b].camera_from_object = cam->camera_from_object;
-        d[b].cull_back = cull;
-        d[b].lit = true;
-        d[b].light_dir = psc_vec3_normalize((psc_vec3_q16_t){-26000, 39000, -45000});
-        d[b].ambient_q8 = 72;
-    }
+    psc_patch_camera_t c = *cam;
+    c.cull = cull;
+    unsigned n = psc_patch_draws(p, &c, d);
     uint32_t bg = 0x30343C;
-    assert_int_equal(psc_3d_render(&r.r, d, p->batch_count, &bg, out, NULL), PSC_OK);
+    assert_int_equal(psc_3d_render(&r.r, d, n, &bg, out, NULL), PSC_OK);
     /* depth: affine in 1/z, 0 at near .. 1 at far (top 16 bits) */
     double nq = near_q16 / 65536.0, fq = far_q16 / 65536.0;
     for (size_t i = 0; i < (size_t)out->width * out->height; i++) {
@@ -949,6 +936,20 @@ static char *read_text(const char *path, size_t *len)
     return (char *)b;
 }
 
+/* Up to six mutations of text[0..n): a byte replaced from junk, or the text cut short. The new length. */
+static size_t mutate_text(tsup_rng_t *r, char *text, size_t n, const char *junk)
+{
+    unsigned muts = 1 + tsup_rng_below(r, 6);
+    for (unsigned j = 0; j < muts; j++) {
+        size_t at = tsup_rng_below(r, (uint32_t)n);
+        if (tsup_rng_below(r, 5) == 0)
+            n = at + 1;
+        else
+            text[at] = junk[tsup_rng_below(r, (uint32_t)strlen(junk))];
+    }
+    return n;
+}
+
 /* Mutated A:M models: parsed and built, or refused with "name:line: ..." or "name: ...". */
 static void test_mdl_fuzz(void **state)
 {
@@ -963,14 +964,7 @@ static void test_mdl_fuzz(void **state)
     for (unsigned k = 0; k < 600; k++) {
         memcpy(text, orig, len);
         size_t n = len;
-        unsigned muts = 1 + tsup_rng_below(&r, 6);
-        for (unsigned j = 0; j < muts; j++) {
-            size_t at = tsup_rng_below(&r, (uint32_t)n);
-            if (tsup_rng_below(&r, 5) == 0)
-                n = at + 1;   /* truncated */
-            else
-                text[at] = junk[tsup_rng_below(&r, sizeof junk - 1)];
-        }
+        n = mutate_text(&r, text, n, junk);
         psc_am_model_t am;
         char err[512];
         if (psc_am_model_parse("fuzz.mdl", text, n, &am, err, sizeof err) != 0) {
@@ -1021,14 +1015,7 @@ static void test_act_fuzz(void **state)
     for (unsigned k = 0; k < 300; k++) {
         memcpy(text, orig, len);
         size_t n = len;
-        unsigned muts = 1 + tsup_rng_below(&r, 6);
-        for (unsigned j = 0; j < muts; j++) {
-            size_t at = tsup_rng_below(&r, (uint32_t)n);
-            if (tsup_rng_below(&r, 5) == 0)
-                n = at + 1;
-            else
-                text[at] = junk[tsup_rng_below(&r, sizeof junk - 1)];
-        }
+        n = mutate_text(&r, text, n, junk);
         psc_am_action_t act;
         if (psc_am_action_parse("fuzz.act", text, n, &act, err, sizeof err) != 0) {
             assert_true(strncmp(err, "fuzz.act", 8) == 0);

@@ -108,8 +108,8 @@ static void draw(bench_t *b, const psc_mesh_t *meshes, unsigned n, const psc_pat
         psc_3d_draw_defaults(&d[i], &meshes[i]);
         d[i].camera_from_object = cam->camera_from_object;
         d[i].lit = true;
-        d[i].light_dir = psc_vec3_normalize((psc_vec3_q16_t){-26000, 39000, -45000});
-        d[i].ambient_q8 = 72;
+        d[i].light_dir = psc_vec3_normalize((psc_vec3_q16_t){PSC_PATCH_LIGHT_X, PSC_PATCH_LIGHT_Y, PSC_PATCH_LIGHT_Z});
+        d[i].ambient_q8 = PSC_PATCH_AMBIENT_Q8;
     }
     psc_3d_render(&r, d, n, &bg, &out, NULL);
 }

@@ -256,6 +256,10 @@ typedef struct {
  */
 psc_status_t psc_patch_parse(const void *buf, size_t len, psc_patch_model_t *out, psc_container_error_t *err);
 
+/** The point edge e starts (end 0) or ends (end 1) at: its CP's, or the hook's at that quarter (-1: no hook there;
+ *  never for a parsed pack). */
+int32_t psc_patch_edge_point(const psc_patch_model_t *m, const psc_patch_edge_t *e, unsigned end);
+
 /** The CP index that starts segment seg of spline s, and the one that ends it (closed splines wrap). */
 static inline uint32_t psc_patch_seg_cp(const psc_patch_model_t *m, uint32_t s, uint32_t seg, unsigned end)
 {

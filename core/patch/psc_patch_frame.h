@@ -36,6 +36,7 @@
 #define PSC_PATCH_FRAME_H
 
 #include "3d/psc_3d_math.h"
+#include "3d/psc_3d_render.h"
 #include "mesh/psc_mesh.h"
 #include "patch/psc_patch.h"
 #include "patch/psc_patch_curve.h"
@@ -155,6 +156,19 @@ typedef struct {
  * tessellated again (counted in stats). stats may be NULL.
  */
 psc_status_t psc_patch_tessellate(psc_patch_t *p, const psc_patch_camera_t *cam, psc_patch_stats_t *stats);
+
+/* The light the character is drawn with: from the upper left, behind the eye (camera space, as the object
+ * scene's), and the ambient share. */
+#define PSC_PATCH_LIGHT_X (-26000)
+#define PSC_PATCH_LIGHT_Y 39000
+#define PSC_PATCH_LIGHT_Z (-45000)
+#define PSC_PATCH_AMBIENT_Q8 72
+
+/**
+ * The 3D pipeline's draws for the frame just tessellated, seen through cam: Gouraud, lit, back faces culled
+ * when cam->cull. d has room for PSC_PATCH_MAX_BATCHES; returns how many it filled.
+ */
+unsigned psc_patch_draws(const psc_patch_t *p, const psc_patch_camera_t *cam, psc_3d_draw_t *d);
 
 /** The cubic of edge e this frame (its part of its spline segment; after psc_patch_tangents). */
 void psc_patch_edge_curve(const psc_patch_t *p, uint32_t e, psc_curve_t *c);

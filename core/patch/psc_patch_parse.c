@@ -42,8 +42,7 @@ static psc_status_t check_size(const found_t *f, unsigned k, uint32_t count, uin
     return PSC_OK;
 }
 
-/* The point an edge starts (end 0) or ends (end 1) at: its CP's, or the hook's at that quarter. */
-static int32_t edge_point(const psc_patch_model_t *m, const psc_patch_edge_t *e, unsigned end)
+int32_t psc_patch_edge_point(const psc_patch_model_t *m, const psc_patch_edge_t *e, unsigned end)
 {
     unsigned q = end ? e->hi_q2 : e->lo_q2;
 
@@ -81,7 +80,7 @@ static psc_status_t check_topology(const psc_patch_model_t *m, uint32_t base, ps
         if (e->spline >= m->spline_count || e->seg >= psc_patch_seg_count(m, e->spline) || e->hi_q2 > 4 ||
             e->lo_q2 >= e->hi_q2 || (span & (span - 1u)) != 0 || e->lo_q2 % span != 0 || e->min_depth > 2)
             return fail(err, PSC_ERR_CORRUPT, "an edge is not a dyadic part of a spline segment", base);
-        if (edge_point(m, e, 0) < 0 || edge_point(m, e, 1) < 0)
+        if (psc_patch_edge_point(m, e, 0) < 0 || psc_patch_edge_point(m, e, 1) < 0)
             return fail(err, PSC_ERR_CORRUPT, "an edge ends inside a segment where no hook is", base);
     }
     for (uint32_t i = 0; i < m->face_count; i++) {
@@ -94,7 +93,7 @@ static psc_status_t check_topology(const psc_patch_model_t *m, uint32_t base, ps
             if (ei >= m->edge_count)
                 return fail(err, PSC_ERR_CORRUPT, "a patch names an edge beyond the edges", base);
             unsigned rev = (f->edge[k] & PSC_PATCH_EDGE_REVERSED) != 0;
-            int32_t a = edge_point(m, &m->edges[ei], rev), b = edge_point(m, &m->edges[ei], !rev);
+            int32_t a = psc_patch_edge_point(m, &m->edges[ei], rev), b = psc_patch_edge_point(m, &m->edges[ei], !rev);
             if (k == 0)
                 first = a;
             else if (a != prev)

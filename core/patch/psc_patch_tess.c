@@ -87,19 +87,6 @@ size_t psc_patch_workspace_size(const psc_patch_model_t *m, const psc_patch_limi
     return l.total;
 }
 
-/* The point an edge starts (end 0) or ends (end 1) at. */
-static uint16_t edge_point(const psc_patch_model_t *m, const psc_patch_edge_t *e, unsigned end)
-{
-    unsigned q = end ? e->hi_q2 : e->lo_q2;
-
-    if (q == 0 || q == 4)
-        return m->cps[psc_patch_seg_cp(m, e->spline, e->seg, q == 4)].point;
-    for (uint32_t h = 0; h < m->hook_count; h++)
-        if (m->hooks[h].spline == e->spline && m->hooks[h].seg == e->seg && m->hooks[h].frac_q2 == q)
-            return m->hooks[h].point;
-    return 0;   /* the parser refused such edges */
-}
-
 psc_status_t psc_patch_init(psc_patch_t *p, const psc_patch_model_t *m, const psc_patch_limits_t *lim, void *ws,
                             size_t ws_size)
 {
@@ -152,8 +139,8 @@ psc_status_t psc_patch_init(psc_patch_t *p, const psc_patch_model_t *m, const ps
     p->out_color = (uint32_t *)(void *)(b + l.out_color);
     p->out_index = (uint16_t *)(void *)(b + l.out_index);
     for (uint32_t e = 0; e < m->edge_count; e++) {
-        p->edge_pt[e][0] = edge_point(m, &m->edges[e], 0);
-        p->edge_pt[e][1] = edge_point(m, &m->edges[e], 1);
+        p->edge_pt[e][0] = (uint16_t)psc_patch_edge_point(m, &m->edges[e], 0);   /* the parser saw both */
+        p->edge_pt[e][1] = (uint16_t)psc_patch_edge_point(m, &m->edges[e], 1);
         p->prev_edge_depth[e] = 0xFF;
         p->edge_parent[e] = e;
         p->edge_min[e] = m->edges[e].min_depth;

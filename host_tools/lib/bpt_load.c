@@ -186,15 +186,7 @@ int psc_bpt_parse(const char *name, const char *text, size_t len, psc_patch_src_
                       out->point_count, out->edge_count, PSC_PATCH_MAX_POINTS, PSC_PATCH_MAX_EDGES);
         goto fail;
     }
-    for (unsigned a = 0; a < 3; a++) {
-        out->lo[a] = INFINITY;
-        out->hi[a] = -INFINITY;
-    }
-    for (size_t i = 0; i < out->point_count; i++)
-        for (unsigned a = 0; a < 3; a++) {
-            out->lo[a] = fmin(out->lo[a], out->point[i][a]);
-            out->hi[a] = fmax(out->hi[a], out->point[i][a]);
-        }
+    psc_patch_src_bounds(out);
     return 0;
 oom:
     psc_io_errorf(err, errlen, name, "out of memory");

@@ -139,25 +139,15 @@ int psc_bvh_bake(const psc_bvh_t *b, const char *map_text, const char *name, psc
         psc_bvh_pose(b, frame < b->frames ? frame : b->frames - 1u, jr, jp);
         psc_bone_pose_t *g = pose + f * nb;
         for (size_t i = 0; i < nb; i++) {
-            const psc_patch_bone_src_t *bone = &s->bone[i];
-            double rb[4], rel[4], off[3], pc[4], d[3];
-            memcpy(rb, bone->rot, sizeof rb);
+            double rb[4], rel[4], off[3], d[3];
+            memcpy(rb, s->bone[i].rot, sizeof rb);
             psc_quat_normalize(rb);
-            if (bone->parent < 0) {
-                memcpy(rel, rb, sizeof rel);
-                memcpy(g[i].head, bone->head, sizeof g[i].head);
-                memcpy(g[i].rot, rb, sizeof g[i].rot);
-            } else {
-                const psc_patch_bone_src_t *pb = &s->bone[bone->parent];
-                double rp[4];
-                memcpy(rp, pb->rot, sizeof rp);
-                psc_quat_normalize(rp);
-                psc_quat_conj(rp, pc);
-                psc_quat_mul(pc, rb, rel);
-                for (unsigned k = 0; k < 3; k++)
-                    d[k] = bone->head[k] - pb->head[k];
-                psc_quat_rotate(pc, d, off);
-                const psc_bone_pose_t *gp = &g[bone->parent];
+            psc_patch_rest_relative(s, i, rel, off);
+            if (s->bone[i].parent < 0) {   /* a top bone stays where it stands */
+                memcpy(g[i].head, off, sizeof g[i].head);
+                memcpy(g[i].rot, rel, sizeof g[i].rot);
+            } else {   /* forward kinematics from the parent as posed */
+                const psc_bone_pose_t *gp = &g[s->bone[i].parent];
                 psc_quat_mul(gp->rot, rel, g[i].rot);
                 psc_quat_rotate(gp->rot, off, d);
                 for (unsigned k = 0; k < 3; k++)

@@ -4,6 +4,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -69,4 +70,12 @@ int psc_cli_parse_pair(const char *s, double *a, double *b)
     *a = va;
     *b = vb;
     return 0;
+}
+
+int psc_cli_parse_orbit(const char *s, double *yaw, double *pitch, double *dist)
+{
+    char extra;
+    if (sscanf(s, "%lf,%lf,%lf%c", yaw, pitch, dist, &extra) != 3 || !isfinite(*yaw))
+        return -1;
+    return *pitch >= -90 && *pitch <= 90 && *dist >= 1.0 / 64 && *dist <= 256 ? 0 : -1;
 }

@@ -23,4 +23,7 @@ int psc_cli_parse_size(const char *s, unsigned long max, uint16_t *w, uint16_t *
 /** "A:B", two finite numbers (degrees in the tools). */
 int psc_cli_parse_pair(const char *s, double *a, double *b);
 
+/** "YAW,PITCH,DIST" for --orbit: degrees, pitch -90..90, distance 1/64..256 (in R). 0, or -1. */
+int psc_cli_parse_orbit(const char *s, double *yaw, double *pitch, double *dist);
+
 #endif

@@ -7,9 +7,9 @@
 #include "psc_io_error.h"
 #include "psc_io_file.h"
 #include "psc_io_load.h"
-#include "psc_io_png.h"
 #include "angle_conv.h"
 #include "cli_parse.h"
+#include "render_target.h"
 #include "image_io.h"
 #include "mesh_pack.h"
 #include "obj_load.h"
@@ -85,14 +85,6 @@ static void usage(const char *prog, FILE *f)
             prog);
 }
 
-static int parse_orbit(const char *v, model_args_t *a)
-{
-    char extra;
-    if (sscanf(v, "%lf,%lf,%lf%c", &a->yaw, &a->pitch, &a->dist, &extra) != 3)
-        return -1;
-    return a->pitch >= -90 && a->pitch <= 90 && a->dist >= 1.0 / 64 && a->dist <= 256 ? 0 : -1;
-}
-
 static const struct option model_options[] = {
     {"orbit", required_argument, NULL, 1},   {"hfov", required_argument, NULL, 1},
     {"size", required_argument, NULL, 1},    {"texture", required_argument, NULL, 1},
@@ -126,7 +118,7 @@ static int parse_args(const char *prog, int argc, char **argv, model_args_t *a)
         if (strcmp(name, "-o") == 0) {
             a->out = v;
         } else if (strcmp(name, "--orbit") == 0) {
-            if (parse_orbit(v, a) != 0)
+            if (psc_cli_parse_orbit(v, &a->yaw, &a->pitch, &a->dist) != 0)
                 return psc_io_cli_usage_error(prog, "--orbit '%s': expected YAW,PITCH,DIST (pitch -90..90, dist 1/64..256)",
                                            v);
         } else if (strcmp(name, "--hfov") == 0) {
@@ -260,24 +252,6 @@ static int override_texture(const model_args_t *a, psc_io_mesh_t *mf, psc_io_mes
     return 0;
 }
 
-static int write_depth_pgm(const char *path, const uint16_t *z, uint16_t w, uint16_t h, char *err, size_t errlen)
-{
-    char head[64];
-    int n = snprintf(head, sizeof head, "P5\n%u %u\n65535\n", (unsigned)w, (unsigned)h);
-    size_t len = (size_t)n + (size_t)w * h * 2;
-    uint8_t *b = malloc(len);
-    if (!b)
-        return psc_io_errorf(err, errlen, path, "out of memory");
-    memcpy(b, head, (size_t)n);
-    for (size_t i = 0; i < (size_t)w * h; i++) { /* PGM samples are big-endian */
-        b[n + 2 * i] = (uint8_t)(z[i] >> 8);
-        b[n + 2 * i + 1] = (uint8_t)z[i];
-    }
-    int rc = psc_io_write_atomic(path, b, len, err, errlen);
-    free(b);
-    return rc;
-}
-
 static double now_s(void)
 {
     struct timespec ts;
@@ -300,9 +274,7 @@ int psc_model_render_main(const char *prog, int argc, char **argv)
         return 1;
     }
     rc = 1;
-    void *ws = NULL;
-    uint16_t *zout = NULL;
-    psc_surface_t out = {a.width, a.height, (uint32_t)a.width * psc_pixfmt_bytes(a.format), a.format, NULL};
+    psc_render_target_t rt = {0};
     if (a.texture && psc_io_file_has_magic(a.model, PSC_MESH_MAGIC, PSC_CONTAINER_MAGIC_SIZE) && override_texture(&a, &mf, &texpack, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
@@ -328,26 +300,17 @@ int psc_model_render_main(const char *prog, int argc, char **argv)
         fprintf(stderr, "%s: %s: --shade texture needs a texture (and texture coordinates)\n", prog, a.model);
         goto done;
     }
-    size_t ws_size = psc_3d_workspace_size(&cfg);
-    psc_3d_t r;
     psc_status_t s;
-    if (ws_size == 0 || posix_memalign(&ws, 64, ws_size) != 0 ||
-        !(out.pixels = calloc((size_t)out.stride * out.height, 1)) ||
-        (a.depth && !(zout = calloc((size_t)a.width * a.height, 2)))) {
-        fprintf(stderr, "%s: out of memory for a %ux%u view\n", prog, (unsigned)a.width, (unsigned)a.height);
+    if (psc_render_target_open(&rt, &cfg, a.format, a.depth != NULL, a.model, err, sizeof err) != 0) {
+        fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
-    if ((s = psc_3d_init(&r, &cfg, ws, ws_size)) != PSC_OK) {
-        fprintf(stderr, "%s: %s: cannot set up the renderer: %s\n", prog, a.model, psc_status_str(s));
-        goto done;
-    }
-    r.depth_out = zout;
     uint32_t bg = 0x30343C;
     psc_3d_stats_t st;
     double best = 1e30, total = 0;
     for (unsigned long k = 0; k < a.repeat; k++) {
         double t0 = now_s();
-        s = psc_3d_render(&r, &d, 1, &bg, &out, &st);
+        s = psc_3d_render(&rt.r, &d, 1, &bg, &rt.out, &st);
         double dt = now_s() - t0;
         total += dt;
         best = dt < best ? dt : best;
@@ -360,16 +323,13 @@ int psc_model_render_main(const char *prog, int argc, char **argv)
         fprintf(stderr, "%s: %lu frames of %ux%u, %u triangles (%u culled, %u outside): %.3f ms per frame (best %.3f)\n",
                 prog, a.repeat, (unsigned)a.width, (unsigned)a.height, (unsigned)st.triangles, (unsigned)st.culled,
                 (unsigned)st.outside, total / a.repeat * 1e3, best * 1e3);
-    if (psc_io_png_write(a.out, &out, err, sizeof err) != 0 ||
-        (a.depth && write_depth_pgm(a.depth, zout, a.width, a.height, err, sizeof err) != 0)) {
+    if (psc_render_target_write(&rt, a.out, a.depth, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
     rc = 0;
 done:
-    free(ws);
-    free(zout);
-    free(out.pixels);
+    psc_render_target_close(&rt);
     psc_io_mesh_free(&mf);
     psc_io_mesh_free(&texpack);
     return rc;

@@ -11,8 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Bone b's rest rotation relative to its parent, and its rest head in the parent's rest frame (source units). */
-static void rest_relative(const psc_patch_src_t *s, size_t b, double rel[4], double off[3])
+void psc_patch_rest_relative(const psc_patch_src_t *s, size_t b, double rel[4], double off[3])
 {
     const psc_patch_bone_src_t *bone = &s->bone[b];
     double rb[4];
@@ -40,7 +39,7 @@ static void local_values(const psc_patch_src_t *s, size_t b, const psc_bone_pose
     int p = s->bone[b].parent;
     double pr[4] = {0, 0, 0, 1}, ph[3] = {0, 0, 0}, rel[4], off[3], relc[4], pc[4], x[4], d[3];
 
-    rest_relative(s, b, rel, off);
+    psc_patch_rest_relative(s, b, rel, off);
     if (p >= 0) {
         memcpy(pr, g[p].rot, sizeof pr);
         memcpy(ph, g[p].head, sizeof ph);

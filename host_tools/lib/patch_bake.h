@@ -20,6 +20,10 @@ typedef struct {
     double head[3];
 } psc_bone_pose_t;
 
+/** Bone b's rest rotation relative to its parent's, and its rest head in the parent's rest frame (source units;
+ *  a top bone: its model-space rotation and head). */
+void psc_patch_rest_relative(const psc_patch_src_t *s, size_t b, double rel[4], double off[3]);
+
 /**
  * Add an action named name of duration seconds to s from frames samples
  * (evenly spaced over [0, duration]) of every bone's pose: pose[f *

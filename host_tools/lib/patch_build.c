@@ -595,15 +595,7 @@ int psc_patch_from_am(const psc_am_model_t *am, const psc_patch_skin_opts_t *ski
     if (resolve_points(&b) != 0 || build_splines(&b) != 0 || build_faces(&b) != 0 || build_colors(&b) != 0 ||
         build_skin(&b, skin) != 0)
         goto done;
-    for (unsigned a = 0; a < 3; a++) {
-        out->lo[a] = INFINITY;
-        out->hi[a] = -INFINITY;
-    }
-    for (size_t i = 0; i < out->point_count; i++)
-        for (unsigned a = 0; a < 3; a++) {
-            out->lo[a] = fmin(out->lo[a], out->point[i][a]);
-            out->hi[a] = fmax(out->hi[a], out->point[i][a]);
-        }
+    psc_patch_src_bounds(out);
     rc = 0;
 done:
     free(b.ids);
@@ -637,6 +629,19 @@ void psc_patch_src_free(psc_patch_src_t *s)
     free(s->bone);
     free(s->skin);
     memset(s, 0, sizeof *s);
+}
+
+void psc_patch_src_bounds(psc_patch_src_t *s)
+{
+    for (unsigned a = 0; a < 3; a++) {
+        s->lo[a] = INFINITY;
+        s->hi[a] = -INFINITY;
+    }
+    for (size_t i = 0; i < s->point_count; i++)
+        for (unsigned a = 0; a < 3; a++) {
+            s->lo[a] = fmin(s->lo[a], s->point[i][a]);
+            s->hi[a] = fmax(s->hi[a], s->point[i][a]);
+        }
 }
 
 int psc_patch_src_bone(const psc_patch_src_t *s, const char *name)

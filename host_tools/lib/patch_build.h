@@ -102,6 +102,9 @@ void psc_patch_src_free(psc_patch_src_t *s);
 int psc_patch_pack_build(const psc_patch_src_t *s, const char *name, uint8_t **out, size_t *out_len, char *err,
                          size_t errlen);
 
+/** Set s->lo and s->hi: the box of the rest positions. */
+void psc_patch_src_bounds(psc_patch_src_t *s);
+
 /** The bone of model am named name, with its index, or -1. */
 int psc_patch_src_bone(const psc_patch_src_t *s, const char *name);
 

@@ -7,7 +7,7 @@
 #include "psc_io_cli.h"
 #include "psc_io_error.h"
 #include "psc_io_file.h"
-#include "psc_io_png.h"
+#include "render_target.h"
 #include "3d/psc_3d_orbit.h"
 #include "3d/psc_3d_render.h"
 #include "angle_conv.h"
@@ -91,12 +91,10 @@ static const struct option patch_options[] = {
 
 static int parse_value(const char *prog, patch_args_t *a, const char *name, const char *v)
 {
-    char extra;
     if (strcmp(name, "-o") == 0) {
         a->out = v;
     } else if (strcmp(name, "--orbit") == 0) {
-        if (sscanf(v, "%lf,%lf,%lf%c", &a->yaw, &a->pitch, &a->dist, &extra) != 3 || !(a->pitch >= -90) ||
-            !(a->pitch <= 90) || !(a->dist >= 1.0 / 64) || !(a->dist <= 256))
+        if (psc_cli_parse_orbit(v, &a->yaw, &a->pitch, &a->dist) != 0)
             return psc_io_cli_usage_error(prog, "--orbit '%s': expected YAW,PITCH,DIST (pitch -90..90, dist 1/64..256)", v);
     } else if (strcmp(name, "--hfov") == 0) {
         if (psc_cli_parse_double(v, &a->hfov) != 0 || !(a->hfov >= 1.0 && a->hfov <= 170.0))
@@ -220,24 +218,6 @@ static int find_action(const psc_patch_model_t *m, const char *name)
     return -2;
 }
 
-static int write_depth_pgm(const char *path, const uint16_t *z, uint16_t w, uint16_t h, char *err, size_t errlen)
-{
-    char head[64];
-    int n = snprintf(head, sizeof head, "P5\n%u %u\n65535\n", (unsigned)w, (unsigned)h);
-    size_t len = (size_t)n + (size_t)w * h * 2;
-    uint8_t *b = malloc(len);
-    if (!b)
-        return psc_io_errorf(err, errlen, path, "out of memory");
-    memcpy(b, head, (size_t)n);
-    for (size_t i = 0; i < (size_t)w * h; i++) {
-        b[n + 2 * i] = (uint8_t)(z[i] >> 8);
-        b[n + 2 * i + 1] = (uint8_t)z[i];
-    }
-    int rc = psc_io_write_atomic(path, b, len, err, errlen);
-    free(b);
-    return rc;
-}
-
 static double now_s(void)
 {
     struct timespec ts;
@@ -299,9 +279,7 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
     const psc_patch_model_t *m = &pf.model;
     rc = 1;
     tess_t t = {0};
-    void *ws = NULL;
-    uint16_t *zout = NULL;
-    psc_surface_t out = {a.width, a.height, (uint32_t)a.width * psc_pixfmt_bytes(a.format), a.format, NULL};
+    psc_render_target_t rt = {0};
     int action = find_action(m, a.play);
     if (action == -2) {
         fprintf(stderr, "%s: %s has no action named '%s'\n", prog, a.model, a.play);
@@ -331,19 +309,10 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
     double t_tess = 0.0, t_draw = 0.0;
     psc_3d_config_t cfg = {a.width, a.height, (uint16_t)a.tile, (uint16_t)a.tile, 32, psc_bam_from_deg(a.hfov),
                            near_q16, far_q16, PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES};
-    size_t ws_size = psc_3d_workspace_size(&cfg);
-    psc_3d_t r;
-    if (ws_size == 0 || posix_memalign(&ws, 64, ws_size) != 0 ||
-        !(out.pixels = calloc((size_t)out.stride * out.height, 1)) ||
-        (a.depth && !(zout = calloc((size_t)a.width * a.height, 2)))) {
-        fprintf(stderr, "%s: out of memory for a %ux%u view\n", prog, (unsigned)a.width, (unsigned)a.height);
+    if (psc_render_target_open(&rt, &cfg, a.format, a.depth != NULL, a.model, err, sizeof err) != 0) {
+        fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
-    if ((s = psc_3d_init(&r, &cfg, ws, ws_size)) != PSC_OK) {
-        fprintf(stderr, "%s: %s: cannot set up the renderer: %s\n", prog, a.model, psc_status_str(s));
-        goto done;
-    }
-    r.depth_out = zout;
     for (unsigned long k = 0; k < a.repeat; k++) {
         double t0 = now_s();
         /* a repeated run plays the action from the given time on, a frame at 60 Hz */
@@ -354,16 +323,9 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
         }
         double t1 = now_s();
         psc_3d_draw_t d[PSC_PATCH_MAX_BATCHES];
-        for (unsigned b = 0; b < t.p.batch_count; b++) {
-            psc_3d_draw_defaults(&d[b], &t.p.batch[b]);
-            d[b].camera_from_object = cam.camera_from_object;
-            d[b].cull_back = a.cull;
-            d[b].lit = true;
-            d[b].light_dir = psc_vec3_normalize((psc_vec3_q16_t){-26000, 39000, -45000});
-            d[b].ambient_q8 = 72;
-        }
+        unsigned n = psc_patch_draws(&t.p, &cam, d);
         uint32_t bg = BACKGROUND;
-        if ((s = psc_3d_render(&r, d, t.p.batch_count, &bg, &out, NULL)) != PSC_OK) {
+        if ((s = psc_3d_render(&rt.r, d, n, &bg, &rt.out, NULL)) != PSC_OK) {
             fprintf(stderr, "%s: %s: drawing failed: %s\n", prog, a.model, psc_status_str(s));
             goto done;
         }
@@ -375,8 +337,7 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
                 "%u triangles, %u reused)\n", prog, a.repeat, (unsigned)a.width, (unsigned)a.height,
                 t_tess / a.repeat * 1e3, t_draw / a.repeat * 1e3, (unsigned)st.patches, (unsigned)st.triangles,
                 (unsigned)st.reused);
-    if (psc_io_png_write(a.out, &out, err, sizeof err) != 0 ||
-        (a.depth && write_depth_pgm(a.depth, zout, a.width, a.height, err, sizeof err) != 0) ||
+    if (psc_render_target_write(&rt, a.out, a.depth, err, sizeof err) != 0 ||
         (a.dump_obj && psc_patch_write_obj(&t.p, a.dump_obj, err, sizeof err) != 0)) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
@@ -388,9 +349,7 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
     rc = 0;
 done:
     free(t.ws);
-    free(ws);
-    free(zout);
-    free(out.pixels);
+    psc_render_target_close(&rt);
     psc_io_patch_free(&pf);
     return rc;
 }

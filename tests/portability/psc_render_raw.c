@@ -210,15 +210,9 @@ static int render_patch_view(const psc_patch_model_t *m, psc_patch_t *p, void *w
     psc_surface_t surf = {PATCH_W, PATCH_H, PATCH_W * psc_pixfmt_bytes(format), format, pixels};
     if (s == PSC_OK) {
         psc_3d_draw_t d[PSC_PATCH_MAX_BATCHES];
-        for (unsigned b = 0; b < p->batch_count; b++) {
-            psc_3d_draw_defaults(&d[b], &p->batch[b]);
-            d[b].camera_from_object = cam.camera_from_object;
-            d[b].lit = true;
-            d[b].light_dir = psc_vec3_normalize((psc_vec3_q16_t){-26000, 39000, -45000});
-            d[b].ambient_q8 = 72;
-        }
+        unsigned draws = psc_patch_draws(p, &cam, d);
         uint32_t bg = 0x30343Cu;
-        s = psc_3d_render(&r, d, p->batch_count, &bg, &surf, NULL);
+        s = psc_3d_render(&r, d, draws, &bg, &surf, NULL);
     }
     if (s != PSC_OK)
         return fail("patch frame failed", psc_status_str(s));
