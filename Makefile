@@ -204,9 +204,15 @@ $(SAMPLE_CHARACTER): $(THOM)/Thom.mdl $(THOM)/Thom2.mdl $(THOM)/ResoluteWalk.act
 	$(BUILD)/bin/periscope-patch $(THOM)/Thom.mdl --skin-from $(THOM)/Thom2.mdl --action $(THOM)/ResoluteWalk.act \
 		--action $(THOM)/Wave.act -o $@
 
+# ... and its self-shadowing: the character scene finds out/thom.pao beside out/thom.ppk.
+SAMPLE_SHADOW := out/thom.pao
+$(SAMPLE_SHADOW): $(THOM)/Thom.mdl $(THOM)/Thom2.mdl $(BUILD)/bin/periscope-shadow
+	@mkdir -p $(@D)
+	$(BUILD)/bin/periscope-shadow build $(THOM)/Thom.mdl --skin-from $(THOM)/Thom2.mdl -o $@
+
 run: deps
 	$(Q)$(MAKE) --no-print-directory all
-	$(Q)$(MAKE) --no-print-directory $(SAMPLE_PACK) $(SAMPLE_CHARACTER)
+	$(Q)$(MAKE) --no-print-directory $(SAMPLE_PACK) $(SAMPLE_CHARACTER) $(SAMPLE_SHADOW)
 	$(FIRMWARE) --board sim --out out/run
 
 # ---- test ------------------------------------------------------------------

@@ -80,6 +80,7 @@ static const key_spec_t key_table[] = {
     KEY("hfov_min", KEY_MILLI, hfov_min_mdeg, 0, 170000, false),
     KEY("hfov_max", KEY_MILLI, hfov_max_mdeg, 0, 170000, false),
     KEY("pan_follows_zoom", KEY_BOOL, pan_follows_zoom, 0, 0, false),
+    KEY("character_shadows", KEY_BOOL, character_shadows, 0, 0, false),
     KEY("attract_idle_s", KEY_MILLI_U32, attract_idle_ms, 0, 86400000, false),
     KEY("attract_rate", KEY_MILLI, attract_rate_mdeg, -90000, 90000, false),
     KEY("hotspot", KEY_HOTSPOT, hotspots, 0, 0, false),
@@ -141,6 +142,7 @@ void psc_board_config_defaults(psc_board_config_t *cfg)
     cfg->pitch_min_mdeg = -90000;
     cfg->pitch_max_mdeg = 90000;
     cfg->pan_follows_zoom = true;
+    cfg->character_shadows = true;
     cfg->attract_rate_mdeg = 5000;
     cfg->quality_adaptive = true;
     cfg->quality_fast_speed = 500;

@@ -99,6 +99,7 @@ typedef struct {
     int32_t pitch_min_mdeg, pitch_max_mdeg;   /* pitch_min, pitch_max */
     int32_t hfov_min_mdeg, hfov_max_mdeg;     /* hfov_min, hfov_max; 0 = the pack's / viewer's */
     bool pan_follows_zoom;              /* pan_follows_zoom: pan slower when zoomed in */
+    bool character_shadows;             /* character_shadows: shade characters with their .pao beside the .ppk */
 
     /* kiosk behaviour (attract.h, hotspots.h) */
     uint32_t attract_idle_ms;           /* attract_idle_s: idle time before auto-rotating, 0 = never */

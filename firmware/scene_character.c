@@ -1,10 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /* scene_character.c - the character scene (scene_character.h). */
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "3d/psc_3d_orbit.h"
 #include "3d/psc_3d_render.h"
 #include "psc_hal.h"
+#include "psc_io_file.h"
 #include "psc_io_load.h"
 #include "scene.h"
 #include "scene_character.h"
@@ -14,6 +17,8 @@
 
 typedef struct {
     psc_io_patch_t file;       /* the patch pack, loaded whole; the model points into it */
+    psc_io_shadow_t shadow;    /* its shadow pack, when there is one */
+    bool shaded;
     void *ws;                  /* the shared workspace, while on screen */
     size_t ws_size;
     uint64_t start_us;         /* when the scene came on screen */
@@ -36,27 +41,43 @@ static size_t align_up(size_t v)
     return (v + WS_ALIGN - 1u) & ~(size_t)(WS_ALIGN - 1u);
 }
 
-/* The workspace: the patch state first (it lives from frame to frame), the renderer's after it. */
-size_t psc_scene_character_workspace_size(const psc_patch_model_t *m, uint16_t width, uint16_t height)
+/* The workspace: the patch state first and the shadow state (they live from frame to frame), the renderer's
+ * after them. */
+typedef struct {
+    psc_patch_t p;
+    psc_shadow_t s;
+} state_t;
+
+static size_t shadow_bytes(const psc_shadow_model_t *sm)
+{
+    return sm ? align_up(psc_shadow_workspace_size(sm)) : 0;
+}
+
+size_t psc_scene_character_workspace_size(const psc_patch_model_t *m, const psc_shadow_model_t *sm, uint16_t width,
+                                          uint16_t height)
 {
     psc_3d_config_t c = character_config(width, height, PSC_OBJECT_DEFAULT_HFOV);
     size_t a = psc_patch_workspace_size(m, &character_limits), b = psc_3d_workspace_size(&c);
-    return a && b ? align_up(sizeof(psc_patch_t)) + align_up(a) + b : 0;
+    return a && b ? align_up(sizeof(state_t)) + align_up(a) + shadow_bytes(sm) + b : 0;
 }
 
-psc_status_t psc_scene_character_draw(const psc_patch_model_t *m, int action, uint32_t time_ms,
-                                      const psc_view_t *view, bool first, void *ws, size_t ws_size,
+psc_status_t psc_scene_character_draw(const psc_patch_model_t *m, const psc_shadow_model_t *sm, int action,
+                                      uint32_t time_ms, const psc_view_t *view, bool first, void *ws, size_t ws_size,
                                       const psc_surface_t *out, psc_patch_stats_t *stats)
 {
-    size_t need = psc_scene_character_workspace_size(m, out->width, out->height);
-    size_t head = align_up(sizeof(psc_patch_t)), patch_bytes = align_up(psc_patch_workspace_size(m, &character_limits));
-    psc_patch_t *p = ws;
+    size_t need = psc_scene_character_workspace_size(m, sm, out->width, out->height);
+    size_t head = align_up(sizeof(state_t)), patch_bytes = align_up(psc_patch_workspace_size(m, &character_limits));
+    size_t shade = shadow_bytes(sm);
+    state_t *st = ws;
+    psc_patch_t *p = &st->p;
     uint8_t *bytes = ws;
     psc_status_t s;
 
     if (need == 0 || ws_size < need)
         return PSC_ERR_NOMEM;
     if (first && (s = psc_patch_init(p, m, &character_limits, bytes + head, patch_bytes)) != PSC_OK)
+        return s;
+    if (first && sm && (s = psc_shadow_init(&st->s, sm, m, bytes + head + patch_bytes, shade)) != PSC_OK)
         return s;
     psc_3d_config_t c = character_config(out->width, out->height, view->hfov);
     psc_vec3_q16_t lo = {m->lo_q16[0], m->lo_q16[1], m->lo_q16[2]}, hi = {m->hi_q16[0], m->hi_q16[1], m->hi_q16[2]};
@@ -77,8 +98,13 @@ psc_status_t psc_scene_character_draw(const psc_patch_model_t *m, int action, ui
     psc_patch_tangents(p);
     if ((s = psc_patch_tessellate(p, &cam, stats)) != PSC_OK)
         return s;
+    if (sm) {
+        psc_shadow_update(&st->s, p);
+        psc_shadow_apply(&st->s, p, PSC_SHADOW_STRENGTH_Q16);
+    }
     psc_3d_t r;
-    if ((s = psc_3d_init(&r, &c, bytes + head + patch_bytes, ws_size - head - patch_bytes)) != PSC_OK)
+    size_t used = head + patch_bytes + shade;
+    if ((s = psc_3d_init(&r, &c, bytes + used, ws_size - used)) != PSC_OK)
         return s;
     psc_3d_draw_t d[PSC_PATCH_MAX_BATCHES];
     unsigned n = psc_patch_draws(p, &cam, d);
@@ -121,20 +147,39 @@ static int character_load(psc_scene_t *s, const psc_scene_env_t *env, char *err,
 {
     character_scene_t *c = calloc(1, sizeof *c);
 
-    (void)env;
     if (c == NULL) {
         psc_hal_error_set(err, errlen, "%s: out of memory", s->path);
         return -1;
     }
     s->state = c;
-    return psc_io_patch_load(s->path, &c->file, err, errlen);
+    if (psc_io_patch_load(s->path, &c->file, err, errlen) != 0)
+        return -1;
+    /* thom.ppk -> thom.pao beside it */
+    char pao[PSC_BOARD_PATH_MAX + 8];
+    size_t n = strlen(s->path);
+    const char *dot = strrchr(s->path, '.'), *slash = strrchr(s->path, '/');
+    if (dot && (!slash || dot > slash))
+        n = (size_t)(dot - s->path);
+    snprintf(pao, sizeof pao, "%.*s.pao", (int)n, s->path);
+    if (env->board->character_shadows && psc_io_file_exists(pao)) {
+        if (psc_io_shadow_load(pao, &c->shadow, err, errlen) != 0)
+            return -1;
+        if (c->shadow.model.bone_count != c->file.model.bone_count) {
+            psc_hal_error_set(err, errlen, "%s: made for another character than %s (%u bones, not %u)", pao, s->path,
+                              (unsigned)c->shadow.model.bone_count, (unsigned)c->file.model.bone_count);
+            return -1;
+        }
+        c->shaded = true;
+    }
+    return 0;
 }
 
 static size_t character_workspace_size(const psc_scene_t *s, const psc_scene_env_t *env)
 {
     const character_scene_t *c = s->state;
 
-    return psc_scene_character_workspace_size(&c->file.model, env->width, env->height);
+    return psc_scene_character_workspace_size(&c->file.model, c->shaded ? &c->shadow.model : NULL, env->width,
+                                              env->height);
 }
 
 static int character_enter(psc_scene_t *s, const psc_scene_env_t *env, void *ws, size_t ws_size,
@@ -164,8 +209,8 @@ static psc_status_t character_render(psc_scene_t *s, const psc_view_t *view, con
     character_scene_t *c = s->state;
     uint32_t time_ms;
     int action = action_at(&c->file.model, (s->env->now_us - c->start_us) / 1000u, &time_ms);
-    psc_status_t st = psc_scene_character_draw(&c->file.model, action, time_ms, view, c->first, c->ws, c->ws_size,
-                                               out, NULL);
+    psc_status_t st = psc_scene_character_draw(&c->file.model, c->shaded ? &c->shadow.model : NULL, action, time_ms,
+                                               view, c->first, c->ws, c->ws_size, out, NULL);
 
     c->first = false;
     return st;
@@ -175,8 +220,10 @@ static void character_unload(psc_scene_t *s)
 {
     character_scene_t *c = s->state;
 
-    if (c != NULL)
+    if (c != NULL) {
         psc_io_patch_free(&c->file);
+        psc_io_shadow_free(&c->shadow);
+    }
     free(c);
     s->state = NULL;
 }

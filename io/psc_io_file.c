@@ -122,3 +122,9 @@ bool psc_io_file_has_magic(const char *path, const char *magic, size_t n)
     fclose(f);
     return yes;
 }
+
+bool psc_io_file_exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}

@@ -26,4 +26,7 @@ int psc_io_write_atomic(const char *path, const void *data, size_t len, char *er
 /** True when path can be opened and starts with the n bytes of magic. */
 bool psc_io_file_has_magic(const char *path, const char *magic, size_t n);
 
+/** True when something exists at path (a file the caller then reads, and reports on). */
+bool psc_io_file_exists(const char *path);
+
 #endif

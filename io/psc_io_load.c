@@ -106,6 +106,29 @@ void psc_io_patch_free(psc_io_patch_t *pf)
     memset(pf, 0, sizeof *pf);
 }
 
+int psc_io_shadow_load(const char *path, psc_io_shadow_t *sf, char *err, size_t errlen)
+{
+    psc_container_error_t e = {0};
+    psc_status_t s;
+
+    memset(sf, 0, sizeof *sf);
+    if (psc_io_container_read(path, &sf->buf, &sf->len, err, errlen) != 0)
+        return -1;
+    if ((s = psc_shadow_parse(sf->buf, sf->len, &sf->model, &e)) != PSC_OK) {
+        psc_io_shadow_free(sf);
+        return psc_io_container_errorf(err, errlen, path, "not a usable shadow pack: ", s, &e);
+    }
+    return 0;
+}
+
+void psc_io_shadow_free(psc_io_shadow_t *sf)
+{
+    if (!sf)
+        return;
+    free(sf->buf);
+    memset(sf, 0, sizeof *sf);
+}
+
 int psc_io_fisheye_load(const char *path, psc_io_fisheye_t *ff, char *err, size_t errlen)
 {
     psc_container_error_t e = {0};

@@ -20,6 +20,7 @@
 #include "mesh/psc_mesh.h"
 #include "pack/psc_pack.h"
 #include "patch/psc_patch.h"
+#include "shadow/psc_shadow.h"
 
 /** A scene pack loaded from disk: the aligned file bytes and the parsed view of them. */
 typedef struct {
@@ -63,6 +64,16 @@ void psc_io_patch_free(psc_io_patch_t *pf);
 /** Parse a patch pack already in memory (aligned to 8), with the same messages (name: for them). */
 int psc_io_patch_parse_named(const char *name, const void *buf, size_t len, psc_patch_model_t *model, char *err,
                              size_t errlen);
+
+/** A shadow pack loaded from disk. */
+typedef struct {
+    void *buf;
+    size_t len;
+    psc_shadow_model_t model;
+} psc_io_shadow_t;
+
+int psc_io_shadow_load(const char *path, psc_io_shadow_t *sf, char *err, size_t errlen);
+void psc_io_shadow_free(psc_io_shadow_t *sf);
 
 int psc_io_fisheye_load(const char *path, psc_io_fisheye_t *ff, char *err, size_t errlen);
 void psc_io_fisheye_free(psc_io_fisheye_t *ff);

@@ -215,6 +215,7 @@ static void test_file_list(void **state)
                           "./usr/bin/periscope-contact",
                           "./usr/bin/periscope-fisheye",
                           "./usr/bin/periscope-patch",
+                          "./usr/bin/periscope-shadow",
                           "." SCENE,
                           "./usr/share/doc/periscope/copyright",
                           "./usr/share/doc/periscope/changelog.gz",
@@ -226,6 +227,7 @@ static void test_file_list(void **state)
                           "./usr/share/man/man1/periscope-contact.1.gz",
                           "./usr/share/man/man1/periscope-fisheye.1.gz",
                           "./usr/share/man/man1/periscope-patch.1.gz",
+                          "./usr/share/man/man1/periscope-shadow.1.gz",
                           conf};
     for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
         char line[300];

@@ -877,20 +877,14 @@ static void test_lazy(void **state)
 
 /* ---- importers and the pack ------------------------------------------------------------------------------- */
 
-#include "teapot_patches.h"
+#include "tsup_teapot.h"
 
 static void test_bpt_teapot(void **state)
 {
     (void)state;
-    char *text = malloc(200000);
-    size_t n = (size_t)sprintf(text, "%d\n", PSC_TEAPOT_PATCHES);
-    for (unsigned p = 0; p < PSC_TEAPOT_PATCHES; p++) {
-        n += (size_t)sprintf(text + n, "3 3\n");
-        for (unsigned i = 0; i < 16; i++) {
-            const double *c = psc_teapot_points[psc_teapot_patches[p][i]];
-            n += (size_t)sprintf(text + n, "%g %g %g\n", c[0], c[1], c[2]);
-        }
-    }
+    size_t n;
+    char *text = tsup_teapot_bpt(&n);
+    assert_non_null(text);
     psc_patch_src_t s;
     char err[512];
     if (psc_bpt_parse("teapot.bpt", text, n, &s, err, sizeof err) != 0)
@@ -1215,7 +1209,7 @@ static void test_character_scene(void **state)
     psc_io_patch_t pf;
     load_thom(&pf);
     psc_surface_t s = tsup_surface_new(320, 240, PSC_PIX_RGB565);
-    size_t ws_size = psc_scene_character_workspace_size(&pf.model, 320, 240);
+    size_t ws_size = psc_scene_character_workspace_size(&pf.model, NULL, 320, 240);
     void *ws;
     assert_true(ws_size > 0);
     assert_int_equal(posix_memalign(&ws, 64, ws_size), 0);
@@ -1224,7 +1218,7 @@ static void test_character_scene(void **state)
     uint32_t sum[3] = {0, 0, 0};
     for (unsigned k = 0; k < 3; k++) {
         psc_patch_stats_t st;
-        assert_int_equal(psc_scene_character_draw(&pf.model, 0, k * 300u, &view, k == 0, ws, ws_size, &s, &st),
+        assert_int_equal(psc_scene_character_draw(&pf.model, NULL, 0, k * 300u, &view, k == 0, ws, ws_size, &s, &st),
                          PSC_OK);
         assert_int_equal(st.patches + st.culled, 392);
         const uint16_t *px = s.pixels;
@@ -1233,7 +1227,7 @@ static void test_character_scene(void **state)
     }
     /* something is drawn, and it moves */
     assert_true(sum[0] > 2000 && sum[0] != sum[1] && sum[1] != sum[2]);
-    assert_int_equal(psc_scene_character_draw(&pf.model, 0, 0, &view, true, ws, ws_size - 1, &s, NULL),
+    assert_int_equal(psc_scene_character_draw(&pf.model, NULL, 0, 0, &view, true, ws, ws_size - 1, &s, NULL),
                      PSC_ERR_NOMEM);
     free(ws);
     tsup_surface_free(&s);

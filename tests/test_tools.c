@@ -527,7 +527,7 @@ static void test_command_line_convention(void **state)
     (void)state;
     need_packs();
     static const char *const programs[] = {"periscope", "periscope-pack", "periscope-render", "periscope-contact",
-                                           "periscope-fisheye", "periscope-patch"};
+                                           "periscope-fisheye", "periscope-patch", "periscope-shadow"};
     char version[64], said[96];
     size_t vlen;
     char *v = (char *)tsup_read_bytes("VERSION", &vlen);

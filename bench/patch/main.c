@@ -15,6 +15,8 @@
  * a frame, one core, best of PASSES passes.
  */
 #include "patch_load.h"
+#include "shadow_build.h"
+#include "shadow/psc_shadow_frame.h"
 #include "3d/psc_3d_orbit.h"
 #include "3d/psc_3d_render.h"
 #include "base/psc_fixed.h"
@@ -48,6 +50,10 @@ typedef struct {
     psc_patch_t p;
     void *ws, *ws3d, *pixels;
     size_t ws_size, ws3d_size;
+    uint8_t *pao;                /* the character's shadow pack, built here */
+    psc_shadow_model_t sm;
+    psc_shadow_t sh;
+    void *sh_ws;
 } bench_t;
 
 static int setup(bench_t *b)
@@ -69,6 +75,17 @@ static int setup(bench_t *b)
         fprintf(stderr, "patch bench: out of memory\n");
         return -1;
     }
+    psc_shadow_build_opts_t so = {3, 128, 32};
+    size_t len;
+    char note[256] = "";
+    psc_container_error_t e = {0};
+    if (psc_shadow_build(&b->pf.model, &so, "Thom.mdl", &b->pao, &len, note, sizeof note, err, sizeof err) != 0 ||
+        psc_shadow_parse(b->pao, len, &b->sm, &e) != PSC_OK ||
+        posix_memalign(&b->sh_ws, 64, psc_shadow_workspace_size(&b->sm)) != 0 ||
+        psc_shadow_init(&b->sh, &b->sm, &b->pf.model, b->sh_ws, psc_shadow_workspace_size(&b->sm)) != PSC_OK) {
+        fprintf(stderr, "patch bench: the shadow pack: %s\n", err);
+        return -1;
+    }
     return 0;
 }
 
@@ -77,6 +94,8 @@ static void teardown(bench_t *b)
     free(b->ws);
     free(b->ws3d);
     free(b->pixels);
+    free(b->pao);
+    free(b->sh_ws);
     psc_io_patch_free(&b->pf);
 }
 
@@ -117,13 +136,14 @@ static void draw(bench_t *b, const psc_mesh_t *meshes, unsigned n, const psc_pat
 typedef struct {
     double pose, tess, draw;     /* ms per frame */
     double patches, triangles;   /* per frame */
+    double shade, vertices;      /* self-shadowing ms per frame, vertices shaded */
 } result_t;
 
-static result_t run_animated(bench_t *b, double tol_px)
+static result_t run_animated(bench_t *b, double tol_px, bool shadows)
 {
-    result_t best = {1e30, 1e30, 1e30, 0, 0};
+    result_t best = {1e30, 1e30, 1e30, 0, 0, 0, 0};
     for (unsigned pass = 0; pass < PASSES; pass++) {
-        double tp = 0, tt = 0, td = 0, patches = 0, tris = 0;
+        double tp = 0, tt = 0, td = 0, ts = 0, patches = 0, tris = 0, verts = 0;
         for (unsigned k = 0; k < FRAMES; k++) {
             psc_patch_camera_t cam;
             psc_3d_config_t cfg;
@@ -135,17 +155,24 @@ static result_t run_animated(bench_t *b, double tol_px)
             double t1 = now_s();
             psc_patch_tessellate(&b->p, &cam, &st);
             double t2 = now_s();
+            if (shadows) {
+                psc_shadow_update(&b->sh, &b->p);
+                psc_shadow_apply(&b->sh, &b->p, PSC_SHADOW_STRENGTH_Q16);
+                verts += b->sh.shaded;
+            }
+            double t2s = now_s();
             draw(b, b->p.batch, b->p.batch_count, &cam, &cfg);
             double t3 = now_s();
             tp += t1 - t0;
             tt += t2 - t1;
-            td += t3 - t2;
+            ts += t2s - t2;
+            td += t3 - t2s;
             patches += st.patches;
             tris += st.triangles;
         }
-        if (tp + tt + td < best.pose + best.tess + best.draw)
+        if (tp + tt + td + ts < best.pose + best.tess + best.draw + best.shade)
             best = (result_t){tp / FRAMES * 1e3, tt / FRAMES * 1e3, td / FRAMES * 1e3, patches / FRAMES,
-                              tris / FRAMES};
+                              tris / FRAMES, ts / FRAMES * 1e3, verts / FRAMES};
     }
     return best;
 }
@@ -170,7 +197,7 @@ static result_t run_static(bench_t *b)
         memcpy(pos[i], meshes[i].position_q16, 12u * meshes[i].vertex_count);
         meshes[i].position_q16 = pos[i];
     }
-    result_t best = {0, 0, 1e30, 0, st.triangles};
+    result_t best = {0, 0, 1e30, 0, st.triangles, 0, 0};
     for (unsigned pass = 0; pass < PASSES; pass++) {
         double td = 0;
         for (unsigned k = 0; k < FRAMES; k++) {
@@ -193,9 +220,10 @@ static int run_table(const char *out_dir)
     if (setup(&b) != 0)
         return 1;
     static const double tols[] = {0.25, 0.5, 1.0};
-    result_t r[3], s;
+    result_t r[3], s, sh;
     for (unsigned i = 0; i < 3; i++)
-        r[i] = run_animated(&b, tols[i]);
+        r[i] = run_animated(&b, tols[i], false);
+    sh = run_animated(&b, 0.5, true);
     s = run_static(&b);
     printf("Hash patches: Thom (%u patches, %u CPs, %u bones) playing Wave.act at %ux%u, RGB565, one core,\n"
            "%u frames at 60 Hz, camera turning 3 degrees a frame, best of %u passes (ms per frame):\n\n",
@@ -211,6 +239,11 @@ static int run_table(const char *out_dir)
     }
     printf("| static mesh (rest, 0.5 px) | - | - | %.3f | %.3f | %.0f | - | %.0f | %.2fM |\n\n", s.draw, s.draw,
            1e3 / s.draw, s.triangles, s.triangles / s.draw / 1e3);
+    double plain = r[1].pose + r[1].tess + r[1].draw, shaded = sh.pose + sh.tess + sh.draw + sh.shade;
+    printf("Self-shadowing (168 spheres on 3 levels, maps 32x32 and 16^3) at 0.5 px: %.3f ms per frame for %.0f vertices\n"
+           "(%.0f ns a vertex); the frame %.3f ms with it, %.3f without: +%.0f %% (goal: at most +25 %%).\n\n",
+           sh.shade, sh.vertices, sh.vertices > 0 ? sh.shade * 1e6 / sh.vertices : 0, shaded, plain,
+           (shaded / plain - 1) * 100);
     double t05 = r[1].pose + r[1].tess + r[1].draw;
     psc_3d_config_t cfg = {W, H, 0, 0, 16, 0x238E38E4u, PSC_Q16_ONE, 4 * PSC_Q16_ONE, limits.max_vertices};
     printf("At 0.5 px the animated character costs %.2fx the static mesh's frame; %.0f frames/s (goal: 60).\n"
@@ -237,6 +270,8 @@ static int run_table(const char *out_dir)
 
 /* ---- callgrind -------------------------------------------------------------------------------------------- */
 
+static double cg_vertices;
+
 __attribute__((noinline)) static void cg_frames(bench_t *b)
 {
     for (unsigned k = 0; k < CG_FRAMES; k++) {
@@ -246,6 +281,9 @@ __attribute__((noinline)) static void cg_frames(bench_t *b)
         psc_patch_pose(&b->p, WAVE_ACTION, 500u + k * 1000u / 60u);
         psc_patch_tangents(&b->p);
         psc_patch_tessellate(&b->p, &cam, NULL);
+        psc_shadow_update(&b->sh, &b->p);
+        psc_shadow_apply(&b->sh, &b->p, PSC_SHADOW_STRENGTH_Q16);
+        cg_vertices += b->sh.shaded;
         draw(b, b->p.batch, b->p.batch_count, &cam, &cfg);
     }
 }
@@ -256,6 +294,7 @@ static int cg_child(void)
     if (setup(&b) != 0)
         return 1;
     cg_frames(&b);
+    printf("vertices %.0f\n", cg_vertices);
     teardown(&b);
     return 0;
 }
@@ -295,17 +334,17 @@ static int run_callgrind(const char *self, const char *out_dir)
         return 1;
     }
     static const char *const fns[] = {"cg_frames", "psc_patch_pose", "psc_patch_tangents", "psc_patch_tessellate",
-                                      "psc_3d_render"};
-    double ir[5];
-    for (unsigned i = 0; i < 5; i++)
+                                      "psc_3d_render", "psc_shadow_apply"};
+    double ir[6];
+    for (unsigned i = 0; i < 6; i++)
         if ((ir[i] = callgrind_count(self, fns[i])) <= 0) {
             fprintf(stderr, "patch bench: the callgrind run (%s) failed\n", fns[i]);
             return 1;
         }
     printf("Hash patches under callgrind: Thom waving at %ux%u, 0.5 px, %u frames: instructions per frame\n"
-           "total %.0f = pose %.0f + tangents %.0f + tessellate %.0f + draw %.0f\n",
+           "total %.0f = pose %.0f + tangents %.0f + tessellate %.0f + self-shadowing %.0f + draw %.0f\n",
            W, H, CG_FRAMES, ir[0] / CG_FRAMES, ir[1] / CG_FRAMES, ir[2] / CG_FRAMES, ir[3] / CG_FRAMES,
-           ir[4] / CG_FRAMES);
+           ir[5] / CG_FRAMES, ir[4] / CG_FRAMES);
     char path[512];
     snprintf(path, sizeof path, "%s/patch-callgrind.json", out_dir);
     FILE *j = fopen(path, "w");

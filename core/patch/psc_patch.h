@@ -239,7 +239,8 @@ typedef struct {
     const psc_patch_channel_t *channels;
     const psc_patch_key_t *keys;
     int32_t lo_q16[3], hi_q16[3];        /* the rest points' bounding box */
-    uint32_t scale_q16;
+    uint32_t scale_q16;                  /* R in the source's units, and the rest box centre there (for reference) */
+    int32_t center_q16[3];
     uint16_t version_minor;
 } psc_patch_model_t;
 

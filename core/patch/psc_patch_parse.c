@@ -198,6 +198,8 @@ psc_status_t psc_patch_parse(const void *buf, size_t len, psc_patch_model_t *out
     m.channel_count = rd32(p + 36);
     m.key_count = rd32(p + 40);
     m.scale_q16 = rd32(p + 44);
+    for (unsigned k = 0; k < 3; k++)
+        m.center_q16[k] = (int32_t)rd32(p + 48 + 4 * k);
     m.version_minor = c.version_minor;
     if (m.point_count == 0 || m.point_count > PSC_PATCH_MAX_POINTS || m.cp_count < 2 ||
         m.cp_count > PSC_PATCH_MAX_CPS || m.spline_count == 0 || m.spline_count > PSC_PATCH_MAX_SPLINES ||

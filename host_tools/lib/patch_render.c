@@ -10,6 +10,7 @@
 #include "render_target.h"
 #include "3d/psc_3d_orbit.h"
 #include "3d/psc_3d_render.h"
+#include "shadow/psc_shadow_frame.h"
 #include "angle_conv.h"
 
 #include <math.h>
@@ -22,7 +23,7 @@
 #define BACKGROUND 0x30343Cu
 
 typedef struct {
-    const char *model, *out, *depth, *dump_obj, *play;
+    const char *model, *out, *depth, *dump_obj, *play, *shadow, *dump_ao;
     psc_patch_load_opts_t load;
     double yaw, pitch, dist, hfov, flatness, tol_px, time;
     uint16_t width, height;
@@ -67,6 +68,10 @@ static void usage(const char *prog, FILE *f)
             "  --stats             print patches=N triangles=T max_chord_err=E crack_edges=C culled=K\n"
             "                      (E as a fraction of R, measured; C: shared edges whose sides differ)\n"
             "  --dump-obj T.obj    write the tessellation drawn as an OBJ file\n"
+            "  --shadow M.pao      self-shadowing from the character's sphere-occluder tables\n"
+            "                      (periscope-shadow build)\n"
+            "  --dump-ao AO.csv    with --shadow: x,y,z,nx,ny,nz,occlusion of every shaded vertex\n"
+            "                      (model coordinates; occlusion 0..1 of the cosine-weighted hemisphere)\n"
             "  --write-pack P.ppk  write the patch pack the view was drawn from\n"
             "  --repeat K          pose, tessellate and draw K times, and report the time per frame\n"
             "  -o view.png         output PNG\n"
@@ -86,6 +91,7 @@ static const struct option patch_options[] = {
     {"depth", required_argument, NULL, 1},     {"format", required_argument, NULL, 1},
     {"stats", no_argument, NULL, 1},           {"dump-obj", required_argument, NULL, 1},
     {"write-pack", required_argument, NULL, 1}, {"repeat", required_argument, NULL, 1},
+    {"shadow", required_argument, NULL, 1},    {"dump-ao", required_argument, NULL, 1},
     PSC_IO_CLI_COMMON_OPTIONS,
 };
 
@@ -145,6 +151,10 @@ static int parse_value(const char *prog, patch_args_t *a, const char *name, cons
         a->stats = true;
     } else if (strcmp(name, "--dump-obj") == 0) {
         a->dump_obj = v;
+    } else if (strcmp(name, "--shadow") == 0) {
+        a->shadow = v;
+    } else if (strcmp(name, "--dump-ao") == 0) {
+        a->dump_ao = v;
     } else if (strcmp(name, "--write-pack") == 0) {
         a->load.write_pack = v;
     } else if (strcmp(name, "--repeat") == 0) {
@@ -185,6 +195,8 @@ static int parse_args(const char *prog, int argc, char **argv, patch_args_t *a)
         return psc_io_cli_usage_error(prog, "no model given");
     if (!a->out)
         return psc_io_cli_usage_error(prog, "no output given (-o view.png)");
+    if (a->dump_ao && !a->shadow)
+        return psc_io_cli_usage_error(prog, "--dump-ao needs --shadow M.pao");
     if (a->flatness > 0.0 && a->tol_px > 0.0)
         return psc_io_cli_usage_error(prog, "--flatness and --tol-px both given: choose one");
     return 0;
@@ -223,6 +235,34 @@ static double now_s(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* --dump-ao: every vertex of the frame with its occlusion, in the model's own units. */
+static int write_ao(const psc_patch_t *p, const psc_shadow_t *sh, const psc_patch_model_t *m, const char *path,
+                    char *err, size_t errlen)
+{
+    char *text = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&text, &len);
+    if (f == NULL)
+        return psc_io_errorf(err, errlen, path, "out of memory");
+    double r = m->scale_q16 / 65536.0;
+    fprintf(f, "x,y,z,nx,ny,nz,occlusion\n");
+    for (uint32_t i = 0; i < p->vtx_total; i++) {
+        int32_t n[3] = {p->out_nrm[3 * i] * 4, p->out_nrm[3 * i + 1] * 4, p->out_nrm[3 * i + 2] * 4};
+        uint32_t occ = psc_shadow_occlusion(sh, &p->out_pos[3 * i], n);
+        fprintf(f, "%.5f,%.5f,%.5f,%.4f,%.4f,%.4f,%.4f\n", p->out_pos[3 * i] / 65536.0 * r + m->center_q16[0] / 65536.0,
+                p->out_pos[3 * i + 1] / 65536.0 * r + m->center_q16[1] / 65536.0,
+                p->out_pos[3 * i + 2] / 65536.0 * r + m->center_q16[2] / 65536.0, n[0] / 65536.0, n[1] / 65536.0,
+                n[2] / 65536.0, occ / 65536.0);
+    }
+    if (fclose(f) != 0) {
+        free(text);
+        return psc_io_errorf(err, errlen, path, "out of memory");
+    }
+    int rc = psc_io_write_atomic(path, text, len, err, errlen);
+    free(text);
+    return rc;
 }
 
 /* Pose, solve and tessellate one tessellator. */
@@ -280,6 +320,10 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
     rc = 1;
     tess_t t = {0};
     psc_render_target_t rt = {0};
+    psc_io_shadow_t sf = {0};
+    psc_shadow_t sh;
+    void *sh_ws = NULL;
+    bool shaded = false;
     int action = find_action(m, a.play);
     if (action == -2) {
         fprintf(stderr, "%s: %s has no action named '%s'\n", prog, a.model, a.play);
@@ -288,6 +332,21 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
     if (tess_new(&t, m, PSC_PATCH_MAX_DEPTH) != 0) {
         fprintf(stderr, "%s: out of memory for the tessellation of %s\n", prog, a.model);
         goto done;
+    }
+    if (a.shadow) {
+        psc_status_t ss;
+        if (psc_io_shadow_load(a.shadow, &sf, err, sizeof err) != 0) {
+            fprintf(stderr, "%s: %s\n", prog, err);
+            goto done;
+        }
+        size_t n = psc_shadow_workspace_size(&sf.model);
+        if (posix_memalign(&sh_ws, 64, n ? n : 8) != 0 ||
+            (ss = psc_shadow_init(&sh, &sf.model, m, sh_ws, n)) != PSC_OK) {
+            fprintf(stderr, "%s: %s: made for another character (%u bones, %s has %u)\n", prog, a.shadow,
+                    (unsigned)sf.model.bone_count, a.model, (unsigned)m->bone_count);
+            goto done;
+        }
+        shaded = true;
     }
     psc_vec3_q16_t lo = {m->lo_q16[0], m->lo_q16[1], m->lo_q16[2]}, hi = {m->hi_q16[0], m->hi_q16[1], m->hi_q16[2]};
     psc_patch_camera_t cam = {0};
@@ -321,6 +380,10 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
             fprintf(stderr, "%s: %s: tessellation failed: %s\n", prog, a.model, psc_status_str(s));
             goto done;
         }
+        if (shaded) {
+            psc_shadow_update(&sh, &t.p);
+            psc_shadow_apply(&sh, &t.p, PSC_SHADOW_STRENGTH_Q16);
+        }
         double t1 = now_s();
         psc_3d_draw_t d[PSC_PATCH_MAX_BATCHES];
         unsigned n = psc_patch_draws(&t.p, &cam, d);
@@ -338,7 +401,8 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
                 t_tess / a.repeat * 1e3, t_draw / a.repeat * 1e3, (unsigned)st.patches, (unsigned)st.triangles,
                 (unsigned)st.reused);
     if (psc_render_target_write(&rt, a.out, a.depth, err, sizeof err) != 0 ||
-        (a.dump_obj && psc_patch_write_obj(&t.p, a.dump_obj, err, sizeof err) != 0)) {
+        (a.dump_obj && psc_patch_write_obj(&t.p, a.dump_obj, err, sizeof err) != 0) ||
+        (a.dump_ao && write_ao(&t.p, &sh, m, a.dump_ao, err, sizeof err) != 0)) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
@@ -349,6 +413,8 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
     rc = 0;
 done:
     free(t.ws);
+    free(sh_ws);
+    psc_io_shadow_free(&sf);
     psc_render_target_close(&rt);
     psc_io_patch_free(&pf);
     return rc;

@@ -16,7 +16,8 @@
  * command line and core. Every view is brought inside the pack's limits
  * (psc_viewer_clamp) and rendered at the pack's display size; OUT.raw holds
  * the frames one after another, rows packed (stride = width x bytes per pixel).
- * A patch pack (core/patch/psc_patch.h) instead: a character posed, its
+ * A patch pack (core/patch/psc_patch.h) instead (PACK.ppk, or
+ * PACK.ppk,SHADOW.pao for its self-shadowing too): a character posed, its
  * patches tessellated and drawn by the 3D pipeline at 160x120,
  *   VIEW = FORMAT,ACTION,TIME_MS,YAW,PITCH,TOL_PX_Q16
  *     ACTION an index into the pack's actions or -1 (the rest pose), the
@@ -27,6 +28,7 @@
 #include "3d/psc_3d_render.h"
 #include "pack/psc_pack.h"
 #include "patch/psc_patch_frame.h"
+#include "shadow/psc_shadow_frame.h"
 #include "viewer/psc_viewer.h"
 
 #include <errno.h>
@@ -169,8 +171,8 @@ static int render_views(const psc_pack_t *pack, FILE *out, char **specs, int cou
 #define PATCH_W 160u
 #define PATCH_H 120u
 
-static int render_patch_view(const psc_patch_model_t *m, psc_patch_t *p, void *ws3d, size_t ws3d_size, char *spec,
-                             void *pixels, FILE *out)
+static int render_patch_view(const psc_patch_model_t *m, psc_patch_t *p, psc_shadow_t *sh, void *ws3d,
+                             size_t ws3d_size, char *spec, void *pixels, FILE *out)
 {
     char *field[6];
     unsigned n = 0;
@@ -205,6 +207,10 @@ static int render_patch_view(const psc_patch_model_t *m, psc_patch_t *p, void *w
         psc_patch_tangents(p);
         s = psc_patch_tessellate(p, &cam, NULL);
     }
+    if (s == PSC_OK && sh) {
+        psc_shadow_update(sh, p);
+        psc_shadow_apply(sh, p, PSC_SHADOW_STRENGTH_Q16);
+    }
     if (s == PSC_OK)
         s = psc_3d_init(&r, &cfg, ws3d, ws3d_size);
     psc_surface_t surf = {PATCH_W, PATCH_H, PATCH_W * psc_pixfmt_bytes(format), format, pixels};
@@ -220,8 +226,12 @@ static int render_patch_view(const psc_patch_model_t *m, psc_patch_t *p, void *w
     return fwrite(pixels, 1, bytes, out) == bytes ? 0 : fail("cannot write the output", strerror(errno));
 }
 
-static int render_patch(const void *buf, size_t len, FILE *out, char **specs, int count)
+static int render_patch(const void *buf, size_t len, const void *sbuf, size_t slen, FILE *out, char **specs,
+                        int count)
 {
+    psc_shadow_model_t sm;
+    psc_shadow_t sh;
+    void *sh_ws = NULL;
     psc_patch_model_t m;
     psc_container_error_t e;
     psc_patch_limits_t lim = {PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES, 1u << 20, PSC_PATCH_MAX_DEPTH};
@@ -239,11 +249,16 @@ static int render_patch(const void *buf, size_t len, FILE *out, char **specs, in
         rc = fail("out of memory", NULL);
     } else if (psc_patch_init(&p, &m, &lim, ws, ws_size) != PSC_OK) {
         rc = fail("cannot set up the tessellator", NULL);
+    } else if (sbuf && (psc_shadow_parse(sbuf, slen, &sm, &e) != PSC_OK ||
+                        posix_memalign(&sh_ws, 64, psc_shadow_workspace_size(&sm)) != 0 ||
+                        psc_shadow_init(&sh, &sm, &m, sh_ws, psc_shadow_workspace_size(&sm)) != PSC_OK)) {
+        rc = fail("not a usable shadow pack for this character", NULL);
     } else {
         rc = 0;
         for (int i = 0; i < count && rc == 0; i++)
-            rc = render_patch_view(&m, &p, ws3d, ws3d_size, specs[i], pixels, out);
+            rc = render_patch_view(&m, &p, sbuf ? &sh : NULL, ws3d, ws3d_size, specs[i], pixels, out);
     }
+    free(sh_ws);
     free(pixels);
     free(ws3d);
     free(ws);
@@ -263,21 +278,33 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: " PROG " PACK OUT.raw FORMAT,FILTER,SPAN_LOG2,YAW,PITCH,HFOV...\n");
         return 2;
     }
+    char *comma = strchr(argv[1], ',');
+    void *sbuf = NULL;
+    size_t slen = 0;
+    if (comma) {   /* PACK.ppk,SHADOW.pao */
+        *comma = '\0';
+        if (!(sbuf = read_file(comma + 1, &slen)))
+            return fail(comma + 1, "cannot read");
+    }
     buf = read_file(argv[1], &len);
-    if (!buf)
+    if (!buf) {
+        free(sbuf);
         return fail(argv[1], "cannot read");
+    }
     if (len >= PSC_CONTAINER_MAGIC_SIZE && memcmp(buf, PSC_PATCH_MAGIC, PSC_CONTAINER_MAGIC_SIZE) == 0) {
         out = fopen(argv[2], "wb");
         if (!out) {
             free(buf);
             return fail(argv[2], strerror(errno));
         }
-        rc = render_patch(buf, len, out, argv + 3, argc - 3);
+        rc = render_patch(buf, len, sbuf, slen, out, argv + 3, argc - 3);
         if (fclose(out) != 0 && rc == 0)
             rc = fail(argv[2], strerror(errno));
         free(buf);
+        free(sbuf);
         return rc;
     }
+    free(sbuf);
     if (psc_pack_parse(buf, len, &pack, &perr) != PSC_OK) {
         free(buf);
         return fail(argv[1], "not a valid scene pack");

@@ -59,7 +59,7 @@ probe="build/$board/portability/psc-render-raw"
 tool="build/$board/bin/periscope-render"
 [ -x "$probe" ] || skip "not cross-built: no $probe (sh scripts/cross-deps $board; make BOARD=$board)"
 
-for p in "$build/bin/periscope-pack" "$build/bin/periscope-patch" "$build/bin/periscope-render" "$build/portability/psc-render-raw"; do
+for p in "$build/bin/periscope-pack" "$build/bin/periscope-patch" "$build/bin/periscope-shadow" "$build/bin/periscope-render" "$build/portability/psc-render-raw"; do
     [ -x "$p" ] || die "no host program $p (make test builds it)"
 done
 
@@ -109,17 +109,19 @@ echo "portability: $board ($arch): psc-render-raw: $frames frames equal to x86-6
 "$build/bin/periscope-patch" assets/thom/Thom.mdl --skin-from assets/thom/Thom2.mdl \
     --action assets/thom/ResoluteWalk.act --action assets/thom/Wave.act -o "$tmp/thom.ppk" >"$tmp/patch.log" 2>&1 ||
     { cat "$tmp/patch.log"; die "periscope-patch failed"; }
+"$build/bin/periscope-shadow" build "$tmp/thom.ppk" -o "$tmp/thom.pao" >"$tmp/shadow.log" 2>&1 ||
+    { cat "$tmp/shadow.log"; die "periscope-shadow failed"; }
 pspecs="rgb565,-1,0,2386092942,119304647,32768 xrgb8888,0,300,0,0,65536 rgb565,0,800,1073741824,-119304647,16384
         xrgb8888,1,1100,2386092942,59652323,32768 rgb565,1,1900,3221225472,0,131072"
 # shellcheck disable=SC2086
-"$build/portability/psc-render-raw" "$tmp/thom.ppk" "$tmp/ref-thom.raw" $pspecs || die "the x86-64 patch frames failed"
+"$build/portability/psc-render-raw" "$tmp/thom.ppk,$tmp/thom.pao" "$tmp/ref-thom.raw" $pspecs || die "the x86-64 patch frames failed"
 p0=$(head -c 38400 "$tmp/ref-thom.raw" | cksum)
 p1=$(head -c 115200 "$tmp/ref-thom.raw" | tail -c 38400 | cksum)
 [ "$p0" != "$p1" ] || die "the x86-64 patch frames are all alike: the probe is broken"
 # shellcheck disable=SC2086
-$runner "$probe" "$tmp/thom.ppk" "$tmp/$board-thom.raw" $pspecs || die "$probe (patch frames) under ${runner:-the host} failed"
+$runner "$probe" "$tmp/thom.ppk,$tmp/thom.pao" "$tmp/$board-thom.raw" $pspecs || die "$probe (patch frames) under ${runner:-the host} failed"
 cmp "$tmp/ref-thom.raw" "$tmp/$board-thom.raw" || die "patch frames: $board's bytes differ from x86-64's (first difference above)"
-echo "portability: $board ($arch): psc-render-raw: 5 patch frames of Thom equal to x86-64's ($(wc -c <"$tmp/ref-thom.raw") bytes)"
+echo "portability: $board ($arch): psc-render-raw: 5 self-shadowed patch frames of Thom equal to x86-64's ($(wc -c <"$tmp/ref-thom.raw") bytes)"
 
 if [ ! -x "$tool" ]; then
     echo "portability: $board ($arch): periscope-render not cross-built (no $arch image libraries: sh scripts/cross-deps $board): the core probe above stands alone"

@@ -1,0 +1,124 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * periscope-shadow - build the self-shadowing tables of a character (stage
+ * one of the sphere-occluder self-shadowing, host_tools/lib/shadow_build.h):
+ *
+ *   periscope-shadow build MODEL.{mdl,bpt,ppk} -o M.pao [--levels L] [--spheres N] [--table-size N]
+ *                    [--skin-from D.mdl]
+ *
+ * The device's character scene finds M.pao beside its .ppk (same name) and
+ * shades the character with it. Exit status: 0 done, 1 the work failed, 2 bad
+ * arguments.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli_parse.h"
+#include "patch_load.h"
+#include "psc_io_cli.h"
+#include "psc_io_file.h"
+#include "shadow_build.h"
+
+#define PROG "periscope-shadow"
+
+static void print_usage(FILE *f)
+{
+    fprintf(f,
+            "usage: " PROG " build MODEL.{mdl,bpt,ppk} -o M.pao [--levels L] [--spheres N] [--table-size N]\n"
+            "       [--skin-from D.mdl]\n"
+            "\n"
+            "Precompute a character's self-shadowing: the sphere tree fitted to its rest pose, the\n"
+            "spheres' skin, the accessibility map and the composite arc map, as a shadow pack.\n"
+            "\n"
+            "  --levels L          levels of the sphere tree, 1..4 (default 3: 8, 32, 128 spheres)\n"
+            "  --spheres N         spheres on the finest level (default 128)\n"
+            "  --table-size N      the accessibility map's side (default 32; the composite map's is half)\n"
+            "  --skin-from D.mdl   for an A:M model that assigns no CP to a bone (as periscope-patch)\n"
+            "  -o M.pao            the pack (written whole, or not at all)\n"
+            "  --version, --help\n");
+}
+
+#define usage_error(...) psc_io_cli_usage_error(PROG, __VA_ARGS__)
+
+static const struct option shadow_options[] = {
+    {"levels", required_argument, NULL, 1},
+    {"spheres", required_argument, NULL, 1},
+    {"table-size", required_argument, NULL, 1},
+    {"skin-from", required_argument, NULL, 1},
+    PSC_IO_CLI_COMMON_OPTIONS,
+};
+
+int main(int argc, char **argv)
+{
+    psc_shadow_build_opts_t o = {3, 128, 32};
+    psc_patch_load_opts_t lo = {.quiet = true};
+    const char *model = NULL, *out = NULL, *verb = NULL;
+    psc_io_cli_t c;
+    char why[160], err[768], note[512] = "";
+    int opt;
+
+    psc_io_cli_begin(&c, argc, argv, "ho:", shadow_options);
+    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
+        unsigned long v;
+        if (opt < 0)
+            return usage_error("%s", why);
+        if (opt == PSC_IO_CLI_HELP) {
+            print_usage(stdout);
+            return 0;
+        }
+        if (opt == PSC_IO_CLI_VERSION) {
+            psc_io_cli_print_version(PROG);
+            return 0;
+        }
+        if (strcmp(c.name, "-o") == 0) {
+            out = c.arg;
+        } else if (strcmp(c.name, "--levels") == 0) {
+            if (psc_cli_parse_uint(c.arg, 1, 4, &v) != 0)
+                return usage_error("--levels '%s': expected 1..4", c.arg);
+            o.levels = (unsigned)v;
+        } else if (strcmp(c.name, "--spheres") == 0) {
+            if (psc_cli_parse_uint(c.arg, 8, 2048, &v) != 0)
+                return usage_error("--spheres '%s': expected 8..2048", c.arg);
+            o.spheres = (unsigned)v;
+        } else if (strcmp(c.name, "--table-size") == 0) {
+            if (psc_cli_parse_uint(c.arg, 4, 128, &v) != 0)
+                return usage_error("--table-size '%s': expected 4..128", c.arg);
+            o.table = (unsigned)v;
+        } else if (strcmp(c.name, "--skin-from") == 0) {
+            lo.skin_from = c.arg;
+        }
+    }
+    for (int i = psc_io_cli_rest(&c); i < argc; i++) {
+        if (!verb)
+            verb = argv[i];
+        else if (!model)
+            model = argv[i];
+        else
+            return usage_error("more than one model given (%s)", argv[i]);
+    }
+    if (!verb || strcmp(verb, "build") != 0)
+        return usage_error("expected the command 'build' (" PROG " build MODEL -o M.pao)");
+    if (!model)
+        return usage_error("no model given");
+    if (!out)
+        return usage_error("no output given (-o M.pao)");
+    psc_io_patch_t pf;
+    if (psc_patch_load_any(model, &lo, &pf, err, sizeof err) != 0) {
+        fprintf(stderr, PROG ": %s\n", err);
+        return 1;
+    }
+    uint8_t *bytes = NULL;
+    size_t len = 0;
+    int rc = 1;
+    if (psc_shadow_build(&pf.model, &o, model, &bytes, &len, note, sizeof note, err, sizeof err) != 0 ||
+        psc_io_write_atomic(out, bytes, len, err, sizeof err) != 0)
+        fprintf(stderr, PROG ": %s\n", err);
+    else {
+        printf("%s: %s, %zu bytes\n", out, note, len);
+        rc = 0;
+    }
+    free(bytes);
+    psc_io_patch_free(&pf);
+    return rc;
+}

@@ -1,0 +1,480 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * test_shadow.c - self-shadowing from sphere-occluder tables (core/shadow/,
+ * host_tools/lib/shadow_build.c):
+ *  - the accessibility map against its closed form (a sphere wholly above
+ *    the horizon occludes cos(omega) sin^2(alpha) of the cosine-weighted
+ *    hemisphere), monotone in both coordinates; the composite arc map:
+ *    coincident caps are one, caps apart add, symmetric;
+ *  - the run time: two coincident spheres occlude exactly as one, two far
+ *    apart add;
+ *  - against ray-cast ambient occlusion (256 cosine-weighted rays a vertex on
+ *    the posed tessellation): per-vertex correlation and mean absolute
+ *    error on Thom in three poses and the teapot; the tree against one level;
+ *  - animation: Thom's armpits darken as his arms come down;
+ *  - fuzzed and truncated shadow packs are refused with a message.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include "psc_testsupport.h"
+#include "tsup_raycast.h"
+#include "tsup_teapot.h"
+
+#include "bpt_load.h"
+#include "patch_build.h"
+#include "patch_load.h"
+#include "patch_measure.h"
+#include "shadow_build.h"
+#include "shadow/psc_shadow_frame.h"
+#include "base/psc_crc32.h"
+#include "3d/psc_3d_orbit.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define THOM "assets/thom/Thom.mdl"
+
+/* ---- the maps --------------------------------------------------------------------------------------------- */
+
+static void test_access_closed_form(void **state)
+{
+    (void)state;
+    double worst = 0;
+    unsigned checked = 0;
+    for (unsigned i = 0; i <= 20; i++)
+        for (unsigned j = 1; j <= 20; j++) {
+            double omega = M_PI / 2 * i / 20, theta = 2 * M_PI * j / 20, alpha = acos(1 - theta / (2 * M_PI));
+            double area, angle;
+            psc_shadow_access_cell(omega, theta, 64, &area, &angle);
+            if (omega + alpha <= M_PI / 2) {   /* wholly above the horizon */
+                double want = cos(omega) * sin(alpha) * sin(alpha);
+                worst = fmax(worst, fabs(area - want));
+                checked++;
+                assert_true(fabs(area - want) <= 0.002);
+            }
+            assert_true(area >= 0 && area <= 1.0 + 1e-9);
+        }
+    print_message("  %u cells above the horizon within %.2e of cos(omega) sin^2(alpha)\n", checked, worst);
+    /* monotone: more sphere, more occlusion; further from the normal, less */
+    for (unsigned i = 0; i <= 12; i++) {
+        double prev = -1;
+        for (unsigned j = 0; j <= 12; j++) {
+            double area, angle;
+            psc_shadow_access_cell(M_PI * i / 12, 2 * M_PI * j / 12, 32, &area, &angle);
+            assert_true(area >= prev - 1e-3);
+            prev = area;
+        }
+    }
+    for (unsigned j = 1; j <= 12; j++) {
+        double prev = 2;
+        for (unsigned i = 0; i <= 12; i++) {
+            double area, angle;
+            psc_shadow_access_cell(M_PI * i / 12, 2 * M_PI * j / 12, 32, &area, &angle);
+            assert_true(area <= prev + 1e-3);
+            prev = area;
+        }
+    }
+}
+
+static void test_composite_map(void **state)
+{
+    (void)state;
+    for (unsigned a = 1; a <= 8; a++) {
+        double t = 2 * M_PI * a / 16, t3, phi;
+        /* coincident caps are one cap */
+        psc_shadow_composite_cell(t, t, 0.0, 48, &t3, &phi);
+        assert_true(fabs(t3 - t) <= 0.01 * t + 1e-9);
+        assert_true(fabs(phi) <= 1e-6);
+        /* caps that do not meet add */
+        double alpha = acos(1 - t / (2 * M_PI));
+        if (2 * alpha < M_PI * 0.9) {
+            psc_shadow_composite_cell(t, t, 2 * alpha + 0.05, 48, &t3, &phi);
+            assert_true(fabs(t3 - fmin(2 * t, 2 * M_PI)) <= 1e-6);
+            /* two equal caps: the union's centre halfway */
+            assert_true(fabs(phi - (alpha + 0.025)) <= 0.02);
+        }
+        /* symmetric in its two caps' areas */
+        for (unsigned b = 1; b <= 8; b++) {
+            double u = 2 * M_PI * b / 16, x, y, p1, p2;
+            psc_shadow_composite_cell(t, u, 0.4, 48, &x, &p1);
+            psc_shadow_composite_cell(u, t, 0.4, 48, &y, &p2);
+            assert_true(fabs(x - y) <= 0.02 * fmax(x, y) + 1e-9);
+        }
+    }
+}
+
+/* ---- the run time on hand-made spheres -------------------------------------------------------------------- */
+
+typedef struct {
+    uint8_t *buf;
+    psc_shadow_model_t m;
+    psc_shadow_t s;
+    void *ws;
+} shadow_fixture_t;
+
+static psc_patch_model_t no_bones;
+
+static void fixture(shadow_fixture_t *f, const psc_shadow_sphere_t *sph, size_t n)
+{
+    uint16_t level_first[PSC_SHADOW_MAX_LEVELS] = {0};
+    size_t len;
+    char err[256];
+    if (psc_shadow_write(sph, n, 1, level_first, 0, 32, "fixture", &f->buf, &len, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    psc_container_error_t e = {0};
+    assert_int_equal(psc_shadow_parse(f->buf, len, &f->m, &e), PSC_OK);
+    f->ws = malloc(psc_shadow_workspace_size(&f->m) + 8);
+    assert_int_equal(psc_shadow_init(&f->s, &f->m, &no_bones, f->ws, psc_shadow_workspace_size(&f->m)), PSC_OK);
+}
+
+static void fixture_free(shadow_fixture_t *f)
+{
+    free(f->buf);
+    free(f->ws);
+}
+
+static psc_shadow_sphere_t ball(double x, double y, double z, double r)
+{
+    psc_shadow_sphere_t s = {{(int32_t)lround(x * 65536), (int32_t)lround(y * 65536), (int32_t)lround(z * 65536)},
+                             (int32_t)lround(r * 65536), PSC_SHADOW_NO_CHILD, 0, 0, PSC_SHADOW_NO_BONE,
+                             PSC_SHADOW_NO_BONE, 0, 0};
+    return s;
+}
+
+static void test_overlap(void **state)
+{
+    (void)state;
+    const int32_t origin[3] = {0, 0, 0}, up[3] = {0, 65536, 0};
+    shadow_fixture_t one, two, apart, single_b;
+    psc_shadow_sphere_t a = ball(0.3, 1.0, 0.0, 0.4), b = ball(-0.6, 0.8, 0.3, 0.3);
+    psc_shadow_sphere_t same[2] = {a, a}, far[2] = {a, b};
+    fixture(&one, &a, 1);
+    fixture(&two, same, 2);
+    fixture(&apart, far, 2);
+    fixture(&single_b, &b, 1);
+    uint32_t o1 = psc_shadow_occlusion(&one.s, origin, up), o2 = psc_shadow_occlusion(&two.s, origin, up);
+    uint32_t ob = psc_shadow_occlusion(&single_b.s, origin, up), oab = psc_shadow_occlusion(&apart.s, origin, up);
+    print_message("  one sphere %.4f, the same twice %.4f; apart: %.4f + %.4f -> %.4f\n", o1 / 65536.0, o2 / 65536.0,
+                  o1 / 65536.0, ob / 65536.0, oab / 65536.0);
+    assert_true(o1 > 1000);
+    assert_true(abs((int)o2 - (int)o1) <= 2);   /* coincident spheres occlude exactly as one */
+    assert_true(abs((int)oab - (int)(o1 + ob)) <= 2);   /* far-apart spheres add */
+    /* against the closed form for the lone sphere: above the horizon, cos(omega) sin^2(alpha) */
+    double d = sqrt(0.3 * 0.3 + 1.0), want = (1.0 / d) * (0.4 / d) * (0.4 / d);
+    assert_true(fabs(o1 / 65536.0 - want) <= 0.01);
+    fixture_free(&one);
+    fixture_free(&two);
+    fixture_free(&apart);
+    fixture_free(&single_b);
+}
+
+/* ---- against ray-cast AO ---------------------------------------------------------------------------------- */
+
+typedef struct {
+    psc_patch_t p;
+    void *ws;
+} tess_t;
+
+static void tess_new(tess_t *t, const psc_patch_model_t *m)
+{
+    psc_patch_limits_t lim = {PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES, 1u << 21, PSC_PATCH_MAX_DEPTH};
+    size_t size = psc_patch_workspace_size(m, &lim);
+    assert_int_equal(posix_memalign(&t->ws, 64, size), 0);
+    assert_int_equal(psc_patch_init(&t->p, m, &lim, t->ws, size), PSC_OK);
+}
+
+/* The frame's triangles as one mesh in double (all faces: culling off). */
+static void frame_mesh(const psc_patch_t *p, double (**pos)[3], size_t *nv, uint32_t (**tri)[3], size_t *nt)
+{
+    size_t v = 0, t = 0;
+    for (unsigned b = 0; b < p->batch_count; b++) {
+        v += p->batch[b].vertex_count;
+        t += p->batch[b].triangle_count;
+    }
+    *pos = malloc(v * sizeof **pos);
+    *tri = malloc(t * sizeof **tri);
+    size_t vb = 0, tb = 0;
+    for (unsigned b = 0; b < p->batch_count; b++) {
+        const psc_mesh_t *m = &p->batch[b];
+        for (uint32_t i = 0; i < m->vertex_count; i++)
+            for (unsigned k = 0; k < 3; k++)
+                (*pos)[vb + i][k] = m->position_q16[3 * i + k] / 65536.0;
+        for (uint32_t i = 0; i < m->triangle_count; i++)
+            for (unsigned k = 0; k < 3; k++)
+                (*tri)[tb + i][k] = (uint32_t)(vb + m->index[3 * i + k]);
+        vb += m->vertex_count;
+        tb += m->triangle_count;
+    }
+    *nv = v;
+    *nt = t;
+}
+
+typedef struct {
+    double corr, mae;
+} accuracy_t;
+
+/* Sphere AO against ray-cast AO over every 7th vertex of p's frame. */
+static accuracy_t compare(const psc_patch_t *p, const psc_shadow_t *s, const tsup_bvh_t *bvh)
+{
+    double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0, sad = 0;
+    unsigned n = 0;
+    for (uint32_t i = 0; i < p->vtx_total; i += 7) {
+        int32_t nq[3] = {p->out_nrm[3 * i] * 4, p->out_nrm[3 * i + 1] * 4, p->out_nrm[3 * i + 2] * 4};
+        double x = psc_shadow_occlusion(s, &p->out_pos[3 * i], nq) / 65536.0;
+        double pp[3], nn[3];
+        for (unsigned k = 0; k < 3; k++) {
+            pp[k] = p->out_pos[3 * i + k] / 65536.0;
+            nn[k] = nq[k] / 65536.0;
+        }
+        double l = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+        if (l < 0.5)
+            continue;
+        for (unsigned k = 0; k < 3; k++)
+            nn[k] /= l;
+        double y = tsup_ao(bvh, pp, nn, 16, 2e-3, 1.0);
+        sx += x;
+        sy += y;
+        sxx += x * x;
+        syy += y * y;
+        sxy += x * y;
+        sad += fabs(x - y);
+        n++;
+    }
+    double cov = sxy / n - sx / n * sy / n, vx = sxx / n - sx / n * sx / n, vy = syy / n - sy / n * sy / n;
+    accuracy_t a = {cov / sqrt(vx * vy), sad / n};
+    return a;
+}
+
+static void shade_and_compare(const char *label, const psc_patch_model_t *m, const psc_shadow_model_t *sm,
+                              const psc_shadow_model_t *single, int action, uint32_t ms, double min_corr,
+                              double max_mae)
+{
+    tess_t t;
+    tess_new(&t, m);
+    psc_patch_camera_t cam = {0};
+    psc_mat4_identity(&cam.camera_from_object);
+    cam.camera_from_object.m[2][3] = 100 * 65536;
+    cam.focal_px_q16 = 65536;
+    cam.tol_units_q16 = 65536 / 100;
+    cam.near_q16 = 65536;
+    psc_patch_pose(&t.p, action, ms);
+    psc_patch_tangents(&t.p);
+    assert_int_equal(psc_patch_tessellate(&t.p, &cam, NULL), PSC_OK);
+    double (*pos)[3];
+    uint32_t (*tri)[3];
+    size_t nv, nt;
+    frame_mesh(&t.p, &pos, &nv, &tri, &nt);
+    tsup_bvh_t *bvh = tsup_bvh_new((const double(*)[3])pos, nv, (const uint32_t(*)[3])tri, nt);
+    assert_non_null(bvh);
+    psc_shadow_t s, s1;
+    void *ws = malloc(psc_shadow_workspace_size(sm) + 8), *ws1 = malloc(psc_shadow_workspace_size(single) + 8);
+    assert_int_equal(psc_shadow_init(&s, sm, m, ws, psc_shadow_workspace_size(sm)), PSC_OK);
+    assert_int_equal(psc_shadow_init(&s1, single, m, ws1, psc_shadow_workspace_size(single)), PSC_OK);
+    psc_shadow_update(&s, &t.p);
+    psc_shadow_update(&s1, &t.p);
+    accuracy_t a = compare(&t.p, &s, bvh), b = compare(&t.p, &s1, bvh);
+    /* what the frame shows: spheres chosen once a patch (psc_shadow_apply) against each vertex's own choice */
+    double per_vertex = 0;
+    for (uint32_t i = 0; i < t.p.vtx_total; i++) {
+        int32_t nq[3] = {t.p.out_nrm[3 * i] * 4, t.p.out_nrm[3 * i + 1] * 4, t.p.out_nrm[3 * i + 2] * 4};
+        per_vertex += psc_shadow_occlusion(&s, &t.p.out_pos[3 * i], nq) / 65536.0;
+    }
+    per_vertex /= t.p.vtx_total;
+    psc_shadow_apply(&s, &t.p, PSC_SHADOW_STRENGTH_Q16);
+    double applied = (double)s.occlusion_sum / 65536.0 / s.shaded;
+    print_message("  %-24s tree: correlation %.3f, mean abs error %.3f; one level: %.3f, %.3f; mean occlusion per "
+                  "vertex %.4f, per patch choice %.4f\n", label, a.corr, a.mae, b.corr, b.mae, per_vertex, applied);
+    assert_true(a.corr >= min_corr);
+    assert_true(a.mae <= max_mae);
+    assert_true(a.corr > b.corr && a.mae < b.mae);   /* the tree beats one level */
+    assert_int_equal(s.shaded, t.p.vtx_total);
+    assert_true(fabs(applied - per_vertex) <= 0.2 * per_vertex);
+    tsup_bvh_free(bvh);
+    free(pos);
+    free(tri);
+    free(ws);
+    free(ws1);
+    free(t.ws);
+}
+
+static void build_pack(const psc_patch_model_t *m, unsigned levels, unsigned spheres, uint8_t **buf,
+                       psc_shadow_model_t *out)
+{
+    psc_shadow_build_opts_t o = {levels, spheres, 32};
+    size_t len;
+    char err[512], note[256] = "";
+    if (psc_shadow_build(m, &o, "test", buf, &len, note, sizeof note, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    psc_container_error_t e = {0};
+    assert_int_equal(psc_shadow_parse(*buf, len, out, &e), PSC_OK);
+}
+
+static void test_against_raycast(void **state)
+{
+    (void)state;
+    psc_io_patch_t pf;
+    char err[768];
+    psc_patch_load_opts_t o = {.actions = {"assets/thom/ResoluteWalk.act", "assets/thom/Wave.act"}, .action_count = 2,
+                               .skin_from = "assets/thom/Thom2.mdl", .quiet = true};
+    if (psc_patch_load_any(THOM, &o, &pf, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    uint8_t *b3, *b1;
+    psc_shadow_model_t tree, single;
+    build_pack(&pf.model, 3, 128, &b3, &tree);
+    build_pack(&pf.model, 1, 128, &b1, &single);
+    shade_and_compare("Thom at rest", &pf.model, &tree, &single, -1, 0, 0.6, 0.12);
+    shade_and_compare("Thom walking, 0.5 s", &pf.model, &tree, &single, 0, 500, 0.6, 0.12);
+    shade_and_compare("Thom waving, 1.1 s", &pf.model, &tree, &single, 1, 1100, 0.6, 0.12);
+    free(b3);
+    free(b1);
+    psc_io_patch_free(&pf);
+
+    /* the second model: the teapot (no bones), its handle and spout over the body */
+    size_t len, plen;
+    char *text = tsup_teapot_bpt(&len);
+    psc_patch_src_t src;
+    if (psc_bpt_parse("teapot.bpt", text, len, &src, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    uint8_t *pack;
+    if (psc_patch_pack_build(&src, "teapot.bpt", &pack, &plen, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    psc_patch_model_t tm;
+    psc_container_error_t e = {0};
+    assert_int_equal(psc_patch_parse(pack, plen, &tm, &e), PSC_OK);
+    build_pack(&tm, 3, 128, &b3, &tree);
+    build_pack(&tm, 1, 128, &b1, &single);
+    shade_and_compare("the teapot", &tm, &tree, &single, -1, 0, 0.45, 0.2);   /* a thin shell: spheres fit it worse */
+    free(b3);
+    free(b1);
+    free(pack);
+    free(text);
+    psc_patch_src_free(&src);
+}
+
+/* ---- animation -------------------------------------------------------------------------------------------- */
+
+/* Thom's torso (green shirt) darkens as his arms come down from the T-pose (Wave.act starts arms down). */
+static void test_armpits_darken(void **state)
+{
+    (void)state;
+    psc_io_patch_t pf;
+    char err[768];
+    psc_patch_load_opts_t o = {.actions = {"assets/thom/Wave.act"}, .action_count = 1,
+                               .skin_from = "assets/thom/Thom2.mdl", .quiet = true};
+    if (psc_patch_load_any(THOM, &o, &pf, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    uint8_t *buf;
+    psc_shadow_model_t sm;
+    build_pack(&pf.model, 3, 128, &buf, &sm);
+    double mean[2];
+    for (unsigned pose = 0; pose < 2; pose++) {
+        tess_t t;
+        tess_new(&t, &pf.model);
+        psc_patch_camera_t cam = {0};
+        psc_mat4_identity(&cam.camera_from_object);
+        cam.camera_from_object.m[2][3] = 100 * 65536;
+        cam.focal_px_q16 = 65536;
+        cam.tol_units_q16 = 65536 / 100;
+        cam.near_q16 = 65536;
+        psc_patch_pose(&t.p, pose ? 0 : -1, 0);
+        psc_patch_tangents(&t.p);
+        assert_int_equal(psc_patch_tessellate(&t.p, &cam, NULL), PSC_OK);
+        psc_shadow_t s;
+        void *ws = malloc(psc_shadow_workspace_size(&sm) + 8);
+        assert_int_equal(psc_shadow_init(&s, &sm, &pf.model, ws, psc_shadow_workspace_size(&sm)), PSC_OK);
+        psc_shadow_update(&s, &t.p);
+        double sum = 0;
+        unsigned n = 0;
+        for (uint32_t i = 0; i < t.p.vtx_total; i++) {
+            uint32_t c = t.p.out_color[i];
+            if (!(((c >> 8) & 255) > 100 && ((c >> 16) & 255) < 60 && (c & 255) < 60))
+                continue;   /* the shirt's green only */
+            int32_t nq[3] = {t.p.out_nrm[3 * i] * 4, t.p.out_nrm[3 * i + 1] * 4, t.p.out_nrm[3 * i + 2] * 4};
+            sum += psc_shadow_occlusion(&s, &t.p.out_pos[3 * i], nq) / 65536.0;
+            n++;
+        }
+        mean[pose] = sum / n;
+        free(ws);
+        free(t.ws);
+    }
+    print_message("  the shirt's mean occlusion: arms out %.4f, arms down %.4f\n", mean[0], mean[1]);
+    assert_true(mean[1] > mean[0] * 1.2);
+    free(buf);
+    psc_io_patch_free(&pf);
+}
+
+/* ---- fuzzing ---------------------------------------------------------------------------------------------- */
+
+static void test_pack_fuzz(void **state)
+{
+    (void)state;
+    psc_shadow_sphere_t sph[3] = {ball(0, 0, 0, 0.5), ball(1, 0, 0, 0.4), ball(0, 1, 0, 0.3)};
+    uint16_t level_first[PSC_SHADOW_MAX_LEVELS] = {0};
+    uint8_t *buf;
+    size_t len;
+    char err[256];
+    assert_int_equal(psc_shadow_write(sph, 3, 1, level_first, 0, 8, "fuzz.pao", &buf, &len, err, sizeof err), 0);
+    tsup_rng_t r;
+    tsup_rng_seed(&r, 71);
+    unsigned parsed = 0, refused = 0;
+    for (unsigned k = 0; k < 4000; k++) {
+        size_t n = len;
+        uint8_t *b;
+        assert_int_equal(posix_memalign((void **)&b, 64, n), 0);
+        memcpy(b, buf, n);
+        unsigned muts = 1 + tsup_rng_below(&r, 4);
+        for (unsigned j = 0; j < muts; j++) {
+            size_t at = tsup_rng_below(&r, (uint32_t)n);
+            switch (tsup_rng_below(&r, 4)) {
+            case 0: b[at] ^= (uint8_t)(1u << tsup_rng_below(&r, 8)); break;
+            case 1: b[at] = (uint8_t)tsup_rng_u32(&r); break;
+            case 2: b[tsup_rng_below(&r, 32 + 16 * 5 + 96)] = (uint8_t)tsup_rng_u32(&r); break;
+            default: n = tsup_rng_below(&r, (uint32_t)n) + 1; break;
+            }
+        }
+        if (tsup_rng_below(&r, 8) != 0 && n >= 24) {
+            tsup_wr32(b + PSC_CONTAINER_CRC_OFFSET, 0);
+            tsup_wr32(b + PSC_CONTAINER_CRC_OFFSET, psc_crc32(0, b, n));
+        }
+        psc_shadow_model_t m;
+        psc_container_error_t e = {NULL, 0};
+        if (psc_shadow_parse(b, n, &m, &e) == PSC_OK) {
+            parsed++;
+            psc_shadow_t s;
+            void *ws = malloc(psc_shadow_workspace_size(&m) + 8);
+            psc_patch_model_t pm = {0};
+            pm.bone_count = m.bone_count;
+            if (m.bone_count == 0 && psc_shadow_init(&s, &m, &pm, ws, psc_shadow_workspace_size(&m)) == PSC_OK) {
+                const int32_t o[3] = {0, 0, 0}, up[3] = {0, 65536, 0};
+                assert_true(psc_shadow_occlusion(&s, o, up) <= 65536);
+            }
+            free(ws);
+        } else {
+            assert_non_null(e.what);
+            refused++;
+        }
+        free(b);
+    }
+    print_message("  4000 mutated shadow packs: %u parsed, %u refused with a message\n", parsed, refused);
+    assert_true(refused > 0);
+    free(buf);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_access_closed_form),
+        cmocka_unit_test(test_composite_map),
+        cmocka_unit_test(test_overlap),
+        cmocka_unit_test(test_against_raycast),
+        cmocka_unit_test(test_armpits_darken),
+        cmocka_unit_test(test_pack_fuzz),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
