@@ -60,24 +60,16 @@
 
 /* ---- helpers ---------------------------------------------------------------------------------------------- */
 
-typedef struct {
-    psc_patch_t p;
-    void *ws;
-} tess_t;
+typedef tsup_tess_t tess_t;
 
 static void tess_new(tess_t *t, const psc_patch_model_t *m)
 {
-    psc_patch_limits_t lim = {PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES, 1u << 21, PSC_PATCH_MAX_DEPTH};
-    size_t size = psc_patch_workspace_size(m, &lim);
-    assert_true(size > 0);
-    assert_int_equal(posix_memalign(&t->ws, 64, size), 0);
-    assert_int_equal(psc_patch_init(&t->p, m, &lim, t->ws, size), PSC_OK);
+    assert_int_equal(tsup_tess_new(t, m), 0);
 }
 
 static void tess_free(tess_t *t)
 {
-    free(t->ws);
-    t->ws = NULL;
+    tsup_tess_free(t);
 }
 
 /* An orbit camera on the rest box, as periscope-render's. */

@@ -21,6 +21,7 @@
 #include <cmocka.h>
 
 #include "psc_testsupport.h"
+#include "tsup_patch.h"
 #include "tsup_raycast.h"
 #include "tsup_teapot.h"
 
@@ -176,19 +177,6 @@ static void test_overlap(void **state)
 
 /* ---- against ray-cast AO ---------------------------------------------------------------------------------- */
 
-typedef struct {
-    psc_patch_t p;
-    void *ws;
-} tess_t;
-
-static void tess_new(tess_t *t, const psc_patch_model_t *m)
-{
-    psc_patch_limits_t lim = {PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES, 1u << 21, PSC_PATCH_MAX_DEPTH};
-    size_t size = psc_patch_workspace_size(m, &lim);
-    assert_int_equal(posix_memalign(&t->ws, 64, size), 0);
-    assert_int_equal(psc_patch_init(&t->p, m, &lim, t->ws, size), PSC_OK);
-}
-
 /* The frame's triangles as one mesh in double (all faces: culling off). */
 static void frame_mesh(const psc_patch_t *p, double (**pos)[3], size_t *nv, uint32_t (**tri)[3], size_t *nt)
 {
@@ -255,17 +243,9 @@ static void shade_and_compare(const char *label, const psc_patch_model_t *m, con
                               const psc_shadow_model_t *single, int action, uint32_t ms, double min_corr,
                               double max_mae)
 {
-    tess_t t;
-    tess_new(&t, m);
-    psc_patch_camera_t cam = {0};
-    psc_mat4_identity(&cam.camera_from_object);
-    cam.camera_from_object.m[2][3] = 100 * 65536;
-    cam.focal_px_q16 = 65536;
-    cam.tol_units_q16 = 65536 / 100;
-    cam.near_q16 = 65536;
-    psc_patch_pose(&t.p, action, ms);
-    psc_patch_tangents(&t.p);
-    assert_int_equal(psc_patch_tessellate(&t.p, &cam, NULL), PSC_OK);
+    tsup_tess_t t;
+    assert_int_equal(tsup_tess_new(&t, m), 0);
+    assert_int_equal(tsup_tess_fine(&t, action, ms), 0);
     double (*pos)[3];
     uint32_t (*tri)[3];
     size_t nv, nt;
@@ -300,7 +280,7 @@ static void shade_and_compare(const char *label, const psc_patch_model_t *m, con
     free(tri);
     free(ws);
     free(ws1);
-    free(t.ws);
+    tsup_tess_free(&t);
 }
 
 static void build_pack(const psc_patch_model_t *m, unsigned levels, unsigned spheres, uint8_t **buf,
@@ -374,17 +354,9 @@ static void test_armpits_darken(void **state)
     build_pack(&pf.model, 3, 128, &buf, &sm);
     double mean[2];
     for (unsigned pose = 0; pose < 2; pose++) {
-        tess_t t;
-        tess_new(&t, &pf.model);
-        psc_patch_camera_t cam = {0};
-        psc_mat4_identity(&cam.camera_from_object);
-        cam.camera_from_object.m[2][3] = 100 * 65536;
-        cam.focal_px_q16 = 65536;
-        cam.tol_units_q16 = 65536 / 100;
-        cam.near_q16 = 65536;
-        psc_patch_pose(&t.p, pose ? 0 : -1, 0);
-        psc_patch_tangents(&t.p);
-        assert_int_equal(psc_patch_tessellate(&t.p, &cam, NULL), PSC_OK);
+        tsup_tess_t t;
+        assert_int_equal(tsup_tess_new(&t, &pf.model), 0);
+        assert_int_equal(tsup_tess_fine(&t, pose ? 0 : -1, 0), 0);
         psc_shadow_t s;
         void *ws = malloc(psc_shadow_workspace_size(&sm) + 8);
         assert_int_equal(psc_shadow_init(&s, &sm, &pf.model, ws, psc_shadow_workspace_size(&sm)), PSC_OK);
@@ -401,7 +373,7 @@ static void test_armpits_darken(void **state)
         }
         mean[pose] = sum / n;
         free(ws);
-        free(t.ws);
+        tsup_tess_free(&t);
     }
     print_message("  the shirt's mean occlusion: arms out %.4f, arms down %.4f\n", mean[0], mean[1]);
     assert_true(mean[1] > mean[0] * 1.2);

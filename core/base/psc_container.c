@@ -87,3 +87,27 @@ psc_status_t psc_container_section(const psc_container_t *c, unsigned i, uint32_
     *prev_end = s->offset + s->size;
     return PSC_OK;
 }
+
+psc_status_t psc_container_collect(const psc_container_t *c, const uint32_t *types, unsigned n, psc_section_t *found,
+                                   bool *present, psc_container_error_t *err)
+{
+    uint32_t prev_end = 0;
+    psc_status_t st;
+
+    for (unsigned k = 0; k < n; k++)
+        present[k] = false;
+    for (unsigned i = 0; i < c->section_count; i++) {
+        psc_section_t s;
+        if ((st = psc_container_section(c, i, &prev_end, &s, err)) != PSC_OK)
+            return st;
+        for (unsigned k = 0; k < n; k++) {
+            if (s.type != types[k])
+                continue;
+            if (present[k])
+                return psc_container_fail(err, PSC_ERR_CORRUPT, "a section appears twice", s.entry);
+            found[k] = s;
+            present[k] = true;
+        }
+    }
+    return PSC_OK;
+}

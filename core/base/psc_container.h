@@ -106,6 +106,15 @@ psc_status_t psc_container_open(const void *buf, size_t len, const psc_container
 psc_status_t psc_container_section(const psc_container_t *c, unsigned i, uint32_t *prev_end, psc_section_t *s,
                                    psc_container_error_t *err);
 
+/**
+ * Walk every section (psc_container_section) and keep those of the n types
+ * a format knows: found[k] and present[k] for types[k] (the others are
+ * skipped: a later minor version may add them). A type appearing twice is
+ * an error.
+ */
+psc_status_t psc_container_collect(const psc_container_t *c, const uint32_t *types, unsigned n, psc_section_t *found,
+                                   bool *present, psc_container_error_t *err);
+
 /** The CRC-32 the header stores for file[0..len) (the CRC field counted as zero). */
 uint32_t psc_container_crc(const uint8_t *file, size_t len);
 

@@ -55,7 +55,7 @@ void psc_curve_make_flat(psc_curve_t *c);
  * The surface normal at the midpoint of c from the normals n0, n3 at its
  * ends (Q16.16 unit vectors): a c curve averages them; an s curve takes the
  * average's part perpendicular to the curve's tangent at 1/2 (the seed's
- * double cross product). Unit length, Q16.16.
+ * cross product taken twice). Unit length, Q16.16.
  */
 void psc_curve_mid_normal(const psc_curve_t *c, psc_curve_kind_t kind, const int32_t n0[3], const int32_t n3[3],
                           int32_t out[3]);

@@ -159,27 +159,18 @@ static psc_status_t check_animation(const psc_patch_model_t *m, uint32_t base, p
 psc_status_t psc_patch_parse(const void *buf, size_t len, psc_patch_model_t *out, psc_container_error_t *err)
 {
     psc_container_t c;
-    found_t f[S_COUNT] = {{{0, 0, 0, 0}, false}};
-    uint32_t prev_end = 0;
+    psc_section_t sec[S_COUNT] = {{0, 0, 0, 0}};
+    bool present[S_COUNT];
+    found_t f[S_COUNT];
     psc_status_t st;
 
     if (out == NULL)
         return fail(err, PSC_ERR_ARG, "no output", 0);
-    if ((st = psc_container_open(buf, len, &psc_patch_format, &c, err)) != PSC_OK)
+    if ((st = psc_container_open(buf, len, &psc_patch_format, &c, err)) != PSC_OK ||
+        (st = psc_container_collect(&c, section_type, S_COUNT, sec, present, err)) != PSC_OK)
         return st;
-    for (unsigned i = 0; i < c.section_count; i++) {
-        psc_section_t s;
-        if ((st = psc_container_section(&c, i, &prev_end, &s, err)) != PSC_OK)
-            return st;
-        for (unsigned k = 0; k < S_COUNT; k++) {
-            if (s.type != section_type[k])
-                continue;
-            if (f[k].present)
-                return fail(err, PSC_ERR_CORRUPT, "a section appears twice", s.entry);
-            f[k].s = s;
-            f[k].present = true;
-        }
-    }
+    for (unsigned k = 0; k < S_COUNT; k++)
+        f[k] = (found_t){sec[k], present[k]};
     if (!f[S_INFO].present)
         return fail(err, PSC_ERR_CORRUPT, "no PINF (info) section", c.header_size);
     if (f[S_INFO].s.size != sizeof(psc_patch_info_raw_t))

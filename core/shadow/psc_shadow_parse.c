@@ -46,27 +46,14 @@ psc_status_t psc_shadow_parse(const void *buf, size_t len, psc_shadow_model_t *o
 {
     psc_container_t c;
     psc_section_t f[S_COUNT] = {{0, 0, 0, 0}};
-    bool present[S_COUNT] = {false};
-    uint32_t prev_end = 0;
+    bool present[S_COUNT];
     psc_status_t st;
 
     if (out == NULL)
         return fail(err, PSC_ERR_ARG, "no output", 0);
-    if ((st = psc_container_open(buf, len, &psc_shadow_format, &c, err)) != PSC_OK)
+    if ((st = psc_container_open(buf, len, &psc_shadow_format, &c, err)) != PSC_OK ||
+        (st = psc_container_collect(&c, section_type, S_COUNT, f, present, err)) != PSC_OK)
         return st;
-    for (unsigned i = 0; i < c.section_count; i++) {
-        psc_section_t s;
-        if ((st = psc_container_section(&c, i, &prev_end, &s, err)) != PSC_OK)
-            return st;
-        for (unsigned k = 0; k < S_COUNT; k++) {
-            if (s.type != section_type[k])
-                continue;
-            if (present[k])
-                return fail(err, PSC_ERR_CORRUPT, "a section appears twice", s.entry);
-            f[k] = s;
-            present[k] = true;
-        }
-    }
     for (unsigned k = 0; k < S_COUNT; k++)
         if (!present[k])
             return fail(err, PSC_ERR_CORRUPT, "a required section (SINF, SSPH, SACC, SCMP, SACO) is missing",

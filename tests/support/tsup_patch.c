@@ -234,3 +234,32 @@ void tsup_patch_raster(const double (*pos)[3], const uint32_t (*tri)[3], size_t 
             }
     }
 }
+
+int tsup_tess_new(tsup_tess_t *t, const psc_patch_model_t *m)
+{
+    psc_patch_limits_t lim = {PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES, 1u << 21, PSC_PATCH_MAX_DEPTH};
+    size_t size = psc_patch_workspace_size(m, &lim);
+    t->ws = NULL;
+    if (size == 0 || posix_memalign(&t->ws, 64, size) != 0)
+        return -1;
+    return psc_patch_init(&t->p, m, &lim, t->ws, size) == PSC_OK ? 0 : -1;
+}
+
+void tsup_tess_free(tsup_tess_t *t)
+{
+    free(t->ws);
+    t->ws = NULL;
+}
+
+int tsup_tess_fine(tsup_tess_t *t, int action, uint32_t ms)
+{
+    psc_patch_camera_t cam = {0};
+    psc_mat4_identity(&cam.camera_from_object);
+    cam.camera_from_object.m[2][3] = 100 * 65536;
+    cam.focal_px_q16 = 65536;
+    cam.tol_units_q16 = 65536 / 100;
+    cam.near_q16 = 65536;
+    psc_patch_pose(&t->p, action, ms);
+    psc_patch_tangents(&t->p);
+    return psc_patch_tessellate(&t->p, &cam, NULL) == PSC_OK ? 0 : -1;
+}

@@ -28,6 +28,19 @@ typedef struct {
     size_t triangle_count;
 } tsup_patch_ref_t;
 
+/** A tessellator with a heap workspace for the tests (generous limits). */
+typedef struct {
+    psc_patch_t p;
+    void *ws;
+} tsup_tess_t;
+
+/** Set up t for model m; 0, or -1 (no memory, bad model). */
+int tsup_tess_new(tsup_tess_t *t, const psc_patch_model_t *m);
+void tsup_tess_free(tsup_tess_t *t);
+
+/** Pose m as action (-1: rest) at ms and tessellate it finely everywhere (0.01 R, culling off). 0, or -1. */
+int tsup_tess_fine(tsup_tess_t *t, int action, uint32_t ms);
+
 /** The reference surface of p's current pose (after psc_patch_tangents): quads halved depth times each way. */
 int tsup_patch_ref_build(const psc_patch_t *p, unsigned depth, tsup_patch_ref_t *out);
 void tsup_patch_ref_free(tsup_patch_ref_t *r);
