@@ -48,9 +48,9 @@ typedef struct {
     psc_shadow_t s;
 } state_t;
 
-static size_t shadow_bytes(const psc_shadow_model_t *sm)
+static size_t shadow_bytes(const psc_shadow_model_t *sm, const psc_patch_model_t *m)
 {
-    return sm ? align_up(psc_shadow_workspace_size(sm)) : 0;
+    return sm ? align_up(psc_shadow_workspace_size(sm, m)) : 0;
 }
 
 size_t psc_scene_character_workspace_size(const psc_patch_model_t *m, const psc_shadow_model_t *sm, uint16_t width,
@@ -58,7 +58,7 @@ size_t psc_scene_character_workspace_size(const psc_patch_model_t *m, const psc_
 {
     psc_3d_config_t c = character_config(width, height, PSC_OBJECT_DEFAULT_HFOV);
     size_t a = psc_patch_workspace_size(m, &character_limits), b = psc_3d_workspace_size(&c);
-    return a && b ? align_up(sizeof(state_t)) + align_up(a) + shadow_bytes(sm) + b : 0;
+    return a && b ? align_up(sizeof(state_t)) + align_up(a) + shadow_bytes(sm, m) + b : 0;
 }
 
 psc_status_t psc_scene_character_draw(const psc_patch_model_t *m, const psc_shadow_model_t *sm, int action,
@@ -67,7 +67,7 @@ psc_status_t psc_scene_character_draw(const psc_patch_model_t *m, const psc_shad
 {
     size_t need = psc_scene_character_workspace_size(m, sm, out->width, out->height);
     size_t head = align_up(sizeof(state_t)), patch_bytes = align_up(psc_patch_workspace_size(m, &character_limits));
-    size_t shade = shadow_bytes(sm);
+    size_t shade = shadow_bytes(sm, m);
     state_t *st = ws;
     psc_patch_t *p = &st->p;
     uint8_t *bytes = ws;
@@ -100,7 +100,7 @@ psc_status_t psc_scene_character_draw(const psc_patch_model_t *m, const psc_shad
         return s;
     if (sm) {
         psc_shadow_update(&st->s, p);
-        psc_shadow_apply(&st->s, p, PSC_SHADOW_STRENGTH_Q16);
+        psc_shadow_apply(&st->s, p, PSC_SHADOW_STRENGTH_Q16, NULL);
     }
     psc_3d_t r;
     size_t used = head + patch_bytes + shade;

@@ -31,8 +31,8 @@ static void print_usage(FILE *f)
             "Precompute a character's self-shadowing: the sphere tree fitted to its rest pose, the\n"
             "spheres' skin, the accessibility map and the composite arc map, as a shadow pack.\n"
             "\n"
-            "  --levels L          levels of the sphere tree, 1..4 (default 3: 8, 32, 128 spheres)\n"
-            "  --spheres N         spheres on the finest level (default 128)\n"
+            "  --levels L          levels of the sphere tree, 1..4 (default 4: 8, 32, 128, 512 spheres)\n"
+            "  --spheres N         spheres on the finest level (default 512)\n"
             "  --table-size N      the accessibility map's side (default 32; the composite map's is half)\n"
             "  --skin-from D.mdl   for an A:M model that assigns no CP to a bone (as periscope-patch)\n"
             "  -o M.pao            the pack (written whole, or not at all)\n"
@@ -51,7 +51,7 @@ static const struct option shadow_options[] = {
 
 int main(int argc, char **argv)
 {
-    psc_shadow_build_opts_t o = {3, 128, 32};
+    psc_shadow_build_opts_t o = {PSC_SHADOW_BUILD_LEVELS, PSC_SHADOW_BUILD_SPHERES, 32};
     psc_patch_load_opts_t lo = {.quiet = true};
     const char *model = NULL, *out = NULL, *verb = NULL;
     psc_io_cli_t c;

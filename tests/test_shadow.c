@@ -7,10 +7,12 @@
  *    hemisphere), monotone in both coordinates; the composite arc map:
  *    coincident caps are one, caps apart add, symmetric;
  *  - the run time: two coincident spheres occlude exactly as one, two far
- *    apart add;
+ *    apart add; the bent normal against a ray-cast mean open direction;
  *  - against ray-cast ambient occlusion (256 cosine-weighted rays a vertex on
  *    the posed tessellation): per-vertex correlation and mean absolute
- *    error on Thom in three poses and the teapot; the tree against one level;
+ *    error of what the frame shows on Thom in three poses (goal 0.85) and
+ *    the teapot; the tree against one level; each vertex composing its own;
+ *    no seams between patches;
  *  - animation: Thom's armpits darken as his arms come down;
  *  - fuzzed and truncated shadow packs are refused with a message.
  */
@@ -130,8 +132,8 @@ static void fixture(shadow_fixture_t *f, const psc_shadow_sphere_t *sph, size_t 
         fail_msg("%s", err);
     psc_container_error_t e = {0};
     assert_int_equal(psc_shadow_parse(f->buf, len, &f->m, &e), PSC_OK);
-    f->ws = malloc(psc_shadow_workspace_size(&f->m) + 8);
-    assert_int_equal(psc_shadow_init(&f->s, &f->m, &no_bones, f->ws, psc_shadow_workspace_size(&f->m)), PSC_OK);
+    f->ws = malloc(psc_shadow_workspace_size(&f->m, &no_bones) + 8);
+    assert_int_equal(psc_shadow_init(&f->s, &f->m, &no_bones, f->ws, psc_shadow_workspace_size(&f->m, &no_bones)), PSC_OK);
 }
 
 static void fixture_free(shadow_fixture_t *f)
@@ -166,6 +168,31 @@ static void test_overlap(void **state)
     assert_true(o1 > 1000);
     assert_true(abs((int)o2 - (int)o1) <= 2);   /* coincident spheres occlude exactly as one */
     assert_true(abs((int)oab - (int)(o1 + ob)) <= 2);   /* far-apart spheres add */
+    /* the bent normal leans away from the sphere, as the mean open direction of a ray-cast hemisphere does */
+    int32_t bent[3];
+    psc_shadow_occlusion_bent(&one.s, origin, up, bent);
+    double ref[3] = {0, 0, 0}, c[3] = {0.3, 1.0, 0.0};
+    for (unsigned i = 0; i < 256; i++)
+        for (unsigned j = 0; j < 256; j++) {   /* cosine-weighted directions about y */
+            double u = (i + 0.5) / 256, ph = 2 * M_PI * (j + 0.5) / 256, r = sqrt(u);
+            double dir[3] = {r * cos(ph), sqrt(1 - u), r * sin(ph)};
+            double along = dir[0] * c[0] + dir[1] * c[1] + dir[2] * c[2], cc = c[0] * c[0] + c[1] * c[1];
+            if (along > 0 && along * along - (cc - 0.4 * 0.4) >= 0)
+                continue;   /* blocked */
+            for (unsigned k = 0; k < 3; k++)
+                ref[k] += dir[k];
+        }
+    double rl = sqrt(ref[0] * ref[0] + ref[1] * ref[1] + ref[2] * ref[2]), dotb = 0;
+    for (unsigned k = 0; k < 3; k++)
+        dotb += ref[k] / rl * bent[k] / 65536.0;
+    double err_deg = acos(fmin(1.0, dotb)) * 180 / M_PI, lean_deg = acos(ref[1] / rl) * 180 / M_PI;
+    print_message("  bent normal (%.3f, %.3f, %.3f): %.2f degrees from the ray-cast mean open direction, which leans "
+                  "%.2f degrees\n", bent[0] / 65536.0, bent[1] / 65536.0, bent[2] / 65536.0, err_deg, lean_deg);
+    assert_true(bent[0] < 0 && abs(bent[2]) < 64);
+    assert_true(err_deg < 0.25 * lean_deg);
+    int32_t open_bent[3];
+    psc_shadow_occlusion_bent(&one.s, origin, (const int32_t[3]){0, -65536, 0}, open_bent);
+    assert_true(open_bent[1] == -65536 && open_bent[0] == 0 && open_bent[2] == 0);   /* nothing over it: n itself */
     /* against the closed form for the lone sphere: above the horizon, cos(omega) sin^2(alpha) */
     double d = sqrt(0.3 * 0.3 + 1.0), want = (1.0 / d) * (0.4 / d) * (0.4 / d);
     assert_true(fabs(o1 / 65536.0 - want) <= 0.01);
@@ -207,14 +234,16 @@ typedef struct {
     double corr, mae;
 } accuracy_t;
 
-/* Sphere AO against ray-cast AO over every 7th vertex of p's frame. */
-static accuracy_t compare(const psc_patch_t *p, const psc_shadow_t *s, const tsup_bvh_t *bvh)
+/* The frame's occlusion (occ, per vertex) against ray-cast AO over every 7th vertex of p's frame; vertices every
+ * ray of which is blocked are buried inside another part of the body (Thom's arm passes through his shirt as he
+ * walks: the model's own), nobody sees them, and they are left out. */
+static accuracy_t compare(const psc_patch_t *p, const uint32_t *occ, const tsup_bvh_t *bvh)
 {
     double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0, sad = 0;
     unsigned n = 0;
     for (uint32_t i = 0; i < p->vtx_total; i += 7) {
         int32_t nq[3] = {p->out_nrm[3 * i] * 4, p->out_nrm[3 * i + 1] * 4, p->out_nrm[3 * i + 2] * 4};
-        double x = psc_shadow_occlusion(s, &p->out_pos[3 * i], nq) / 65536.0;
+        double x = occ[i] / 65536.0;
         double pp[3], nn[3];
         for (unsigned k = 0; k < 3; k++) {
             pp[k] = p->out_pos[3 * i + k] / 65536.0;
@@ -226,6 +255,8 @@ static accuracy_t compare(const psc_patch_t *p, const psc_shadow_t *s, const tsu
         for (unsigned k = 0; k < 3; k++)
             nn[k] /= l;
         double y = tsup_ao(bvh, pp, nn, 16, 2e-3, 1.0);
+        if (y >= 1.0)
+            continue;   /* buried */
         sx += x;
         sy += y;
         sxx += x * x;
@@ -237,6 +268,44 @@ static accuracy_t compare(const psc_patch_t *p, const psc_shadow_t *s, const tsu
     double cov = sxy / n - sx / n * sy / n, vx = sxx / n - sx / n * sx / n, vy = syy / n - sy / n * sy / n;
     accuracy_t a = {cov / sqrt(vx * vy), sad / n};
     return a;
+}
+
+static int cmp_vertex(const void *a, const void *b)
+{
+    const int32_t *x = a, *y = b;
+    for (unsigned k = 0; k < 3; k++)
+        if (x[k] != y[k])
+            return x[k] < y[k] ? -1 : 1;
+    return 0;
+}
+
+/* Vertices at the same place (on an edge two patches share): how many, how many of them disagree on the occlusion
+ * by more than 1/100, and the largest difference. */
+typedef struct {
+    uint32_t shared, disagree;
+    double worst;
+} seams_t;
+
+static seams_t seams(const psc_patch_t *p, const uint32_t *occ)
+{
+    int32_t (*v)[4] = malloc(p->vtx_total * sizeof *v);
+    assert_non_null(v);
+    for (uint32_t i = 0; i < p->vtx_total; i++) {
+        for (unsigned k = 0; k < 3; k++)
+            v[i][k] = p->out_pos[3 * i + k];
+        v[i][3] = (int32_t)occ[i];
+    }
+    qsort(v, p->vtx_total, sizeof *v, cmp_vertex);
+    seams_t r = {0, 0, 0.0};
+    for (uint32_t i = 1; i < p->vtx_total; i++)
+        if (cmp_vertex(v[i - 1], v[i]) == 0) {
+            uint32_t d = (uint32_t)abs(v[i][3] - v[i - 1][3]);
+            r.worst = d / 65536.0 > r.worst ? d / 65536.0 : r.worst;
+            r.shared++;
+            r.disagree += d > 655;
+        }
+    free(v);
+    return r;
 }
 
 static void shade_and_compare(const char *label, const psc_patch_model_t *m, const psc_shadow_model_t *sm,
@@ -253,28 +322,49 @@ static void shade_and_compare(const char *label, const psc_patch_model_t *m, con
     tsup_bvh_t *bvh = tsup_bvh_new((const double(*)[3])pos, nv, (const uint32_t(*)[3])tri, nt);
     assert_non_null(bvh);
     psc_shadow_t s, s1;
-    void *ws = malloc(psc_shadow_workspace_size(sm) + 8), *ws1 = malloc(psc_shadow_workspace_size(single) + 8);
-    assert_int_equal(psc_shadow_init(&s, sm, m, ws, psc_shadow_workspace_size(sm)), PSC_OK);
-    assert_int_equal(psc_shadow_init(&s1, single, m, ws1, psc_shadow_workspace_size(single)), PSC_OK);
+    void *ws = malloc(psc_shadow_workspace_size(sm, m) + 8), *ws1 = malloc(psc_shadow_workspace_size(single, m) + 8);
+    assert_int_equal(psc_shadow_init(&s, sm, m, ws, psc_shadow_workspace_size(sm, m)), PSC_OK);
+    assert_int_equal(psc_shadow_init(&s1, single, m, ws1, psc_shadow_workspace_size(single, m)), PSC_OK);
     psc_shadow_update(&s, &t.p);
     psc_shadow_update(&s1, &t.p);
-    accuracy_t a = compare(&t.p, &s, bvh), b = compare(&t.p, &s1, bvh);
-    /* what the frame shows: spheres chosen once a patch (psc_shadow_apply) against each vertex's own choice */
-    double per_vertex = 0;
+    /* what the frame shows (spheres chosen and composed once a patch), the tree and one level; and each vertex
+     * choosing and composing its own spheres (psc_shadow_occlusion, the seed's way) */
+    uint32_t *frame = malloc(t.p.vtx_total * sizeof *frame), *frame1 = malloc(t.p.vtx_total * sizeof *frame1);
+    uint32_t *own = malloc(t.p.vtx_total * sizeof *own);
+    assert_true(frame && frame1 && own);
     for (uint32_t i = 0; i < t.p.vtx_total; i++) {
         int32_t nq[3] = {t.p.out_nrm[3 * i] * 4, t.p.out_nrm[3 * i + 1] * 4, t.p.out_nrm[3 * i + 2] * 4};
-        per_vertex += psc_shadow_occlusion(&s, &t.p.out_pos[3 * i], nq) / 65536.0;
+        own[i] = psc_shadow_occlusion(&s, &t.p.out_pos[3 * i], nq);
     }
-    per_vertex /= t.p.vtx_total;
-    psc_shadow_apply(&s, &t.p, PSC_SHADOW_STRENGTH_Q16);
-    double applied = (double)s.occlusion_sum / 65536.0 / s.shaded;
-    print_message("  %-24s tree: correlation %.3f, mean abs error %.3f; one level: %.3f, %.3f; mean occlusion per "
-                  "vertex %.4f, per patch choice %.4f\n", label, a.corr, a.mae, b.corr, b.mae, per_vertex, applied);
+    /* (each shades the frame and bends its normals: the second and the comparisons start from the normals as
+     * tessellated) */
+    size_t nbytes = 3u * t.p.vtx_total * sizeof *t.p.out_nrm;
+    int16_t *normals = malloc(nbytes);
+    assert_non_null(normals);
+    memcpy(normals, t.p.out_nrm, nbytes);
+    psc_shadow_apply(&s1, &t.p, PSC_SHADOW_STRENGTH_Q16, frame1);
+    memcpy(t.p.out_nrm, normals, nbytes);
+    psc_shadow_apply(&s, &t.p, PSC_SHADOW_STRENGTH_Q16, frame);
+    memcpy(t.p.out_nrm, normals, nbytes);
+    free(normals);
+    accuracy_t a = compare(&t.p, frame, bvh), b = compare(&t.p, frame1, bvh), c = compare(&t.p, own, bvh);
+    seams_t sd = seams(&t.p, frame);
+    print_message("  %-20s the frame: correlation %.3f, mean abs error %.3f; one level: %.3f, %.3f; each vertex its "
+                  "own spheres: %.3f, %.3f\n  %-20s patches' mean edge %.3f R (%s); of %u vertices two patches share, "
+                  "%u disagree by more than 0.01 (worst %.3f)\n", label, a.corr, a.mae, b.corr, b.mae, c.corr, c.mae,
+                  "", s.mean_edge_q16 / 65536.0, s.at_corners ? "composed at the corners" : "at every vertex",
+                  (unsigned)sd.shared, (unsigned)sd.disagree, sd.worst);
+    /* a vertex two patches share gets one occlusion from both: no seams (but where a patch runs along one spline
+     * segment twice, as one of Thom's six-sided patches does, or a strongly bent edge strays from its arch) */
+    assert_true(sd.disagree * 200u <= sd.shared);
     assert_true(a.corr >= min_corr);
     assert_true(a.mae <= max_mae);
     assert_true(a.corr > b.corr && a.mae < b.mae);   /* the tree beats one level */
+    assert_true(c.corr >= min_corr - 0.1);
     assert_int_equal(s.shaded, t.p.vtx_total);
-    assert_true(fabs(applied - per_vertex) <= 0.2 * per_vertex);
+    free(frame);
+    free(frame1);
+    free(own);
     tsup_bvh_free(bvh);
     free(pos);
     free(tri);
@@ -306,11 +396,11 @@ static void test_against_raycast(void **state)
         fail_msg("%s", err);
     uint8_t *b3, *b1;
     psc_shadow_model_t tree, single;
-    build_pack(&pf.model, 3, 128, &b3, &tree);
-    build_pack(&pf.model, 1, 128, &b1, &single);
-    shade_and_compare("Thom at rest", &pf.model, &tree, &single, -1, 0, 0.6, 0.12);
-    shade_and_compare("Thom walking, 0.5 s", &pf.model, &tree, &single, 0, 500, 0.6, 0.12);
-    shade_and_compare("Thom waving, 1.1 s", &pf.model, &tree, &single, 1, 1100, 0.6, 0.12);
+    build_pack(&pf.model, PSC_SHADOW_BUILD_LEVELS, PSC_SHADOW_BUILD_SPHERES, &b3, &tree);
+    build_pack(&pf.model, 1, PSC_SHADOW_BUILD_SPHERES, &b1, &single);
+    shade_and_compare("Thom at rest", &pf.model, &tree, &single, -1, 0, 0.85, 0.06);   /* the goal: 0.85 */
+    shade_and_compare("Thom walking, 0.5 s", &pf.model, &tree, &single, 0, 500, 0.85, 0.06);   /* the goal: 0.85 */
+    shade_and_compare("Thom waving, 1.1 s", &pf.model, &tree, &single, 1, 1100, 0.85, 0.06);   /* the goal: 0.85 */
     free(b3);
     free(b1);
     psc_io_patch_free(&pf);
@@ -327,9 +417,9 @@ static void test_against_raycast(void **state)
     psc_patch_model_t tm;
     psc_container_error_t e = {0};
     assert_int_equal(psc_patch_parse(pack, plen, &tm, &e), PSC_OK);
-    build_pack(&tm, 3, 128, &b3, &tree);
-    build_pack(&tm, 1, 128, &b1, &single);
-    shade_and_compare("the teapot", &tm, &tree, &single, -1, 0, 0.45, 0.2);   /* a thin shell: spheres fit it worse */
+    build_pack(&tm, PSC_SHADOW_BUILD_LEVELS, PSC_SHADOW_BUILD_SPHERES, &b3, &tree);
+    build_pack(&tm, 1, PSC_SHADOW_BUILD_SPHERES, &b1, &single);
+    shade_and_compare("the teapot", &tm, &tree, &single, -1, 0, 0.75, 0.08);   /* a thin shell: spheres fit it worse */
     free(b3);
     free(b1);
     free(pack);
@@ -351,15 +441,15 @@ static void test_armpits_darken(void **state)
         fail_msg("%s", err);
     uint8_t *buf;
     psc_shadow_model_t sm;
-    build_pack(&pf.model, 3, 128, &buf, &sm);
+    build_pack(&pf.model, PSC_SHADOW_BUILD_LEVELS, PSC_SHADOW_BUILD_SPHERES, &buf, &sm);
     double mean[2];
     for (unsigned pose = 0; pose < 2; pose++) {
         tsup_tess_t t;
         assert_int_equal(tsup_tess_new(&t, &pf.model), 0);
         assert_int_equal(tsup_tess_fine(&t, pose ? 0 : -1, 0), 0);
         psc_shadow_t s;
-        void *ws = malloc(psc_shadow_workspace_size(&sm) + 8);
-        assert_int_equal(psc_shadow_init(&s, &sm, &pf.model, ws, psc_shadow_workspace_size(&sm)), PSC_OK);
+        void *ws = malloc(psc_shadow_workspace_size(&sm, &pf.model) + 8);
+        assert_int_equal(psc_shadow_init(&s, &sm, &pf.model, ws, psc_shadow_workspace_size(&sm, &pf.model)), PSC_OK);
         psc_shadow_update(&s, &t.p);
         double sum = 0;
         unsigned n = 0;
@@ -419,10 +509,10 @@ static void test_pack_fuzz(void **state)
         if (psc_shadow_parse(b, n, &m, &e) == PSC_OK) {
             parsed++;
             psc_shadow_t s;
-            void *ws = malloc(psc_shadow_workspace_size(&m) + 8);
             psc_patch_model_t pm = {0};
             pm.bone_count = m.bone_count;
-            if (m.bone_count == 0 && psc_shadow_init(&s, &m, &pm, ws, psc_shadow_workspace_size(&m)) == PSC_OK) {
+            void *ws = malloc(psc_shadow_workspace_size(&m, &pm) + 8);
+            if (m.bone_count == 0 && psc_shadow_init(&s, &m, &pm, ws, psc_shadow_workspace_size(&m, &pm)) == PSC_OK) {
                 const int32_t o[3] = {0, 0, 0}, up[3] = {0, 65536, 0};
                 assert_true(psc_shadow_occlusion(&s, o, up) <= 65536);
             }

@@ -75,14 +75,14 @@ static int setup(bench_t *b)
         fprintf(stderr, "patch bench: out of memory\n");
         return -1;
     }
-    psc_shadow_build_opts_t so = {3, 128, 32};
+    psc_shadow_build_opts_t so = {PSC_SHADOW_BUILD_LEVELS, PSC_SHADOW_BUILD_SPHERES, 32};
     size_t len;
     char note[256] = "";
     psc_container_error_t e = {0};
     if (psc_shadow_build(&b->pf.model, &so, "Thom.mdl", &b->pao, &len, note, sizeof note, err, sizeof err) != 0 ||
         psc_shadow_parse(b->pao, len, &b->sm, &e) != PSC_OK ||
-        posix_memalign(&b->sh_ws, 64, psc_shadow_workspace_size(&b->sm)) != 0 ||
-        psc_shadow_init(&b->sh, &b->sm, &b->pf.model, b->sh_ws, psc_shadow_workspace_size(&b->sm)) != PSC_OK) {
+        posix_memalign(&b->sh_ws, 64, psc_shadow_workspace_size(&b->sm, &b->pf.model)) != 0 ||
+        psc_shadow_init(&b->sh, &b->sm, &b->pf.model, b->sh_ws, psc_shadow_workspace_size(&b->sm, &b->pf.model)) != PSC_OK) {
         fprintf(stderr, "patch bench: the shadow pack: %s\n", err);
         return -1;
     }
@@ -157,7 +157,7 @@ static result_t run_animated(bench_t *b, double tol_px, bool shadows)
             double t2 = now_s();
             if (shadows) {
                 psc_shadow_update(&b->sh, &b->p);
-                psc_shadow_apply(&b->sh, &b->p, PSC_SHADOW_STRENGTH_Q16);
+                psc_shadow_apply(&b->sh, &b->p, PSC_SHADOW_STRENGTH_Q16, NULL);
                 verts += b->sh.shaded;
             }
             double t2s = now_s();
@@ -240,9 +240,11 @@ static int run_table(const char *out_dir)
     printf("| static mesh (rest, 0.5 px) | - | - | %.3f | %.3f | %.0f | - | %.0f | %.2fM |\n\n", s.draw, s.draw,
            1e3 / s.draw, s.triangles, s.triangles / s.draw / 1e3);
     double plain = r[1].pose + r[1].tess + r[1].draw, shaded = sh.pose + sh.tess + sh.draw + sh.shade;
-    printf("Self-shadowing (168 spheres on 3 levels, maps 32x32 and 16^3) at 0.5 px: %.3f ms per frame for %.0f vertices\n"
-           "(%.0f ns a vertex); the frame %.3f ms with it, %.3f without: +%.0f %% (goal: at most +25 %%).\n\n",
-           sh.shade, sh.vertices, sh.vertices > 0 ? sh.shade * 1e6 / sh.vertices : 0, shaded, plain,
+    printf("Self-shadowing (%u spheres on %u levels, maps %ux%u and %u^3; composed at the patches' corners: %s) at 0.5 px:\n"
+           "%.3f ms per frame for %.0f vertices (%.0f ns a vertex); the frame %.3f ms with it, %.3f without: +%.0f %%\n"
+           "(goal: at most +25 %%).\n\n",
+           (unsigned)b.sm.sphere_count, (unsigned)b.sm.level_count, (unsigned)b.sm.access_omega,
+           (unsigned)b.sm.access_theta, (unsigned)b.sm.comp_theta, b.sh.at_corners ? "yes" : "no", sh.shade, sh.vertices, sh.vertices > 0 ? sh.shade * 1e6 / sh.vertices : 0, shaded, plain,
            (shaded / plain - 1) * 100);
     double t05 = r[1].pose + r[1].tess + r[1].draw;
     psc_3d_config_t cfg = {W, H, 0, 0, 16, 0x238E38E4u, PSC_Q16_ONE, 4 * PSC_Q16_ONE, limits.max_vertices};
@@ -282,7 +284,7 @@ __attribute__((noinline)) static void cg_frames(bench_t *b)
         psc_patch_tangents(&b->p);
         psc_patch_tessellate(&b->p, &cam, NULL);
         psc_shadow_update(&b->sh, &b->p);
-        psc_shadow_apply(&b->sh, &b->p, PSC_SHADOW_STRENGTH_Q16);
+        psc_shadow_apply(&b->sh, &b->p, PSC_SHADOW_STRENGTH_Q16, NULL);
         cg_vertices += b->sh.shaded;
         draw(b, b->p.batch, b->p.batch_count, &cam, &cfg);
     }

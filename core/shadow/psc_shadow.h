@@ -24,11 +24,12 @@
  *    stands for both (their union) and the angle Phi from the first sphere's
  *    direction to its centre, as cos and sin (Q1.14);
  *  - the arc-cosine table the run time indexes omega and delta with.
- * Stage two (core, every frame, psc_shadow.c; the real-time module 73):
+ * Stage two (core, every frame, psc_shadow_run.c; the real-time module 73):
  * update (721) moves the spheres with the skeleton; composition (725) finds
- * the four nearest spheres per level for each vertex, looks the tables up,
- * merges overlapping spheres through the composite map and sums the rest;
- * image generation (727) darkens the vertex colours by the occlusion.
+ * the nearest spheres per level for a point, looks the tables up, merges
+ * overlapping spheres through the composite map and sums the rest; image
+ * generation (727) darkens the vertex colours by the occlusion and bends
+ * their normals (psc_shadow_frame.h).
  *
  * Units: positions and radii Q16.16 in units of the character's R (as its
  * patch pack). Pack: the container of base/psc_container.h, magic
@@ -50,7 +51,8 @@
 #define PSC_SHADOW_MAX_LEVELS 4u
 #define PSC_SHADOW_MAX_SPHERES 4096u
 #define PSC_SHADOW_MAX_TABLE 128u
-#define PSC_SHADOW_NEAREST 4u          /* spheres per level for a vertex (the seed's four) */
+#define PSC_SHADOW_NEAREST 4u          /* spheres of the finest level for a point (the seed's four) */
+#define PSC_SHADOW_NEAREST_COARSE 6u   /* of each level above: a sphere that stands for its children covers more */
 #define PSC_SHADOW_ACOS_SIZE 1025u
 
 extern const psc_container_format_t psc_shadow_format;

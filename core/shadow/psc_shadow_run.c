@@ -7,7 +7,8 @@
 #include "shadow/psc_shadow_frame.h"
 #include "base/psc_fixed.h"
 
-#define MAX_CAPS (PSC_SHADOW_MAX_LEVELS * PSC_SHADOW_NEAREST)
+#define PICK_MAX (PSC_SHADOW_NEAREST_COARSE > PSC_SHADOW_NEAREST ? PSC_SHADOW_NEAREST_COARSE : PSC_SHADOW_NEAREST)
+#define MAX_CAPS (PSC_SHADOW_MAX_LEVELS * PICK_MAX)
 #define MAX_CANDIDATES 1024u
 
 /* ---- small fixed-point helpers ------------------------------------------------------------------------------ */
@@ -37,6 +38,42 @@ static uint32_t sqrt_u64(uint64_t v)
     return (uint32_t)x;
 }
 
+/* 2^46 / sqrt(m) for m in [2^30, 2^32), at the middle of each of 192 steps of m's top 8 bits: Newton's first
+ * guess, within 0.2 %. */
+static const uint32_t rsqrt_seed[192] = {
+    2139143874, 2122751726, 2106730729, 2091067086, 2075747707, 2060760163, 2046092644, 2031733922, 2017673311, 2003900636, 1990406202, 1977180765,
+    1964215505, 1951502003, 1939032214, 1926798450, 1914793358, 1903009903, 1891441346, 1880081235, 1868923385, 1857961863, 1847190978, 1836605270,
+    1826199490, 1815968600, 1805907755, 1796012296, 1786277740, 1776699774, 1767274245, 1757997150, 1748864636, 1739872984, 1731018611, 1722298059,
+    1713707990, 1705245183, 1696906526, 1688689013, 1680589738, 1672605894, 1664734763, 1656973720, 1649320221, 1641771805, 1634326089, 1626980766,
+    1619733600, 1612582423, 1605525136, 1598559701, 1591684144, 1584896547, 1578195052, 1571577853, 1565043197, 1558589383, 1552214758, 1545917715,
+    1539696693, 1533550174, 1527476684, 1521474788, 1515543090, 1509680232, 1503884893, 1498155787, 1492491662, 1486891298, 1481353508, 1475877137,
+    1470461055, 1465104167, 1459805400, 1454563712, 1449378085, 1444247527, 1439171070, 1434147770, 1429176706, 1424256978, 1419387709, 1414568043,
+    1409797142, 1405074190, 1400398389, 1395768961, 1391185142, 1386646190, 1382151377, 1377699992, 1373291341, 1368924744, 1364599536, 1360315069,
+    1356070705, 1351865825, 1347699819, 1343572091, 1339482060, 1335429155, 1331412818, 1327432501, 1323487671, 1319577802, 1315702382, 1311860907,
+    1308052885, 1304277832, 1300535277, 1296824755, 1293145812, 1289498003, 1285880891, 1282294047, 1278737053, 1275209495, 1271710972, 1268241085,
+    1264799448, 1261385678, 1257999402, 1254640252, 1251307868, 1248001897, 1244721991, 1241467811, 1238239020, 1235035292, 1231856302, 1228701736,
+    1225571280, 1222464631, 1219381487, 1216321553, 1213284541, 1210270165, 1207278145, 1204308207, 1201360079, 1198433497, 1195528200, 1192643930,
+    1189780435, 1186937467, 1184114781, 1181312139, 1178529303, 1175766042, 1173022127, 1170297333, 1167591440, 1164904229, 1162235487, 1159585004,
+    1156952571, 1154337986, 1151741047, 1149161556, 1146599320, 1144054146, 1141525847, 1139014236, 1136519130, 1134040351, 1131577719, 1129131062,
+    1126700207, 1124284984, 1121885226, 1119500771, 1117131454, 1114777118, 1112437604, 1110112758, 1107802427, 1105506461, 1103224711, 1100957032,
+    1098703280, 1096463311, 1094236988, 1092024170, 1089824724, 1087638513, 1085465407, 1083305275, 1081157988, 1079023419, 1076901444, 1074791939,
+};
+
+/* 2^46 / sqrt(v) (v > 0; v in Q32 gives 2^30 / its root in Q16, the factor that scales by 1 / |x| with one
+ * multiplication and a shift of 30): the seed for v's top bits brought to [2^30, 2^32), one Newton step
+ * (multiplications only, within 1e-5; integer steps: the same on every machine). */
+static uint64_t rsqrt46(uint64_t v)
+{
+    unsigned top = 63u - (unsigned)__builtin_clzll(v);
+    int e = (int)top - 30;
+    e -= e & 1;                                                   /* even: m = v / 2^e in [2^30, 2^32) */
+    uint64_t mm = e >= 0 ? v >> e : v << -e;
+    uint64_t y = rsqrt_seed[(mm >> 24) - 64u];
+    uint64_t t = ((mm >> 1) * ((y * y) >> 31)) >> 30;             /* m y^2 / 2^92, Q30: about 1 */
+    y = (y * (3u * ((uint64_t)1 << 30) - t)) >> 31;
+    return e >= 0 ? y >> (e / 2) : y << (-e / 2);
+}
+
 /* An angle's fraction of pi (Q0.16) from its cosine (Q16.16, clamped to +-1): the pack's arc-cosine table. */
 static uint32_t acos_frac(const psc_shadow_model_t *m, int32_t c)
 {
@@ -48,8 +85,9 @@ static uint32_t acos_frac(const psc_shadow_model_t *m, int32_t c)
     return (uint32_t)(a + ((b - a) * (int32_t)f + 64) / 128);
 }
 
-/* Bilinear look-up of the accessibility map's occluded area at omega / pi and theta / 2 pi (both Q0.16). */
-static uint32_t access_area(const psc_shadow_model_t *m, uint32_t w, uint32_t t)
+/* Bilinear look-up of the accessibility map at omega / pi and theta / 2 pi (both Q0.16): the occluded area (Q0.16),
+ * and the occlusion angle / pi (Q0.16) into *angle. */
+static uint32_t access_area(const psc_shadow_model_t *m, uint32_t w, uint32_t t, uint32_t *angle)
 {
     uint32_t nw = m->access_omega - 1u, nt = m->access_theta - 1u;
     uint64_t fw = (uint64_t)(w > 65536 ? 65536 : w) * nw, ft = (uint64_t)(t > 65536 ? 65536 : t) * nt;
@@ -66,6 +104,9 @@ static uint32_t access_area(const psc_shadow_model_t *m, uint32_t w, uint32_t t)
     const uint16_t *r0 = m->access + 2u * ((size_t)i * m->access_theta + j), *r1 = r0 + 2u * m->access_theta;
     int64_t top = (int64_t)r0[0] * (65536 - b) + (int64_t)r0[2] * b;
     int64_t bottom = (int64_t)r1[0] * (65536 - b) + (int64_t)r1[2] * b;
+    int64_t atop = (int64_t)r0[1] * (65536 - b) + (int64_t)r0[3] * b;
+    int64_t abottom = (int64_t)r1[1] * (65536 - b) + (int64_t)r1[3] * b;
+    *angle = (uint32_t)psc_shr_round64(atop * (65536 - a) + abottom * a, 32);
     return (uint32_t)psc_shr_round64(top * (65536 - a) + bottom * a, 32);
 }
 
@@ -109,10 +150,9 @@ static int32_t dot_q16(const int32_t a[3], const int32_t b[3])
 static bool unit(int32_t v[3])
 {
     uint64_t l2 = (uint64_t)((int64_t)v[0] * v[0] + (int64_t)v[1] * v[1] + (int64_t)v[2] * v[2]);
-    uint32_t l = sqrt_u64(l2);
-    if (l == 0)
+    if (l2 == 0)
         return false;
-    int64_t inv = ((int64_t)1 << 46) / l;   /* 2^46 / |v|: one division for the three */
+    int64_t inv = (int64_t)rsqrt46(l2);   /* 2^46 / |v| */
     for (unsigned k = 0; k < 3; k++)
         v[k] = (int32_t)psc_shr_round64((int64_t)v[k] * inv, 30);
     return true;
@@ -120,9 +160,10 @@ static bool unit(int32_t v[3])
 
 /* ---- update ------------------------------------------------------------------------------------------------ */
 
-size_t psc_shadow_workspace_size(const psc_shadow_model_t *m)
+size_t psc_shadow_workspace_size(const psc_shadow_model_t *m, const psc_patch_model_t *pm)
 {
-    return m ? (size_t)m->sphere_count * 12u : 0;
+    return m && pm ? (((size_t)m->sphere_count * 12u + 7u) & ~(size_t)7u) + (size_t)pm->point_count *
+                     sizeof(psc_shadow_point_t) : 0;
 }
 
 psc_status_t psc_shadow_init(psc_shadow_t *s, const psc_shadow_model_t *m, const psc_patch_model_t *pm, void *ws,
@@ -130,9 +171,16 @@ psc_status_t psc_shadow_init(psc_shadow_t *s, const psc_shadow_model_t *m, const
 {
     if (s == NULL || m == NULL || pm == NULL || ws == NULL || ((uintptr_t)ws & 7u) || m->bone_count != pm->bone_count)
         return PSC_ERR_ARG;
-    if (ws_size < psc_shadow_workspace_size(m))
+    if (ws_size < psc_shadow_workspace_size(m, pm))
         return PSC_ERR_NOMEM;
-    *s = (psc_shadow_t){m, (int32_t(*)[3])ws, {0}, 0, 0};
+    *s = (psc_shadow_t){.m = m, .center = (int32_t(*)[3])ws,
+                        .point = (psc_shadow_point_t *)((uint8_t *)ws +
+                                                        (((size_t)m->sphere_count * 12u + 7u) & ~(size_t)7u))};
+    for (uint32_t i = 0; i < PSC_SHADOW_ANGLE_TABLE; i++) {   /* cos of i / 256 of pi */
+        int32_t c30;
+        psc_sincos((psc_bam_t)(i << 23), NULL, &c30);
+        s->angle_cos[i] = (int32_t)psc_shr_round64(c30, 14);
+    }
     for (uint32_t i = 0; i < PSC_SHADOW_COS_TABLE; i++) {   /* cos = sqrt(1 - sin^2), once */
         uint64_t sn = (uint64_t)i << 6;
         s->cos_table[i] = (int32_t)sqrt_u64(((uint64_t)1 << 32) - (sn > 65536 ? (uint64_t)1 << 32 : sn * sn));
@@ -140,6 +188,23 @@ psc_status_t psc_shadow_init(psc_shadow_t *s, const psc_shadow_model_t *m, const
     for (uint32_t i = 0; i < m->sphere_count; i++)
         for (unsigned k = 0; k < 3; k++)
             s->center[i][k] = m->spheres[i].center_q16[k];
+    /* the patches' mean edge at rest (the chord between its corners): small patches take the occlusion from
+     * their corners, large ones compose it at every vertex */
+    uint64_t sum = 0, edges = 0;
+    for (uint32_t f = 0; f < pm->face_count; f++)
+        for (unsigned i = 0; i < pm->faces[f].sides; i++) {
+            const psc_patch_edge_t *e = &pm->edges[pm->faces[f].edge[i] & ~PSC_PATCH_EDGE_REVERSED];
+            int32_t a = psc_patch_edge_point(pm, e, 0), b = psc_patch_edge_point(pm, e, 1);
+            if (a < 0 || b < 0)
+                continue;
+            int32_t d[3];
+            for (unsigned k = 0; k < 3; k++)
+                d[k] = pm->rest_q16[3 * (uint32_t)b + k] - pm->rest_q16[3 * (uint32_t)a + k];
+            sum += sqrt_u64((uint64_t)((int64_t)d[0] * d[0] + (int64_t)d[1] * d[1] + (int64_t)d[2] * d[2]));
+            edges++;
+        }
+    s->mean_edge_q16 = edges ? (int32_t)(sum / edges) : 0;
+    s->at_corners = s->mean_edge_q16 <= PSC_SHADOW_CORNER_EDGE_Q16;
     return PSC_OK;
 }
 
@@ -177,24 +242,30 @@ typedef struct {
     int32_t cosa, sina;          /* its angular radius, Q16.16 */
 } cap_t;
 
-/* The PSC_SHADOW_NEAREST spheres nearest to pos among cand[0..n) (by d^2 - r^2) into best; returns how many. */
-static unsigned nearest(const psc_shadow_t *s, const int32_t pos[3], const uint16_t *cand, unsigned n, uint16_t *best)
+/* The `want` spheres nearest to pos (by d^2 - r^2, the square of the tangent's length) among cand[0..n) that
+ * rise over the tangent plane of normal n_q16, into best; returns how many. */
+static unsigned nearest(const psc_shadow_t *s, const int32_t pos[3], const int32_t n_q16[3], const uint16_t *cand,
+                        unsigned n, uint16_t *best, unsigned want)
 {
-    int64_t key[PSC_SHADOW_NEAREST];
+    int64_t key[PICK_MAX];
     unsigned got = 0;
     for (unsigned c = 0; c < n; c++) {
         const int32_t *ct = s->center[cand[c]];
         int64_t dx = ct[0] - pos[0], dy = ct[1] - pos[1], dz = ct[2] - pos[2], r = s->m->spheres[cand[c]].radius_q16;
+        /* wholly under the tangent plane: it hides nothing, and would take the place of one that does (the spheres
+         * of the body under the point are its nearest) */
+        if (n_q16[0] * dx + n_q16[1] * dy + n_q16[2] * dz <= -(r << 16))
+            continue;
         int64_t k = dx * dx + dy * dy + dz * dz - r * r;
-        unsigned at = got < PSC_SHADOW_NEAREST ? got++ : PSC_SHADOW_NEAREST;
+        unsigned at = got < want ? got++ : want;
         while (at > 0 && key[at - 1u] > k) {   /* insertion into the sorted few */
-            if (at < PSC_SHADOW_NEAREST) {
+            if (at < want) {
                 key[at] = key[at - 1u];
                 best[at] = best[at - 1u];
             }
             at--;
         }
-        if (at < PSC_SHADOW_NEAREST) {
+        if (at < want) {
             key[at] = k;
             best[at] = cand[c];
         }
@@ -212,21 +283,30 @@ static int32_t cos_from_sin(const psc_shadow_t *s, int32_t sn)
     return a + ((b - a) * (int32_t)f + 32) / 64;
 }
 
-/* The cap sphere i makes seen from pos with normal n; false when the point is inside it or it lies wholly below
- * the horizon. */
-static bool sphere_cap(const psc_shadow_t *s, uint16_t i, const int32_t pos[3], const int32_t n[3], cap_t *c)
+/* cos of an angle given as a fraction of pi (Q0.16, 0..pi), Q16.16: the table psc_shadow_init fills. */
+static int32_t angle_cos(const psc_shadow_t *s, uint32_t frac)
 {
-    const int32_t *ct = s->center[i];
+    uint32_t x = frac > 65536 ? 65536 : frac, i = x >> 8, f = x & 255u;
+    if (i >= PSC_SHADOW_ANGLE_TABLE - 1u)
+        return s->angle_cos[PSC_SHADOW_ANGLE_TABLE - 1u];
+    int32_t a = s->angle_cos[i], b = s->angle_cos[i + 1u];
+    return a + (int32_t)psc_shr_round64((int64_t)(b - a) * f, 8);
+}
+
+/* The cap the sphere (ct, radius) makes seen from pos with normal n; false when the point is inside it or it lies wholly below
+ * the horizon. */
+static bool sphere_cap(const psc_shadow_t *s, const int32_t ct[3], int32_t radius_q16, const int32_t pos[3],
+                       const int32_t n[3], cap_t *c)
+{
     int32_t v[3] = {ct[0] - pos[0], ct[1] - pos[1], ct[2] - pos[2]};
-    int64_t r = s->m->spheres[i].radius_q16;
+    int64_t r = radius_q16;
     int64_t plane = (int64_t)n[0] * v[0] + (int64_t)n[1] * v[1] + (int64_t)n[2] * v[2];   /* Q32 */
     if (plane <= -(r << 16))
         return false;   /* wholly under the tangent plane: no square root needed to know */
     uint64_t d2 = (uint64_t)((int64_t)v[0] * v[0] + (int64_t)v[1] * v[1] + (int64_t)v[2] * v[2]);
     if (d2 <= (uint64_t)(r * r))
         return false;
-    int64_t d = sqrt_u64(d2);   /* Q16.16 */
-    int64_t inv = ((int64_t)1 << 46) / d;   /* 2^30 / d in units: one division for all that follows */
+    int64_t inv = (int64_t)rsqrt46(d2);   /* 2^30 / d in units: no division for all that follows */
     c->sina = (int32_t)psc_shr_round64(r * inv, 30);
     c->cosa = cos_from_sin(s, c->sina);
     if (psc_shr_round64((plane >> 16) * inv, 30) < -(int64_t)c->sina)   /* wholly below the horizon */
@@ -238,14 +318,15 @@ static bool sphere_cap(const psc_shadow_t *s, uint16_t i, const int32_t pos[3], 
 }
 
 /* Merge cap c into a (they overlap): the union through the composite arc map. */
-static void merge(const psc_shadow_model_t *m, cap_t *a, const cap_t *c)
+static void merge(const psc_shadow_t *s, cap_t *a, const cap_t *c)
 {
+    const psc_shadow_model_t *m = s->m;
     int32_t cosd = dot_q16(a->dir, c->dir), cs, sn;
     uint32_t t3;
     /* one cap inside the other: the union is the larger, exactly (coincident spheres count once) */
     const cap_t *big = a->t >= c->t ? a : c, *small = a->t >= c->t ? c : a;
     int32_t cos_diff = (int32_t)psc_shr_round64((int64_t)big->cosa * small->cosa + (int64_t)big->sina * small->sina, 16);
-    if (cosd >= cos_diff) {
+    if (cosd + 8 >= cos_diff) {   /* within rounding (a few units of 2^-16): inside */
         if (big == c)
             *a = *c;
         return;
@@ -255,34 +336,47 @@ static void merge(const psc_shadow_model_t *m, cap_t *a, const cap_t *c)
     for (unsigned k = 0; k < 3; k++)
         u[k] = c->dir[k] - (int32_t)psc_shr_round64((int64_t)cosd * a->dir[k], 16);
     if (unit(u)) {
-        int32_t d[3];
-        for (unsigned k = 0; k < 3; k++)
-            d[k] = (int32_t)psc_shr_round64((int64_t)cs * a->dir[k] + (int64_t)sn * u[k], 14);
-        if (unit(d))
-            for (unsigned k = 0; k < 3; k++)
-                a->dir[k] = d[k];
+        for (unsigned k = 0; k < 3; k++)   /* a and u unit and at right angles: unit already */
+            a->dir[k] = (int32_t)psc_shr_round64((int64_t)cs * a->dir[k] + (int64_t)sn * u[k], 14);
     }
     a->t = t3 > 65536 ? 65536 : t3;
     a->cosa = (int32_t)(65536 - a->t);
-    a->sina = (int32_t)sqrt_u64((uint64_t)(((int64_t)1 << 32) - (int64_t)a->cosa * a->cosa));   /* seldom: merges */
+    a->sina = cos_from_sin(s, a->cosa);   /* sin from cos: the same quarter circle */
 }
 
-/* The spheres a point looks at: the PSC_SHADOW_NEAREST nearest of the top level, then the nearest among their
- * children, level by level (the seed's four closest at each level). Returns how many, into pick. */
-static unsigned choose(const psc_shadow_t *s, const int32_t pos[3], uint16_t *pick)
+/* The spheres a point looks at: the nearest of the top level, then the nearest among their children, level by
+ * level (the seed's four closest at each level; PSC_SHADOW_NEAREST_COARSE on the levels above the finest), all
+ * over the point's horizon. A sphere whose children were looked at gives way to them (they fit the surface closer;
+ * the parent would count the same place twice); one whose children all lie further off stands for them. Returns
+ * how many, into pick. */
+static unsigned choose(const psc_shadow_t *s, const int32_t pos[3], const int32_t nrm[3], uint16_t *pick)
 {
     const psc_shadow_model_t *m = s->m;
     uint16_t cand[MAX_CANDIDATES];
-    unsigned ncand = 0, npick = 0;
+    unsigned ncand = 0, npick = 0, prev = 0, prev_n = 0;
 
     for (uint32_t i = m->level_first[0]; i < m->level_first[1] && ncand < MAX_CANDIDATES; i++)
         cand[ncand++] = (uint16_t)i;
     for (uint32_t level = 0; level < m->level_count && ncand; level++) {
-        uint16_t *got = pick + npick;
-        unsigned n = nearest(s, pos, cand, ncand, got);
-        npick += n;
+        uint16_t got[PICK_MAX];
+        unsigned want = level + 1u == m->level_count ? PSC_SHADOW_NEAREST : PSC_SHADOW_NEAREST_COARSE;
+        unsigned n = nearest(s, pos, nrm, cand, ncand, got, want);
+        /* the previous level's picks that are parents of this level's give way */
+        unsigned keep = prev;
+        for (unsigned k = prev; k < prev + prev_n; k++) {
+            const psc_shadow_sphere_t *sp = &m->spheres[pick[k]];
+            bool parent = false;
+            for (unsigned j = 0; j < n; j++)
+                parent |= got[j] >= sp->first_child && got[j] < sp->first_child + sp->child_count;
+            if (!parent)
+                pick[keep++] = pick[k];
+        }
+        npick = keep;
+        prev = npick;
+        prev_n = n;
         ncand = 0;
         for (unsigned k = 0; k < n; k++) {
+            pick[npick++] = got[k];
             const psc_shadow_sphere_t *sp = &m->spheres[got[k]];
             for (unsigned c = 0; c < sp->child_count && ncand < MAX_CANDIDATES; c++)
                 cand[ncand++] = (uint16_t)(sp->first_child + c);
@@ -291,79 +385,241 @@ static unsigned choose(const psc_shadow_t *s, const int32_t pos[3], uint16_t *pi
     return npick;
 }
 
-/* The occlusion at pos (normal n) from the spheres pick[0..npick), coarse to fine. */
-static uint32_t occlusion_of(const psc_shadow_t *s, const int32_t pos[3], const int32_t n[3], const uint16_t *pick,
-                             unsigned npick)
+uint32_t psc_shadow_occlusion_bent(const psc_shadow_t *s, const int32_t pos[3], const int32_t n[3], int32_t bent[3])
 {
     const psc_shadow_model_t *m = s->m;
+    uint16_t pick[MAX_CAPS];
     cap_t caps[MAX_CAPS];
-    unsigned ncaps = 0;
+    unsigned npick = choose(s, pos, n, pick), ncaps = 0;
 
+    /* composition: each sphere's cap; one that overlaps a cap taken already merges with it through the composite
+     * arc map (overlapping spheres count once), the others stand alone */
     for (unsigned k = 0; k < npick; k++) {
         cap_t cap;
-        if (!sphere_cap(s, pick[k], pos, n, &cap))
+        if (!sphere_cap(s, s->center[pick[k]], m->spheres[pick[k]].radius_q16, pos, n, &cap))
             continue;
-        /* a cap that overlaps one taken already merges with it: overlapping spheres count once */
         bool merged = false;
         for (unsigned j = 0; j < ncaps && !merged; j++) {
             int32_t cosd = dot_q16(caps[j].dir, cap.dir);
             int32_t cos_sum = (int32_t)psc_shr_round64((int64_t)caps[j].cosa * cap.cosa -
                                                        (int64_t)caps[j].sina * cap.sina, 16);
             if (cosd > cos_sum) {
-                merge(m, &caps[j], &cap);
+                merge(s, &caps[j], &cap);
                 merged = true;
             }
         }
         if (!merged && ncaps < MAX_CAPS)
             caps[ncaps++] = cap;
     }
+    /* the accessibility map's occluded area of each, summed; the bent normal: the mean unblocked direction, the
+     * hemisphere's (2/3 n, cosine-weighted) less each cap's area along its mean blocked direction (at the occlusion
+     * angle from the normal, towards the cap; a small cap's directions all lie near it) */
     uint32_t occ = 0;
-    for (unsigned j = 0; j < ncaps; j++)
-        occ += access_area(m, acos_frac(m, dot_q16(n, caps[j].dir)), caps[j].t);
+    int32_t u[3];   /* the whole hemisphere's cosine-weighted mean direction: 2/3 n */
+    for (unsigned k = 0; k < 3; k++)
+        u[k] = (int32_t)psc_div_round64((int64_t)n[k] * 2, 3);
+    for (unsigned j = 0; j < ncaps; j++) {
+        uint32_t angle, area = access_area(m, acos_frac(m, dot_q16(n, caps[j].dir)), caps[j].t, &angle);
+        occ += area;
+        if (bent == NULL)
+            continue;
+        int32_t cd = dot_q16(n, caps[j].dir), t[3], sg, cg;
+        for (unsigned k = 0; k < 3; k++)
+            t[k] = caps[j].dir[k] - (int32_t)psc_shr_round64((int64_t)cd * n[k], 16);
+        if (!unit(t))
+            t[0] = t[1] = t[2] = 0;   /* the cap about the normal: its blocked directions average on it */
+        cg = angle_cos(s, angle);
+        sg = cos_from_sin(s, cg < 0 ? -cg : cg);   /* the angle lies within 0..pi: its sine is not negative */
+        for (unsigned k = 0; k < 3; k++) {
+            int64_t o = psc_shr_round64((int64_t)cg * n[k] + (int64_t)sg * t[k], 16);   /* Q16 */
+            u[k] -= (int32_t)psc_shr_round64(o * area, 16);
+        }
+    }
+    if (bent) {
+        if (!unit(u))
+            u[0] = n[0], u[1] = n[1], u[2] = n[2];
+        for (unsigned k = 0; k < 3; k++)
+            bent[k] = u[k];
+    }
     return occ > 65536 ? 65536 : occ;
 }
 
 uint32_t psc_shadow_occlusion(const psc_shadow_t *s, const int32_t pos[3], const int32_t n[3])
 {
-    uint16_t pick[MAX_CAPS];
-    unsigned npick = choose(s, pos, pick);
-    return occlusion_of(s, pos, n, pick, npick);
+    return psc_shadow_occlusion_bent(s, pos, n, NULL);
 }
 
 /* ---- image generation -------------------------------------------------------------------------------------- */
 
-void psc_shadow_apply(psc_shadow_t *s, psc_patch_t *p, int32_t strength_q16)
+#define POS_SHIFT 2   /* positions Q16.16 brought to Q14 for the squares below: a patch spans at most 2 R */
+
+/* A patch's corners for spreading their occlusion over its vertices (Q14 positions: a patch spans at most 2 R). */
+typedef struct {
+    unsigned n;
+    int32_t c[PSC_PATCH_MAX_SIDES][3];      /* corner k; edge k runs from corner k to corner k + 1 */
+    int32_t u[PSC_PATCH_MAX_SIDES][3];      /* edge k's unit direction, Q16 */
+    int64_t l2[PSC_PATCH_MAX_SIDES];        /* its length squared, Q28 */
+    int64_t inv_l2[PSC_PATCH_MAX_SIDES];    /* 2^44 / that */
+    int64_t inv_len[PSC_PATCH_MAX_SIDES];   /* 2^30 / its length (Q14) */
+    int32_t bulge[PSC_PATCH_MAX_SIDES][3];  /* the edge curve's middle less the chord's (Q14): the curve is near
+                                             * chord(t) + 4 t (1 - t) bulge */
+    int32_t at[PSC_PATCH_MAX_SIDES][4];     /* corner k's occlusion (Q0.16) and bend (Q16) */
+    int64_t step[PSC_PATCH_MAX_SIDES][4];   /* corner k + 1's less corner k's */
+} corners_t;
+
+/* Spread the corners' occlusion and bend over a vertex at x (into out): along each edge, the two ends' interpolated
+ * by where the vertex lies along it; the edges blended, each weighing the product of the vertex's distances (to the
+ * fourth power, relative to the edge's length) from all other edges. On an edge only that edge weighs, and its
+ * value depends on that edge alone: a vertex the two patches of an edge share gets the same from both (no seam). */
+static void spread_corners(const corners_t *k, const int32_t x[3], int32_t out[4])
+{
+    unsigned n = k->n;
+    int64_t de[PSC_PATCH_MAX_SIDES], t_edge[PSC_PATCH_MAX_SIDES];
+    for (unsigned e = 0; e < n; e++) {
+        int64_t ax[3], along = 0;
+        for (unsigned a = 0; a < 3; a++) {
+            ax[a] = (x[a] >> POS_SHIFT) - k->c[e][a];
+            along += ax[a] * k->u[e][a];
+        }
+        along >>= 16;
+        int64_t t = (along * k->inv_len[e]) >> 14;   /* Q16 */
+        t = t < 0 ? 0 : t > 65536 ? 65536 : t;
+        /* squared distance from the edge's curve near there (Q28): from the chord, less the bulge */
+        int64_t arch = (4 * t * (65536 - t)) >> 16, d2 = 0;
+        for (unsigned a = 0; a < 3; a++) {
+            int64_t off = ax[a] - ((along * k->u[e][a] + arch * k->bulge[e][a]) >> 16);
+            d2 += off * off;
+        }
+        /* relative to the edge's length squared (Q16, at most 16: no overflow for a short edge of a long face),
+         * to the fourth power (a curved edge's bulge off its arch weighs little), at most 16 */
+        int64_t r = d2 >= k->l2[e] << 4 ? (1 << 20) : (d2 * k->inv_l2[e]) >> 28;
+        r = (r * r) >> 16;
+        de[e] = r > (1 << 20) ? (1 << 20) : r;
+        t_edge[e] = t;
+    }
+    /* each edge's weight (Q16, at most 16^5), then normalised to Q16 with one division */
+    int64_t w[PSC_PATCH_MAX_SIDES], sum = 0;
+    unsigned best = 0;
+    for (unsigned e = 0; e < n; e++) {
+        int64_t p = 1 << 16;
+        for (unsigned j = 1, f = e + 1u; j < n; j++, f++)   /* every other edge */
+            p = (p * de[f >= n ? f - n : f]) >> 16;
+        w[e] = p;
+        sum += p;
+        best = de[e] < de[best] ? e : best;
+    }
+    if (sum == 0) {   /* on a corner, or so close no weight survives: the nearest edge alone */
+        for (unsigned e = 0; e < n; e++)
+            w[e] = e == best ? 65536 : 0;   /* (Q16) */
+    } else {
+        unsigned shift = 0;
+        while ((sum >> shift) >= ((int64_t)1 << 30))
+            shift++;
+        int64_t inv = ((int64_t)1 << 46) / (sum >> shift);   /* 2^46 / sum, sum brought under 2^30 (and >= 1) */
+        for (unsigned e = 0; e < n; e++)
+            w[e] = ((w[e] >> shift) * inv) >> 30;
+    }
+    for (unsigned c = 0; c < 4; c++) {
+        int64_t acc = 0;
+        for (unsigned e = 0; e < n; e++)
+            acc += w[e] * (k->at[e][c] + ((k->step[e][c] * t_edge[e]) >> 16));
+        out[c] = (int32_t)psc_shr_round64(acc, 16);
+    }
+}
+
+/* Corners, edges and corner occlusion of face f (composing at its corners the ones not composed this frame yet). */
+static void face_corners(psc_shadow_t *s, const psc_patch_t *p, const psc_patch_face_t *f, corners_t *k)
+{
+    k->n = f->sides;
+    for (unsigned i = 0; i < f->sides; i++) {
+        uint32_t e = f->edge[i] & ~PSC_PATCH_EDGE_REVERSED;
+        uint16_t pt = p->edge_pt[e][(f->edge[i] & PSC_PATCH_EDGE_REVERSED) ? 1 : 0];
+        psc_shadow_point_t *q = &s->point[pt];
+        if (q->occ == PSC_SHADOW_UNSET) {
+            int32_t bent[3];
+            q->occ = psc_shadow_occlusion_bent(s, p->pos[pt], p->nrm[pt], bent);
+            for (unsigned a = 0; a < 3; a++)
+                q->bend[a] = bent[a] - p->nrm[pt][a];
+        }
+        k->at[i][0] = (int32_t)q->occ;
+        for (unsigned a = 0; a < 3; a++)
+            k->at[i][1 + a] = q->bend[a];
+        for (unsigned a = 0; a < 3; a++)
+            k->c[i][a] = p->pos[pt][a] >> POS_SHIFT;
+    }
+    for (unsigned e = 0; e < k->n; e++) {
+        const int32_t *b = k->c[e + 1u < k->n ? e + 1u : 0u];
+        int32_t d[3] = {b[0] - k->c[e][0], b[1] - k->c[e][1], b[2] - k->c[e][2]};
+        k->l2[e] = (int64_t)d[0] * d[0] + (int64_t)d[1] * d[1] + (int64_t)d[2] * d[2];
+        for (unsigned a = 0; a < 3; a++)
+            k->u[e][a] = d[a];
+        uint32_t len = sqrt_u64((uint64_t)k->l2[e]);
+        if (!unit(k->u[e]) || len == 0) {
+            k->u[e][0] = k->u[e][1] = k->u[e][2] = 0;
+            k->l2[e] = 1;
+            len = 1;
+        }
+        k->inv_l2[e] = ((int64_t)1 << 44) / k->l2[e];
+        k->inv_len[e] = ((int64_t)1 << 30) / len;
+        for (unsigned c = 0; c < 4; c++)
+            k->step[e][c] = (int64_t)k->at[e + 1u < k->n ? e + 1u : 0u][c] - k->at[e][c];
+        psc_curve_t cv;   /* its middle: (p0 + 3 p1 + 3 p2 + p3) / 8, the same whichever way it runs */
+        psc_patch_edge_curve(p, f->edge[e] & ~PSC_PATCH_EDGE_REVERSED, &cv);
+        for (unsigned a = 0; a < 3; a++) {
+            int64_t mid = ((int64_t)cv.p[0][a] + 3 * (int64_t)cv.p[1][a] + 3 * (int64_t)cv.p[2][a] + cv.p[3][a]) / 8;
+            k->bulge[e][a] = (int32_t)((mid >> POS_SHIFT) - ((int64_t)k->c[e][a] + b[a]) / 2);
+        }
+    }
+}
+
+void psc_shadow_apply(psc_shadow_t *s, psc_patch_t *p, int32_t strength_q16, uint32_t *occlusion)
 {
     const psc_patch_model_t *pm = p->m;
     uint32_t v = 0;
 
     s->shaded = 0;
     s->occlusion_sum = 0;
-    /* the spheres are chosen once a patch, at its centre (its vertices lie close together; the seed chooses per
-     * vertex, psc_shadow_occlusion does), the caps are each vertex's own */
+    /* the occlusion is composed where the seed composes it, at a point of the surface: for small patches at
+     * their corners (the character's points) the frame draws, once each, the vertices between taking it from
+     * their patch's corners (it varies slowly where the patches are small against the spheres); for large
+     * patches at every vertex */
+    for (uint32_t q = 0; q < pm->point_count; q++)
+        s->point[q].occ = PSC_SHADOW_UNSET;
     for (uint32_t f = 0; f < pm->face_count && v < p->vtx_total; f++) {
         if (p->face_cache[f] == PSC_PATCH_NO_CACHE)
             continue;   /* culled: it emitted nothing */
+        corners_t k;
+        if (s->at_corners)
+            face_corners(s, p, &pm->faces[f], &k);
         uint32_t count = p->face_cache_count[f];
-        int64_t c[3] = {0, 0, 0};
-        for (uint32_t i = v; i < v + count; i++)
-            for (unsigned k = 0; k < 3; k++)
-                c[k] += p->out_pos[3 * i + k];
-        int32_t centre[3];
-        for (unsigned k = 0; k < 3; k++)
-            centre[k] = count ? (int32_t)(c[k] / (int64_t)count) : 0;
-        uint16_t pick[MAX_CAPS];
-        unsigned npick = choose(s, centre, pick);
         for (uint32_t i = v; i < v + count && i < p->vtx_total; i++) {
-            int32_t n[3] = {p->out_nrm[3 * i] * 4, p->out_nrm[3 * i + 1] * 4, p->out_nrm[3 * i + 2] * 4};
-            uint32_t occ = occlusion_of(s, &p->out_pos[3 * i], n, pick, npick);
-            int64_t fct = 65536 - psc_shr_round64((int64_t)occ * strength_q16, 16);
+            int32_t nv[3] = {p->out_nrm[3 * i] * 4, p->out_nrm[3 * i + 1] * 4, p->out_nrm[3 * i + 2] * 4}, at[4];
+            uint32_t o;
+            if (s->at_corners) {
+                spread_corners(&k, &p->out_pos[3 * i], at);
+                o = at[0] < 0 ? 0u : at[0] > 65536 ? 65536u : (uint32_t)at[0];
+                int32_t bent[3] = {nv[0] + at[1], nv[1] + at[2], nv[2] + at[3]};
+                if (unit(bent))   /* (bent through zero: the normal as it was) */
+                    for (unsigned a = 0; a < 3; a++)
+                        nv[a] = bent[a];
+            } else {
+                int32_t bent[3];
+                o = psc_shadow_occlusion_bent(s, &p->out_pos[3 * i], nv, bent);
+                for (unsigned a = 0; a < 3; a++)
+                    nv[a] = bent[a];
+            }
+            /* shade with the bent normal: the light comes mostly from where the occluders leave open */
+            for (unsigned a = 0; a < 3; a++)
+                p->out_nrm[3 * i + a] = (int16_t)psc_shr_round64(nv[a], 2);
+            int64_t fct = 65536 - psc_shr_round64((int64_t)o * strength_q16, 16);
             uint32_t col = p->out_color[i], out = 0;
             for (unsigned sh = 0; sh < 24; sh += 8)
                 out |= (uint32_t)psc_shr_round64((int64_t)((col >> sh) & 0xFFu) * fct, 16) << sh;
             p->out_color[i] = out;
+            if (occlusion)
+                occlusion[i] = o;
             s->shaded++;
-            s->occlusion_sum += occ;
+            s->occlusion_sum += o;
         }
         v += count;
     }

@@ -27,7 +27,7 @@ typedef struct {
     psc_patch_load_opts_t load;
     double yaw, pitch, dist, hfov, flatness, tol_px, time;
     uint16_t width, height;
-    bool cull, stats;
+    bool cull, stats, rest;
     unsigned long tile, repeat;
     psc_pixfmt_t format;
 } patch_args_t;
@@ -57,6 +57,7 @@ static void usage(const char *prog, FILE *f)
             "  --action A.act      an action for an A:M model (repeat for more; the first plays)\n"
             "  --play NAME         which of the character's actions plays (default: the first)\n"
             "  --time T            seconds into the action (default 0; it loops)\n"
+            "  --pose rest|t=T     the rest pose, or T seconds into the action (as --time)\n"
             "  --skin-from D.mdl   take CP-to-bone assignments from another model of the character\n"
             "  --deform B1,B2,..   the bones that deform a model that assigns no CP to a bone\n"
             "  --bvh M.bvh         a motion capture, retargeted by bone name (after the actions)\n"
@@ -123,6 +124,11 @@ static int parse_value(const char *prog, patch_args_t *a, const char *name, cons
     } else if (strcmp(name, "--time") == 0) {
         if (psc_cli_parse_double(v, &a->time) != 0 || !(a->time >= 0.0 && a->time <= 3600.0))
             return psc_io_cli_usage_error(prog, "--time '%s': expected seconds in 0..3600", v);
+    } else if (strcmp(name, "--pose") == 0) {
+        a->rest = strcmp(v, "rest") == 0;
+        if (!a->rest && (strncmp(v, "t=", 2) != 0 || psc_cli_parse_double(v + 2, &a->time) != 0 ||
+                         !(a->time >= 0.0 && a->time <= 3600.0)))
+            return psc_io_cli_usage_error(prog, "--pose '%s': expected rest or t=SECONDS (0..3600)", v);
     } else if (strcmp(name, "--skin-from") == 0) {
         a->load.skin_from = v;
     } else if (strcmp(name, "--deform") == 0) {
@@ -238,7 +244,7 @@ static double now_s(void)
 }
 
 /* --dump-ao: every vertex of the frame with its occlusion, in the model's own units. */
-static int write_ao(const psc_patch_t *p, const psc_shadow_t *sh, const psc_patch_model_t *m, const char *path,
+static int write_ao(const psc_patch_t *p, const uint32_t *occlusion, const psc_patch_model_t *m, const char *path,
                     char *err, size_t errlen)
 {
     char *text = NULL;
@@ -250,7 +256,7 @@ static int write_ao(const psc_patch_t *p, const psc_shadow_t *sh, const psc_patc
     fprintf(f, "x,y,z,nx,ny,nz,occlusion\n");
     for (uint32_t i = 0; i < p->vtx_total; i++) {
         int32_t n[3] = {p->out_nrm[3 * i] * 4, p->out_nrm[3 * i + 1] * 4, p->out_nrm[3 * i + 2] * 4};
-        uint32_t occ = psc_shadow_occlusion(sh, &p->out_pos[3 * i], n);
+        uint32_t occ = occlusion[i];
         fprintf(f, "%.5f,%.5f,%.5f,%.4f,%.4f,%.4f,%.4f\n", p->out_pos[3 * i] / 65536.0 * r + m->center_q16[0] / 65536.0,
                 p->out_pos[3 * i + 1] / 65536.0 * r + m->center_q16[1] / 65536.0,
                 p->out_pos[3 * i + 2] / 65536.0 * r + m->center_q16[2] / 65536.0, n[0] / 65536.0, n[1] / 65536.0,
@@ -323,12 +329,15 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
     psc_io_shadow_t sf = {0};
     psc_shadow_t sh;
     void *sh_ws = NULL;
+    uint32_t *ao = NULL;          /* --dump-ao: each vertex's occlusion as the frame shows it */
     bool shaded = false;
     int action = find_action(m, a.play);
     if (action == -2) {
         fprintf(stderr, "%s: %s has no action named '%s'\n", prog, a.model, a.play);
         goto done;
     }
+    if (a.rest)
+        action = -1;   /* --pose rest */
     if (tess_new(&t, m, PSC_PATCH_MAX_DEPTH) != 0) {
         fprintf(stderr, "%s: out of memory for the tessellation of %s\n", prog, a.model);
         goto done;
@@ -339,7 +348,7 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
             fprintf(stderr, "%s: %s\n", prog, err);
             goto done;
         }
-        size_t n = psc_shadow_workspace_size(&sf.model);
+        size_t n = psc_shadow_workspace_size(&sf.model, m);
         if (posix_memalign(&sh_ws, 64, n ? n : 8) != 0 ||
             (ss = psc_shadow_init(&sh, &sf.model, m, sh_ws, n)) != PSC_OK) {
             fprintf(stderr, "%s: %s: made for another character (%u bones, %s has %u)\n", prog, a.shadow,
@@ -347,6 +356,10 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
             goto done;
         }
         shaded = true;
+        if (a.dump_ao && (ao = malloc((size_t)PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES * sizeof *ao)) == NULL) {
+            fprintf(stderr, "%s: out of memory\n", prog);
+            goto done;
+        }
     }
     psc_vec3_q16_t lo = {m->lo_q16[0], m->lo_q16[1], m->lo_q16[2]}, hi = {m->hi_q16[0], m->hi_q16[1], m->hi_q16[2]};
     psc_patch_camera_t cam = {0};
@@ -382,7 +395,7 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
         }
         if (shaded) {
             psc_shadow_update(&sh, &t.p);
-            psc_shadow_apply(&sh, &t.p, PSC_SHADOW_STRENGTH_Q16);
+            psc_shadow_apply(&sh, &t.p, PSC_SHADOW_STRENGTH_Q16, ao);
         }
         double t1 = now_s();
         psc_3d_draw_t d[PSC_PATCH_MAX_BATCHES];
@@ -402,7 +415,7 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
                 (unsigned)st.reused);
     if (psc_render_target_write(&rt, a.out, a.depth, err, sizeof err) != 0 ||
         (a.dump_obj && psc_patch_write_obj(&t.p, a.dump_obj, err, sizeof err) != 0) ||
-        (a.dump_ao && write_ao(&t.p, &sh, m, a.dump_ao, err, sizeof err) != 0)) {
+        (a.dump_ao && write_ao(&t.p, ao, m, a.dump_ao, err, sizeof err) != 0)) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
@@ -414,6 +427,7 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
 done:
     free(t.ws);
     free(sh_ws);
+    free(ao);
     psc_io_shadow_free(&sf);
     psc_render_target_close(&rt);
     psc_io_patch_free(&pf);

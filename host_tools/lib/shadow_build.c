@@ -93,10 +93,33 @@ typedef struct {
     double w1;
 } sample_t;
 
-/* k-means of the samples idx[0..n) into k clusters (deterministic: farthest-point seeds); label[i] for each. */
-static void kmeans(const sample_t *s, const uint32_t *idx, size_t n, unsigned k, unsigned *label, double (*ctr)[3])
+/* Where the samples go as the character moves: each sample's position in every pose of a set (the rest pose and
+ * POSES_PER_ACTION times through each action), side by side. The tree clusters in this space, so a sphere holds
+ * points that move together and stays tight round them in every pose (a cluster across the shoulder would
+ * spread as the arm moves). */
+#define POSES_PER_ACTION 6u
+#define MAX_POSES 25u
+
+typedef struct {
+    const double *f;             /* [sample][dim] */
+    unsigned dim;                /* 3 x poses */
+} motion_t;
+
+static double feature_d2(const motion_t *mo, uint32_t i, const double *c)
+{
+    const double *a = mo->f + (size_t)i * mo->dim;
+    double d = 0;
+    for (unsigned k = 0; k < mo->dim; k++)
+        d += (a[k] - c[k]) * (a[k] - c[k]);
+    return d;
+}
+
+/* k-means of the samples idx[0..n) into k clusters in motion space (deterministic: farthest-point seeds); label[i]
+ * for each. ctr holds k x dim. */
+static void kmeans(const motion_t *mo, const uint32_t *idx, size_t n, unsigned k, unsigned *label, double *ctr)
 {
     /* seeds: the first sample, then each time the sample farthest from the seeds so far */
+    unsigned dim = mo->dim;
     double *dmin = malloc(n * sizeof *dmin);
     if (dmin == NULL)
         return;
@@ -104,13 +127,10 @@ static void kmeans(const sample_t *s, const uint32_t *idx, size_t n, unsigned k,
         dmin[i] = INFINITY;
     size_t pick = 0;
     for (unsigned c = 0; c < k; c++) {
-        memcpy(ctr[c], s[idx[pick]].p, sizeof ctr[c]);
+        memcpy(ctr + (size_t)c * dim, mo->f + (size_t)idx[pick] * dim, dim * sizeof *ctr);
         double far = -1.0;
         for (size_t i = 0; i < n; i++) {
-            double d = 0;
-            for (unsigned a = 0; a < 3; a++)
-                d += (s[idx[i]].p[a] - ctr[c][a]) * (s[idx[i]].p[a] - ctr[c][a]);
-            dmin[i] = fmin(dmin[i], d);
+            dmin[i] = fmin(dmin[i], feature_d2(mo, idx[i], ctr + (size_t)c * dim));
             if (dmin[i] > far) {
                 far = dmin[i];
                 pick = i;
@@ -118,33 +138,31 @@ static void kmeans(const sample_t *s, const uint32_t *idx, size_t n, unsigned k,
         }
     }
     free(dmin);
+    size_t *cnt = malloc(k * sizeof *cnt);
+    if (cnt == NULL)
+        return;
     for (unsigned round = 0; round < KMEANS_ROUNDS; round++) {
         for (size_t i = 0; i < n; i++) {
             double best = INFINITY;
             for (unsigned c = 0; c < k; c++) {
-                double d = 0;
-                for (unsigned a = 0; a < 3; a++)
-                    d += (s[idx[i]].p[a] - ctr[c][a]) * (s[idx[i]].p[a] - ctr[c][a]);
+                double d = feature_d2(mo, idx[i], ctr + (size_t)c * dim);
                 if (d < best) {
                     best = d;
                     label[i] = c;
                 }
             }
         }
-        for (unsigned c = 0; c < k; c++) {
-            double sum[3] = {0, 0, 0};
-            size_t cnt = 0;
-            for (size_t i = 0; i < n; i++)
-                if (label[i] == c) {
-                    for (unsigned a = 0; a < 3; a++)
-                        sum[a] += s[idx[i]].p[a];
-                    cnt++;
-                }
-            if (cnt)
-                for (unsigned a = 0; a < 3; a++)
-                    ctr[c][a] = sum[a] / cnt;
-        }
+        memset(cnt, 0, k * sizeof *cnt);
+        for (size_t i = 0; i < n; i++)
+            cnt[label[i]]++;
+        for (unsigned c = 0; c < k; c++)
+            if (cnt[c])
+                memset(ctr + (size_t)c * dim, 0, dim * sizeof *ctr);
+        for (size_t i = 0; i < n; i++)
+            for (unsigned a = 0; a < dim; a++)
+                ctr[(size_t)label[i] * dim + a] += mo->f[(size_t)idx[i] * dim + a] / (double)cnt[label[i]];
     }
+    free(cnt);
 }
 
 /* The medial fit and the skin of one cluster. */
@@ -198,8 +216,51 @@ static void fit_sphere(const sample_t *s, const uint32_t *idx, size_t n, unsigne
     free(w);
 }
 
-/* Surface samples: the rest pose finely tessellated, each vertex with the skin of the nearest point. */
-static int surface_samples(const psc_patch_model_t *m, sample_t **out, size_t *count)
+/* Each sample's place in every pose of the set (motion_t), from the bones of p posed and the sample's skin. */
+static double *motion_features(psc_patch_t *p, const sample_t *s, size_t ns, unsigned *dim)
+{
+    const psc_patch_model_t *m = p->m;
+    unsigned poses = 1;
+    for (uint32_t a = 0; a < m->action_count && poses + POSES_PER_ACTION <= MAX_POSES; a++)
+        poses += POSES_PER_ACTION;
+    if (m->bone_count == 0)
+        poses = 1;
+    *dim = 3u * poses;
+    double *f = malloc(ns * *dim * sizeof *f);
+    if (f == NULL)
+        return NULL;
+    for (unsigned q = 0; q < poses; q++) {
+        int action = q == 0 ? -1 : (int)((q - 1u) / POSES_PER_ACTION);
+        uint32_t t = q == 0 ? 0 : m->actions[action].duration_ms * ((q - 1u) % POSES_PER_ACTION) / POSES_PER_ACTION;
+        if (m->bone_count)
+            psc_patch_pose(p, action, t);
+        for (size_t i = 0; i < ns; i++) {
+            double *out = f + i * *dim + 3u * q, acc[3] = {0, 0, 0};
+            if (m->bone_count == 0) {
+                memcpy(out, s[i].p, sizeof acc);
+                continue;
+            }
+            for (unsigned b = 0; b < 2; b++) {
+                uint16_t bone = b ? s[i].bone1 : s[i].bone0;
+                double w = b ? s[i].w1 : 1.0 - s[i].w1;
+                if (bone == PSC_PATCH_NO_BONE || w == 0.0)
+                    continue;
+                const psc_mat4_q16_t *mx = &p->bone_skin[bone];
+                for (unsigned r = 0; r < 3; r++)
+                    acc[r] += w * ((mx->m[r][0] * s[i].p[0] + mx->m[r][1] * s[i].p[1] + mx->m[r][2] * s[i].p[2]) /
+                                       65536.0 + mx->m[r][3] / 65536.0);
+            }
+            memcpy(out, acc, sizeof acc);
+        }
+    }
+    if (m->bone_count)
+        psc_patch_pose(p, -1, 0);
+    return f;
+}
+
+/* Surface samples: the rest pose finely tessellated, each vertex with the skin of the nearest point; and where
+ * each goes in the character's motion. */
+static int surface_samples(const psc_patch_model_t *m, sample_t **out, size_t *count, motion_t *mo)
 {
     psc_patch_limits_t lim = {PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES, 1u << 20, 4};
     size_t ws_size = psc_patch_workspace_size(m, &lim);
@@ -249,6 +310,12 @@ static int surface_samples(const psc_patch_model_t *m, sample_t **out, size_t *c
                 }
             }
         }
+    }
+    mo->f = motion_features(&p, s, p.vtx_total, &mo->dim);
+    if (mo->f == NULL) {
+        free(s);
+        free(ws);
+        return -1;
     }
     *out = s;
     *count = p.vtx_total;
@@ -325,7 +392,8 @@ int psc_shadow_write(const psc_shadow_sphere_t *sph, size_t nsph, unsigned level
 int psc_shadow_build(const psc_patch_model_t *m, const psc_shadow_build_opts_t *o, const char *name, uint8_t **out,
                      size_t *out_len, char *note, size_t notelen, char *err, size_t errlen)
 {
-    unsigned levels = o && o->levels ? o->levels : 3, finest = o && o->spheres ? o->spheres : 128;
+    unsigned levels = o && o->levels ? o->levels : PSC_SHADOW_BUILD_LEVELS;
+    unsigned finest = o && o->spheres ? o->spheres : PSC_SHADOW_BUILD_SPHERES;
     unsigned table = o && o->table ? o->table : 32;
     int rc = -1;
 
@@ -340,8 +408,12 @@ int psc_shadow_build(const psc_patch_model_t *m, const psc_shadow_build_opts_t *
     k = k < 2 ? 2 : k > 255 ? 255 : k;
     sample_t *s = NULL;
     size_t ns = 0;
-    if (surface_samples(m, &s, &ns) != 0 || ns < 8)
+    motion_t mo = {NULL, 0};
+    if (surface_samples(m, &s, &ns, &mo) != 0 || ns < 8) {
+        free(s);
+        free((void *)mo.f);
         return psc_io_errorf(err, errlen, name, "cannot tessellate the rest pose for surface samples");
+    }
     /* the levels: clusters of clusters */
     size_t cap = 8;
     for (unsigned l = 1; l < levels; l++)
@@ -350,7 +422,7 @@ int psc_shadow_build(const psc_patch_model_t *m, const psc_shadow_build_opts_t *
     uint32_t *idx = malloc(ns * sizeof *idx), *order = malloc(ns * sizeof *order);
     unsigned *label = malloc(ns * sizeof *label);
     size_t *cl_first = calloc(cap + 1, sizeof *cl_first), *cl_count = calloc(cap, sizeof *cl_count);
-    double (*ctr)[3] = malloc(256 * sizeof *ctr);
+    double *ctr = malloc(256u * mo.dim * sizeof *ctr);
     uint16_t level_first[PSC_SHADOW_MAX_LEVELS] = {0};
     if (!sph || !idx || !order || !label || !cl_first || !cl_count || !ctr) {
         psc_io_errorf(err, errlen, name, "out of memory");
@@ -361,7 +433,7 @@ int psc_shadow_build(const psc_patch_model_t *m, const psc_shadow_build_opts_t *
     /* level 0: 8 clusters of everything */
     size_t nsph = 0, lvl_begin = 0;
     {
-        kmeans(s, idx, ns, 8, label, ctr);
+        kmeans(&mo, idx, ns, 8, label, ctr);
         size_t at = 0;
         for (unsigned c = 0; c < 8; c++) {
             cl_first[nsph] = at;
@@ -386,7 +458,7 @@ int psc_shadow_build(const psc_patch_model_t *m, const psc_shadow_build_opts_t *
                 sph[parent].first_child = PSC_SHADOW_NO_CHILD;
                 continue;
             }
-            kmeans(s, idx + cl_first[parent], n, kk, label, ctr);
+            kmeans(&mo, idx + cl_first[parent], n, kk, label, ctr);
             for (unsigned c = 0; c < kk; c++) {
                 cl_first[nsph] = at;
                 for (size_t i = 0; i < n; i++)
@@ -422,6 +494,7 @@ int psc_shadow_build(const psc_patch_model_t *m, const psc_shadow_build_opts_t *
     rc = 0;
 done:
     free(s);
+    free((void *)mo.f);
     free(sph);
     free(idx);
     free(order);

@@ -31,9 +31,12 @@
 #include "patch/psc_patch.h"
 #include "shadow/psc_shadow.h"
 
+#define PSC_SHADOW_BUILD_LEVELS 4u     /* 8, 32, 128, 512 spheres */
+#define PSC_SHADOW_BUILD_SPHERES 512u
+
 typedef struct {
-    unsigned levels;             /* 1..PSC_SHADOW_MAX_LEVELS (default 3) */
-    unsigned spheres;            /* on the finest level (default 128) */
+    unsigned levels;             /* 1..PSC_SHADOW_MAX_LEVELS (0: PSC_SHADOW_BUILD_LEVELS) */
+    unsigned spheres;            /* on the finest level (0: PSC_SHADOW_BUILD_SPHERES) */
     unsigned table;              /* accessibility map side (default 32); the composite map's is half */
 } psc_shadow_build_opts_t;
 

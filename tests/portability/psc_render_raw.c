@@ -209,7 +209,7 @@ static int render_patch_view(const psc_patch_model_t *m, psc_patch_t *p, psc_sha
     }
     if (s == PSC_OK && sh) {
         psc_shadow_update(sh, p);
-        psc_shadow_apply(sh, p, PSC_SHADOW_STRENGTH_Q16);
+        psc_shadow_apply(sh, p, PSC_SHADOW_STRENGTH_Q16, NULL);
     }
     if (s == PSC_OK)
         s = psc_3d_init(&r, &cfg, ws3d, ws3d_size);
@@ -250,8 +250,8 @@ static int render_patch(const void *buf, size_t len, const void *sbuf, size_t sl
     } else if (psc_patch_init(&p, &m, &lim, ws, ws_size) != PSC_OK) {
         rc = fail("cannot set up the tessellator", NULL);
     } else if (sbuf && (psc_shadow_parse(sbuf, slen, &sm, &e) != PSC_OK ||
-                        posix_memalign(&sh_ws, 64, psc_shadow_workspace_size(&sm)) != 0 ||
-                        psc_shadow_init(&sh, &sm, &m, sh_ws, psc_shadow_workspace_size(&sm)) != PSC_OK)) {
+                        posix_memalign(&sh_ws, 64, psc_shadow_workspace_size(&sm, &m)) != 0 ||
+                        psc_shadow_init(&sh, &sm, &m, sh_ws, psc_shadow_workspace_size(&sm, &m)) != PSC_OK)) {
         rc = fail("not a usable shadow pack for this character", NULL);
     } else {
         rc = 0;
