@@ -15,6 +15,7 @@
 #include "image_io.h"
 #include "model_render.h"
 #include "pack_build.h"
+#include "gltf_render.h"
 #include "patch_render.h"
 #include "psc_io_load.h"
 #include "psc_io_png.h"
@@ -218,6 +219,8 @@ static int render_frames(psc_viewer_t *viewer, const psc_view_t *view, const psc
 
 int main(int argc, char **argv)
 {
+    if (psc_gltf_render_wanted(argc, argv))
+        return psc_gltf_render_main(PROG, argc, argv);
     if (psc_patch_render_wanted(argc, argv))
         return psc_patch_render_main(PROG, argc, argv);
     if (psc_model_render_wanted(argc, argv))

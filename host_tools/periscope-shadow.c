@@ -3,10 +3,10 @@
  * periscope-shadow - build the self-shadowing tables of a character (stage
  * one of the sphere-occluder self-shadowing, host_tools/lib/shadow_build.h):
  *
- *   periscope-shadow build MODEL.{mdl,bpt,ppk} -o M.pao [--levels L] [--spheres N] [--table-size N]
+ *   periscope-shadow build MODEL.{mdl,bpt,ppk,gltf,glb} -o M.pao [--levels L] [--spheres N] [--table-size N]
  *                    [--skin-from D.mdl]
  *
- * The device's character scene finds M.pao beside its .ppk (same name) and
+ * A glTF model (through libassimp) gets its tables for its joints. The device's character scene finds M.pao beside its .ppk (same name) and
  * shades the character with it. Exit status: 0 done, 1 the work failed, 2 bad
  * arguments.
  */
@@ -25,10 +25,10 @@
 static void print_usage(FILE *f)
 {
     fprintf(f,
-            "usage: " PROG " build MODEL.{mdl,bpt,ppk} -o M.pao [--levels L] [--spheres N] [--table-size N]\n"
+            "usage: " PROG " build MODEL.{mdl,bpt,ppk,gltf,glb} -o M.pao [--levels L] [--spheres N] [--table-size N]\n"
             "       [--skin-from D.mdl]\n"
             "\n"
-            "Precompute a character's self-shadowing: the sphere tree fitted to its rest pose, the\n"
+            "Precompute a character's or a glTF model's self-shadowing: the sphere tree fitted to its rest pose, the\n"
             "spheres' skin, the accessibility map and the composite arc map, as a shadow pack.\n"
             "\n"
             "  --levels L          levels of the sphere tree, 1..4 (default 4: 8, 32, 128, 512 spheres)\n"
@@ -103,15 +103,20 @@ int main(int argc, char **argv)
         return usage_error("no model given");
     if (!out)
         return usage_error("no output given (-o M.pao)");
-    psc_io_patch_t pf;
-    if (psc_patch_load_any(model, &lo, &pf, err, sizeof err) != 0) {
+    psc_io_patch_t pf = {0};
+    psc_gltf_t g = {0};
+    bool gltf = psc_gltf_is_model(model);
+    char load_note[256] = "";
+    if (gltf ? psc_gltf_load(model, &g, load_note, sizeof load_note, err, sizeof err) != 0
+             : psc_patch_load_any(model, &lo, &pf, err, sizeof err) != 0) {
         fprintf(stderr, PROG ": %s\n", err);
         return 1;
     }
     uint8_t *bytes = NULL;
     size_t len = 0;
     int rc = 1;
-    if (psc_shadow_build(&pf.model, &o, model, &bytes, &len, note, sizeof note, err, sizeof err) != 0 ||
+    if ((gltf ? psc_shadow_build_gltf(&g, &o, model, &bytes, &len, note, sizeof note, err, sizeof err)
+              : psc_shadow_build(&pf.model, &o, model, &bytes, &len, note, sizeof note, err, sizeof err)) != 0 ||
         psc_io_write_atomic(out, bytes, len, err, sizeof err) != 0)
         fprintf(stderr, PROG ": %s\n", err);
     else {
@@ -120,5 +125,6 @@ int main(int argc, char **argv)
     }
     free(bytes);
     psc_io_patch_free(&pf);
+    psc_gltf_free(&g);
     return rc;
 }

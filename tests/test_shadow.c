@@ -28,6 +28,7 @@
 #include "tsup_teapot.h"
 
 #include "bpt_load.h"
+#include "gltf_load.h"
 #include "patch_build.h"
 #include "patch_load.h"
 #include "patch_measure.h"
@@ -40,6 +41,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define THOM "assets/thom/Thom.mdl"
 
@@ -427,6 +429,209 @@ static void test_against_raycast(void **state)
     psc_patch_src_free(&src);
 }
 
+/* ---- glTF models --------------------------------------------------------------------------------------------- */
+
+#define GLTF_DIR "../shared/data/models/gltf/"
+
+/* A glTF model posed at t (< 0: rest) in units of R, shaded by the run time at every vertex, against ray-cast AO
+ * on the same posed triangles; mean[0], mean[1]: the two mean occlusions; mean[2]: how far the finest spheres'
+ * posed centres lie from the posed surface (the mean distance to the nearest vertex, units of R). */
+static accuracy_t gltf_accuracy(const psc_gltf_t *g, const psc_shadow_model_t *sm, double t, uint32_t *occ_out,
+                                double *mean)
+{
+    uint32_t nv = g->mesh.vertex_count, nj = g->joint_count;
+    double c[3], r, (*skin)[12] = malloc(nj * sizeof *skin), *pos = malloc(nv * 3 * sizeof *pos);
+    double *nrm = malloc(nv * 3 * sizeof *nrm);
+    psc_gltf_trs_t *local = malloc(nj * sizeof *local);
+    psc_mat4_q16_t *skin_q16 = calloc(nj, sizeof *skin_q16);
+    int32_t *pq = malloc(nv * 3 * sizeof *pq);
+    int16_t *nq = malloc(nv * 3 * sizeof *nq);
+    uint32_t *col = calloc(nv, sizeof *col), *occ = occ_out ? occ_out : malloc(nv * sizeof *occ);
+    double (*dpos)[3] = malloc(nv * sizeof *dpos);
+    uint32_t (*tri)[3] = malloc(g->mesh.triangle_count * sizeof *tri);
+    assert_true(skin && pos && nrm && local && skin_q16 && pq && nq && col && occ && dpos && tri);
+    psc_gltf_frame(g, c, &r);
+    psc_gltf_pose(g, t, local);
+    psc_gltf_skin(g, local, skin);
+    psc_gltf_deform(g, (const double(*)[12])skin, pos, nrm);
+    for (uint32_t i = 0; i < nv; i++)
+        for (unsigned a = 0; a < 3; a++) {
+            dpos[i][a] = (pos[3 * i + a] - c[a]) / r;
+            pq[3 * i + a] = (int32_t)lround(dpos[i][a] * 65536.0);
+            nq[3 * i + a] = (int16_t)lround(nrm[3 * i + a] * 16383.0);
+        }
+    for (uint32_t j = 0; j < nj; j++) {
+        for (unsigned row = 0; row < 3; row++) {
+            for (unsigned k = 0; k < 3; k++)
+                skin_q16[j].m[row][k] = (int32_t)lround(skin[j][4 * row + k] * 65536.0);
+            double tr = skin[j][4 * row] * c[0] + skin[j][4 * row + 1] * c[1] + skin[j][4 * row + 2] * c[2] +
+                        skin[j][4 * row + 3] - c[row];
+            skin_q16[j].m[row][3] = (int32_t)lround(tr / r * 65536.0);
+        }
+        skin_q16[j].m[3][3] = 65536;
+    }
+    memcpy(tri, g->mesh.index, g->mesh.triangle_count * sizeof *tri);
+    tsup_bvh_t *bvh = tsup_bvh_new((const double(*)[3])dpos, nv, (const uint32_t(*)[3])tri, g->mesh.triangle_count);
+    assert_non_null(bvh);
+    psc_shadow_t s;
+    void *ws = malloc(psc_shadow_workspace_size(sm, NULL) + 8);
+    assert_int_equal(psc_shadow_init_mesh(&s, sm, nj, ws, psc_shadow_workspace_size(sm, NULL)), PSC_OK);
+    psc_shadow_update_bones(&s, skin_q16, nj);
+    double track = 0;
+    unsigned tracked = 0;
+    uint32_t fine = sm->level_first[sm->level_count - 1u];
+    for (uint32_t i = fine; i < sm->sphere_count; i++) {
+        if (sm->spheres[i].radius_q16 < 66)
+            continue;   /* an empty cluster's placeholder */
+        double best = INFINITY;
+        for (uint32_t v = 0; v < nv; v++) {
+            double d2 = 0;
+            for (unsigned a = 0; a < 3; a++)
+                d2 += (s.center[i][a] / 65536.0 - dpos[v][a]) * (s.center[i][a] / 65536.0 - dpos[v][a]);
+            best = fmin(best, d2);
+        }
+        track += sqrt(best);
+        tracked++;
+    }
+    mean[2] = tracked ? track / tracked : 0.0;
+    psc_shadow_apply_mesh(&s, pq, nq, col, nv, PSC_SHADOW_STRENGTH_Q16, occ);
+    assert_int_equal(s.shaded, nv);
+    double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0, sad = 0;
+    unsigned n = 0;
+    for (uint32_t i = 0; i < nv; i += 3) {
+        double y = tsup_ao(bvh, dpos[i], &nrm[3 * i], 16, 2e-3, 1.0), x = occ[i] / 65536.0;
+        if (y >= 1.0)
+            continue;   /* buried */
+        sx += x, sy += y, sxx += x * x, syy += y * y, sxy += x * y, sad += fabs(x - y);
+        n++;
+    }
+    double cov = sxy / n - sx / n * sy / n, vx = sxx / n - sx / n * sx / n, vy = syy / n - sy / n * sy / n;
+    mean[0] = sx / n;
+    mean[1] = sy / n;
+    tsup_bvh_free(bvh);
+    free(ws);
+    free(skin), free(pos), free(nrm), free(local), free(skin_q16), free(pq), free(nq), free(col), free(dpos), free(tri);
+    if (!occ_out)
+        free(occ);
+    return (accuracy_t){cov / sqrt(vx * vy), sad / n};
+}
+
+static void gltf_case(const char *file, const double *times, unsigned ntimes, double min_corr, double max_mae)
+{
+    psc_gltf_t g;
+    char err[512], note[256] = "", path[256];
+    snprintf(path, sizeof path, GLTF_DIR "%s", file);
+    if (psc_gltf_load(path, &g, note, sizeof note, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    uint8_t *b = NULL, *b1 = NULL;
+    size_t len = 0, len1 = 0;
+    psc_shadow_build_opts_t o = {0, 0, 0}, one = {1, 8, 0};
+    if (psc_shadow_build_gltf(&g, &o, file, &b, &len, note, sizeof note, err, sizeof err) != 0 ||
+        psc_shadow_build_gltf(&g, &one, file, &b1, &len1, note, sizeof note, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    psc_shadow_model_t sm, sm1;
+    psc_container_error_t e = {0};
+    double rest_track = 0;
+    assert_int_equal(psc_shadow_parse(b, len, &sm, &e), PSC_OK);
+    assert_int_equal(psc_shadow_parse(b1, len1, &sm1, &e), PSC_OK);
+    for (unsigned k = 0; k < ntimes; k++) {
+        double mean[3], mean1[3];
+        accuracy_t a = gltf_accuracy(&g, &sm, times[k], NULL, mean), a1 = gltf_accuracy(&g, &sm1, times[k], NULL, mean1);
+        char label[96];
+        if (times[k] < 0)
+            snprintf(label, sizeof label, "%s at rest", file);
+        else
+            snprintf(label, sizeof label, "%s at %.2f s", file, times[k]);
+        print_message("  %-40s correlation %.3f, mean abs error %.3f, mean %.3f against %.3f (one level: %.3f, %.3f);\n"
+                      "  %-40s the finest spheres' centres %.4f R from the surface\n", label, a.corr, a.mae, mean[0],
+                      mean[1], a1.corr, a1.mae, "", mean[2]);
+        if (min_corr > 0) {
+            assert_true(a.corr >= min_corr);
+            assert_true(a.corr > a1.corr);   /* the tree beats one level */
+        }
+        assert_true(a.mae <= max_mae);
+        if (k == 0)
+            rest_track = mean[2];
+        assert_true(mean[2] <= 1.5 * rest_track);   /* the spheres follow the joints: as near the skin as at rest */
+    }
+    free(b);
+    free(b1);
+    psc_gltf_free(&g);
+}
+
+/* The glTF models: a skinned bar bent by a bone chain (rest and two times of its animation: it hardly occludes
+ * itself, so what counts is no false shadow and spheres that follow the bones) and a rigid truck (a hollow shell
+ * with an inside: spheres fit it worse than a body). */
+static void test_gltf_against_raycast(void **state)
+{
+    (void)state;
+    const double bar_times[] = {-1.0, 0.2, 0.4}, truck_times[] = {-1.0};
+    gltf_case("animation_with_skeleton.gltf", bar_times, 3, -1.0, 0.04);
+    gltf_case("CesiumMilkTruck.gltf", truck_times, 1, 0.5, 0.3);
+}
+
+/* Mutated and truncated glTF files: the importer refuses them with a message naming the file, or reads a model
+ * the posing handles. */
+static void test_gltf_fuzz(void **state)
+{
+    (void)state;
+    FILE *f = fopen(GLTF_DIR "animation_with_skeleton.gltf", "rb");
+    assert_non_null(f);
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    rewind(f);
+    char *orig = malloc((size_t)n), *buf = malloc((size_t)n);
+    assert_true(orig && buf && fread(orig, 1, (size_t)n, f) == (size_t)n);
+    fclose(f);
+    char path[] = "/tmp/periscope-gltf-fuzz-XXXXXX.gltf";
+    int fd = mkstemps(path, 5);
+    assert_true(fd >= 0);
+    close(fd);
+    uint32_t seed = 0x5eed1234u;
+    unsigned refused = 0, read = 0;
+    for (unsigned round = 0; round < 60; round++) {
+        memcpy(buf, orig, (size_t)n);
+        long len = n;
+        if (round % 3 == 0) {
+            seed = seed * 1664525u + 1013904223u;
+            len = (long)(seed % (uint32_t)n);   /* truncated */
+        } else {
+            for (unsigned k = 0; k < 1u + round % 7u; k++) {   /* bytes changed, in the JSON or the data */
+                seed = seed * 1664525u + 1013904223u;
+                buf[seed % (uint32_t)n] = (char)(seed >> 24);
+            }
+        }
+        f = fopen(path, "wb");
+        assert_non_null(f);
+        assert_true(fwrite(buf, 1, (size_t)len, f) == (size_t)len);
+        fclose(f);
+        psc_gltf_t g;
+        char err[512], note[256] = "";
+        if (psc_gltf_load(path, &g, note, sizeof note, err, sizeof err) != 0) {
+            assert_non_null(strstr(err, path));
+            refused++;
+            continue;
+        }
+        read++;
+        psc_gltf_trs_t *local = malloc(g.joint_count * sizeof *local);
+        double (*skin)[12] = malloc(g.joint_count * sizeof *skin);
+        double *pos = malloc(g.mesh.vertex_count * 3 * sizeof *pos), *nrm = malloc(g.mesh.vertex_count * 3 * sizeof *nrm);
+        assert_true(local && skin && pos && nrm);
+        psc_gltf_pose(&g, g.duration / 2, local);
+        psc_gltf_skin(&g, local, skin);
+        psc_gltf_deform(&g, (const double(*)[12])skin, pos, nrm);
+        for (uint32_t t = 0; t < 3u * g.mesh.triangle_count; t++)
+            assert_true(g.mesh.index[t] < g.mesh.vertex_count);
+        free(local), free(skin), free(pos), free(nrm);
+        psc_gltf_free(&g);
+    }
+    print_message("  60 mutated or truncated glTF files: %u refused with a message, %u read and posed\n", refused, read);
+    assert_true(refused > 0);
+    remove(path);
+    free(orig);
+    free(buf);
+}
+
 /* ---- animation -------------------------------------------------------------------------------------------- */
 
 /* Thom's torso (green shirt) darkens as his arms come down from the T-pose (Wave.act starts arms down). */
@@ -535,6 +740,8 @@ int main(void)
         cmocka_unit_test(test_composite_map),
         cmocka_unit_test(test_overlap),
         cmocka_unit_test(test_against_raycast),
+        cmocka_unit_test(test_gltf_against_raycast),
+        cmocka_unit_test(test_gltf_fuzz),
         cmocka_unit_test(test_armpits_darken),
         cmocka_unit_test(test_pack_fuzz),
     };

@@ -59,7 +59,7 @@ typedef struct {
     uint64_t occlusion_sum;      /* their occlusion, summed (Q0.16) */
 } psc_shadow_t;
 
-/** Workspace bytes for m shading character pm (aligned to 8). */
+/** Workspace bytes for m shading character pm, or a mesh (pm NULL); aligned to 8. */
 size_t psc_shadow_workspace_size(const psc_shadow_model_t *m, const psc_patch_model_t *pm);
 
 /** Start: ws of psc_shadow_workspace_size bytes; the spheres at rest. PSC_ERR_ARG when m was made for another
@@ -67,8 +67,17 @@ size_t psc_shadow_workspace_size(const psc_shadow_model_t *m, const psc_patch_mo
 psc_status_t psc_shadow_init(psc_shadow_t *s, const psc_shadow_model_t *m, const psc_patch_model_t *pm, void *ws,
                              size_t ws_size);
 
+/** Start for a triangle mesh posed by bone_count skin matrices (m made for as many bones): ws of
+ *  psc_shadow_workspace_size(m, NULL) bytes, aligned to 8. */
+psc_status_t psc_shadow_init_mesh(psc_shadow_t *s, const psc_shadow_model_t *m, uint32_t bone_count, void *ws,
+                                  size_t ws_size);
+
 /** The spheres posed as p's skeleton is this frame (after psc_patch_pose). */
 void psc_shadow_update(psc_shadow_t *s, const psc_patch_t *p);
+
+/** The spheres posed by bone_skin[0..bone_count) (posed x rest^-1, units of R; nothing moves when bone_count
+ *  differs from the pack's). */
+void psc_shadow_update_bones(psc_shadow_t *s, const psc_mat4_q16_t *bone_skin, uint32_t bone_count);
 
 /** The occlusion (Q0.16) at a point with unit normal n (Q16.16). */
 uint32_t psc_shadow_occlusion(const psc_shadow_t *s, const int32_t pos[3], const int32_t n[3]);
@@ -86,5 +95,13 @@ uint32_t psc_shadow_occlusion_bent(const psc_shadow_t *s, const int32_t pos[3], 
  * occlusion (Q0.16) as the frame shows it.
  */
 void psc_shadow_apply(psc_shadow_t *s, psc_patch_t *p, int32_t strength_q16, uint32_t *occlusion);
+
+/**
+ * The same for a posed triangle mesh of count vertices (positions Q16.16 in
+ * units of R, normals Q1.14, XRGB colours): composed at every vertex;
+ * colours darkened and normals bent in place.
+ */
+void psc_shadow_apply_mesh(psc_shadow_t *s, const int32_t *pos_q16, int16_t *nrm_q14, uint32_t *color,
+                           uint32_t count, int32_t strength_q16, uint32_t *occlusion);
 
 #endif

@@ -162,20 +162,20 @@ static bool unit(int32_t v[3])
 
 size_t psc_shadow_workspace_size(const psc_shadow_model_t *m, const psc_patch_model_t *pm)
 {
-    return m && pm ? (((size_t)m->sphere_count * 12u + 7u) & ~(size_t)7u) + (size_t)pm->point_count *
-                     sizeof(psc_shadow_point_t) : 0;
+    return m ? (((size_t)m->sphere_count * 12u + 7u) & ~(size_t)7u) +
+               (pm ? (size_t)pm->point_count * sizeof(psc_shadow_point_t) : 0) : 0;
 }
 
-psc_status_t psc_shadow_init(psc_shadow_t *s, const psc_shadow_model_t *m, const psc_patch_model_t *pm, void *ws,
-                             size_t ws_size)
+/* What both kinds of model start with: the workspace laid out, the tables made, the spheres at rest. */
+static psc_status_t init_common(psc_shadow_t *s, const psc_shadow_model_t *m, const psc_patch_model_t *pm, void *ws,
+                                size_t ws_size)
 {
-    if (s == NULL || m == NULL || pm == NULL || ws == NULL || ((uintptr_t)ws & 7u) || m->bone_count != pm->bone_count)
-        return PSC_ERR_ARG;
     if (ws_size < psc_shadow_workspace_size(m, pm))
         return PSC_ERR_NOMEM;
     *s = (psc_shadow_t){.m = m, .center = (int32_t(*)[3])ws,
-                        .point = (psc_shadow_point_t *)((uint8_t *)ws +
-                                                        (((size_t)m->sphere_count * 12u + 7u) & ~(size_t)7u))};
+                        .point = pm ? (psc_shadow_point_t *)((uint8_t *)ws +
+                                                             (((size_t)m->sphere_count * 12u + 7u) & ~(size_t)7u))
+                                    : NULL};
     for (uint32_t i = 0; i < PSC_SHADOW_ANGLE_TABLE; i++) {   /* cos of i / 256 of pi */
         int32_t c30;
         psc_sincos((psc_bam_t)(i << 23), NULL, &c30);
@@ -188,6 +188,25 @@ psc_status_t psc_shadow_init(psc_shadow_t *s, const psc_shadow_model_t *m, const
     for (uint32_t i = 0; i < m->sphere_count; i++)
         for (unsigned k = 0; k < 3; k++)
             s->center[i][k] = m->spheres[i].center_q16[k];
+    return PSC_OK;
+}
+
+psc_status_t psc_shadow_init_mesh(psc_shadow_t *s, const psc_shadow_model_t *m, uint32_t bone_count, void *ws,
+                                  size_t ws_size)
+{
+    if (s == NULL || m == NULL || ws == NULL || ((uintptr_t)ws & 7u) || m->bone_count != bone_count)
+        return PSC_ERR_ARG;
+    return init_common(s, m, NULL, ws, ws_size);
+}
+
+psc_status_t psc_shadow_init(psc_shadow_t *s, const psc_shadow_model_t *m, const psc_patch_model_t *pm, void *ws,
+                             size_t ws_size)
+{
+    if (s == NULL || m == NULL || pm == NULL || ws == NULL || ((uintptr_t)ws & 7u) || m->bone_count != pm->bone_count)
+        return PSC_ERR_ARG;
+    psc_status_t st = init_common(s, m, pm, ws, ws_size);
+    if (st != PSC_OK)
+        return st;
     /* the patches' mean edge at rest (the chord between its corners): small patches take the occlusion from
      * their corners, large ones compose it at every vertex */
     uint64_t sum = 0, edges = 0;
@@ -210,9 +229,14 @@ psc_status_t psc_shadow_init(psc_shadow_t *s, const psc_shadow_model_t *m, const
 
 void psc_shadow_update(psc_shadow_t *s, const psc_patch_t *p)
 {
+    psc_shadow_update_bones(s, p->bone_skin, p->m->bone_count);
+}
+
+void psc_shadow_update_bones(psc_shadow_t *s, const psc_mat4_q16_t *bone_skin, uint32_t bone_count)
+{
     const psc_shadow_model_t *m = s->m;
 
-    if (m->bone_count == 0)
+    if (m->bone_count == 0 || bone_count != m->bone_count)
         return;
     for (uint32_t i = 0; i < m->sphere_count; i++) {
         const psc_shadow_sphere_t *sp = &m->spheres[i];
@@ -221,7 +245,7 @@ void psc_shadow_update(psc_shadow_t *s, const psc_patch_t *p)
             uint16_t bone = b ? sp->bone1 : sp->bone0;
             if (bone == PSC_SHADOW_NO_BONE || (b && sp->w1_q15 == 0))
                 continue;
-            const psc_mat4_q16_t *mx = &p->bone_skin[bone];
+            const psc_mat4_q16_t *mx = &bone_skin[bone];
             int64_t v[3];
             for (unsigned r = 0; r < 3; r++)
                 v[r] = (int64_t)mx->m[r][0] * sp->center_q16[0] + (int64_t)mx->m[r][1] * sp->center_q16[1] +
@@ -572,6 +596,36 @@ static void face_corners(psc_shadow_t *s, const psc_patch_t *p, const psc_patch_
     }
 }
 
+/* A vertex shaded: its colour darkened by occlusion o times strength, its normal (Q1.14) the bent one (unit Q16):
+ * the light comes mostly from where the occluders leave open. */
+static void shade_vertex(psc_shadow_t *s, uint32_t o, const int32_t bent[3], uint32_t *color, int16_t *nrm_q14,
+                         int32_t strength_q16)
+{
+    for (unsigned a = 0; a < 3; a++)
+        nrm_q14[a] = (int16_t)psc_shr_round64(bent[a], 2);
+    int64_t fct = 65536 - psc_shr_round64((int64_t)o * strength_q16, 16);
+    uint32_t col = *color, out = col & 0xFF000000u;
+    for (unsigned sh = 0; sh < 24; sh += 8)
+        out |= (uint32_t)psc_shr_round64((int64_t)((col >> sh) & 0xFFu) * fct, 16) << sh;
+    *color = out;
+    s->shaded++;
+    s->occlusion_sum += o;
+}
+
+void psc_shadow_apply_mesh(psc_shadow_t *s, const int32_t *pos_q16, int16_t *nrm_q14, uint32_t *color,
+                           uint32_t count, int32_t strength_q16, uint32_t *occlusion)
+{
+    s->shaded = 0;
+    s->occlusion_sum = 0;
+    for (uint32_t i = 0; i < count; i++) {   /* the seed's way: composed at every vertex */
+        int32_t n[3] = {nrm_q14[3 * i] * 4, nrm_q14[3 * i + 1] * 4, nrm_q14[3 * i + 2] * 4}, bent[3];
+        uint32_t o = psc_shadow_occlusion_bent(s, &pos_q16[3 * i], n, bent);
+        shade_vertex(s, o, bent, &color[i], &nrm_q14[3 * i], strength_q16);
+        if (occlusion)
+            occlusion[i] = o;
+    }
+}
+
 void psc_shadow_apply(psc_shadow_t *s, psc_patch_t *p, int32_t strength_q16, uint32_t *occlusion)
 {
     const psc_patch_model_t *pm = p->m;
@@ -608,18 +662,9 @@ void psc_shadow_apply(psc_shadow_t *s, psc_patch_t *p, int32_t strength_q16, uin
                 for (unsigned a = 0; a < 3; a++)
                     nv[a] = bent[a];
             }
-            /* shade with the bent normal: the light comes mostly from where the occluders leave open */
-            for (unsigned a = 0; a < 3; a++)
-                p->out_nrm[3 * i + a] = (int16_t)psc_shr_round64(nv[a], 2);
-            int64_t fct = 65536 - psc_shr_round64((int64_t)o * strength_q16, 16);
-            uint32_t col = p->out_color[i], out = 0;
-            for (unsigned sh = 0; sh < 24; sh += 8)
-                out |= (uint32_t)psc_shr_round64((int64_t)((col >> sh) & 0xFFu) * fct, 16) << sh;
-            p->out_color[i] = out;
+            shade_vertex(s, o, nv, &p->out_color[i], &p->out_nrm[3 * i], strength_q16);
             if (occlusion)
                 occlusion[i] = o;
-            s->shaded++;
-            s->occlusion_sum += o;
         }
         v += count;
     }

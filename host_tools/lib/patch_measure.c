@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* patch_measure.c - cracks and chord error of a patch tessellation (patch_measure.h). */
 #include "patch_measure.h"
+#include "text_out.h"
 #include "psc_io_error.h"
 #include "psc_io_file.h"
 
@@ -228,11 +229,10 @@ double psc_patch_measure_chord(const psc_patch_t *p, const psc_patch_t *ref)
 
 int psc_patch_write_obj(const psc_patch_t *p, const char *path, char *err, size_t errlen)
 {
-    char *text = NULL;
-    size_t len = 0;
-    FILE *f = open_memstream(&text, &len);
-    if (f == NULL)
-        return psc_io_errorf(err, errlen, path, "out of memory");
+    psc_text_out_t out;
+    if (psc_text_out_begin(&out, path, err, errlen) != 0)
+        return -1;
+    FILE *f = out.f;
     fprintf(f, "# Hash patch tessellation (periscope-render --dump-obj): units of R\n");
     uint32_t base = 1;
     for (uint32_t fi = 0; fi < p->m->face_count; fi++) {
@@ -252,11 +252,5 @@ int psc_patch_write_obj(const psc_patch_t *p, const char *path, char *err, size_
         }
         base += vn;
     }
-    if (fclose(f) != 0) {
-        free(text);
-        return psc_io_errorf(err, errlen, path, "out of memory");
-    }
-    int rc = psc_io_write_atomic(path, text, len, err, errlen);
-    free(text);
-    return rc;
+    return psc_text_out_finish(&out, path, err, errlen);
 }

@@ -8,6 +8,7 @@
 #include "psc_io_error.h"
 #include "psc_io_file.h"
 #include "render_target.h"
+#include "text_out.h"
 #include "3d/psc_3d_orbit.h"
 #include "3d/psc_3d_render.h"
 #include "shadow/psc_shadow_frame.h"
@@ -247,11 +248,10 @@ static double now_s(void)
 static int write_ao(const psc_patch_t *p, const uint32_t *occlusion, const psc_patch_model_t *m, const char *path,
                     char *err, size_t errlen)
 {
-    char *text = NULL;
-    size_t len = 0;
-    FILE *f = open_memstream(&text, &len);
-    if (f == NULL)
-        return psc_io_errorf(err, errlen, path, "out of memory");
+    psc_text_out_t out;
+    if (psc_text_out_begin(&out, path, err, errlen) != 0)
+        return -1;
+    FILE *f = out.f;
     double r = m->scale_q16 / 65536.0;
     fprintf(f, "x,y,z,nx,ny,nz,occlusion\n");
     for (uint32_t i = 0; i < p->vtx_total; i++) {
@@ -262,13 +262,7 @@ static int write_ao(const psc_patch_t *p, const uint32_t *occlusion, const psc_p
                 p->out_pos[3 * i + 2] / 65536.0 * r + m->center_q16[2] / 65536.0, n[0] / 65536.0, n[1] / 65536.0,
                 n[2] / 65536.0, occ / 65536.0);
     }
-    if (fclose(f) != 0) {
-        free(text);
-        return psc_io_errorf(err, errlen, path, "out of memory");
-    }
-    int rc = psc_io_write_atomic(path, text, len, err, errlen);
-    free(text);
-    return rc;
+    return psc_text_out_finish(&out, path, err, errlen);
 }
 
 /* Pose, solve and tessellate one tessellator. */

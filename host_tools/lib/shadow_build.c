@@ -389,8 +389,11 @@ int psc_shadow_write(const psc_shadow_sphere_t *sph, size_t nsph, unsigned level
     return 0;
 }
 
-int psc_shadow_build(const psc_patch_model_t *m, const psc_shadow_build_opts_t *o, const char *name, uint8_t **out,
-                     size_t *out_len, char *note, size_t notelen, char *err, size_t errlen)
+/* The tree, its skin and the maps from surface samples s[0..ns) (taken over) and where they go (mo, taken over)
+ * for a skeleton of bone_count bones. */
+static int build_from_samples(sample_t *s, size_t ns, motion_t mo, uint32_t bone_count,
+                              const psc_shadow_build_opts_t *o, const char *name, uint8_t **out, size_t *out_len,
+                              char *note, size_t notelen, char *err, size_t errlen)
 {
     unsigned levels = o && o->levels ? o->levels : PSC_SHADOW_BUILD_LEVELS;
     unsigned finest = o && o->spheres ? o->spheres : PSC_SHADOW_BUILD_SPHERES;
@@ -400,19 +403,19 @@ int psc_shadow_build(const psc_patch_model_t *m, const psc_shadow_build_opts_t *
     *out = NULL;
     *out_len = 0;
     if (levels > PSC_SHADOW_MAX_LEVELS || table < 4 || table > PSC_SHADOW_MAX_TABLE || finest < 8 ||
-        finest > PSC_SHADOW_MAX_SPHERES / 2)
+        finest > PSC_SHADOW_MAX_SPHERES / 2) {
+        free(s);
+        free((void *)mo.f);
         return psc_io_errorf(err, errlen, name, "levels 1..%u, spheres 8..%u, table size 4..%u", PSC_SHADOW_MAX_LEVELS,
                              PSC_SHADOW_MAX_SPHERES / 2, PSC_SHADOW_MAX_TABLE);
+    }
     /* children per sphere so that the finest level has about `finest` spheres */
     unsigned k = levels > 1 ? (unsigned)lround(pow(finest / 8.0, 1.0 / (levels - 1))) : 1;
     k = k < 2 ? 2 : k > 255 ? 255 : k;
-    sample_t *s = NULL;
-    size_t ns = 0;
-    motion_t mo = {NULL, 0};
-    if (surface_samples(m, &s, &ns, &mo) != 0 || ns < 8) {
+    if (ns < 8) {
         free(s);
         free((void *)mo.f);
-        return psc_io_errorf(err, errlen, name, "cannot tessellate the rest pose for surface samples");
+        return psc_io_errorf(err, errlen, name, "fewer than 8 surface samples");
     }
     /* the levels: clusters of clusters */
     size_t cap = 8;
@@ -478,16 +481,16 @@ int psc_shadow_build(const psc_patch_model_t *m, const psc_shadow_build_opts_t *
         if (cl_count[i] == 0) {   /* an empty cluster: a tiny sphere at its parent's centre keeps the tree whole */
             sph[i].center_q16[0] = sph[i].center_q16[1] = sph[i].center_q16[2] = 0;
             sph[i].radius_q16 = 1;
-            sph[i].bone0 = m->bone_count ? 0 : PSC_SHADOW_NO_BONE;
+            sph[i].bone0 = bone_count ? 0 : PSC_SHADOW_NO_BONE;
             sph[i].bone1 = PSC_SHADOW_NO_BONE;
         } else {
-            fit_sphere(s, idx + cl_first[i], cl_count[i], m->bone_count, &sph[i]);
+            fit_sphere(s, idx + cl_first[i], cl_count[i], bone_count, &sph[i]);
         }
         sph[i].first_child = cc ? fc : PSC_SHADOW_NO_CHILD;
         sph[i].child_count = cc;
         sph[i].level = lv;
     }
-    if (psc_shadow_write(sph, nsph, levels, level_first, m->bone_count, table, name, out, out_len, err, errlen) != 0)
+    if (psc_shadow_write(sph, nsph, levels, level_first, bone_count, table, name, out, out_len, err, errlen) != 0)
         goto done;
     psc_note_add(note, notelen, "%zu surface samples, %zu spheres on %u levels (%u children each), maps %ux%u and %u^3",
                  ns, nsph, levels, k, table, table, table / 2 < 8 ? 8 : table / 2);
@@ -503,4 +506,71 @@ done:
     free(cl_count);
     free(ctr);
     return rc;
+}
+
+int psc_shadow_build(const psc_patch_model_t *m, const psc_shadow_build_opts_t *o, const char *name, uint8_t **out,
+                     size_t *out_len, char *note, size_t notelen, char *err, size_t errlen)
+{
+    sample_t *s = NULL;
+    size_t ns = 0;
+    motion_t mo = {NULL, 0};
+    *out = NULL;
+    *out_len = 0;
+    if (surface_samples(m, &s, &ns, &mo) != 0) {
+        free(s);
+        free((void *)mo.f);
+        return psc_io_errorf(err, errlen, name, "cannot tessellate the rest pose for surface samples");
+    }
+    return build_from_samples(s, ns, mo, m->bone_count, o, name, out, out_len, note, notelen, err, errlen);
+}
+
+int psc_shadow_build_gltf(const psc_gltf_t *g, const psc_shadow_build_opts_t *o, const char *name, uint8_t **out,
+                          size_t *out_len, char *note, size_t notelen, char *err, size_t errlen)
+{
+    double c[3], r;
+    uint32_t nv = g->mesh.vertex_count;
+    unsigned poses = g->duration > 0 ? 1u + POSES_PER_ACTION : 1u;
+    sample_t *s = calloc(nv ? nv : 1u, sizeof *s);
+    motion_t mo = {malloc((size_t)(nv ? nv : 1u) * 3u * poses * sizeof(double)), 3u * poses};
+    psc_gltf_trs_t *local = malloc((g->joint_count ? g->joint_count : 1u) * sizeof *local);
+    double (*skin)[12] = malloc((g->joint_count ? g->joint_count : 1u) * sizeof *skin);
+    double *pos = malloc((size_t)(nv ? nv : 1u) * 3u * sizeof *pos), *nrm = malloc((size_t)(nv ? nv : 1u) * 3u * sizeof *nrm);
+    *out = NULL;
+    *out_len = 0;
+    if (!s || !mo.f || !local || !skin || !pos || !nrm) {
+        free(s);
+        free((void *)mo.f);
+        free(local);
+        free(skin);
+        free(pos);
+        free(nrm);
+        return psc_io_errorf(err, errlen, name, "out of memory");
+    }
+    psc_gltf_frame(g, c, &r);
+    /* the samples: the vertices at rest in units of R, with their two heaviest joints */
+    for (uint32_t i = 0; i < nv; i++) {
+        for (unsigned a = 0; a < 3; a++) {
+            s[i].p[a] = (g->mesh.pos[3 * i + a] - c[a]) / r;
+            s[i].n[a] = g->mesh.normal[3 * i + a];
+        }
+        const double *w = g->weight[i];
+        s[i].bone0 = g->joint[i][0];
+        s[i].bone1 = w[1] > 0 ? g->joint[i][1] : PSC_PATCH_NO_BONE;
+        s[i].w1 = w[1] > 0 ? w[1] / (w[0] + w[1]) : 0.0;
+    }
+    /* where they go: the rest pose and POSES_PER_ACTION times through the animation */
+    double *f = (double *)mo.f;
+    for (unsigned q = 0; q < poses; q++) {
+        psc_gltf_pose(g, q == 0 ? -1.0 : g->duration * (q - 1u) / POSES_PER_ACTION, local);
+        psc_gltf_skin(g, local, skin);
+        psc_gltf_deform(g, (const double(*)[12])skin, pos, nrm);
+        for (uint32_t i = 0; i < nv; i++)
+            for (unsigned a = 0; a < 3; a++)
+                f[(size_t)i * mo.dim + 3u * q + a] = (pos[3 * i + a] - c[a]) / r;
+    }
+    free(local);
+    free(skin);
+    free(pos);
+    free(nrm);
+    return build_from_samples(s, nv, mo, g->joint_count, o, name, out, out_len, note, notelen, err, errlen);
 }

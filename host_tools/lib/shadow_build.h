@@ -28,6 +28,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "gltf_load.h"
 #include "patch/psc_patch.h"
 #include "shadow/psc_shadow.h"
 
@@ -63,5 +64,14 @@ int psc_shadow_write(const psc_shadow_sphere_t *sph, size_t nsph, unsigned level
  */
 int psc_shadow_build(const psc_patch_model_t *m, const psc_shadow_build_opts_t *o, const char *name, uint8_t **out,
                      size_t *out_len, char *note, size_t notelen, char *err, size_t errlen);
+
+/**
+ * The same for an articulated or skinned model (gltf_load.h): its vertices
+ * at rest are the samples (in units of its R, psc_gltf_frame), their two
+ * heaviest joints their skin, the animation their motion; the pack is made
+ * for its joint_count joints.
+ */
+int psc_shadow_build_gltf(const psc_gltf_t *g, const psc_shadow_build_opts_t *o, const char *name, uint8_t **out,
+                          size_t *out_len, char *note, size_t notelen, char *err, size_t errlen);
 
 #endif
