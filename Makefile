@@ -94,6 +94,14 @@ IMG_LIBS += $(shell $(PKG_CONFIG) --libs assimp)
 else
 HOSTLIB_SRC := $(filter-out host_tools/lib/gltf_load.c,$(HOSTLIB_SRC))
 endif
+# Pose files (POSE.json) when pkg-config finds json-c; without it the tools say so.
+ifeq ($(shell $(PKG_CONFIG) --exists json-c 2>/dev/null && echo yes),yes)
+HOSTLIB_SRC := $(filter-out host_tools/lib/pose_file_load_none.c,$(HOSTLIB_SRC))
+IMG_CFLAGS += $(shell $(PKG_CONFIG) --cflags json-c)
+IMG_LIBS += $(shell $(PKG_CONFIG) --libs json-c)
+else
+HOSTLIB_SRC := $(filter-out host_tools/lib/pose_file_load.c,$(HOSTLIB_SRC))
+endif
 FW_SRC := $(sort $(wildcard firmware/*.c))
 FW_MAIN := firmware/main.c
 TOOL_MAINS := $(sort $(wildcard host_tools/periscope-*.c))

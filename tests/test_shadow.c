@@ -452,7 +452,7 @@ static accuracy_t gltf_accuracy(const psc_gltf_t *g, const psc_shadow_model_t *s
     assert_true(skin && pos && nrm && local && skin_q16 && pq && nq && col && occ && dpos && tri);
     psc_gltf_frame(g, c, &r);
     psc_gltf_pose(g, t, local);
-    psc_gltf_skin(g, local, skin);
+    psc_gltf_skin(g, local, NULL, skin);
     psc_gltf_deform(g, (const double(*)[12])skin, pos, nrm);
     for (uint32_t i = 0; i < nv; i++)
         for (unsigned a = 0; a < 3; a++) {
@@ -618,7 +618,7 @@ static void test_gltf_fuzz(void **state)
         double *pos = malloc(g.mesh.vertex_count * 3 * sizeof *pos), *nrm = malloc(g.mesh.vertex_count * 3 * sizeof *nrm);
         assert_true(local && skin && pos && nrm);
         psc_gltf_pose(&g, g.duration / 2, local);
-        psc_gltf_skin(&g, local, skin);
+        psc_gltf_skin(&g, local, NULL, skin);
         psc_gltf_deform(&g, (const double(*)[12])skin, pos, nrm);
         for (uint32_t t = 0; t < 3u * g.mesh.triangle_count; t++)
             assert_true(g.mesh.index[t] < g.mesh.vertex_count);

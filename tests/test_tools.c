@@ -585,6 +585,24 @@ static void test_command_line_convention(void **state)
 
 /* ---- characters -------------------------------------------------------------------------------------------- */
 
+static bool same_file(const char *a, const char *b)
+{
+    size_t la, lb;
+    uint8_t *pa = tsup_read_bytes(a, &la), *pb = tsup_read_bytes(b, &lb);
+    bool same = pa && pb && la == lb && memcmp(pa, pb, la) == 0;
+    free(pa);
+    free(pb);
+    return same;
+}
+
+static void write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    assert_true(fputs(text, f) >= 0);
+    assert_int_equal(fclose(f), 0);
+}
+
 /* periscope-patch writes the pack periscope-render draws; the model drawn directly gives the same bytes; the
  * stats line is there and says no crack; mistakes get their messages. */
 static void test_patch_tools(void **state)
@@ -614,6 +632,29 @@ static void test_patch_tools(void **state)
     assert_memory_equal(pa, pb, la);
     free(pa);
     free(pb);
+    /* --pose t=T and a pose file with that time draw the same bytes as --time; a bone turned by the file does not */
+    char json[512], c_png[512];
+    tmp_path(json, sizeof json, "pose.json");
+    tmp_path(c_png, sizeof c_png, "thom-posed.png");
+    const char *by_pose[] = {ppk, "--play", "Wave", "--pose", "t=1.1", "--orbit", "200,10,2.5", "--size", "160x120",
+                             "-o", b_png, NULL};
+    expect_run("periscope-render", by_pose, 0, NULL);
+    assert_true(same_file(a_png, b_png));
+    write_text(json, "{\"time\": 1.1}");
+    const char *by_file[] = {ppk, "--play", "Wave", "--pose", json, "--orbit", "200,10,2.5", "--size", "160x120",
+                             "-o", b_png, NULL};
+    expect_run("periscope-render", by_file, 0, NULL);
+    assert_true(same_file(a_png, b_png));
+    write_text(json, "{\"time\": 1.1, \"nodes\": {\"14\": {\"rotate\": [1, 0, 0, 40]}}}");
+    const char *turned[] = {ppk, "--play", "Wave", "--pose", json, "--orbit", "200,10,2.5", "--size", "160x120",
+                            "-o", c_png, NULL};
+    expect_run("periscope-render", turned, 0, NULL);
+    assert_false(same_file(a_png, c_png));
+    write_text(json, "{\"nodes\": {\"Thigh\": {\"rotate\": [1, 0, 0, 40]}}}");
+    const char *by_name_said[] = {json, "node 'Thigh'", "given by number", NULL};
+    expect_run("periscope-render", turned, 1, by_name_said);
+    unlink(json);
+    unlink(c_png);
     const char *no_action[] = {ppk, "--play", "Dance", "-o", a_png, NULL};
     const char *no_action_said[] = {"has no action named 'Dance'", NULL};
     expect_run("periscope-render", no_action, 1, no_action_said);
@@ -625,6 +666,57 @@ static void test_patch_tools(void **state)
     unlink(ppk);
     unlink(a_png);
     unlink(b_png);
+}
+
+/* periscope-shadow builds a glTF model's tables; periscope-render poses it (rest, t=, a pose file naming a node)
+ * and shades it, --dump-ao writing a line a vertex; mistakes get their messages. */
+static void test_gltf_tools(void **state)
+{
+    (void)state;
+    const char *bar = "../shared/data/models/gltf/animation_with_skeleton.gltf";
+    const char *truck = "../shared/data/models/gltf/CesiumMilkTruck.gltf";
+    char pao[512], a_png[512], b_png[512], csv[512], json[512];
+    tmp_path(pao, sizeof pao, "bar.pao");
+    tmp_path(a_png, sizeof a_png, "bar-a.png");
+    tmp_path(b_png, sizeof b_png, "bar-b.png");
+    tmp_path(csv, sizeof csv, "bar.csv");
+    tmp_path(json, sizeof json, "truck.json");
+    const char *build[] = {"build", bar, "-o", pao, NULL}, *built[] = {"2464 surface samples", "spheres", NULL};
+    expect_run("periscope-shadow", build, 0, built);
+    const char *shaded[] = {bar, "--pose", "t=0.4", "--shadow", pao, "--dump-ao", csv, "--size", "160x120", "-o", a_png,
+                            NULL};
+    expect_run("periscope-render", shaded, 0, NULL);
+    size_t len;
+    char *text = (char *)tsup_read_bytes(csv, &len);
+    assert_non_null(text);
+    unsigned lines = 0;
+    for (size_t i = 0; i < len; i++)
+        lines += text[i] == '\n';
+    assert_int_equal(lines, 1 + 2464);   /* the header and a line a vertex */
+    assert_memory_equal(text, "x,y,z,nx,ny,nz,occlusion\n", 25);
+    free(text);
+    const char *plain[] = {bar, "--pose", "t=0.4", "--size", "160x120", "-o", b_png, NULL};
+    expect_run("periscope-render", plain, 0, NULL);
+    assert_false(same_file(a_png, b_png));   /* the shading shows */
+    /* a node turned by a pose file moves it */
+    const char *rest[] = {truck, "--size", "160x120", "-o", a_png, NULL};
+    expect_run("periscope-render", rest, 0, NULL);
+    write_text(json, "{\"nodes\": {\"Geometry-mesh001Node\": {\"translate\": [0, 0.6, 0]}}}");
+    const char *posed[] = {truck, "--pose", json, "--size", "160x120", "-o", b_png, NULL};
+    expect_run("periscope-render", posed, 0, NULL);
+    assert_false(same_file(a_png, b_png));
+    write_text(json, "{\"nodes\": {\"NoSuchNode\": {\"translate\": [0, 1, 0]}}}");
+    const char *no_node_said[] = {json, "node 'NoSuchNode'", NULL};
+    expect_run("periscope-render", posed, 1, no_node_said);
+    const char *other[] = {truck, "--shadow", pao, "-o", a_png, NULL}, *other_said[] = {"made for another model", NULL};
+    expect_run("periscope-render", other, 1, other_said);
+    const char *missing[] = {"build", "no/such.gltf", "-o", pao, NULL}, *missing_said[] = {"no/such.gltf", NULL};
+    expect_run("periscope-shadow", missing, 1, missing_said);
+    unlink(pao);
+    unlink(a_png);
+    unlink(b_png);
+    unlink(csv);
+    unlink(json);
 }
 
 /* ---- contact sheets ---------------------------------------------------------------------------------------- */
@@ -730,6 +822,7 @@ int main(void)
         cmocka_unit_test(test_exit_codes),
         cmocka_unit_test(test_command_line_convention),
         cmocka_unit_test(test_patch_tools),
+        cmocka_unit_test(test_gltf_tools),
         cmocka_unit_test(test_contact),
     };
     return cmocka_run_group_tests(tests, NULL, teardown_all);

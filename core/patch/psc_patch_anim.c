@@ -175,6 +175,12 @@ static void apply(const psc_mat4_q16_t *mx, const int32_t pin[3], int64_t out[3]
 
 void psc_patch_pose(psc_patch_t *p, int action, uint32_t time_ms)
 {
+    psc_patch_pose_begin(p, action, time_ms);
+    psc_patch_pose_finish(p);
+}
+
+void psc_patch_pose_begin(psc_patch_t *p, int action, uint32_t time_ms)
+{
     const psc_patch_model_t *m = p->m;
     const psc_patch_action_t *a = (action >= 0 && (uint32_t)action < m->action_count) ? &m->actions[action] : NULL;
     uint32_t t = a ? time_ms % a->duration_ms : 0;
@@ -207,6 +213,12 @@ void psc_patch_pose(psc_patch_t *p, int action, uint32_t time_ms)
                     p->pos[ch->target][k] += v[k];
         }
     }
+}
+
+void psc_patch_pose_finish(psc_patch_t *p)
+{
+    const psc_patch_model_t *m = p->m;
+
     if (m->bone_count == 0)
         return;
     pose_bones(p, false);

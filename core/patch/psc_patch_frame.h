@@ -136,6 +136,11 @@ psc_status_t psc_patch_init(psc_patch_t *p, const psc_patch_model_t *m, const ps
  */
 void psc_patch_pose(psc_patch_t *p, int action, uint32_t time_ms);
 
+/** psc_patch_pose in two steps, for a caller that adjusts the bones between: the action's channels into
+ *  bone_rot_q30 and bone_trans_q16 (and the muscles into the points), then the bones and the points from them. */
+void psc_patch_pose_begin(psc_patch_t *p, int action, uint32_t time_ms);
+void psc_patch_pose_finish(psc_patch_t *p);
+
 /** Solve every CP's tangent handles from the posed points (hooks placed on their segments first). */
 void psc_patch_tangents(psc_patch_t *p);
 

@@ -54,14 +54,6 @@ static int add_joints(build_t *b, const struct aiNode *n, int32_t parent)
     return 0;
 }
 
-static int32_t joint_named(const psc_gltf_t *g, const char *name)
-{
-    for (uint32_t j = 0; j < g->joint_count; j++)
-        if (strcmp(g->joints[j].name, name) == 0)
-            return (int32_t)j;
-    return -1;
-}
-
 static uint32_t material_color(const struct aiScene *sc, unsigned mi)
 {
     struct aiColor4D c = {0.8f, 0.8f, 0.8f, 1.0f};
@@ -207,7 +199,7 @@ static int add_mesh(build_t *b, const struct aiScene *sc, unsigned mi, uint32_t 
     }
     for (unsigned bi = 0; bi < am->mNumBones; bi++) {
         const struct aiBone *bone = am->mBones[bi];
-        int32_t bj = joint_named(g, bone->mName.data);
+        int32_t bj = psc_gltf_joint_named(g, bone->mName.data);
         if (bj < 0)
             return psc_io_errorf(err, errlen, path, "mesh '%s': bone '%s' names no node", am->mName.data,
                                  bone->mName.data);
@@ -248,7 +240,7 @@ static int add_mesh(build_t *b, const struct aiScene *sc, unsigned mi, uint32_t 
                     continue;
                 double off[12], bind[12], q[3], qn[3];
                 from_ai(&bone->mOffsetMatrix, off);
-                psc_gltf_mat_mul(rest_world[joint_named(g, bone->mName.data)], off, bind);
+                psc_gltf_mat_mul(rest_world[psc_gltf_joint_named(g, bone->mName.data)], off, bind);
                 psc_gltf_mat_point(bind, p, q);
                 psc_gltf_mat_dir(bind, n, qn);
                 for (unsigned k = 0; k < 3; k++) {
@@ -303,7 +295,7 @@ static int add_channels(psc_gltf_t *g, const struct aiScene *sc, const char *pat
         return psc_io_errorf(err, errlen, path, "out of memory");
     for (unsigned c = 0; c < a->mNumChannels; c++) {
         const struct aiNodeAnim *na = a->mChannels[c];
-        int32_t j = joint_named(g, na->mNodeName.data);
+        int32_t j = psc_gltf_joint_named(g, na->mNodeName.data);
         if (j < 0)
             continue;   /* animates a node that is not there: nothing to move */
         psc_gltf_channel_t *ch = &g->channels[g->channel_count++];
@@ -364,7 +356,7 @@ int psc_gltf_load(const char *path, psc_gltf_t *out, char *note, size_t notelen,
     }
     for (uint32_t j = 0; j < out->joint_count; j++)
         rest[j] = out->joints[j].rest;
-    psc_gltf_worlds(out, rest, rest_world);
+    psc_gltf_worlds(out, rest, NULL, rest_world);
     for (uint32_t j = 0; j < out->joint_count; j++)
         for (unsigned k = 0; k < b.node[j]->mNumMeshes; k++)
             if (b.node[j]->mMeshes[k] < sc->mNumMeshes &&

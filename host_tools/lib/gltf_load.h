@@ -69,12 +69,21 @@ bool psc_gltf_is_model(const char *path);
  *  joint_count TRS. */
 void psc_gltf_pose(const psc_gltf_t *g, double t, psc_gltf_trs_t *local);
 
-/** The skin matrices (row-major 3x4: rotation-scale and translation) for the local transforms: posed world x rest
- *  world^-1. skin: joint_count x 12 doubles. */
-void psc_gltf_skin(const psc_gltf_t *g, const psc_gltf_trs_t *local, double (*skin)[12]);
+/** A joint's pose adjusted by hand (pose_file.h): local' = pre x local x post (row-major 3x4 each). */
+typedef struct {
+    double pre[12], post[12];
+} psc_gltf_adjust_t;
+
+/** The skin matrices (row-major 3x4: rotation-scale and translation) for the local transforms, each adjusted by
+ *  adjust[joint] (NULL: none): posed world x rest world^-1. skin: joint_count x 12 doubles. */
+void psc_gltf_skin(const psc_gltf_t *g, const psc_gltf_trs_t *local, const psc_gltf_adjust_t *adjust,
+                   double (*skin)[12]);
 
 /** The rest mesh's vertices moved by skin: pos and normal (unit) each 3 per vertex. */
 void psc_gltf_deform(const psc_gltf_t *g, const double (*skin)[12], double *pos, double *normal);
+
+/** The joint named name, or -1. */
+int32_t psc_gltf_joint_named(const psc_gltf_t *g, const char *name);
 
 /** The frame the product draws and shades a model in: the rest pose's bounding-box centre and R, half its
  *  diagonal (a position p is (p - centre) / R in units of R). */
@@ -86,7 +95,8 @@ void psc_gltf_mat_mul(const double a[12], const double b[12], double out[12]);
 void psc_gltf_mat_inverse(const double a[12], double out[12]);
 void psc_gltf_mat_point(const double m[12], const double p[3], double out[3]);
 void psc_gltf_mat_dir(const double m[12], const double p[3], double out[3]);
-/** World transforms of the joints for the local transforms (parents come before children). */
-void psc_gltf_worlds(const psc_gltf_t *g, const psc_gltf_trs_t *local, double (*world)[12]);
+/** World transforms of the joints for the local transforms, adjusted (NULL: not); parents come before children. */
+void psc_gltf_worlds(const psc_gltf_t *g, const psc_gltf_trs_t *local, const psc_gltf_adjust_t *adjust,
+                     double (*world)[12]);
 
 #endif

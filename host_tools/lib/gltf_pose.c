@@ -64,11 +64,16 @@ void psc_gltf_mat_dir(const double m[12], const double p[3], double out[3])
 }
 
 /* World transforms of the joints for the local transforms (parents come before children). */
-void psc_gltf_worlds(const psc_gltf_t *g, const psc_gltf_trs_t *local, double (*world)[12])
+void psc_gltf_worlds(const psc_gltf_t *g, const psc_gltf_trs_t *local, const psc_gltf_adjust_t *adjust,
+                     double (*world)[12])
 {
     for (uint32_t j = 0; j < g->joint_count; j++) {
         double m[12];
         psc_gltf_mat_from_trs(&local[j], m);
+        if (adjust) {
+            psc_gltf_mat_mul(adjust[j].pre, m, m);
+            psc_gltf_mat_mul(m, adjust[j].post, m);
+        }
         if (g->joints[j].parent < 0)
             memcpy(world[j], m, sizeof m);
         else
@@ -131,7 +136,8 @@ void psc_gltf_pose(const psc_gltf_t *g, double t, psc_gltf_trs_t *local)
     }
 }
 
-void psc_gltf_skin(const psc_gltf_t *g, const psc_gltf_trs_t *local, double (*skin)[12])
+void psc_gltf_skin(const psc_gltf_t *g, const psc_gltf_trs_t *local, const psc_gltf_adjust_t *adjust,
+                   double (*skin)[12])
 {
     double (*posed)[12] = malloc(g->joint_count * sizeof *posed), (*rest)[12] = malloc(g->joint_count * sizeof *rest);
     psc_gltf_trs_t *r = calloc(g->joint_count ? g->joint_count : 1u, sizeof *r);
@@ -146,8 +152,8 @@ void psc_gltf_skin(const psc_gltf_t *g, const psc_gltf_trs_t *local, double (*sk
     }
     for (uint32_t j = 0; j < g->joint_count; j++)
         r[j] = g->joints[j].rest;
-    psc_gltf_worlds(g, local, posed);
-    psc_gltf_worlds(g, r, rest);
+    psc_gltf_worlds(g, local, adjust, posed);
+    psc_gltf_worlds(g, r, NULL, rest);
     for (uint32_t j = 0; j < g->joint_count; j++) {
         double inv[12];
         psc_gltf_mat_inverse(rest[j], inv);
@@ -210,4 +216,12 @@ void psc_gltf_frame(const psc_gltf_t *g, double centre[3], double *r)
         d2 += (hi[a] - lo[a]) * (hi[a] - lo[a]);
     }
     *r = d2 > 0 ? sqrt(d2) / 2 : 1.0;
+}
+
+int32_t psc_gltf_joint_named(const psc_gltf_t *g, const char *name)
+{
+    for (uint32_t j = 0; j < g->joint_count; j++)
+        if (strcmp(g->joints[j].name, name) == 0)
+            return (int32_t)j;
+    return -1;
 }

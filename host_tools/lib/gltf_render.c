@@ -8,6 +8,7 @@
 #include "psc_io_load.h"
 #include "angle_conv.h"
 #include "cli_parse.h"
+#include "pose_file.h"
 #include "render_target.h"
 #include "text_out.h"
 #include "3d/psc_3d_orbit.h"
@@ -24,7 +25,7 @@
 #define BACKGROUND 0x30343Cu   /* (48, 52, 60) */
 
 typedef struct {
-    const char *model, *out, *shadow, *dump_ao;
+    const char *model, *out, *shadow, *dump_ao, *pose_file;
     double yaw, pitch, dist, hfov, time;
     uint16_t width, height;
     bool cull;
@@ -51,7 +52,9 @@ static void usage(const char *prog, FILE *f)
             "                      diagonal), turned up by P then right by Y degrees (default 30,20,2.5)\n"
             "  --hfov F            horizontal field of view in degrees (default 50)\n"
             "  --size WxH          output size (default 640x480)\n"
-            "  --pose rest|t=T     the rest pose (default), or T seconds into the first animation\n"
+            "  --pose P            rest (default), t=T (T seconds into the first animation) or POSE.json:\n"
+            "                      {\"time\": T, \"nodes\": {\"NAME or INDEX\": {\"rotate\": [ax, ay, az, deg],\n"
+            "                      \"translate\": [x, y, z]}}}, local' = T local R on top of the animation\n"
             "  --shadow M.pao      self-shadowing from the model's sphere-occluder tables\n"
             "                      (periscope-shadow build MODEL)\n"
             "  --dump-ao AO.csv    with --shadow: x,y,z,nx,ny,nz,occlusion of every vertex\n"
@@ -106,6 +109,9 @@ static int parse_args(const char *prog, int argc, char **argv, gltf_args_t *a)
                 return psc_io_cli_usage_error(prog, "--size '%s': expected WxH, each 1..%u", v,
                                               (unsigned)PSC_MAX_OUT_DIM);
         } else if (strcmp(name, "--pose") == 0) {
+            a->pose_file = psc_pose_is_file(v) ? v : NULL;
+            if (a->pose_file)
+                continue;
             if (strcmp(v, "rest") == 0)
                 a->time = -1.0;
             else if (strncmp(v, "t=", 2) != 0 || psc_cli_parse_double(v + 2, &a->time) != 0 ||
@@ -204,11 +210,11 @@ static void posed_free(posed_t *p)
     free(p->ao);
 }
 
-/* Pose at time t (< 0: rest): the mesh in the device's formats, and the skin in units of R. */
-static void pose(posed_t *p, const psc_gltf_t *g, double t)
+/* Pose at time t (< 0: rest), adjusted (NULL: not): the mesh in the device's formats, and the skin in units of R. */
+static void pose(posed_t *p, const psc_gltf_t *g, double t, const psc_gltf_adjust_t *adjust)
 {
     psc_gltf_pose(g, t, p->local);
-    psc_gltf_skin(g, p->local, p->skin);
+    psc_gltf_skin(g, p->local, adjust, p->skin);
     psc_gltf_deform(g, (const double(*)[12])p->skin, p->pos, p->nrm);
     for (uint32_t i = 0; i < g->mesh.vertex_count; i++)
         for (unsigned a = 0; a < 3; a++) {
@@ -261,6 +267,37 @@ static int write_ao(const posed_t *p, const char *path, char *err, size_t errlen
     return psc_text_out_finish(&out, path, err, errlen);
 }
 
+/* --pose POSE.json: its time into a->time, its nodes as the joints' adjustments (*adjust, joint_count of them). */
+static int pose_from_file(gltf_args_t *a, const psc_gltf_t *g, psc_gltf_adjust_t **adjust, char *err, size_t errlen)
+{
+    psc_pose_file_t pf;
+    if (psc_pose_file_load(a->pose_file, &pf, err, errlen) != 0)
+        return -1;
+    *adjust = malloc((g->joint_count ? g->joint_count : 1u) * sizeof **adjust);
+    if (*adjust == NULL) {
+        psc_pose_file_free(&pf);
+        return psc_io_errorf(err, errlen, a->pose_file, "out of memory");
+    }
+    static const psc_gltf_adjust_t none = {{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}};
+    for (uint32_t j = 0; j < g->joint_count; j++)
+        (*adjust)[j] = none;
+    int rc = 0;
+    for (unsigned k = 0; k < pf.count && rc == 0; k++) {
+        const psc_pose_node_t *n = &pf.nodes[k];
+        int32_t j = psc_gltf_joint_named(g, n->name);
+        if (j < 0 && n->index >= 0 && n->index < (long)g->joint_count)
+            j = (int32_t)n->index;
+        if (j < 0)
+            rc = psc_io_errorf(err, errlen, a->pose_file, "node '%s' is neither a node of %s nor a number below %u",
+                               n->name, a->model, (unsigned)g->joint_count);
+        else
+            psc_pose_node_matrices(n, (*adjust)[j].pre, (*adjust)[j].post);
+    }
+    a->time = pf.time;
+    psc_pose_file_free(&pf);
+    return rc;
+}
+
 static double now_s(void)
 {
     struct timespec ts;
@@ -287,7 +324,9 @@ int psc_gltf_render_main(const char *prog, int argc, char **argv)
     psc_shadow_t sh;
     void *sh_ws = NULL;
     psc_render_target_t rt = {0};
-    if (posed_new(&p, &g, a.model, err, sizeof err) != 0) {
+    psc_gltf_adjust_t *adjust = NULL;
+    if (posed_new(&p, &g, a.model, err, sizeof err) != 0 ||
+        (a.pose_file && pose_from_file(&a, &g, &adjust, err, sizeof err) != 0)) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
@@ -305,7 +344,7 @@ int psc_gltf_render_main(const char *prog, int argc, char **argv)
         }
     }
     /* the camera: on the rest pose's box, in units of R */
-    pose(&p, &g, -1.0);
+    pose(&p, &g, -1.0, NULL);
     psc_vec3_q16_t lo = {INT32_MAX, INT32_MAX, INT32_MAX}, hi = {INT32_MIN, INT32_MIN, INT32_MIN};
     for (uint32_t i = 0; i < p.mesh.vertex_count; i++) {
         const int32_t *v = &p.pos_q16[3 * i];
@@ -327,7 +366,7 @@ int psc_gltf_render_main(const char *prog, int argc, char **argv)
     }
     double t_shade = 0;
     for (unsigned long k = 0; k < a.repeat; k++) {
-        pose(&p, &g, a.time);
+        pose(&p, &g, a.time, adjust);
         double t0 = now_s();
         if (a.shadow) {
             psc_shadow_update_bones(&sh, p.skin_q16, g.joint_count);
@@ -353,6 +392,7 @@ int psc_gltf_render_main(const char *prog, int argc, char **argv)
     }
     rc = 0;
 done:
+    free(adjust);
     psc_render_target_close(&rt);
     free(sh_ws);
     psc_io_shadow_free(&sf);

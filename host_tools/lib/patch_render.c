@@ -7,6 +7,7 @@
 #include "psc_io_cli.h"
 #include "psc_io_error.h"
 #include "psc_io_file.h"
+#include "patch_pose.h"
 #include "render_target.h"
 #include "text_out.h"
 #include "3d/psc_3d_orbit.h"
@@ -24,7 +25,7 @@
 #define BACKGROUND 0x30343Cu
 
 typedef struct {
-    const char *model, *out, *depth, *dump_obj, *play, *shadow, *dump_ao;
+    const char *model, *out, *depth, *dump_obj, *play, *shadow, *dump_ao, *pose_file;
     psc_patch_load_opts_t load;
     double yaw, pitch, dist, hfov, flatness, tol_px, time;
     uint16_t width, height;
@@ -58,7 +59,9 @@ static void usage(const char *prog, FILE *f)
             "  --action A.act      an action for an A:M model (repeat for more; the first plays)\n"
             "  --play NAME         which of the character's actions plays (default: the first)\n"
             "  --time T            seconds into the action (default 0; it loops)\n"
-            "  --pose rest|t=T     the rest pose, or T seconds into the action (as --time)\n"
+            "  --pose P            rest, t=T (T seconds into the action, as --time) or POSE.json:\n"
+            "                      {\"time\": T, \"nodes\": {\"BONE NUMBER\": {\"rotate\": [ax, ay, az, deg],\n"
+            "                      \"translate\": [x, y, z]}}}, local' = T local R on top of the action\n"
             "  --skin-from D.mdl   take CP-to-bone assignments from another model of the character\n"
             "  --deform B1,B2,..   the bones that deform a model that assigns no CP to a bone\n"
             "  --bvh M.bvh         a motion capture, retargeted by bone name (after the actions)\n"
@@ -87,6 +90,7 @@ static const struct option patch_options[] = {
     {"size", required_argument, NULL, 1},      {"flatness", required_argument, NULL, 1},
     {"tol-px", required_argument, NULL, 1},    {"action", required_argument, NULL, 1},
     {"play", required_argument, NULL, 1},      {"time", required_argument, NULL, 1},
+    {"pose", required_argument, NULL, 1},
     {"skin-from", required_argument, NULL, 1}, {"deform", required_argument, NULL, 1},
     {"bvh", required_argument, NULL, 1},       {"bvh-map", required_argument, NULL, 1},
     {"cull", required_argument, NULL, 1},      {"tiles", required_argument, NULL, 1},
@@ -125,6 +129,8 @@ static int parse_value(const char *prog, patch_args_t *a, const char *name, cons
     } else if (strcmp(name, "--time") == 0) {
         if (psc_cli_parse_double(v, &a->time) != 0 || !(a->time >= 0.0 && a->time <= 3600.0))
             return psc_io_cli_usage_error(prog, "--time '%s': expected seconds in 0..3600", v);
+    } else if (strcmp(name, "--pose") == 0 && psc_pose_is_file(v)) {
+        a->pose_file = v;
     } else if (strcmp(name, "--pose") == 0) {
         a->rest = strcmp(v, "rest") == 0;
         if (!a->rest && (strncmp(v, "t=", 2) != 0 || psc_cli_parse_double(v + 2, &a->time) != 0 ||
@@ -266,16 +272,20 @@ static int write_ao(const psc_patch_t *p, const uint32_t *occlusion, const psc_p
 }
 
 /* Pose, solve and tessellate one tessellator. */
-static psc_status_t frame(psc_patch_t *p, int action, uint32_t ms, const psc_patch_camera_t *cam,
-                          psc_patch_stats_t *st)
+static psc_status_t frame(psc_patch_t *p, int action, uint32_t ms, const psc_pose_file_t *adjust,
+                          const psc_patch_camera_t *cam, psc_patch_stats_t *st)
 {
-    psc_patch_pose(p, action, ms);
+    psc_patch_pose_begin(p, action, ms);
+    if (adjust)
+        psc_patch_pose_adjust(p, adjust);
+    psc_patch_pose_finish(p);
     psc_patch_tangents(p);
     return psc_patch_tessellate(p, cam, st);
 }
 
 /* The stats line: cracks and chord error measured on culling-free tessellations of the same frame. */
-static int print_stats(const psc_patch_model_t *m, int action, uint32_t ms, const psc_patch_camera_t *cam,
+static int print_stats(const psc_patch_model_t *m, int action, uint32_t ms, const psc_pose_file_t *pose,
+                       const psc_patch_camera_t *cam,
                        const psc_patch_stats_t *st)
 {
     tess_t open = {0}, ref = {0};
@@ -286,7 +296,7 @@ static int print_stats(const psc_patch_model_t *m, int action, uint32_t ms, cons
     rc.tol_px_q16 = 0;
     rc.tol_units_q16 = 1;   /* every edge and patch to the depth cap */
     if (tess_new(&open, m, PSC_PATCH_MAX_DEPTH) != 0 || tess_new(&ref, m, PSC_PATCH_MAX_DEPTH) != 0 ||
-        frame(&open.p, action, ms, &c, NULL) != PSC_OK || frame(&ref.p, action, ms, &rc, NULL) != PSC_OK)
+        frame(&open.p, action, ms, pose, &c, NULL) != PSC_OK || frame(&ref.p, action, ms, pose, &rc, NULL) != PSC_OK)
         goto done;
     long cracks = psc_patch_measure_cracks(&open.p);
     double chord = psc_patch_measure_chord(&open.p, &ref.p);
@@ -324,11 +334,21 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
     psc_shadow_t sh;
     void *sh_ws = NULL;
     uint32_t *ao = NULL;          /* --dump-ao: each vertex's occlusion as the frame shows it */
+    psc_pose_file_t pose = {0};
     bool shaded = false;
     int action = find_action(m, a.play);
     if (action == -2) {
         fprintf(stderr, "%s: %s has no action named '%s'\n", prog, a.model, a.play);
         goto done;
+    }
+    if (a.pose_file) {   /* --pose POSE.json: its time, its bones */
+        if (psc_pose_file_load(a.pose_file, &pose, err, sizeof err) != 0 ||
+            psc_patch_pose_check(m, &pose, a.pose_file, err, sizeof err) != 0) {
+            fprintf(stderr, "%s: %s\n", prog, err);
+            goto done;
+        }
+        a.rest = pose.time < 0;
+        a.time = pose.time < 0 ? 0.0 : pose.time;
     }
     if (a.rest)
         action = -1;   /* --pose rest */
@@ -383,7 +403,7 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
         double t0 = now_s();
         /* a repeated run plays the action from the given time on, a frame at 60 Hz */
         uint32_t at = ms + (uint32_t)(k * 1000ul / 60ul);
-        if ((s = frame(&t.p, action, at, &cam, &st)) != PSC_OK) {
+        if ((s = frame(&t.p, action, at, a.pose_file ? &pose : NULL, &cam, &st)) != PSC_OK) {
             fprintf(stderr, "%s: %s: tessellation failed: %s\n", prog, a.model, psc_status_str(s));
             goto done;
         }
@@ -413,7 +433,7 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
-    if (a.stats && print_stats(m, action, ms, &cam, &st) != 0) {
+    if (a.stats && print_stats(m, action, ms, a.pose_file ? &pose : NULL, &cam, &st) != 0) {
         fprintf(stderr, "%s: %s: out of memory measuring the tessellation\n", prog, a.model);
         goto done;
     }
@@ -423,6 +443,7 @@ done:
     free(sh_ws);
     free(ao);
     psc_io_shadow_free(&sf);
+    psc_pose_file_free(&pose);
     psc_render_target_close(&rt);
     psc_io_patch_free(&pf);
     return rc;

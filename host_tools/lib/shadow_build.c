@@ -562,7 +562,7 @@ int psc_shadow_build_gltf(const psc_gltf_t *g, const psc_shadow_build_opts_t *o,
     double *f = (double *)mo.f;
     for (unsigned q = 0; q < poses; q++) {
         psc_gltf_pose(g, q == 0 ? -1.0 : g->duration * (q - 1u) / POSES_PER_ACTION, local);
-        psc_gltf_skin(g, local, skin);
+        psc_gltf_skin(g, local, NULL, skin);
         psc_gltf_deform(g, (const double(*)[12])skin, pos, nrm);
         for (uint32_t i = 0; i < nv; i++)
             for (unsigned a = 0; a < 3; a++)
