@@ -3,10 +3,11 @@
  * periscope-shadow - build the self-shadowing tables of a character (stage
  * one of the sphere-occluder self-shadowing, host_tools/lib/shadow_build.h):
  *
- *   periscope-shadow build MODEL.{mdl,bpt,ppk,gltf,glb} -o M.pao [--levels L] [--spheres N] [--table-size N]
+ *   periscope-shadow build MODEL.{mdl,bpt,ppk,gltf,glb,obj} -o M.pao [--levels L] [--spheres N] [--table-size N]
  *                    [--skin-from D.mdl]
  *
- * A glTF model (through libassimp) gets its tables for its joints. The device's character scene finds M.pao beside its .ppk (same name) and
+ * A glTF model (through libassimp) gets tables for its joints, an OBJ file for its groups. The device's
+ * character scene finds M.pao beside its .ppk (same name) and
  * shades the character with it. Exit status: 0 done, 1 the work failed, 2 bad
  * arguments.
  */
@@ -25,7 +26,7 @@
 static void print_usage(FILE *f)
 {
     fprintf(f,
-            "usage: " PROG " build MODEL.{mdl,bpt,ppk,gltf,glb} -o M.pao [--levels L] [--spheres N] [--table-size N]\n"
+            "usage: " PROG " build MODEL.{mdl,bpt,ppk,gltf,glb,obj} -o M.pao [--levels L] [--spheres N] [--table-size N]\n"
             "       [--skin-from D.mdl]\n"
             "\n"
             "Precompute a character's or a glTF model's self-shadowing: the sphere tree fitted to its rest pose, the\n"
@@ -105,7 +106,7 @@ int main(int argc, char **argv)
         return usage_error("no output given (-o M.pao)");
     psc_io_patch_t pf = {0};
     psc_gltf_t g = {0};
-    bool gltf = psc_gltf_is_model(model);
+    bool gltf = psc_gltf_is_model(model) || psc_gltf_is_obj(model);
     char load_note[256] = "";
     if (gltf ? psc_gltf_load(model, &g, load_note, sizeof load_note, err, sizeof err) != 0
              : psc_patch_load_any(model, &lo, &pf, err, sizeof err) != 0) {

@@ -712,6 +712,26 @@ static void test_gltf_tools(void **state)
     expect_run("periscope-render", other, 1, other_said);
     const char *missing[] = {"build", "no/such.gltf", "-o", pao, NULL}, *missing_said[] = {"no/such.gltf", NULL};
     expect_run("periscope-shadow", missing, 1, missing_said);
+    /* an OBJ with groups: a box on a slab, shaded through the same importer */
+    char obj[512];
+    tmp_path(obj, sizeof obj, "boxes.obj");
+    write_text(obj, "g slab\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\nv -2 -0.2 -2\nv 2 -0.2 -2\nv 2 -0.2 2\n"
+                    "v -2 -0.2 2\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n"
+                    "g box\nv -0.5 0 -0.5\nv 0.5 0 -0.5\nv 0.5 1 -0.5\nv -0.5 1 -0.5\nv -0.5 0 0.5\nv 0.5 0 0.5\n"
+                    "v 0.5 1 0.5\nv -0.5 1 0.5\nf 9 12 11 10\nf 13 14 15 16\nf 9 10 14 13\nf 10 11 15 14\n"
+                    "f 11 12 16 15\nf 12 9 13 16\n");
+    const char *obj_build[] = {"build", obj, "-o", pao, NULL}, *obj_built[] = {"16 surface samples", NULL};
+    expect_run("periscope-shadow", obj_build, 0, obj_built);
+    const char *obj_shaded[] = {obj, "--shadow", pao, "--dump-ao", csv, "--size", "160x120", "-o", a_png, NULL};
+    expect_run("periscope-render", obj_shaded, 0, NULL);
+    text = (char *)tsup_read_bytes(csv, &len);
+    assert_non_null(text);
+    lines = 0;
+    for (size_t i = 0; i < len; i++)
+        lines += text[i] == '\n';
+    assert_int_equal(lines, 1 + 16);
+    free(text);
+    unlink(obj);
     unlink(pao);
     unlink(a_png);
     unlink(b_png);

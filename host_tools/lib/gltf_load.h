@@ -65,6 +65,9 @@ void psc_gltf_free(psc_gltf_t *g);
 /** Whether path names a file the importer is for here (.gltf, .glb). */
 bool psc_gltf_is_model(const char *path);
 
+/** Whether path names an OBJ file (which the importer also reads: for its groups' self-shadowing). */
+bool psc_gltf_is_obj(const char *path);
+
 /** The joints' local transforms at time t (seconds, looping over the duration; t < 0: the rest pose). local:
  *  joint_count TRS. */
 void psc_gltf_pose(const psc_gltf_t *g, double t, psc_gltf_trs_t *local);

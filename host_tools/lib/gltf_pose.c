@@ -185,6 +185,12 @@ void psc_gltf_deform(const psc_gltf_t *g, const double (*skin)[12], double *pos,
     }
 }
 
+bool psc_gltf_is_obj(const char *path)
+{
+    size_t n = strlen(path);
+    return n > 4 && strcasecmp(path + n - 4, ".obj") == 0;
+}
+
 bool psc_gltf_is_model(const char *path)
 {
     size_t n = strlen(path);

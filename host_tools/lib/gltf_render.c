@@ -35,10 +35,14 @@ typedef struct {
 
 bool psc_gltf_render_wanted(int argc, char **argv)
 {
-    for (int i = 1; i < argc; i++)
+    bool obj = false, shadow = false;
+    for (int i = 1; i < argc; i++) {
         if (argv[i][0] != '-' && psc_gltf_is_model(argv[i]))
             return true;
-    return false;
+        obj |= argv[i][0] != '-' && psc_gltf_is_obj(argv[i]);
+        shadow |= strcmp(argv[i], "--shadow") == 0 || strncmp(argv[i], "--shadow=", 9) == 0;
+    }
+    return obj && shadow;   /* an OBJ self-shadowed: read as the importer reads it, its groups the parts */
 }
 
 static void usage(const char *prog, FILE *f)
