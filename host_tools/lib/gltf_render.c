@@ -10,8 +10,8 @@
 #include "cli_parse.h"
 #include "pose_file.h"
 #include "render_target.h"
+#include "render_view.h"
 #include "text_out.h"
-#include "3d/psc_3d_orbit.h"
 #include "3d/psc_3d_render.h"
 #include "shadow/psc_shadow_frame.h"
 
@@ -21,16 +21,12 @@
 #include <string.h>
 #include <time.h>
 
-#define MAX_REPEAT 100000ul
 #define BACKGROUND 0x30343Cu   /* (48, 52, 60) */
 
 typedef struct {
     const char *model, *out, *shadow, *dump_ao, *pose_file;
-    double yaw, pitch, dist, hfov, time;
-    uint16_t width, height;
-    bool cull;
-    unsigned long repeat;
-    psc_pixfmt_t format;
+    psc_render_view_t view;
+    double time;
 } gltf_args_t;
 
 bool psc_gltf_render_wanted(int argc, char **argv)
@@ -99,19 +95,12 @@ static int parse_args(const char *prog, int argc, char **argv, gltf_args_t *a)
             psc_io_cli_print_version(prog);
             exit(0);
         }
-        if (strcmp(name, "-o") == 0) {
+        int view = psc_render_view_option(prog, name, v, &a->view);
+        if (view >= 0) {
+            if (view != 0)
+                return view;
+        } else if (strcmp(name, "-o") == 0) {
             a->out = v;
-        } else if (strcmp(name, "--orbit") == 0) {
-            if (psc_cli_parse_orbit(v, &a->yaw, &a->pitch, &a->dist) != 0)
-                return psc_io_cli_usage_error(prog, "--orbit '%s': expected YAW,PITCH,DIST (pitch -90..90, dist "
-                                                    "1/64..256)", v);
-        } else if (strcmp(name, "--hfov") == 0) {
-            if (psc_cli_parse_double(v, &a->hfov) != 0 || !(a->hfov >= 1.0 && a->hfov <= 170.0))
-                return psc_io_cli_usage_error(prog, "--hfov '%s': expected degrees in 1..170", v);
-        } else if (strcmp(name, "--size") == 0) {
-            if (psc_cli_parse_size(v, PSC_MAX_OUT_DIM, &a->width, &a->height) != 0)
-                return psc_io_cli_usage_error(prog, "--size '%s': expected WxH, each 1..%u", v,
-                                              (unsigned)PSC_MAX_OUT_DIM);
         } else if (strcmp(name, "--pose") == 0) {
             a->pose_file = psc_pose_is_file(v) ? v : NULL;
             if (a->pose_file)
@@ -125,17 +114,6 @@ static int parse_args(const char *prog, int argc, char **argv, gltf_args_t *a)
             a->shadow = v;
         } else if (strcmp(name, "--dump-ao") == 0) {
             a->dump_ao = v;
-        } else if (strcmp(name, "--cull") == 0) {
-            if (strcmp(v, "back") != 0 && strcmp(v, "none") != 0)
-                return psc_io_cli_usage_error(prog, "--cull '%s': expected back or none", v);
-            a->cull = strcmp(v, "back") == 0;
-        } else if (strcmp(name, "--format") == 0) {
-            if (strcmp(v, "rgb565") != 0 && strcmp(v, "xrgb8888") != 0)
-                return psc_io_cli_usage_error(prog, "--format '%s': expected rgb565 or xrgb8888", v);
-            a->format = strcmp(v, "rgb565") == 0 ? PSC_PIX_RGB565 : PSC_PIX_XRGB8888;
-        } else if (strcmp(name, "--repeat") == 0) {
-            if (psc_cli_parse_uint(v, 1, MAX_REPEAT, &a->repeat) != 0)
-                return psc_io_cli_usage_error(prog, "--repeat '%s': expected a count of 1..%lu", v, MAX_REPEAT);
         }
     }
     for (int i = psc_io_cli_rest(&c); i < argc; i++) {
@@ -311,11 +289,11 @@ static double now_s(void)
 
 int psc_gltf_render_main(const char *prog, int argc, char **argv)
 {
-    gltf_args_t a = {.yaw = 30, .pitch = 20, .dist = 2.5, .hfov = 50, .time = -1.0, .width = 640, .height = 480,
-                     .cull = true, .repeat = 1, .format = PSC_PIX_RGB565};
+    gltf_args_t a = {.view = psc_render_view_defaults(30, 20, 2.5, 50), .time = -1.0};
     int rc = parse_args(prog, argc, argv, &a);
     if (rc != 0)
         return rc;
+    const psc_render_view_t *vw = &a.view;
     char err[768], note[256] = "";
     psc_gltf_t g;
     if (psc_gltf_load(a.model, &g, note, sizeof note, err, sizeof err) != 0) {
@@ -357,19 +335,18 @@ int psc_gltf_render_main(const char *prog, int argc, char **argv)
     }
     psc_3d_draw_t d;
     psc_3d_draw_defaults(&d, &p.mesh);
-    d.cull_back = a.cull;
-    psc_3d_config_t cfg = {a.width, a.height, 0, 0, 32, psc_bam_from_deg(a.hfov), 0, 0, p.mesh.vertex_count};
-    if (psc_3d_orbit(lo, hi, psc_bam_from_deg(a.yaw), psc_sbam_from_deg(a.pitch), (int32_t)lround(a.dist * 65536.0),
-                     &d.camera_from_object, &cfg.near_q16, &cfg.far_q16) != PSC_OK) {
+    d.cull_back = vw->cull;
+    psc_3d_config_t cfg = {vw->width, vw->height, 0, 0, 32, psc_bam_from_deg(vw->hfov), 0, 0, p.mesh.vertex_count};
+    if (psc_render_view_orbit(vw, lo, hi, &d.camera_from_object, &cfg.near_q16, &cfg.far_q16) != PSC_OK) {
         fprintf(stderr, "%s: %s: the orbit view does not fit the fixed-point range\n", prog, a.model);
         goto done;
     }
-    if (psc_render_target_open(&rt, &cfg, a.format, false, a.model, err, sizeof err) != 0) {
+    if (psc_render_target_open(&rt, &cfg, vw->format, false, a.model, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
     double t_shade = 0;
-    for (unsigned long k = 0; k < a.repeat; k++) {
+    for (unsigned long k = 0; k < vw->repeat; k++) {
         pose(&p, &g, a.time, adjust);
         double t0 = now_s();
         if (a.shadow) {
@@ -386,9 +363,9 @@ int psc_gltf_render_main(const char *prog, int argc, char **argv)
             goto done;
         }
     }
-    if (a.repeat > 1)
-        fprintf(stderr, "%s: %lu frames of %ux%u: self-shadowing %.3f ms per frame (%u vertices)\n", prog, a.repeat,
-                (unsigned)a.width, (unsigned)a.height, t_shade / a.repeat * 1e3, (unsigned)p.mesh.vertex_count);
+    if (vw->repeat > 1)
+        fprintf(stderr, "%s: %lu frames of %ux%u: self-shadowing %.3f ms per frame (%u vertices)\n", prog, vw->repeat,
+                (unsigned)vw->width, (unsigned)vw->height, t_shade / vw->repeat * 1e3, (unsigned)p.mesh.vertex_count);
     if (psc_render_target_write(&rt, a.out, NULL, err, sizeof err) != 0 ||
         (a.dump_ao && write_ao(&p, a.dump_ao, err, sizeof err) != 0)) {
         fprintf(stderr, "%s: %s\n", prog, err);

@@ -10,6 +10,7 @@
 #include "angle_conv.h"
 #include "cli_parse.h"
 #include "render_target.h"
+#include "render_view.h"
 #include "image_io.h"
 #include "mesh_pack.h"
 #include "obj_load.h"
@@ -23,18 +24,14 @@
 #include <strings.h>
 #include <time.h>
 
-#define MAX_REPEAT 100000ul
 
 typedef struct {
     const char *model, *out, *texture, *depth, *write_pack;
-    double yaw, pitch, dist, hfov;
-    uint16_t width, height;
-    bool cull;
+    psc_render_view_t view;
     unsigned long tile;
-    psc_pixfmt_t format;
     psc_tex_filter_t filter;
     int shade;            /* -1: texture when there is one, else Gouraud */
-    unsigned long depth_bits, repeat;
+    unsigned long depth_bits;
 } model_args_t;
 
 static bool ends_with_obj(const char *s)
@@ -115,24 +112,14 @@ static int parse_args(const char *prog, int argc, char **argv, model_args_t *a)
             psc_io_cli_print_version(prog);
             exit(0);
         }
-        if (strcmp(name, "-o") == 0) {
+        int view = psc_render_view_option(prog, name, v, &a->view);
+        if (view >= 0) {
+            if (view != 0)
+                return view;
+        } else if (strcmp(name, "-o") == 0) {
             a->out = v;
-        } else if (strcmp(name, "--orbit") == 0) {
-            if (psc_cli_parse_orbit(v, &a->yaw, &a->pitch, &a->dist) != 0)
-                return psc_io_cli_usage_error(prog, "--orbit '%s': expected YAW,PITCH,DIST (pitch -90..90, dist 1/64..256)",
-                                           v);
-        } else if (strcmp(name, "--hfov") == 0) {
-            if (psc_cli_parse_double(v, &a->hfov) != 0 || !(a->hfov >= 1.0 && a->hfov <= 170.0))
-                return psc_io_cli_usage_error(prog, "--hfov '%s': expected degrees in 1..170", v);
-        } else if (strcmp(name, "--size") == 0) {
-            if (psc_cli_parse_size(v, PSC_MAX_OUT_DIM, &a->width, &a->height) != 0)
-                return psc_io_cli_usage_error(prog, "--size '%s': expected WxH, each 1..%u", v, (unsigned)PSC_MAX_OUT_DIM);
         } else if (strcmp(name, "--texture") == 0) {
             a->texture = v;
-        } else if (strcmp(name, "--cull") == 0) {
-            if (strcmp(v, "back") != 0 && strcmp(v, "none") != 0)
-                return psc_io_cli_usage_error(prog, "--cull '%s': expected back or none", v);
-            a->cull = strcmp(v, "back") == 0;
         } else if (strcmp(name, "--tiles") == 0) {
             if (psc_cli_parse_uint(v, 0, PSC_MAX_OUT_DIM, &a->tile) != 0)
                 return psc_io_cli_usage_error(prog, "--tiles '%s': expected a tile side of 0..%u pixels", v,
@@ -151,13 +138,6 @@ static int parse_args(const char *prog, int argc, char **argv, model_args_t *a)
             if (strcmp(v, "nearest") != 0 && strcmp(v, "bilinear") != 0)
                 return psc_io_cli_usage_error(prog, "--filter '%s': expected nearest or bilinear", v);
             a->filter = strcmp(v, "nearest") == 0 ? PSC_TEX_NEAREST : PSC_TEX_BILINEAR;
-        } else if (strcmp(name, "--format") == 0) {
-            if (strcmp(v, "rgb565") != 0 && strcmp(v, "xrgb8888") != 0)
-                return psc_io_cli_usage_error(prog, "--format '%s': expected rgb565 or xrgb8888", v);
-            a->format = strcmp(v, "rgb565") == 0 ? PSC_PIX_RGB565 : PSC_PIX_XRGB8888;
-        } else if (strcmp(name, "--repeat") == 0) {
-            if (psc_cli_parse_uint(v, 1, MAX_REPEAT, &a->repeat) != 0)
-                return psc_io_cli_usage_error(prog, "--repeat '%s': expected a count of 1..%lu", v, MAX_REPEAT);
         } else if (strcmp(name, "--write-pack") == 0) {
             a->write_pack = v;
         }
@@ -261,12 +241,12 @@ static double now_s(void)
 
 int psc_model_render_main(const char *prog, int argc, char **argv)
 {
-    model_args_t a = {.yaw = 30, .pitch = 20, .dist = 2.5, .hfov = 60, .width = 640, .height = 480, .cull = true,
-                      .format = PSC_PIX_RGB565, .filter = PSC_TEX_BILINEAR, .shade = -1, .depth_bits = 32,
-                      .repeat = 1};
+    model_args_t a = {.view = psc_render_view_defaults(30, 20, 2.5, 60), .filter = PSC_TEX_BILINEAR, .shade = -1,
+                      .depth_bits = 32};
     int rc = parse_args(prog, argc, argv, &a);
     if (rc != 0)
         return rc;
+    const psc_render_view_t *vw = &a.view;
     char err[768];
     psc_io_mesh_t mf, texpack = {0};
     if (load_mesh(&a, &mf, err, sizeof err) != 0) {
@@ -283,14 +263,13 @@ int psc_model_render_main(const char *prog, int argc, char **argv)
     psc_3d_draw_defaults(&d, &mf.mesh);
     psc_vec3_q16_t lo, hi;
     psc_mesh_bounds_q16(&mf.mesh, &lo, &hi);
-    psc_3d_config_t cfg = {a.width, a.height, (uint16_t)a.tile, (uint16_t)a.tile, (uint8_t)a.depth_bits,
-                           psc_bam_from_deg(a.hfov), 0, 0, mf.mesh.vertex_count};
-    if (psc_3d_orbit(lo, hi, psc_bam_from_deg(a.yaw), psc_sbam_from_deg(a.pitch), (int32_t)(a.dist * 65536.0 + 0.5),
-                     &d.camera_from_object, &cfg.near_q16, &cfg.far_q16) != PSC_OK) {
+    psc_3d_config_t cfg = {vw->width, vw->height, (uint16_t)a.tile, (uint16_t)a.tile, (uint8_t)a.depth_bits,
+                           psc_bam_from_deg(vw->hfov), 0, 0, mf.mesh.vertex_count};
+    if (psc_render_view_orbit(vw, lo, hi, &d.camera_from_object, &cfg.near_q16, &cfg.far_q16) != PSC_OK) {
         fprintf(stderr, "%s: %s: the orbit view does not fit the fixed-point range\n", prog, a.model);
         goto done;
     }
-    d.cull_back = a.cull;
+    d.cull_back = vw->cull;
     d.filter = a.filter;
     d.lit = mf.mesh.normal_q14 != NULL;
     d.light_dir = psc_vec3_normalize((psc_vec3_q16_t){-26000, 39000, -45000}); /* from the upper left, behind */
@@ -301,14 +280,14 @@ int psc_model_render_main(const char *prog, int argc, char **argv)
         goto done;
     }
     psc_status_t s;
-    if (psc_render_target_open(&rt, &cfg, a.format, a.depth != NULL, a.model, err, sizeof err) != 0) {
+    if (psc_render_target_open(&rt, &cfg, vw->format, a.depth != NULL, a.model, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
     uint32_t bg = 0x30343C;
     psc_3d_stats_t st;
     double best = 1e30, total = 0;
-    for (unsigned long k = 0; k < a.repeat; k++) {
+    for (unsigned long k = 0; k < vw->repeat; k++) {
         double t0 = now_s();
         s = psc_3d_render(&rt.r, &d, 1, &bg, &rt.out, &st);
         double dt = now_s() - t0;
@@ -319,10 +298,10 @@ int psc_model_render_main(const char *prog, int argc, char **argv)
             goto done;
         }
     }
-    if (a.repeat > 1)
-        fprintf(stderr, "%s: %lu frames of %ux%u, %u triangles (%u culled, %u outside): %.3f ms per frame (best %.3f)\n",
-                prog, a.repeat, (unsigned)a.width, (unsigned)a.height, (unsigned)st.triangles, (unsigned)st.culled,
-                (unsigned)st.outside, total / a.repeat * 1e3, best * 1e3);
+    if (vw->repeat > 1)
+        fprintf(stderr, "%s: %lu frames of %ux%u, %u triangles (%u culled, %u outside): %.3f ms per frame "
+                "(best %.3f)\n", prog, vw->repeat, (unsigned)vw->width, (unsigned)vw->height, (unsigned)st.triangles,
+                (unsigned)st.culled, (unsigned)st.outside, total / vw->repeat * 1e3, best * 1e3);
     if (psc_render_target_write(&rt, a.out, a.depth, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;

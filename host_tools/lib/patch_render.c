@@ -9,8 +9,8 @@
 #include "psc_io_file.h"
 #include "patch_pose.h"
 #include "render_target.h"
+#include "render_view.h"
 #include "text_out.h"
-#include "3d/psc_3d_orbit.h"
 #include "3d/psc_3d_render.h"
 #include "shadow/psc_shadow_frame.h"
 #include "angle_conv.h"
@@ -21,17 +21,15 @@
 #include <string.h>
 #include <time.h>
 
-#define MAX_REPEAT 100000ul
 #define BACKGROUND 0x30343Cu
 
 typedef struct {
     const char *model, *out, *depth, *dump_obj, *play, *shadow, *dump_ao, *pose_file;
     psc_patch_load_opts_t load;
-    double yaw, pitch, dist, hfov, flatness, tol_px, time;
-    uint16_t width, height;
-    bool cull, stats, rest;
-    unsigned long tile, repeat;
-    psc_pixfmt_t format;
+    psc_render_view_t view;
+    double flatness, tol_px, time;
+    bool stats, rest;
+    unsigned long tile;
 } patch_args_t;
 
 bool psc_patch_render_wanted(int argc, char **argv)
@@ -103,17 +101,11 @@ static const struct option patch_options[] = {
 
 static int parse_value(const char *prog, patch_args_t *a, const char *name, const char *v)
 {
+    int view = psc_render_view_option(prog, name, v, &a->view);
+    if (view >= 0)
+        return view;
     if (strcmp(name, "-o") == 0) {
         a->out = v;
-    } else if (strcmp(name, "--orbit") == 0) {
-        if (psc_cli_parse_orbit(v, &a->yaw, &a->pitch, &a->dist) != 0)
-            return psc_io_cli_usage_error(prog, "--orbit '%s': expected YAW,PITCH,DIST (pitch -90..90, dist 1/64..256)", v);
-    } else if (strcmp(name, "--hfov") == 0) {
-        if (psc_cli_parse_double(v, &a->hfov) != 0 || !(a->hfov >= 1.0 && a->hfov <= 170.0))
-            return psc_io_cli_usage_error(prog, "--hfov '%s': expected degrees in 1..170", v);
-    } else if (strcmp(name, "--size") == 0) {
-        if (psc_cli_parse_size(v, PSC_MAX_OUT_DIM, &a->width, &a->height) != 0)
-            return psc_io_cli_usage_error(prog, "--size '%s': expected WxH, each 1..%u", v, (unsigned)PSC_MAX_OUT_DIM);
     } else if (strcmp(name, "--flatness") == 0) {
         if (psc_cli_parse_double(v, &a->flatness) != 0 || !(a->flatness >= 1e-4 && a->flatness <= 1.0))
             return psc_io_cli_usage_error(prog, "--flatness '%s': expected a fraction of R in 0.0001..1", v);
@@ -146,20 +138,12 @@ static int parse_value(const char *prog, patch_args_t *a, const char *name, cons
         a->load.captures[a->load.capture_count++] = v;
     } else if (strcmp(name, "--bvh-map") == 0) {
         a->load.capture_map = v;
-    } else if (strcmp(name, "--cull") == 0) {
-        if (strcmp(v, "back") != 0 && strcmp(v, "none") != 0)
-            return psc_io_cli_usage_error(prog, "--cull '%s': expected back or none", v);
-        a->cull = strcmp(v, "back") == 0;
     } else if (strcmp(name, "--tiles") == 0) {
         if (psc_cli_parse_uint(v, 0, PSC_MAX_OUT_DIM, &a->tile) != 0)
             return psc_io_cli_usage_error(prog, "--tiles '%s': expected a tile side of 0..%u pixels", v,
                                           (unsigned)PSC_MAX_OUT_DIM);
     } else if (strcmp(name, "--depth") == 0) {
         a->depth = v;
-    } else if (strcmp(name, "--format") == 0) {
-        if (strcmp(v, "rgb565") != 0 && strcmp(v, "xrgb8888") != 0)
-            return psc_io_cli_usage_error(prog, "--format '%s': expected rgb565 or xrgb8888", v);
-        a->format = strcmp(v, "rgb565") == 0 ? PSC_PIX_RGB565 : PSC_PIX_XRGB8888;
     } else if (strcmp(name, "--stats") == 0) {
         a->stats = true;
     } else if (strcmp(name, "--dump-obj") == 0) {
@@ -170,9 +154,6 @@ static int parse_value(const char *prog, patch_args_t *a, const char *name, cons
         a->dump_ao = v;
     } else if (strcmp(name, "--write-pack") == 0) {
         a->load.write_pack = v;
-    } else if (strcmp(name, "--repeat") == 0) {
-        if (psc_cli_parse_uint(v, 1, MAX_REPEAT, &a->repeat) != 0)
-            return psc_io_cli_usage_error(prog, "--repeat '%s': expected a count of 1..%lu", v, MAX_REPEAT);
     }
     return 0;
 }
@@ -313,11 +294,11 @@ done:
 
 int psc_patch_render_main(const char *prog, int argc, char **argv)
 {
-    patch_args_t a = {.yaw = 30, .pitch = 10, .dist = 2.5, .hfov = 50, .width = 640, .height = 480, .cull = true,
-                      .format = PSC_PIX_RGB565, .repeat = 1};
+    patch_args_t a = {.view = psc_render_view_defaults(30, 10, 2.5, 50)};
     int rc = parse_args(prog, argc, argv, &a);
     if (rc != 0)
         return rc;
+    const psc_render_view_t *vw = &a.view;
     if (a.flatness == 0.0 && a.tol_px == 0.0)
         a.tol_px = 0.5;
     char err[768];
@@ -378,28 +359,27 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
     psc_vec3_q16_t lo = {m->lo_q16[0], m->lo_q16[1], m->lo_q16[2]}, hi = {m->hi_q16[0], m->hi_q16[1], m->hi_q16[2]};
     psc_patch_camera_t cam = {0};
     int32_t near_q16, far_q16;
-    if (psc_3d_orbit(lo, hi, psc_bam_from_deg(a.yaw), psc_sbam_from_deg(a.pitch), (int32_t)lround(a.dist * 65536.0),
-                     &cam.camera_from_object, &near_q16, &far_q16) != PSC_OK) {
+    if (psc_render_view_orbit(vw, lo, hi, &cam.camera_from_object, &near_q16, &far_q16) != PSC_OK) {
         fprintf(stderr, "%s: %s: the orbit view does not fit the fixed-point range\n", prog, a.model);
         goto done;
     }
-    double focal = a.width / 2.0 / tan(a.hfov * M_PI / 360.0);
+    double focal = vw->width / 2.0 / tan(vw->hfov * M_PI / 360.0);
     cam.focal_px_q16 = (int32_t)lround(focal * 65536.0);
     cam.tol_px_q16 = a.tol_px > 0.0 ? (int32_t)lround(a.tol_px * 65536.0) : 0;
     cam.tol_units_q16 = a.flatness > 0.0 ? (int32_t)lround(a.flatness * 65536.0) : 0;
     cam.near_q16 = near_q16;
-    cam.cull = a.cull;
+    cam.cull = vw->cull;
     uint32_t ms = (uint32_t)lround(a.time * 1000.0);
     psc_patch_stats_t st;
     psc_status_t s;
     double t_tess = 0.0, t_draw = 0.0;
-    psc_3d_config_t cfg = {a.width, a.height, (uint16_t)a.tile, (uint16_t)a.tile, 32, psc_bam_from_deg(a.hfov),
+    psc_3d_config_t cfg = {vw->width, vw->height, (uint16_t)a.tile, (uint16_t)a.tile, 32, psc_bam_from_deg(vw->hfov),
                            near_q16, far_q16, PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES};
-    if (psc_render_target_open(&rt, &cfg, a.format, a.depth != NULL, a.model, err, sizeof err) != 0) {
+    if (psc_render_target_open(&rt, &cfg, vw->format, a.depth != NULL, a.model, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
-    for (unsigned long k = 0; k < a.repeat; k++) {
+    for (unsigned long k = 0; k < vw->repeat; k++) {
         double t0 = now_s();
         /* a repeated run plays the action from the given time on, a frame at 60 Hz */
         uint32_t at = ms + (uint32_t)(k * 1000ul / 60ul);
@@ -422,10 +402,10 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
         t_tess += t1 - t0;
         t_draw += now_s() - t1;
     }
-    if (a.repeat > 1)
+    if (vw->repeat > 1)
         fprintf(stderr, "%s: %lu frames of %ux%u: pose+tessellate %.3f ms, draw %.3f ms per frame (%u patches, "
-                "%u triangles, %u reused)\n", prog, a.repeat, (unsigned)a.width, (unsigned)a.height,
-                t_tess / a.repeat * 1e3, t_draw / a.repeat * 1e3, (unsigned)st.patches, (unsigned)st.triangles,
+                "%u triangles, %u reused)\n", prog, vw->repeat, (unsigned)vw->width, (unsigned)vw->height,
+                t_tess / vw->repeat * 1e3, t_draw / vw->repeat * 1e3, (unsigned)st.patches, (unsigned)st.triangles,
                 (unsigned)st.reused);
     if (psc_render_target_write(&rt, a.out, a.depth, err, sizeof err) != 0 ||
         (a.dump_obj && psc_patch_write_obj(&t.p, a.dump_obj, err, sizeof err) != 0) ||

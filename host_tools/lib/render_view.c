@@ -1,0 +1,52 @@
+/* SPDX-License-Identifier: MIT */
+/* render_view.c - the view options of periscope-render's 3D modes (render_view.h). */
+#include "render_view.h"
+#include "cli_parse.h"
+#include "psc_io_cli.h"
+#include "angle_conv.h"
+#include "3d/psc_3d_orbit.h"
+#include "3d/psc_3d_render.h"
+
+#include <math.h>
+#include <string.h>
+
+psc_render_view_t psc_render_view_defaults(double yaw, double pitch, double dist, double hfov)
+{
+    return (psc_render_view_t){yaw, pitch, dist, hfov, 640, 480, true, PSC_PIX_RGB565, 1};
+}
+
+int psc_render_view_option(const char *prog, const char *name, const char *v, psc_render_view_t *o)
+{
+    if (strcmp(name, "--orbit") == 0) {
+        if (psc_cli_parse_orbit(v, &o->yaw, &o->pitch, &o->dist) != 0)
+            return psc_io_cli_usage_error(prog, "--orbit '%s': expected YAW,PITCH,DIST (pitch -90..90, dist 1/64..256)",
+                                          v);
+    } else if (strcmp(name, "--hfov") == 0) {
+        if (psc_cli_parse_double(v, &o->hfov) != 0 || !(o->hfov >= 1.0 && o->hfov <= 170.0))
+            return psc_io_cli_usage_error(prog, "--hfov '%s': expected degrees in 1..170", v);
+    } else if (strcmp(name, "--size") == 0) {
+        if (psc_cli_parse_size(v, PSC_MAX_OUT_DIM, &o->width, &o->height) != 0)
+            return psc_io_cli_usage_error(prog, "--size '%s': expected WxH, each 1..%u", v, (unsigned)PSC_MAX_OUT_DIM);
+    } else if (strcmp(name, "--cull") == 0) {
+        if (strcmp(v, "back") != 0 && strcmp(v, "none") != 0)
+            return psc_io_cli_usage_error(prog, "--cull '%s': expected back or none", v);
+        o->cull = strcmp(v, "back") == 0;
+    } else if (strcmp(name, "--format") == 0) {
+        if (strcmp(v, "rgb565") != 0 && strcmp(v, "xrgb8888") != 0)
+            return psc_io_cli_usage_error(prog, "--format '%s': expected rgb565 or xrgb8888", v);
+        o->format = strcmp(v, "rgb565") == 0 ? PSC_PIX_RGB565 : PSC_PIX_XRGB8888;
+    } else if (strcmp(name, "--repeat") == 0) {
+        if (psc_cli_parse_uint(v, 1, PSC_RENDER_MAX_REPEAT, &o->repeat) != 0)
+            return psc_io_cli_usage_error(prog, "--repeat '%s': expected a count of 1..%lu", v, PSC_RENDER_MAX_REPEAT);
+    } else {
+        return -1;
+    }
+    return 0;
+}
+
+psc_status_t psc_render_view_orbit(const psc_render_view_t *v, psc_vec3_q16_t lo, psc_vec3_q16_t hi,
+                                   psc_mat4_q16_t *camera_from_object, int32_t *near_q16, int32_t *far_q16)
+{
+    return psc_3d_orbit(lo, hi, psc_bam_from_deg(v->yaw), psc_sbam_from_deg(v->pitch),
+                        (int32_t)lround(v->dist * 65536.0), camera_from_object, near_q16, far_q16);
+}
