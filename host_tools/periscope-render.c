@@ -16,6 +16,7 @@
 #include "model_render.h"
 #include "pack_build.h"
 #include "gltf_render.h"
+#include "proxy_render.h"
 #include "patch_render.h"
 #include "psc_io_load.h"
 #include "psc_io_png.h"
@@ -219,6 +220,8 @@ static int render_frames(psc_viewer_t *viewer, const psc_view_t *view, const psc
 
 int main(int argc, char **argv)
 {
+    if (psc_proxy_render_wanted(argc, argv))
+        return psc_proxy_render_main(PROG, argc, argv);
     if (psc_gltf_render_wanted(argc, argv))
         return psc_gltf_render_main(PROG, argc, argv);
     if (psc_patch_render_wanted(argc, argv))

@@ -129,6 +129,29 @@ void psc_io_shadow_free(psc_io_shadow_t *sf)
     memset(sf, 0, sizeof *sf);
 }
 
+int psc_io_proxy_load(const char *path, psc_io_proxy_t *pf, char *err, size_t errlen)
+{
+    psc_container_error_t e = {0};
+    psc_status_t s;
+
+    memset(pf, 0, sizeof *pf);
+    if (psc_io_container_read(path, &pf->buf, &pf->len, err, errlen) != 0)
+        return -1;
+    if ((s = psc_proxy_parse(pf->buf, pf->len, &pf->model, &e)) != PSC_OK) {
+        psc_io_proxy_free(pf);
+        return psc_io_container_errorf(err, errlen, path, "not a usable proxy pack: ", s, &e);
+    }
+    return 0;
+}
+
+void psc_io_proxy_free(psc_io_proxy_t *pf)
+{
+    if (!pf)
+        return;
+    free(pf->buf);
+    memset(pf, 0, sizeof *pf);
+}
+
 int psc_io_fisheye_load(const char *path, psc_io_fisheye_t *ff, char *err, size_t errlen)
 {
     psc_container_error_t e = {0};

@@ -21,6 +21,7 @@
 #include "pack/psc_pack.h"
 #include "patch/psc_patch.h"
 #include "shadow/psc_shadow.h"
+#include "proxy/psc_proxy.h"
 
 /** A scene pack loaded from disk: the aligned file bytes and the parsed view of them. */
 typedef struct {
@@ -74,6 +75,16 @@ typedef struct {
 
 int psc_io_shadow_load(const char *path, psc_io_shadow_t *sf, char *err, size_t errlen);
 void psc_io_shadow_free(psc_io_shadow_t *sf);
+
+/** A proxy pack loaded from disk. */
+typedef struct {
+    void *buf;
+    size_t len;
+    psc_proxy_model_t model;
+} psc_io_proxy_t;
+
+int psc_io_proxy_load(const char *path, psc_io_proxy_t *pf, char *err, size_t errlen);
+void psc_io_proxy_free(psc_io_proxy_t *pf);
 
 int psc_io_fisheye_load(const char *path, psc_io_fisheye_t *ff, char *err, size_t errlen);
 void psc_io_fisheye_free(psc_io_fisheye_t *ff);

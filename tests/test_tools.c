@@ -527,7 +527,8 @@ static void test_command_line_convention(void **state)
     (void)state;
     need_packs();
     static const char *const programs[] = {"periscope", "periscope-pack", "periscope-render", "periscope-contact",
-                                           "periscope-fisheye", "periscope-patch", "periscope-shadow"};
+                                           "periscope-fisheye", "periscope-patch", "periscope-shadow",
+                                           "periscope-proxy"};
     char version[64], said[96];
     size_t vlen;
     char *v = (char *)tsup_read_bytes("VERSION", &vlen);
@@ -670,6 +671,53 @@ static void test_patch_tools(void **state)
 
 /* periscope-shadow builds a glTF model's tables; periscope-render poses it (rest, t=, a pose file naming a node)
  * and shades it, --dump-ao writing a line a vertex; mistakes get their messages. */
+/* periscope-proxy bakes a model; periscope-render draws the pack as proxies or full (--ids, --depth, --repeat,
+ * a pose file on the pack's skeleton); mistakes get their messages. */
+static void test_proxy_tools(void **state)
+{
+    (void)state;
+    const char *bar = "../shared/data/models/gltf/animation_with_skeleton.gltf";
+    char ppx[512], a_png[512], b_png[512], ids[512], depth[512], json[512];
+    tmp_path(ppx, sizeof ppx, "bar.ppx");
+    tmp_path(a_png, sizeof a_png, "bar-a.png");
+    tmp_path(b_png, sizeof b_png, "bar-b.png");
+    tmp_path(ids, sizeof ids, "bar-ids.pgm");
+    tmp_path(depth, sizeof depth, "bar-depth.pgm");
+    tmp_path(json, sizeof json, "bar.json");
+    const char *bake[] = {"bake", bar, "-o", ppx, "--views", "9", "--tex", "32", NULL};
+    const char *baked[] = {"11 parts and 11 joints", "9 views of 32x32", "26 animation samples", NULL};
+    expect_run("periscope-proxy", bake, 0, baked);
+    const char *proxies[] = {ppx, "--pose", "t=0.4", "--size", "160x120", "--ids", ids, "--depth", depth,
+                             "--repeat", "2", "-o", a_png, NULL};
+    const char *timed[] = {"ms per frame", "proxies", NULL};
+    expect_run("periscope-render", proxies, 0, timed);
+    size_t len;
+    uint8_t *pgm = tsup_read_bytes(ids, &len);
+    assert_non_null(pgm);
+    assert_true(len == 17 + 160 * 120 * 2 && memcmp(pgm, "P5\n160 120\n65535\n", 17) == 0);
+    unsigned shown = 0;
+    for (size_t i = 17; i + 1 < len; i += 2)
+        shown += pgm[i] != 0 || pgm[i + 1] != 0;
+    assert_true(shown > 100);   /* part ids where the bar is */
+    free(pgm);
+    assert_true(tsup_file_exists(depth));
+    const char *full[] = {ppx, "--pose", "t=0.4", "--size", "160x120", "--full", "--tiles", "32", "-o", b_png, NULL};
+    expect_run("periscope-render", full, 0, NULL);
+    assert_false(same_file(a_png, b_png));
+    write_text(json, "{\"time\": 0.4, \"nodes\": {\"5\": {\"rotate\": [0, 0, 1, 60]}}}");
+    const char *posed[] = {ppx, "--pose", json, "--size", "160x120", "-o", b_png, NULL};
+    expect_run("periscope-render", posed, 0, NULL);
+    assert_false(same_file(a_png, b_png));
+    const char *tex48[] = {"bake", bar, "-o", ppx, "--tex", "48", NULL}, *tex48_said[] = {"--tex '48'", NULL};
+    expect_run("periscope-proxy", tex48, 2, tex48_said);
+    const char *verb[] = {"make", bar, "-o", ppx, NULL}, *verb_said[] = {"expected the command 'bake'", NULL};
+    expect_run("periscope-proxy", verb, 2, verb_said);
+    write_text(ppx, "not a pack at all, but long enough to be read as one.............");
+    const char *bad[] = {ppx, "-o", a_png, NULL}, *bad_said[] = {"not a usable proxy pack", NULL};
+    expect_run("periscope-render", bad, 1, bad_said);
+    unlink(ppx), unlink(a_png), unlink(b_png), unlink(ids), unlink(depth), unlink(json);
+}
+
 static void test_gltf_tools(void **state)
 {
     (void)state;
@@ -843,6 +891,7 @@ int main(void)
         cmocka_unit_test(test_command_line_convention),
         cmocka_unit_test(test_patch_tools),
         cmocka_unit_test(test_gltf_tools),
+        cmocka_unit_test(test_proxy_tools),
         cmocka_unit_test(test_contact),
     };
     return cmocka_run_group_tests(tests, NULL, teardown_all);

@@ -20,7 +20,7 @@ static int64_t plane_distance(const psc_clip_volume_t *vol, unsigned p, const ps
 
 unsigned psc_clip_outcode(const psc_clip_volume_t *vol, int32_t x, int32_t y, int32_t z)
 {
-    psc_clip_vertex_t v = {x, y, z, 0, 0, 0, 0, 0, 0};
+    psc_clip_vertex_t v = {x, y, z, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
     unsigned code = 0;
     for (unsigned p = 0; p < PSC_CLIP_PLANES; p++)
         if (plane_distance(vol, p, &v) < 0)
@@ -80,6 +80,10 @@ static void cut(const psc_clip_volume_t *vol, unsigned p, const psc_clip_vertex_
         o->g = lerp32(a->g, b->g, t);
         o->b = lerp32(a->b, b->b, t);
         o->light_q8 = lerp32(a->light_q8, b->light_q8, t);
+        o->u1_q16 = lerp32(a->u1_q16, b->u1_q16, t);
+        o->v1_q16 = lerp32(a->v1_q16, b->v1_q16, t);
+        o->u2_q16 = lerp32(a->u2_q16, b->u2_q16, t);
+        o->v2_q16 = lerp32(a->v2_q16, b->v2_q16, t);
     }
     if (p == 0)
         o->z = vol->near_q16;

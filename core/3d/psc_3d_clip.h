@@ -46,6 +46,7 @@ typedef struct {
     int32_t u_q16, v_q16;     /* texture coordinates */
     int32_t r, g, b;          /* colour channels 0..255 */
     int32_t light_q8;         /* 0..256 */
+    int32_t u1_q16, v1_q16, u2_q16, v2_q16;  /* the second and third view textures' (PSC_SHADE_VIEWS) */
 } psc_clip_vertex_t;
 
 /** The view volume, in the units of psc_3d_clip.h's comment. */

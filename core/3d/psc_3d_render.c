@@ -116,6 +116,10 @@ static void project(const psc_3d_t *r, const psc_clip_vertex_t *c, psc_raster_ve
     o->v_q16 = c->v_q16;
     o->color = ((uint32_t)c->r << 16) | ((uint32_t)c->g << 8) | (uint32_t)c->b;
     o->light_q8 = c->light_q8;
+    o->u1_q16 = c->u1_q16;
+    o->v1_q16 = c->v1_q16;
+    o->u2_q16 = c->u2_q16;
+    o->v2_q16 = c->v2_q16;
 }
 
 static int32_t light_of(const psc_3d_draw_t *d, const psc_mesh_t *m, uint32_t i)
@@ -162,7 +166,16 @@ static void transform_draw(const psc_3d_t *r, const psc_3d_draw_t *d, vcache_t *
         c->cv = (psc_clip_vertex_t){cam.x, cam.y, cam.z,
                                     m->uv_q12 ? (int32_t)m->uv_q12[2u * i] * 16 : 0,
                                     m->uv_q12 ? (int32_t)m->uv_q12[2u * i + 1] * 16 : 0,
-                                    cr, cg, cb, l};
+                                    cr, cg, cb, l, 0, 0, 0, 0};
+        if (d->shade == PSC_SHADE_VIEWS) {
+            int32_t *uv[3][2] = {{&c->cv.u_q16, &c->cv.v_q16}, {&c->cv.u1_q16, &c->cv.v1_q16},
+                                 {&c->cv.u2_q16, &c->cv.v2_q16}};
+            for (unsigned k = 0; k < 3; k++)
+                if (d->view_uv_q16[k]) {
+                    *uv[k][0] = d->view_uv_q16[k][2u * i];
+                    *uv[k][1] = d->view_uv_q16[k][2u * i + 1];
+                }
+        }
         c->outcode = (uint8_t)psc_clip_outcode(&r->vol, cam.x, cam.y, cam.z);
         if (c->outcode == 0)
             project(r, &c->cv, &c->rv);
@@ -270,8 +283,12 @@ static void draw_mesh(tile_ctx_t *t, const psc_3d_draw_t *d, const vcache_t *cac
 static bool draw_ok(const psc_3d_draw_t *d)
 {
     const psc_mesh_t *m = d->mesh;
-    if (!m || !m->index || (!m->position_q15 && !m->position_q16) || d->shade > PSC_SHADE_TEXTURE)
+    if (!m || !m->index || (!m->position_q15 && !m->position_q16) || d->shade > PSC_SHADE_VIEWS)
         return false;
+    if (d->shade == PSC_SHADE_VIEWS)
+        for (unsigned k = 0; k < 3; k++)
+            if (d->view_w_q8[k] != 0 && (!d->view_tex[k] || !d->view_uv_q16[k]))
+                return false;
     for (unsigned r = 0; r < 3; r++)
         for (unsigned c = 0; c < 3; c++)
             if (d->camera_from_object.m[r][c] > PSC_MAT_LINEAR_MAX_Q16 ||
@@ -375,7 +392,11 @@ psc_status_t psc_3d_render(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, 
                 const psc_3d_draw_t *d = &draws[i];
                 t.state = (psc_raster_state_t){d->shade, d->filter, d->blend, d->depth_test,
                                                d->shade == PSC_SHADE_TEXTURE && d->lit,
-                                               d->texture ? d->texture : &d->mesh->texture};
+                                               d->texture ? d->texture : &d->mesh->texture,
+                                               {d->view_tex[0], d->view_tex[1], d->view_tex[2]},
+                                               {d->view_w_q8[0], d->view_w_q8[1], d->view_w_q8[2]},
+                                               d->views_mask,
+                                               d->color};
                 draw_mesh(&t, d, cache + base);
                 base += d->mesh->vertex_count;
             }

@@ -67,6 +67,13 @@ typedef struct {
     int32_t ambient_q8;               /* 0..256 */
     uint32_t color;                   /* XRGB: vertex colour when the mesh has none */
     const psc_texture_t *texture;     /* TEXTURE: NULL takes the mesh's */
+    /* VIEWS (psc_raster.h): three view textures, their coordinates (u, v per
+     * vertex, Q0.16 of the texture, in the mesh's vertex order) and weights
+     * (summing to 256); views_mask draws `color` where the views cover. */
+    const psc_texture_t *view_tex[3];
+    const uint16_t *view_uv_q16[3];
+    uint16_t view_w_q8[3];
+    bool views_mask;
 } psc_3d_draw_t;
 
 /** A draw with the defaults: Gouraud, back faces culled, depth tested, unlit, the mesh's colours. */
@@ -82,7 +89,7 @@ typedef struct {
 } psc_3d_stats_t;
 
 /* Bytes of vertex cache per vertex. */
-#define PSC_3D_VERTEX_CACHE_BYTES 72u
+#define PSC_3D_VERTEX_CACHE_BYTES 104u
 
 typedef struct {
     psc_3d_config_t cfg;

@@ -34,6 +34,7 @@ typedef struct {
 typedef struct {
     int64_t e[3], ex[3], ey[3];  /* biased edge values at the first pixel centre, steps */
     plane_t depth, r, g, b, q, uq, vq, light;
+    plane_t vu[3], vv[3];        /* VIEWS: u/w and v/w of each view */
     int32_t px0, py0, px1, py1;  /* inclusive pixel bounds, inside the target */
     uint32_t flat;
 } setup_t;
@@ -237,6 +238,144 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
     return written;
 }
 
+/* ---- view textures (PSC_SHADE_VIEWS) ---------------------------------------- */
+
+/* Add one view's sample at (uu, vv) (Q16.16 in [0, 1]) with weight w_q8: the
+ * non-empty texels' weights (Q0.16 overall) to *cov and weight x channel to acc. */
+static PSC_ALWAYS_INLINE void view_sample(const psc_texture_t *t, int64_t uu, int64_t vv, uint32_t w_q8,
+                                          const int bilinear, uint32_t *cov, uint32_t acc[3])
+{
+    const int64_t tw = t->width, th = t->height;
+    uint32_t x[2], y[2], wx[2], wy[2];
+    unsigned n;
+    if (bilinear) {
+        int64_t tx = (uu * tw >> 8) - 128, ty = (vv * th >> 8) - 128;
+        int64_t ix = tx >> 8, iy = ty >> 8;
+        wx[1] = (uint32_t)tx & 255u;
+        wy[1] = (uint32_t)ty & 255u;
+        wx[0] = 256u - wx[1];
+        wy[0] = 256u - wy[1];
+        /* clamp to the edge: the borders are empty anyway */
+        x[0] = (uint32_t)clamp64(ix, 0, tw - 1);
+        x[1] = (uint32_t)clamp64(ix + 1, 0, tw - 1);
+        y[0] = (uint32_t)clamp64(iy, 0, th - 1);
+        y[1] = (uint32_t)clamp64(iy + 1, 0, th - 1);
+        n = 2;
+    } else {
+        x[0] = (uint32_t)clamp64(uu * tw >> 16, 0, tw - 1);
+        y[0] = (uint32_t)clamp64(vv * th >> 16, 0, th - 1);
+        wx[0] = wy[0] = 256u;
+        n = 1;
+    }
+    for (unsigned j = 0; j < n; j++) {
+        const uint16_t *row = (const uint16_t *)(const void *)((const uint8_t *)t->pixels + (size_t)y[j] * t->stride);
+        for (unsigned i = 0; i < n; i++) {
+            uint16_t c = row[x[i]];
+            if (c == PSC_VIEW_TEXEL_EMPTY)
+                continue;
+            uint32_t w = (wx[i] * wy[j] * w_q8 + 128u) >> 8; /* Q0.16 */
+            uint32_t xrgb = psc_rgb565_to_xrgb(c);
+            *cov += w;
+            acc[0] += w * (xrgb >> 16 & 255u);
+            acc[1] += w * (xrgb >> 8 & 255u);
+            acc[2] += w * (xrgb & 255u);
+        }
+    }
+}
+
+static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_target_t *t,
+                                             const psc_raster_state_t *st, const int out565, const int zbits,
+                                             const int bilinear)
+{
+    uint32_t written = 0;
+    int64_t e0r = s->e[0], e1r = s->e[1], e2r = s->e[2];
+    uint64_t dr = s->depth.base, qr = s->q.base, ur[3], vr[3];
+    for (unsigned k = 0; k < 3; k++) {
+        ur[k] = s->vu[k].base;
+        vr[k] = s->vv[k].base;
+    }
+    uint8_t *srow = (uint8_t *)t->surface->pixels + (size_t)s->py0 * t->surface->stride;
+    uint8_t *zrow = zbits ? (uint8_t *)t->depth + (size_t)(s->py0 - t->y0) * t->depth_stride : 0;
+
+    for (int32_t y = s->py0; y <= s->py1; y++) {
+        int64_t e0 = e0r, e1 = e1r, e2 = e2r;
+        uint64_t d = dr, q = qr, u[3] = {ur[0], ur[1], ur[2]}, v[3] = {vr[0], vr[1], vr[2]};
+        for (int32_t x = s->px0; x <= s->px1; x++) {
+            if ((e0 | e1 | e2) >= 0) {
+                uint32_t z = 0;
+                int draw = 1;
+                if (zbits) {
+                    z = (uint32_t)clamp64(plane_value(d, DEPTH_F), 0, INT64_C(0xFFFFFFFF));
+                    draw = zbits == 16 ? (uint16_t)(z >> 16) < ((uint16_t *)(void *)zrow)[x - t->x0]
+                                       : z < ((uint32_t *)(void *)zrow)[x - t->x0];
+                }
+                if (draw) {
+                    int64_t qq = clamp64(plane_value(q, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
+                    int64_t inv = (INT64_C(1) << 40) / qq;
+                    uint32_t cov = 0, acc[3] = {0, 0, 0};
+                    for (unsigned k = 0; k < 3; k++) {
+                        if (st->view_w_q8[k] == 0)
+                            continue;
+                        int64_t uu = clamp64(psc_shr_round64(plane_value(u[k], UV_F) * inv, 24), 0, 65536);
+                        int64_t vv = clamp64(psc_shr_round64(plane_value(v[k], UV_F) * inv, 24), 0, 65536);
+                        view_sample(st->view_tex[k], uu, vv, st->view_w_q8[k], bilinear, &cov, acc);
+                    }
+                    if (cov >= 32768u) {
+                        uint32_t c = st->mask_color & 0xFFFFFFu;
+                        if (!st->views_mask) {
+                            uint64_t rcp = ((UINT64_C(1) << 40) + cov / 2u) / cov;
+                            c = 0;
+                            for (unsigned k = 0; k < 3; k++) {
+                                uint64_t ch = (acc[k] * rcp + (UINT64_C(1) << 39)) >> 40;
+                                c = c << 8 | (uint32_t)(ch > 255u ? 255u : ch);
+                            }
+                        }
+                        if (zbits == 16)
+                            ((uint16_t *)(void *)zrow)[x - t->x0] = (uint16_t)(z >> 16);
+                        else if (zbits)
+                            ((uint32_t *)(void *)zrow)[x - t->x0] = z;
+                        put_pixel(srow, x, out565, st->blend, c);
+                        written++;
+                    }
+                }
+            }
+            e0 += s->ex[0];
+            e1 += s->ex[1];
+            e2 += s->ex[2];
+            d += s->depth.step_x;
+            q += s->q.step_x;
+            for (unsigned k = 0; k < 3; k++) {
+                u[k] += s->vu[k].step_x;
+                v[k] += s->vv[k].step_x;
+            }
+        }
+        e0r += s->ey[0];
+        e1r += s->ey[1];
+        e2r += s->ey[2];
+        dr += s->depth.step_y;
+        qr += s->q.step_y;
+        for (unsigned k = 0; k < 3; k++) {
+            ur[k] += s->vu[k].step_y;
+            vr[k] += s->vv[k].step_y;
+        }
+        srow += t->surface->stride;
+        if (zbits)
+            zrow += t->depth_stride;
+    }
+    return written;
+}
+
+static uint32_t dispatch_views(const setup_t *s, const psc_raster_target_t *t, const psc_raster_state_t *st,
+                               int out565, int zb)
+{
+#define VIEWS(o, z)                                                                                  \
+    (st->filter == PSC_TEX_BILINEAR ? views_loop(s, t, st, o, z, 1) : views_loop(s, t, st, o, z, 0))
+    if (out565)
+        return zb == 0 ? VIEWS(1, 0) : zb == 16 ? VIEWS(1, 16) : VIEWS(1, 32);
+    return zb == 0 ? VIEWS(0, 0) : zb == 16 ? VIEWS(0, 16) : VIEWS(0, 32);
+#undef VIEWS
+}
+
 /* One instantiation per state combination. */
 #define LOOP(shade, zb, bil, t565)                                                                 \
     (out565 ? raster_loop(s, t, st, shade, 1, zb, bil, t565) : raster_loop(s, t, st, shade, 0, zb, bil, t565))
@@ -249,6 +388,8 @@ static uint32_t dispatch_z(const setup_t *s, const psc_raster_target_t *t, const
 #define BY_Z(shade, bil_, t565_)                                                                   \
     (zb == 0 ? LOOP(shade, 0, bil_, t565_) : zb == 16 ? LOOP(shade, 16, bil_, t565_) : LOOP(shade, 32, bil_, t565_))
     switch (st->shade) {
+    case PSC_SHADE_VIEWS:
+        return dispatch_views(s, t, st, out565, zb);
     case PSC_SHADE_FLAT:
         return BY_Z(PSC_SHADE_FLAT, 0, 0);
     case PSC_SHADE_GOURAUD:
@@ -286,7 +427,18 @@ static bool state_ok(const psc_raster_target_t *t, const psc_raster_state_t *st)
             (x->height & (x->height - 1u)) != 0)
             return false;
     }
-    return st->shade <= PSC_SHADE_TEXTURE;
+    if (st->shade == PSC_SHADE_VIEWS) {
+        unsigned sum = 0;
+        for (unsigned k = 0; k < 3; k++) {
+            const psc_texture_t *x = st->view_tex[k];
+            sum += st->view_w_q8[k];
+            if (st->view_w_q8[k] != 0 &&
+                (!x || !x->pixels || x->width == 0 || x->height == 0 || x->format != PSC_PIX_RGB565))
+                return false;
+        }
+        return sum == 256u;
+    }
+    return st->shade <= PSC_SHADE_VIEWS;
 }
 
 uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_state_t *st,
@@ -382,6 +534,23 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
         if (st->modulate)
             plane3(&s.light, clamp64(v[0]->light_q8, 0, 256), clamp64(v[1]->light_q8, 0, 256),
                    clamp64(v[2]->light_q8, 0, 256), x, y, area2, LIGHT_F, cx, cy);
+    }
+    if (st->shade == PSC_SHADE_VIEWS) {
+        /* Coordinates in [0, 1]: u/w and v/w planes per view, no shift needed. */
+        int64_t q[3], a[3], b[3];
+        for (unsigned i = 0; i < 3; i++)
+            q[i] = clamp64(v[i]->q_q28, PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
+        plane_setup(&s.q, q, x, y, area2, Q_F, cx, cy);
+        for (unsigned k = 0; k < 3; k++) {
+            for (unsigned i = 0; i < 3; i++) {
+                int32_t uu = k == 0 ? v[i]->u_q16 : k == 1 ? v[i]->u1_q16 : v[i]->u2_q16;
+                int32_t vv = k == 0 ? v[i]->v_q16 : k == 1 ? v[i]->v1_q16 : v[i]->v2_q16;
+                a[i] = psc_shr_round64(clamp64(uu, 0, 65536) * q[i], 16);
+                b[i] = psc_shr_round64(clamp64(vv, 0, 65536) * q[i], 16);
+            }
+            plane_setup(&s.vu[k], a, x, y, area2, UV_F, cx, cy);
+            plane_setup(&s.vv[k], b, x, y, area2, UV_F, cx, cy);
+        }
     }
     int out565 = t->surface->format == PSC_PIX_RGB565;
     return dispatch_z(&s, t, st, out565, st->depth_test ? t->depth_bits : 0);

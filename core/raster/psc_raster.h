@@ -38,6 +38,17 @@
  *    triangle, texture coordinates are shifted by a common whole number (free
  *    under repeat wrapping) and must then span less than 16.0; wider spans are
  *    clamped.
+ *  - View textures (PSC_SHADE_VIEWS, the proxy animator's image-based
+ *    surfaces): three RGB565 textures, each with its own perspective-correct
+ *    coordinates (u, v), (u1, v1), (u2, v2) in [0, 1] (clamped, no wrapping),
+ *    blended with constant weights view_w_q8 (summing to 256). Texel 0x0000
+ *    is empty (PSC_VIEW_TEXEL_EMPTY): where the part is not. A pixel's
+ *    coverage is the weighted share of non-empty texels (bilinear: each of
+ *    the four weighted too); the pixel is drawn, and its depth written, only
+ *    when the coverage reaches one half, with the colour the average of the
+ *    non-empty texels under their weights (the alpha test of image-based
+ *    rendering: the silhouette is the blend's, not the proxy's). With
+ *    views_mask the pixel takes mask_color instead (part ids).
  */
 #ifndef PSC_RASTER_H
 #define PSC_RASTER_H
@@ -63,12 +74,14 @@ typedef struct {
     int32_t u_q16, v_q16;    /* texture coordinates */
     uint32_t color;          /* XRGB8888: flat (first vertex) and Gouraud colour */
     int32_t light_q8;        /* 0..256: texture modulation (1.0 = 256) */
+    int32_t u1_q16, v1_q16, u2_q16, v2_q16;  /* VIEWS: the second and third views' coordinates */
 } psc_raster_vertex_t;
 
 typedef enum {
     PSC_SHADE_FLAT = 0,    /* every pixel takes the first vertex's colour (the provoking vertex) */
     PSC_SHADE_GOURAUD = 1, /* vertex colours, interpolated linearly on the screen */
-    PSC_SHADE_TEXTURE = 2  /* perspective-correct texture, optionally times light_q8 */
+    PSC_SHADE_TEXTURE = 2, /* perspective-correct texture, optionally times light_q8 */
+    PSC_SHADE_VIEWS = 3    /* three view textures blended and alpha-tested (below) */
 } psc_shade_t;
 
 typedef enum {
@@ -80,6 +93,9 @@ typedef enum {
     PSC_BLEND_REPLACE = 0, /* the pixel becomes the colour */
     PSC_BLEND_ADD = 1      /* per-channel saturating add (counts writes in tests) */
 } psc_blend_t;
+
+/* The texel of a view texture where the surface is not (RGB565 black; content black is stored as 0x0020). */
+#define PSC_VIEW_TEXEL_EMPTY 0x0000u
 
 /** A texture the caller owns: power-of-two sides, RGB565 or XRGB8888 texels. */
 typedef struct {
@@ -102,6 +118,10 @@ typedef struct {
     bool depth_test;          /* test against and write the depth buffer */
     bool modulate;            /* TEXTURE: multiply texels by the interpolated light_q8 */
     const psc_texture_t *texture;  /* TEXTURE only */
+    const psc_texture_t *view_tex[3];  /* VIEWS: RGB565, same size */
+    uint16_t view_w_q8[3];    /* VIEWS: weights summing to 256 */
+    bool views_mask;          /* VIEWS: write mask_color where covered */
+    uint32_t mask_color;
 } psc_raster_state_t;
 
 /** Where to draw: a rectangle of a surface, with a depth buffer covering exactly that rectangle. */

@@ -1,0 +1,219 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * psc_proxy.h - image-based rendering with proxy surface animation (the seed,
+ * US 6,924,805): an articulated or skinned model drawn as a few proxy
+ * surfaces carrying pre-rendered view textures, its parts still animated;
+ * and the proxy pack (.ppx) that holds it, read in place.
+ *
+ * Preprocessing (host, periscope-proxy bake; the seed's preprocessor 710):
+ *  - parts: pieces that move without changing shape (the triangles whose
+ *    vertices all follow one joint most); joints: the triangles between
+ *    parts, whose skin weights are split - they stretch;
+ *  - a proxy surface per part (a closed envelope of few triangles around it,
+ *    the seed's proxy former) and per joint (its triangles, pushed outward);
+ *  - view textures per proxy: the proxy's own geometry alone (so nothing of
+ *    the rest of the model obstructs it) rendered at the rest pose from each
+ *    direction of the octahedral grid (psc_proxy_view.h), orthographically,
+ *    lighting baked in, with a texture-coordinate set per direction: each
+ *    proxy vertex projected into that view;
+ *  - the skeleton, its animation sampled at a fixed rate as skin matrices,
+ *    and the full mesh with rest-pose lighting (the near level of detail and
+ *    the comparison).
+ * Rendering (core, every frame, psc_proxy_draw.c; the seed's animator 720):
+ *  - M2, a part's transform, is its joint's skin matrix; the direction it is
+ *    drawn from is Dr = Ds M1^-1 M2^-1 (psc_proxy_view_for_part); its three
+ *    nearest views are blended with barycentric weights, the silhouette the
+ *    blend's (PSC_SHADE_VIEWS, psc_raster.h);
+ *  - each joint triangle is skinned and gets its own M3, the rotation that
+ *    takes its rest frame to its posed one, hence its own direction and views
+ *    (the seed's per-triangle joint rendering): joints stretch with the parts;
+ *  - everything goes through the 3D pipeline: one z-buffer, tiles, culling,
+ *    RGB565 or XRGB8888.
+ *
+ * Units: positions Q16.16 in units of R (half the rest pose's bounding-box
+ * diagonal) from the rest box centre; skin matrices Q16.16 in the same
+ * units; skin weights Q0.15 (summing to 32768); view coordinates Q0.16 of
+ * the view texture (u right, v down); texels RGB565, PSC_VIEW_TEXEL_EMPTY
+ * where the proxy's geometry is not.
+ *
+ * Pack: the container of base/psc_container.h, magic "PSCPRXY\x1a". Sections
+ * (counts from "XINF"; part p's texture for view k is p x view_count + k):
+ *   "XINF"  psc_proxy_info_raw_t
+ *   "XJNT"  joint_count psc_proxy_joint_raw_t (parents before children)
+ *   "XANM"  frame_count x joint_count x 12 int32: skin matrices, row-major
+ *           3x4 (optional: frame_count 0 has none)
+ *   "XPRT"  part_count psc_proxy_part_raw_t (parts, then joints)
+ *   "XVPS"  vertex_count x 3 int32 positions (rest)
+ *   "XVCL"  vertex_count uint32 colours (XRGB, lit at rest)
+ *   "XVSK"  vertex_count psc_proxy_skin_raw_t
+ *   "XIDX"  triangle_count x 3 uint16, relative to the piece's first vertex
+ *   "XPPS"  proxy_vertex_count x 3 int32 positions (rest)
+ *   "XPSK"  proxy_vertex_count psc_proxy_skin_raw_t
+ *   "XPIX"  proxy_triangle_count x 3 uint16, relative to the part's first
+ *           proxy vertex
+ *   "XPUV"  per part, per view, its proxy vertices' (u, v) uint16 pairs
+ *   "XTEX"  part_count x view_count textures of tex_size^2 RGB565 texels
+ */
+#ifndef PSC_PROXY_H
+#define PSC_PROXY_H
+
+#include "3d/psc_3d_render.h"
+#include "base/psc_container.h"
+#include "base/psc_types.h"
+
+#define PSC_PROXY_MAGIC "PSCPRXY\x1a"
+#define PSC_PROXY_VERSION_MAJOR 1u
+#define PSC_PROXY_VERSION_MINOR 0u
+#define PSC_PROXY_MAX_SECTIONS 16u
+#define PSC_PROXY_MAX_JOINTS 1024u
+#define PSC_PROXY_MAX_PARTS 4096u
+#define PSC_PROXY_MAX_VERTICES (1u << 21)
+#define PSC_PROXY_MAX_TRIANGLES (1u << 21)
+#define PSC_PROXY_MAX_PROXY_VERTICES (1u << 20)
+#define PSC_PROXY_MAX_PROXY_TRIANGLES (1u << 20)
+#define PSC_PROXY_MAX_FRAMES 65536u
+#define PSC_PROXY_PIECE_MAX_VERTICES 65535u   /* a part's full mesh and its proxy: uint16 indices */
+#define PSC_PROXY_TEX_MIN 8u
+#define PSC_PROXY_TEX_MAX 512u
+#define PSC_PROXY_POS_MAX_Q16 (64 * 65536)    /* |position| <= 64 R */
+#define PSC_PROXY_NO_JOINT 0xFFFFu
+
+extern const psc_container_format_t psc_proxy_format;
+
+#define PSC_SECTION_PROXY_INFO PSC_FOURCC('X', 'I', 'N', 'F')
+#define PSC_SECTION_PROXY_JOINTS PSC_FOURCC('X', 'J', 'N', 'T')
+#define PSC_SECTION_PROXY_ANIM PSC_FOURCC('X', 'A', 'N', 'M')
+#define PSC_SECTION_PROXY_PARTS PSC_FOURCC('X', 'P', 'R', 'T')
+#define PSC_SECTION_PROXY_VPOS PSC_FOURCC('X', 'V', 'P', 'S')
+#define PSC_SECTION_PROXY_VCOLOR PSC_FOURCC('X', 'V', 'C', 'L')
+#define PSC_SECTION_PROXY_VSKIN PSC_FOURCC('X', 'V', 'S', 'K')
+#define PSC_SECTION_PROXY_INDEX PSC_FOURCC('X', 'I', 'D', 'X')
+#define PSC_SECTION_PROXY_PPOS PSC_FOURCC('X', 'P', 'P', 'S')
+#define PSC_SECTION_PROXY_PSKIN PSC_FOURCC('X', 'P', 'S', 'K')
+#define PSC_SECTION_PROXY_PINDEX PSC_FOURCC('X', 'P', 'I', 'X')
+#define PSC_SECTION_PROXY_PUV PSC_FOURCC('X', 'P', 'U', 'V')
+#define PSC_SECTION_PROXY_TEXTURES PSC_FOURCC('X', 'T', 'E', 'X')
+
+/** "XINF", 64 bytes. */
+typedef struct {
+    uint32_t joint_count, part_count;
+    uint32_t vertex_count, triangle_count;             /* the full mesh */
+    uint32_t proxy_vertex_count, proxy_triangle_count;
+    uint32_t frame_count, frame_period_us;             /* the animation's samples and their spacing */
+    uint16_t view_side, tex_size;                      /* view_side^2 views of tex_size^2 texels each */
+    uint32_t model_r_um;                               /* R in the model's units x 10^6 (information) */
+    uint8_t reserved[24];
+} psc_proxy_info_raw_t;
+
+/** "XJNT" entry, 96 bytes: a node of the model's hierarchy. */
+typedef struct {
+    char name[44];                 /* NUL-terminated (cut to 43 bytes) */
+    int32_t parent;                /* -1 for a root, else an earlier joint */
+    int32_t rest_world_q16[12];    /* the joint's world transform at rest, units of R from the centre */
+} psc_proxy_joint_raw_t;
+
+enum { PSC_PROXY_KIND_PART = 0, PSC_PROXY_KIND_JOINT = 1 };
+enum { PSC_PROXY_RIGID = 1u };     /* part flag: every vertex follows `joint` alone */
+
+/** "XPRT" entry, 56 bytes: a part or a joint, with its full-mesh piece and its proxy. */
+typedef struct {
+    uint16_t joint;                /* the joint a part follows (M2); a joint's first part's */
+    uint8_t kind;                  /* PSC_PROXY_KIND_* */
+    uint8_t flags;                 /* PSC_PROXY_RIGID */
+    uint32_t first_vertex, vertex_count;           /* full-mesh piece */
+    uint32_t first_triangle, triangle_count;
+    uint32_t first_proxy_vertex, proxy_vertex_count;
+    uint32_t first_proxy_triangle, proxy_triangle_count;
+    int32_t centre_q16[3];         /* of the proxy's bounding sphere, at rest */
+    int32_t radius_q16;
+    uint32_t reserved;
+} psc_proxy_part_raw_t;
+
+/** "XVSK" / "XPSK" entry, 16 bytes: up to four joints and their weights (unused: weight 0). */
+typedef struct {
+    uint16_t joint[4];
+    uint16_t weight_q15[4];
+} psc_proxy_skin_raw_t;
+
+_Static_assert(sizeof(psc_proxy_info_raw_t) == 64, "XINF is 64 bytes");
+_Static_assert(sizeof(psc_proxy_joint_raw_t) == 96, "a joint is 96 bytes");
+_Static_assert(sizeof(psc_proxy_part_raw_t) == 56, "a part is 56 bytes");
+_Static_assert(sizeof(psc_proxy_skin_raw_t) == 16, "a skin entry is 16 bytes");
+
+/** A parsed proxy pack (points into the caller's buffer). */
+typedef struct {
+    uint32_t joint_count, part_count, vertex_count, triangle_count;
+    uint32_t proxy_vertex_count, proxy_triangle_count, frame_count, frame_period_us;
+    uint32_t view_side, view_count, tex_size, model_r_um;
+    const psc_proxy_joint_raw_t *joints;
+    const int32_t *anim_q16;       /* frame_count x joint_count x 12, or NULL */
+    const psc_proxy_part_raw_t *parts;
+    const int32_t *position_q16;
+    const uint32_t *color;
+    const psc_proxy_skin_raw_t *skin;
+    const uint16_t *index;
+    const int32_t *proxy_position_q16;
+    const psc_proxy_skin_raw_t *proxy_skin;
+    const uint16_t *proxy_index;
+    const uint16_t *proxy_uv;
+    const uint16_t *texels;
+} psc_proxy_model_t;
+
+/**
+ * Validate and parse a proxy pack in buf[0..len) (aligned to 8): the
+ * container, every count against its limit and its section's size, every
+ * part's ranges, index, joint, weight sum and position, the joints' parents.
+ * On failure returns the status and fills *err (err may be NULL). Nothing is
+ * read outside buf.
+ */
+psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out, psc_container_error_t *err);
+
+/** The animation's length in microseconds (0 without one). */
+uint64_t psc_proxy_duration_us(const psc_proxy_model_t *m);
+
+/**
+ * The skin matrices at t_us microseconds into the animation (looping),
+ * linear between samples; the rest pose (identities) for t_us < 0 or a model
+ * without animation. skin: joint_count matrices.
+ */
+void psc_proxy_pose_at(const psc_proxy_model_t *m, int64_t t_us, psc_mat4_q16_t *skin);
+
+/* ---- drawing (psc_proxy_draw.c) ------------------------------------------------ */
+
+typedef enum {
+    PSC_PROXY_LOD_PROXIES = 0,     /* the proxies with their view textures */
+    PSC_PROXY_LOD_FULL = 1         /* the full mesh (near, and the comparison) */
+} psc_proxy_lod_t;
+
+/** A model's drawing state; everything in the caller's workspace. */
+typedef struct {
+    const psc_proxy_model_t *m;
+    int32_t *posed_q16;            /* skinned full-mesh positions (non-rigid pieces) */
+    int32_t *proxy_posed_q16;      /* skinned proxy positions (non-rigid parts, joints) */
+    psc_mesh_t *meshes;            /* per part, then per joint triangle */
+    int32_t *tri_pos_q16;          /* joint triangles: 9 per triangle */
+    uint16_t *tri_uv;              /* joint triangles: 3 views x 3 vertices x 2 */
+    psc_texture_t *textures;       /* 3 per draw */
+    psc_3d_draw_t *draws;
+    uint32_t joint_triangles, max_draws;
+} psc_proxy_t;
+
+/** Workspace bytes for drawing model m (0 if it cannot be drawn). */
+size_t psc_proxy_workspace_size(const psc_proxy_model_t *m);
+
+/** The vertices one frame submits to the pipeline at most (for psc_3d_config_t.max_vertices). */
+uint32_t psc_proxy_max_vertices(const psc_proxy_model_t *m);
+
+/** Prepare to draw m. ws: psc_proxy_workspace_size(m) bytes aligned to 8. */
+psc_status_t psc_proxy_init(psc_proxy_t *p, const psc_proxy_model_t *m, void *ws, size_t ws_size);
+
+/**
+ * This frame's draws for the model posed by skin (joint_count matrices)
+ * and seen through camera_from_object (rigid). ids: every surface drawn flat
+ * in colour part index + 1 (the mask of PSC_SHADE_VIEWS for proxies). *draws
+ * and *n receive the list for psc_3d_render (valid until the next call).
+ */
+psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const psc_mat4_q16_t *camera_from_object,
+                             psc_proxy_lod_t lod, bool ids, const psc_3d_draw_t **draws, unsigned *n);
+
+#endif

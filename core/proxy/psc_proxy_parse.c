@@ -1,0 +1,175 @@
+/* SPDX-License-Identifier: MIT */
+/* psc_proxy_parse.c - validate and parse a proxy pack in place (psc_proxy.h). */
+#include "proxy/psc_proxy.h"
+#include "proxy/psc_proxy_view.h"
+
+#define fail psc_container_fail
+
+const psc_container_format_t psc_proxy_format = {
+    PSC_PROXY_MAGIC, "bad magic: not a proxy pack", PSC_PROXY_VERSION_MAJOR, PSC_PROXY_VERSION_MINOR,
+    PSC_PROXY_MAX_SECTIONS,
+};
+
+enum { S_INFO, S_JOINTS, S_ANIM, S_PARTS, S_VPOS, S_VCOL, S_VSKIN, S_IDX, S_PPOS, S_PSKIN, S_PIDX, S_PUV, S_TEX, S_COUNT };
+
+static const uint32_t section_type[S_COUNT] = {
+    PSC_SECTION_PROXY_INFO,  PSC_SECTION_PROXY_JOINTS, PSC_SECTION_PROXY_ANIM,   PSC_SECTION_PROXY_PARTS,
+    PSC_SECTION_PROXY_VPOS,  PSC_SECTION_PROXY_VCOLOR, PSC_SECTION_PROXY_VSKIN,  PSC_SECTION_PROXY_INDEX,
+    PSC_SECTION_PROXY_PPOS,  PSC_SECTION_PROXY_PSKIN,  PSC_SECTION_PROXY_PINDEX, PSC_SECTION_PROXY_PUV,
+    PSC_SECTION_PROXY_TEXTURES,
+};
+
+static bool pos_ok(const int32_t *p, uint64_t n)
+{
+    for (uint64_t i = 0; i < 3u * n; i++)
+        if (p[i] > PSC_PROXY_POS_MAX_Q16 || p[i] < -PSC_PROXY_POS_MAX_Q16)
+            return false;
+    return true;
+}
+
+static bool skin_ok(const psc_proxy_skin_raw_t *s, uint64_t n, uint32_t joints)
+{
+    for (uint64_t i = 0; i < n; i++) {
+        uint32_t sum = 0;
+        for (unsigned k = 0; k < 4; k++) {
+            sum += s[i].weight_q15[k];
+            if (s[i].weight_q15[k] != 0 && s[i].joint[k] >= joints)
+                return false;
+        }
+        if (sum != 32768u)
+            return false;
+    }
+    return true;
+}
+
+static bool index_ok(const uint16_t *idx, uint32_t first, uint32_t count, uint32_t vertices)
+{
+    for (uint64_t i = 3u * (uint64_t)first; i < 3u * ((uint64_t)first + count); i++)
+        if (idx[i] >= vertices)
+            return false;
+    return true;
+}
+
+static bool range_ok(uint32_t first, uint32_t count, uint32_t total)
+{
+    return (uint64_t)first + count <= total;
+}
+
+static psc_status_t check_parts(const psc_proxy_model_t *m, uint32_t at, psc_container_error_t *err)
+{
+    for (uint32_t i = 0; i < m->part_count; i++, at += (uint32_t)sizeof(psc_proxy_part_raw_t)) {
+        const psc_proxy_part_raw_t *p = &m->parts[i];
+        if (p->kind > PSC_PROXY_KIND_JOINT || p->joint >= m->joint_count)
+            return fail(err, PSC_ERR_CORRUPT, "a part's kind or joint is out of range", at);
+        if (!range_ok(p->first_vertex, p->vertex_count, m->vertex_count) ||
+            !range_ok(p->first_triangle, p->triangle_count, m->triangle_count) ||
+            !range_ok(p->first_proxy_vertex, p->proxy_vertex_count, m->proxy_vertex_count) ||
+            !range_ok(p->first_proxy_triangle, p->proxy_triangle_count, m->proxy_triangle_count))
+            return fail(err, PSC_ERR_CORRUPT, "a part's vertices or triangles lie beyond the mesh's", at);
+        if (p->vertex_count > PSC_PROXY_PIECE_MAX_VERTICES || p->proxy_vertex_count > PSC_PROXY_PIECE_MAX_VERTICES ||
+            p->proxy_triangle_count == 0)
+            return fail(err, PSC_ERR_CORRUPT, "a part has no proxy or more than 65 535 vertices", at);
+        if (!index_ok(m->index, p->first_triangle, p->triangle_count, p->vertex_count) ||
+            !index_ok(m->proxy_index, p->first_proxy_triangle, p->proxy_triangle_count, p->proxy_vertex_count))
+            return fail(err, PSC_ERR_CORRUPT, "a part's triangle names a vertex it does not have", at);
+        if (!pos_ok(p->centre_q16, 1) || p->radius_q16 <= 0 || p->radius_q16 > PSC_PROXY_POS_MAX_Q16)
+            return fail(err, PSC_ERR_CORRUPT, "a part's bounding sphere is out of range", at);
+    }
+    return PSC_OK;
+}
+
+psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out, psc_container_error_t *err)
+{
+    psc_container_t c;
+    psc_section_t f[S_COUNT] = {{0, 0, 0, 0}};
+    bool present[S_COUNT];
+    psc_status_t st;
+
+    if (out == NULL)
+        return fail(err, PSC_ERR_ARG, "no output", 0);
+    if ((st = psc_container_open(buf, len, &psc_proxy_format, &c, err)) != PSC_OK ||
+        (st = psc_container_collect(&c, section_type, S_COUNT, f, present, err)) != PSC_OK)
+        return st;
+    for (unsigned k = 0; k < S_COUNT; k++)
+        if (!present[k] && k != S_ANIM)
+            return fail(err, PSC_ERR_CORRUPT, "a required section is missing (all of XINF..XTEX but XANM)",
+                        c.header_size);
+    if (f[S_INFO].size != sizeof(psc_proxy_info_raw_t))
+        return fail(err, PSC_ERR_CORRUPT, "XINF is not 64 bytes", f[S_INFO].entry + 8);
+    const psc_proxy_info_raw_t *info = (const psc_proxy_info_raw_t *)(const void *)(c.base + f[S_INFO].offset);
+    psc_proxy_model_t m = {0};
+    m.joint_count = info->joint_count;
+    m.part_count = info->part_count;
+    m.vertex_count = info->vertex_count;
+    m.triangle_count = info->triangle_count;
+    m.proxy_vertex_count = info->proxy_vertex_count;
+    m.proxy_triangle_count = info->proxy_triangle_count;
+    m.frame_count = info->frame_count;
+    m.frame_period_us = info->frame_period_us;
+    m.view_side = info->view_side;
+    m.tex_size = info->tex_size;
+    m.model_r_um = info->model_r_um;
+    if (m.joint_count == 0 || m.joint_count > PSC_PROXY_MAX_JOINTS || m.part_count == 0 ||
+        m.part_count > PSC_PROXY_MAX_PARTS || m.vertex_count > PSC_PROXY_MAX_VERTICES ||
+        m.triangle_count > PSC_PROXY_MAX_TRIANGLES || m.proxy_vertex_count == 0 ||
+        m.proxy_vertex_count > PSC_PROXY_MAX_PROXY_VERTICES || m.proxy_triangle_count == 0 ||
+        m.proxy_triangle_count > PSC_PROXY_MAX_PROXY_TRIANGLES || m.frame_count > PSC_PROXY_MAX_FRAMES ||
+        (m.frame_count > 0 && (m.frame_period_us == 0 || m.frame_period_us > 10000000u)))
+        return fail(err, PSC_ERR_TOO_LARGE, "a count is zero or beyond its limit", f[S_INFO].offset);
+    if (m.view_side < PSC_PROXY_VIEW_SIDE_MIN || m.view_side > PSC_PROXY_VIEW_SIDE_MAX ||
+        m.tex_size < PSC_PROXY_TEX_MIN || m.tex_size > PSC_PROXY_TEX_MAX || (m.tex_size & (m.tex_size - 1u)) != 0)
+        return fail(err, PSC_ERR_TOO_LARGE, "the view grid or texture size is outside its limits",
+                    f[S_INFO].offset + 32);
+    m.view_count = m.view_side * m.view_side;
+    uint64_t uv_size = (uint64_t)m.proxy_vertex_count * m.view_count * 4u;
+    uint64_t tex_size = (uint64_t)m.part_count * m.view_count * m.tex_size * m.tex_size * 2u;
+    uint64_t anim_size = (uint64_t)m.frame_count * m.joint_count * 48u;
+    if (f[S_JOINTS].size != (uint64_t)m.joint_count * sizeof(psc_proxy_joint_raw_t) ||
+        (present[S_ANIM] ? f[S_ANIM].size : 0u) != anim_size ||
+        f[S_PARTS].size != (uint64_t)m.part_count * sizeof(psc_proxy_part_raw_t) ||
+        f[S_VPOS].size != (uint64_t)m.vertex_count * 12u || f[S_VCOL].size != (uint64_t)m.vertex_count * 4u ||
+        f[S_VSKIN].size != (uint64_t)m.vertex_count * 16u || f[S_IDX].size != (uint64_t)m.triangle_count * 6u ||
+        f[S_PPOS].size != (uint64_t)m.proxy_vertex_count * 12u ||
+        f[S_PSKIN].size != (uint64_t)m.proxy_vertex_count * 16u ||
+        f[S_PIDX].size != (uint64_t)m.proxy_triangle_count * 6u || f[S_PUV].size != uv_size ||
+        f[S_TEX].size != tex_size)
+        return fail(err, PSC_ERR_CORRUPT, "a section's size does not match the counts", f[S_INFO].offset);
+#define AT(k, T) ((const T *)(const void *)(c.base + f[k].offset))
+    m.joints = AT(S_JOINTS, psc_proxy_joint_raw_t);
+    m.anim_q16 = m.frame_count ? AT(S_ANIM, int32_t) : NULL;
+    m.parts = AT(S_PARTS, psc_proxy_part_raw_t);
+    m.position_q16 = AT(S_VPOS, int32_t);
+    m.color = AT(S_VCOL, uint32_t);
+    m.skin = AT(S_VSKIN, psc_proxy_skin_raw_t);
+    m.index = AT(S_IDX, uint16_t);
+    m.proxy_position_q16 = AT(S_PPOS, int32_t);
+    m.proxy_skin = AT(S_PSKIN, psc_proxy_skin_raw_t);
+    m.proxy_index = AT(S_PIDX, uint16_t);
+    m.proxy_uv = AT(S_PUV, uint16_t);
+    m.texels = AT(S_TEX, uint16_t);
+#undef AT
+    for (uint32_t j = 0; j < m.joint_count; j++) {
+        const psc_proxy_joint_raw_t *jr = &m.joints[j];
+        if (jr->parent < -1 || jr->parent >= (int32_t)j || jr->name[sizeof jr->name - 1] != '\0')
+            return fail(err, PSC_ERR_CORRUPT, "a joint's parent does not come before it, or its name is not ended",
+                        f[S_JOINTS].offset + j * (uint32_t)sizeof *jr);
+    }
+    for (uint64_t i = 0; i < (uint64_t)m.frame_count * m.joint_count; i++)
+        for (unsigned r = 0; r < 3; r++)
+            for (unsigned k = 0; k < 4; k++) {
+                int32_t v = m.anim_q16[12u * i + 4u * r + k];
+                int32_t lim = k == 3 ? PSC_PROXY_POS_MAX_Q16 : PSC_MAT_LINEAR_MAX_Q16 / 4;
+                if (v > lim || v < -lim)
+                    return fail(err, PSC_ERR_CORRUPT, "an animation matrix is out of range",
+                                f[S_ANIM].offset + (uint32_t)(48u * i));
+            }
+    if (!pos_ok(m.position_q16, m.vertex_count) || !pos_ok(m.proxy_position_q16, m.proxy_vertex_count))
+        return fail(err, PSC_ERR_CORRUPT, "a position lies beyond 64 R", f[S_VPOS].offset);
+    if (!skin_ok(m.skin, m.vertex_count, m.joint_count) || !skin_ok(m.proxy_skin, m.proxy_vertex_count, m.joint_count))
+        return fail(err, PSC_ERR_CORRUPT, "a skin weight names a missing joint, or the weights do not sum to 1",
+                    f[S_VSKIN].offset);
+    if ((st = check_parts(&m, f[S_PARTS].offset, err)) != PSC_OK)
+        return st;
+    *out = m;
+    return PSC_OK;
+}

@@ -1,0 +1,118 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * periscope-proxy - bake an articulated or skinned model into a proxy pack
+ * (image-based rendering with proxy surface animation, core/proxy/psc_proxy.h;
+ * the preprocessing: host_tools/lib/proxy_bake.h):
+ *
+ *   periscope-proxy bake MODEL.{gltf,glb,obj} -o M.ppx [--views K] [--tex N]
+ *
+ * The device's object scene and periscope-render M.ppx draw the pack. Exit
+ * status: 0 done, 1 the work failed, 2 bad arguments.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli_parse.h"
+#include "gltf_load.h"
+#include "proxy_bake.h"
+#include "psc_io_cli.h"
+#include "psc_io_file.h"
+
+#define PROG "periscope-proxy"
+
+static void print_usage(FILE *f)
+{
+    fprintf(f,
+            "usage: " PROG " bake MODEL.{gltf,glb,obj} -o M.ppx [--views K] [--tex N]\n"
+            "\n"
+            "Divide a model into parts (pieces that move without changing shape) and joints (the triangles\n"
+            "between them), form a proxy surface for each, render each proxy's view textures from a grid of\n"
+            "directions with the rest-pose lighting, and write them with the skeleton, the first animation\n"
+            "and the full mesh as a proxy pack. OBJ groups are rigid parts.\n"
+            "\n"
+            "  --views K           at least K view directions: the smallest odd grid side whose square reaches\n"
+            "                      K (default 49: 7 x 7, octahedral)\n"
+            "  --tex N             texels per side of each view texture, a power of two 8..512 (default 64)\n"
+            "  -o M.ppx            the pack (written whole, or not at all)\n"
+            "  --version, --help\n");
+}
+
+#define usage_error(...) psc_io_cli_usage_error(PROG, __VA_ARGS__)
+
+static const struct option proxy_options[] = {
+    {"views", required_argument, NULL, 1},
+    {"tex", required_argument, NULL, 1},
+    PSC_IO_CLI_COMMON_OPTIONS,
+};
+
+int main(int argc, char **argv)
+{
+    psc_proxy_bake_opts_t o = {PSC_PROXY_BAKE_VIEWS, PSC_PROXY_BAKE_TEX};
+    const char *model = NULL, *out = NULL, *verb = NULL;
+    psc_io_cli_t c;
+    char why[160], err[768], note[512] = "", load_note[256] = "";
+    int opt;
+
+    psc_io_cli_begin(&c, argc, argv, "ho:", proxy_options);
+    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
+        unsigned long v;
+        if (opt < 0)
+            return usage_error("%s", why);
+        if (opt == PSC_IO_CLI_HELP) {
+            print_usage(stdout);
+            return 0;
+        }
+        if (opt == PSC_IO_CLI_VERSION) {
+            psc_io_cli_print_version(PROG);
+            return 0;
+        }
+        if (strcmp(c.name, "-o") == 0) {
+            out = c.arg;
+        } else if (strcmp(c.name, "--views") == 0) {
+            if (psc_cli_parse_uint(c.arg, 4, 3969, &v) != 0)
+                return usage_error("--views '%s': expected 4..3969", c.arg);
+            o.views = (unsigned)v;
+        } else if (strcmp(c.name, "--tex") == 0) {
+            if (psc_cli_parse_uint(c.arg, 8, 512, &v) != 0 || (v & (v - 1u)) != 0)
+                return usage_error("--tex '%s': expected a power of two 8..512", c.arg);
+            o.tex = (unsigned)v;
+        }
+    }
+    for (int i = psc_io_cli_rest(&c); i < argc; i++) {
+        if (!verb)
+            verb = argv[i];
+        else if (!model)
+            model = argv[i];
+        else
+            return usage_error("more than one model given (%s)", argv[i]);
+    }
+    if (!verb || strcmp(verb, "bake") != 0)
+        return usage_error("expected the command 'bake' (" PROG " bake MODEL -o M.ppx)");
+    if (!model)
+        return usage_error("no model given");
+    if (!psc_gltf_is_model(model) && !psc_gltf_is_obj(model))
+        return usage_error("%s: expected a .gltf, .glb or .obj model", model);
+    if (!out)
+        return usage_error("no output given (-o M.ppx)");
+    psc_gltf_t g = {0};
+    if (psc_gltf_load(model, &g, load_note, sizeof load_note, err, sizeof err) != 0) {
+        fprintf(stderr, PROG ": %s\n", err);
+        return 1;
+    }
+    if (load_note[0])
+        fprintf(stderr, PROG ": %s: %s\n", model, load_note);
+    uint8_t *bytes = NULL;
+    size_t len = 0;
+    int rc = 1;
+    if (psc_proxy_bake(&g, &o, model, &bytes, &len, note, sizeof note, err, sizeof err) != 0 ||
+        psc_io_write_atomic(out, bytes, len, err, sizeof err) != 0) {
+        fprintf(stderr, PROG ": %s\n", err);
+    } else {
+        printf("%s: %s, %zu bytes\n", out, note, len);
+        rc = 0;
+    }
+    free(bytes);
+    psc_gltf_free(&g);
+    return rc;
+}
