@@ -196,6 +196,7 @@ typedef struct {
     psc_texture_t *textures;       /* 3 per draw */
     psc_3d_draw_t *draws;
     uint32_t joint_triangles, max_draws;
+    psc_tex_filter_t filter;       /* of the view textures: nearest (psc_proxy_init's; the bench's 1.7x over bilinear) */
 } psc_proxy_t;
 
 /** Workspace bytes for drawing model m (0 if it cannot be drawn). */

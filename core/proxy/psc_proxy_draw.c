@@ -88,6 +88,7 @@ psc_status_t psc_proxy_init(psc_proxy_t *p, const psc_proxy_model_t *m, void *ws
     w += align8((size_t)c.draws * 3u * sizeof(psc_texture_t));
     p->draws = (psc_3d_draw_t *)(void *)w;
     p->joint_triangles = (uint32_t)c.joint_triangles;
+    p->filter = PSC_TEX_NEAREST;
     p->max_draws = (uint32_t)c.draws;
     return PSC_OK;
 }
@@ -205,7 +206,7 @@ static void pick_views(const psc_proxy_model_t *m, const int32_t at[3], const ps
 
 /* Point draw d at the picked views of part `part`: textures, coordinates uv[k], weights in Q0.8 summing to 256. */
 static void set_views(const psc_proxy_model_t *m, psc_3d_draw_t *d, psc_texture_t *tex, uint32_t part,
-                      const psc_proxy_pick_t *pick, const uint16_t *const uv[3])
+                      const psc_proxy_pick_t *pick, const uint16_t *const uv[3], psc_tex_filter_t filter)
 {
     int32_t w0 = (pick->w_q16[0] + 128) >> 8, w1 = (pick->w_q16[1] + 128) >> 8;
     if (w1 > 256 - w0)
@@ -213,6 +214,7 @@ static void set_views(const psc_proxy_model_t *m, psc_3d_draw_t *d, psc_texture_
     int32_t w[3] = {w0, w1, 256 - w0 - w1};
     size_t texels = (size_t)m->tex_size * m->tex_size;
     d->shade = PSC_SHADE_VIEWS;
+    d->filter = filter;
     for (unsigned k = 0; k < 3; k++) {
         const uint16_t *px = m->texels + ((size_t)part * m->view_count + pick->view[k]) * texels;
         psc_texture_init(&tex[k], (uint16_t)m->tex_size, (uint16_t)m->tex_size, PSC_PIX_RGB565, m->tex_size * 2u, px);
@@ -299,7 +301,7 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
             pick_views(m, cc, cam, js, &pick);
             const uint16_t *const uv[3] = {part_uv(m, pr, pick.view[0]), part_uv(m, pr, pick.view[1]),
                                            part_uv(m, pr, pick.view[2])};
-            set_views(m, d, &p->textures[3u * nd], i, &pick, uv);
+            set_views(m, d, &p->textures[3u * nd], i, &pick, uv, p->filter);
             nd++;
             continue;
         }
@@ -334,7 +336,7 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
             *mesh = (psc_mesh_t){.vertex_count = 3, .triangle_count = 1, .position_q16 = tp, .index = tri012};
             psc_3d_draw_t *d = &p->draws[nd];
             draw_base(d, mesh, cam, ids, i);
-            set_views(m, d, &p->textures[3u * nd], i, &pick, uv);
+            set_views(m, d, &p->textures[3u * nd], i, &pick, uv, p->filter);
             nd++;
         }
     }

@@ -34,7 +34,8 @@ typedef struct {
 typedef struct {
     int64_t e[3], ex[3], ey[3];  /* biased edge values at the first pixel centre, steps */
     plane_t depth, r, g, b, q, uq, vq, light;
-    plane_t vu[3], vv[3];        /* VIEWS: u/w and v/w of each view */
+    plane_t vu[3], vv[3];        /* VIEWS: u/w and v/w of each view (u and v when affine) */
+    bool affine;                 /* VIEWS: the vertices' depths within 1/256 of each other: no division a pixel */
     int32_t px0, py0, px1, py1;  /* inclusive pixel bounds, inside the target */
     uint32_t flat;
 } setup_t;
@@ -285,7 +286,7 @@ static PSC_ALWAYS_INLINE void view_sample(const psc_texture_t *t, int64_t uu, in
 
 static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_target_t *t,
                                              const psc_raster_state_t *st, const int out565, const int zbits,
-                                             const int bilinear)
+                                             const int bilinear, const int affine)
 {
     uint32_t written = 0;
     int64_t e0r = s->e[0], e1r = s->e[1], e2r = s->e[2];
@@ -310,19 +311,32 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                                        : z < ((uint32_t *)(void *)zrow)[x - t->x0];
                 }
                 if (draw) {
-                    int64_t qq = clamp64(plane_value(q, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
-                    int64_t inv = (INT64_C(1) << 40) / qq;
-                    uint32_t cov = 0, acc[3] = {0, 0, 0};
+                    int64_t inv = 0;
+                    if (!affine) {
+                        int64_t qq = clamp64(plane_value(q, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
+                        inv = (INT64_C(1) << 40) / qq;
+                    }
+                    uint32_t cov = 0, acc[3] = {0, 0, 0}, left = 65536u;
                     for (unsigned k = 0; k < 3; k++) {
-                        if (st->view_w_q8[k] == 0)
+                        uint32_t wk = st->view_w_q8[k];
+                        /* the heaviest views come first: stop once the rest cannot reach one half */
+                        if (cov + left < 32768u)
+                            break;
+                        if (wk == 0)
                             continue;
-                        int64_t uu = clamp64(psc_shr_round64(plane_value(u[k], UV_F) * inv, 24), 0, 65536);
-                        int64_t vv = clamp64(psc_shr_round64(plane_value(v[k], UV_F) * inv, 24), 0, 65536);
-                        view_sample(st->view_tex[k], uu, vv, st->view_w_q8[k], bilinear, &cov, acc);
+                        left -= wk << 8;
+                        int64_t uu = affine ? plane_value(u[k], UV_F) : psc_shr_round64(plane_value(u[k], UV_F) * inv, 24);
+                        int64_t vv = affine ? plane_value(v[k], UV_F) : psc_shr_round64(plane_value(v[k], UV_F) * inv, 24);
+                        view_sample(st->view_tex[k], clamp64(uu, 0, 65536), clamp64(vv, 0, 65536), wk, bilinear, &cov,
+                                    acc);
                     }
                     if (cov >= 32768u) {
                         uint32_t c = st->mask_color & 0xFFFFFFu;
-                        if (!st->views_mask) {
+                        if (!st->views_mask && cov == 65536u) {   /* every texel there: no division */
+                            c = 0;
+                            for (unsigned k = 0; k < 3; k++)
+                                c = c << 8 | ((acc[k] + 32768u) >> 16);
+                        } else if (!st->views_mask) {
                             uint64_t rcp = ((UINT64_C(1) << 40) + cov / 2u) / cov;
                             c = 0;
                             for (unsigned k = 0; k < 3; k++) {
@@ -369,7 +383,8 @@ static uint32_t dispatch_views(const setup_t *s, const psc_raster_target_t *t, c
                                int out565, int zb)
 {
 #define VIEWS(o, z)                                                                                  \
-    (st->filter == PSC_TEX_BILINEAR ? views_loop(s, t, st, o, z, 1) : views_loop(s, t, st, o, z, 0))
+    (s->affine ? (st->filter == PSC_TEX_BILINEAR ? views_loop(s, t, st, o, z, 1, 1) : views_loop(s, t, st, o, z, 0, 1)) \
+               : (st->filter == PSC_TEX_BILINEAR ? views_loop(s, t, st, o, z, 1, 0) : views_loop(s, t, st, o, z, 0, 0)))
     if (out565)
         return zb == 0 ? VIEWS(1, 0) : zb == 16 ? VIEWS(1, 16) : VIEWS(1, 32);
     return zb == 0 ? VIEWS(0, 0) : zb == 16 ? VIEWS(0, 16) : VIEWS(0, 32);
@@ -537,16 +552,21 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
     }
     if (st->shade == PSC_SHADE_VIEWS) {
         /* Coordinates in [0, 1]: u/w and v/w planes per view, no shift needed. */
-        int64_t q[3], a[3], b[3];
-        for (unsigned i = 0; i < 3; i++)
+        int64_t q[3], a[3], b[3], qmin = PSC_RASTER_Q_ONE, qmax = 0;
+        for (unsigned i = 0; i < 3; i++) {
             q[i] = clamp64(v[i]->q_q28, PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
+            qmin = q[i] < qmin ? q[i] : qmin;
+            qmax = q[i] > qmax ? q[i] : qmax;
+        }
+        /* Perspective changes u across such a triangle by under 1/256 of its span: interpolate u, v directly. */
+        s.affine = (qmax - qmin) * 256 <= qmin;
         plane_setup(&s.q, q, x, y, area2, Q_F, cx, cy);
         for (unsigned k = 0; k < 3; k++) {
             for (unsigned i = 0; i < 3; i++) {
                 int32_t uu = k == 0 ? v[i]->u_q16 : k == 1 ? v[i]->u1_q16 : v[i]->u2_q16;
                 int32_t vv = k == 0 ? v[i]->v_q16 : k == 1 ? v[i]->v1_q16 : v[i]->v2_q16;
-                a[i] = psc_shr_round64(clamp64(uu, 0, 65536) * q[i], 16);
-                b[i] = psc_shr_round64(clamp64(vv, 0, 65536) * q[i], 16);
+                a[i] = s.affine ? clamp64(uu, 0, 65536) : psc_shr_round64(clamp64(uu, 0, 65536) * q[i], 16);
+                b[i] = s.affine ? clamp64(vv, 0, 65536) : psc_shr_round64(clamp64(vv, 0, 65536) * q[i], 16);
             }
             plane_setup(&s.vu[k], a, x, y, area2, UV_F, cx, cy);
             plane_setup(&s.vv[k], b, x, y, area2, UV_F, cx, cy);

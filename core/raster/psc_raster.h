@@ -119,7 +119,7 @@ typedef struct {
     bool modulate;            /* TEXTURE: multiply texels by the interpolated light_q8 */
     const psc_texture_t *texture;  /* TEXTURE only */
     const psc_texture_t *view_tex[3];  /* VIEWS: RGB565, same size */
-    uint16_t view_w_q8[3];    /* VIEWS: weights summing to 256 */
+    uint16_t view_w_q8[3];    /* VIEWS: weights summing to 256, heaviest first (pixels end sooner) */
     bool views_mask;          /* VIEWS: write mask_color where covered */
     uint32_t mask_color;
 } psc_raster_state_t;

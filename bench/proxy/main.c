@@ -1,0 +1,210 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * proxy - how much the proxy animator saves: each model drawn as its proxies
+ * with view textures and as its full mesh, by the same pipeline, side by side
+ * in one run (800x480, RGB565, 16-bit depth, one core, best of PASSES passes
+ * of FRAMES frames, the camera turning 3 degrees a frame):
+ *  - a rigid assembly of 12 rings of 9 216 triangles each (110 592 in all),
+ *    every ring its own node, built here;
+ *  - the bundled skinned bar (../shared/data/models/gltf), its animation
+ *    playing.
+ * Each is baked here with periscope-proxy's defaults (7 x 7 views of 64^2).
+ *
+ *   build/bench/proxy --out bench/results     the table (`make bench`)
+ */
+#include "gltf_load.h"
+#include "model.h"
+#include "proxy_bake.h"
+#include "3d/psc_3d_orbit.h"
+#include "3d/psc_3d_render.h"
+#include "base/psc_fixed.h"
+#include "proxy/psc_proxy.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define W 800u
+#define H 480u
+#define FRAMES 60u
+#define PASSES 3u
+#define RINGS 12u
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* The assembly: a root node and RINGS ring nodes, each ring rigid on its node. */
+static int make_assembly(psc_gltf_t *g)
+{
+    memset(g, 0, sizeof *g);
+    psc_model_t ring;
+    psc_model_torus(&ring, 0.35, 0.12, 96, 48);
+    uint32_t nv = ring.vertex_count * RINGS, nt = ring.triangle_count * RINGS;
+    g->joint_count = RINGS + 1u;
+    g->joints = calloc(g->joint_count, sizeof *g->joints);
+    g->mesh.pos = malloc(nv * 3u * sizeof *g->mesh.pos);
+    g->mesh.normal = malloc(nv * 3u * sizeof *g->mesh.normal);
+    g->mesh.color = malloc(nv * sizeof *g->mesh.color);
+    g->mesh.index = malloc(nt * 3u * sizeof *g->mesh.index);
+    g->joint = calloc(nv, sizeof *g->joint);
+    g->weight = calloc(nv, sizeof *g->weight);
+    if (!g->joints || !g->mesh.pos || !g->mesh.normal || !g->mesh.color || !g->mesh.index || !g->joint || !g->weight)
+        return -1;
+    for (uint32_t j = 0; j < g->joint_count; j++) {
+        snprintf(g->joints[j].name, sizeof g->joints[j].name, j ? "ring%u" : "assembly", (unsigned)j);
+        g->joints[j].parent = j ? 0 : -1;
+        g->joints[j].rest = (psc_gltf_trs_t){{0, 0, 0}, {0, 0, 0, 1}, {1, 1, 1}};
+    }
+    g->mesh.vertex_count = nv;
+    g->mesh.triangle_count = nt;
+    for (unsigned k = 0; k < RINGS; k++) {
+        double ox = ((double)(k % 4u) - 1.5) * 0.9, oz = ((double)(k / 4u) - 1.0) * 0.9, a = k * 15.0 * 3.14159265 / 180;
+        uint32_t base = k * ring.vertex_count;
+        uint32_t color = 0x406080u + 0x0F0B05u * k;
+        for (uint32_t i = 0; i < ring.vertex_count; i++) {
+            const double *p = &ring.pos[3u * i], *n = &ring.normal[3u * i];
+            double *q = &g->mesh.pos[3u * (base + i)], *m = &g->mesh.normal[3u * (base + i)];
+            q[0] = p[0] + ox, q[1] = p[1] * cos(a) - p[2] * sin(a), q[2] = p[1] * sin(a) + p[2] * cos(a) + oz;
+            m[0] = n[0], m[1] = n[1] * cos(a) - n[2] * sin(a), m[2] = n[1] * sin(a) + n[2] * cos(a);
+            g->mesh.color[base + i] = color;
+            g->joint[base + i][0] = (uint16_t)(k + 1u);
+            g->weight[base + i][0] = 1.0;
+        }
+        for (uint32_t t = 0; t < 3u * ring.triangle_count; t++)
+            g->mesh.index[3u * k * ring.triangle_count + t] = base + ring.index[t];
+    }
+    psc_model_free(&ring);
+    return 0;
+}
+
+typedef struct {
+    const char *name;
+    double t_step;               /* animation seconds a frame (0: rest) */
+    uint8_t *pack;
+    size_t len;
+    psc_proxy_model_t m;
+    char note[512];
+} model_t;
+
+static int bake(model_t *mo, const psc_gltf_t *g)
+{
+    psc_proxy_bake_opts_t o = {PSC_PROXY_BAKE_VIEWS, PSC_PROXY_BAKE_TEX};
+    char err[512];
+    uint8_t *bytes;
+    if (psc_proxy_bake(g, &o, mo->name, &bytes, &mo->len, mo->note, sizeof mo->note, err, sizeof err) != 0) {
+        fprintf(stderr, "proxy bench: %s\n", err);
+        return -1;
+    }
+    if (posix_memalign((void **)&mo->pack, 64, mo->len) != 0)
+        return -1;
+    memcpy(mo->pack, bytes, mo->len);
+    free(bytes);
+    psc_container_error_t e = {0};
+    return psc_proxy_parse(mo->pack, mo->len, &mo->m, &e) == PSC_OK ? 0 : -1;
+}
+
+/* Best time of PASSES passes of FRAMES frames (ms per frame), proxies or full. */
+static double run(model_t *mo, psc_proxy_lod_t lod, uint32_t *triangles)
+{
+    const psc_proxy_model_t *m = &mo->m;
+    psc_vec3_q16_t lo = {INT32_MAX, INT32_MAX, INT32_MAX}, hi = {INT32_MIN, INT32_MIN, INT32_MIN};
+    for (uint32_t i = 0; i < m->vertex_count; i++) {
+        const int32_t *v = &m->position_q16[3 * i];
+        lo = (psc_vec3_q16_t){v[0] < lo.x ? v[0] : lo.x, v[1] < lo.y ? v[1] : lo.y, v[2] < lo.z ? v[2] : lo.z};
+        hi = (psc_vec3_q16_t){v[0] > hi.x ? v[0] : hi.x, v[1] > hi.y ? v[1] : hi.y, v[2] > hi.z ? v[2] : hi.z};
+    }
+    psc_3d_config_t cfg = {W, H, 0, 0, 16, 0x238E38E4u, 0, 0, psc_proxy_max_vertices(m)};
+    psc_mat4_q16_t cam;
+    psc_3d_orbit(lo, hi, 0, (int32_t)0x0E38E38E, 160000, &cam, &cfg.near_q16, &cfg.far_q16);
+    size_t n3 = psc_3d_workspace_size(&cfg), np = psc_proxy_workspace_size(m);
+    void *ws3d = NULL, *wsp = NULL, *px = NULL;
+    psc_mat4_q16_t *skin = malloc(m->joint_count * sizeof *skin);
+    psc_3d_t r;
+    psc_proxy_t p;
+    double best = 1e30;
+    if (!skin || posix_memalign(&ws3d, 64, n3) != 0 || posix_memalign(&wsp, 64, np ? np : 8) != 0 ||
+        posix_memalign(&px, 64, (size_t)W * H * 2) != 0 || psc_3d_init(&r, &cfg, ws3d, n3) != PSC_OK ||
+        psc_proxy_init(&p, m, wsp, np) != PSC_OK)
+        goto done;
+    psc_surface_t sf = {W, H, W * 2, PSC_PIX_RGB565, px};
+    for (unsigned pass = 0; pass < PASSES; pass++) {
+        double t0 = now_s();
+        for (unsigned f = 0; f < FRAMES; f++) {
+            psc_3d_orbit(lo, hi, (psc_bam_t)(f * 0x02222222u), (int32_t)0x0E38E38E, 160000, &cam, &cfg.near_q16,
+                         &cfg.far_q16);
+            psc_proxy_pose_at(m, mo->t_step > 0 ? (int64_t)(f * mo->t_step * 1e6) : -1, skin);
+            const psc_3d_draw_t *d;
+            unsigned nd;
+            psc_3d_stats_t st;
+            uint32_t bg = 0x30343Cu;
+            if (psc_proxy_frame(&p, skin, &cam, lod, false, &d, &nd) != PSC_OK ||
+                psc_3d_render(&r, d, nd, &bg, &sf, &st) != PSC_OK)
+                goto done;
+            *triangles = st.triangles;
+        }
+        double dt = (now_s() - t0) / FRAMES * 1e3;
+        best = dt < best ? dt : best;
+    }
+done:
+    free(skin), free(ws3d), free(wsp), free(px);
+    return best;
+}
+
+int main(int argc, char **argv)
+{
+    const char *out = "bench/results";
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
+            out = argv[++i];
+        } else if (strcmp(argv[i], "--callgrind") == 0) {
+            printf("proxy: no callgrind mode (the table's ratio is measured in one run)\n");
+            return 0;
+        } else {
+            fprintf(stderr, "usage: build/bench/proxy [--out DIR]\n");
+            return 2;
+        }
+    }
+    psc_gltf_t asm_g, bar_g;
+    char note[256], err[512];
+    model_t models[2] = {{.name = "assembly, 12 rigid rings"}, {.name = "bar, skinned, playing", .t_step = 1.0 / 60}};
+    if (make_assembly(&asm_g) != 0 || bake(&models[0], &asm_g) != 0)
+        return 1;
+    if (psc_gltf_load("../shared/data/models/gltf/animation_with_skeleton.gltf", &bar_g, note, sizeof note, err,
+                      sizeof err) != 0) {
+        fprintf(stderr, "proxy bench: %s (run from the repository, ../shared beside it)\n", err);
+        return 1;
+    }
+    if (bake(&models[1], &bar_g) != 0)
+        return 1;
+    char path[4096];
+    snprintf(path, sizeof path, "%s/proxy.txt", out);
+    FILE *j = fopen(path, "w");
+    printf("proxy animator against the full mesh, %ux%u RGB565, one core, best of %u passes of %u frames\n", W, H,
+           PASSES, FRAMES);
+    printf("%-26s %9s %9s %7s %10s %10s %10s %7s\n", "model", "triangles", "drawn", "views", "textures", "full ms",
+           "proxy ms", "ratio");
+    for (unsigned k = 0; k < 2; k++) {
+        model_t *mo = &models[k];
+        uint32_t tf = 0, tp = 0;
+        double full = run(mo, PSC_PROXY_LOD_FULL, &tf), prx = run(mo, PSC_PROXY_LOD_PROXIES, &tp);
+        double tex_mb = (double)mo->m.part_count * mo->m.view_count * mo->m.tex_size * mo->m.tex_size * 2 / 1048576.0;
+        char line[256];
+        snprintf(line, sizeof line, "%-26s %9u %9u %7u %7.1f MB %10.3f %10.3f %6.2fx\n", mo->name, tf, tp,
+                 mo->m.view_count, tex_mb, full, prx, full / prx);
+        fputs(line, stdout);
+        if (j)
+            fputs(line, j);
+    }
+    if (j)
+        fclose(j);
+    free(models[0].pack), free(models[1].pack);
+    psc_gltf_free(&asm_g);
+    psc_gltf_free(&bar_g);
+    return 0;
+}
