@@ -11,7 +11,7 @@
 #include <string.h>
 
 #define RIGID_WEIGHT 0.999
-#define JOINT_PUSH 0.01          /* a joint proxy stands this far (units of R) outside its triangles */
+#define JOINT_PUSH 0.0005        /* a joint proxy stands this far (units of R) outside its triangles */
 
 uint32_t psc_proxy_bake_light(uint32_t base, const double n[3])
 {
@@ -313,6 +313,166 @@ oom:
     return -1;
 }
 
+/* ---- splitting loose parts --------------------------------------------------------------------- */
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Squared distance from p to triangle (a, b, c): the closest point by the triangle's Voronoi regions. */
+static double tri_dist2(const double p[3], const double a[3], const double b[3], const double c[3])
+{
+    double ab[3], ac[3], ap[3], q[3];
+    for (unsigned k = 0; k < 3; k++)
+        ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k];
+    double d1 = dot3(ab, ap), d2 = dot3(ac, ap), d00 = dot3(ab, ab), d01 = dot3(ab, ac), d11 = dot3(ac, ac);
+    double den = d00 * d11 - d01 * d01, v, w;
+    if (den <= 1e-30) {
+        v = w = 0;
+    } else {
+        v = (d11 * d1 - d01 * d2) / den;
+        w = (d00 * d2 - d01 * d1) / den;
+    }
+    if (v < 0 || w < 0 || v + w > 1) {   /* outside: the nearest of the three edges */
+        double best = INFINITY;
+        const double *e0[3] = {a, b, c}, *e1[3] = {b, c, a};
+        for (unsigned e = 0; e < 3; e++) {
+            double d[3], f[3];
+            for (unsigned k = 0; k < 3; k++)
+                d[k] = e1[e][k] - e0[e][k], f[k] = p[k] - e0[e][k];
+            double dd = dot3(d, d), t = dd > 0 ? fmin(1, fmax(0, dot3(f, d) / dd)) : 0, g2 = 0;
+            for (unsigned k = 0; k < 3; k++)
+                g2 += (f[k] - t * d[k]) * (f[k] - t * d[k]);
+            best = fmin(best, g2);
+        }
+        return best;
+    }
+    for (unsigned k = 0; k < 3; k++)
+        q[k] = a[k] + v * ab[k] + w * ac[k] - p[k];
+    return dot3(q, q);
+}
+
+/* How far the envelope of triangles tri[0..n) of g would stand off them: the mean distance from its vertices to
+ * their surface, in units of its radius (< 0: out of memory). */
+static double looseness(const psc_gltf_t *g, const uint32_t *tri, uint32_t n, const double c[3], double r, int32_t *map)
+{
+    psc_proxy_shape_t s = {0};
+    uint32_t nv = 0, *verts = malloc(3u * n * sizeof *verts);
+    s.src_index = malloc(3u * n * sizeof *s.src_index);
+    s.src_pos = malloc(3u * n * sizeof *s.src_pos);
+    double loose = -1;
+    if (!verts || !s.src_index || !s.src_pos)
+        goto done;
+    for (uint32_t k = 0; k < n; k++)
+        for (unsigned i = 0; i < 3; i++) {
+            uint32_t v = g->mesh.index[3u * tri[k] + i];
+            if (map[v] < 0) {
+                map[v] = (int32_t)nv;
+                for (unsigned a = 0; a < 3; a++)
+                    s.src_pos[nv][a] = (g->mesh.pos[3u * v + a] - c[a]) / r;
+                verts[nv++] = v;
+            }
+            s.src_index[3u * k + i] = (uint32_t)map[v];
+        }
+    for (uint32_t i = 0; i < nv; i++)
+        map[verts[i]] = -1;
+    s.src_vertices = nv;
+    s.src_triangles = n;
+    if (psc_proxy_envelope(&s) != 0)
+        goto done;
+    /* over the proxy's faces, area-weighted: the distance from each face's centre to the part */
+    double sum = 0, area = 0;
+    for (uint32_t i = 0; i < s.prx_triangles; i++) {
+        const double *a = s.prx_pos[s.prx_index[3u * i]], *b = s.prx_pos[s.prx_index[3u * i + 1]],
+                     *cc = s.prx_pos[s.prx_index[3u * i + 2]];
+        double e1[3], e2[3], x[3], m[3];
+        for (unsigned k = 0; k < 3; k++)
+            e1[k] = b[k] - a[k], e2[k] = cc[k] - a[k], m[k] = (a[k] + b[k] + cc[k]) / 3;
+        x[0] = e1[1] * e2[2] - e1[2] * e2[1], x[1] = e1[2] * e2[0] - e1[0] * e2[2], x[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        double ar = sqrt(dot3(x, x)) / 2, best = INFINITY;
+        for (uint32_t k = 0; k < n; k++)
+            best = fmin(best, tri_dist2(m, s.src_pos[s.src_index[3u * k]], s.src_pos[s.src_index[3u * k + 1]],
+                                        s.src_pos[s.src_index[3u * k + 2]]));
+        sum += ar * sqrt(best);
+        area += ar;
+    }
+    loose = s.radius > 0 && area > 0 ? sum / area / s.radius : 0;
+done:
+    free(verts);
+    shape_free(&s);
+    return loose;
+}
+
+static const double *sort_key;
+
+static int by_key(const void *a, const void *b)
+{
+    double ka = sort_key[*(const uint32_t *)a], kb = sort_key[*(const uint32_t *)b];
+    return ka < kb ? -1 : ka > kb;
+}
+
+/* Append group gr to out, halved (by the median of its triangles' centres along its box's longest axis) while its
+ * envelope stands off it by more than LOOSE of its radius, down to MAX_SPLIT levels: a smaller, less concave piece
+ * gets a closer proxy, and a closer proxy a truer picture from between the views. */
+#define LOOSE 0.10
+#define MAX_SPLIT 3
+static int split_part(const psc_gltf_t *g, group_t *gr, unsigned depth, const double c[3], double r, int32_t *map,
+                      group_t **out, uint32_t *n, uint32_t *cap)
+{
+    double loose = depth < MAX_SPLIT && gr->n >= 64 ? looseness(g, gr->tri, gr->n, c, r, map) : 0;
+    if (getenv("PSC_PROXY_DEBUG"))
+        fprintf(stderr, "part joint %u depth %u: %u triangles, looseness %.3f\n", gr->joint, depth, gr->n, loose);
+    if (loose < 0)
+        return -1;
+    if (loose <= LOOSE) {
+        if (*n == *cap) {
+            group_t *q = realloc(*out, 2u * *cap * sizeof *q);
+            if (!q)
+                return -1;
+            *out = q, *cap *= 2u;
+        }
+        (*out)[(*n)++] = *gr;
+        gr->tri = NULL;
+        return 0;
+    }
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double *key = malloc(g->mesh.triangle_count ? gr->n * 3u * sizeof *key : 8);
+    uint32_t *order = malloc(gr->n * sizeof *order);
+    if (!key || !order) {
+        free(key), free(order);
+        return -1;
+    }
+    for (uint32_t k = 0; k < gr->n; k++)
+        for (unsigned a = 0; a < 3; a++) {
+            const uint32_t *v = &g->mesh.index[3u * gr->tri[k]];
+            double m = (g->mesh.pos[3u * v[0] + a] + g->mesh.pos[3u * v[1] + a] + g->mesh.pos[3u * v[2] + a]) / 3;
+            key[3u * k + a] = m;
+            lo[a] = fmin(lo[a], m), hi[a] = fmax(hi[a], m);
+        }
+    unsigned ax = hi[0] - lo[0] >= hi[1] - lo[1] && hi[0] - lo[0] >= hi[2] - lo[2] ? 0 : hi[1] - lo[1] >= hi[2] - lo[2] ? 1 : 2;
+    double *k1 = malloc(gr->n * sizeof *k1);
+    if (!k1) {
+        free(key), free(order);
+        return -1;
+    }
+    for (uint32_t k = 0; k < gr->n; k++) {
+        order[k] = k;
+        k1[k] = key[3u * k + ax];
+    }
+    sort_key = k1;
+    qsort(order, gr->n, sizeof *order, by_key);
+    group_t half[2] = {{gr->kind, gr->joint, gr->joint_b, NULL, 0, 0}, {gr->kind, gr->joint, gr->joint_b, NULL, 0, 0}};
+    int rc = 0;
+    for (uint32_t k = 0; k < gr->n && rc == 0; k++)
+        rc = group_add(&half[k >= gr->n / 2], gr->tri[order[k]]);
+    free(key), free(order), free(k1);
+    for (unsigned h = 0; h < 2 && rc == 0; h++)
+        rc = split_part(g, &half[h], depth + 1u, c, r, map, out, n, cap);
+    free(half[0].tri), free(half[1].tri);
+    return rc;
+}
+
 /* A 3x4 model-space matrix in units of R from the centre: S'(x) = (S(x R + c) - c) / R. */
 static void mat_to_r(const double s[12], const double c[3], double r, bool point_map, int32_t out[12])
 {
@@ -355,6 +515,43 @@ int psc_proxy_bake(const psc_gltf_t *g, const psc_proxy_bake_opts_t *o, const ch
     }
     for (uint32_t i = 0; i < g->mesh.vertex_count; i++)
         map[i] = -1;
+    {   /* loose parts halved; joints as they are */
+        uint32_t cap = ng + 16u, n2 = 0;
+        group_t *g2 = malloc(cap * sizeof *g2);
+        if (!g2) {
+            psc_io_errorf(err, errlen, name, "out of memory");
+            goto done;
+        }
+        for (uint32_t k = 0; k < ng; k++) {
+            int rc2 = 0;
+            if (gr[k].n == 0)
+                continue;
+            if (gr[k].kind == PSC_PROXY_KIND_PART) {
+                rc2 = split_part(g, &gr[k], 0, c, r, map, &g2, &n2, &cap);
+            } else if (n2 == cap) {
+                group_t *q = realloc(g2, 2u * cap * sizeof *q);
+                if (q)
+                    g2 = q, cap *= 2u;
+                rc2 = q ? 0 : -1;
+            }
+            if (rc2 == 0 && gr[k].kind != PSC_PROXY_KIND_PART) {
+                g2[n2++] = gr[k];
+                gr[k].tri = NULL;
+            }
+            if (rc2 != 0) {
+                for (uint32_t q = 0; q < n2; q++)
+                    free(g2[q].tri);
+                free(g2);
+                psc_io_errorf(err, errlen, name, "out of memory");
+                goto done;
+            }
+        }
+        for (uint32_t k = 0; k < ng; k++)
+            free(gr[k].tri);
+        free(gr);
+        gr = g2;
+        ng = n2;
+    }
     shapes = calloc(ng, sizeof *shapes);
     if (!shapes) {
         psc_io_errorf(err, errlen, name, "out of memory");

@@ -8,15 +8,20 @@
  *  - Parts: the triangles whose three vertices follow the same joint most
  *    (rigid when every vertex follows it alone); joints: the triangles
  *    between parts, grouped by the two parts they join.
- *  - A part's proxy (proxy_envelope.c): a closed envelope, star-shaped about
- *    the part's box centre - an octahedron subdivided to 32..512 triangles,
- *    stretched to the part's box, each vertex pulled in as far as it can go
- *    while every point of the part (vertices, edge midpoints, triangle
- *    centres) stays inside with a 2 % margin. Chosen over a simplified
- *    convex hull because it follows concave outlines between its vertices'
- *    directions, never cuts into the part, and its size is chosen, not found.
+ *  - A part's proxy (proxy_envelope.c): a discrete oriented polytope - the
+ *    part's support planes along the 49 directions of the view grid and the
+ *    box axes, pushed out by 1 % of its size - which contains it by
+ *    construction and is as tight as a convex shape can be (a box-like part
+ *    gets its six faces). A part whose polytope stands off it by more than
+ *    10 % of its radius (area-weighted, from each face's centre to the part)
+ *    is halved along its longest axis, up to three times: a wheel pair
+ *    becomes two wheels, a ring four arcs. Chosen over the seed's voxel
+ *    isosurface (shrunk, then pruned) for its few, exact faces and over a
+ *    simplified mesh because it never cuts into the part; the price is the
+ *    halving of concave parts (more textures).
  *    A joint's proxy: its own triangles pushed out along the vertex normals
- *    by 1 % of R, skinned as they are (they stretch).
+ *    by 0.05 % of R, skinned as they are (they stretch): it lies on the
+ *    surface, so its views need no parallax.
  *  - View textures (proxy_views.c): for each proxy and each direction of the
  *    octahedral grid, the proxy's own geometry, orthographic, lit at rest,
  *    fitted to the proxy's bounding sphere; the proxy's vertices projected
