@@ -2,8 +2,9 @@
 /*
  * scene.h - the one scene interface of the device program. A scene is what
  * the frame loop draws: a panorama (scene pack), an object (mesh pack), the
- * live camera through a pack's tables, an animated character (patch pack),
- * and the kinds to come. Each kind is
+ * live camera through a pack's tables, an animated character (patch pack), an
+ * animated object drawn by its proxies (proxy pack), and the kinds to come.
+ * Each kind is
  * one file (scene_<kind>.c) that fills a psc_scene_ops_t; the frame loop,
  * the kiosk behaviour and the scene list know scenes only through it.
  *
@@ -89,5 +90,6 @@ extern const psc_scene_ops_t psc_scene_panorama;
 extern const psc_scene_ops_t psc_scene_object;
 extern const psc_scene_ops_t psc_scene_camera;
 extern const psc_scene_ops_t psc_scene_character;
+extern const psc_scene_ops_t psc_scene_proxy;
 
 #endif

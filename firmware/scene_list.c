@@ -15,6 +15,7 @@ const psc_scene_ops_t *const psc_scene_kinds[] = {
     &psc_scene_panorama,
     &psc_scene_object,
     &psc_scene_character,
+    &psc_scene_proxy,
     NULL,
 };
 

@@ -11,6 +11,9 @@
  *    animation's samples, and a bar bent far beyond its animation): the
  *    silhouettes' IoU, the PSNR over their union, and the front part where
  *    both show one;
+ *  - the billboard (the far level) against the full mesh, far away;
+ *  - the level of detail switched by the model's size on the screen with
+ *    10 % hysteresis, and the device's animated object scene zooming out;
  *  - 3000 mutated and truncated proxy packs: refused with a message, or
  *    parsed and drawn without a fault.
  */
@@ -28,6 +31,7 @@
 #include "proxy_bake.h"
 #include "proxy_render.h"
 #include "psc_testsupport.h"
+#include "scene_proxy.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -187,8 +191,8 @@ static void fixture_free(fixture_t *f)
 }
 
 /* Draw the pack posed by skin from orbit (yaw, pitch, dist) into rgb and ids (each W x H XRGB). */
-static void render(fixture_t *f, const psc_mat4_q16_t *skin, double yaw, double pitch, double dist, bool full,
-                   uint32_t *rgb, uint32_t *ids)
+static void render(fixture_t *f, const psc_mat4_q16_t *skin, double yaw, double pitch, double dist,
+                   psc_proxy_lod_t lod, uint32_t *rgb, uint32_t *ids)
 {
     psc_mat4_q16_t cam;
     psc_3d_config_t cfg = {W, H, 0, 0, 32, tsup_bam_from_deg(50), 0, 0, psc_proxy_max_vertices(&f->m)};
@@ -204,9 +208,7 @@ static void render(fixture_t *f, const psc_mat4_q16_t *skin, double yaw, double 
     for (int pass = 0; pass < 2; pass++) {
         const psc_3d_draw_t *d;
         unsigned nd;
-        assert_int_equal(psc_proxy_frame(&f->px, skin, &cam, full ? PSC_PROXY_LOD_FULL : PSC_PROXY_LOD_PROXIES,
-                                         pass == 1, &d, &nd),
-                         PSC_OK);
+        assert_int_equal(psc_proxy_frame(&f->px, skin, &cam, lod, pass == 1, &d, &nd), PSC_OK);
         psc_surface_t sf = {W, H, W * 4, PSC_PIX_XRGB8888, pass ? ids : rgb};
         uint32_t bg = pass ? 0u : BG;
         assert_int_equal(psc_3d_render(&r, d, nd, &bg, &sf, NULL), PSC_OK);
@@ -246,7 +248,8 @@ static quality_t compare(const uint32_t *a, const uint32_t *ia, const uint32_t *
 
 typedef struct {
     double yaw, pitch, dist, t;   /* t < 0: rest */
-    int bend;                     /* > 0: the bar bent at every joint by this many degrees */
+    int bend;                     /* > 0: the bar bent at every third joint by this many degrees */
+    psc_proxy_lod_t lod;          /* what is measured against the full mesh: the proxies (0) or the billboard */
 } shot_t;
 
 static quality_t measure(fixture_t *f, const shot_t *s, const char *name)
@@ -268,9 +271,12 @@ static quality_t measure(fixture_t *f, const shot_t *s, const char *name)
     } else {
         psc_proxy_pose_at(&f->m, s->t < 0 ? -1 : (int64_t)llround(s->t * 1e6), skin);
     }
-    render(f, skin, s->yaw, s->pitch, s->dist, false, a, ia);
-    render(f, skin, s->yaw, s->pitch, s->dist, true, b, ib);
+    render(f, skin, s->yaw, s->pitch, s->dist, s->lod, a, ia);
+    render(f, skin, s->yaw, s->pitch, s->dist, PSC_PROXY_LOD_FULL, b, ib);
     free(skin);
+    if (s->lod == PSC_PROXY_LOD_BILLBOARD)   /* one id for the whole: compare silhouettes, not parts */
+        for (unsigned i = 0; i < W * H; i++)
+            ib[i] = ib[i] & 0xFFFFu ? 1u : 0u, ia[i] = ia[i] & 0xFFFFu ? 1u : 0u;
     quality_t q = compare(a, ia, b, ib);
     char pose[32];
     if (s->bend)
@@ -279,8 +285,9 @@ static quality_t measure(fixture_t *f, const shot_t *s, const char *name)
         snprintf(pose, sizeof pose, "rest");
     else
         snprintf(pose, sizeof pose, "t=%.2f", s->t);
-    print_message("  %-6s orbit %5.0f,%4.0f,%.1f pose %-10s  IoU %.3f  PSNR %5.1f dB  front part %.3f  holes %.3f\n",
-                  name, s->yaw, s->pitch, s->dist, pose, q.iou, q.psnr, q.ids, q.hole);
+    print_message("  %-6s %-9s orbit %5.0f,%4.0f,%4.1f pose %-10s  IoU %.3f  PSNR %5.1f dB  front part %.3f  holes %.3f\n",
+                  name, s->lod == PSC_PROXY_LOD_BILLBOARD ? "billboard" : "proxies", s->yaw, s->pitch, s->dist, pose,
+                  q.iou, q.psnr, q.ids, q.hole);
     return q;
 }
 
@@ -290,7 +297,8 @@ static void test_truck_quality(void **state)
     fixture_t f = {0};
     bake(&f, GLTF_DIR "CesiumMilkTruck.gltf", PSC_PROXY_BAKE_VIEWS, PSC_PROXY_BAKE_TEX);
     static const shot_t shots[] = {
-        {15, 10, 3, -1, 0}, {50, 25, 3, -1, 0}, {100, -15, 3, -1, 0}, {200, 35, 3, -1, 0}, {300, 5, 3, -1, 0},
+        {15, 10, 3, -1, 0, 0}, {50, 25, 3, -1, 0, 0}, {100, -15, 3, -1, 0, 0}, {200, 35, 3, -1, 0, 0},
+        {300, 5, 3, -1, 0, 0},
     };
     double iou = 0, psnr = 0, ids = 0;
     for (unsigned k = 0; k < sizeof shots / sizeof shots[0]; k++) {
@@ -302,6 +310,12 @@ static void test_truck_quality(void **state)
         assert_true(q.ids >= 0.97);
     }
     print_message("  truck mean: IoU %.3f, PSNR %.1f dB, front part %.3f\n", iou, psnr, ids);
+    /* the billboard, far: its rest-pose views on a quad facing the camera */
+    static const shot_t far[] = {{40, 15, 12, -1, 0, PSC_PROXY_LOD_BILLBOARD}, {230, -10, 12, -1, 0, PSC_PROXY_LOD_BILLBOARD}};
+    for (unsigned k = 0; k < 2; k++) {
+        quality_t q = measure(&f, &far[k], "truck");
+        assert_true(q.iou >= 0.75);   /* measured 0.80, 0.83 */
+    }
     fixture_free(&f);
 }
 
@@ -311,8 +325,8 @@ static void test_bar_quality(void **state)
     fixture_t f = {0};
     bake(&f, GLTF_DIR "animation_with_skeleton.gltf", PSC_PROXY_BAKE_VIEWS, PSC_PROXY_BAKE_TEX);
     static const shot_t shots[] = {
-        {20, 15, 2.2, 0.11, 0}, {75, 30, 2.2, 0.37, 0}, {140, -10, 2.2, 0.62, 0}, {250, 20, 2.2, -1, 0},
-        {35, 25, 2.2, 0.2, 45},
+        {20, 15, 2.2, 0.11, 0, 0}, {75, 30, 2.2, 0.37, 0, 0}, {140, -10, 2.2, 0.62, 0, 0}, {250, 20, 2.2, -1, 0, 0},
+        {35, 25, 2.2, 0.2, 45, 0},
     };
     for (unsigned k = 0; k < sizeof shots / sizeof shots[0]; k++) {
         quality_t q = measure(&f, &shots[k], "bar");
@@ -321,6 +335,70 @@ static void test_bar_quality(void **state)
         assert_true(q.hole <= 0.25);
         assert_true(q.ids >= 0.95);
     }
+    fixture_free(&f);
+}
+
+/* ---- levels of detail and the device's scene ----------------------------------------------------------- */
+
+static void test_lod_hysteresis(void **state)
+{
+    (void)state;
+    fixture_t f = {0};
+    bake(&f, GLTF_DIR "CesiumMilkTruck.gltf", 9, 16);
+    /* the projected radius is focal / z pixels: z = 1 R, focal = radius; thresholds 200 and 40, crossed 10 % beyond */
+    static const struct {
+        int32_t r_px;
+        psc_proxy_lod_t want;
+    } steps[] = {
+        {150, PSC_PROXY_LOD_PROXIES}, {219, PSC_PROXY_LOD_PROXIES}, {221, PSC_PROXY_LOD_FULL},
+        {190, PSC_PROXY_LOD_FULL},    {181, PSC_PROXY_LOD_FULL},    {179, PSC_PROXY_LOD_PROXIES},
+        {37, PSC_PROXY_LOD_PROXIES},  {35, PSC_PROXY_LOD_BILLBOARD}, {43, PSC_PROXY_LOD_BILLBOARD},
+        {45, PSC_PROXY_LOD_PROXIES},  {5, PSC_PROXY_LOD_BILLBOARD}, {500, PSC_PROXY_LOD_FULL},   /* far to near at once */
+        {500, PSC_PROXY_LOD_FULL},
+    };
+    psc_mat4_q16_t cam;
+    psc_mat4_identity(&cam);
+    cam.m[2][3] = PSC_Q16_ONE;
+    for (unsigned k = 0; k < sizeof steps / sizeof steps[0]; k++) {
+        psc_proxy_lod_t got = psc_proxy_lod_pick(&f.px, &cam, steps[k].r_px * 65536);
+        if (got != steps[k].want)
+            print_message("  step %u: radius %d px gave level %d, not %d\n", k, steps[k].r_px, got, steps[k].want);
+        assert_int_equal(got, steps[k].want);
+    }
+    fixture_free(&f);
+}
+
+static void test_scene_draw(void **state)
+{
+    (void)state;
+    fixture_t f = {0};
+    bake(&f, GLTF_DIR "animation_with_skeleton.gltf", 9, 16);
+    size_t n = psc_scene_proxy_workspace_size(&f.m, 160, 120);
+    void *ws;
+    assert_int_equal(posix_memalign(&ws, 64, n), 0);
+    static uint16_t px[160 * 120];
+    psc_surface_t sf = {160, 120, 320, PSC_PIX_RGB565, px};
+    psc_view_t v = {0};
+    v.yaw = tsup_bam_from_deg(30), v.pitch = (int32_t)tsup_bam_from_deg(20), v.hfov = tsup_bam_from_deg(50);
+    uint16_t bg = psc_xrgb_to_rgb565(BG);
+    unsigned seen[3] = {0, 0, 0};
+    for (unsigned k = 0; k < 40; k++) {   /* zooming out as it plays: full, then proxies, then the billboard */
+        psc_proxy_lod_t lod;
+        v.hfov = tsup_bam_from_deg(15 + 2.2 * k);   /* the object scenes' zoom range, 15..100 degrees */
+        assert_int_equal(psc_scene_proxy_draw(&f.m, k * 33333u, &v, k == 0, ws, n, &sf, &lod), PSC_OK);
+        seen[lod]++;
+        unsigned drawn = 0;
+        for (unsigned i = 0; i < 160 * 120; i++)
+            drawn += px[i] != bg;
+        if (drawn <= 20)
+            print_message("  frame %u (level %d): %u pixels drawn\n", k, lod, drawn);
+        assert_true(drawn > 20);
+    }
+    print_message("  the scene, zooming out: %u frames full, %u proxies, %u billboard\n", seen[PSC_PROXY_LOD_FULL],
+                  seen[PSC_PROXY_LOD_PROXIES], seen[PSC_PROXY_LOD_BILLBOARD]);
+    assert_true(seen[PSC_PROXY_LOD_FULL] > 0 && seen[PSC_PROXY_LOD_PROXIES] > 0);
+    assert_int_equal(psc_scene_proxy_draw(&f.m, 0, &v, true, ws, n - 1, &sf, NULL), PSC_ERR_NOMEM);
+    free(ws);
     fixture_free(&f);
 }
 
@@ -401,6 +479,8 @@ int main(void)
         cmocka_unit_test(test_views_rule),
         cmocka_unit_test(test_truck_quality),
         cmocka_unit_test(test_bar_quality),
+        cmocka_unit_test(test_lod_hysteresis),
+        cmocka_unit_test(test_scene_draw),
         cmocka_unit_test(test_pack_fuzz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -53,6 +53,10 @@
  *           proxy vertex
  *   "XPUV"  per part, per view, its proxy vertices' (u, v) uint16 pairs
  *   "XTEX"  part_count x view_count textures of tex_size^2 RGB565 texels
+ *   "XBBB"  optional, the billboard (the far level of detail: the whole
+ *           model at rest in a few small views): per view its image axes,
+ *           right and up (3 int32 each, Q16.16 unit vectors)
+ *   "XBBT"  with XBBB: bb_side^2 textures of bb_tex^2 RGB565 texels
  */
 #ifndef PSC_PROXY_H
 #define PSC_PROXY_H
@@ -93,6 +97,8 @@ extern const psc_container_format_t psc_proxy_format;
 #define PSC_SECTION_PROXY_PINDEX PSC_FOURCC('X', 'P', 'I', 'X')
 #define PSC_SECTION_PROXY_PUV PSC_FOURCC('X', 'P', 'U', 'V')
 #define PSC_SECTION_PROXY_TEXTURES PSC_FOURCC('X', 'T', 'E', 'X')
+#define PSC_SECTION_PROXY_BB_BASES PSC_FOURCC('X', 'B', 'B', 'B')
+#define PSC_SECTION_PROXY_BB_TEXTURES PSC_FOURCC('X', 'B', 'B', 'T')
 
 /** "XINF", 64 bytes. */
 typedef struct {
@@ -102,7 +108,9 @@ typedef struct {
     uint32_t frame_count, frame_period_us;             /* the animation's samples and their spacing */
     uint16_t view_side, tex_size;                      /* view_side^2 views of tex_size^2 texels each */
     uint32_t model_r_um;                               /* R in the model's units x 10^6 (information) */
-    uint8_t reserved[24];
+    uint16_t bb_side, bb_tex;                          /* the billboard's views: bb_side^2 of bb_tex^2 (0: none) */
+    int32_t bb_centre_q16[3], bb_radius_q16;           /* the sphere its views are fitted to */
+    uint8_t reserved[4];
 } psc_proxy_info_raw_t;
 
 /** "XJNT" entry, 96 bytes: a node of the model's hierarchy. */
@@ -157,6 +165,10 @@ typedef struct {
     const uint16_t *proxy_index;
     const uint16_t *proxy_uv;
     const uint16_t *texels;
+    uint32_t bb_side, bb_view_count, bb_tex;           /* 0: no billboard */
+    int32_t bb_centre_q16[3], bb_radius_q16;
+    const int32_t *bb_axes_q16;                        /* per view: right[3], up[3] */
+    const uint16_t *bb_texels;
 } psc_proxy_model_t;
 
 /**
@@ -181,8 +193,9 @@ void psc_proxy_pose_at(const psc_proxy_model_t *m, int64_t t_us, psc_mat4_q16_t 
 /* ---- drawing (psc_proxy_draw.c) ------------------------------------------------ */
 
 typedef enum {
-    PSC_PROXY_LOD_PROXIES = 0,     /* the proxies with their view textures */
-    PSC_PROXY_LOD_FULL = 1         /* the full mesh (near, and the comparison) */
+    PSC_PROXY_LOD_PROXIES = 0,     /* the proxies with their view textures (the middle distance) */
+    PSC_PROXY_LOD_FULL = 1,        /* the full mesh (near, and the comparison) */
+    PSC_PROXY_LOD_BILLBOARD = 2    /* a quad facing the camera with the billboard's views (far; the rest pose) */
 } psc_proxy_lod_t;
 
 /** A model's drawing state; everything in the caller's workspace. */
@@ -197,6 +210,10 @@ typedef struct {
     psc_3d_draw_t *draws;
     uint32_t joint_triangles, max_draws;
     psc_tex_filter_t filter;       /* of the view textures: nearest (psc_proxy_init's; the bench's 1.7x over bilinear) */
+    int32_t bb_pos_q16[12];        /* the billboard's corners this frame */
+    uint16_t bb_uv[3][8];          /* and their coordinates in its three views */
+    psc_proxy_lod_t lod;           /* psc_proxy_lod_pick's last choice */
+    int32_t full_px, billboard_px; /* its thresholds: the model's projected radius in pixels (init: 200, 40) */
 } psc_proxy_t;
 
 /** Workspace bytes for drawing model m (0 if it cannot be drawn). */
@@ -207,6 +224,16 @@ uint32_t psc_proxy_max_vertices(const psc_proxy_model_t *m);
 
 /** Prepare to draw m. ws: psc_proxy_workspace_size(m) bytes aligned to 8. */
 psc_status_t psc_proxy_init(psc_proxy_t *p, const psc_proxy_model_t *m, void *ws, size_t ws_size);
+
+/**
+ * The level of detail for the model seen through camera_from_object by a
+ * camera of focal length focal_px_q16 (pixels, Q16.16): full when the
+ * model's projected radius exceeds full_px, billboard below billboard_px,
+ * proxies between; each threshold is crossed back only 10 % beyond it
+ * (hysteresis), so a model at a threshold does not flicker. Without a
+ * billboard the far level is the proxies.
+ */
+psc_proxy_lod_t psc_proxy_lod_pick(psc_proxy_t *p, const psc_mat4_q16_t *camera_from_object, int32_t focal_px_q16);
 
 /**
  * This frame's draws for the model posed by skin (joint_count matrices)

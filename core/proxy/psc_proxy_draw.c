@@ -9,6 +9,7 @@
 #include "base/psc_fixed.h"
 
 static const uint16_t tri012[3] = {0, 1, 2};
+static const uint16_t quad[6] = {0, 1, 2, 0, 2, 3};
 
 static bool rigid(const psc_proxy_part_raw_t *p)
 {
@@ -89,6 +90,9 @@ psc_status_t psc_proxy_init(psc_proxy_t *p, const psc_proxy_model_t *m, void *ws
     p->draws = (psc_3d_draw_t *)(void *)w;
     p->joint_triangles = (uint32_t)c.joint_triangles;
     p->filter = PSC_TEX_NEAREST;
+    p->lod = PSC_PROXY_LOD_PROXIES;
+    p->full_px = 200;
+    p->billboard_px = 40;
     p->max_draws = (uint32_t)c.draws;
     return PSC_OK;
 }
@@ -242,6 +246,89 @@ static void draw_base(psc_3d_draw_t *d, const psc_mesh_t *mesh, const psc_mat4_q
     }
 }
 
+psc_proxy_lod_t psc_proxy_lod_pick(psc_proxy_t *p, const psc_mat4_q16_t *cam, int32_t focal_px_q16)
+{
+    /* the model's radius is 1.0 (units of R); its centre's depth is the camera translation's z */
+    int64_t z = cam->m[2][3];
+    int64_t r_px = z > 0 ? (int64_t)focal_px_q16 / z : INT32_MAX;   /* (1.0 x f) / z, in pixels */
+    int64_t up = r_px * 10, down = r_px * 10;                        /* compared with thresholds x 10 and 11 / 9 */
+    psc_proxy_lod_t l = p->lod;
+    if (l == PSC_PROXY_LOD_FULL && down < (int64_t)p->full_px * 9)
+        l = PSC_PROXY_LOD_PROXIES;
+    if (l == PSC_PROXY_LOD_BILLBOARD && up > (int64_t)p->billboard_px * 11)
+        l = PSC_PROXY_LOD_PROXIES;
+    if (l == PSC_PROXY_LOD_PROXIES) {
+        if (up > (int64_t)p->full_px * 11)
+            l = PSC_PROXY_LOD_FULL;
+        else if (down < (int64_t)p->billboard_px * 9 && p->m->bb_side != 0)
+            l = PSC_PROXY_LOD_BILLBOARD;
+    }
+    p->lod = l;
+    return l;
+}
+
+/* The billboard: a quad through the model's centre facing the camera, its corners projected into its three views. */
+static unsigned billboard(psc_proxy_t *p, const psc_mat4_q16_t *cam, bool ids)
+{
+    const psc_proxy_model_t *m = p->m;
+    int64_t rho = m->bb_radius_q16;
+    const int32_t *c = m->bb_centre_q16;
+    static const int sx[4] = {-1, 1, 1, -1}, sy[4] = {-1, -1, 1, 1};
+    for (unsigned i = 0; i < 4; i++)   /* the camera's right and up in object space: its rows */
+        for (unsigned a = 0; a < 3; a++)
+            p->bb_pos_q16[3 * i + a] = (int32_t)(c[a] + (sx[i] * rho * cam->m[0][a] + sy[i] * rho * cam->m[1][a]) / 65536);
+    psc_proxy_pick_t pick;
+    psc_mat4_q16_t id;
+    psc_mat4_identity(&id);
+    int64_t e[3];
+    int32_t ds[3], dr[3];
+    apply(cam, c, e);
+    for (unsigned a = 0; a < 3; a++)
+        ds[a] = (int32_t)e[a];
+    if (ds[0] == 0 && ds[1] == 0 && ds[2] == 0)
+        ds[2] = 1;
+    psc_proxy_view_for_part(ds, cam, &id, dr);
+    if (psc_proxy_view_pick(m->bb_side, dr, &pick) != PSC_OK)
+        pick = (psc_proxy_pick_t){{0, 0, 0}, {65536, 0, 0}};
+    /* (u, v) = 1/2 + (x.right, -x.up) / 2 rho' with rho' = 1.02 rho, as the views were fitted */
+    int64_t den = 2 * (rho * 102 / 100);
+    const uint16_t *uv[3];
+    psc_texture_t *tex = &p->textures[0];
+    int32_t w0 = (pick.w_q16[0] + 128) >> 8, w1 = (pick.w_q16[1] + 128) >> 8;
+    if (w1 > 256 - w0)
+        w1 = 256 - w0;
+    int32_t w[3] = {w0, w1, 256 - w0 - w1};
+    psc_mesh_t *mesh = &p->meshes[0];
+    *mesh = (psc_mesh_t){.vertex_count = 4, .triangle_count = 2, .position_q16 = p->bb_pos_q16, .index = quad};
+    psc_3d_draw_t *d = &p->draws[0];
+    draw_base(d, mesh, cam, ids, m->part_count);
+    d->shade = PSC_SHADE_VIEWS;
+    d->filter = p->filter;
+    d->cull_back = false;
+    for (unsigned k = 0; k < 3; k++) {
+        const int32_t *ax = &m->bb_axes_q16[6u * pick.view[k]];
+        for (unsigned i = 0; i < 4; i++) {
+            int64_t x = 0, y = 0;
+            for (unsigned a = 0; a < 3; a++) {
+                int64_t dlt = (int64_t)p->bb_pos_q16[3 * i + a] - c[a];
+                x += dlt * ax[a];
+                y += dlt * ax[3 + a];
+            }
+            /* x, y are Q32: u = 1/2 + x / (2 rho' 65536), in Q16 */
+            int64_t u = 32768 + psc_div_round64(x, den), v = 32768 - psc_div_round64(y, den);
+            p->bb_uv[k][2 * i] = (uint16_t)(u < 0 ? 0 : u > 65535 ? 65535 : u);
+            p->bb_uv[k][2 * i + 1] = (uint16_t)(v < 0 ? 0 : v > 65535 ? 65535 : v);
+        }
+        uv[k] = p->bb_uv[k];
+        psc_texture_init(&tex[k], (uint16_t)m->bb_tex, (uint16_t)m->bb_tex, PSC_PIX_RGB565, m->bb_tex * 2u,
+                         m->bb_texels + (size_t)pick.view[k] * m->bb_tex * m->bb_tex);
+        d->view_tex[k] = &tex[k];
+        d->view_w_q8[k] = (uint16_t)w[k];
+        d->view_uv_q16[k] = uv[k];
+    }
+    return 1;
+}
+
 psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const psc_mat4_q16_t *cam,
                              psc_proxy_lod_t lod, bool ids, const psc_3d_draw_t **draws, unsigned *n)
 {
@@ -250,6 +337,13 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
     const psc_proxy_model_t *m = p->m;
     unsigned nd = 0;
     uint32_t posed_at = 0, pposed_at = 0, tri_at = 0;
+    if (lod == PSC_PROXY_LOD_BILLBOARD && m->bb_side != 0) {
+        *draws = p->draws;
+        *n = billboard(p, cam, ids);
+        return PSC_OK;
+    }
+    if (lod == PSC_PROXY_LOD_BILLBOARD)
+        lod = PSC_PROXY_LOD_PROXIES;
     for (uint32_t i = 0; i < m->part_count; i++) {
         const psc_proxy_part_raw_t *pr = &m->parts[i];
         const psc_mat4_q16_t *js = &skin[pr->joint];

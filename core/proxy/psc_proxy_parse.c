@@ -10,13 +10,16 @@ const psc_container_format_t psc_proxy_format = {
     PSC_PROXY_MAX_SECTIONS,
 };
 
-enum { S_INFO, S_JOINTS, S_ANIM, S_PARTS, S_VPOS, S_VCOL, S_VSKIN, S_IDX, S_PPOS, S_PSKIN, S_PIDX, S_PUV, S_TEX, S_COUNT };
+enum {
+    S_INFO, S_JOINTS, S_ANIM, S_PARTS, S_VPOS, S_VCOL, S_VSKIN, S_IDX, S_PPOS, S_PSKIN, S_PIDX, S_PUV, S_TEX, S_BBB, S_BBT,
+    S_COUNT
+};
 
 static const uint32_t section_type[S_COUNT] = {
     PSC_SECTION_PROXY_INFO,  PSC_SECTION_PROXY_JOINTS, PSC_SECTION_PROXY_ANIM,   PSC_SECTION_PROXY_PARTS,
     PSC_SECTION_PROXY_VPOS,  PSC_SECTION_PROXY_VCOLOR, PSC_SECTION_PROXY_VSKIN,  PSC_SECTION_PROXY_INDEX,
     PSC_SECTION_PROXY_PPOS,  PSC_SECTION_PROXY_PSKIN,  PSC_SECTION_PROXY_PINDEX, PSC_SECTION_PROXY_PUV,
-    PSC_SECTION_PROXY_TEXTURES,
+    PSC_SECTION_PROXY_TEXTURES, PSC_SECTION_PROXY_BB_BASES, PSC_SECTION_PROXY_BB_TEXTURES,
 };
 
 static bool pos_ok(const int32_t *p, uint64_t n)
@@ -91,7 +94,7 @@ psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out
         (st = psc_container_collect(&c, section_type, S_COUNT, f, present, err)) != PSC_OK)
         return st;
     for (unsigned k = 0; k < S_COUNT; k++)
-        if (!present[k] && k != S_ANIM)
+        if (!present[k] && k != S_ANIM && k != S_BBB && k != S_BBT)
             return fail(err, PSC_ERR_CORRUPT, "a required section is missing (all of XINF..XTEX but XANM)",
                         c.header_size);
     if (f[S_INFO].size != sizeof(psc_proxy_info_raw_t))
@@ -147,6 +150,28 @@ psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out
     m.proxy_index = AT(S_PIDX, uint16_t);
     m.proxy_uv = AT(S_PUV, uint16_t);
     m.texels = AT(S_TEX, uint16_t);
+    if (present[S_BBB] || present[S_BBT] || info->bb_side != 0) {
+        m.bb_side = info->bb_side;
+        m.bb_tex = info->bb_tex;
+        m.bb_view_count = m.bb_side * m.bb_side;
+        for (unsigned k = 0; k < 3; k++)
+            m.bb_centre_q16[k] = info->bb_centre_q16[k];
+        m.bb_radius_q16 = info->bb_radius_q16;
+        if (!present[S_BBB] || !present[S_BBT] || m.bb_side < PSC_PROXY_VIEW_SIDE_MIN ||
+            m.bb_side > PSC_PROXY_VIEW_SIDE_MAX || m.bb_tex < PSC_PROXY_TEX_MIN || m.bb_tex > PSC_PROXY_TEX_MAX ||
+            (m.bb_tex & (m.bb_tex - 1u)) != 0 || !pos_ok(m.bb_centre_q16, 1) || m.bb_radius_q16 <= 0 ||
+            m.bb_radius_q16 > PSC_PROXY_POS_MAX_Q16)
+            return fail(err, PSC_ERR_CORRUPT, "the billboard's views are incomplete or out of range",
+                        f[S_INFO].offset + 36);
+        if (f[S_BBB].size != (uint64_t)m.bb_view_count * 24u ||
+            f[S_BBT].size != (uint64_t)m.bb_view_count * m.bb_tex * m.bb_tex * 2u)
+            return fail(err, PSC_ERR_CORRUPT, "a billboard section's size does not match its views", f[S_BBB].entry + 8);
+        m.bb_axes_q16 = AT(S_BBB, int32_t);
+        m.bb_texels = AT(S_BBT, uint16_t);
+        for (uint32_t i = 0; i < 6u * m.bb_view_count; i++)
+            if (m.bb_axes_q16[i] > 65536 || m.bb_axes_q16[i] < -65536)
+                return fail(err, PSC_ERR_CORRUPT, "a billboard view's axis is not a unit vector", f[S_BBB].offset);
+    }
 #undef AT
     for (uint32_t j = 0; j < m.joint_count; j++) {
         const psc_proxy_joint_raw_t *jr = &m.joints[j];

@@ -502,6 +502,8 @@ int psc_proxy_bake(const psc_gltf_t *g, const psc_proxy_bake_opts_t *o, const ch
     group_t *gr = NULL;
     uint32_t ng = 0, nshapes = 0;
     psc_proxy_shape_t *shapes = NULL;
+    int32_t *bb_axes = NULL;
+    uint16_t *bb_tex = NULL;
     pack_t pk = {0};
     int32_t *map = malloc(g->mesh.vertex_count * sizeof *map);
     psc_proxy_joint_raw_t *joints = calloc(g->joint_count, sizeof *joints);
@@ -569,6 +571,18 @@ int psc_proxy_bake(const psc_gltf_t *g, const psc_proxy_bake_opts_t *o, const ch
             goto done;
         }
     }
+    /* the billboard: the whole model at rest, fitted to the sphere about its centre through its farthest vertex */
+    double bb_c[3] = {0, 0, 0}, bb_r = 0;
+    for (uint32_t k = 0; k < nshapes; k++)
+        for (uint32_t i = 0; i < shapes[k].src_vertices; i++)
+            bb_r = fmax(bb_r, sqrt(dot3(shapes[k].src_pos[i], shapes[k].src_pos[i])));
+    unsigned bbs = PSC_PROXY_BAKE_BB_SIDE, bbt = PSC_PROXY_BAKE_BB_TEX;
+    bb_axes = malloc(bbs * bbs * 6u * sizeof *bb_axes);
+    bb_tex = malloc((size_t)bbs * bbs * bbt * bbt * sizeof *bb_tex);
+    if (!bb_axes || !bb_tex || psc_proxy_render_billboard(shapes, nshapes, bb_c, bb_r, bbs, bbt, bb_tex, bb_axes) != 0) {
+        psc_io_errorf(err, errlen, name, "out of memory");
+        goto done;
+    }
     /* the skeleton: names, parents, rest world transforms */
     psc_gltf_pose(g, -1.0, local);
     psc_gltf_worlds(g, local, NULL, m12);
@@ -608,6 +622,9 @@ int psc_proxy_bake(const psc_gltf_t *g, const psc_proxy_bake_opts_t *o, const ch
     info.view_side = (uint16_t)side;
     info.tex_size = (uint16_t)o->tex;
     info.model_r_um = r * 1e6 < 4e9 ? (uint32_t)lround(r * 1e6) : UINT32_MAX;
+    info.bb_side = (uint16_t)bbs;
+    info.bb_tex = (uint16_t)bbt;
+    info.bb_radius_q16 = q16(bb_r);
     psc_container_part_t parts[] = {
         {PSC_SECTION_PROXY_INFO, &info, sizeof info},
         {PSC_SECTION_PROXY_JOINTS, joints, g->joint_count * sizeof *joints},
@@ -622,6 +639,8 @@ int psc_proxy_bake(const psc_gltf_t *g, const psc_proxy_bake_opts_t *o, const ch
         {PSC_SECTION_PROXY_PINDEX, pk.pidx.p, pk.pidx.n},
         {PSC_SECTION_PROXY_PUV, pk.puv.p, pk.puv.n},
         {PSC_SECTION_PROXY_TEXTURES, pk.tex.p, pk.tex.n},
+        {PSC_SECTION_PROXY_BB_BASES, bb_axes, (size_t)bbs * bbs * 24u},
+        {PSC_SECTION_PROXY_BB_TEXTURES, bb_tex, (size_t)bbs * bbs * bbt * bbt * 2u},
     };
     unsigned nparts = sizeof parts / sizeof parts[0];
     if (frames == 0) {   /* no animation: no XANM */
@@ -647,6 +666,6 @@ done:
         free(gr[k].tri);
     free(gr);
     pack_free(&pk);
-    free(map), free(joints), free(anim), free(local), free(m12);
+    free(map), free(joints), free(anim), free(local), free(m12), free(bb_axes), free(bb_tex);
     return rc;
 }

@@ -41,6 +41,8 @@
 #define PSC_PROXY_BAKE_VIEWS 49u     /* a 7 x 7 grid */
 #define PSC_PROXY_BAKE_TEX 64u
 #define PSC_PROXY_BAKE_FPS 30.0
+#define PSC_PROXY_BAKE_BB_SIDE 5u    /* the billboard: 5 x 5 views ... */
+#define PSC_PROXY_BAKE_BB_TEX 32u    /* ... of 32 x 32 texels (50 KB) */
 
 typedef struct {
     unsigned views;                  /* at least this many: the grid side is the smallest odd one that gives them */
@@ -81,5 +83,10 @@ int psc_proxy_envelope(psc_proxy_shape_t *s);
  *  lies in front at rest, the texels stay empty. 0, or -1 out of memory. */
 int psc_proxy_render_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *others, unsigned n_others,
                            unsigned side, unsigned tex, uint16_t *texels, uint16_t *uv);
+
+/** The billboard (the far level of detail): every shape drawn, at rest, into side x side views of tex^2 fitted to
+ *  the sphere (centre, radius); axes_q16 receives each view's right and up (Q16.16). 0, or -1 out of memory. */
+int psc_proxy_render_billboard(const psc_proxy_shape_t *shapes, unsigned n, const double centre[3], double radius,
+                               unsigned side, unsigned tex, uint16_t *texels, int32_t *axes_q16);
 
 #endif

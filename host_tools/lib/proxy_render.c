@@ -24,7 +24,7 @@ typedef struct {
     const char *pack, *out, *depth, *ids, *pose_file;
     psc_render_view_t view;
     double time;
-    bool full;
+    int lod;                     /* psc_proxy_lod_t, or -1: chosen by the model's size on the screen */
     unsigned long tile;
 } proxy_args_t;
 
@@ -52,6 +52,9 @@ static void usage(const char *prog, FILE *f)
             "  --size WxH          output size (default 640x480)\n"
             "  --pose P            rest (default), t=T (T seconds into the animation) or POSE.json\n"
             "  --full              the full mesh kept in the pack, same pose and shading (the near level of detail)\n"
+            "  --lod L             proxies (default), full, billboard (the far level: the rest pose in a few\n"
+            "                      small views on a quad facing the camera) or auto (by the model's size on the\n"
+            "                      screen: full above a projected radius of 200 pixels, billboard below 40)\n"
             "  --depth d.pgm       the depth buffer as a 16-bit PGM\n"
             "  --ids ids.pgm       16-bit PGM: part index + 1 of the front-most surface, 0 for the background\n"
             "  --tiles N           render in N x N pixel tiles (0: full screen)\n"
@@ -67,6 +70,7 @@ static const struct option proxy_options[] = {
     {"orbit", required_argument, NULL, 1}, {"hfov", required_argument, NULL, 1},
     {"size", required_argument, NULL, 1},  {"pose", required_argument, NULL, 1},
     {"full", no_argument, NULL, 1},        {"depth", required_argument, NULL, 1},
+    {"lod", required_argument, NULL, 1},
     {"ids", required_argument, NULL, 1},   {"tiles", required_argument, NULL, 1},
     {"cull", required_argument, NULL, 1},  {"format", required_argument, NULL, 1},
     {"repeat", required_argument, NULL, 1}, PSC_IO_CLI_COMMON_OPTIONS,
@@ -98,7 +102,15 @@ static int parse_args(const char *prog, int argc, char **argv, proxy_args_t *a)
         } else if (strcmp(name, "-o") == 0) {
             a->out = v;
         } else if (strcmp(name, "--full") == 0) {
-            a->full = true;
+            a->lod = PSC_PROXY_LOD_FULL;
+        } else if (strcmp(name, "--lod") == 0) {
+            a->lod = strcmp(v, "proxies") == 0     ? PSC_PROXY_LOD_PROXIES
+                     : strcmp(v, "full") == 0      ? PSC_PROXY_LOD_FULL
+                     : strcmp(v, "billboard") == 0 ? PSC_PROXY_LOD_BILLBOARD
+                     : strcmp(v, "auto") == 0      ? -1
+                                                   : -2;
+            if (a->lod == -2)
+                return psc_io_cli_usage_error(prog, "--lod '%s': expected proxies, full, billboard or auto", v);
         } else if (strcmp(name, "--depth") == 0) {
             a->depth = v;
         } else if (strcmp(name, "--ids") == 0) {
@@ -246,14 +258,14 @@ static double now_s(void)
 
 /* One frame: the pack's draws for this pose into target rt. */
 static psc_status_t draw(psc_proxy_t *px, psc_render_target_t *rt, const psc_mat4_q16_t *skin,
-                         const psc_mat4_q16_t *cam, bool full, bool ids, bool cull, psc_3d_stats_t *st)
+                         const psc_mat4_q16_t *cam, psc_proxy_lod_t lod, bool ids, bool cull, psc_3d_stats_t *st)
 {
     const psc_3d_draw_t *cd;
     unsigned n;
-    psc_status_t s = psc_proxy_frame(px, skin, cam, full ? PSC_PROXY_LOD_FULL : PSC_PROXY_LOD_PROXIES, ids, &cd, &n);
+    psc_status_t s = psc_proxy_frame(px, skin, cam, lod, ids, &cd, &n);
     if (s != PSC_OK)
         return s;
-    for (unsigned i = 0; i < n; i++)
+    for (unsigned i = 0; i < n && lod != PSC_PROXY_LOD_BILLBOARD; i++)
         px->draws[i].cull_back = cull;
     uint32_t bg = ids ? 0u : BACKGROUND;
     return psc_3d_render(&rt->r, cd, n, &bg, &rt->out, st);
@@ -261,7 +273,7 @@ static psc_status_t draw(psc_proxy_t *px, psc_render_target_t *rt, const psc_mat
 
 int psc_proxy_render_main(const char *prog, int argc, char **argv)
 {
-    proxy_args_t a = {.view = psc_render_view_defaults(30, 20, 2.5, 50), .time = -1.0};
+    proxy_args_t a = {.view = psc_render_view_defaults(30, 20, 2.5, 50), .time = -1.0, .lod = PSC_PROXY_LOD_PROXIES};
     int rc = parse_args(prog, argc, argv, &a);
     if (rc != 0)
         return rc;
@@ -307,6 +319,11 @@ int psc_proxy_render_main(const char *prog, int argc, char **argv)
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
+    psc_proxy_lod_t lod = (psc_proxy_lod_t)a.lod;
+    if (a.lod < 0) {   /* auto: the focal length in pixels, (W / 2) / tan(hfov / 2) */
+        double f = vw->width / 2.0 / tan(vw->hfov * 3.14159265358979 / 360.0);
+        lod = psc_proxy_lod_pick(&px, &cam, (int32_t)lround(f * 65536.0));
+    }
     double total = 0, best = 1e30;
     psc_3d_stats_t st = {0};
     for (unsigned long k = 0; k < vw->repeat; k++) {
@@ -315,7 +332,7 @@ int psc_proxy_render_main(const char *prog, int argc, char **argv)
             fprintf(stderr, "%s: %s: out of memory\n", prog, a.pack);
             goto done;
         }
-        psc_status_t s = draw(&px, &rt, skin, &cam, a.full, false, vw->cull, &st);
+        psc_status_t s = draw(&px, &rt, skin, &cam, lod, false, vw->cull, &st);
         double dt = now_s() - t0;
         total += dt;
         best = dt < best ? dt : best;
@@ -326,14 +343,15 @@ int psc_proxy_render_main(const char *prog, int argc, char **argv)
     }
     if (vw->repeat > 1)
         fprintf(stderr, "%s: %lu frames of %ux%u, %s, %u triangles (%u culled): %.3f ms per frame (best %.3f)\n", prog,
-                vw->repeat, (unsigned)vw->width, (unsigned)vw->height, a.full ? "full mesh" : "proxies",
+                vw->repeat, (unsigned)vw->width, (unsigned)vw->height,
+                lod == PSC_PROXY_LOD_FULL ? "full mesh" : lod == PSC_PROXY_LOD_BILLBOARD ? "billboard" : "proxies",
                 (unsigned)st.triangles, (unsigned)st.culled, total / vw->repeat * 1e3, best * 1e3);
     if (psc_render_target_write(&rt, a.out, a.depth, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
     if (a.ids) {
-        psc_status_t s = draw(&px, &rid, skin, &cam, a.full, true, vw->cull, NULL);
+        psc_status_t s = draw(&px, &rid, skin, &cam, lod, true, vw->cull, NULL);
         uint16_t *id = malloc((size_t)vw->width * vw->height * sizeof *id);
         if (s != PSC_OK || !id) {
             free(id);

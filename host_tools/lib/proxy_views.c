@@ -146,3 +146,32 @@ int psc_proxy_render_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *
     free(depth);
     return 0;
 }
+
+int psc_proxy_render_billboard(const psc_proxy_shape_t *shapes, unsigned n, const double centre[3], double radius,
+                               unsigned side, unsigned tex, uint16_t *texels, int32_t *axes_q16)
+{
+    uint32_t *depth = malloc((size_t)tex * tex * sizeof *depth);
+    if (!depth)
+        return -1;
+    psc_proxy_shape_t whole = {0};
+    memcpy(whole.centre, centre, sizeof whole.centre);
+    whole.radius = radius;
+    for (unsigned k = 0; k < side * side; k++) {
+        ortho_t o;
+        ortho_for(&whole, side, k, tex, &o);
+        uint16_t *t = texels + (size_t)k * tex * tex;
+        psc_surface_t sf = {(uint16_t)tex, (uint16_t)tex, tex * 2u, PSC_PIX_RGB565, t};
+        memset(t, 0, (size_t)tex * tex * 2u);
+        for (size_t i = 0; i < (size_t)tex * tex; i++)
+            depth[i] = 0xFFFFFFFFu;
+        psc_raster_target_t tg = {&sf, depth, tex * 4u, 32, 0, 0, (uint16_t)tex, (uint16_t)tex};
+        for (unsigned s = 0; s < n; s++)
+            draw_shape(&shapes[s], &o, &tg, false);
+        for (unsigned a = 0; a < 3; a++) {
+            axes_q16[6 * k + a] = (int32_t)lround(o.right[a] * 65536.0);
+            axes_q16[6 * k + 3 + a] = (int32_t)lround(o.up[a] * 65536.0);
+        }
+    }
+    free(depth);
+    return 0;
+}
