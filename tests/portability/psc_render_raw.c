@@ -22,12 +22,17 @@
  *   VIEW = FORMAT,ACTION,TIME_MS,YAW,PITCH,TOL_PX_Q16
  *     ACTION an index into the pack's actions or -1 (the rest pose), the
  *     orbit camera at 2.5 R with hfov 50 degrees.
+ * A proxy pack (core/proxy/psc_proxy.h, PACK.ppx): the model posed at its
+ * animation's time and drawn at 160x120 as its proxies, full mesh or billboard,
+ *   VIEW = FORMAT,LOD,TIME_US,YAW,PITCH,DIST_Q16
+ *     LOD 0 proxies, 1 full, 2 billboard; TIME_US -1 for the rest pose.
  * Exit status: 0 done, 1 the work failed, 2 bad arguments.
  */
 #include "3d/psc_3d_orbit.h"
 #include "3d/psc_3d_render.h"
 #include "pack/psc_pack.h"
 #include "patch/psc_patch_frame.h"
+#include "proxy/psc_proxy.h"
 #include "shadow/psc_shadow_frame.h"
 #include "viewer/psc_viewer.h"
 
@@ -265,6 +270,73 @@ static int render_patch(const void *buf, size_t len, const void *sbuf, size_t sl
     return rc;
 }
 
+/* Proxy frames at 160 x 120 (the patch frames' size). */
+static int render_proxy(const void *buf, size_t len, FILE *out, char **specs, int count)
+{
+    psc_proxy_model_t m;
+    psc_container_error_t e;
+    if (psc_proxy_parse(buf, len, &m, &e) != PSC_OK)
+        return fail("not a valid proxy pack", e.what);
+    size_t np = psc_proxy_workspace_size(&m);
+    psc_3d_config_t cfg = {PATCH_W, PATCH_H, 0, 0, 32, 0x238E38E4u, PSC_Q16_ONE, 4 * PSC_Q16_ONE,
+                           psc_proxy_max_vertices(&m)};
+    size_t n3 = psc_3d_workspace_size(&cfg);
+    void *ws = NULL, *ws3d = NULL, *pixels = NULL;
+    psc_mat4_q16_t *skin = malloc(m.joint_count * sizeof *skin);
+    psc_proxy_t p;
+    int rc = 1;
+    if (!skin || posix_memalign(&ws, 64, np) != 0 || posix_memalign(&ws3d, 64, n3) != 0 ||
+        posix_memalign(&pixels, 64, PATCH_W * PATCH_H * 4) != 0 || psc_proxy_init(&p, &m, ws, np) != PSC_OK) {
+        rc = fail("out of memory", NULL);
+        goto done;
+    }
+    psc_vec3_q16_t lo = {INT32_MAX, INT32_MAX, INT32_MAX}, hi = {INT32_MIN, INT32_MIN, INT32_MIN};
+    for (uint32_t i = 0; i < m.vertex_count; i++) {
+        const int32_t *v = &m.position_q16[3u * i];
+        lo = (psc_vec3_q16_t){v[0] < lo.x ? v[0] : lo.x, v[1] < lo.y ? v[1] : lo.y, v[2] < lo.z ? v[2] : lo.z};
+        hi = (psc_vec3_q16_t){v[0] > hi.x ? v[0] : hi.x, v[1] > hi.y ? v[1] : hi.y, v[2] > hi.z ? v[2] : hi.z};
+    }
+    rc = 0;
+    for (int i = 0; i < count && rc == 0; i++) {
+        char fmt[16];
+        int lod;
+        long long t_us, pitch;
+        unsigned long long yaw;
+        long dist;
+        if (sscanf(specs[i], "%15[^,],%d,%lld,%llu,%lld,%ld", fmt, &lod, &t_us, &yaw, &pitch, &dist) != 6 ||
+            lod < 0 || lod > 2 || (strcmp(fmt, "rgb565") != 0 && strcmp(fmt, "xrgb8888") != 0)) {
+            rc = fail("bad proxy view", specs[i]);
+            break;
+        }
+        psc_pixfmt_t format = strcmp(fmt, "rgb565") == 0 ? PSC_PIX_RGB565 : PSC_PIX_XRGB8888;
+        psc_mat4_q16_t cam;
+        psc_3d_t r;
+        const psc_3d_draw_t *d;
+        unsigned nd;
+        psc_surface_t surf = {PATCH_W, PATCH_H, PATCH_W * psc_pixfmt_bytes(format), format, pixels};
+        uint32_t bg = 0x30343Cu;
+        psc_proxy_pose_at(&m, t_us, skin);
+        psc_status_t s = psc_3d_orbit(lo, hi, (psc_bam_t)yaw, (int32_t)pitch, (int32_t)dist, &cam, &cfg.near_q16,
+                                      &cfg.far_q16);
+        if (s == PSC_OK)
+            s = psc_3d_init(&r, &cfg, ws3d, n3);
+        if (s == PSC_OK)
+            s = psc_proxy_frame(&p, skin, &cam, (psc_proxy_lod_t)lod, false, &d, &nd);
+        if (s == PSC_OK)
+            s = psc_3d_render(&r, d, nd, &bg, &surf, NULL);
+        if (s != PSC_OK) {
+            rc = fail("proxy frame failed", psc_status_str(s));
+            break;
+        }
+        size_t bytes = (size_t)surf.stride * PATCH_H;
+        if (fwrite(pixels, 1, bytes, out) != bytes)
+            rc = fail("cannot write the output", strerror(errno));
+    }
+done:
+    free(skin), free(ws), free(ws3d), free(pixels);
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     psc_container_error_t perr;
@@ -290,6 +362,19 @@ int main(int argc, char **argv)
     if (!buf) {
         free(sbuf);
         return fail(argv[1], "cannot read");
+    }
+    if (len >= PSC_CONTAINER_MAGIC_SIZE && memcmp(buf, PSC_PROXY_MAGIC, PSC_CONTAINER_MAGIC_SIZE) == 0) {
+        free(sbuf);
+        out = fopen(argv[2], "wb");
+        if (!out) {
+            free(buf);
+            return fail(argv[2], strerror(errno));
+        }
+        rc = render_proxy(buf, len, out, argv + 3, argc - 3);
+        if (fclose(out) != 0 && rc == 0)
+            rc = fail(argv[2], strerror(errno));
+        free(buf);
+        return rc;
     }
     if (len >= PSC_CONTAINER_MAGIC_SIZE && memcmp(buf, PSC_PATCH_MAGIC, PSC_CONTAINER_MAGIC_SIZE) == 0) {
         out = fopen(argv[2], "wb");
