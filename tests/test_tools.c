@@ -685,7 +685,7 @@ static void test_proxy_tools(void **state)
     tmp_path(depth, sizeof depth, "bar-depth.pgm");
     tmp_path(json, sizeof json, "bar.json");
     const char *bake[] = {"bake", bar, "-o", ppx, "--views", "9", "--tex", "32", NULL};
-    const char *baked[] = {"11 parts and 11 joints", "9 views of 32x32", "26 animation samples", NULL};
+    const char *baked[] = {"16 parts and 11 joints", "9 views of 32x32", "26 animation samples", NULL};
     expect_run("periscope-proxy", bake, 0, baked);
     const char *proxies[] = {ppx, "--pose", "t=0.4", "--size", "160x120", "--ids", ids, "--depth", depth,
                              "--repeat", "2", "-o", a_png, NULL};
@@ -712,6 +712,26 @@ static void test_proxy_tools(void **state)
     expect_run("periscope-proxy", tex48, 2, tex48_said);
     const char *verb[] = {"make", bar, "-o", ppx, NULL}, *verb_said[] = {"expected the command 'bake'", NULL};
     expect_run("periscope-proxy", verb, 2, verb_said);
+    /* an OBJ: its groups are rigid parts */
+    char obj[512];
+    tmp_path(obj, sizeof obj, "slab.obj");
+    write_text(obj, "g slab\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\nv -2 -0.2 -2\nv 2 -0.2 -2\nv 2 -0.2 2\n"
+                    "v -2 -0.2 2\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n"
+                    "g post\nv -0.2 0 -0.2\nv 0.2 0 -0.2\nv 0.2 2 -0.2\nv -0.2 2 -0.2\nv -0.2 0 0.2\nv 0.2 0 0.2\n"
+                    "v 0.2 2 0.2\nv -0.2 2 0.2\nf 9 10 11 12\nf 16 15 14 13\nf 9 13 14 10\nf 10 14 15 11\n"
+                    "f 11 15 16 12\nf 12 16 13 9\n");
+    const char *obj_bake[] = {"bake", obj, "-o", ppx, NULL}, *obj_baked[] = {"2 parts and 0 joints", NULL};
+    expect_run("periscope-proxy", obj_bake, 0, obj_baked);
+    const char *obj_render[] = {ppx, "--size", "160x120", "--ids", ids, "-o", a_png, NULL};
+    expect_run("periscope-render", obj_render, 0, NULL);
+    pgm = tsup_read_bytes(ids, &len);
+    assert_non_null(pgm);
+    unsigned part[3] = {0, 0, 0};
+    for (size_t i = 17; i + 1 < len; i += 2)
+        part[pgm[i + 1] < 3 && pgm[i] == 0 ? pgm[i + 1] : 0]++;
+    assert_true(part[1] > 100 && part[2] > 100);   /* the slab and the post */
+    free(pgm);
+    unlink(obj);
     write_text(ppx, "not a pack at all, but long enough to be read as one.............");
     const char *bad[] = {ppx, "-o", a_png, NULL}, *bad_said[] = {"not a usable proxy pack", NULL};
     expect_run("periscope-render", bad, 1, bad_said);
