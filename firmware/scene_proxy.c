@@ -67,15 +67,7 @@ psc_status_t psc_scene_proxy_draw(const psc_proxy_model_t *m, uint64_t t_us, con
             return s;
         st->p.full_px = (int32_t)(out->height * PSC_PROXY_SCENE_FULL_PERCENT / 100u);
         st->p.billboard_px = (int32_t)(out->height * PSC_PROXY_SCENE_BILLBOARD_PERCENT / 100u);
-        st->lo = (psc_vec3_q16_t){INT32_MAX, INT32_MAX, INT32_MAX};
-        st->hi = (psc_vec3_q16_t){INT32_MIN, INT32_MIN, INT32_MIN};
-        for (uint32_t i = 0; i < m->vertex_count; i++) {
-            const int32_t *v = &m->position_q16[3u * i];
-            st->lo = (psc_vec3_q16_t){v[0] < st->lo.x ? v[0] : st->lo.x, v[1] < st->lo.y ? v[1] : st->lo.y,
-                                      v[2] < st->lo.z ? v[2] : st->lo.z};
-            st->hi = (psc_vec3_q16_t){v[0] > st->hi.x ? v[0] : st->hi.x, v[1] > st->hi.y ? v[1] : st->hi.y,
-                                      v[2] > st->hi.z ? v[2] : st->hi.z};
-        }
+        psc_proxy_rest_bounds(m, &st->lo, &st->hi);
     }
     psc_3d_config_t c = proxy_config(m, out->width, out->height, view->hfov);
     psc_mat4_q16_t cam;

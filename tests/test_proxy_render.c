@@ -173,15 +173,7 @@ static void bake(fixture_t *f, const char *file, unsigned views, unsigned tex)
     size_t n = psc_proxy_workspace_size(&f->m);
     assert_int_equal(posix_memalign(&f->ws, 64, n), 0);
     assert_int_equal(psc_proxy_init(&f->px, &f->m, f->ws, n), PSC_OK);
-    f->lo = (psc_vec3_q16_t){INT32_MAX, INT32_MAX, INT32_MAX};
-    f->hi = (psc_vec3_q16_t){INT32_MIN, INT32_MIN, INT32_MIN};
-    for (uint32_t i = 0; i < f->m.vertex_count; i++) {
-        const int32_t *v = &f->m.position_q16[3 * i];
-        f->lo = (psc_vec3_q16_t){v[0] < f->lo.x ? v[0] : f->lo.x, v[1] < f->lo.y ? v[1] : f->lo.y,
-                                 v[2] < f->lo.z ? v[2] : f->lo.z};
-        f->hi = (psc_vec3_q16_t){v[0] > f->hi.x ? v[0] : f->hi.x, v[1] > f->hi.y ? v[1] : f->hi.y,
-                                 v[2] > f->hi.z ? v[2] : f->hi.z};
-    }
+    psc_proxy_rest_bounds(&f->m, &f->lo, &f->hi);
 }
 
 static void fixture_free(fixture_t *f)

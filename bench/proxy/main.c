@@ -3,7 +3,9 @@
  * proxy - how much the proxy animator saves: each model drawn as its proxies
  * with view textures and as its full mesh, by the same pipeline, side by side
  * in one run (800x480, RGB565, 16-bit depth, one core, best of PASSES passes
- * of FRAMES frames, the camera turning 3 degrees a frame):
+ * of FRAMES frames, the camera turning 3 degrees a frame), near (2.5 R: the
+ * model fills the view) and at a middle distance (7 R: a third of it, where
+ * the proxies are the level of detail drawn):
  *  - a rigid assembly of 12 rings of 9 216 triangles each (110 592 in all),
  *    every ring its own node, built here;
  *  - the bundled skinned bar (../shared/data/models/gltf), its animation
@@ -110,18 +112,14 @@ static int bake(model_t *mo, const psc_gltf_t *g)
 }
 
 /* Best time of PASSES passes of FRAMES frames (ms per frame), proxies or full. */
-static double run(model_t *mo, psc_proxy_lod_t lod, uint32_t *triangles)
+static double run(model_t *mo, psc_proxy_lod_t lod, int32_t dist_q16, uint32_t *triangles)
 {
     const psc_proxy_model_t *m = &mo->m;
-    psc_vec3_q16_t lo = {INT32_MAX, INT32_MAX, INT32_MAX}, hi = {INT32_MIN, INT32_MIN, INT32_MIN};
-    for (uint32_t i = 0; i < m->vertex_count; i++) {
-        const int32_t *v = &m->position_q16[3 * i];
-        lo = (psc_vec3_q16_t){v[0] < lo.x ? v[0] : lo.x, v[1] < lo.y ? v[1] : lo.y, v[2] < lo.z ? v[2] : lo.z};
-        hi = (psc_vec3_q16_t){v[0] > hi.x ? v[0] : hi.x, v[1] > hi.y ? v[1] : hi.y, v[2] > hi.z ? v[2] : hi.z};
-    }
+    psc_vec3_q16_t lo, hi;
+    psc_proxy_rest_bounds(m, &lo, &hi);
     psc_3d_config_t cfg = {W, H, 0, 0, 16, 0x238E38E4u, 0, 0, psc_proxy_max_vertices(m)};
     psc_mat4_q16_t cam;
-    psc_3d_orbit(lo, hi, 0, (int32_t)0x0E38E38E, 160000, &cam, &cfg.near_q16, &cfg.far_q16);
+    psc_3d_orbit(lo, hi, 0, (int32_t)0x0E38E38E, dist_q16, &cam, &cfg.near_q16, &cfg.far_q16);
     size_t n3 = psc_3d_workspace_size(&cfg), np = psc_proxy_workspace_size(m);
     void *ws3d = NULL, *wsp = NULL, *px = NULL;
     psc_mat4_q16_t *skin = malloc(m->joint_count * sizeof *skin);
@@ -136,7 +134,7 @@ static double run(model_t *mo, psc_proxy_lod_t lod, uint32_t *triangles)
     for (unsigned pass = 0; pass < PASSES; pass++) {
         double t0 = now_s();
         for (unsigned f = 0; f < FRAMES; f++) {
-            psc_3d_orbit(lo, hi, (psc_bam_t)(f * 0x02222222u), (int32_t)0x0E38E38E, 160000, &cam, &cfg.near_q16,
+            psc_3d_orbit(lo, hi, (psc_bam_t)(f * 0x02222222u), (int32_t)0x0E38E38E, dist_q16, &cam, &cfg.near_q16,
                          &cfg.far_q16);
             psc_proxy_pose_at(m, mo->t_step > 0 ? (int64_t)(f * mo->t_step * 1e6) : -1, skin);
             const psc_3d_draw_t *d;
@@ -187,16 +185,19 @@ int main(int argc, char **argv)
     FILE *j = fopen(path, "w");
     printf("proxy animator against the full mesh, %ux%u RGB565, one core, best of %u passes of %u frames\n", W, H,
            PASSES, FRAMES);
-    printf("%-26s %9s %9s %7s %10s %10s %10s %7s\n", "model", "triangles", "drawn", "views", "textures", "full ms",
-           "proxy ms", "ratio");
-    for (unsigned k = 0; k < 2; k++) {
-        model_t *mo = &models[k];
+    printf("%-26s %9s %9s %7s %10s %9s %10s %10s %7s\n", "model", "triangles", "drawn", "views", "textures",
+           "distance", "full ms", "proxy ms", "ratio");
+    /* near (the model fills the view: the full mesh's level) and middle distance (a third of it: the proxies') */
+    static const double dist[2] = {2.5, 7.0};
+    for (unsigned k = 0; k < 4; k++) {
+        model_t *mo = &models[k / 2];
         uint32_t tf = 0, tp = 0;
-        double full = run(mo, PSC_PROXY_LOD_FULL, &tf), prx = run(mo, PSC_PROXY_LOD_PROXIES, &tp);
+        int32_t dq = (int32_t)lround(dist[k % 2] * 65536);
+        double full = run(mo, PSC_PROXY_LOD_FULL, dq, &tf), prx = run(mo, PSC_PROXY_LOD_PROXIES, dq, &tp);
         double tex_mb = (double)mo->m.part_count * mo->m.view_count * mo->m.tex_size * mo->m.tex_size * 2 / 1048576.0;
         char line[256];
-        snprintf(line, sizeof line, "%-26s %9u %9u %7u %7.1f MB %10.3f %10.3f %6.2fx\n", mo->name, tf, tp,
-                 mo->m.view_count, tex_mb, full, prx, full / prx);
+        snprintf(line, sizeof line, "%-26s %9u %9u %7u %7.1f MB %7.1f R %10.3f %10.3f %6.2fx\n", mo->name, tf, tp,
+                 mo->m.view_count, tex_mb, dist[k % 2], full, prx, full / prx);
         fputs(line, stdout);
         if (j)
             fputs(line, j);

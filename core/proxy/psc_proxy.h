@@ -180,6 +180,9 @@ typedef struct {
  */
 psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out, psc_container_error_t *err);
 
+/** The box of the full mesh at rest (what the orbit camera is centred on, for every pose). */
+void psc_proxy_rest_bounds(const psc_proxy_model_t *m, psc_vec3_q16_t *lo, psc_vec3_q16_t *hi);
+
 /** The animation's length in microseconds (0 without one). */
 uint64_t psc_proxy_duration_us(const psc_proxy_model_t *m);
 

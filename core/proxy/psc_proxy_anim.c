@@ -1,7 +1,23 @@
 /* SPDX-License-Identifier: MIT */
-/* psc_proxy_anim.c - a proxy model's animation: sampled skin matrices, linear between samples (psc_proxy.h). */
+/* psc_proxy_anim.c - a proxy model's animation (sampled skin matrices, linear between samples) and rest box
+ * (psc_proxy.h). */
 #include "proxy/psc_proxy.h"
 #include "base/psc_fixed.h"
+
+void psc_proxy_rest_bounds(const psc_proxy_model_t *m, psc_vec3_q16_t *lo, psc_vec3_q16_t *hi)
+{
+    int32_t l[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, h[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+    for (uint32_t i = 0; i < m->vertex_count; i++)
+        for (unsigned a = 0; a < 3; a++) {
+            int32_t v = m->position_q16[3u * i + a];
+            l[a] = v < l[a] ? v : l[a];
+            h[a] = v > h[a] ? v : h[a];
+        }
+    if (m->vertex_count == 0)
+        l[0] = l[1] = l[2] = h[0] = h[1] = h[2] = 0;
+    *lo = (psc_vec3_q16_t){l[0], l[1], l[2]};
+    *hi = (psc_vec3_q16_t){h[0], h[1], h[2]};
+}
 
 uint64_t psc_proxy_duration_us(const psc_proxy_model_t *m)
 {

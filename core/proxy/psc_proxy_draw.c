@@ -193,8 +193,8 @@ static void joint_m3(const int32_t *rest[3], const int32_t *posed[3], psc_mat4_q
 /* ---- views ------------------------------------------------------------------------- */
 
 /* The three views for a surface seen from camera-space point at (its Ds) through cam, moved by m2: Dr = Ds M1^-1 M2^-1. */
-static void pick_views(const psc_proxy_model_t *m, const int32_t at[3], const psc_mat4_q16_t *cam,
-                       const psc_mat4_q16_t *m2, psc_proxy_pick_t *pick)
+static void pick_views(unsigned side, const int32_t at[3], const psc_mat4_q16_t *cam, const psc_mat4_q16_t *m2,
+                       psc_proxy_pick_t *pick)
 {
     int64_t e[3];
     int32_t ds[3], dr[3];
@@ -204,18 +204,25 @@ static void pick_views(const psc_proxy_model_t *m, const int32_t at[3], const ps
     if (ds[0] == 0 && ds[1] == 0 && ds[2] == 0)
         ds[2] = 1;
     psc_proxy_view_for_part(ds, cam, m2, dr);
-    if (psc_proxy_view_pick(m->view_side, dr, pick) != PSC_OK)
+    if (psc_proxy_view_pick(side, dr, pick) != PSC_OK)
         *pick = (psc_proxy_pick_t){{0, 0, 0}, {65536, 0, 0}};
+}
+
+/* The pick's weights in Q0.8, summing to exactly 256 (the rasterizer's), heaviest first still. */
+static void weights_q8(const psc_proxy_pick_t *pick, uint16_t w[3])
+{
+    int32_t w0 = (pick->w_q16[0] + 128) >> 8, w1 = (pick->w_q16[1] + 128) >> 8;
+    if (w1 > 256 - w0)
+        w1 = 256 - w0;
+    w[0] = (uint16_t)w0, w[1] = (uint16_t)w1, w[2] = (uint16_t)(256 - w0 - w1);
 }
 
 /* Point draw d at the picked views of part `part`: textures, coordinates uv[k], weights in Q0.8 summing to 256. */
 static void set_views(const psc_proxy_model_t *m, psc_3d_draw_t *d, psc_texture_t *tex, uint32_t part,
                       const psc_proxy_pick_t *pick, const uint16_t *const uv[3], psc_tex_filter_t filter)
 {
-    int32_t w0 = (pick->w_q16[0] + 128) >> 8, w1 = (pick->w_q16[1] + 128) >> 8;
-    if (w1 > 256 - w0)
-        w1 = 256 - w0;
-    int32_t w[3] = {w0, w1, 256 - w0 - w1};
+    uint16_t w[3];
+    weights_q8(pick, w);
     size_t texels = (size_t)m->tex_size * m->tex_size;
     d->shade = PSC_SHADE_VIEWS;
     d->filter = filter;
@@ -223,7 +230,7 @@ static void set_views(const psc_proxy_model_t *m, psc_3d_draw_t *d, psc_texture_
         const uint16_t *px = m->texels + ((size_t)part * m->view_count + pick->view[k]) * texels;
         psc_texture_init(&tex[k], (uint16_t)m->tex_size, (uint16_t)m->tex_size, PSC_PIX_RGB565, m->tex_size * 2u, px);
         d->view_tex[k] = &tex[k];
-        d->view_w_q8[k] = (uint16_t)w[k];
+        d->view_w_q8[k] = w[k];
         d->view_uv_q16[k] = uv[k];
     }
 }
@@ -280,24 +287,13 @@ static unsigned billboard(psc_proxy_t *p, const psc_mat4_q16_t *cam, bool ids)
     psc_proxy_pick_t pick;
     psc_mat4_q16_t id;
     psc_mat4_identity(&id);
-    int64_t e[3];
-    int32_t ds[3], dr[3];
-    apply(cam, c, e);
-    for (unsigned a = 0; a < 3; a++)
-        ds[a] = (int32_t)e[a];
-    if (ds[0] == 0 && ds[1] == 0 && ds[2] == 0)
-        ds[2] = 1;
-    psc_proxy_view_for_part(ds, cam, &id, dr);
-    if (psc_proxy_view_pick(m->bb_side, dr, &pick) != PSC_OK)
-        pick = (psc_proxy_pick_t){{0, 0, 0}, {65536, 0, 0}};
+    pick_views(m->bb_side, c, cam, &id, &pick);
     /* (u, v) = 1/2 + (x.right, -x.up) / 2 rho' with rho' = 1.02 rho, as the views were fitted */
     int64_t den = 2 * (rho * 102 / 100);
     const uint16_t *uv[3];
     psc_texture_t *tex = &p->textures[0];
-    int32_t w0 = (pick.w_q16[0] + 128) >> 8, w1 = (pick.w_q16[1] + 128) >> 8;
-    if (w1 > 256 - w0)
-        w1 = 256 - w0;
-    int32_t w[3] = {w0, w1, 256 - w0 - w1};
+    uint16_t w[3];
+    weights_q8(&pick, w);
     psc_mesh_t *mesh = &p->meshes[0];
     *mesh = (psc_mesh_t){.vertex_count = 4, .triangle_count = 2, .position_q16 = p->bb_pos_q16, .index = quad};
     psc_3d_draw_t *d = &p->draws[0];
@@ -323,7 +319,7 @@ static unsigned billboard(psc_proxy_t *p, const psc_mat4_q16_t *cam, bool ids)
         psc_texture_init(&tex[k], (uint16_t)m->bb_tex, (uint16_t)m->bb_tex, PSC_PIX_RGB565, m->bb_tex * 2u,
                          m->bb_texels + (size_t)pick.view[k] * m->bb_tex * m->bb_tex);
         d->view_tex[k] = &tex[k];
-        d->view_w_q8[k] = (uint16_t)w[k];
+        d->view_w_q8[k] = w[k];
         d->view_uv_q16[k] = uv[k];
     }
     return 1;
@@ -392,7 +388,7 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
             for (unsigned a = 0; a < 3; a++)
                 cc[a] = (int32_t)c[a];
             psc_proxy_pick_t pick;
-            pick_views(m, cc, cam, js, &pick);
+            pick_views(m->view_side, cc, cam, js, &pick);
             const uint16_t *const uv[3] = {part_uv(m, pr, pick.view[0]), part_uv(m, pr, pick.view[1]),
                                            part_uv(m, pr, pick.view[2])};
             set_views(m, d, &p->textures[3u * nd], i, &pick, uv, p->filter);
@@ -415,7 +411,7 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
             for (unsigned a = 0; a < 3; a++)
                 cc[a] = (int32_t)(((int64_t)p3[0][a] + p3[1][a] + p3[2][a]) / 3);
             psc_proxy_pick_t pick;
-            pick_views(m, cc, cam, &m3, &pick);
+            pick_views(m->view_side, cc, cam, &m3, &pick);
             uint16_t *tuv = p->tri_uv + 18u * (size_t)tri_at;
             const uint16_t *uv[3];
             for (unsigned k = 0; k < 3; k++) {

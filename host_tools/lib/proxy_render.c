@@ -301,12 +301,8 @@ int psc_proxy_render_main(const char *prog, int argc, char **argv)
         goto done;
     }
     /* the camera: on the rest pose's box */
-    psc_vec3_q16_t lo = {INT32_MAX, INT32_MAX, INT32_MAX}, hi = {INT32_MIN, INT32_MIN, INT32_MIN};
-    for (uint32_t i = 0; i < m->vertex_count; i++) {
-        const int32_t *v = &m->position_q16[3 * i];
-        lo = (psc_vec3_q16_t){v[0] < lo.x ? v[0] : lo.x, v[1] < lo.y ? v[1] : lo.y, v[2] < lo.z ? v[2] : lo.z};
-        hi = (psc_vec3_q16_t){v[0] > hi.x ? v[0] : hi.x, v[1] > hi.y ? v[1] : hi.y, v[2] > hi.z ? v[2] : hi.z};
-    }
+    psc_vec3_q16_t lo, hi;
+    psc_proxy_rest_bounds(m, &lo, &hi);
     psc_mat4_q16_t cam;
     psc_3d_config_t cfg = {vw->width, vw->height, (uint16_t)a.tile, (uint16_t)a.tile, 32, psc_bam_from_deg(vw->hfov),
                            0, 0, psc_proxy_max_vertices(m)};

@@ -290,12 +290,8 @@ static int render_proxy(const void *buf, size_t len, FILE *out, char **specs, in
         rc = fail("out of memory", NULL);
         goto done;
     }
-    psc_vec3_q16_t lo = {INT32_MAX, INT32_MAX, INT32_MAX}, hi = {INT32_MIN, INT32_MIN, INT32_MIN};
-    for (uint32_t i = 0; i < m.vertex_count; i++) {
-        const int32_t *v = &m.position_q16[3u * i];
-        lo = (psc_vec3_q16_t){v[0] < lo.x ? v[0] : lo.x, v[1] < lo.y ? v[1] : lo.y, v[2] < lo.z ? v[2] : lo.z};
-        hi = (psc_vec3_q16_t){v[0] > hi.x ? v[0] : hi.x, v[1] > hi.y ? v[1] : hi.y, v[2] > hi.z ? v[2] : hi.z};
-    }
+    psc_vec3_q16_t lo, hi;
+    psc_proxy_rest_bounds(&m, &lo, &hi);
     rc = 0;
     for (int i = 0; i < count && rc == 0; i++) {
         char fmt[16];
