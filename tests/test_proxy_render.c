@@ -14,6 +14,9 @@
  *  - the billboard (the far level) against the full mesh, far away;
  *  - the level of detail switched by the model's size on the screen with
  *    10 % hysteresis, and the device's animated object scene zooming out;
+ *  - tiles change no byte of proxies, full mesh or billboard;
+ *  - mutated and truncated glTF files refused with the file named, or baked
+ *    into packs that parse;
  *  - 3000 mutated and truncated proxy packs: refused with a message, or
  *    parsed and drawn without a fault.
  */
@@ -31,12 +34,14 @@
 #include "proxy_bake.h"
 #include "proxy_render.h"
 #include "psc_testsupport.h"
+#include "tsup_files.h"
 #include "scene_proxy.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define GLTF_DIR "../shared/data/models/gltf/"
 #define BG 0x30343Cu
@@ -394,6 +399,106 @@ static void test_scene_draw(void **state)
     fixture_free(&f);
 }
 
+/* Tiles change nothing: proxies, full mesh and billboard in 32 x 32 tiles give the full-buffer frame's bytes. */
+static void test_tiles_exact(void **state)
+{
+    (void)state;
+    fixture_t f = {0};
+    bake(&f, GLTF_DIR "animation_with_skeleton.gltf", 9, 32);
+    psc_mat4_q16_t *skin = malloc(f.m.joint_count * sizeof *skin), cam;
+    assert_non_null(skin);
+    psc_proxy_pose_at(&f.m, 370000, skin);
+    static uint16_t a[W * H], b[W * H];
+    for (int lod = 0; lod < 3; lod++) {
+        for (int tiled = 0; tiled < 2; tiled++) {
+            psc_3d_config_t cfg = {W, H, tiled ? 32 : 0, tiled ? 32 : 0, 16, tsup_bam_from_deg(50), 0, 0,
+                                   psc_proxy_max_vertices(&f.m)};
+            assert_int_equal(psc_3d_orbit(f.lo, f.hi, tsup_bam_from_deg(75), (int32_t)tsup_bam_from_deg(30),
+                                          lod == 2 ? 5 * 65536 : 144179, &cam, &cfg.near_q16, &cfg.far_q16),
+                             PSC_OK);
+            size_t n = psc_3d_workspace_size(&cfg);
+            void *ws;
+            assert_int_equal(posix_memalign(&ws, 64, n), 0);
+            psc_3d_t r;
+            assert_int_equal(psc_3d_init(&r, &cfg, ws, n), PSC_OK);
+            const psc_3d_draw_t *d;
+            unsigned nd;
+            assert_int_equal(psc_proxy_frame(&f.px, skin, &cam, (psc_proxy_lod_t)lod, false, &d, &nd), PSC_OK);
+            psc_surface_t sf = {W, H, W * 2, PSC_PIX_RGB565, tiled ? b : a};
+            uint32_t bg = BG;
+            assert_int_equal(psc_3d_render(&r, d, nd, &bg, &sf, NULL), PSC_OK);
+            free(ws);
+        }
+        unsigned drawn = 0;
+        for (unsigned i = 0; i < W * H; i++)
+            drawn += a[i] != psc_xrgb_to_rgb565(BG);
+        print_message("  level %d: %u pixels drawn, tiled and full-buffer alike\n", lod, drawn);
+        assert_true(drawn > 100);
+        assert_memory_equal(a, b, sizeof a);
+    }
+    free(skin);
+    fixture_free(&f);
+}
+
+/* Mutated and truncated model files: refused by the importer with the file named, or baked into a pack that parses. */
+static void test_model_fuzz(void **state)
+{
+    (void)state;
+    size_t n;
+    char *orig = (char *)tsup_read_bytes(GLTF_DIR "animation_with_skeleton.gltf", &n), *buf = malloc(n);
+    assert_true(orig && buf);
+    char path[] = "/tmp/periscope-proxy-fuzz-XXXXXX.gltf";
+    int fd = mkstemps(path, 5);
+    assert_true(fd >= 0);
+    close(fd);
+    tsup_rng_t r;
+    tsup_rng_seed(&r, 29);
+    unsigned refused = 0, baked = 0;
+    for (unsigned round = 0; round < 24; round++) {
+        memcpy(buf, orig, n);
+        size_t len = n;
+        if (round % 3 == 0)
+            len = tsup_rng_below(&r, (uint32_t)n);   /* truncated */
+        else
+            for (unsigned k = 0; k < 1u + round % 5u; k++)   /* bytes changed, in the JSON or the data */
+                buf[tsup_rng_below(&r, (uint32_t)n)] = (char)tsup_rng_u32(&r);
+        FILE *fp = fopen(path, "wb");
+        assert_non_null(fp);
+        assert_true(fwrite(buf, 1, len, fp) == len);
+        fclose(fp);
+        psc_gltf_t g;
+        char err[512], note[256] = "";
+        if (psc_gltf_load(path, &g, note, sizeof note, err, sizeof err) != 0) {
+            assert_non_null(strstr(err, path));
+            refused++;
+            continue;
+        }
+        psc_proxy_bake_opts_t o = {9, 8};
+        uint8_t *pack = NULL;
+        size_t plen = 0;
+        if (psc_proxy_bake(&g, &o, path, &pack, &plen, note, sizeof note, err, sizeof err) == 0) {
+            void *al;
+            assert_int_equal(posix_memalign(&al, 64, plen), 0);
+            memcpy(al, pack, plen);
+            psc_proxy_model_t m;
+            psc_container_error_t e = {0};
+            assert_int_equal(psc_proxy_parse(al, plen, &m, &e), PSC_OK);
+            free(al);
+            baked++;
+        } else {
+            assert_non_null(strstr(err, path));
+            refused++;
+        }
+        free(pack);
+        psc_gltf_free(&g);
+    }
+    print_message("  24 mutated or truncated glTF files: %u refused with a message, %u baked into packs that parse\n",
+                  refused, baked);
+    assert_true(refused > 0 && baked > 0);
+    remove(path);
+    free(orig), free(buf);
+}
+
 /* ---- fuzzing ------------------------------------------------------------------------------------- */
 
 static void test_pack_fuzz(void **state)
@@ -473,6 +578,8 @@ int main(void)
         cmocka_unit_test(test_bar_quality),
         cmocka_unit_test(test_lod_hysteresis),
         cmocka_unit_test(test_scene_draw),
+        cmocka_unit_test(test_tiles_exact),
+        cmocka_unit_test(test_model_fuzz),
         cmocka_unit_test(test_pack_fuzz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

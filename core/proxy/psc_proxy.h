@@ -198,7 +198,7 @@ void psc_proxy_pose_at(const psc_proxy_model_t *m, int64_t t_us, psc_mat4_q16_t 
 typedef enum {
     PSC_PROXY_LOD_PROXIES = 0,     /* the proxies with their view textures (the middle distance) */
     PSC_PROXY_LOD_FULL = 1,        /* the full mesh (near, and the comparison) */
-    PSC_PROXY_LOD_BILLBOARD = 2    /* a quad facing the camera with the billboard's views (far; the rest pose) */
+    PSC_PROXY_LOD_BILLBOARD = 2    /* a quad facing the camera with the billboard's nearest view (far; rest pose) */
 } psc_proxy_lod_t;
 
 /** A model's drawing state; everything in the caller's workspace. */

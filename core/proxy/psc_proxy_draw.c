@@ -292,8 +292,8 @@ static unsigned billboard(psc_proxy_t *p, const psc_mat4_q16_t *cam, bool ids)
     int64_t den = 2 * (rho * 102 / 100);
     const uint16_t *uv[3];
     psc_texture_t *tex = &p->textures[0];
-    uint16_t w[3];
-    weights_q8(&pick, w);
+    /* one view, the nearest: a far model is small, and thin features of three blended views need not overlap */
+    uint16_t w[3] = {256, 0, 0};
     psc_mesh_t *mesh = &p->meshes[0];
     *mesh = (psc_mesh_t){.vertex_count = 4, .triangle_count = 2, .position_q16 = p->bb_pos_q16, .index = quad};
     psc_3d_draw_t *d = &p->draws[0];

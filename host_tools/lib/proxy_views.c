@@ -109,12 +109,45 @@ static bool may_occlude(const psc_proxy_shape_t *b, const ortho_t *o)
     return u + rr > 0 && u - rr < 1 && v + rr > 0 && v - rr < 1 && z - rr < 1;
 }
 
-static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *others, unsigned n_others,
-                        const ortho_t *o, uint16_t *texels, uint32_t *depth)
+/* Views are drawn at SS x SS samples a texel: a texel is non-empty when a quarter of its samples are (so a feature
+ * thinner than a texel, a rod or an antenna, keeps a line of texels), its colour their mean. */
+#define SS 4u
+
+static void downsample(const uint16_t *hi, unsigned n, uint16_t *out)
 {
-    unsigned n = o->tex;
-    psc_surface_t sf = {(uint16_t)n, (uint16_t)n, n * 2u, PSC_PIX_RGB565, texels};
-    memset(texels, 0, (size_t)n * n * 2u);   /* PSC_VIEW_TEXEL_EMPTY */
+    for (unsigned y = 0; y < n; y++)
+        for (unsigned x = 0; x < n; x++) {
+            unsigned count = 0, acc[3] = {0, 0, 0};
+            for (unsigned j = 0; j < SS; j++)
+                for (unsigned i = 0; i < SS; i++) {
+                    uint16_t c = hi[(size_t)(y * SS + j) * n * SS + x * SS + i];
+                    if (c == PSC_VIEW_TEXEL_EMPTY)
+                        continue;
+                    uint32_t xr = psc_rgb565_to_xrgb(c);
+                    acc[0] += xr >> 16 & 255u, acc[1] += xr >> 8 & 255u, acc[2] += xr & 255u;
+                    count++;
+                }
+            uint16_t t = PSC_VIEW_TEXEL_EMPTY;
+            if (count * 4u >= SS * SS) {
+                uint32_t c = (acc[0] + count / 2) / count << 16 | (acc[1] + count / 2) / count << 8 |
+                             (acc[2] + count / 2) / count;
+                t = psc_xrgb_to_rgb565(c);
+                if (t == PSC_VIEW_TEXEL_EMPTY)
+                    t = 0x0020u;
+            }
+            out[(size_t)y * n + x] = t;
+        }
+}
+
+/* The view into hi (SS n x SS n samples), then into texels (n x n). */
+static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *others, unsigned n_others,
+                        const ortho_t *view, uint16_t *texels, uint16_t *hi, uint32_t *depth)
+{
+    ortho_t so = *view;
+    const ortho_t *o = &so;
+    unsigned n = so.tex *= SS;
+    psc_surface_t sf = {(uint16_t)n, (uint16_t)n, n * 2u, PSC_PIX_RGB565, hi};
+    memset(hi, 0, (size_t)n * n * 2u);   /* PSC_VIEW_TEXEL_EMPTY */
     for (size_t i = 0; i < (size_t)n * n; i++)
         depth[i] = 0xFFFFFFFFu;
     psc_raster_target_t t = {&sf, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n};
@@ -123,18 +156,22 @@ static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *oth
         if (&others[k] != s && may_occlude(&others[k], o))
             draw_shape(&others[k], o, &t, true);
     draw_shape(s, o, &t, false);
+    downsample(hi, view->tex, texels);
 }
 
 int psc_proxy_render_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *others, unsigned n_others,
                            unsigned side, unsigned tex, uint16_t *texels, uint16_t *uv)
 {
-    uint32_t *depth = malloc((size_t)tex * tex * sizeof *depth);
-    if (!depth)
+    uint32_t *depth = malloc((size_t)tex * tex * SS * SS * sizeof *depth);
+    uint16_t *hi = malloc((size_t)tex * tex * SS * SS * sizeof *hi);
+    if (!depth || !hi) {
+        free(depth), free(hi);
         return -1;
+    }
     for (unsigned k = 0; k < side * side; k++) {
         ortho_t o;
         ortho_for(s, side, k, tex, &o);
-        render_view(s, others, n_others, &o, texels + (size_t)k * tex * tex, depth);
+        render_view(s, others, n_others, &o, texels + (size_t)k * tex * tex, hi, depth);
         uint16_t *kuv = uv + (size_t)k * s->prx_vertices * 2u;
         for (uint32_t i = 0; i < s->prx_vertices; i++) {
             double u, v, z;
@@ -143,35 +180,40 @@ int psc_proxy_render_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *
             kuv[2 * i + 1] = (uint16_t)lround(fmin(fmax(v, 0.0), 1.0) * 65535.0);
         }
     }
-    free(depth);
+    free(depth), free(hi);
     return 0;
 }
 
 int psc_proxy_render_billboard(const psc_proxy_shape_t *shapes, unsigned n, const double centre[3], double radius,
                                unsigned side, unsigned tex, uint16_t *texels, int32_t *axes_q16)
 {
-    uint32_t *depth = malloc((size_t)tex * tex * sizeof *depth);
-    if (!depth)
+    uint32_t *depth = malloc((size_t)tex * tex * SS * SS * sizeof *depth);
+    uint16_t *hi = malloc((size_t)tex * tex * SS * SS * sizeof *hi);
+    if (!depth || !hi) {
+        free(depth), free(hi);
         return -1;
+    }
     psc_proxy_shape_t whole = {0};
     memcpy(whole.centre, centre, sizeof whole.centre);
     whole.radius = radius;
     for (unsigned k = 0; k < side * side; k++) {
-        ortho_t o;
+        ortho_t o, so;
         ortho_for(&whole, side, k, tex, &o);
-        uint16_t *t = texels + (size_t)k * tex * tex;
-        psc_surface_t sf = {(uint16_t)tex, (uint16_t)tex, tex * 2u, PSC_PIX_RGB565, t};
-        memset(t, 0, (size_t)tex * tex * 2u);
-        for (size_t i = 0; i < (size_t)tex * tex; i++)
+        so = o;
+        unsigned hn = so.tex *= SS;
+        psc_surface_t sf = {(uint16_t)hn, (uint16_t)hn, hn * 2u, PSC_PIX_RGB565, hi};
+        memset(hi, 0, (size_t)hn * hn * 2u);
+        for (size_t i = 0; i < (size_t)hn * hn; i++)
             depth[i] = 0xFFFFFFFFu;
-        psc_raster_target_t tg = {&sf, depth, tex * 4u, 32, 0, 0, (uint16_t)tex, (uint16_t)tex};
+        psc_raster_target_t tg = {&sf, depth, hn * 4u, 32, 0, 0, (uint16_t)hn, (uint16_t)hn};
         for (unsigned s = 0; s < n; s++)
-            draw_shape(&shapes[s], &o, &tg, false);
+            draw_shape(&shapes[s], &so, &tg, false);
+        downsample(hi, tex, texels + (size_t)k * tex * tex);
         for (unsigned a = 0; a < 3; a++) {
             axes_q16[6 * k + a] = (int32_t)lround(o.right[a] * 65536.0);
             axes_q16[6 * k + 3 + a] = (int32_t)lround(o.up[a] * 65536.0);
         }
     }
-    free(depth);
+    free(depth), free(hi);
     return 0;
 }
