@@ -301,8 +301,8 @@ static void test_truck_quality(void **state)
     for (unsigned k = 0; k < sizeof shots / sizeof shots[0]; k++) {
         quality_t q = measure(&f, &shots[k], "truck");
         iou += q.iou / 5, psnr += q.psnr / 5, ids += q.ids / 5;
-        /* the floor of what these proxies and 7 x 7 views give (measured IoU 0.89..0.95, 13.3..22.8 dB) */
-        assert_true(q.iou >= 0.86);
+        /* the floor of what these proxies and 7 x 7 views give (measured IoU 0.90..0.95, 13.4..22.8 dB) */
+        assert_true(q.iou >= 0.88);
         assert_true(q.psnr >= 12.0);
         assert_true(q.ids >= 0.97);
     }
@@ -311,7 +311,7 @@ static void test_truck_quality(void **state)
     static const shot_t far[] = {{40, 15, 12, -1, 0, PSC_PROXY_LOD_BILLBOARD}, {230, -10, 12, -1, 0, PSC_PROXY_LOD_BILLBOARD}};
     for (unsigned k = 0; k < 2; k++) {
         quality_t q = measure(&f, &far[k], "truck");
-        assert_true(q.iou >= 0.75);   /* measured 0.80, 0.83 */
+        assert_true(q.iou >= 0.78);   /* measured 0.83, 0.85 */
     }
     fixture_free(&f);
 }
@@ -327,9 +327,9 @@ static void test_bar_quality(void **state)
     };
     for (unsigned k = 0; k < sizeof shots / sizeof shots[0]; k++) {
         quality_t q = measure(&f, &shots[k], "bar");
-        /* the floor of what they give (IoU measured 0.72..0.87, holes 0.07..0.21, front part 0.97..0.99) */
-        assert_true(q.iou >= 0.68);
-        assert_true(q.hole <= 0.25);
+        /* the floor of what they give (IoU measured 0.74..0.89, holes 0.04..0.19, front part 0.955..0.98) */
+        assert_true(q.iou >= 0.70);
+        assert_true(q.hole <= 0.22);
         assert_true(q.ids >= 0.95);
     }
     fixture_free(&f);
