@@ -11,6 +11,7 @@
  *    animation's samples, and a bar bent far beyond its animation): the
  *    silhouettes' IoU, the PSNR over their union, and the front part where
  *    both show one;
+ *  - joint triangles attached to the parts they join under extreme poses;
  *  - the billboard (the far level) against the full mesh, far away;
  *  - the level of detail switched by the model's size on the screen with
  *    10 % hysteresis, and the device's animated object scene zooming out;
@@ -335,6 +336,91 @@ static void test_bar_quality(void **state)
     fixture_free(&f);
 }
 
+/* Joint triangles stay attached to both parts they join, however far the pose bends them: every joint vertex that
+ * sits on a part's vertex at rest sits on it posed (the joint strip is the mesh's own triangles, skinned by the same
+ * weights, 0.05 % of R off them), at the animation's time and bent 90 degrees at every third joint. */
+static void test_joints_attached(void **state)
+{
+    (void)state;
+    fixture_t f = {0};
+    bake(&f, GLTF_DIR "animation_with_skeleton.gltf", 9, 16);
+    const psc_proxy_model_t *m = &f.m;
+    psc_mat4_q16_t *skin = malloc(m->joint_count * sizeof *skin), cam;
+    double(*pre)[12] = calloc(m->joint_count, sizeof *pre), (*post)[12] = calloc(m->joint_count, sizeof *post);
+    assert_true(skin && pre && post);
+    for (uint32_t j = 0; j < m->joint_count; j++) {
+        const double id[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, rz[12] = {0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0};
+        memcpy(pre[j], id, sizeof id);
+        memcpy(post[j], j % 3 == 0 ? rz : id, sizeof id);
+    }
+    assert_int_equal(psc_proxy_pose_adjusted(m, 0.4, (const double(*)[12])pre, (const double(*)[12])post, skin), 0);
+    psc_mat4_identity(&cam);
+    cam.m[2][3] = 4 * PSC_Q16_ONE;
+    /* the parts' posed vertices, by their rest positions */
+    const psc_3d_draw_t *d;
+    unsigned nd;
+    assert_int_equal(psc_proxy_frame(&f.px, skin, &cam, PSC_PROXY_LOD_FULL, false, &d, &nd), PSC_OK);
+    uint32_t nv = 0;
+    for (uint32_t i = 0; i < m->part_count; i++)
+        nv += m->parts[i].kind == PSC_PROXY_KIND_PART ? m->parts[i].vertex_count : 0;
+    int32_t(*rest)[3] = malloc(nv * sizeof *rest), (*posed)[3] = malloc(nv * sizeof *posed);
+    assert_true(rest && posed);
+    uint32_t at = 0;
+    for (uint32_t i = 0, k = 0; i < m->part_count; i++) {
+        const psc_proxy_part_raw_t *pr = &m->parts[i];
+        if (pr->triangle_count == 0)
+            continue;
+        const psc_mesh_t *mesh = d[k++].mesh;
+        if (pr->kind != PSC_PROXY_KIND_PART)
+            continue;
+        assert_false(pr->flags & PSC_PROXY_RIGID);   /* the bar's parts all bend */
+        for (uint32_t v = 0; v < pr->vertex_count; v++, at++)
+            for (unsigned a = 0; a < 3; a++) {
+                rest[at][a] = m->position_q16[3u * (pr->first_vertex + v) + a];
+                posed[at][a] = mesh->position_q16[3u * v + a];
+            }
+    }
+    /* the joint triangles as drawn */
+    assert_int_equal(psc_proxy_frame(&f.px, skin, &cam, PSC_PROXY_LOD_PROXIES, false, &d, &nd), PSC_OK);
+    unsigned k = 0, attached = 0;
+    double worst = 0;
+    for (uint32_t i = 0; i < m->part_count; i++)
+        k += m->parts[i].kind == PSC_PROXY_KIND_PART;
+    for (uint32_t i = 0; i < m->part_count; i++) {
+        const psc_proxy_part_raw_t *pr = &m->parts[i];
+        if (pr->kind != PSC_PROXY_KIND_JOINT)
+            continue;
+        for (uint32_t t = 0; t < pr->proxy_triangle_count; t++, k++) {
+            const psc_mesh_t *mesh = d[k].mesh;
+            assert_int_equal(mesh->vertex_count, 3);
+            for (unsigned c = 0; c < 3; c++) {
+                uint32_t pv = pr->first_proxy_vertex + m->proxy_index[3u * (pr->first_proxy_triangle + t) + c];
+                const int32_t *r = &m->proxy_position_q16[3u * pv];
+                for (uint32_t q = 0; q < nv; q++) {
+                    int64_t d2 = 0;
+                    for (unsigned a = 0; a < 3; a++)
+                        d2 += ((int64_t)r[a] - rest[q][a]) * ((int64_t)r[a] - rest[q][a]);
+                    if (d2 > (int64_t)66 * 66)   /* within 0.001 R at rest: the same vertex, pushed off */
+                        continue;
+                    double e2 = 0;
+                    for (unsigned a = 0; a < 3; a++) {
+                        double e = (mesh->position_q16[3u * c + a] - posed[q][a]) / 65536.0;
+                        e2 += e * e;
+                    }
+                    worst = fmax(worst, sqrt(e2));
+                    attached++;
+                }
+            }
+        }
+    }
+    print_message("  bent 90 degrees at every third joint: %u joint corners on a part's vertex, %.5f R apart at most\n",
+                  attached, worst);
+    assert_true(attached > 100);
+    assert_true(worst < 0.001);   /* the push (0.0005 R) turned with the surface, and rounding */
+    free(rest), free(posed), free(skin), free(pre), free(post);
+    fixture_free(&f);
+}
+
 /* ---- levels of detail and the device's scene ----------------------------------------------------------- */
 
 static void test_lod_hysteresis(void **state)
@@ -576,6 +662,7 @@ int main(void)
         cmocka_unit_test(test_views_rule),
         cmocka_unit_test(test_truck_quality),
         cmocka_unit_test(test_bar_quality),
+        cmocka_unit_test(test_joints_attached),
         cmocka_unit_test(test_lod_hysteresis),
         cmocka_unit_test(test_scene_draw),
         cmocka_unit_test(test_tiles_exact),
