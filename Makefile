@@ -75,7 +75,7 @@ HAL_CFLAGS := $(if $(HAL_PKGS),$(shell $(PKG_CONFIG) --cflags $(HAL_PKGS) 2>/dev
 HAL_LIBS := $(if $(HAL_PKGS),$(shell $(PKG_CONFIG) --libs $(HAL_PKGS) 2>/dev/null))
 CMOCKA_CFLAGS := $(shell $(PKG_CONFIG) --cflags cmocka 2>/dev/null)
 CMOCKA_LIBS := $(shell $(PKG_CONFIG) --libs cmocka 2>/dev/null || echo -lcmocka)
-LDLIBS_HOST := -lm
+LDLIBS_HOST := -lm -pthread
 
 CORE_SRC := $(sort $(wildcard core/*/*.c))
 SIM_CAPTURE_SRC := $(if $(filter sim,$(HAL_BACKENDS)),hal/sim/sim_capture_png.c hal/sim/sim_capture_sheet.c,\

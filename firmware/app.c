@@ -105,10 +105,14 @@ int psc_app_open(const psc_cli_options_t *opt, psc_app_t **out, char *err, size_
     if (psc_devices_open(&app->dev, b, &extra, err, errlen) != 0)
         goto fail;
 
+    app->bands = psc_io_bands_start(b->render_threads ? b->render_threads : psc_io_online_cpus(),
+                                    app->dev.mode.width, err, errlen);
+    if (!app->bands)
+        goto fail;
     /* hotspots number the board's scenes: with --scene replacing the list they point nowhere */
     psc_scene_env_t env = {
         .board = b, .width = app->dev.mode.width, .height = app->dev.mode.height, .format = app->dev.mode.format,
-        .feed = &app->dev.feed, .now_us = psc_hal_clock_now_us(app->dev.clock),
+        .feed = &app->dev.feed, .now_us = psc_hal_clock_now_us(app->dev.clock), .bands = app->bands,
     };
     if (opt->scene == NULL) {
         env.hotspots = b->hotspots;
@@ -138,5 +142,7 @@ void psc_app_close(psc_app_t *app)
         return;
     psc_devices_close(&app->dev);
     psc_scene_list_free(&app->scenes);
+    psc_io_bands_stop(app->bands);
+    app->bands = NULL;
     free(app);
 }

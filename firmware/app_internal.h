@@ -35,6 +35,7 @@ struct psc_app {
     psc_quality_t quality;
     psc_frame_pacer_t pacer;
     uint32_t scene_switches;
+    psc_io_bands_t *bands;     /* the viewer's worker threads, started with the display */
 };
 
 /**

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "board_config.h"
+#include "psc_io_bands.h"
 #include "board_file.h"
 #include "psc_hal_parse.h"
 
@@ -53,6 +54,7 @@ static const key_spec_t key_table[] = {
     KEY("display_format", KEY_FORMAT, display_format, 0, 0, false),
     KEY("display_buffers", KEY_U8, display_buffers, 1, 3, false),
     KEY("frame_rate", KEY_MILLI_U32, frame_rate_mhz, 1000, 240000, false),
+    KEY("render_threads", KEY_U8, render_threads, 0, PSC_IO_BANDS_MAX_THREADS, false),
     KEY("input", KEY_BACKEND_LIST, input_backend, 0, 0, true),
     KEY("tour", KEY_PATH, tour, 0, 0, false),
     KEY("long_press_ms", KEY_U32, long_press_ms, 50, 10000, false),

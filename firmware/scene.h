@@ -28,6 +28,7 @@
 #include "board_config.h"
 #include "camera_feed.h"
 #include "hotspots.h"
+#include "psc_io_bands.h"
 #include "viewer/psc_viewer.h"
 
 typedef struct psc_scene psc_scene_t;
@@ -41,6 +42,7 @@ typedef struct {
     const psc_hotspot_t *hotspots;     /* the tour's hotspots (scenes with places draw theirs) */
     unsigned hotspot_count;
     uint64_t now_us;                   /* the HAL clock at this frame (scenes that move read it) */
+    psc_io_bands_t *bands;             /* the viewer's worker threads (panorama scenes), or NULL */
 } psc_scene_env_t;
 
 /** Where the view may go in a scene, and where it starts and goes home to. */

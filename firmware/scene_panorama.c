@@ -125,6 +125,8 @@ psc_status_t psc_panorama_render(psc_scene_t *s, const psc_view_t *view, const p
 {
     psc_panorama_t *p = s->state;
 
+    if (s->env->bands)
+        return psc_io_bands_render(s->env->bands, &p->viewer, view, out);
     return psc_viewer_render(&p->viewer, view, out);
 }
 

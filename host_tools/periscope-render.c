@@ -17,6 +17,7 @@
 #include "pack_build.h"
 #include "gltf_render.h"
 #include "proxy_render.h"
+#include "psc_io_bands.h"
 #include "patch_render.h"
 #include "psc_io_load.h"
 #include "psc_io_png.h"
@@ -48,6 +49,8 @@ static void print_usage(FILE *f)
             "  --filter F          nearest, bilinear (default) or mip (the map pyramid, trilinear)\n"
             "  --span N            read the LUT every N pixels: 1, 2, 4 (default), 8 or 16\n"
             "  --repeat K          render K times and report the time per frame (default 1)\n"
+            "  --threads N         render on N threads, bands of rows each (default: the processors online);\n"
+            "                      the bytes are the same for any N\n"
             "  --size WxH          output size (default: the pack's display size)\n"
             "  --format F          output surface: rgb565 (default) or xrgb8888\n"
             "  -o view.png         output PNG\n"
@@ -64,7 +67,7 @@ typedef struct {
     double yaw, pitch, hfov;
     psc_filter_t filter;
     uint8_t span_log2;
-    unsigned long repeat;
+    unsigned long repeat, threads;
     uint16_t width, height;
     psc_pixfmt_t format;
 } args_t;
@@ -112,6 +115,9 @@ static int parse_value(args_t *a, const char *name, const char *v)
     } else if (strcmp(name, "--repeat") == 0) {
         if (psc_cli_parse_uint(v, 1, MAX_REPEAT, &a->repeat) != 0)
             return usage_error("--repeat '%s': expected a count of 1..%lu", v, MAX_REPEAT);
+    } else if (strcmp(name, "--threads") == 0) {
+        if (psc_cli_parse_uint(v, 1, PSC_IO_BANDS_MAX_THREADS, &a->threads) != 0)
+            return usage_error("--threads '%s': expected 1..%u", v, PSC_IO_BANDS_MAX_THREADS);
     } else if (strcmp(name, "--size") == 0) {
         if (psc_cli_parse_size(v, PSC_MAX_OUT_DIM, &a->width, &a->height) != 0)
             return usage_error("--size '%s': expected WxH, each 1..%u", v, (unsigned)PSC_MAX_OUT_DIM);
@@ -132,7 +138,7 @@ static const struct option render_options[] = {
     {"hfov", required_argument, NULL, 1},   {"filter", required_argument, NULL, 1},
     {"span", required_argument, NULL, 1},   {"repeat", required_argument, NULL, 1},
     {"size", required_argument, NULL, 1},   {"format", required_argument, NULL, 1},
-    PSC_IO_CLI_COMMON_OPTIONS,
+    {"threads", required_argument, NULL, 1}, PSC_IO_CLI_COMMON_OPTIONS,
 };
 
 static int parse_args(int argc, char **argv, args_t *a)
@@ -194,13 +200,13 @@ static void note_clamped(const psc_view_t *want, const psc_view_t *got)
             psc_deg_from_bam(got->yaw), psc_deg_from_sbam(got->pitch), psc_deg_from_bam(got->hfov));
 }
 
-static int render_frames(psc_viewer_t *viewer, const psc_view_t *view, const psc_surface_t *out,
-                         unsigned long repeat)
+static int render_frames(psc_viewer_t *viewer, psc_io_bands_t *bands, const psc_view_t *view,
+                         const psc_surface_t *out, unsigned long repeat)
 {
     double best = 0.0, total = 0.0;
     for (unsigned long k = 0; k < repeat; k++) {
         double t0 = seconds_now();
-        psc_status_t s = psc_viewer_render(viewer, view, out);
+        psc_status_t s = psc_io_bands_render(bands, viewer, view, out);
         double dt = seconds_now() - t0;
         if (s != PSC_OK) {
             fprintf(stderr, PROG ": rendering failed: %s\n", psc_status_str(s));
@@ -212,8 +218,9 @@ static int render_frames(psc_viewer_t *viewer, const psc_view_t *view, const psc
     }
     if (repeat > 1) {
         double mean = total / (double)repeat, mpix = (double)out->width * out->height / 1e6;
-        fprintf(stderr, PROG ": %lu frames of %ux%u: %.3f ms per frame (best %.3f ms), %.1f Mpixel/s\n", repeat,
-                (unsigned)out->width, (unsigned)out->height, mean * 1e3, best * 1e3, mpix / mean);
+        fprintf(stderr, PROG ": %lu frames of %ux%u on %u thread%s: %.3f ms per frame (best %.3f ms), %.1f Mpixel/s\n",
+                repeat, (unsigned)out->width, (unsigned)out->height, psc_io_bands_threads(bands),
+                psc_io_bands_threads(bands) == 1 ? "" : "s", mean * 1e3, best * 1e3, mpix / mean);
     }
     return 0;
 }
@@ -270,12 +277,17 @@ int main(int argc, char **argv)
         psc_view_t view = want;
         psc_viewer_clamp(&viewer, &view, pack->hfov_min);
         note_clamped(&want, &view);
-        if (render_frames(&viewer, &view, &out, a.repeat) == 0) {
+        psc_io_bands_t *bands =
+            psc_io_bands_start(a.threads ? (unsigned)a.threads : psc_io_online_cpus(), w, err, sizeof err);
+        if (!bands) {
+            fprintf(stderr, PROG ": %s\n", err);
+        } else if (render_frames(&viewer, bands, &view, &out, a.repeat) == 0) {
             if (psc_io_png_write(a.out, &out, err, sizeof err) != 0)
                 fprintf(stderr, PROG ": %s\n", err);
             else
                 rc = 0;
         }
+        psc_io_bands_stop(bands);
     }
     free(out.pixels);
     free(ws);

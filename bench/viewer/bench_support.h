@@ -62,7 +62,8 @@ typedef enum { BV_FAMILY_SMALL = 0, BV_FAMILY_32BIT = 1 } bv_family_t;
 
 /** One measured row of the table. */
 typedef struct {
-    const char *renderer; /* "periscope", "cv::remap", "cv::remap+maps", "naive float" */
+    const char *renderer; /* "periscope", "cv::remap", "cv::remap+maps", "naive float"; " x2" on two threads */
+    unsigned threads;     /* 0 or 1: one; 2: the rows of the second core (Periscope's bands, OpenCV's threads) */
     const char *filter;   /* "nearest", "bilinear", "mip" */
     unsigned span;        /* Periscope's N; 0 where it does not apply */
     const char *views;    /* "static" or "moving" (pitch changes every frame) */

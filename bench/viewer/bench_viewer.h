@@ -66,6 +66,8 @@ size_t bv_cv_maps_bytes(const bv_cv_maps_t *m);
 int bv_cv_maps_convert(bv_cv_maps_t *m, const float *mapx, const float *mapy, int out_w, int out_h, int nearest);
 /** cv::remap of src into dst through m, INTER_NEAREST or INTER_LINEAR, BORDER_WRAP. */
 int bv_cv_remap(const bv_image_t *src, const bv_cv_maps_t *m, bv_image_t *dst, int nearest);
+/** OpenCV's worker threads for what follows: 1 runs every function sequentially. */
+void bv_cv_threads(int n);
 
 #ifdef __cplusplus
 }

@@ -35,6 +35,11 @@ extern "C" int bv_cv_init(char *version, size_t len)
     return 0;
 }
 
+extern "C" void bv_cv_threads(int n)
+{
+    cv::setNumThreads(n <= 1 ? 0 : n);
+}
+
 extern "C" bv_cv_maps_t *bv_cv_maps_new(void)
 {
     return new (std::nothrow) bv_cv_maps();

@@ -47,7 +47,8 @@ static const bv_row_t *remap_reference(const bv_results_t *r, const bv_row_t *ro
 {
     for (size_t i = 0; i < r->count; i++) {
         const bv_row_t *c = &r->rows[i];
-        if (strcmp(c->renderer, "cv::remap") == 0 && same_setup(c, row) && c->family == row->family &&
+        bool remap = strcmp(c->renderer, "cv::remap") == 0 || strcmp(c->renderer, "cv::remap x2") == 0;
+        if (remap && (c->threads > 1) == (row->threads > 1) && same_setup(c, row) && c->family == row->family &&
             strcmp(c->views, row->views) == 0 && strcmp(c->filter, remap_filter(row->filter)) == 0)
             return c;
     }
@@ -258,7 +259,8 @@ static void print_goals(FILE *f, const bv_results_t *r, const bv_meta_t *m, doub
 
 void bv_report_print(FILE *f, const bv_results_t *r, const bv_meta_t *m)
 {
-    fprintf(f, "\nViewer speed: %s (%s), OpenCV %s, single thread, %s\n", m->machine, m->cpu, m->opencv, m->date);
+    fprintf(f, "\nViewer speed: %s (%s), OpenCV %s, one thread (\"x2\" rows: two), %s\n", m->machine, m->cpu, m->opencv,
+            m->date);
     fprintf(f, "%-15s %-9s %4s  %-7s %-9s %-10s %-9s %4s %8s %8s %8s\n", "renderer", "filter", "span", "views", "format",
             "map", "output", "hfov", "ns/px", "Mpx/s", "vs remap");
     for (size_t i = 0; i < r->count; i++) {
@@ -272,7 +274,7 @@ void bv_report_print(FILE *f, const bv_results_t *r, const bv_meta_t *m)
             "views: %u per sequence, yaw round the full turn; static: pitch 0/+25/0/-25, cv::remap maps prebuilt per\n"
             "  view (untimed); moving: pitch changes every frame (+-60), cv::remap+maps = float map (atan2/asin per\n"
             "  pixel, as the naive renderer) + convertMaps + remap, all timed. BORDER_WRAP joins the seam.\n"
-            "vs remap: time of cv::remap (same filter, prebuilt maps, same views and sizes) / this row's time:\n"
+            "vs remap: time of cv::remap (same filter, prebuilt maps, same views and sizes, same threads) / this row's time:\n"
             "  above 1 = faster than remap. Median of the passes; one warm-up frame; %.0f s in all.\n",
             m->views_per_seq, m->seconds);
     fprintf(f, "Agreement with the naive renderer (static view 0, 4096x2048 -> 800x480, hfov 75): cv::remap bilinear "
@@ -318,7 +320,8 @@ static void json_row(FILE *f, const bv_row_t *c)
     bv_json_string(f, c->renderer);
     fprintf(f, ", \"filter\": \"%s\", \"span\": ", c->filter);
     json_span(f, c->span);
-    fprintf(f, ", \"views\": \"%s\", \"format\": \"%s\", ", c->views, c->format);
+    fprintf(f, ", \"threads\": %u, \"views\": \"%s\", \"format\": \"%s\", ", c->threads > 1 ? c->threads : 1u,
+            c->views, c->format);
     fprintf(f, "\"map\": \"%ux%u\", \"output\": \"%ux%u\", \"hfov\": %g, \"ns_per_pixel\": %.4f, "
                "\"mpixel_per_s\": %.3f, \"ratio_to_remap\": ",
             c->map_w, c->map_h, c->out_w, c->out_h, c->hfov, c->ns_per_px, 1e3 / c->ns_per_px);
@@ -342,7 +345,7 @@ int bv_report_json(const char *path, const bv_results_t *r, const bv_meta_t *m)
     bv_json_string(f, m->machine);
     fprintf(f, ", \"cpu\": ");
     bv_json_string(f, m->cpu);
-    fprintf(f, "},\n  \"opencv\": \"%s\",\n  \"threads\": 1,\n  \"views_per_sequence\": %u,\n  \"seconds\": %.1f,\n",
+    fprintf(f, "},\n  \"opencv\": \"%s\",\n  \"views_per_sequence\": %u,\n  \"seconds\": %.1f,\n",
             m->opencv, m->views_per_seq, m->seconds);
     fprintf(f, "  \"ratio_to_remap\": \"cv::remap time (same filter, prebuilt maps, same views, sizes and format "
                "class: rgb565~8UC3, xrgb8888~8UC4) / this row's time\",\n");

@@ -16,6 +16,7 @@
  */
 #include "bench_support.h"
 #include "angle_conv.h"
+#include "psc_io_bands.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -114,6 +115,7 @@ typedef struct {
     const psc_view_t *views;
     const psc_surface_t *out;
     render_mode_t mode;
+    psc_io_bands_t *bands;        /* NULL: psc_viewer_render on this thread */
 } periscope_job_t;
 
 static int periscope_frame(void *p, unsigned k)
@@ -122,7 +124,8 @@ static int periscope_frame(void *p, unsigned k)
     psc_view_t v = j->views[k];
     v.filter = j->mode.filter;
     v.span_log2 = j->mode.span_log2;
-    psc_status_t s = psc_viewer_render(j->viewer, &v, j->out);
+    psc_status_t s =
+        j->bands ? psc_io_bands_render(j->bands, j->viewer, &v, j->out) : psc_viewer_render(j->viewer, &v, j->out);
     if (s != PSC_OK) {
         fprintf(stderr, "viewer bench: psc_viewer_render (%s, N=%u): %s\n", j->mode.name, 1u << j->mode.span_log2,
                 psc_status_str(s));
@@ -258,7 +261,7 @@ static int add_row(block_t *b, frame_fn fn, void *ctx, bv_row_t row)
 static int periscope_rows(block_t *b, unsigned f, unsigned seq, const render_mode_t *modes, size_t nmodes)
 {
     for (size_t i = 0; i < nmodes; i++) {
-        periscope_job_t job = {b->viewer[f], b->pviews[seq], &b->surf[f], modes[i]};
+        periscope_job_t job = {b->viewer[f], b->pviews[seq], &b->surf[f], modes[i], NULL};
         bv_row_t row = {.renderer = "periscope", .filter = modes[i].name, .span = 1u << modes[i].span_log2,
                         .views = seq_name[seq], .format = formats[f].name, .family = formats[f].family};
         if (add_row(b, periscope_frame, &job, row) != 0)
@@ -283,6 +286,41 @@ static int cv_rows(block_t *b, unsigned f, unsigned seq)
         }
     }
     return 0;
+}
+
+/* The second core: Periscope's bands on a pool of two threads against cv::remap on two threads (static views). */
+static const render_mode_t two_thread_modes[] = {
+    {PSC_FILTER_NEAREST, "nearest", 2},
+    {PSC_FILTER_BILINEAR, "bilinear", 2},
+};
+
+static int two_thread_rows(block_t *b, unsigned f)
+{
+    char err[128];
+    psc_io_bands_t *pool = psc_io_bands_start(2, b->out_w, err, sizeof err);
+    if (!pool) {
+        fprintf(stderr, "viewer bench: %s\n", err);
+        return -1;
+    }
+    int rc = 0;
+    for (size_t i = 0; i < sizeof two_thread_modes / sizeof two_thread_modes[0] && rc == 0; i++) {
+        periscope_job_t job = {b->viewer[f], b->pviews[SEQ_STATIC], &b->surf[f], two_thread_modes[i], pool};
+        bv_row_t row = {.renderer = "periscope x2", .threads = 2, .filter = two_thread_modes[i].name,
+                        .span = 1u << two_thread_modes[i].span_log2, .views = seq_name[SEQ_STATIC],
+                        .format = formats[f].name, .family = formats[f].family};
+        rc = add_row(b, periscope_frame, &job, row);
+    }
+    psc_io_bands_stop(pool);
+    bv_cv_threads(2);
+    for (int nearest = 1; nearest >= 0 && rc == 0; nearest--) {
+        cv_job_t job = {b->src[f], &b->dst[f], nearest, b->maps[SEQ_STATIC][nearest], b->fviews[SEQ_STATIC], b->mapx,
+                        b->mapy, b->scratch};
+        bv_row_t row = {.renderer = "cv::remap x2", .threads = 2, .filter = nearest ? "nearest" : "bilinear",
+                        .views = seq_name[SEQ_STATIC], .format = formats[f].cv_name, .family = formats[f].family};
+        rc = add_row(b, cv_static_frame, &job, row);
+    }
+    bv_cv_threads(1);
+    return rc;
 }
 
 static int naive_row(block_t *b, unsigned f, unsigned seq)
@@ -322,7 +360,8 @@ static int agreement(block_t *b, bv_meta_t *meta)
     bv_naive_render(b->src[1], &b->fviews[SEQ_STATIC][0], &ref);
     if (bv_cv_remap(b->src[1], b->maps[SEQ_STATIC][0][0], &b->dst[1], 0) == 0) {
         meta->agree_cv_db = psnr_bgra(ref.data, b->dst[1].data, px);
-        periscope_job_t job = {b->viewer[1], b->pviews[SEQ_STATIC], &b->surf[1], {PSC_FILTER_BILINEAR, "bilinear", 2}};
+        periscope_job_t job = {b->viewer[1], b->pviews[SEQ_STATIC], &b->surf[1], {PSC_FILTER_BILINEAR, "bilinear", 2},
+                               NULL};
         if (periscope_frame(&job, 0) == 0) {
             meta->agree_psc_db = psnr_bgra(ref.data, b->surf[1].pixels, px);
             rc = 0;
@@ -343,6 +382,8 @@ static int run_block(block_t *b, bv_meta_t *meta)
         rc = cv_rows(b, f, SEQ_STATIC);
         if (rc == 0)
             rc = periscope_rows(b, f, SEQ_STATIC, static_modes, sizeof static_modes / sizeof static_modes[0]);
+        if (rc == 0)
+            rc = two_thread_rows(b, f);
         if (rc == 0)
             rc = naive_row(b, f, SEQ_STATIC);
         if (rc == 0)
@@ -471,7 +512,7 @@ int bv_speed_main(const char *out_dir, bool quick, unsigned reps)
     meta.have_mip = BV_HAVE_MIP;
     if (bv_cv_init(meta.opencv, sizeof meta.opencv) != 0)
         return 1;
-    fprintf(stderr, "viewer bench: %s, %s, OpenCV %s single-threaded; %u views per sequence, median of >= %u passes\n",
+    fprintf(stderr, "viewer bench: %s, %s, OpenCV %s one thread (x2 rows: two); %u views per sequence, median of >= %u passes\n",
             meta.machine, meta.cpu, meta.opencv, BV_NVIEWS, reps);
 
     psc_image_t sample = {0}, big = {0};

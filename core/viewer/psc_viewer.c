@@ -231,17 +231,25 @@ static void polar_caps(const psc_viewer_t *v, const psc_lut_t *lut, unsigned spa
 
 /* ---- public entry points ------------------------------------------------------- */
 
-static psc_status_t frame_begin(psc_viewer_t *v, const psc_view_t *view, psc_sink_t sink, psc_frame_t *f)
+static bool view_ok(const psc_viewer_t *v, const psc_view_t *view)
 {
-    if (!v || !view || view->span_log2 > PSC_SPAN_LOG2_MAX ||
-        (view->filter != PSC_FILTER_NEAREST && view->filter != PSC_FILTER_BILINEAR && view->filter != PSC_FILTER_MIP) ||
-        view->pitch > (int32_t)PSC_BAM_90 || view->pitch < -(int32_t)PSC_BAM_90 || view->hfov < PSC_HFOV_MIN ||
-        view->hfov > psc_viewer_hfov_max(v))
+    return v && view && view->span_log2 <= PSC_SPAN_LOG2_MAX &&
+           (view->filter == PSC_FILTER_NEAREST || view->filter == PSC_FILTER_BILINEAR ||
+            view->filter == PSC_FILTER_MIP) &&
+           view->pitch <= (int32_t)PSC_BAM_90 && view->pitch >= -(int32_t)PSC_BAM_90 && view->hfov >= PSC_HFOV_MIN &&
+           view->hfov <= psc_viewer_hfov_max(v);
+}
+
+/* The frame of a prepared view (the zoom tables already for its hfov): reads the viewer, writes nothing of it. */
+static psc_status_t frame_begin(const psc_viewer_t *v, const psc_view_t *view, psc_sink_t sink,
+                                psc_scan_sample_t *samples, psc_frame_t *f)
+{
+    if (!view_ok(v, view) || v->cached_hfov != view->hfov || v->cached_lut == NULL)
         return PSC_ERR_ARG;
-    psc_viewer_set_zoom(v, view->hfov);
     *f = (psc_frame_t){0};
     f->v = v;
     f->view = view;
+    f->samples = samples;
     f->lut = v->cached_lut;
     f->span = 1u << view->span_log2;
     f->sink = sink;
@@ -253,23 +261,48 @@ static psc_status_t frame_begin(psc_viewer_t *v, const psc_view_t *view, psc_sin
     return PSC_OK;
 }
 
-psc_status_t psc_viewer_render(psc_viewer_t *v, const psc_view_t *view, const psc_surface_t *out)
+psc_status_t psc_viewer_prepare(psc_viewer_t *v, const psc_view_t *view)
 {
-    if (!out || !out->pixels || out->width != v->out_width || out->height != v->out_height)
+    if (!view_ok(v, view))
+        return PSC_ERR_ARG;
+    psc_viewer_set_zoom(v, view->hfov);
+    return PSC_OK;
+}
+
+size_t psc_viewer_band_scratch_size(uint16_t out_width)
+{
+    return ((size_t)out_width + 4u) * sizeof(psc_scan_sample_t);
+}
+
+psc_status_t psc_viewer_render_band(const psc_viewer_t *v, const psc_view_t *view, const psc_surface_t *out,
+                                    unsigned y0, unsigned y1, void *scratch, size_t scratch_size)
+{
+    if (!v || !out || !out->pixels || out->width != v->out_width || out->height != v->out_height || y0 > y1 ||
+        y1 > v->out_height || !scratch || ((uintptr_t)scratch & 7u) != 0 ||
+        scratch_size < psc_viewer_band_scratch_size(v->out_width))
         return PSC_ERR_ARG;
     if (out->format != PSC_PIX_RGB565 && out->format != PSC_PIX_XRGB8888)
         return PSC_ERR_UNSUPPORTED;
     if (out->stride < (uint32_t)out->width * psc_pixfmt_bytes(out->format))
         return PSC_ERR_ARG;
     psc_frame_t f;
-    psc_status_t s = frame_begin(v, view, out->format == PSC_PIX_RGB565 ? PSC_SINK_RGB565 : PSC_SINK_XRGB8888, &f);
+    psc_status_t s = frame_begin(v, view, out->format == PSC_PIX_RGB565 ? PSC_SINK_RGB565 : PSC_SINK_XRGB8888,
+                                 (psc_scan_sample_t *)scratch, &f);
     if (s != PSC_OK)
         return s;
-    for (unsigned y = 0; y < v->out_height; y++) {
+    for (unsigned y = y0; y < y1; y++) {
         f.dst = (uint8_t *)out->pixels + (size_t)y * out->stride;
         psc_scanline_render(&f, y);
     }
     return PSC_OK;
+}
+
+psc_status_t psc_viewer_render(psc_viewer_t *v, const psc_view_t *view, const psc_surface_t *out)
+{
+    psc_status_t s = psc_viewer_prepare(v, view);
+    if (s != PSC_OK)
+        return s;
+    return psc_viewer_render_band(v, view, out, 0, v->out_height, v->samples, psc_viewer_band_scratch_size(v->out_width));
 }
 
 psc_status_t psc_viewer_trace_row(psc_viewer_t *v, const psc_view_t *view, uint16_t y, int32_t *row_q16,
@@ -278,7 +311,9 @@ psc_status_t psc_viewer_trace_row(psc_viewer_t *v, const psc_view_t *view, uint1
     if (!row_q16 || !col_q16 || !v || y >= v->out_height)
         return PSC_ERR_ARG;
     psc_frame_t f;
-    psc_status_t s = frame_begin(v, view, PSC_SINK_TRACE, &f);
+    psc_status_t s = psc_viewer_prepare(v, view);
+    if (s == PSC_OK)
+        s = frame_begin(v, view, PSC_SINK_TRACE, v->samples, &f);
     if (s != PSC_OK)
         return s;
     f.trace_row = row_q16;

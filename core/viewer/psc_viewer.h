@@ -148,6 +148,21 @@ void psc_viewer_clamp(const psc_viewer_t *v, psc_view_t *view, psc_bam_t hfov_mi
 psc_status_t psc_viewer_render(psc_viewer_t *v, const psc_view_t *view, const psc_surface_t *out);
 
 /**
+ * Rendering in bands, for several cores (core knows no threads: the caller
+ * runs the bands where it likes). psc_viewer_prepare computes the view's zoom
+ * tables once per frame (it writes the viewer: call it alone); then each
+ * psc_viewer_render_band draws output rows [y0, y1) with a scratch of its own
+ * (psc_viewer_band_scratch_size(out_width) bytes, aligned to 8), reading the viewer and
+ * writing only its rows, so the bands of a frame may run at once. Any split
+ * gives the bytes of psc_viewer_render. PSC_ERR_ARG for a view that was not
+ * prepared (or not as rendered), rows outside the output, or a short scratch.
+ */
+psc_status_t psc_viewer_prepare(psc_viewer_t *v, const psc_view_t *view);
+size_t psc_viewer_band_scratch_size(uint16_t out_width);
+psc_status_t psc_viewer_render_band(const psc_viewer_t *v, const psc_view_t *view, const psc_surface_t *out,
+                                    unsigned y0, unsigned y1, void *scratch, size_t scratch_size);
+
+/**
  * The fractional map position every pixel of output row y samples, exactly as
  * psc_viewer_render computes it: row_q16[x], col_q16[x] in Q16.16 map pixels,
  * where an integer value is the centre of that pixel (so the map's left edge

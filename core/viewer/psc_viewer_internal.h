@@ -33,8 +33,9 @@ typedef enum {
 
 /* Everything fixed for one frame. */
 typedef struct {
-    psc_viewer_t *v;
+    const psc_viewer_t *v;
     const psc_view_t *view;
+    psc_scan_sample_t *samples;    /* this band's scanline samples (out_width + 4) */
     const psc_lut_t *lut;
     int32_t sin_pitch, cos_pitch;  /* Q2.30 */
     int32_t cap_per_pixel;         /* |lat| >= this: LUT read at every pixel (polar cap) */

@@ -155,7 +155,7 @@ static psc_scan_sample_t pixel_sample(const psc_frame_t *f, const row_setup_t *r
  */
 static unsigned build_samples(const psc_frame_t *f, const row_setup_t *rs)
 {
-    psc_scan_sample_t *s = f->v->samples;
+    psc_scan_sample_t *s = f->samples;
     const unsigned w = f->v->out_width, n = f->span, half = w / 2u;
     const unsigned pairs = (half + n - 1u) / n;            /* left samples: k*n < half */
     const unsigned last_left = (pairs - 1u) * n, gap = (w - 1u - last_left) - last_left;
@@ -410,7 +410,7 @@ void psc_scanline_render(const psc_frame_t *f, unsigned y)
     row_setup_t rs;
     row_setup(f, y, &rs);
     unsigned count = build_samples(f, &rs);
-    const psc_scan_sample_t *s = f->v->samples;
+    const psc_scan_sample_t *s = f->samples;
     if (uses_fast_spans(f)) {
         spans_fast_dispatch(f, &rs, s, count);
         return;

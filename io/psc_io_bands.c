@@ -1,0 +1,158 @@
+/* SPDX-License-Identifier: MIT */
+/* psc_io_bands.c - the viewer's worker pool (psc_io_bands.h). */
+#include "psc_io_bands.h"
+#include "psc_io_error.h"
+
+#include <pthread.h>
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+typedef struct {
+    psc_io_bands_t *b;
+    unsigned k;
+} worker_arg_t;
+
+struct psc_io_bands {
+    unsigned threads, started;
+    pthread_t tid[PSC_IO_BANDS_MAX_THREADS];
+    worker_arg_t arg[PSC_IO_BANDS_MAX_THREADS];
+    void *scratch[PSC_IO_BANDS_MAX_THREADS];
+    size_t scratch_size;
+    pthread_mutex_t lock;
+    pthread_cond_t go, done;
+    unsigned long generation;   /* one per frame: a worker runs when it changes */
+    unsigned pending;           /* workers still drawing this frame */
+    bool quit;
+    /* this frame */
+    const psc_viewer_t *v;
+    const psc_view_t *view;
+    const psc_surface_t *out;
+    psc_status_t status[PSC_IO_BANDS_MAX_THREADS];
+};
+
+unsigned psc_io_online_cpus(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1u : n > (long)PSC_IO_BANDS_MAX_THREADS ? PSC_IO_BANDS_MAX_THREADS : (unsigned)n;
+}
+
+/* Thread k's rows: chunks k, k + threads, k + 2 threads, ... */
+static void render_share(psc_io_bands_t *b, unsigned k)
+{
+    unsigned h = b->v->out_height, step = b->threads * PSC_IO_BANDS_CHUNK;
+    psc_status_t s = PSC_OK;
+    for (unsigned y0 = k * PSC_IO_BANDS_CHUNK; y0 < h && s == PSC_OK; y0 += step) {
+        unsigned y1 = y0 + PSC_IO_BANDS_CHUNK < h ? y0 + PSC_IO_BANDS_CHUNK : h;
+        s = psc_viewer_render_band(b->v, b->view, b->out, y0, y1, b->scratch[k], b->scratch_size);
+    }
+    b->status[k] = s;
+}
+
+static void *worker(void *arg)
+{
+    psc_io_bands_t *b = ((worker_arg_t *)arg)->b;
+    unsigned k = ((worker_arg_t *)arg)->k;
+    unsigned long seen = 0;
+    for (;;) {
+        pthread_mutex_lock(&b->lock);
+        while (b->generation == seen && !b->quit)
+            pthread_cond_wait(&b->go, &b->lock);
+        if (b->quit) {
+            pthread_mutex_unlock(&b->lock);
+            return NULL;
+        }
+        seen = b->generation;
+        pthread_mutex_unlock(&b->lock);
+        render_share(b, k);
+        pthread_mutex_lock(&b->lock);
+        if (--b->pending == 0)
+            pthread_cond_signal(&b->done);
+        pthread_mutex_unlock(&b->lock);
+    }
+}
+
+psc_io_bands_t *psc_io_bands_start(unsigned threads, uint16_t out_width, char *err, size_t errlen)
+{
+    if (threads < 1 || threads > PSC_IO_BANDS_MAX_THREADS) {
+        psc_io_errorf(err, errlen, "render threads", "%u: expected 1..%u", threads, PSC_IO_BANDS_MAX_THREADS);
+        return NULL;
+    }
+    psc_io_bands_t *b = calloc(1, sizeof *b);
+    if (!b) {
+        psc_io_errorf(err, errlen, "render threads", "out of memory");
+        return NULL;
+    }
+    b->threads = threads;
+    b->scratch_size = psc_viewer_band_scratch_size(out_width);
+    pthread_mutex_init(&b->lock, NULL);
+    pthread_cond_init(&b->go, NULL);
+    pthread_cond_init(&b->done, NULL);
+    for (unsigned k = 0; k < threads; k++)
+        if (posix_memalign(&b->scratch[k], 64, b->scratch_size) != 0) {
+            b->scratch[k] = NULL;
+            psc_io_bands_stop(b);
+            psc_io_errorf(err, errlen, "render threads", "out of memory");
+            return NULL;
+        }
+    for (unsigned k = 1; k < threads; k++) {
+        b->arg[k] = (worker_arg_t){b, k};
+        if (pthread_create(&b->tid[k], NULL, worker, &b->arg[k]) != 0) {
+            psc_io_bands_stop(b);
+            psc_io_errorf(err, errlen, "render threads", "cannot start thread %u of %u", k + 1, threads);
+            return NULL;
+        }
+        b->started = k;
+    }
+    return b;
+}
+
+unsigned psc_io_bands_threads(const psc_io_bands_t *b)
+{
+    return b ? b->threads : 0;
+}
+
+psc_status_t psc_io_bands_render(psc_io_bands_t *b, psc_viewer_t *v, const psc_view_t *view, const psc_surface_t *out)
+{
+    if (!b || !v || psc_viewer_band_scratch_size(v->out_width) > b->scratch_size)
+        return PSC_ERR_ARG;
+    psc_status_t s = psc_viewer_prepare(v, view);
+    if (s != PSC_OK)
+        return s;
+    b->v = v;
+    b->view = view;
+    b->out = out;
+    pthread_mutex_lock(&b->lock);
+    b->pending = b->threads - 1u;
+    b->generation++;
+    pthread_cond_broadcast(&b->go);
+    pthread_mutex_unlock(&b->lock);
+    render_share(b, 0);
+    pthread_mutex_lock(&b->lock);
+    while (b->pending > 0)
+        pthread_cond_wait(&b->done, &b->lock);
+    pthread_mutex_unlock(&b->lock);
+    for (unsigned k = 0; k < b->threads; k++)
+        if (b->status[k] != PSC_OK)
+            return b->status[k];
+    return PSC_OK;
+}
+
+void psc_io_bands_stop(psc_io_bands_t *b)
+{
+    if (!b)
+        return;
+    pthread_mutex_lock(&b->lock);
+    b->quit = true;
+    pthread_cond_broadcast(&b->go);
+    pthread_mutex_unlock(&b->lock);
+    for (unsigned k = 1; k <= b->started; k++)
+        pthread_join(b->tid[k], NULL);
+    pthread_mutex_destroy(&b->lock);
+    pthread_cond_destroy(&b->go);
+    pthread_cond_destroy(&b->done);
+    for (unsigned k = 0; k < PSC_IO_BANDS_MAX_THREADS; k++)
+        free(b->scratch[k]);
+    free(b);
+}
