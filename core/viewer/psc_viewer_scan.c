@@ -290,29 +290,38 @@ static PSC_ALWAYS_INLINE void store(void *dst, unsigned x, uint32_t px, const ps
  * of filter, map format and output, all compile-time constants once inlined.
  * pow2: the map width is a power of two (columns by shift).
  */
-static PSC_ALWAYS_INLINE void span_fast(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, uint32_t t,
+/* What every fast span of a scanline reads: loaded once, kept in registers across the spans. */
+typedef struct {
+    const uint8_t *base;
+    const uint32_t *rowoff;   /* [0] and [H + 1] repeat the edge rows */
+    uint32_t w, sh, half_col;
+    const uint32_t *pal;
+    const uint16_t *pal565;
+    void *dst;
+} fast_ctx_t;
+
+static PSC_ALWAYS_INLINE void span_fast(const fast_ctx_t *cx, unsigned x, unsigned n, int32_t row, uint32_t t,
                                         int32_t drow, int32_t dt, const psc_filter_t filter, const psc_pixfmt_t in,
                                         const psc_sink_t sink, const bool pow2)
 {
-    const psc_viewer_t *v = f->v;
-    const uint8_t *base = v->map->pixels;
-    const uint32_t *rowoff = v->row_offsets; /* [0] and [H + 1] repeat the edge rows */
-    const uint32_t w = v->map->width, sh = v->col_shift;
-    const uint32_t *pal = v->map->palette;
-    const uint16_t *pal565 = v->palette565;
+    const uint8_t *base = cx->base;
+    const uint32_t *rowoff = cx->rowoff;
+    const uint32_t w = cx->w, sh = cx->sh;
+    const uint32_t *pal = cx->pal;
+    const uint16_t *pal565 = cx->pal565;
     /* Rows biased by one (the guard row) so the table index is never negative. */
     uint32_t r = (uint32_t)(row + 65536);
     if (filter == PSC_FILTER_NEAREST) {
         r += 32768; /* round to the nearest row */
         for (unsigned i = 0; i < n; i++) {
             uint32_t c = pow2 ? t >> sh : (uint32_t)(((uint64_t)t * w) >> 32);
-            store(f->dst, x + i, texel_out(base + rowoff[r >> 16], c, in, sink, pal, pal565), sink);
+            store(cx->dst, x + i, texel_out(base + rowoff[r >> 16], c, in, sink, pal, pal565), sink);
             r += (uint32_t)drow;
             t += (uint32_t)dt;
         }
         return;
     }
-    t -= v->half_col_bam; /* column c0 is the one left of the sample point */
+    t -= cx->half_col; /* column c0 is the one left of the sample point */
     for (unsigned i = 0; i < n; i++) {
         const uint8_t *p0 = base + rowoff[r >> 16], *p1 = base + rowoff[(r >> 16) + 1u];
         uint32_t c0, fc;
@@ -336,7 +345,7 @@ static PSC_ALWAYS_INLINE void span_fast(const psc_frame_t *f, unsigned x, unsign
             if (sink == PSC_SINK_RGB565)
                 px = psc_xrgb_to_rgb565(px);
         }
-        store(f->dst, x + i, px, sink);
+        store(cx->dst, x + i, px, sink);
         r += (uint32_t)drow;
         t += (uint32_t)dt;
     }
@@ -349,6 +358,9 @@ static PSC_ALWAYS_INLINE void spans_fast(const psc_frame_t *f, const row_setup_t
                                          unsigned count, const psc_filter_t filter, const psc_pixfmt_t in,
                                          const psc_sink_t sink, const bool pow2)
 {
+    const psc_viewer_t *v = f->v;
+    const fast_ctx_t cx = {v->map->pixels, v->row_offsets, v->map->width, v->col_shift, v->half_col_bam,
+                           v->map->palette, v->palette565, f->dst};
     for (unsigned k = 0; k + 1u < count; k++) {
         const psc_scan_sample_t *a = &s[k], *b = &s[k + 1u];
         unsigned n = (unsigned)b->x - a->x;
@@ -358,7 +370,7 @@ static PSC_ALWAYS_INLINE void spans_fast(const psc_frame_t *f, const row_setup_t
         }
         int32_t drow, dt;
         span_steps(f, a, b, n, &drow, &dt);
-        span_fast(f, a->x, n, a->row, a->t, drow, dt, filter, in, sink, pow2);
+        span_fast(&cx, a->x, n, a->row, a->t, drow, dt, filter, in, sink, pow2);
     }
 }
 
