@@ -4,6 +4,7 @@
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #ifndef PSC_VERSION
@@ -82,6 +83,25 @@ int psc_io_cli_rest(const psc_io_cli_t *c)
 void psc_io_cli_print_version(const char *prog)
 {
     printf("%s (Periscope) %s\n", prog, PSC_VERSION);
+}
+
+int psc_io_cli_next_option(psc_io_cli_t *c, const char *prog, const char *mode, void (*usage)(const char *, FILE *))
+{
+    char why[160];
+    int opt = psc_io_cli_next(c, why, sizeof why);
+    if (opt == 0)
+        return 0;
+    if (opt < 0)
+        return -psc_io_cli_usage_error(prog, "%s%s", why, mode);
+    if (opt == PSC_IO_CLI_HELP) {
+        usage(prog, stdout);
+        exit(0);
+    }
+    if (opt == PSC_IO_CLI_VERSION) {
+        psc_io_cli_print_version(prog);
+        exit(0);
+    }
+    return 1;
 }
 
 int psc_io_cli_usage_error(const char *prog, const char *fmt, ...)

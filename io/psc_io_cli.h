@@ -17,6 +17,7 @@
 #define PSC_IO_CLI_H
 
 #include <getopt.h>
+#include <stdio.h>
 #include <stddef.h>
 
 /** Exit status of a program for a bad command line. */
@@ -51,6 +52,15 @@ void psc_io_cli_begin(psc_io_cli_t *c, int argc, char **argv, const char *shorto
  * name).
  */
 int psc_io_cli_next(psc_io_cli_t *c, char *err, size_t errlen);
+
+/**
+ * psc_io_cli_next with what every program does the same way: --help prints
+ * usage(prog, stdout) and exits 0, --version prints the version and exits 0,
+ * a mistake prints "prog: <why><mode>" (mode e.g. " (proxy mode)", or "")
+ * and returns -PSC_IO_CLI_EXIT_USAGE. Otherwise 1 (an option in c->name and
+ * c->arg), or 0 when the options are over.
+ */
+int psc_io_cli_next_option(psc_io_cli_t *c, const char *prog, const char *mode, void (*usage)(const char *, FILE *));
 
 /** The index of the first argument that is not an option (after psc_io_cli_next returned 0). */
 int psc_io_cli_rest(const psc_io_cli_t *c);

@@ -79,22 +79,11 @@ static const struct option gltf_options[] = {
 static int parse_args(const char *prog, int argc, char **argv, gltf_args_t *a)
 {
     psc_io_cli_t c;
-    char why[160];
     int opt;
 
     psc_io_cli_begin(&c, argc, argv, "ho:", gltf_options);
-    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
+    while ((opt = psc_io_cli_next_option(&c, prog, " (glTF mode)", usage)) > 0) {
         const char *name = c.name, *v = c.arg;
-        if (opt < 0)
-            return psc_io_cli_usage_error(prog, "%s (glTF mode)", why);
-        if (opt == PSC_IO_CLI_HELP) {
-            usage(prog, stdout);
-            exit(0);
-        }
-        if (opt == PSC_IO_CLI_VERSION) {
-            psc_io_cli_print_version(prog);
-            exit(0);
-        }
         int view = psc_render_view_option(prog, name, v, &a->view);
         if (view >= 0) {
             if (view != 0)
@@ -102,20 +91,17 @@ static int parse_args(const char *prog, int argc, char **argv, gltf_args_t *a)
         } else if (strcmp(name, "-o") == 0) {
             a->out = v;
         } else if (strcmp(name, "--pose") == 0) {
-            a->pose_file = psc_pose_is_file(v) ? v : NULL;
-            if (a->pose_file)
-                continue;
-            if (strcmp(v, "rest") == 0)
-                a->time = -1.0;
-            else if (strncmp(v, "t=", 2) != 0 || psc_cli_parse_double(v + 2, &a->time) != 0 ||
-                     !(a->time >= 0.0 && a->time <= 3600.0))
-                return psc_io_cli_usage_error(prog, "--pose '%s': expected rest or t=SECONDS (0..3600)", v);
+            int rc = psc_pose_option(prog, v, &a->pose_file, &a->time);
+            if (rc != 0)
+                return rc;
         } else if (strcmp(name, "--shadow") == 0) {
             a->shadow = v;
         } else if (strcmp(name, "--dump-ao") == 0) {
             a->dump_ao = v;
         }
     }
+    if (opt < 0)
+        return -opt;   /* the mistake, said */
     for (int i = psc_io_cli_rest(&c); i < argc; i++) {
         if (a->model)
             return psc_io_cli_usage_error(prog, "more than one model given (%s)", argv[i]);

@@ -96,22 +96,11 @@ static const struct option model_options[] = {
 static int parse_args(const char *prog, int argc, char **argv, model_args_t *a)
 {
     psc_io_cli_t c;
-    char why[160];
     int opt;
 
     psc_io_cli_begin(&c, argc, argv, "ho:", model_options);
-    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
+    while ((opt = psc_io_cli_next_option(&c, prog, " (model mode)", usage)) > 0) {
         const char *name = c.name, *v = c.arg;
-        if (opt < 0)
-            return psc_io_cli_usage_error(prog, "%s (model mode)", why);
-        if (opt == PSC_IO_CLI_HELP) {
-            usage(prog, stdout);
-            exit(0);
-        }
-        if (opt == PSC_IO_CLI_VERSION) {
-            psc_io_cli_print_version(prog);
-            exit(0);
-        }
         int view = psc_render_view_option(prog, name, v, &a->view);
         if (view >= 0) {
             if (view != 0)
@@ -142,6 +131,8 @@ static int parse_args(const char *prog, int argc, char **argv, model_args_t *a)
             a->write_pack = v;
         }
     }
+    if (opt < 0)
+        return -opt;   /* the mistake, said */
     for (int i = psc_io_cli_rest(&c); i < argc; i++) {
         if (a->model)
             return psc_io_cli_usage_error(prog, "more than one model given (%s)", argv[i]);

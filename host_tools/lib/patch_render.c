@@ -121,13 +121,18 @@ static int parse_value(const char *prog, patch_args_t *a, const char *name, cons
     } else if (strcmp(name, "--time") == 0) {
         if (psc_cli_parse_double(v, &a->time) != 0 || !(a->time >= 0.0 && a->time <= 3600.0))
             return psc_io_cli_usage_error(prog, "--time '%s': expected seconds in 0..3600", v);
-    } else if (strcmp(name, "--pose") == 0 && psc_pose_is_file(v)) {
-        a->pose_file = v;
     } else if (strcmp(name, "--pose") == 0) {
-        a->rest = strcmp(v, "rest") == 0;
-        if (!a->rest && (strncmp(v, "t=", 2) != 0 || psc_cli_parse_double(v + 2, &a->time) != 0 ||
-                         !(a->time >= 0.0 && a->time <= 3600.0)))
-            return psc_io_cli_usage_error(prog, "--pose '%s': expected rest or t=SECONDS (0..3600)", v);
+        const char *file;
+        double t = a->time;
+        int rc = psc_pose_option(prog, v, &file, &t);
+        if (rc != 0)
+            return rc;
+        if (file) {
+            a->pose_file = file;
+        } else {
+            a->rest = t < 0;
+            a->time = a->rest ? a->time : t;
+        }
     } else if (strcmp(name, "--skin-from") == 0) {
         a->load.skin_from = v;
     } else if (strcmp(name, "--deform") == 0) {
@@ -161,25 +166,16 @@ static int parse_value(const char *prog, patch_args_t *a, const char *name, cons
 static int parse_args(const char *prog, int argc, char **argv, patch_args_t *a)
 {
     psc_io_cli_t c;
-    char why[160];
     int opt;
 
     psc_io_cli_begin(&c, argc, argv, "ho:", patch_options);
-    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
-        if (opt < 0)
-            return psc_io_cli_usage_error(prog, "%s (patch mode)", why);
-        if (opt == PSC_IO_CLI_HELP) {
-            usage(prog, stdout);
-            exit(0);
-        }
-        if (opt == PSC_IO_CLI_VERSION) {
-            psc_io_cli_print_version(prog);
-            exit(0);
-        }
+    while ((opt = psc_io_cli_next_option(&c, prog, " (patch mode)", usage)) > 0) {
         int rc = parse_value(prog, a, c.name, c.arg);
         if (rc != 0)
             return rc;
     }
+    if (opt < 0)
+        return -opt;   /* the mistake, said */
     for (int i = psc_io_cli_rest(&c); i < argc; i++) {
         if (a->model)
             return psc_io_cli_usage_error(prog, "more than one model given (%s)", argv[i]);

@@ -7,9 +7,25 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli_parse.h"
+#include "psc_io_cli.h"
+
 bool psc_pose_is_file(const char *arg)
 {
     return strcmp(arg, "rest") != 0 && strncmp(arg, "t=", 2) != 0;
+}
+
+int psc_pose_option(const char *prog, const char *arg, const char **file, double *t)
+{
+    *file = psc_pose_is_file(arg) ? arg : NULL;
+    if (*file)
+        return 0;
+    double v = -1.0;
+    if (strcmp(arg, "rest") != 0 &&
+        (psc_cli_parse_double(arg + 2, &v) != 0 || !(v >= 0.0 && v <= 3600.0)))
+        return psc_io_cli_usage_error(prog, "--pose '%s': expected rest, t=SECONDS (0..3600) or POSE.json", arg);
+    *t = v;
+    return 0;
 }
 
 void psc_pose_file_free(psc_pose_file_t *p)

@@ -35,6 +35,13 @@ typedef struct {
 /** Whether --pose's value names a file (not rest, not t=SECONDS). */
 bool psc_pose_is_file(const char *arg);
 
+/**
+ * --pose's value, as every render mode reads it: POSE.json (*file = arg), rest
+ * (*file = NULL, *t = -1) or t=SECONDS within 0..3600 (*file = NULL, *t).
+ * 0, or the usage-error exit status with the message said.
+ */
+int psc_pose_option(const char *prog, const char *arg, const char **file, double *t);
+
 /** Read path. 0, or -1 with err naming the file and what is wrong in it. */
 int psc_pose_file_load(const char *path, psc_pose_file_t *out, char *err, size_t errlen);
 void psc_pose_file_free(psc_pose_file_t *p);

@@ -79,22 +79,11 @@ static const struct option proxy_options[] = {
 static int parse_args(const char *prog, int argc, char **argv, proxy_args_t *a)
 {
     psc_io_cli_t c;
-    char why[160];
     int opt;
 
     psc_io_cli_begin(&c, argc, argv, "ho:", proxy_options);
-    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
+    while ((opt = psc_io_cli_next_option(&c, prog, " (proxy mode)", usage)) > 0) {
         const char *name = c.name, *v = c.arg;
-        if (opt < 0)
-            return psc_io_cli_usage_error(prog, "%s (proxy mode)", why);
-        if (opt == PSC_IO_CLI_HELP) {
-            usage(prog, stdout);
-            exit(0);
-        }
-        if (opt == PSC_IO_CLI_VERSION) {
-            psc_io_cli_print_version(prog);
-            exit(0);
-        }
         int view = psc_render_view_option(prog, name, v, &a->view);
         if (view >= 0) {
             if (view != 0)
@@ -120,16 +109,13 @@ static int parse_args(const char *prog, int argc, char **argv, proxy_args_t *a)
                 return psc_io_cli_usage_error(prog, "--tiles '%s': expected a tile side of 0..%u pixels", v,
                                               (unsigned)PSC_MAX_OUT_DIM);
         } else if (strcmp(name, "--pose") == 0) {
-            a->pose_file = psc_pose_is_file(v) ? v : NULL;
-            if (a->pose_file)
-                continue;
-            if (strcmp(v, "rest") == 0)
-                a->time = -1.0;
-            else if (strncmp(v, "t=", 2) != 0 || psc_cli_parse_double(v + 2, &a->time) != 0 ||
-                     !(a->time >= 0.0 && a->time <= 3600.0))
-                return psc_io_cli_usage_error(prog, "--pose '%s': expected rest, t=SECONDS (0..3600) or POSE.json", v);
+            int rc = psc_pose_option(prog, v, &a->pose_file, &a->time);
+            if (rc != 0)
+                return rc;
         }
     }
+    if (opt < 0)
+        return -opt;   /* the mistake, said */
     for (int i = psc_io_cli_rest(&c); i < argc; i++) {
         if (a->pack)
             return psc_io_cli_usage_error(prog, "more than one pack given (%s)", argv[i]);
