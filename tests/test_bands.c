@@ -47,6 +47,18 @@ static void clear_rows(const psc_surface_t *s)
         memset((uint8_t *)s->pixels + (size_t)y * s->stride, 0x5A, (size_t)s->width * psc_pixfmt_bytes(s->format));
 }
 
+/* A synthetic map of kind k and a viewer of it with out_fmt output. */
+static void open_map(const map_kind_t *k, psc_pixfmt_t out_fmt, tsup_map_t *m, tsup_viewer_t *tv)
+{
+    psc_envmap_t g = {0};
+    g.projection = k->proj;
+    g.format = k->fmt;
+    g.width = MAP_W;
+    g.height = MAP_H;
+    assert_int_equal(tsup_synth_map(m, &g, 1, 0), 0);
+    assert_int_equal(tsup_viewer_init(tv, &m->map, OUT_W, OUT_H, out_fmt), PSC_OK);
+}
+
 static psc_view_t random_view(tsup_rng_t *r)
 {
     static const psc_filter_t filters[] = {PSC_FILTER_NEAREST, PSC_FILTER_BILINEAR, PSC_FILTER_MIP};
@@ -61,17 +73,10 @@ static void test_bands_equal_whole(void **state)
     tsup_rng_seed(&r, 2024);
     unsigned frames = 0, bands = 0;
     for (unsigned k = 0; k < sizeof KINDS / sizeof KINDS[0]; k++) {
-        psc_envmap_t g = {0};
-        g.projection = KINDS[k].proj;
-        g.format = KINDS[k].fmt;
-        g.width = MAP_W;
-        g.height = MAP_H;
-        tsup_map_t m;
-        assert_int_equal(tsup_synth_map(&m, &g, 1, 0), 0);
         for (int fmt = 0; fmt < 2; fmt++) {
+            tsup_map_t m;
             tsup_viewer_t tv;
-            assert_int_equal(tsup_viewer_init(&tv, &m.map, OUT_W, OUT_H, fmt ? PSC_PIX_XRGB8888 : PSC_PIX_RGB565),
-                             PSC_OK);
+            open_map(&KINDS[k], fmt ? PSC_PIX_XRGB8888 : PSC_PIX_RGB565, &m, &tv);
             size_t bytes = (size_t)tv.out.stride * OUT_H, sn = psc_viewer_band_scratch_size(OUT_W);
             uint8_t *whole = malloc(bytes);
             void *scratch;
@@ -110,8 +115,8 @@ static void test_bands_equal_whole(void **state)
             free(whole);
             free(scratch);
             tsup_viewer_free(&tv);
+            tsup_map_free(&m);
         }
-        tsup_map_free(&m);
     }
     print_message("  %u random views in %u bands: the whole frame's bytes\n", frames, bands);
 }
@@ -119,15 +124,9 @@ static void test_bands_equal_whole(void **state)
 static void test_pool_equal_whole(void **state)
 {
     (void)state;
-    psc_envmap_t g = {0};
-    g.projection = PSC_PROJ_EQUIRECT;
-    g.format = PSC_PIX_RGB565;
-    g.width = MAP_W;
-    g.height = MAP_H;
     tsup_map_t m;
-    assert_int_equal(tsup_synth_map(&m, &g, 1, 0), 0);
     tsup_viewer_t tv;
-    assert_int_equal(tsup_viewer_init(&tv, &m.map, OUT_W, OUT_H, PSC_PIX_XRGB8888), PSC_OK);
+    open_map(&KINDS[0], PSC_PIX_XRGB8888, &m, &tv);
     size_t bytes = (size_t)tv.out.stride * OUT_H;
     uint8_t *whole = malloc(bytes);
     assert_non_null(whole);
@@ -166,15 +165,9 @@ static void test_pool_equal_whole(void **state)
 static void test_band_refusals(void **state)
 {
     (void)state;
-    psc_envmap_t g = {0};
-    g.projection = PSC_PROJ_EQUIRECT;
-    g.format = PSC_PIX_RGB565;
-    g.width = MAP_W;
-    g.height = MAP_H;
     tsup_map_t m;
-    assert_int_equal(tsup_synth_map(&m, &g, 1, 0), 0);
     tsup_viewer_t tv;
-    assert_int_equal(tsup_viewer_init(&tv, &m.map, OUT_W, OUT_H, PSC_PIX_RGB565), PSC_OK);
+    open_map(&KINDS[0], PSC_PIX_RGB565, &m, &tv);
     size_t sn = psc_viewer_band_scratch_size(OUT_W);
     void *scratch;
     assert_int_equal(posix_memalign(&scratch, 64, sn), 0);

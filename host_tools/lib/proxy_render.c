@@ -140,15 +140,13 @@ int psc_proxy_pose_adjusted(const psc_proxy_model_t *m, double t, const double (
                             psc_mat4_q16_t *skin)
 {
     uint32_t nj = m->joint_count;
+    psc_proxy_pose_at(m, t < 0 ? -1 : (int64_t)llround(t * 1e6), skin);
+    if (!pre && !post)
+        return 0;
     double(*w)[12] = malloc(nj * sizeof *w), (*wn)[12] = malloc(nj * sizeof *wn);
     if (!w || !wn) {
         free(w), free(wn);
         return -1;
-    }
-    psc_proxy_pose_at(m, t < 0 ? -1 : (int64_t)llround(t * 1e6), skin);
-    if (!pre && !post) {
-        free(w), free(wn);
-        return 0;
     }
     double r = m->model_r_um > 0 ? m->model_r_um * 1e-6 : 1.0;
     /* posed worlds in R space: W = S Rest; locals; adjusted; recomposed; S' = W' Rest^-1 */

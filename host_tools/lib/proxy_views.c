@@ -159,15 +159,24 @@ static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *oth
     downsample(hi, view->tex, texels);
 }
 
+/* The supersampled depth and colour of one view of tex^2 texels. 0, or -1 out of memory. */
+static int samples_alloc(unsigned tex, uint32_t **depth, uint16_t **hi)
+{
+    *depth = malloc((size_t)tex * tex * SS * SS * sizeof **depth);
+    *hi = malloc((size_t)tex * tex * SS * SS * sizeof **hi);
+    if (*depth && *hi)
+        return 0;
+    free(*depth), free(*hi);
+    return -1;
+}
+
 int psc_proxy_render_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *others, unsigned n_others,
                            unsigned side, unsigned tex, uint16_t *texels, uint16_t *uv)
 {
-    uint32_t *depth = malloc((size_t)tex * tex * SS * SS * sizeof *depth);
-    uint16_t *hi = malloc((size_t)tex * tex * SS * SS * sizeof *hi);
-    if (!depth || !hi) {
-        free(depth), free(hi);
+    uint32_t *depth;
+    uint16_t *hi;
+    if (samples_alloc(tex, &depth, &hi) != 0)
         return -1;
-    }
     for (unsigned k = 0; k < side * side; k++) {
         ortho_t o;
         ortho_for(s, side, k, tex, &o);
@@ -187,12 +196,10 @@ int psc_proxy_render_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *
 int psc_proxy_render_billboard(const psc_proxy_shape_t *shapes, unsigned n, const double centre[3], double radius,
                                unsigned side, unsigned tex, uint16_t *texels, int32_t *axes_q16)
 {
-    uint32_t *depth = malloc((size_t)tex * tex * SS * SS * sizeof *depth);
-    uint16_t *hi = malloc((size_t)tex * tex * SS * SS * sizeof *hi);
-    if (!depth || !hi) {
-        free(depth), free(hi);
+    uint32_t *depth;
+    uint16_t *hi;
+    if (samples_alloc(tex, &depth, &hi) != 0)
         return -1;
-    }
     psc_proxy_shape_t whole = {0};
     memcpy(whole.centre, centre, sizeof whole.centre);
     whole.radius = radius;
