@@ -20,6 +20,7 @@ struct psc_io_bands {
     worker_arg_t arg[PSC_IO_BANDS_MAX_THREADS];
     void *scratch[PSC_IO_BANDS_MAX_THREADS];
     size_t scratch_size;
+    uint16_t out_width;         /* the widest output the scratches serve */
     pthread_mutex_t lock;
     pthread_cond_t go, done;
     unsigned long generation;   /* one per frame: a worker runs when it changes */
@@ -86,6 +87,7 @@ psc_io_bands_t *psc_io_bands_start(unsigned threads, uint16_t out_width, char *e
     }
     b->threads = threads;
     b->scratch_size = psc_viewer_band_scratch_size(out_width);
+    b->out_width = out_width;
     pthread_mutex_init(&b->lock, NULL);
     pthread_cond_init(&b->go, NULL);
     pthread_cond_init(&b->done, NULL);
@@ -115,7 +117,7 @@ unsigned psc_io_bands_threads(const psc_io_bands_t *b)
 
 psc_status_t psc_io_bands_render(psc_io_bands_t *b, psc_viewer_t *v, const psc_view_t *view, const psc_surface_t *out)
 {
-    if (!b || !v || psc_viewer_band_scratch_size(v->out_width) > b->scratch_size)
+    if (!b || !v || v->out_width > b->out_width)
         return PSC_ERR_ARG;
     psc_status_t s = psc_viewer_prepare(v, view);
     if (s != PSC_OK)

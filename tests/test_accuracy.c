@@ -182,7 +182,8 @@ static void test_conventions(void **state)
         psc_view_t v = tsup_view_deg(c[i].yaw, c[i].pitch, 90.0, PSC_FILTER_BILINEAR, 0);
         assert_int_equal(psc_viewer_trace_row(&tv.v, &v, 60, rq, cq), PSC_OK);
         double col = cq[80] / 65536.0, row = rq[80] / 65536.0;
-        if (fabs(col - c[i].col) > 0.01 || fabs(row - c[i].row) > 0.01)
+        /* 0.02 pixel: the centre pixel lies midway between two LUT samples (span boundaries) */
+        if (fabs(col - c[i].col) > 0.02 || fabs(row - c[i].row) > 0.02)
             fail_msg("view yaw %.1f pitch %.1f: centre pixel samples (row %.4f, col %.4f), expected (%.4f, %.4f)",
                      c[i].yaw, c[i].pitch, row, col, c[i].row, c[i].col);
         /* right of centre: larger columns; above centre: smaller rows (pitch 0 views) */

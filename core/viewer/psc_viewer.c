@@ -29,6 +29,8 @@ typedef struct {
 
 static size_t align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
 
+#define SCAN_SAMPLES(w) ((size_t)(w) + 2u) /* boundary samples of a scanline, at most */
+
 static bool map_is_fast(const psc_envmap_t *m)
 {
     return m->lon_span == 0 && (m->projection == PSC_PROJ_EQUIRECT || m->projection == PSC_PROJ_CYLINDER ||
@@ -54,7 +56,7 @@ static ws_layout_t ws_layout(uint16_t out_width, uint16_t out_height, const psc_
     if (map_is_fast(m)) /* rows -1 .. H, the outer two repeating the edge rows */
         at += align8(((size_t)m->height + 2u) * sizeof(uint32_t));
     l.samples = at;
-    at += align8(((size_t)out_width + 4u) * sizeof(psc_scan_sample_t));
+    at += align8(psc_viewer_band_scratch_size(out_width));
     l.total = at;
     return l;
 }
@@ -121,7 +123,7 @@ psc_status_t psc_viewer_init(psc_viewer_t *v, const psc_envmap_t *map, const psc
             v->row_offsets[r + 1] = (uint32_t)c * map->stride;
         }
     }
-    v->samples = (psc_scan_sample_t *)(void *)(base + l.samples);
+    v->scratch = base + l.samples;
     /* Columns from a binary angle: a shift when the width is a power of two. */
     v->col_shift = 0;
     for (unsigned k = 1; k <= 16; k++)
@@ -240,16 +242,31 @@ static bool view_ok(const psc_viewer_t *v, const psc_view_t *view)
            view->hfov <= psc_viewer_hfov_max(v);
 }
 
+static psc_scan_work_t scan_work(void *scratch, uint16_t out_width)
+{
+    uint8_t *at = scratch;
+    size_t n = SCAN_SAMPLES(out_width);
+    psc_scan_work_t w;
+    w.row = (int32_t *)(void *)at;
+    at += align8(n * sizeof(int32_t));
+    w.t = (uint32_t *)(void *)at;
+    at += align8(n * sizeof(uint32_t));
+    w.polar = at;
+    at += align8(n);
+    w.lut_row = (uint32_t *)(void *)at;
+    return w;
+}
+
 /* The frame of a prepared view (the zoom tables already for its hfov): reads the viewer, writes nothing of it. */
 static psc_status_t frame_begin(const psc_viewer_t *v, const psc_view_t *view, psc_sink_t sink,
-                                psc_scan_sample_t *samples, psc_frame_t *f)
+                                void *scratch, psc_frame_t *f)
 {
     if (!view_ok(v, view) || v->cached_hfov != view->hfov || v->cached_lut == NULL)
         return PSC_ERR_ARG;
     *f = (psc_frame_t){0};
     f->v = v;
     f->view = view;
-    f->samples = samples;
+    f->work = scan_work(scratch, v->out_width);
     f->lut = v->cached_lut;
     f->span = 1u << view->span_log2;
     f->sink = sink;
@@ -269,9 +286,15 @@ psc_status_t psc_viewer_prepare(psc_viewer_t *v, const psc_view_t *view)
     return PSC_OK;
 }
 
+/*
+ * The scanline workspace: boundary samples (at most W + 2: every pixel's left
+ * edge, the right edge and one more when N does not divide W) and the
+ * composite LUT row (at most PSC_MAX_LUT_DIM columns).
+ */
 size_t psc_viewer_band_scratch_size(uint16_t out_width)
 {
-    return ((size_t)out_width + 4u) * sizeof(psc_scan_sample_t);
+    size_t n = SCAN_SAMPLES(out_width);
+    return align8(n * sizeof(int32_t)) * 2u + align8(n) + (size_t)PSC_MAX_LUT_DIM * 2u * sizeof(uint32_t);
 }
 
 psc_status_t psc_viewer_render_band(const psc_viewer_t *v, const psc_view_t *view, const psc_surface_t *out,
@@ -287,7 +310,7 @@ psc_status_t psc_viewer_render_band(const psc_viewer_t *v, const psc_view_t *vie
         return PSC_ERR_ARG;
     psc_frame_t f;
     psc_status_t s = frame_begin(v, view, out->format == PSC_PIX_RGB565 ? PSC_SINK_RGB565 : PSC_SINK_XRGB8888,
-                                 (psc_scan_sample_t *)scratch, &f);
+                                 scratch, &f);
     if (s != PSC_OK)
         return s;
     for (unsigned y = y0; y < y1; y++) {
@@ -302,7 +325,7 @@ psc_status_t psc_viewer_render(psc_viewer_t *v, const psc_view_t *view, const ps
     psc_status_t s = psc_viewer_prepare(v, view);
     if (s != PSC_OK)
         return s;
-    return psc_viewer_render_band(v, view, out, 0, v->out_height, v->samples, psc_viewer_band_scratch_size(v->out_width));
+    return psc_viewer_render_band(v, view, out, 0, v->out_height, v->scratch, psc_viewer_band_scratch_size(v->out_width));
 }
 
 psc_status_t psc_viewer_trace_row(psc_viewer_t *v, const psc_view_t *view, uint16_t y, int32_t *row_q16,
@@ -313,7 +336,7 @@ psc_status_t psc_viewer_trace_row(psc_viewer_t *v, const psc_view_t *view, uint1
     psc_frame_t f;
     psc_status_t s = psc_viewer_prepare(v, view);
     if (s == PSC_OK)
-        s = frame_begin(v, view, PSC_SINK_TRACE, v->samples, &f);
+        s = frame_begin(v, view, PSC_SINK_TRACE, v->scratch, &f);
     if (s != PSC_OK)
         return s;
     f.trace_row = row_q16;

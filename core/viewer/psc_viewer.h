@@ -63,14 +63,6 @@ typedef struct {
     uint32_t mag_q8;        /* sqrt(y^2 + d^2) in half-pixels, Q24.8: the scanline's distance from the eye */
 } psc_scanline_t;
 
-/** One LUT sample of a scanline (the viewer's workspace holds a scanline's worth). */
-typedef struct {
-    int32_t row;    /* map row, Q16.16 (integer = pixel centre), clamped to [-0.5, H - 0.5] on fast maps */
-    uint32_t t;     /* longitude from the map's left edge, binary angle (2^32 = a full turn) */
-    uint16_t x;     /* output column */
-    uint8_t polar;  /* inside a polar cap: no span interpolation from or to here */
-} psc_scan_sample_t;
-
 /** Map addressing derived at init: angles -> Q16.16 (row, column). */
 typedef struct {
     psc_bam_t lon_center;       /* longitude of the map's middle */
@@ -98,7 +90,7 @@ typedef struct {
     int32_t *row_width_q16;     /* ELLIPTICAL/DIAMOND: width of each map row as a fraction of W, Q16.16 */
     uint16_t *palette565;       /* PAL8 maps: the palette converted for RGB565 output */
     uint32_t *row_offsets;      /* fast maps: byte offset of map row r at [r + 1], r = -1 .. H (edges repeated) */
-    psc_scan_sample_t *samples; /* out_width + 4 entries: one scanline's LUT samples */
+    void *scratch;              /* a band's scanline workspace, for psc_viewer_render and tracing */
     uint8_t col_shift;          /* 32 - log2(W) for a power-of-two width, else 0 */
     uint32_t half_col_bam;      /* half a map column as a binary angle, 2^31 / W */
     /* cached zoom state */

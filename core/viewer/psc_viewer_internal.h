@@ -31,11 +31,22 @@ typedef enum {
     PSC_SINK_TRACE /* the sampled (row, col), for tests and tools */
 } psc_sink_t;
 
+/*
+ * A band's scanline workspace (psc_viewer_band_scratch_size bytes): the
+ * samples at the span boundaries and the composite LUT row.
+ */
+typedef struct {
+    int32_t *row;      /* map row, Q16.16 (integer = pixel centre), clamped to [-0.5, H - 0.5] on fast maps */
+    uint32_t *t;       /* longitude from the map's left edge, binary angle (2^32 = a full turn) */
+    uint8_t *polar;    /* inside a polar cap: no span interpolation from or to here */
+    uint32_t *lut_row; /* the scanline's two LUT rows blended: (lon, lat) pairs */
+} psc_scan_work_t;
+
 /* Everything fixed for one frame. */
 typedef struct {
     const psc_viewer_t *v;
     const psc_view_t *view;
-    psc_scan_sample_t *samples;    /* this band's scanline samples (out_width + 4) */
+    psc_scan_work_t work;          /* this band's scanline workspace */
     const psc_lut_t *lut;
     int32_t sin_pitch, cos_pitch;  /* Q2.30 */
     int32_t cap_per_pixel;         /* |lat| >= this: LUT read at every pixel (polar cap) */

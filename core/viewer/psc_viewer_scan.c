@@ -2,40 +2,52 @@
 /*
  * psc_viewer_scan.c - one output scanline: LUT samples, then spans between them.
  *
- * Samples. The LUT is read every N-th pixel. Pixel x and pixel W-1-x lie at
- * mirrored offsets from the view's centre line, so they read the same LUT
- * position and differ only in the sign of their longitude: samples are taken
- * at x = 0, N, 2N, ... from the left and at the mirrored columns from the
- * right, each LUT read serving two samples (a centre sample is added when the
- * middle gap is wider than N).
+ * Samples. The scanline is cut into spans of N pixels from the left; the LUT
+ * is read at the boundaries between spans (boundary b lies between pixels
+ * b - 1 and b). Boundary b and boundary W - b lie at mirrored offsets from the
+ * view's centre line, so they read the same LUT position and differ only in
+ * the sign of their longitude: when N divides W every LUT read serves two
+ * samples.
+ *
+ * The composite LUT row. A scanline's LUT angle falls between two LUT rows;
+ * they are blended once per scanline into a composite row of (lon, lat)
+ * pairs, so each sample blends two entries instead of four. Bilinear blending
+ * is separable and the sums are exact, so this gives the same angles as
+ * blending the four entries at every sample.
  *
  * Positions. A sample holds the map row (Q16.16) and the longitude from the
  * map's left edge as a binary angle t: on a full-turn map the column is
  * t * W / 2^32 (a shift for power-of-two widths), so the 360 degree seam costs
  * nothing, and the step between two samples, (int32_t)(t1 - t0), always takes
- * the short way round.
+ * the short way round. Pixel i of a span from sample a to b sits at
+ * a + step / 2 + i * step, step = (b - a) / N (a shift).
  *
- * Spans. Between samples, row and t advance by constant steps. Full-turn
- * rectangular maps (equirect, cylinder, sine) use specialised loops, one per
- * filter x map format x output format, with no per-pixel clamps: a row-offset
- * table with a repeated edge row on each side absorbs the half-pixel beyond
- * the poles. Other maps, the map pyramid and tracing go pixel by pixel
- * through the general samplers. Spans touching a polar cap read the LUT (or
- * compute exactly) at every pixel.
+ * Spans. Full-turn rectangular maps (equirect, cylinder, sine) use
+ * specialised loops, one per filter x map format x output format, with no
+ * per-pixel clamps: a row-offset table with a repeated edge row on each side
+ * absorbs the half-pixel beyond the poles. Other maps, the map pyramid and
+ * tracing go pixel by pixel through the general samplers. Spans touching a
+ * polar cap read the LUT (or compute exactly) at every pixel.
  */
 #include "viewer/psc_viewer_internal.h"
 
-/* ---- the scanline's LUT rows ---------------------------------------------------- */
+/* ---- the scanline's LUT row ------------------------------------------------------ */
 
 typedef struct {
-    const uint32_t *e0, *e1; /* the two bounding LUT rows */
-    uint32_t fr;             /* blend weight of e1, Q0.8 (0..256) */
+    const uint32_t *lut_row; /* composite row: (lon, lat) pairs, Q8.24 units of 90deg / 2^24 */
+    uint32_t lut_cols;       /* entries built: every column the scanline reads */
     bool lat_negative;       /* the scanline's LUT angle is below the horizon */
     bool over_pole;          /* |a| > 90 degrees: reflected, lon = 180 - lon */
     uint32_t u_step_q24;
     uint32_t mag_q8;         /* sqrt(yc^2 + d^2), Q8 half-pixels */
     int32_t yc;              /* half-pixels, up */
 } row_setup_t;
+
+/* LUT column of a point |xc| half-pixels from the centre, Q8. */
+static PSC_ALWAYS_INLINE uint32_t lut_col_q8(const row_setup_t *rs, uint32_t ax)
+{
+    return (uint32_t)(((uint64_t)ax * rs->u_step_q24 + (1u << 15)) >> 16);
+}
 
 static void row_setup(const psc_frame_t *f, unsigned y, row_setup_t *rs)
 {
@@ -47,17 +59,24 @@ static void row_setup(const psc_frame_t *f, unsigned y, row_setup_t *rs)
     if (rs->over_pole)
         abs_a = PSC_BAM_180 - abs_a;
     uint32_t pos = (uint32_t)(((uint64_t)abs_a * (lut->rows - 1u) + (1u << 21)) >> 22); /* Q8 rows */
-    uint32_t r0 = pos >> 8;
-    rs->fr = pos & 255u;
+    uint32_t r0 = pos >> 8, fr = pos & 255u;
     if (r0 >= lut->rows - 1u) {
         r0 = lut->rows - 2u;
-        rs->fr = 256;
+        fr = 256;
     }
-    rs->e0 = lut->entries + (size_t)r0 * lut->cols;
-    rs->e1 = rs->e0 + lut->cols;
     rs->u_step_q24 = f->v->scan[y].u_step_q24;
     rs->mag_q8 = f->v->scan[y].mag_q8;
     rs->yc = (int32_t)f->v->out_height - 1 - 2 * (int32_t)y;
+    /* Columns up to the one right of the outermost boundary (|xc| = W). */
+    uint32_t last = (lut_col_q8(rs, f->v->out_width) >> 8) + 1u;
+    rs->lut_cols = last < lut->cols ? last + 1u : lut->cols;
+    const uint32_t *e0 = lut->entries + (size_t)r0 * lut->cols, *e1 = e0 + lut->cols;
+    uint32_t *c = f->work.lut_row, ir = 256u - fr;
+    for (uint32_t j = 0; j < rs->lut_cols; j++) { /* 65535 * 256 < 2^24 */
+        c[2 * j] = PSC_LUT_LON(e0[j]) * ir + PSC_LUT_LON(e1[j]) * fr;
+        c[2 * j + 1] = PSC_LUT_LAT(e0[j]) * ir + PSC_LUT_LAT(e1[j]) * fr;
+    }
+    rs->lut_row = c;
 }
 
 static int32_t half_pixel_x(const psc_frame_t *f, unsigned x)
@@ -66,23 +85,20 @@ static int32_t half_pixel_x(const psc_frame_t *f, unsigned x)
 }
 
 /*
- * The LUT at |xc| half-pixels from the centre: the longitude offset for the
- * right-hand side (negate it on the left) and the latitude. Bilinear over two
- * rows and two columns with Q0.8 weights.
+ * The composite LUT row at |xc| half-pixels from the centre: the longitude
+ * offset for the right-hand side (negate it on the left) and the latitude.
  */
-static PSC_ALWAYS_INLINE void lut_read(const psc_frame_t *f, const row_setup_t *rs, uint32_t ax, uint32_t *lon_right, int32_t *lat)
+static PSC_ALWAYS_INLINE void lut_read(const row_setup_t *rs, uint32_t ax, uint32_t *lon_right, int32_t *lat)
 {
-    uint32_t pos = (uint32_t)(((uint64_t)ax * rs->u_step_q24 + (1u << 15)) >> 16); /* Q8 columns */
-    uint32_t c0 = pos >> 8, fc = pos & 255u, cols = f->lut->cols;
-    if (c0 >= cols - 1u) {
-        c0 = cols - 2u;
+    uint32_t pos = lut_col_q8(rs, ax);
+    uint32_t c0 = pos >> 8, fc = pos & 255u;
+    if (c0 >= rs->lut_cols - 1u) { /* only where the LUT itself ends */
+        c0 = rs->lut_cols - 2u;
         fc = 256;
     }
-    uint32_t a = rs->e0[c0], b = rs->e0[c0 + 1], c = rs->e1[c0], d = rs->e1[c0 + 1];
-    uint32_t ic = 256u - fc, ir = 256u - rs->fr;
-    /* Each sum stays below 2^32: 65535 * 256 * 256 < 2^32. Units of 90deg / 2^32. */
-    uint32_t lon = (PSC_LUT_LON(a) * ic + PSC_LUT_LON(b) * fc) * ir + (PSC_LUT_LON(c) * ic + PSC_LUT_LON(d) * fc) * rs->fr;
-    uint32_t la = (PSC_LUT_LAT(a) * ic + PSC_LUT_LAT(b) * fc) * ir + (PSC_LUT_LAT(c) * ic + PSC_LUT_LAT(d) * fc) * rs->fr;
+    const uint32_t *e = rs->lut_row + 2u * c0, ic = 256u - fc;
+    /* Each sum stays below 2^32: 2^24 * 256. Units of 90deg / 2^32. */
+    uint32_t lon = e[0] * ic + e[2] * fc, la = e[1] * ic + e[3] * fc;
     /* to binary angles (90deg / 2^30), rounded */
     uint32_t lon_bam = (lon >> 2) + ((lon >> 1) & 1u), lat_bam = (la >> 2) + ((la >> 1) & 1u);
     *lon_right = rs->over_pole ? PSC_BAM_180 - lon_bam : lon_bam;
@@ -100,95 +116,102 @@ static PSC_ALWAYS_INLINE int32_t row_of(const psc_viewer_t *v, int32_t lat)
     return (int32_t)((((int64_t)v->map->lat_top - lat) * v->addr.row_per_bam_q32) >> 16) - 32768;
 }
 
-/* A sample from a direction's angles. */
-static PSC_ALWAYS_INLINE psc_scan_sample_t sample_from_angles(const psc_frame_t *f, unsigned x, psc_bam_t lon,
-                                                              int32_t lat, bool polar)
+/* A map position from a direction's angles. */
+typedef struct {
+    int32_t row;
+    uint32_t t;
+} map_pos_t;
+
+static PSC_ALWAYS_INLINE map_pos_t pos_from_angles(const psc_viewer_t *v, psc_bam_t lon, int32_t lat)
 {
-    const psc_viewer_t *v = f->v;
-    psc_scan_sample_t s;
+    map_pos_t p;
     int32_t row = v->addr.fast ? row_of(v, lat) : psc_map_row_q16(v, lat);
     if (v->addr.fast) { /* within the row-offset table's guard rows */
         int32_t bottom = ((int32_t)v->map->height << 16) - 32768;
         row = row < -32768 ? -32768 : row > bottom ? bottom : row;
     }
-    s.row = row;
-    s.t = lon - v->map->lon_min;
-    s.x = (uint16_t)x;
-    s.polar = polar;
-    return s;
+    p.row = row;
+    p.t = lon - v->map->lon_min;
+    return p;
 }
 
-/* The exact direction of pixel x (inside the inner polar cap). */
-static psc_scan_sample_t exact_sample(const psc_frame_t *f, const row_setup_t *rs, unsigned x)
+/* The exact direction through half-pixel coordinates (xc, rs->yc). */
+static map_pos_t exact_pos(const psc_frame_t *f, const row_setup_t *rs, int32_t xc)
 {
     psc_bam_t lon;
     int32_t lat;
-    psc_exact_angles(f, half_pixel_x(f, x), rs->yc, &lon, &lat);
-    return sample_from_angles(f, x, lon, lat, true);
+    psc_exact_angles(f, xc, rs->yc, &lon, &lat);
+    return pos_from_angles(f->v, lon, lat);
 }
 
-/* The sample of pixel x on the side given by the sign of its xc, from a LUT read. */
-static PSC_ALWAYS_INLINE psc_scan_sample_t side_sample(const psc_frame_t *f, const row_setup_t *rs, unsigned x, uint32_t lon_right,
-                                     int32_t lat)
+/* The position at half-pixel xc (any point of the scanline), and whether it lies in a polar cap. */
+static PSC_ALWAYS_INLINE map_pos_t point_pos(const psc_frame_t *f, const row_setup_t *rs, int32_t xc, bool *polar)
 {
-    int32_t abs_lat = lat < 0 ? -lat : lat;
-    if (abs_lat >= f->cap_exact)
-        return exact_sample(f, rs, x);
-    uint32_t lon = half_pixel_x(f, x) < 0 ? (uint32_t)0 - lon_right : lon_right;
-    return sample_from_angles(f, x, f->view->yaw + lon, lat, abs_lat >= f->cap_per_pixel);
-}
-
-/* Any single pixel's sample (used inside polar caps). */
-static psc_scan_sample_t pixel_sample(const psc_frame_t *f, const row_setup_t *rs, unsigned x)
-{
-    int32_t xc = half_pixel_x(f, x);
     uint32_t lon_right;
     int32_t lat;
-    lut_read(f, rs, xc < 0 ? (uint32_t)-xc : (uint32_t)xc, &lon_right, &lat);
-    return side_sample(f, rs, x, lon_right, lat);
+    lut_read(rs, xc < 0 ? (uint32_t)-xc : (uint32_t)xc, &lon_right, &lat);
+    int32_t abs_lat = lat < 0 ? -lat : lat;
+    *polar = abs_lat >= f->cap_per_pixel;
+    if (abs_lat >= f->cap_exact)
+        return exact_pos(f, rs, xc);
+    return pos_from_angles(f->v, f->view->yaw + (xc < 0 ? (uint32_t)0 - lon_right : lon_right), lat);
+}
+
+static PSC_ALWAYS_INLINE void put_sample(const psc_frame_t *f, unsigned k, map_pos_t p, bool polar)
+{
+    f->work.row[k] = p.row;
+    f->work.t[k] = p.t;
+    f->work.polar[k] = polar;
 }
 
 /*
- * Fill v->samples for the scanline: mirrored pairs from both ends, a centre
- * sample if the middle gap exceeds N, and a final copy of the last sample at
- * x = W so that every pixel lies in a span [s[k].x, s[k+1].x). Returns the count.
+ * Fill the boundary samples of the scanline: boundary k at pixel
+ * min(k N, W), k = 0 .. count - 1. Returns the count.
  */
 static unsigned build_samples(const psc_frame_t *f, const row_setup_t *rs)
 {
-    psc_scan_sample_t *s = f->samples;
-    const unsigned w = f->v->out_width, n = f->span, half = w / 2u;
-    const unsigned pairs = (half + n - 1u) / n;            /* left samples: k*n < half */
-    const unsigned last_left = (pairs - 1u) * n, gap = (w - 1u - last_left) - last_left;
-    const bool centre = gap > n;
-    const unsigned count = 2u * pairs + (centre ? 1u : 0u) + 1u;
-    for (unsigned k = 0; k < pairs; k++) {
-        unsigned xl = k * n, xr = w - 1u - xl;
-        uint32_t lon_right;
+    const unsigned w = f->v->out_width, n = f->span, count = (w + n - 1u) / n + 1u;
+    if (w % n != 0) { /* boundaries not mirrored: one LUT read each */
+        for (unsigned k = 0; k < count; k++) {
+            unsigned b = k * n < w ? k * n : w;
+            bool polar;
+            map_pos_t p = point_pos(f, rs, 2 * (int32_t)b - (int32_t)w, &polar);
+            put_sample(f, k, p, polar);
+        }
+        return count;
+    }
+    const psc_bam_t yaw = f->view->yaw;
+    for (unsigned k = 0; 2u * k * n <= w; k++) {
+        uint32_t ax = w - 2u * k * n, lon_right; /* |xc| of boundaries k and count - 1 - k */
         int32_t lat;
-        lut_read(f, rs, (uint32_t)-half_pixel_x(f, xl), &lon_right, &lat);
+        lut_read(rs, ax, &lon_right, &lat);
         int32_t abs_lat = lat < 0 ? -lat : lat;
+        bool polar = abs_lat >= f->cap_per_pixel;
         if (abs_lat >= f->cap_exact) {
-            s[k] = exact_sample(f, rs, xl);
-            s[count - 2u - k] = exact_sample(f, rs, xr);
+            put_sample(f, k, exact_pos(f, rs, -(int32_t)ax), polar);
+            put_sample(f, count - 1u - k, exact_pos(f, rs, (int32_t)ax), polar);
             continue;
         }
-        bool polar = abs_lat >= f->cap_per_pixel;
-        psc_bam_t yaw = f->view->yaw;
-        s[k] = sample_from_angles(f, xl, yaw - lon_right, lat, polar);
-        s[count - 2u - k] = sample_from_angles(f, xr, yaw + lon_right, lat, polar);
+        put_sample(f, k, pos_from_angles(f->v, yaw - lon_right, lat), polar);
+        put_sample(f, count - 1u - k, pos_from_angles(f->v, yaw + lon_right, lat), polar);
     }
-    if (centre)
-        s[pairs] = pixel_sample(f, rs, last_left + gap / 2u);
-    s[count - 1u] = s[count - 2u];
-    s[count - 1u].x = (uint16_t)w;
     return count;
 }
 
-/* Per-pixel steps from sample a to b over n pixels: a shift for full spans. */
-static PSC_ALWAYS_INLINE void span_steps(const psc_frame_t *f, const psc_scan_sample_t *a, const psc_scan_sample_t *b,
-                                         unsigned n, int32_t *drow, int32_t *dt)
+/*
+ * The span from boundary k to k + 1 (n pixels): its first pixel's position
+ * and the per-pixel steps, a shift for full spans.
+ */
+typedef struct {
+    int32_t row, drow, dt;
+    uint32_t t;
+} span_t;
+
+static PSC_ALWAYS_INLINE span_t span_at(const psc_frame_t *f, unsigned k, unsigned n)
 {
-    int32_t dr = b->row - a->row, dl = (int32_t)(b->t - a->t); /* the short way round */
+    const int32_t *row = f->work.row;
+    const uint32_t *t = f->work.t;
+    int32_t dr = row[k + 1] - row[k], dl = (int32_t)(t[k + 1] - t[k]); /* the short way round */
     if (n == f->span) {
         dr >>= f->view->span_log2;
         dl >>= f->view->span_log2;
@@ -196,8 +219,8 @@ static PSC_ALWAYS_INLINE void span_steps(const psc_frame_t *f, const psc_scan_sa
         dr /= (int32_t)n;
         dl /= (int32_t)n;
     }
-    *drow = dr;
-    *dt = dl;
+    span_t s = {row[k] + (dr >> 1), dr, dl, t[k] + (uint32_t)(dl >> 1)};
+    return s;
 }
 
 /* ---- the general path: one pixel at a time ------------------------------------------ */
@@ -239,16 +262,15 @@ static void put_general(const psc_frame_t *f, unsigned x, int32_t row, uint32_t 
         ((uint32_t *)(void *)f->dst)[x] = px;
 }
 
-/* Pixels [x, x + n) from sample a in steps, through the general samplers, the pyramid or the trace. */
-static void span_general(const psc_frame_t *f, const row_setup_t *rs, unsigned x, unsigned n, int32_t row,
-                         uint32_t t, int32_t drow, int32_t dt)
+/* Pixels [x, x + n) of a span through the general samplers, the pyramid or the trace. */
+static void span_general(const psc_frame_t *f, const row_setup_t *rs, unsigned x, unsigned n, span_t s)
 {
     if (f->mip && f->sink != PSC_SINK_TRACE) {
-        psc_span_mip(f, x, n, row, t, drow, dt, pixel_lod_q8(f, rs, x + n / 2u));
+        psc_span_mip(f, x, n, s.row, s.t, s.drow, s.dt, pixel_lod_q8(f, rs, x + n / 2u));
         return;
     }
-    for (unsigned i = 0; i < n; i++, row += drow, t += (uint32_t)dt)
-        put_general(f, x + i, row, t);
+    for (unsigned i = 0; i < n; i++, s.row += s.drow, s.t += (uint32_t)s.dt)
+        put_general(f, x + i, s.row, s.t);
 }
 
 /* ---- the fast spans: full-turn rectangular maps ------------------------------------------ */
@@ -285,11 +307,6 @@ static PSC_ALWAYS_INLINE void store(void *dst, unsigned x, uint32_t px, const ps
         ((uint32_t *)dst)[x] = px;
 }
 
-/*
- * Pixels [x, x + n) from (row, t) in steps (drow, dt) for one combination
- * of filter, map format and output, all compile-time constants once inlined.
- * pow2: the map width is a power of two (columns by shift).
- */
 /* What every fast span of a scanline reads: loaded once, kept in registers across the spans. */
 typedef struct {
     const uint8_t *base;
@@ -300,9 +317,22 @@ typedef struct {
     void *dst;
 } fast_ctx_t;
 
-static PSC_ALWAYS_INLINE void span_fast(const fast_ctx_t *cx, unsigned x, unsigned n, int32_t row, uint32_t t,
-                                        int32_t drow, int32_t dt, const psc_filter_t filter, const psc_pixfmt_t in,
-                                        const psc_sink_t sink, const bool pow2)
+static fast_ctx_t fast_ctx(const psc_frame_t *f)
+{
+    const psc_viewer_t *v = f->v;
+    fast_ctx_t cx = {v->map->pixels, v->row_offsets, v->map->width, v->col_shift, v->half_col_bam,
+                     v->map->palette, v->palette565, f->dst};
+    return cx;
+}
+
+/*
+ * Pixels [x, x + n) of span s for one combination of filter, map format and
+ * output, all compile-time constants once inlined.
+ * pow2: the map width is a power of two (columns by shift).
+ */
+static PSC_ALWAYS_INLINE void span_fast(const fast_ctx_t *cx, unsigned x, unsigned n, span_t s,
+                                        const psc_filter_t filter, const psc_pixfmt_t in, const psc_sink_t sink,
+                                        const bool pow2)
 {
     const uint8_t *base = cx->base;
     const uint32_t *rowoff = cx->rowoff;
@@ -310,14 +340,14 @@ static PSC_ALWAYS_INLINE void span_fast(const fast_ctx_t *cx, unsigned x, unsign
     const uint32_t *pal = cx->pal;
     const uint16_t *pal565 = cx->pal565;
     /* Rows biased by one (the guard row) so the table index is never negative. */
-    uint32_t r = (uint32_t)(row + 65536);
+    uint32_t r = (uint32_t)(s.row + 65536), t = s.t;
     if (filter == PSC_FILTER_NEAREST) {
         r += 32768; /* round to the nearest row */
         for (unsigned i = 0; i < n; i++) {
             uint32_t c = pow2 ? t >> sh : (uint32_t)(((uint64_t)t * w) >> 32);
             store(cx->dst, x + i, texel_out(base + rowoff[r >> 16], c, in, sink, pal, pal565), sink);
-            r += (uint32_t)drow;
-            t += (uint32_t)dt;
+            r += (uint32_t)s.drow;
+            t += (uint32_t)s.dt;
         }
         return;
     }
@@ -346,52 +376,8 @@ static PSC_ALWAYS_INLINE void span_fast(const fast_ctx_t *cx, unsigned x, unsign
                 px = psc_xrgb_to_rgb565(px);
         }
         store(cx->dst, x + i, px, sink);
-        r += (uint32_t)drow;
-        t += (uint32_t)dt;
-    }
-}
-
-static void polar_pixels(const psc_frame_t *f, const row_setup_t *rs, unsigned x, unsigned n);
-
-/* Every span of a scanline through one specialised span_fast. */
-static PSC_ALWAYS_INLINE void spans_fast(const psc_frame_t *f, const row_setup_t *rs, const psc_scan_sample_t *s,
-                                         unsigned count, const psc_filter_t filter, const psc_pixfmt_t in,
-                                         const psc_sink_t sink, const bool pow2)
-{
-    const psc_viewer_t *v = f->v;
-    const fast_ctx_t cx = {v->map->pixels, v->row_offsets, v->map->width, v->col_shift, v->half_col_bam,
-                           v->map->palette, v->palette565, f->dst};
-    for (unsigned k = 0; k + 1u < count; k++) {
-        const psc_scan_sample_t *a = &s[k], *b = &s[k + 1u];
-        unsigned n = (unsigned)b->x - a->x;
-        if (a->polar | b->polar) {
-            polar_pixels(f, rs, a->x, n);
-            continue;
-        }
-        int32_t drow, dt;
-        span_steps(f, a, b, n, &drow, &dt);
-        span_fast(&cx, a->x, n, a->row, a->t, drow, dt, filter, in, sink, pow2);
-    }
-}
-
-#define SPANS(filter, in, sink) \
-    (pow2 ? spans_fast(f, rs, s, count, filter, in, sink, true) : spans_fast(f, rs, s, count, filter, in, sink, false))
-#define SPANS_FOR_FORMAT(in)                                                                              \
-    do {                                                                                                  \
-        if (nearest)                                                                                      \
-            to565 ? SPANS(PSC_FILTER_NEAREST, in, PSC_SINK_RGB565) : SPANS(PSC_FILTER_NEAREST, in, PSC_SINK_XRGB8888); \
-        else                                                                                              \
-            to565 ? SPANS(PSC_FILTER_BILINEAR, in, PSC_SINK_RGB565) : SPANS(PSC_FILTER_BILINEAR, in, PSC_SINK_XRGB8888); \
-    } while (0)
-
-static void spans_fast_dispatch(const psc_frame_t *f, const row_setup_t *rs, const psc_scan_sample_t *s, unsigned count)
-{
-    const bool nearest = f->filter == PSC_FILTER_NEAREST, to565 = f->sink == PSC_SINK_RGB565;
-    const bool pow2 = f->v->col_shift != 0;
-    switch (f->v->map->format) {
-    case PSC_PIX_RGB565: SPANS_FOR_FORMAT(PSC_PIX_RGB565); break;
-    case PSC_PIX_XRGB8888: SPANS_FOR_FORMAT(PSC_PIX_XRGB8888); break;
-    case PSC_PIX_PAL8: SPANS_FOR_FORMAT(PSC_PIX_PAL8); break;
+        r += (uint32_t)s.drow;
+        t += (uint32_t)s.dt;
     }
 }
 
@@ -401,20 +387,77 @@ static bool uses_fast_spans(const psc_frame_t *f)
     return f->v->addr.fast && !f->mip && f->sink != PSC_SINK_TRACE;
 }
 
-/* Inside a polar cap: each pixel's own sample, drawn alone. */
+#define FAST_VARIANTS(X)                                                                                   \
+    X(PSC_FILTER_NEAREST, PSC_PIX_RGB565, PSC_SINK_RGB565)                                                 \
+    X(PSC_FILTER_NEAREST, PSC_PIX_RGB565, PSC_SINK_XRGB8888)                                               \
+    X(PSC_FILTER_NEAREST, PSC_PIX_XRGB8888, PSC_SINK_RGB565)                                               \
+    X(PSC_FILTER_NEAREST, PSC_PIX_XRGB8888, PSC_SINK_XRGB8888)                                             \
+    X(PSC_FILTER_NEAREST, PSC_PIX_PAL8, PSC_SINK_RGB565)                                                   \
+    X(PSC_FILTER_NEAREST, PSC_PIX_PAL8, PSC_SINK_XRGB8888)                                                 \
+    X(PSC_FILTER_BILINEAR, PSC_PIX_RGB565, PSC_SINK_RGB565)                                                \
+    X(PSC_FILTER_BILINEAR, PSC_PIX_RGB565, PSC_SINK_XRGB8888)                                              \
+    X(PSC_FILTER_BILINEAR, PSC_PIX_XRGB8888, PSC_SINK_RGB565)                                              \
+    X(PSC_FILTER_BILINEAR, PSC_PIX_XRGB8888, PSC_SINK_XRGB8888)                                            \
+    X(PSC_FILTER_BILINEAR, PSC_PIX_PAL8, PSC_SINK_RGB565)                                                  \
+    X(PSC_FILTER_BILINEAR, PSC_PIX_PAL8, PSC_SINK_XRGB8888)
+
+/* One pixel (inside a polar cap) through the fast sampler of the frame's combination. */
+static void pixel_fast(const psc_frame_t *f, unsigned x, map_pos_t p)
+{
+    const fast_ctx_t cx = fast_ctx(f);
+    const span_t s = {p.row, 0, 0, p.t};
+    const bool pow2 = f->v->col_shift != 0;
+#define PIXEL_FAST(fl_, in_, sink_)                                                                           \
+    if (f->filter == fl_ && f->v->map->format == in_ && f->sink == sink_) {                                   \
+        pow2 ? span_fast(&cx, x, 1, s, fl_, in_, sink_, true) : span_fast(&cx, x, 1, s, fl_, in_, sink_, false); \
+        return;                                                                                            \
+    }
+    FAST_VARIANTS(PIXEL_FAST)
+#undef PIXEL_FAST
+}
+
+/* Inside a polar cap: each pixel's own position, drawn alone. */
 static void polar_pixels(const psc_frame_t *f, const row_setup_t *rs, unsigned x, unsigned n)
 {
     for (unsigned i = 0; i < n; i++) {
-        psc_scan_sample_t p = pixel_sample(f, rs, x + i);
+        bool polar;
+        map_pos_t p = point_pos(f, rs, half_pixel_x(f, x + i), &polar);
         if (uses_fast_spans(f)) {
-            psc_scan_sample_t pair[2] = {p, p};
-            pair[0].polar = pair[1].polar = 0;
-            pair[1].x = (uint16_t)(x + i + 1u);
-            spans_fast_dispatch(f, rs, pair, 2);
+            pixel_fast(f, x + i, p);
         } else {
-            span_general(f, rs, x + i, 1, p.row, p.t, 0, 0);
+            span_t s = {p.row, 0, 0, p.t};
+            span_general(f, rs, x + i, 1, s);
         }
     }
+}
+
+/* Every span of a scanline through one specialised span_fast. */
+static PSC_ALWAYS_INLINE void spans_fast(const psc_frame_t *f, const row_setup_t *rs, unsigned count,
+                                         const psc_filter_t filter, const psc_pixfmt_t in, const psc_sink_t sink,
+                                         const bool pow2)
+{
+    const fast_ctx_t cx = fast_ctx(f);
+    const unsigned w = f->v->out_width, n = f->span;
+    const uint8_t *polar = f->work.polar;
+    for (unsigned k = 0, x = 0; k + 1u < count; k++, x += n) {
+        unsigned len = w - x < n ? w - x : n;
+        if (polar[k] | polar[k + 1u])
+            polar_pixels(f, rs, x, len);
+        else
+            span_fast(&cx, x, len, span_at(f, k, len), filter, in, sink, pow2);
+    }
+}
+
+static void spans_fast_dispatch(const psc_frame_t *f, const row_setup_t *rs, unsigned count)
+{
+    const bool pow2 = f->v->col_shift != 0;
+#define SPANS_FAST(fl_, in_, sink_)                                                                            \
+    if (f->filter == fl_ && f->v->map->format == in_ && f->sink == sink_) {                                    \
+        pow2 ? spans_fast(f, rs, count, fl_, in_, sink_, true) : spans_fast(f, rs, count, fl_, in_, sink_, false); \
+        return;                                                                                             \
+    }
+    FAST_VARIANTS(SPANS_FAST)
+#undef SPANS_FAST
 }
 
 void psc_scanline_render(const psc_frame_t *f, unsigned y)
@@ -422,20 +465,16 @@ void psc_scanline_render(const psc_frame_t *f, unsigned y)
     row_setup_t rs;
     row_setup(f, y, &rs);
     unsigned count = build_samples(f, &rs);
-    const psc_scan_sample_t *s = f->samples;
     if (uses_fast_spans(f)) {
-        spans_fast_dispatch(f, &rs, s, count);
+        spans_fast_dispatch(f, &rs, count);
         return;
     }
-    for (unsigned k = 0; k + 1u < count; k++) {
-        const psc_scan_sample_t *a = &s[k], *b = &s[k + 1u];
-        unsigned n = (unsigned)b->x - a->x;
-        if (a->polar | b->polar) {
-            polar_pixels(f, &rs, a->x, n);
-            continue;
-        }
-        int32_t drow, dt;
-        span_steps(f, a, b, n, &drow, &dt);
-        span_general(f, &rs, a->x, n, a->row, a->t, drow, dt);
+    const unsigned w = f->v->out_width, n = f->span;
+    for (unsigned k = 0, x = 0; k + 1u < count; k++, x += n) {
+        unsigned len = w - x < n ? w - x : n;
+        if (f->work.polar[k] | f->work.polar[k + 1u])
+            polar_pixels(f, &rs, x, len);
+        else
+            span_general(f, &rs, x, len, span_at(f, k, len));
     }
 }
