@@ -51,6 +51,8 @@ static void print_usage(FILE *f)
             "  --repeat K          render K times and report the time per frame (default 1)\n"
             "  --threads N         render on N threads, bands of rows each (default: the processors online);\n"
             "                      the bytes are the same for any N\n"
+            "  --simd S            code path: auto (default: the fastest this CPU has), scalar, vector\n"
+            "                      (SSE2/NEON) or avx2; the bytes are the same for each\n"
             "  --size WxH          output size (default: the pack's display size)\n"
             "  --format F          output surface: rgb565 (default) or xrgb8888\n"
             "  -o view.png         output PNG\n"
@@ -70,6 +72,7 @@ typedef struct {
     unsigned long repeat, threads;
     uint16_t width, height;
     psc_pixfmt_t format;
+    psc_simd_t simd;
 } args_t;
 
 static int span_to_log2(const char *v, uint8_t *log2)
@@ -118,6 +121,13 @@ static int parse_value(args_t *a, const char *name, const char *v)
     } else if (strcmp(name, "--threads") == 0) {
         if (psc_cli_parse_uint(v, 1, PSC_IO_BANDS_MAX_THREADS, &a->threads) != 0)
             return usage_error("--threads '%s': expected 1..%u", v, PSC_IO_BANDS_MAX_THREADS);
+    } else if (strcmp(name, "--simd") == 0) {
+        psc_simd_t k;
+        for (k = PSC_SIMD_AUTO; k <= PSC_SIMD_AVX2 && strcmp(v, psc_simd_name(k)) != 0; k++)
+            ;
+        if (k > PSC_SIMD_AVX2)
+            return usage_error("--simd '%s': expected auto, scalar, vector or avx2", v);
+        a->simd = k;
     } else if (strcmp(name, "--size") == 0) {
         if (psc_cli_parse_size(v, PSC_MAX_OUT_DIM, &a->width, &a->height) != 0)
             return usage_error("--size '%s': expected WxH, each 1..%u", v, (unsigned)PSC_MAX_OUT_DIM);
@@ -138,7 +148,8 @@ static const struct option render_options[] = {
     {"hfov", required_argument, NULL, 1},   {"filter", required_argument, NULL, 1},
     {"span", required_argument, NULL, 1},   {"repeat", required_argument, NULL, 1},
     {"size", required_argument, NULL, 1},   {"format", required_argument, NULL, 1},
-    {"threads", required_argument, NULL, 1}, PSC_IO_CLI_COMMON_OPTIONS,
+    {"threads", required_argument, NULL, 1}, {"simd", required_argument, NULL, 1},
+    PSC_IO_CLI_COMMON_OPTIONS,
 };
 
 static int parse_args(int argc, char **argv, args_t *a)
@@ -218,9 +229,9 @@ static int render_frames(psc_viewer_t *viewer, psc_io_bands_t *bands, const psc_
     }
     if (repeat > 1) {
         double mean = total / (double)repeat, mpix = (double)out->width * out->height / 1e6;
-        fprintf(stderr, PROG ": %lu frames of %ux%u on %u thread%s: %.3f ms per frame (best %.3f ms), %.1f Mpixel/s\n",
+        fprintf(stderr, PROG ": %lu frames of %ux%u on %u thread%s (%s): %.3f ms per frame (best %.3f ms), %.1f Mpixel/s\n",
                 repeat, (unsigned)out->width, (unsigned)out->height, psc_io_bands_threads(bands),
-                psc_io_bands_threads(bands) == 1 ? "" : "s", mean * 1e3, best * 1e3, mpix / mean);
+                psc_io_bands_threads(bands) == 1 ? "" : "s", psc_simd_name(psc_viewer_simd(viewer)), mean * 1e3, best * 1e3, mpix / mean);
     }
     return 0;
 }
@@ -266,6 +277,8 @@ int main(int argc, char **argv)
                (s = psc_viewer_set_levels(&viewer, pack->levels, pack->level_count)) != PSC_OK) {
         fprintf(stderr, PROG ": %s: cannot set up a %ux%u viewer: %s\n", a.pack, (unsigned)w, (unsigned)h,
                 psc_status_str(s));
+    } else if (psc_viewer_set_simd(&viewer, a.simd) != PSC_OK) {
+        fprintf(stderr, PROG ": --simd %s: this build or this processor does not have it\n", psc_simd_name(a.simd));
     } else {
         psc_view_t want = {
             .yaw = a.have_yaw ? psc_bam_from_deg(a.yaw) : pack->default_yaw,

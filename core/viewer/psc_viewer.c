@@ -231,6 +231,57 @@ static void polar_caps(const psc_viewer_t *v, const psc_lut_t *lut, unsigned spa
     *per_pixel = polar_cap_lat(v, s > cell ? s : cell);
 }
 
+/* ---- the scanline code path ---------------------------------------------------- */
+
+/* The AVX2 kernel reads aligned 32-bit words around each texel: the map and its rows must be 4-byte aligned. */
+static bool map_words_aligned(const psc_envmap_t *m)
+{
+    return ((uintptr_t)m->pixels & 3u) == 0 && (m->stride & 3u) == 0;
+}
+
+static psc_simd_row_fn simd_kernel(const psc_viewer_t *v, psc_simd_t simd)
+{
+    switch (simd) {
+    case PSC_SIMD_AUTO: {
+        psc_simd_row_fn k = psc_simd_row_avx2();
+        return k && map_words_aligned(v->map) ? k : psc_simd_row_vector();
+    }
+    case PSC_SIMD_VECTOR: return psc_simd_row_vector();
+    case PSC_SIMD_AVX2: return map_words_aligned(v->map) ? psc_simd_row_avx2() : 0;
+    case PSC_SIMD_SCALAR: break;
+    }
+    return 0;
+}
+
+psc_status_t psc_viewer_set_simd(psc_viewer_t *v, psc_simd_t simd)
+{
+    if (!v || simd > PSC_SIMD_AVX2)
+        return PSC_ERR_ARG;
+    if (simd != PSC_SIMD_AUTO && simd != PSC_SIMD_SCALAR && !simd_kernel(v, simd))
+        return PSC_ERR_UNSUPPORTED;
+    v->simd = (uint8_t)simd;
+    return PSC_OK;
+}
+
+psc_simd_t psc_viewer_simd(const psc_viewer_t *v)
+{
+    psc_simd_row_fn k = simd_kernel(v, (psc_simd_t)v->simd);
+    if (!k)
+        return PSC_SIMD_SCALAR;
+    return k == psc_simd_row_avx2() ? PSC_SIMD_AVX2 : PSC_SIMD_VECTOR;
+}
+
+const char *psc_simd_name(psc_simd_t simd)
+{
+    switch (simd) {
+    case PSC_SIMD_AUTO: return "auto";
+    case PSC_SIMD_SCALAR: return "scalar";
+    case PSC_SIMD_VECTOR: return "vector";
+    case PSC_SIMD_AVX2: return "avx2";
+    }
+    return "?";
+}
+
 /* ---- public entry points ------------------------------------------------------- */
 
 static bool view_ok(const psc_viewer_t *v, const psc_view_t *view)
@@ -267,6 +318,7 @@ static psc_status_t frame_begin(const psc_viewer_t *v, const psc_view_t *view, p
     f->v = v;
     f->view = view;
     f->work = scan_work(scratch, v->out_width);
+    f->simd_row = simd_kernel(v, (psc_simd_t)v->simd);
     f->lut = v->cached_lut;
     f->span = 1u << view->span_log2;
     f->sink = sink;

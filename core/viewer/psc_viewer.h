@@ -56,6 +56,19 @@ typedef struct {
     uint8_t span_log2;    /* LUT read every (1 << span_log2) pixels */
 } psc_view_t;
 
+/**
+ * The code path that draws the viewer's scanlines. Every path gives the same
+ * bytes (tests/test_simd.c); AUTO, the default, takes the fastest the build
+ * and the CPU have: AVX2 on x86-64 CPUs that have it, else the baseline
+ * vectors (SSE2 on x86-64, NEON on arm64 and armhf), else scalar.
+ */
+typedef enum {
+    PSC_SIMD_AUTO = 0,
+    PSC_SIMD_SCALAR,
+    PSC_SIMD_VECTOR, /* the baseline vectors: SSE2 or NEON */
+    PSC_SIMD_AVX2
+} psc_simd_t;
+
 /** Per-scanline values that depend on zoom only (the seed's scale-factor table). */
 typedef struct {
     int32_t v;              /* bam: atan(y / d), the scanline's angle from the view axis */
@@ -92,6 +105,7 @@ typedef struct {
     uint32_t *row_offsets;      /* fast maps: byte offset of map row r at [r + 1], r = -1 .. H (edges repeated) */
     void *scratch;              /* a band's scanline workspace, for psc_viewer_render and tracing */
     uint8_t col_shift;          /* 32 - log2(W) for a power-of-two width, else 0 */
+    uint8_t simd;               /* psc_simd_t: PSC_SIMD_AUTO unless psc_viewer_set_simd says otherwise */
     uint32_t half_col_bam;      /* half a map column as a binary angle, 2^31 / W */
     /* cached zoom state */
     psc_bam_t cached_hfov;
@@ -121,6 +135,16 @@ psc_status_t psc_viewer_init(psc_viewer_t *v, const psc_envmap_t *map,
  * levels must outlive the viewer. PSC_ERR_ARG if they do not match.
  */
 psc_status_t psc_viewer_set_levels(psc_viewer_t *v, const psc_envmap_t *levels, unsigned count);
+
+/**
+ * Choose the scanline code path (psc_simd_t). PSC_ERR_UNSUPPORTED, and the
+ * choice unchanged, if this build or this CPU lacks it.
+ */
+psc_status_t psc_viewer_set_simd(psc_viewer_t *v, psc_simd_t simd);
+/** The path that draws the viewer's frames: never PSC_SIMD_AUTO. */
+psc_simd_t psc_viewer_simd(const psc_viewer_t *v);
+/** "scalar", "vector", "avx2". */
+const char *psc_simd_name(psc_simd_t simd);
 
 /** Widest hfov the viewer's tables serve. */
 psc_bam_t psc_viewer_hfov_max(const psc_viewer_t *v);

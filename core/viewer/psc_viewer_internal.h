@@ -9,6 +9,7 @@
 #include "viewer/psc_viewer.h"
 #include "base/psc_fixed.h"
 #include "base/psc_pixel.h"
+#include "viewer/psc_viewer_simd.h"
 
 #define PSC_LAT_TABLE_SHIFT 19u /* 2^31 bam (180 degrees) / 4096 intervals */
 
@@ -47,6 +48,7 @@ typedef struct {
     const psc_viewer_t *v;
     const psc_view_t *view;
     psc_scan_work_t work;          /* this band's scanline workspace */
+    psc_simd_row_fn simd_row;      /* the vector kernel, or NULL for the scalar path only */
     const psc_lut_t *lut;
     int32_t sin_pitch, cos_pitch;  /* Q2.30 */
     int32_t cap_per_pixel;         /* |lat| >= this: LUT read at every pixel (polar cap) */

@@ -30,6 +30,7 @@
  * polar cap read the LUT (or compute exactly) at every pixel.
  */
 #include "viewer/psc_viewer_internal.h"
+#include "viewer/psc_viewer_simd.h"
 
 /* ---- the scanline's LUT row ------------------------------------------------------ */
 
@@ -41,6 +42,7 @@ typedef struct {
     uint32_t u_step_q24;
     uint32_t mag_q8;         /* sqrt(yc^2 + d^2), Q8 half-pixels */
     int32_t yc;              /* half-pixels, up */
+    bool any_polar;          /* a sample of the scanline lies in a polar cap */
 } row_setup_t;
 
 /* LUT column of a point |xc| half-pixels from the centre, Q8. */
@@ -157,29 +159,86 @@ static PSC_ALWAYS_INLINE map_pos_t point_pos(const psc_frame_t *f, const row_set
     return pos_from_angles(f->v, f->view->yaw + (xc < 0 ? (uint32_t)0 - lon_right : lon_right), lat);
 }
 
-static PSC_ALWAYS_INLINE void put_sample(const psc_frame_t *f, unsigned k, map_pos_t p, bool polar)
+static PSC_ALWAYS_INLINE void put_sample(const psc_frame_t *f, row_setup_t *rs, unsigned k, map_pos_t p, bool polar)
 {
+    rs->any_polar |= polar;
     f->work.row[k] = p.row;
     f->work.t[k] = p.t;
     f->work.polar[k] = polar;
 }
 
 /*
+ * build_samples for full-turn maps with linear rows (equirect), N dividing W:
+ * the same samples with the per-scanline constants in registers and each
+ * LUT read's row computed once for its two samples. The row is
+ * ((lat_top - lat) * rows_per_bam) >> 16 - 1/2 with lat = sign * lat_bam,
+ * expanded as lat_top * rows_per_bam - sign * rows_per_bam * lat_bam (exact
+ * in 64 bits: |lat_top| <= 2^30, rows_per_bam < 2^22).
+ */
+static unsigned build_samples_linear(const psc_frame_t *f, row_setup_t *rs, unsigned count)
+{
+    const psc_viewer_t *v = f->v;
+    const unsigned w = v->out_width, n = f->span;
+    const int64_t rpb = v->addr.row_per_bam_q32, row_base = (int64_t)v->map->lat_top * rpb;
+    const int64_t row_per_lat = rs->lat_negative ? rpb : -rpb;
+    const int32_t bottom = ((int32_t)v->map->height << 16) - 32768;
+    const uint32_t pole_base = rs->over_pole ? PSC_BAM_180 : 0u, pole_sign = rs->over_pole ? (uint32_t)-1 : 1u;
+    const uint32_t t_base = f->view->yaw - v->map->lon_min, cols = rs->lut_cols, u_step = rs->u_step_q24;
+    const int32_t cap_pp = f->cap_per_pixel, cap_exact = f->cap_exact;
+    const uint32_t *lut_row = rs->lut_row;
+    int32_t *row = f->work.row;
+    uint32_t *t = f->work.t;
+    uint8_t *polar = f->work.polar, any = 0;
+    for (unsigned k = 0; 2u * k * n <= w; k++) {
+        uint32_t ax = w - 2u * k * n, r = count - 1u - k;
+        uint32_t pos = (uint32_t)(((uint64_t)ax * u_step + (1u << 15)) >> 16);
+        uint32_t c0 = pos >> 8, fc = pos & 255u;
+        if (c0 >= cols - 1u) {
+            c0 = cols - 2u;
+            fc = 256;
+        }
+        const uint32_t *e = lut_row + 2u * c0, ic = 256u - fc;
+        uint32_t lon = e[0] * ic + e[2] * fc, la = e[1] * ic + e[3] * fc;
+        uint32_t lon_bam = (uint32_t)(((uint64_t)lon + 2u) >> 2), lat_bam = (uint32_t)(((uint64_t)la + 2u) >> 2);
+        int32_t abs_lat = (int32_t)lat_bam; /* < 2^31: at most 90 degrees */
+        uint8_t p = abs_lat >= cap_pp;
+        if (abs_lat >= cap_exact) {
+            map_pos_t a = exact_pos(f, rs, -(int32_t)ax), b = exact_pos(f, rs, (int32_t)ax);
+            row[k] = a.row, t[k] = a.t, polar[k] = 1;
+            row[r] = b.row, t[r] = b.t, polar[r] = 1;
+            any = 1;
+            continue;
+        }
+        uint32_t lon_right = pole_base + pole_sign * lon_bam;
+        int32_t y = (int32_t)((row_base + row_per_lat * lat_bam) >> 16) - 32768;
+        y = y < -32768 ? -32768 : y > bottom ? bottom : y;
+        row[k] = y, t[k] = t_base - lon_right, polar[k] = p;
+        row[r] = y, t[r] = t_base + lon_right, polar[r] = p;
+        any |= p;
+    }
+    rs->any_polar = any;
+    return count;
+}
+
+/*
  * Fill the boundary samples of the scanline: boundary k at pixel
  * min(k N, W), k = 0 .. count - 1. Returns the count.
  */
-static unsigned build_samples(const psc_frame_t *f, const row_setup_t *rs)
+static unsigned build_samples(const psc_frame_t *f, row_setup_t *rs)
 {
+    rs->any_polar = false;
     const unsigned w = f->v->out_width, n = f->span, count = (w + n - 1u) / n + 1u;
     if (w % n != 0) { /* boundaries not mirrored: one LUT read each */
         for (unsigned k = 0; k < count; k++) {
             unsigned b = k * n < w ? k * n : w;
             bool polar;
             map_pos_t p = point_pos(f, rs, 2 * (int32_t)b - (int32_t)w, &polar);
-            put_sample(f, k, p, polar);
+            put_sample(f, rs, k, p, polar);
         }
         return count;
     }
+    if (f->v->addr.fast && !f->v->addr.row_table)
+        return build_samples_linear(f, rs, count);
     const psc_bam_t yaw = f->view->yaw;
     for (unsigned k = 0; 2u * k * n <= w; k++) {
         uint32_t ax = w - 2u * k * n, lon_right; /* |xc| of boundaries k and count - 1 - k */
@@ -188,12 +247,12 @@ static unsigned build_samples(const psc_frame_t *f, const row_setup_t *rs)
         int32_t abs_lat = lat < 0 ? -lat : lat;
         bool polar = abs_lat >= f->cap_per_pixel;
         if (abs_lat >= f->cap_exact) {
-            put_sample(f, k, exact_pos(f, rs, -(int32_t)ax), polar);
-            put_sample(f, count - 1u - k, exact_pos(f, rs, (int32_t)ax), polar);
+            put_sample(f, rs, k, exact_pos(f, rs, -(int32_t)ax), polar);
+            put_sample(f, rs, count - 1u - k, exact_pos(f, rs, (int32_t)ax), polar);
             continue;
         }
-        put_sample(f, k, pos_from_angles(f->v, yaw - lon_right, lat), polar);
-        put_sample(f, count - 1u - k, pos_from_angles(f->v, yaw + lon_right, lat), polar);
+        put_sample(f, rs, k, pos_from_angles(f->v, yaw - lon_right, lat), polar);
+        put_sample(f, rs, count - 1u - k, pos_from_angles(f->v, yaw + lon_right, lat), polar);
     }
     return count;
 }
@@ -431,33 +490,53 @@ static void polar_pixels(const psc_frame_t *f, const row_setup_t *rs, unsigned x
     }
 }
 
-/* Every span of a scanline through one specialised span_fast. */
-static PSC_ALWAYS_INLINE void spans_fast(const psc_frame_t *f, const row_setup_t *rs, unsigned count,
+/* The spans of a scanline from pixel x0 on through one specialised span_fast. */
+static PSC_ALWAYS_INLINE void spans_fast(const psc_frame_t *f, const row_setup_t *rs, unsigned count, unsigned x0,
                                          const psc_filter_t filter, const psc_pixfmt_t in, const psc_sink_t sink,
                                          const bool pow2)
 {
     const fast_ctx_t cx = fast_ctx(f);
     const unsigned w = f->v->out_width, n = f->span;
     const uint8_t *polar = f->work.polar;
-    for (unsigned k = 0, x = 0; k + 1u < count; k++, x += n) {
-        unsigned len = w - x < n ? w - x : n;
-        if (polar[k] | polar[k + 1u])
-            polar_pixels(f, rs, x, len);
-        else
-            span_fast(&cx, x, len, span_at(f, k, len), filter, in, sink, pow2);
+    for (unsigned k = x0 / n, x = k * n; k + 1u < count; k++, x += n) {
+        unsigned len = w - x < n ? w - x : n, skip = x0 > x ? x0 - x : 0u;
+        if (polar[k] | polar[k + 1u]) {
+            polar_pixels(f, rs, x + skip, len - skip);
+            continue;
+        }
+        span_t s = span_at(f, k, len);
+        s.row = (int32_t)((uint32_t)s.row + skip * (uint32_t)s.drow);
+        s.t += skip * (uint32_t)s.dt;
+        span_fast(&cx, x + skip, len - skip, s, filter, in, sink, pow2);
     }
 }
 
-static void spans_fast_dispatch(const psc_frame_t *f, const row_setup_t *rs, unsigned count)
+static void spans_fast_dispatch(const psc_frame_t *f, const row_setup_t *rs, unsigned count, unsigned x0)
 {
     const bool pow2 = f->v->col_shift != 0;
-#define SPANS_FAST(fl_, in_, sink_)                                                                            \
-    if (f->filter == fl_ && f->v->map->format == in_ && f->sink == sink_) {                                    \
-        pow2 ? spans_fast(f, rs, count, fl_, in_, sink_, true) : spans_fast(f, rs, count, fl_, in_, sink_, false); \
-        return;                                                                                             \
+#define SPANS_FAST(fl_, in_, sink_)                                                                                 \
+    if (f->filter == fl_ && f->v->map->format == in_ && f->sink == sink_) {                                         \
+        pow2 ? spans_fast(f, rs, count, x0, fl_, in_, sink_, true) : spans_fast(f, rs, count, x0, fl_, in_, sink_, false); \
+        return;                                                                                                     \
     }
     FAST_VARIANTS(SPANS_FAST)
 #undef SPANS_FAST
+}
+
+/*
+ * The vector kernel's share of a scanline (psc_viewer_simd.h): pixels
+ * [0, returned) when every span is N long, none is polar and the map's
+ * width is a power of two; the scalar spans draw the rest.
+ */
+static unsigned row_vector(const psc_frame_t *f, const row_setup_t *rs)
+{
+    const psc_viewer_t *v = f->v;
+    if (!f->simd_row || rs->any_polar || v->out_width % f->span != 0 || v->col_shift == 0)
+        return 0;
+    const psc_simd_row_t job = {v->map->pixels, v->row_offsets, v->map->palette, f->work.row, f->work.t, f->dst,
+                                v->out_width, f->view->span_log2, v->col_shift, v->half_col_bam,
+                                f->filter == PSC_FILTER_BILINEAR, (uint8_t)v->map->format, f->sink == PSC_SINK_RGB565};
+    return f->simd_row(&job);
 }
 
 void psc_scanline_render(const psc_frame_t *f, unsigned y)
@@ -466,7 +545,7 @@ void psc_scanline_render(const psc_frame_t *f, unsigned y)
     row_setup(f, y, &rs);
     unsigned count = build_samples(f, &rs);
     if (uses_fast_spans(f)) {
-        spans_fast_dispatch(f, &rs, count);
+        spans_fast_dispatch(f, &rs, count, row_vector(f, &rs));
         return;
     }
     const unsigned w = f->v->out_width, n = f->span;

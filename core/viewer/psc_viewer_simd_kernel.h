@@ -1,0 +1,197 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * psc_viewer_simd_kernel.h - the body of a vector scanline kernel (see
+ * psc_viewer_simd.h), included by one file per instruction set with
+ * KERNEL_LANES set and, for AVX2, KERNEL_AVX2 defined. Every formula is the
+ * scalar one of psc_viewer_scan.c and psc_pixel.h applied lane by lane in
+ * unsigned 32-bit arithmetic, so the bytes are the scalar path's.
+ */
+#include "viewer/psc_viewer_simd.h"
+#include "base/psc_pixel.h"
+
+#define LANES KERNEL_LANES
+
+typedef uint32_t vu __attribute__((vector_size(LANES * 4)));
+typedef int32_t vi __attribute__((vector_size(LANES * 4)));
+typedef uint16_t vu16 __attribute__((vector_size(LANES * 2)));
+
+#ifdef KERNEL_AVX2
+/* 32-bit loads at byte offsets / entries at indices, one instruction each. */
+#define LOAD32_AT(base, off) ((vu)_mm256_i32gather_epi32((const int *)(const void *)(base), (__m256i)(off), 1))
+#define ENTRY_AT(table, idx) ((vu)_mm256_i32gather_epi32((const int *)(const void *)(table), (__m256i)(idx), 4))
+#else
+static PSC_ALWAYS_INLINE vu entry_at(const uint32_t *table, vu idx)
+{
+    vu r;
+    for (unsigned j = 0; j < LANES; j++)
+        r[j] = table[idx[j]];
+    return r;
+}
+#define ENTRY_AT(table, idx) entry_at((const uint32_t *)(const void *)(table), idx)
+#endif
+
+/* The texel at byte offset off (row offset + column * size), widened to 32 bits. */
+static PSC_ALWAYS_INLINE vu texel_at(const uint8_t *base, vu off, const psc_pixfmt_t in, const uint32_t *pal)
+{
+#ifdef KERNEL_AVX2
+    /* Aligned 32-bit loads (the map and its rows are 4-byte aligned: the caller checks), then the lane's texel. */
+    if (in == PSC_PIX_XRGB8888)
+        return LOAD32_AT(base, off);
+    vu word = LOAD32_AT(base, off & ~3u);
+    if (in == PSC_PIX_RGB565)
+        return (word >> ((off & 2u) << 3)) & 0xFFFFu;
+    return ENTRY_AT(pal, (word >> ((off & 3u) << 3)) & 255u);
+#else
+    vu r;
+    for (unsigned j = 0; j < LANES; j++) {
+        const uint8_t *p = base + off[j];
+        if (in == PSC_PIX_XRGB8888)
+            r[j] = *(const uint32_t *)(const void *)p;
+        else if (in == PSC_PIX_RGB565)
+            r[j] = *(const uint16_t *)(const void *)p;
+        else
+            r[j] = pal[*p];
+    }
+    return r;
+#endif
+}
+
+static PSC_ALWAYS_INLINE vu col_bytes(vu c, const psc_pixfmt_t in)
+{
+    return in == PSC_PIX_XRGB8888 ? c << 2 : in == PSC_PIX_RGB565 ? c << 1 : c;
+}
+
+/* psc_rgb565_to_xrgb */
+static PSC_ALWAYS_INLINE vu v_565_to_xrgb(vu p)
+{
+    vu r = (p >> 11) & 31u, g = (p >> 5) & 63u, b = p & 31u;
+    r = (r << 3) | (r >> 2);
+    g = (g << 2) | (g >> 4);
+    b = (b << 3) | (b >> 2);
+    return 0xFF000000u | (r << 16) | (g << 8) | b;
+}
+
+/* psc_xrgb_to_rgb565 */
+static PSC_ALWAYS_INLINE vu v_xrgb_to_565(vu p)
+{
+    vu r = (p >> 16) & 255u, g = (p >> 8) & 255u, b = p & 255u;
+    r = (r * 249u + 1014u) >> 11;
+    g = (g * 253u + 505u) >> 10;
+    b = (b * 249u + 1014u) >> 11;
+    return (r << 11) | (g << 5) | b;
+}
+
+/* psc_blend4_xrgb */
+static PSC_ALWAYS_INLINE vu v_blend4_xrgb(vu p00, vu p01, vu p10, vu p11, vu fx, vu fy)
+{
+    vu ix = 256u - fx, iy = 256u - fy;
+    vu rb0 = (p00 & 0xFF00FFu) * ix + (p01 & 0xFF00FFu) * fx;
+    vu rb1 = (p10 & 0xFF00FFu) * ix + (p11 & 0xFF00FFu) * fx;
+    vu g0 = ((p00 >> 8) & 0xFFu) * ix + ((p01 >> 8) & 0xFFu) * fx;
+    vu g1 = ((p10 >> 8) & 0xFFu) * ix + ((p11 >> 8) & 0xFFu) * fx;
+    vu r = (((rb0 >> 16) & 0xFFFFu) * iy + ((rb1 >> 16) & 0xFFFFu) * fy + 32768u) >> 16;
+    vu b = ((rb0 & 0xFFFFu) * iy + (rb1 & 0xFFFFu) * fy + 32768u) >> 16;
+    vu g = (g0 * iy + g1 * fy + 32768u) >> 16;
+    return 0xFF000000u | (r << 16) | (g << 8) | b;
+}
+
+/* psc_blend4_rgb565 */
+static PSC_ALWAYS_INLINE vu v_spread(vu p)
+{
+    return (p | (p << 16)) & PSC_RGB565_SPREAD_MASK;
+}
+
+static PSC_ALWAYS_INLINE vu v_blend4_565(vu p00, vu p01, vu p10, vu p11, vu fx, vu fy)
+{
+    const uint32_t half = 0x02008010u;
+    vu ix = 32u - fx;
+    vu top = ((v_spread(p00) * ix + v_spread(p01) * fx + half) >> 5) & PSC_RGB565_SPREAD_MASK;
+    vu bot = ((v_spread(p10) * ix + v_spread(p11) * fx + half) >> 5) & PSC_RGB565_SPREAD_MASK;
+    vu v = ((top * (32u - fy) + bot * fy + half) >> 5) & PSC_RGB565_SPREAD_MASK;
+    return (v | (v >> 16)) & 0xFFFFu;
+}
+
+/* A texel as XRGB8888 (texel_xrgb of the scalar spans). */
+static PSC_ALWAYS_INLINE vu v_texel_xrgb(vu raw, const psc_pixfmt_t in)
+{
+    return in == PSC_PIX_RGB565 ? v_565_to_xrgb(raw) : raw;
+}
+
+static PSC_ALWAYS_INLINE void store_lanes(void *dst, unsigned x, vu px, const bool out_565)
+{
+    if (out_565) {
+        vu16 h = __builtin_convertvector(px, vu16);
+        __builtin_memcpy((uint16_t *)dst + x, &h, sizeof h);
+    } else {
+        __builtin_memcpy((uint32_t *)dst + x, &px, sizeof px);
+    }
+}
+
+/* Pixels [0, n) of the row for one combination, all compile-time constants once inlined. */
+static PSC_ALWAYS_INLINE unsigned row_lanes(const psc_simd_row_t *j, const bool bilinear, const psc_pixfmt_t in,
+                                            const bool out_565)
+{
+    const unsigned n = j->width - j->width % LANES, l2 = j->span_log2, sh = j->col_shift;
+    const uint32_t imask = (1u << l2) - 1u, cmask = (uint32_t)(((uint64_t)1 << (32u - sh)) - 1u);
+    const uint8_t *base = j->base;
+    vu lane;
+    for (unsigned k = 0; k < LANES; k++)
+        lane[k] = k;
+    for (unsigned x = 0; x < n; x += LANES) {
+        vu px_x = lane + x, k = px_x >> l2, i = px_x & imask;
+        vu r0 = ENTRY_AT(j->row, k), r1 = ENTRY_AT(j->row, k + 1u);
+        vu t0 = ENTRY_AT(j->t, k), t1 = ENTRY_AT(j->t, k + 1u);
+        /* steps: arithmetic shifts of the differences, as the scalar spans take them */
+        vu dr = (vu)((vi)(r1 - r0) >> (int32_t)l2), dt = (vu)((vi)(t1 - t0) >> (int32_t)l2);
+        vu r = r0 + (vu)((vi)dr >> 1) + i * dr + 65536u; /* biased by the guard row */
+        vu t = t0 + (vu)((vi)dt >> 1) + i * dt;
+        vu px;
+        if (!bilinear) {
+            vu ro = ENTRY_AT(j->rowoff, (r + 32768u) >> 16);
+            vu raw = texel_at(base, ro + col_bytes(t >> sh, in), in, j->pal);
+            if (in == PSC_PIX_RGB565)
+                px = out_565 ? raw : v_565_to_xrgb(raw);
+            else
+                px = out_565 ? v_xrgb_to_565(raw) : raw | 0xFF000000u;
+        } else {
+            vu ri = r >> 16;
+            vu ro0 = ENTRY_AT(j->rowoff, ri), ro1 = ENTRY_AT(j->rowoff, ri + 1u);
+            t -= j->half_col;
+            vu c0 = t >> sh, fc = (t << (32u - sh)) >> 24, c1 = (c0 + 1u) & cmask, fr = (r >> 8) & 255u;
+            vu b0 = col_bytes(c0, in), b1 = col_bytes(c1, in);
+            vu p00 = texel_at(base, ro0 + b0, in, j->pal), p01 = texel_at(base, ro0 + b1, in, j->pal);
+            vu p10 = texel_at(base, ro1 + b0, in, j->pal), p11 = texel_at(base, ro1 + b1, in, j->pal);
+            if (in == PSC_PIX_RGB565 && out_565) {
+                px = v_blend4_565(p00, p01, p10, p11, (fc + 4u) >> 3, (fr + 4u) >> 3);
+            } else {
+                px = v_blend4_xrgb(v_texel_xrgb(p00, in), v_texel_xrgb(p01, in), v_texel_xrgb(p10, in),
+                                   v_texel_xrgb(p11, in), fc, fr);
+                if (out_565)
+                    px = v_xrgb_to_565(px);
+            }
+        }
+        store_lanes(j->dst, x, px, out_565);
+    }
+    return n;
+}
+
+#define ROW_CASE(bl, fmt, o565)                                                \
+    if (j->bilinear == (bl) && j->in == (fmt) && j->out_565 == (o565))         \
+        return row_lanes(j, bl, fmt, o565);
+
+static unsigned KERNEL_ROW(const psc_simd_row_t *j)
+{
+    ROW_CASE(0, PSC_PIX_RGB565, 1)
+    ROW_CASE(0, PSC_PIX_RGB565, 0)
+    ROW_CASE(0, PSC_PIX_XRGB8888, 1)
+    ROW_CASE(0, PSC_PIX_XRGB8888, 0)
+    ROW_CASE(0, PSC_PIX_PAL8, 1)
+    ROW_CASE(0, PSC_PIX_PAL8, 0)
+    ROW_CASE(1, PSC_PIX_RGB565, 1)
+    ROW_CASE(1, PSC_PIX_RGB565, 0)
+    ROW_CASE(1, PSC_PIX_XRGB8888, 1)
+    ROW_CASE(1, PSC_PIX_XRGB8888, 0)
+    ROW_CASE(1, PSC_PIX_PAL8, 1)
+    ROW_CASE(1, PSC_PIX_PAL8, 0)
+    return 0;
+}

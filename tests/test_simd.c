@@ -1,0 +1,182 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * test_simd.c - the viewer's vector scanlines (core/viewer/psc_viewer_simd.h)
+ * give the scalar path's bytes:
+ *  - every path this build and CPU have (baseline vectors: SSE2 or NEON;
+ *    AVX2) against the scalar path on random views of maps of three formats
+ *    and three projections, every filter and span, RGB565 and XRGB8888
+ *    output, at widths with and without a lane tail and one the span does
+ *    not divide, pitches to the poles;
+ *  - maps whose rows are not 4-byte aligned (the AVX2 kernel reads aligned
+ *    words, so AUTO must take another path there) and maps whose width is not
+ *    a power of two (scalar) give the same bytes;
+ *  - psc_viewer_set_simd refuses what the build or CPU lacks and names
+ *    the path it draws with.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include "psc_testsupport.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+    psc_projection_t proj;
+    psc_pixfmt_t fmt;
+    uint16_t w, h;
+    uint32_t stride_pad; /* bytes after each row */
+} map_kind_t;
+
+static const map_kind_t KINDS[] = {
+    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, 1024, 512, 0},
+    {PSC_PROJ_EQUIRECT, PSC_PIX_XRGB8888, 512, 256, 0},
+    {PSC_PROJ_EQUIRECT, PSC_PIX_PAL8, 512, 256, 0},
+    {PSC_PROJ_CYLINDER, PSC_PIX_RGB565, 512, 256, 0},
+    {PSC_PROJ_SINE, PSC_PIX_PAL8, 256, 128, 0},
+    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, 512, 256, 2}, /* rows at odd 16-bit words */
+    {PSC_PROJ_EQUIRECT, PSC_PIX_PAL8, 512, 256, 1},   /* rows at odd bytes */
+    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, 600, 300, 0}, /* not a power of two */
+};
+
+static const struct {
+    uint16_t w, h;
+} SIZES[] = {{160, 120}, {164, 90}, {173, 97}};
+
+#define VIEWS 24u
+
+static psc_view_t random_view(tsup_rng_t *r)
+{
+    static const psc_filter_t filters[] = {PSC_FILTER_NEAREST, PSC_FILTER_BILINEAR, PSC_FILTER_MIP};
+    double pitch = tsup_rng_below(r, 4) == 0 ? tsup_rng_range(r, 75, 90) * (tsup_rng_below(r, 2) ? 1 : -1)
+                                             : tsup_rng_range(r, -60, 60);
+    return tsup_view_deg(tsup_rng_range(r, -180, 180), pitch, tsup_rng_range(r, 20, 120), filters[tsup_rng_below(r, 3)],
+                         tsup_rng_below(r, 5));
+}
+
+/* Scribble over the pixels (not the stride's guard bytes) so that a pixel no path draws shows. */
+static void clear_rows(const psc_surface_t *s)
+{
+    for (unsigned y = 0; y < s->height; y++)
+        memset((uint8_t *)s->pixels + (size_t)y * s->stride, 0x5A, (size_t)s->width * psc_pixfmt_bytes(s->format));
+}
+
+/* The vector paths this build and this CPU have. */
+static unsigned vector_paths(psc_viewer_t *v, psc_simd_t *out)
+{
+    unsigned n = 0;
+    static const psc_simd_t all[] = {PSC_SIMD_VECTOR, PSC_SIMD_AVX2};
+    for (unsigned i = 0; i < 2; i++)
+        if (psc_viewer_set_simd(v, all[i]) == PSC_OK)
+            out[n++] = all[i];
+    assert_int_equal(psc_viewer_set_simd(v, PSC_SIMD_AUTO), PSC_OK);
+    return n;
+}
+
+static void test_paths_equal_scalar(void **state)
+{
+    (void)state;
+    tsup_rng_t r;
+    tsup_rng_seed(&r, 5150);
+    unsigned frames = 0, compared[3] = {0};
+    for (unsigned k = 0; k < sizeof KINDS / sizeof KINDS[0]; k++) {
+        psc_envmap_t g = {0};
+        g.projection = KINDS[k].proj;
+        g.format = KINDS[k].fmt;
+        g.width = KINDS[k].w;
+        g.height = KINDS[k].h;
+        tsup_map_t m;
+        assert_int_equal(tsup_synth_map(&m, &g, 1, KINDS[k].stride_pad), 0);
+        for (unsigned sz = 0; sz < sizeof SIZES / sizeof SIZES[0]; sz++) {
+            for (int fmt = 0; fmt < 2; fmt++) {
+                tsup_viewer_t tv;
+                assert_int_equal(tsup_viewer_init(&tv, &m.map, SIZES[sz].w, SIZES[sz].h,
+                                                  fmt ? PSC_PIX_XRGB8888 : PSC_PIX_RGB565),
+                                 PSC_OK);
+                psc_simd_t paths[2];
+                unsigned npaths = vector_paths(&tv.v, paths);
+                size_t bytes = (size_t)tv.out.stride * tv.out.height;
+                uint8_t *scalar = malloc(bytes);
+                assert_non_null(scalar);
+                for (unsigned i = 0; i < VIEWS; i++) {
+                    psc_view_t view = random_view(&r);
+                    psc_viewer_clamp(&tv.v, &view, 0);
+                    assert_int_equal(psc_viewer_set_simd(&tv.v, PSC_SIMD_SCALAR), PSC_OK);
+                    assert_int_equal(psc_viewer_render(&tv.v, &view, &tv.out), PSC_OK);
+                    memcpy(scalar, tv.out.pixels, bytes);
+                    for (unsigned p = 0; p <= npaths; p++) { /* each path, then AUTO */
+                        psc_simd_t s = p < npaths ? paths[p] : PSC_SIMD_AUTO;
+                        assert_int_equal(psc_viewer_set_simd(&tv.v, s), PSC_OK);
+                        clear_rows(&tv.out);
+                        assert_int_equal(psc_viewer_render(&tv.v, &view, &tv.out), PSC_OK);
+                        if (memcmp(scalar, tv.out.pixels, bytes) != 0)
+                            fail_msg("map %u (%ux%u, format %d), %ux%u %s output, path %s: yaw %d pitch %d hfov %u "
+                                     "filter %d span %u differs from the scalar path",
+                                     k, (unsigned)m.map.width, (unsigned)m.map.height, (int)m.map.format,
+                                     (unsigned)SIZES[sz].w, (unsigned)SIZES[sz].h, fmt ? "xrgb8888" : "rgb565",
+                                     psc_simd_name(s), (int)view.yaw, (int)view.pitch, (unsigned)view.hfov,
+                                     (int)view.filter, 1u << view.span_log2);
+                        compared[s == PSC_SIMD_AUTO ? 0 : s == PSC_SIMD_VECTOR ? 1 : 2]++;
+                    }
+                    assert_true(tsup_viewer_guard_ok(&tv));
+                    frames++;
+                }
+                free(scalar);
+                tsup_viewer_free(&tv);
+            }
+        }
+        tsup_map_free(&m);
+    }
+    print_message("  %u random views: scalar bytes from auto %u, vector %u, avx2 %u times\n", frames, compared[0],
+                  compared[1], compared[2]);
+    assert_true(compared[1] > 0); /* every target the project builds for has baseline vectors */
+}
+
+static void test_choice(void **state)
+{
+    (void)state;
+    psc_envmap_t g = {0};
+    g.projection = PSC_PROJ_EQUIRECT;
+    g.format = PSC_PIX_RGB565;
+    g.width = 512;
+    g.height = 256;
+    tsup_map_t aligned, odd;
+    assert_int_equal(tsup_synth_map(&aligned, &g, 1, 0), 0);
+    assert_int_equal(tsup_synth_map(&odd, &g, 1, 2), 0);
+    tsup_viewer_t a, o;
+    assert_int_equal(tsup_viewer_init(&a, &aligned.map, 160, 120, PSC_PIX_RGB565), PSC_OK);
+    assert_int_equal(tsup_viewer_init(&o, &odd.map, 160, 120, PSC_PIX_RGB565), PSC_OK);
+    assert_int_equal(psc_viewer_set_simd(&a.v, (psc_simd_t)7), PSC_ERR_ARG);
+    assert_int_equal(psc_viewer_set_simd(&a.v, PSC_SIMD_SCALAR), PSC_OK);
+    assert_int_equal(psc_viewer_simd(&a.v), PSC_SIMD_SCALAR);
+    assert_int_equal(psc_viewer_set_simd(&a.v, PSC_SIMD_AUTO), PSC_OK);
+#if defined(__x86_64__)
+    /* x86-64: SSE2 always; AVX2 exactly when the CPU has it, and AUTO takes it */
+    assert_int_equal(psc_viewer_set_simd(&a.v, PSC_SIMD_VECTOR), PSC_OK);
+    int avx2 = __builtin_cpu_supports("avx2") != 0;
+    assert_int_equal(psc_viewer_set_simd(&a.v, PSC_SIMD_AVX2), avx2 ? PSC_OK : PSC_ERR_UNSUPPORTED);
+    assert_int_equal(psc_viewer_set_simd(&a.v, PSC_SIMD_AUTO), PSC_OK);
+    assert_int_equal(psc_viewer_simd(&a.v), avx2 ? PSC_SIMD_AVX2 : PSC_SIMD_VECTOR);
+    /* rows not 4-byte aligned: never the AVX2 kernel */
+    assert_int_equal(psc_viewer_set_simd(&o.v, PSC_SIMD_AVX2), PSC_ERR_UNSUPPORTED);
+    assert_int_equal(psc_viewer_simd(&o.v), PSC_SIMD_VECTOR);
+    print_message("  x86-64, AVX2 %s: auto draws with %s\n", avx2 ? "present" : "absent", psc_simd_name(psc_viewer_simd(&a.v)));
+#endif
+    assert_string_equal(psc_simd_name(PSC_SIMD_SCALAR), "scalar");
+    tsup_viewer_free(&a);
+    tsup_viewer_free(&o);
+    tsup_map_free(&aligned);
+    tsup_map_free(&odd);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_paths_equal_scalar),
+        cmocka_unit_test(test_choice),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
