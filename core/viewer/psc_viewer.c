@@ -293,6 +293,17 @@ static bool view_ok(const psc_viewer_t *v, const psc_view_t *view)
            view->hfov <= psc_viewer_hfov_max(v);
 }
 
+/*
+ * A scanline's workspace: boundary samples (at most W + 2: every pixel's left
+ * edge, the right edge and one more when N does not divide W) and the
+ * composite LUT row (at most PSC_MAX_LUT_DIM columns).
+ */
+static size_t scan_work_size(uint16_t out_width)
+{
+    size_t n = SCAN_SAMPLES(out_width);
+    return align8(n * sizeof(int32_t)) * 2u + align8(n) + (size_t)PSC_MAX_LUT_DIM * 2u * sizeof(uint32_t);
+}
+
 static psc_scan_work_t scan_work(void *scratch, uint16_t out_width)
 {
     uint8_t *at = scratch;
@@ -318,6 +329,7 @@ static psc_status_t frame_begin(const psc_viewer_t *v, const psc_view_t *view, p
     f->v = v;
     f->view = view;
     f->work = scan_work(scratch, v->out_width);
+    f->work_next = scan_work((uint8_t *)scratch + scan_work_size(v->out_width), v->out_width);
     f->simd_row = simd_kernel(v, (psc_simd_t)v->simd);
     f->lut = v->cached_lut;
     f->span = 1u << view->span_log2;
@@ -338,15 +350,9 @@ psc_status_t psc_viewer_prepare(psc_viewer_t *v, const psc_view_t *view)
     return PSC_OK;
 }
 
-/*
- * The scanline workspace: boundary samples (at most W + 2: every pixel's left
- * edge, the right edge and one more when N does not divide W) and the
- * composite LUT row (at most PSC_MAX_LUT_DIM columns).
- */
 size_t psc_viewer_band_scratch_size(uint16_t out_width)
 {
-    size_t n = SCAN_SAMPLES(out_width);
-    return align8(n * sizeof(int32_t)) * 2u + align8(n) + (size_t)PSC_MAX_LUT_DIM * 2u * sizeof(uint32_t);
+    return 2u * scan_work_size(out_width); /* this scanline's and the next's */
 }
 
 psc_status_t psc_viewer_render_band(const psc_viewer_t *v, const psc_view_t *view, const psc_surface_t *out,
@@ -365,10 +371,7 @@ psc_status_t psc_viewer_render_band(const psc_viewer_t *v, const psc_view_t *vie
                                  scratch, &f);
     if (s != PSC_OK)
         return s;
-    for (unsigned y = y0; y < y1; y++) {
-        f.dst = (uint8_t *)out->pixels + (size_t)y * out->stride;
-        psc_scanline_render(&f, y);
-    }
+    psc_scan_rows(&f, y0, y1, (uint8_t *)out->pixels + (size_t)y0 * out->stride, out->stride);
     return PSC_OK;
 }
 

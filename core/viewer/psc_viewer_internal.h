@@ -48,6 +48,7 @@ typedef struct {
     const psc_viewer_t *v;
     const psc_view_t *view;
     psc_scan_work_t work;          /* this band's scanline workspace */
+    psc_scan_work_t work_next;     /* and the next scanline's (psc_scan_rows) */
     psc_simd_row_fn simd_row;      /* the vector kernel, or NULL for the scalar path only */
     const psc_lut_t *lut;
     int32_t sin_pitch, cos_pitch;  /* Q2.30 */
@@ -86,6 +87,8 @@ void psc_span_mip(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, uin
                   int32_t lod_q8);
 /* Render (or trace) output scanline y of the frame. */
 void psc_scanline_render(const psc_frame_t *f, unsigned y);
+/* Render output rows [y0, y1) into dst0 (row y0) onwards, stride bytes apart. */
+void psc_scan_rows(const psc_frame_t *f, unsigned y0, unsigned y1, uint8_t *dst0, size_t stride);
 /* Sample any map at (row, col) Q16.16 through the general (per-pixel, clamping) path: XRGB8888. */
 uint32_t psc_sample_general(const psc_viewer_t *v, psc_filter_t filter, int32_t row, int32_t col);
 

@@ -535,25 +535,87 @@ static unsigned row_vector(const psc_frame_t *f, const row_setup_t *rs)
         return 0;
     const psc_simd_row_t job = {v->map->pixels, v->row_offsets, v->map->palette, f->work.row, f->work.t, f->dst,
                                 v->out_width, f->view->span_log2, v->col_shift, v->half_col_bam,
+                                v->map->height, v->map->stride,
                                 f->filter == PSC_FILTER_BILINEAR, (uint8_t)v->map->format, f->sink == PSC_SINK_RGB565};
     return f->simd_row(&job);
 }
 
-void psc_scanline_render(const psc_frame_t *f, unsigned y)
+/*
+ * Ask the cache for the map lines the scanline's samples fall on (every
+ * 16 pixels or so; bilinear also the row below), so that they arrive while
+ * the previous scanline is drawn: a frame of a new view finds little of its
+ * map in the cache, and the scanline's gathers are not a pattern the
+ * hardware prefetchers follow.
+ */
+static void prefetch_samples(const psc_frame_t *f, unsigned count)
 {
+    const psc_viewer_t *v = f->v;
+    if (!uses_fast_spans(f))
+        return;
+    const uint8_t *base = v->map->pixels;
+    const uint32_t *rowoff = v->row_offsets, bpp = psc_pixfmt_bytes(v->map->format), w = v->map->width;
+    const unsigned step = f->view->span_log2 >= 4u ? 1u : 16u >> f->view->span_log2;
+    const bool bilinear = f->filter == PSC_FILTER_BILINEAR;
+    for (unsigned k = 0; k < count; k += step) {
+        uint32_t r = (uint32_t)(f->work.row[k] + 65536) >> 16;
+        const uint8_t *p = base + (size_t)((uint64_t)f->work.t[k] * w >> 32) * bpp;
+        __builtin_prefetch(p + rowoff[r]);
+        if (bilinear)
+            __builtin_prefetch(p + rowoff[r + 1u]);
+    }
+}
+
+/* One scanline's samples, ready to draw. */
+typedef struct {
     row_setup_t rs;
-    row_setup(f, y, &rs);
-    unsigned count = build_samples(f, &rs);
+    unsigned count;
+} scan_line_t;
+
+static void scanline_prepare(const psc_frame_t *f, unsigned y, scan_line_t *l)
+{
+    row_setup(f, y, &l->rs);
+    l->count = build_samples(f, &l->rs);
+}
+
+static void scanline_draw(const psc_frame_t *f, const scan_line_t *l)
+{
+    const row_setup_t *rs = &l->rs;
     if (uses_fast_spans(f)) {
-        spans_fast_dispatch(f, &rs, count, row_vector(f, &rs));
+        spans_fast_dispatch(f, rs, l->count, row_vector(f, rs));
         return;
     }
     const unsigned w = f->v->out_width, n = f->span;
-    for (unsigned k = 0, x = 0; k + 1u < count; k++, x += n) {
+    for (unsigned k = 0, x = 0; k + 1u < l->count; k++, x += n) {
         unsigned len = w - x < n ? w - x : n;
         if (f->work.polar[k] | f->work.polar[k + 1u])
-            polar_pixels(f, &rs, x, len);
+            polar_pixels(f, rs, x, len);
         else
-            span_general(f, &rs, x, len, span_at(f, k, len));
+            span_general(f, rs, x, len, span_at(f, k, len));
+    }
+}
+
+void psc_scanline_render(const psc_frame_t *f, unsigned y)
+{
+    scan_line_t l;
+    scanline_prepare(f, y, &l);
+    scanline_draw(f, &l);
+}
+
+void psc_scan_rows(const psc_frame_t *f, unsigned y0, unsigned y1, uint8_t *dst0, size_t stride)
+{
+    /* Two frames differing only in their workspace: the next scanline is
+     * prepared (and its map lines prefetched) before this one is drawn. */
+    psc_frame_t fr[2] = {*f, *f};
+    fr[1].work = f->work_next;
+    scan_line_t line[2];
+    if (y0 < y1)
+        scanline_prepare(&fr[0], y0, &line[0]);
+    for (unsigned y = y0, cur = 0; y < y1; y++, cur ^= 1u) {
+        if (y + 1u < y1) {
+            scanline_prepare(&fr[cur ^ 1u], y + 1u, &line[cur ^ 1u]);
+            prefetch_samples(&fr[cur ^ 1u], line[cur ^ 1u].count);
+        }
+        fr[cur].dst = dst0 + (size_t)(y - y0) * stride;
+        scanline_draw(&fr[cur], &line[cur]);
     }
 }

@@ -32,6 +32,8 @@ typedef struct {
     uint32_t span_log2;
     uint32_t col_shift;       /* 32 - log2(map width): power-of-two maps only */
     uint32_t half_col;        /* half a map column, binary angle */
+    uint32_t map_height;      /* rows */
+    uint32_t stride;          /* bytes from one map row to the next */
     uint8_t bilinear;         /* else nearest */
     uint8_t in;               /* psc_pixfmt_t of the map */
     uint8_t out_565;          /* RGB565 output, else XRGB8888 */

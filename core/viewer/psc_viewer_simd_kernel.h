@@ -30,6 +30,43 @@ static PSC_ALWAYS_INLINE vu entry_at(const uint32_t *table, vu idx)
 #define ENTRY_AT(table, idx) entry_at((const uint32_t *)(const void *)(table), idx)
 #endif
 
+/*
+ * The samples under each lane: lane j of the group starting at pixel x takes
+ * sample (x >> l2) + (j >> l2) + first of the scanline's array p.
+ */
+static PSC_ALWAYS_INLINE vu samples_under(const uint32_t *p, unsigned x, unsigned l2, vu lane_span)
+{
+    p += x >> l2;
+#ifdef KERNEL_AVX2
+    vu v;
+    __builtin_memcpy(&v, p, sizeof v); /* the array holds W + 2 entries: never read past it */
+    return (vu)_mm256_permutevar8x32_epi32((__m256i)v, (__m256i)lane_span);
+#else
+    vu r;
+    for (unsigned j = 0; j < LANES; j++)
+        r[j] = p[j >> l2];
+    (void)lane_span;
+    return r;
+#endif
+}
+
+/*
+ * Byte offset of table row idx (map row idx - 1, the edge rows repeated
+ * beyond the map): the row-offset table's entry, computed rather than looked
+ * up where gathers are dear.
+ */
+static PSC_ALWAYS_INLINE vu row_offset(const psc_simd_row_t *j, vu idx)
+{
+#ifdef KERNEL_AVX2
+    __m256i r = _mm256_sub_epi32((__m256i)idx, _mm256_set1_epi32(1));
+    r = _mm256_max_epi32(r, _mm256_setzero_si256());
+    r = _mm256_min_epi32(r, _mm256_set1_epi32((int)j->map_height - 1));
+    return (vu)r * j->stride;
+#else
+    return ENTRY_AT(j->rowoff, idx);
+#endif
+}
+
 /* The texel at byte offset off (row offset + column * size), widened to 32 bits. */
 static PSC_ALWAYS_INLINE vu texel_at(const uint8_t *base, vu off, const psc_pixfmt_t in, const uint32_t *pal)
 {
@@ -134,20 +171,21 @@ static PSC_ALWAYS_INLINE unsigned row_lanes(const psc_simd_row_t *j, const bool 
     const unsigned n = j->width - j->width % LANES, l2 = j->span_log2, sh = j->col_shift;
     const uint32_t imask = (1u << l2) - 1u, cmask = (uint32_t)(((uint64_t)1 << (32u - sh)) - 1u);
     const uint8_t *base = j->base;
-    vu lane;
+    const uint32_t *row = (const uint32_t *)(const void *)j->row;
+    vu lane, lane_span;
     for (unsigned k = 0; k < LANES; k++)
-        lane[k] = k;
+        lane[k] = k, lane_span[k] = k >> l2;
     for (unsigned x = 0; x < n; x += LANES) {
-        vu px_x = lane + x, k = px_x >> l2, i = px_x & imask;
-        vu r0 = ENTRY_AT(j->row, k), r1 = ENTRY_AT(j->row, k + 1u);
-        vu t0 = ENTRY_AT(j->t, k), t1 = ENTRY_AT(j->t, k + 1u);
+        vu i = (lane + x) & imask;
+        vu r0 = samples_under(row, x, l2, lane_span), r1 = samples_under(row + 1, x, l2, lane_span);
+        vu t0 = samples_under(j->t, x, l2, lane_span), t1 = samples_under(j->t + 1, x, l2, lane_span);
         /* steps: arithmetic shifts of the differences, as the scalar spans take them */
         vu dr = (vu)((vi)(r1 - r0) >> (int32_t)l2), dt = (vu)((vi)(t1 - t0) >> (int32_t)l2);
         vu r = r0 + (vu)((vi)dr >> 1) + i * dr + 65536u; /* biased by the guard row */
         vu t = t0 + (vu)((vi)dt >> 1) + i * dt;
         vu px;
         if (!bilinear) {
-            vu ro = ENTRY_AT(j->rowoff, (r + 32768u) >> 16);
+            vu ro = row_offset(j, (r + 32768u) >> 16);
             vu raw = texel_at(base, ro + col_bytes(t >> sh, in), in, j->pal);
             if (in == PSC_PIX_RGB565)
                 px = out_565 ? raw : v_565_to_xrgb(raw);
@@ -155,7 +193,7 @@ static PSC_ALWAYS_INLINE unsigned row_lanes(const psc_simd_row_t *j, const bool 
                 px = out_565 ? v_xrgb_to_565(raw) : raw | 0xFF000000u;
         } else {
             vu ri = r >> 16;
-            vu ro0 = ENTRY_AT(j->rowoff, ri), ro1 = ENTRY_AT(j->rowoff, ri + 1u);
+            vu ro0 = row_offset(j, ri), ro1 = row_offset(j, ri + 1u);
             t -= j->half_col;
             vu c0 = t >> sh, fc = (t << (32u - sh)) >> 24, c1 = (c0 + 1u) & cmask, fr = (r >> 8) & 255u;
             vu b0 = col_bytes(c0, in), b1 = col_bytes(c1, in);
