@@ -59,8 +59,8 @@ typedef struct {
 /**
  * The code path that draws the viewer's scanlines. Every path gives the same
  * bytes (tests/test_simd.c); AUTO, the default, takes the fastest the build
- * and the CPU have: AVX2 on x86-64 CPUs that have it, else the baseline
- * vectors (SSE2 on x86-64, NEON on arm64 and armhf), else scalar.
+ * and the CPU have: AVX2 on x86-64 CPUs that have it (maps with 4-byte
+ * aligned rows), NEON on arm64 and armhf, else scalar (SSE2 is slower).
  */
 typedef enum {
     PSC_SIMD_AUTO = 0,
