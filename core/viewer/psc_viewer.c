@@ -239,7 +239,7 @@ static bool map_words_aligned(const psc_envmap_t *m)
     return ((uintptr_t)m->pixels & 3u) == 0 && (m->stride & 3u) == 0;
 }
 
-static psc_simd_row_fn simd_kernel(const psc_viewer_t *v, psc_simd_t simd)
+static const psc_simd_kernel_t *simd_kernel(const psc_viewer_t *v, psc_simd_t simd)
 {
     switch (simd) {
     case PSC_SIMD_AUTO: {
@@ -247,17 +247,17 @@ static psc_simd_row_fn simd_kernel(const psc_viewer_t *v, psc_simd_t simd)
          * lane, measured slower than the scalar spans (1.9 against 1.2 ms for
          * an 800x480 nearest frame on an AMD EPYC); NEON inserts and extracts
          * lanes in one instruction each, so ARM takes the vector kernel. */
-        psc_simd_row_fn k = psc_simd_row_avx2();
+        const psc_simd_kernel_t *k = psc_simd_kernel_avx2();
         if (k && map_words_aligned(v->map))
             return k;
 #if defined(__x86_64__) || defined(__i386__)
         return 0;
 #else
-        return psc_simd_row_vector();
+        return psc_simd_kernel_vector();
 #endif
     }
-    case PSC_SIMD_VECTOR: return psc_simd_row_vector();
-    case PSC_SIMD_AVX2: return map_words_aligned(v->map) ? psc_simd_row_avx2() : 0;
+    case PSC_SIMD_VECTOR: return psc_simd_kernel_vector();
+    case PSC_SIMD_AVX2: return map_words_aligned(v->map) ? psc_simd_kernel_avx2() : 0;
     case PSC_SIMD_SCALAR: break;
     }
     return 0;
@@ -275,10 +275,10 @@ psc_status_t psc_viewer_set_simd(psc_viewer_t *v, psc_simd_t simd)
 
 psc_simd_t psc_viewer_simd(const psc_viewer_t *v)
 {
-    psc_simd_row_fn k = simd_kernel(v, (psc_simd_t)v->simd);
+    const psc_simd_kernel_t *k = simd_kernel(v, (psc_simd_t)v->simd);
     if (!k)
         return PSC_SIMD_SCALAR;
-    return k == psc_simd_row_avx2() ? PSC_SIMD_AVX2 : PSC_SIMD_VECTOR;
+    return k == psc_simd_kernel_avx2() ? PSC_SIMD_AVX2 : PSC_SIMD_VECTOR;
 }
 
 const char *psc_simd_name(psc_simd_t simd)
@@ -340,7 +340,7 @@ static psc_status_t frame_begin(const psc_viewer_t *v, const psc_view_t *view, p
     f->view = view;
     f->work = scan_work(scratch, v->out_width);
     f->work_next = scan_work((uint8_t *)scratch + scan_work_size(v->out_width), v->out_width);
-    f->simd_row = simd_kernel(v, (psc_simd_t)v->simd);
+    f->simd = simd_kernel(v, (psc_simd_t)v->simd);
     f->lut = v->cached_lut;
     f->span = 1u << view->span_log2;
     f->sink = sink;

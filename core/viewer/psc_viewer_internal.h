@@ -49,7 +49,7 @@ typedef struct {
     const psc_view_t *view;
     psc_scan_work_t work;          /* this band's scanline workspace */
     psc_scan_work_t work_next;     /* and the next scanline's (psc_scan_rows) */
-    psc_simd_row_fn simd_row;      /* the vector kernel, or NULL for the scalar path only */
+    const psc_simd_kernel_t *simd; /* the vector kernel, or NULL for the scalar path only */
     const psc_lut_t *lut;
     int32_t sin_pitch, cos_pitch;  /* Q2.30 */
     int32_t cap_per_pixel;         /* |lat| >= this: LUT read at every pixel (polar cap) */

@@ -74,9 +74,13 @@ static void row_setup(const psc_frame_t *f, unsigned y, row_setup_t *rs)
     rs->lut_cols = last < lut->cols ? last + 1u : lut->cols;
     const uint32_t *e0 = lut->entries + (size_t)r0 * lut->cols, *e1 = e0 + lut->cols;
     uint32_t *c = f->work.lut_row, ir = 256u - fr;
-    for (uint32_t j = 0; j < rs->lut_cols; j++) { /* 65535 * 256 < 2^24 */
-        c[2 * j] = PSC_LUT_LON(e0[j]) * ir + PSC_LUT_LON(e1[j]) * fr;
-        c[2 * j + 1] = PSC_LUT_LAT(e0[j]) * ir + PSC_LUT_LAT(e1[j]) * fr;
+    if (f->simd) {
+        f->simd->composite(e0, e1, fr, rs->lut_cols, c);
+    } else {
+        for (uint32_t j = 0; j < rs->lut_cols; j++) { /* 65535 * 256 < 2^24 */
+            c[2 * j] = PSC_LUT_LON(e0[j]) * ir + PSC_LUT_LON(e1[j]) * fr;
+            c[2 * j + 1] = PSC_LUT_LAT(e0[j]) * ir + PSC_LUT_LAT(e1[j]) * fr;
+        }
     }
     rs->lut_row = c;
 }
@@ -189,7 +193,14 @@ static unsigned build_samples_linear(const psc_frame_t *f, row_setup_t *rs, unsi
     int32_t *row = f->work.row;
     uint32_t *t = f->work.t;
     uint8_t *polar = f->work.polar, any = 0;
-    for (unsigned k = 0; 2u * k * n <= w; k++) {
+    unsigned k0 = 0;
+    if (f->simd && (uint64_t)w * u_step + 32768u <= UINT32_MAX) {
+        const psc_simd_samples_t job = {lut_row, cols, u_step, w, n, w / (2u * n) + 1u, count, row_base,
+                                        (int32_t)row_per_lat, bottom, pole_base, pole_sign, t_base, cap_pp,
+                                        cap_exact, row, t, polar};
+        k0 = f->simd->samples(&job, &any);
+    }
+    for (unsigned k = k0; 2u * k * n <= w; k++) {
         uint32_t ax = w - 2u * k * n, r = count - 1u - k;
         uint32_t pos = (uint32_t)(((uint64_t)ax * u_step + (1u << 15)) >> 16);
         uint32_t c0 = pos >> 8, fc = pos & 255u;
@@ -531,13 +542,13 @@ static void spans_fast_dispatch(const psc_frame_t *f, const row_setup_t *rs, uns
 static unsigned row_vector(const psc_frame_t *f, const row_setup_t *rs)
 {
     const psc_viewer_t *v = f->v;
-    if (!f->simd_row || rs->any_polar || v->out_width % f->span != 0 || v->col_shift == 0)
+    if (!f->simd || rs->any_polar || v->out_width % f->span != 0 || v->col_shift == 0)
         return 0;
     const psc_simd_row_t job = {v->map->pixels, v->row_offsets, v->map->palette, f->work.row, f->work.t, f->dst,
                                 v->out_width, f->view->span_log2, v->col_shift, v->half_col_bam,
                                 v->map->height, v->map->stride,
                                 f->filter == PSC_FILTER_BILINEAR, (uint8_t)v->map->format, f->sink == PSC_SINK_RGB565};
-    return f->simd_row(&job);
+    return f->simd->row(&job);
 }
 
 /*
@@ -556,12 +567,15 @@ static void prefetch_samples(const psc_frame_t *f, unsigned count)
     const uint32_t *rowoff = v->row_offsets, bpp = psc_pixfmt_bytes(v->map->format), w = v->map->width;
     const unsigned step = f->view->span_log2 >= 4u ? 1u : 16u >> f->view->span_log2;
     const bool bilinear = f->filter == PSC_FILTER_BILINEAR;
+    const int32_t *row = f->work.row;
+    const uint32_t *t = f->work.t, sh = v->col_shift;
     for (unsigned k = 0; k < count; k += step) {
-        uint32_t r = (uint32_t)(f->work.row[k] + 65536) >> 16;
-        const uint8_t *p = base + (size_t)((uint64_t)f->work.t[k] * w >> 32) * bpp;
-        __builtin_prefetch(p + rowoff[r]);
+        uint32_t r = (uint32_t)(row[k] + 65536) >> 16;
+        uint32_t c = sh ? t[k] >> sh : (uint32_t)((uint64_t)t[k] * w >> 32);
+        const uint8_t *p = base + (size_t)c * bpp + rowoff[r];
+        __builtin_prefetch(p);
         if (bilinear)
-            __builtin_prefetch(p + rowoff[r + 1u]);
+            __builtin_prefetch(p - rowoff[r] + rowoff[r + 1u]);
     }
 }
 

@@ -39,10 +39,42 @@ typedef struct {
     uint8_t out_565;          /* RGB565 output, else XRGB8888 */
 } psc_simd_row_t;
 
-typedef unsigned (*psc_simd_row_fn)(const psc_simd_row_t *r);
+/*
+ * The mirrored LUT reads of an equirect scanline (build_samples_linear of
+ * psc_viewer_scan.c): read k at |xc| = W - 2 k N half-pixels gives samples k
+ * and count - 1 - k. A kernel does reads [0, returned) (a multiple of its
+ * lanes), stopping before a group that has a read in the exact polar cap, and
+ * ORs their polar flags into *any_polar; the scalar loop does the rest.
+ */
+typedef struct {
+    const uint32_t *lut_row;  /* composite LUT row: (lon, lat) pairs */
+    uint32_t lut_cols;        /* entries built */
+    uint32_t u_step_q24;      /* LUT columns per half-pixel; W * u_step < 2^32 - 2^15 (the caller checks) */
+    uint32_t width, span, reads, count;
+    int64_t row_base;         /* lat_top * rows_per_bam */
+    int32_t row_per_lat;      /* -+rows_per_bam (the scanline's latitude sign folded in) */
+    int32_t bottom;           /* last row, Q16.16: H - 1/2 */
+    uint32_t pole_base, pole_sign; /* lon_right = pole_base + pole_sign * lon */
+    uint32_t t_base;          /* yaw - the map's lon_min */
+    int32_t cap_per_pixel, cap_exact;
+    int32_t *row;
+    uint32_t *t;
+    uint8_t *polar;
+} psc_simd_samples_t;
 
-/* The kernels this build has (NULL where the target has none). */
-psc_simd_row_fn psc_simd_row_vector(void);
-psc_simd_row_fn psc_simd_row_avx2(void); /* NULL also when the CPU lacks AVX2 */
+/*
+ * A kernel's functions: the row, the samples, and the composite LUT row
+ * (composite: lon and lat of n entries of the two LUT rows e0, e1 blended
+ * with weight fr of e1, Q0.8, into (lon, lat) pairs at out).
+ */
+typedef struct {
+    unsigned (*row)(const psc_simd_row_t *r);
+    unsigned (*samples)(const psc_simd_samples_t *s, uint8_t *any_polar);
+    void (*composite)(const uint32_t *e0, const uint32_t *e1, uint32_t fr, uint32_t n, uint32_t *out);
+} psc_simd_kernel_t;
+
+/* The kernels this build has (NULL where the target has none, and AVX2's where the CPU lacks it). */
+const psc_simd_kernel_t *psc_simd_kernel_vector(void);
+const psc_simd_kernel_t *psc_simd_kernel_avx2(void);
 
 #endif

@@ -11,14 +11,17 @@
 #define KERNEL_LANES 8
 #define KERNEL_AVX2
 #define KERNEL_ROW row_avx2
+#define KERNEL_SAMPLES samples_avx2
+#define KERNEL_COMPOSITE composite_avx2
+#define KERNEL kernel_avx2
 #include "viewer/psc_viewer_simd_kernel.h"
 
-psc_simd_row_fn psc_simd_row_avx2(void)
+const psc_simd_kernel_t *psc_simd_kernel_avx2(void)
 {
-    return __builtin_cpu_supports("avx2") ? row_avx2 : 0;
+    return __builtin_cpu_supports("avx2") ? &kernel_avx2 : 0;
 }
 #else
-psc_simd_row_fn psc_simd_row_avx2(void)
+const psc_simd_kernel_t *psc_simd_kernel_avx2(void)
 {
     return 0;
 }

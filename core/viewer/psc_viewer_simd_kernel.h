@@ -8,11 +8,17 @@
  */
 #include "viewer/psc_viewer_simd.h"
 #include "base/psc_pixel.h"
+#include "lut/psc_lut.h"
 
 #define LANES KERNEL_LANES
 
 typedef uint32_t vu __attribute__((vector_size(LANES * 4)));
 typedef int32_t vi __attribute__((vector_size(LANES * 4)));
+#if LANES == 8
+#define LANE_IDS ((vu){0, 1, 2, 3, 4, 5, 6, 7})
+#else
+#define LANE_IDS ((vu){0, 1, 2, 3})
+#endif
 typedef uint16_t vu16 __attribute__((vector_size(LANES * 2)));
 
 #ifdef KERNEL_AVX2
@@ -172,9 +178,7 @@ static PSC_ALWAYS_INLINE unsigned row_lanes(const psc_simd_row_t *j, const bool 
     const uint32_t imask = (1u << l2) - 1u, cmask = (uint32_t)(((uint64_t)1 << (32u - sh)) - 1u);
     const uint8_t *base = j->base;
     const uint32_t *row = (const uint32_t *)(const void *)j->row;
-    vu lane, lane_span;
-    for (unsigned k = 0; k < LANES; k++)
-        lane[k] = k, lane_span[k] = k >> l2;
+    const vu lane = LANE_IDS, lane_span = lane >> l2;
     for (unsigned x = 0; x < n; x += LANES) {
         vu i = (lane + x) & imask;
         vu r0 = samples_under(row, x, l2, lane_span), r1 = samples_under(row + 1, x, l2, lane_span);
@@ -233,3 +237,137 @@ static unsigned KERNEL_ROW(const psc_simd_row_t *j)
     ROW_CASE(1, PSC_PIX_PAL8, 0)
     return 0;
 }
+
+/* ---- the samples of an equirect scanline ---------------------------------------- */
+
+typedef int64_t vi64 __attribute__((vector_size(LANES * 8)));
+typedef uint8_t vu8 __attribute__((vector_size(LANES)));
+
+/* Lanes in reverse order, for the mirrored samples. */
+static PSC_ALWAYS_INLINE vu reversed(vu v)
+{
+#if defined(__clang__)
+#if LANES == 8
+    return __builtin_shufflevector(v, v, 7, 6, 5, 4, 3, 2, 1, 0);
+#else
+    return __builtin_shufflevector(v, v, 3, 2, 1, 0);
+#endif
+#else
+#if LANES == 8
+    return __builtin_shuffle(v, (vu){7, 6, 5, 4, 3, 2, 1, 0});
+#else
+    return __builtin_shuffle(v, (vu){3, 2, 1, 0});
+#endif
+#endif
+}
+
+static PSC_ALWAYS_INLINE vu select_lanes(vu mask, vu a, vu b)
+{
+    return (a & mask) | (b & ~mask);
+}
+
+static PSC_ALWAYS_INLINE bool any_lane(vu v)
+{
+#ifdef KERNEL_AVX2
+    return !_mm256_testz_si256((__m256i)v, (__m256i)v);
+#else
+    uint32_t a = 0;
+    for (unsigned j = 0; j < LANES; j++)
+        a |= v[j];
+    return a != 0;
+#endif
+}
+
+/* Polar flags (0 or 1 per lane) as bytes; most groups have none. */
+static PSC_ALWAYS_INLINE void store_polar(uint8_t *p, vu flags, bool some)
+{
+    vu8 b = {0};
+    if (some)
+        b = __builtin_convertvector(flags, vu8);
+    __builtin_memcpy(p, &b, sizeof b);
+}
+
+static unsigned KERNEL_SAMPLES(const psc_simd_samples_t *s, uint8_t *any_polar)
+{
+    const unsigned reads = s->reads - s->reads % LANES;
+    const uint32_t two_n = 2u * s->span, last_col = s->lut_cols - 2u;
+    const vu lane = LANE_IDS;
+    vu any = {0};
+    unsigned k = 0;
+    for (; k < reads; k += LANES) {
+        vu ax = s->width - (lane + k) * two_n;
+        vu pos = (ax * s->u_step_q24 + 32768u) >> 16;
+        vu c0 = pos >> 8, fc = pos & 255u;
+        vu end = (vu)(c0 > last_col); /* -1 where the LUT itself ends (c0 >= cols - 1) */
+        c0 = select_lanes(end, (vu){0} + last_col, c0);
+        fc = select_lanes(end, (vu){0} + 256u, fc);
+        vu ic = 256u - fc, e = c0 * 2u;
+        vu lon = ENTRY_AT(s->lut_row, e) * ic + ENTRY_AT(s->lut_row, e + 2u) * fc;
+        vu la = ENTRY_AT(s->lut_row, e + 1u) * ic + ENTRY_AT(s->lut_row, e + 3u) * fc;
+        vu lon_bam = (lon >> 2) + ((lon >> 1) & 1u), lat_bam = (la >> 2) + ((la >> 1) & 1u);
+        if (any_lane((vu)((vi)lat_bam >= s->cap_exact)))
+            break;
+        vu p = (vu)((vi)lat_bam >= s->cap_per_pixel) & 1u;
+        bool some = any_lane(p);
+        any |= p;
+        vu lon_right = s->pole_base + s->pole_sign * lon_bam;
+        /* the row in 64 bits; its low 32 bits after the shift are the same for a logical and an arithmetic shift */
+        vi64 wide = __builtin_convertvector((vi)lat_bam, vi64) * (int64_t)s->row_per_lat + s->row_base;
+        vi y = __builtin_convertvector(wide >> 16, vi) - 32768;
+        y = (vi)select_lanes((vu)(y < -32768), (vu){0} - 32768u, (vu)y);
+        y = (vi)select_lanes((vu)(y > s->bottom), (vu){0} + (uint32_t)s->bottom, (vu)y);
+        unsigned r = s->count - k - LANES; /* the mirrored samples, in reverse */
+        __builtin_memcpy(s->row + k, &y, sizeof y);
+        vu tl = s->t_base - lon_right;
+        __builtin_memcpy(s->t + k, &tl, sizeof tl);
+        store_polar(s->polar + k, p, some);
+        vu yr = reversed((vu)y), tr = reversed(s->t_base + lon_right);
+        __builtin_memcpy(s->row + r, &yr, sizeof yr);
+        __builtin_memcpy(s->t + r, &tr, sizeof tr);
+        store_polar(s->polar + r, reversed(p), some);
+    }
+    *any_polar |= (uint8_t)any_lane(any);
+    return k;
+}
+
+/* ---- the composite LUT row ------------------------------------------------------ */
+
+/* Lanes of lo and hi interleaved: lo[0], hi[0], lo[1], hi[1], ... from lanes first .. first + LANES / 2 - 1. */
+#if defined(__clang__)
+#if LANES == 8
+#define INTERLEAVE_LO(a, b) __builtin_shufflevector(a, b, 0, 8, 1, 9, 2, 10, 3, 11)
+#define INTERLEAVE_HI(a, b) __builtin_shufflevector(a, b, 4, 12, 5, 13, 6, 14, 7, 15)
+#else
+#define INTERLEAVE_LO(a, b) __builtin_shufflevector(a, b, 0, 4, 1, 5)
+#define INTERLEAVE_HI(a, b) __builtin_shufflevector(a, b, 2, 6, 3, 7)
+#endif
+#else
+#if LANES == 8
+#define INTERLEAVE_LO(a, b) __builtin_shuffle(a, b, (vu){0, 8, 1, 9, 2, 10, 3, 11})
+#define INTERLEAVE_HI(a, b) __builtin_shuffle(a, b, (vu){4, 12, 5, 13, 6, 14, 7, 15})
+#else
+#define INTERLEAVE_LO(a, b) __builtin_shuffle(a, b, (vu){0, 4, 1, 5})
+#define INTERLEAVE_HI(a, b) __builtin_shuffle(a, b, (vu){2, 6, 3, 7})
+#endif
+#endif
+
+static void KERNEL_COMPOSITE(const uint32_t *e0, const uint32_t *e1, uint32_t fr, uint32_t n, uint32_t *out)
+{
+    const uint32_t ir = 256u - fr;
+    uint32_t j = 0;
+    for (; j + LANES <= n; j += LANES) {
+        vu a, b;
+        __builtin_memcpy(&a, e0 + j, sizeof a);
+        __builtin_memcpy(&b, e1 + j, sizeof b);
+        vu lon = (a & 0xFFFFu) * ir + (b & 0xFFFFu) * fr, lat = (a >> 16) * ir + (b >> 16) * fr;
+        vu lo = INTERLEAVE_LO(lon, lat), hi = INTERLEAVE_HI(lon, lat);
+        __builtin_memcpy(out + 2u * j, &lo, sizeof lo);
+        __builtin_memcpy(out + 2u * j + LANES, &hi, sizeof hi);
+    }
+    for (; j < n; j++) {
+        out[2u * j] = PSC_LUT_LON(e0[j]) * ir + PSC_LUT_LON(e1[j]) * fr;
+        out[2u * j + 1u] = PSC_LUT_LAT(e0[j]) * ir + PSC_LUT_LAT(e1[j]) * fr;
+    }
+}
+
+static const psc_simd_kernel_t KERNEL = {KERNEL_ROW, KERNEL_SAMPLES, KERNEL_COMPOSITE};

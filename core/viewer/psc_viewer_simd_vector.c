@@ -9,14 +9,17 @@
 #if defined(__SSE2__) || defined(__ARM_NEON)
 #define KERNEL_LANES 4
 #define KERNEL_ROW row_vector
+#define KERNEL_SAMPLES samples_vector
+#define KERNEL_COMPOSITE composite_vector
+#define KERNEL kernel_vector
 #include "viewer/psc_viewer_simd_kernel.h"
 
-psc_simd_row_fn psc_simd_row_vector(void)
+const psc_simd_kernel_t *psc_simd_kernel_vector(void)
 {
-    return row_vector;
+    return &kernel_vector;
 }
 #else
-psc_simd_row_fn psc_simd_row_vector(void)
+const psc_simd_kernel_t *psc_simd_kernel_vector(void)
 {
     return 0;
 }
