@@ -13,6 +13,9 @@
 
 #define PSC_IO_FILE_ALIGN 64u
 
+/** Memory for a large buffer read often (free() it): PSC_IO_FILE_ALIGN-aligned, or from 4 MiB on 2 MiB-aligned with the kernel asked for huge pages. NULL if out of memory. */
+void *psc_io_alloc_large(size_t size);
+
 /**
  * Read path (a regular, non-empty file of at most max_size bytes) into *buf
  * (malloc'd, PSC_IO_FILE_ALIGN-aligned; free()) and *len. 0, or -1 with err

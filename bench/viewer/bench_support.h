@@ -98,6 +98,15 @@ typedef struct {
     bool have_mip;
 } bv_meta_t;
 
+/* ---- FFmpeg's v360 filter (ffmpeg.c), where ffmpeg is installed ---- */
+
+/** Whether an ffmpeg program runs. */
+bool bv_ffmpeg_available(void);
+/** A 3-channel map as a PPM file for ffmpeg; 0 or -1. */
+int bv_ffmpeg_write_map(const bv_image_t *src, const char *path);
+/** ns per output pixel of v360's per-frame remap of view v (its tables built once), or < 0 on failure. */
+double bv_ffmpeg_v360_ns(const char *map, const bv_view_t *v, int out_w, int out_h, bool nearest, int threads);
+
 /** Machine, CPU model and UTC date into meta. */
 void bv_meta_machine(bv_meta_t *m);
 /** Print the table and the notes after it to f. */

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * viewer - how fast Periscope's viewer renders, side by side in one run with
- * OpenCV's cv::remap and a naive float renderer (issue 4).
+ * OpenCV's cv::remap, FFmpeg's v360 filter and a naive float renderer (issues 4 and 14).
  *
  *   build/bench/viewer --out bench/results              the timed table (`make bench`)
  *   build/bench/viewer --callgrind --out bench/results  instructions per pixel (`make bench-callgrind`)

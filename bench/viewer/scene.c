@@ -6,6 +6,7 @@
  */
 #include "bench_support.h"
 #include "pack_build.h"
+#include "psc_io_file.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -93,6 +94,16 @@ int bv_pack_make(const psc_image_t *img, psc_pixfmt_t fmt, uint16_t display_w, u
         fprintf(stderr, "viewer bench: psc_pack_build: %s\n", err);
         return -1;
     }
+    /* on the memory the device's loader gives a pack (psc_io_read_aligned) */
+    void *mem = psc_io_alloc_large(p->len);
+    if (!mem) {
+        fprintf(stderr, "viewer bench: out of memory for the pack\n");
+        bv_pack_free(p);
+        return -1;
+    }
+    memcpy(mem, p->buf, p->len);
+    free(p->buf);
+    p->buf = mem;
     psc_container_error_t perr = {0};
     psc_status_t s = psc_pack_parse(p->buf, p->len, &p->pack, &perr);
     if (s != PSC_OK) {

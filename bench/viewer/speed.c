@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #define BV_NVIEWS 8u
 #define MAX_REPS 15u
@@ -192,6 +193,7 @@ typedef struct {
     bv_cv_maps_t *scratch;
     unsigned reps;
     bv_results_t *results;
+    const char *ffmpeg_map; /* the map as a PPM file for ffmpeg, or NULL */
 } block_t;
 
 /* The two sequences at hfov, brought inside the pack's limits by the viewer's
@@ -323,6 +325,31 @@ static int two_thread_rows(block_t *b, unsigned f)
     return rc;
 }
 
+/* FFmpeg's v360 on one static view (its per-frame remap; tables built once), one and two threads. */
+static int ffmpeg_rows(block_t *b)
+{
+    const bv_view_t *v = &b->fviews[SEQ_STATIC][1]; /* pitch 25 */
+    for (int threads = 1; threads <= 2; threads++)
+        for (int nearest = 1; nearest >= 0; nearest--) {
+            double ns = bv_ffmpeg_v360_ns(b->ffmpeg_map, v, b->out_w, b->out_h, nearest, threads);
+            if (ns <= 0.0) {
+                fprintf(stderr, "viewer bench: ffmpeg v360 failed; no v360 rows\n");
+                return 0;
+            }
+            bv_row_t row = {.renderer = threads == 1 ? "ffmpeg v360" : "ffmpeg v360 x2", .threads = (unsigned)threads,
+                            .filter = nearest ? "nearest" : "bilinear", .views = seq_name[SEQ_STATIC],
+                            .format = formats[0].cv_name, .family = formats[0].family, .reps = 1};
+            row.map_w = (unsigned)b->src[0]->width;
+            row.map_h = (unsigned)b->src[0]->height;
+            row.out_w = b->out_w;
+            row.out_h = b->out_h;
+            row.hfov = b->hfov;
+            row.ns_per_px = ns;
+            bv_results_add(b->results, &row);
+        }
+    return 0;
+}
+
 static int naive_row(block_t *b, unsigned f, unsigned seq)
 {
     cv_job_t job = {b->src[f], &b->dst[f], 0, NULL, b->fviews[seq], NULL, NULL, NULL};
@@ -384,6 +411,8 @@ static int run_block(block_t *b, bv_meta_t *meta)
             rc = periscope_rows(b, f, SEQ_STATIC, static_modes, sizeof static_modes / sizeof static_modes[0]);
         if (rc == 0)
             rc = two_thread_rows(b, f);
+        if (rc == 0 && f == 0 && b->ffmpeg_map)
+            rc = ffmpeg_rows(b);
         if (rc == 0)
             rc = naive_row(b, f, SEQ_STATIC);
         if (rc == 0)
@@ -415,7 +444,7 @@ typedef struct {
 
 /* Output buffers, packs and viewers for one map at one output size, then its three fields of view. */
 static int run_output_size(sweep_t *sw, const psc_image_t *img, const bv_image_t *src3, const bv_image_t *src4,
-                           size2_t out, bv_results_t *res, bv_meta_t *meta)
+                           const char *ffmpeg_map, size2_t out, bv_results_t *res, bv_meta_t *meta)
 {
     bv_pack_t packs[NFORMATS] = {{0}};
     psc_viewer_t viewers[NFORMATS];
@@ -430,6 +459,7 @@ static int run_output_size(sweep_t *sw, const psc_image_t *img, const bv_image_t
         b->out_h = out.h;
         b->reps = sw->reps;
         b->results = res;
+        b->ffmpeg_map = ffmpeg_map;
         b->mapx = malloc(px * sizeof(float));
         b->mapy = malloc(px * sizeof(float));
         b->scratch = bv_cv_maps_new();
@@ -494,10 +524,24 @@ static int run_map(sweep_t *sw, const psc_image_t *img, bv_results_t *res, bv_me
     if (bv_image_bgr(img, &src3) != 0)
         return -1;
     bv_image_t src4 = bv_image_bgra(img);
+    /* FFmpeg reads the map from a file */
+    char dir[] = "/tmp/periscope-bench-XXXXXX", map[sizeof dir + 16];
+    const char *ffmpeg_map = NULL;
+    if (bv_ffmpeg_available() && mkdtemp(dir)) {
+        snprintf(map, sizeof map, "%s/map.ppm", dir);
+        if (bv_ffmpeg_write_map(&src3, map) == 0)
+            ffmpeg_map = map;
+        else
+            fprintf(stderr, "viewer bench: cannot write %s: no ffmpeg rows\n", map);
+    }
     int rc = 0;
     for (unsigned o = 0; o < NOUTS && rc == 0; o++)
         if (!sw->quick || o == 0)
-            rc = run_output_size(sw, img, &src3, &src4, out_sizes[o], res, meta);
+            rc = run_output_size(sw, img, &src3, &src4, ffmpeg_map, out_sizes[o], res, meta);
+    if (dir[sizeof dir - 2] != 'X') { /* mkdtemp made it */
+        unlink(map);
+        rmdir(dir);
+    }
     free(src3.data);
     return rc;
 }
