@@ -60,6 +60,12 @@ typedef struct {
     int32_t *row;
     uint32_t *t;
     uint8_t *polar;
+    /* prefetch of the map lines under every pf_step-th sample (prefetch_samples
+     * of psc_viewer_scan.c), or pf_base NULL for none */
+    const uint8_t *pf_base;
+    uint32_t pf_round;        /* added to the row before >> 16: 1 (the guard row), + 1/2 for nearest */
+    uint32_t pf_stride, pf_height, pf_col_shift, pf_bpp_log2, pf_step_mask;
+    uint8_t pf_two_rows;      /* bilinear: the row below too */
 } psc_simd_samples_t;
 
 /*

@@ -38,7 +38,7 @@ static PSC_ALWAYS_INLINE vu entry_at(const uint32_t *table, vu idx)
 
 /*
  * The samples under each lane: lane j of the group starting at pixel x takes
- * sample (x >> l2) + (j >> l2) + first of the scanline's array p.
+ * sample (x >> l2) + (j >> l2) of the scanline's array p.
  */
 static PSC_ALWAYS_INLINE vu samples_under(const uint32_t *p, unsigned x, unsigned l2, vu lane_span)
 {
@@ -217,8 +217,8 @@ static PSC_ALWAYS_INLINE unsigned row_lanes(const psc_simd_row_t *j, const bool 
     return n;
 }
 
-#define ROW_CASE(bl, fmt, o565)                                                \
-    if (j->bilinear == (bl) && j->in == (fmt) && j->out_565 == (o565))         \
+#define ROW_CASE(bl, fmt, o565)                                                                      \
+    if (j->bilinear == (bl) && j->in == (fmt) && j->out_565 == (o565))                               \
         return row_lanes(j, bl, fmt, o565);
 
 static unsigned KERNEL_ROW(const psc_simd_row_t *j)
@@ -287,6 +287,27 @@ static PSC_ALWAYS_INLINE void store_polar(uint8_t *p, vu flags, bool some)
     __builtin_memcpy(p, &b, sizeof b);
 }
 
+/* Prefetch the map lines under every lane's sample (y, t): cheaper in lanes than choosing some. */
+static PSC_ALWAYS_INLINE void prefetch_lanes(const psc_simd_samples_t *s, vu y, vu t)
+{
+    vi r = (vi)((y + s->pf_round) >> 16) - 1;
+    r = (vi)select_lanes((vu)(r < 0), (vu){0}, (vu)r);
+    r = (vi)select_lanes((vu)(r > (int32_t)s->pf_height - 1), (vu){0} + (s->pf_height - 1u), (vu)r);
+    vu off = (vu)r * s->pf_stride + ((t >> s->pf_col_shift) << s->pf_bpp_log2);
+    uint32_t o[LANES];
+    __builtin_memcpy(o, &off, sizeof o);
+    if (s->pf_two_rows) {
+        /* past the last row only at the map's very end: a prefetch never faults */
+        for (unsigned j = 0; j < LANES; j++) {
+            __builtin_prefetch(s->pf_base + o[j]);
+            __builtin_prefetch(s->pf_base + o[j] + s->pf_stride);
+        }
+    } else {
+        for (unsigned j = 0; j < LANES; j++)
+            __builtin_prefetch(s->pf_base + o[j]);
+    }
+}
+
 static unsigned KERNEL_SAMPLES(const psc_simd_samples_t *s, uint8_t *any_polar)
 {
     const unsigned reads = s->reads - s->reads % LANES;
@@ -321,6 +342,10 @@ static unsigned KERNEL_SAMPLES(const psc_simd_samples_t *s, uint8_t *any_polar)
         vu tl = s->t_base - lon_right;
         __builtin_memcpy(s->t + k, &tl, sizeof tl);
         store_polar(s->polar + k, p, some);
+        if (s->pf_base) {
+            prefetch_lanes(s, (vu)y, tl);
+            prefetch_lanes(s, (vu)y, s->t_base + lon_right);
+        }
         vu yr = reversed((vu)y), tr = reversed(s->t_base + lon_right);
         __builtin_memcpy(s->row + r, &yr, sizeof yr);
         __builtin_memcpy(s->t + r, &tr, sizeof tr);
