@@ -306,12 +306,12 @@ static bool view_ok(const psc_viewer_t *v, const psc_view_t *view)
 /*
  * A scanline's workspace: boundary samples (at most W + 2: every pixel's left
  * edge, the right edge and one more when N does not divide W) and the
- * composite LUT row (at most PSC_MAX_LUT_DIM columns).
+ * composite LUT row (PSC_SCAN_COMPOSITE_COLS columns).
  */
 static size_t scan_work_size(uint16_t out_width)
 {
     size_t n = SCAN_SAMPLES(out_width);
-    return align8(n * sizeof(int32_t)) * 2u + align8(n) + (size_t)PSC_MAX_LUT_DIM * 2u * sizeof(uint32_t);
+    return align8(n * sizeof(int32_t)) * 2u + align8(n) + (size_t)PSC_SCAN_COMPOSITE_COLS(out_width) * 2u * sizeof(uint32_t);
 }
 
 static psc_scan_work_t scan_work(void *scratch, uint16_t out_width)

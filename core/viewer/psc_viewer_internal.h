@@ -43,6 +43,9 @@ typedef struct {
     uint32_t *lut_row; /* the scanline's two LUT rows blended: (lon, lat) pairs */
 } psc_scan_work_t;
 
+/* Columns of the composite LUT row a scanline's workspace holds (a denser LUT is read directly). */
+#define PSC_SCAN_COMPOSITE_COLS(out_width) ((uint32_t)(out_width) / 2u + 2u)
+
 /* Everything fixed for one frame. */
 typedef struct {
     const psc_viewer_t *v;

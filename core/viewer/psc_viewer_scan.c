@@ -41,7 +41,9 @@ static bool uses_fast_spans(const psc_frame_t *f)
 /* ---- the scanline's LUT row ------------------------------------------------------ */
 
 typedef struct {
-    const uint32_t *lut_row; /* composite row: (lon, lat) pairs, Q8.24 units of 90deg / 2^24 */
+    const uint32_t *lut_row; /* composite row: (lon, lat) pairs, Q8.24 units of 90deg / 2^24; NULL: read e0, e1 */
+    const uint32_t *e0, *e1; /* the two bounding LUT rows */
+    uint32_t fr;             /* blend weight of e1, Q0.8 (0..256) */
     uint32_t lut_cols;       /* entries built: every column the scanline reads */
     bool lat_negative;       /* the scanline's LUT angle is below the horizon */
     bool over_pole;          /* |a| > 90 degrees: reflected, lon = 180 - lon */
@@ -80,6 +82,14 @@ static void row_setup(const psc_frame_t *f, unsigned y, row_setup_t *rs)
     uint32_t last = (lut_col_q8(rs, f->v->out_width) >> 8) + 1u;
     rs->lut_cols = last < lut->cols ? last + 1u : lut->cols;
     const uint32_t *e0 = lut->entries + (size_t)r0 * lut->cols, *e1 = e0 + lut->cols;
+    rs->e0 = e0;
+    rs->e1 = e1;
+    rs->fr = fr;
+    rs->lut_row = NULL;
+    /* A LUT denser than the scanline's samples is read directly: blending it
+     * would cost more than it saves (and the workspace holds W / 2 + 2 columns). */
+    if (rs->lut_cols > PSC_SCAN_COMPOSITE_COLS(f->v->out_width))
+        return;
     uint32_t *c = f->work.lut_row, ir = 256u - fr;
     if (f->simd) {
         f->simd->composite(e0, e1, fr, rs->lut_cols, c);
@@ -109,9 +119,16 @@ static PSC_ALWAYS_INLINE void lut_read(const row_setup_t *rs, uint32_t ax, uint3
         c0 = rs->lut_cols - 2u;
         fc = 256;
     }
-    const uint32_t *e = rs->lut_row + 2u * c0, ic = 256u - fc;
-    /* Each sum stays below 2^32: 2^24 * 256. Units of 90deg / 2^32. */
-    uint32_t lon = e[0] * ic + e[2] * fc, la = e[1] * ic + e[3] * fc;
+    uint32_t lon, la, ic = 256u - fc;
+    if (rs->lut_row) { /* Each sum stays below 2^32: 2^24 * 256. Units of 90deg / 2^32. */
+        const uint32_t *e = rs->lut_row + 2u * c0;
+        lon = e[0] * ic + e[2] * fc;
+        la = e[1] * ic + e[3] * fc;
+    } else { /* the same sums, blending the columns first: 65535 * 256 * 256 < 2^32 */
+        uint32_t a = rs->e0[c0], b = rs->e0[c0 + 1], c = rs->e1[c0], d = rs->e1[c0 + 1], ir = 256u - rs->fr;
+        lon = (PSC_LUT_LON(a) * ic + PSC_LUT_LON(b) * fc) * ir + (PSC_LUT_LON(c) * ic + PSC_LUT_LON(d) * fc) * rs->fr;
+        la = (PSC_LUT_LAT(a) * ic + PSC_LUT_LAT(b) * fc) * ir + (PSC_LUT_LAT(c) * ic + PSC_LUT_LAT(d) * fc) * rs->fr;
+    }
     /* to binary angles (90deg / 2^30), rounded */
     uint32_t lon_bam = (lon >> 2) + ((lon >> 1) & 1u), lat_bam = (la >> 2) + ((la >> 1) & 1u);
     *lon_right = rs->over_pole ? PSC_BAM_180 - lon_bam : lon_bam;
@@ -274,7 +291,7 @@ static unsigned build_samples(const psc_frame_t *f, row_setup_t *rs)
         }
         return count;
     }
-    if (f->v->addr.fast && !f->v->addr.row_table)
+    if (f->v->addr.fast && !f->v->addr.row_table && rs->lut_row)
         return build_samples_linear(f, rs, count);
     const psc_bam_t yaw = f->view->yaw;
     for (unsigned k = 0; 2u * k * n <= w; k++) {
