@@ -10,6 +10,8 @@
  *  - maps whose rows are not 4-byte aligned (the AVX2 kernel reads aligned
  *    words, so AUTO must take another path there) and maps whose width is not
  *    a power of two (scalar) give the same bytes;
+ *  - the map pyramid (PSC_FILTER_MIP) through each path: packs of a random
+ *    image in three formats with every level, random views zoomed in and out;
  *  - psc_viewer_set_simd refuses what the build or CPU lacks and names
  *    the path it draws with.
  */
@@ -19,6 +21,8 @@
 #include <setjmp.h>
 #include <cmocka.h>
 
+#include "pack_build.h"
+#include "pack/psc_pack.h"
 #include "psc_testsupport.h"
 
 #include <stdlib.h>
@@ -135,6 +139,79 @@ static void test_paths_equal_scalar(void **state)
     assert_true(compared[1] > 0); /* every target the project builds for has baseline vectors */
 }
 
+/* A pack with its pyramid, of a noisy 1024x512 image in format fmt. */
+static void mip_pack(psc_pixfmt_t fmt, tsup_rng_t *r, uint8_t **buf, size_t *len, psc_pack_t *p)
+{
+    psc_image_t img = {1024, 512, malloc(1024u * 512u * sizeof(uint32_t))};
+    assert_non_null(img.xrgb);
+    for (unsigned i = 0; i < 1024u * 512u; i++) /* smooth bands plus noise: every level differs */
+        img.xrgb[i] = 0xFF000000u | ((i * 7u) & 0xFF0000u) | ((i / 1024u * 3u) & 255u) << 8 | (tsup_rng_u32(r) & 255u);
+    psc_pack_options_t opt;
+    psc_pack_options_default(&opt);
+    opt.format = fmt;
+    opt.display_width = 88;
+    opt.display_height = 40;
+    char err[256];
+    assert_int_equal(psc_pack_build(&img, &opt, buf, len, err, sizeof err), 0);
+    psc_container_error_t perr = {0};
+    assert_int_equal(psc_pack_parse(*buf, *len, p, &perr), PSC_OK);
+    assert_true(p->level_count > 3);
+    psc_image_free(&img);
+}
+
+static void test_mip_paths_equal_scalar(void **state)
+{
+    (void)state;
+    static const psc_pixfmt_t fmts[] = {PSC_PIX_RGB565, PSC_PIX_XRGB8888, PSC_PIX_PAL8};
+    tsup_rng_t r;
+    tsup_rng_seed(&r, 4242);
+    unsigned frames = 0, compared = 0;
+    for (unsigned fi = 0; fi < 3; fi++) {
+        uint8_t *buf;
+        size_t len;
+        psc_pack_t p;
+        mip_pack(fmts[fi], &r, &buf, &len, &p);
+        for (int out565 = 0; out565 < 4; out565++) { /* small outputs: many texels a pixel, every level in use */
+            tsup_viewer_t tv;
+            assert_int_equal(tsup_viewer_init(&tv, &p.map, out565 < 2 ? 48 : 88, out565 < 2 ? 32 : 40,
+                                              out565 & 1 ? PSC_PIX_RGB565 : PSC_PIX_XRGB8888),
+                             PSC_OK);
+            assert_int_equal(psc_viewer_set_levels(&tv.v, p.levels, p.level_count), PSC_OK);
+            psc_simd_t paths[2];
+            unsigned npaths = vector_paths(&tv.v, paths);
+            size_t bytes = (size_t)tv.out.stride * tv.out.height;
+            uint8_t *scalar = malloc(bytes);
+            assert_non_null(scalar);
+            for (unsigned i = 0; i < VIEWS; i++) {
+                psc_view_t view = random_view(&r);
+                view.filter = PSC_FILTER_MIP;
+                view.hfov = tsup_bam_from_deg(tsup_rng_range(&r, 20, 120)); /* up to 3 levels down at 48 px */
+                psc_viewer_clamp(&tv.v, &view, 0);
+                assert_int_equal(psc_viewer_set_simd(&tv.v, PSC_SIMD_SCALAR), PSC_OK);
+                assert_int_equal(psc_viewer_render(&tv.v, &view, &tv.out), PSC_OK);
+                memcpy(scalar, tv.out.pixels, bytes);
+                for (unsigned k = 0; k < npaths; k++) {
+                    assert_int_equal(psc_viewer_set_simd(&tv.v, paths[k]), PSC_OK);
+                    clear_rows(&tv.out);
+                    assert_int_equal(psc_viewer_render(&tv.v, &view, &tv.out), PSC_OK);
+                    if (memcmp(scalar, tv.out.pixels, bytes) != 0)
+                        fail_msg("mip, map format %d, %s output, path %s: yaw %u pitch %d hfov %u span %u differs "
+                                 "from the scalar path",
+                                 (int)fmts[fi], out565 & 1 ? "rgb565" : "xrgb8888", psc_simd_name(paths[k]),
+                                 (unsigned)view.yaw, (int)view.pitch, (unsigned)view.hfov, 1u << view.span_log2);
+                    compared++;
+                }
+                frames++;
+            }
+            free(scalar);
+            tsup_viewer_free(&tv);
+        }
+        free(buf);
+    }
+    print_message("  %u random mip views: the scalar bytes %u times\n", frames, compared);
+    assert_true(compared > 0);
+}
+
 static void test_choice(void **state)
 {
     (void)state;
@@ -178,6 +255,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_paths_equal_scalar),
+        cmocka_unit_test(test_mip_paths_equal_scalar),
         cmocka_unit_test(test_choice),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

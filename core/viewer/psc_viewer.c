@@ -292,6 +292,28 @@ const char *psc_simd_name(psc_simd_t simd)
     return "?";
 }
 
+/*
+ * The vector kernel addresses every level by a 32-bit byte offset from level
+ * 0's pixels (a pack holds its pyramid after the map); the AVX2 kernel also
+ * needs each level's rows 4-byte aligned. Fills the frame's level tables.
+ */
+static bool mip_levels_addressable(const psc_viewer_t *v, psc_frame_t *f)
+{
+    const uintptr_t base = (uintptr_t)v->levels[0].pixels;
+    for (unsigned k = 0; k < v->level_count; k++) {
+        const psc_envmap_t *l = &v->levels[k];
+        uintptr_t at = (uintptr_t)l->pixels;
+        if (at < base || at - base + (uintptr_t)l->height * l->stride >= ((uintptr_t)1 << 31))
+            return false;
+        if (f->simd == psc_simd_kernel_avx2() && !map_words_aligned(l))
+            return false;
+        f->level_off[k] = (uint32_t)(at - base);
+        f->level_stride[k] = l->stride;
+        f->level_hmax[k] = l->height - 1u;
+    }
+    return true;
+}
+
 /* ---- public entry points ------------------------------------------------------- */
 
 static bool view_ok(const psc_viewer_t *v, const psc_view_t *view)
@@ -311,7 +333,7 @@ static bool view_ok(const psc_viewer_t *v, const psc_view_t *view)
 static size_t scan_work_size(uint16_t out_width)
 {
     size_t n = SCAN_SAMPLES(out_width);
-    return align8(n * sizeof(int32_t)) * 2u + align8(n) + (size_t)PSC_SCAN_COMPOSITE_COLS(out_width) * 2u * sizeof(uint32_t);
+    return align8(n * sizeof(int32_t)) * 3u + align8(n) + (size_t)PSC_SCAN_COMPOSITE_COLS(out_width) * 2u * sizeof(uint32_t);
 }
 
 static psc_scan_work_t scan_work(void *scratch, uint16_t out_width)
@@ -325,6 +347,8 @@ static psc_scan_work_t scan_work(void *scratch, uint16_t out_width)
     at += align8(n * sizeof(uint32_t));
     w.polar = at;
     at += align8(n);
+    w.lod = (uint32_t *)(void *)at;
+    at += align8(n * sizeof(uint32_t));
     w.lut_row = (uint32_t *)(void *)at;
     return w;
 }
@@ -347,6 +371,7 @@ static psc_status_t frame_begin(const psc_viewer_t *v, const psc_view_t *view, p
     /* The pyramid applies to full-turn rectangular maps that have one. */
     f->mip = view->filter == PSC_FILTER_MIP && v->level_count > 1 && v->addr.fast;
     f->filter = view->filter == PSC_FILTER_MIP ? PSC_FILTER_BILINEAR : view->filter;
+    f->simd_mip = f->mip && f->simd && mip_levels_addressable(v, f);
     psc_sincos((psc_bam_t)view->pitch, &f->sin_pitch, &f->cos_pitch);
     polar_caps(v, f->lut, f->span, &f->cap_exact, &f->cap_per_pixel);
     return PSC_OK;

@@ -41,6 +41,7 @@ typedef struct {
     uint32_t *t;       /* longitude from the map's left edge, binary angle (2^32 = a full turn) */
     uint8_t *polar;    /* inside a polar cap: no span interpolation from or to here */
     uint32_t *lut_row; /* the scanline's two LUT rows blended: (lon, lat) pairs */
+    uint32_t *lod;     /* PSC_FILTER_MIP through the vector kernel: each span's levels (psc_simd_mip_t) */
 } psc_scan_work_t;
 
 /* Columns of the composite LUT row a scanline's workspace holds (a denser LUT is read directly). */
@@ -53,6 +54,8 @@ typedef struct {
     psc_scan_work_t work;          /* this band's scanline workspace */
     psc_scan_work_t work_next;     /* and the next scanline's (psc_scan_rows) */
     const psc_simd_kernel_t *simd; /* the vector kernel, or NULL for the scalar path only */
+    bool simd_mip;                 /* the pyramid through the kernel: its levels addressable from level 0 */
+    uint32_t level_off[PSC_VIEWER_MAX_LEVELS], level_stride[PSC_VIEWER_MAX_LEVELS], level_hmax[PSC_VIEWER_MAX_LEVELS];
     const psc_lut_t *lut;
     int32_t sin_pitch, cos_pitch;  /* Q2.30 */
     int32_t cap_per_pixel;         /* |lat| >= this: LUT read at every pixel (polar cap) */

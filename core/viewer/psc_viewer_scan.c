@@ -349,14 +349,15 @@ static int32_t column_of(const psc_viewer_t *v, uint32_t t)
 }
 
 /*
- * Map level of detail at pixel x: log2 of map texels per output pixel (plus
- * the bias), Q24.8. A pixel (x, y) half-pixels from the centre spans
- * 2 / sqrt(x^2 + y^2 + d^2) radians across its ray.
+ * Map level of detail at half-pixel xc of the scanline: log2 of map texels
+ * per output pixel (plus the bias), Q24.8. A pixel (x, y) half-pixels from
+ * the centre spans 2 / sqrt(x^2 + y^2 + d^2) radians across its ray. A span
+ * takes the level of its centre (xc = 2 x + n - W), which a span and its
+ * mirror share; a lone pixel its own.
  */
-static int32_t pixel_lod_q8(const psc_frame_t *f, const row_setup_t *rs, unsigned x)
+static int32_t lod_q8_at(const psc_frame_t *f, const row_setup_t *rs, int32_t xc)
 {
-    int64_t xc = half_pixel_x(f, x);
-    uint64_t dist2_q16 = (uint64_t)rs->mag_q8 * rs->mag_q8 + (uint64_t)(xc * xc) * 65536u;
+    uint64_t dist2_q16 = (uint64_t)rs->mag_q8 * rs->mag_q8 + (uint64_t)((int64_t)xc * xc) * 65536u;
     return f->v->lod_base_q8 - (psc_log2_q8(dist2_q16) - 16 * 256) / 2;
 }
 
@@ -376,10 +377,10 @@ static void put_general(const psc_frame_t *f, unsigned x, int32_t row, uint32_t 
 }
 
 /* Pixels [x, x + n) of a span through the general samplers, the pyramid or the trace. */
-static void span_general(const psc_frame_t *f, const row_setup_t *rs, unsigned x, unsigned n, span_t s)
+static void span_general(const psc_frame_t *f, const row_setup_t *rs, unsigned x, unsigned n, span_t s, int32_t lod_xc)
 {
-    if (f->mip && f->sink != PSC_SINK_TRACE) {
-        psc_span_mip(f, x, n, s.row, s.t, s.drow, s.dt, pixel_lod_q8(f, rs, x + n / 2u));
+    if (f->mip && f->sink != PSC_SINK_TRACE) { /* the level of detail at half-pixel lod_xc */
+        psc_span_mip(f, x, n, s.row, s.t, s.drow, s.dt, lod_q8_at(f, rs, lod_xc));
         return;
     }
     for (unsigned i = 0; i < n; i++, s.row += s.drow, s.t += (uint32_t)s.dt)
@@ -533,7 +534,7 @@ static void polar_pixels(const psc_frame_t *f, const row_setup_t *rs, unsigned x
             pixel_fast(f, x + i, p);
         } else {
             span_t s = {p.row, 0, 0, p.t};
-            span_general(f, rs, x + i, 1, s);
+            span_general(f, rs, x + i, 1, s, half_pixel_x(f, x + i));
         }
     }
 }
@@ -617,6 +618,38 @@ static void prefetch_samples(const psc_frame_t *f, const row_setup_t *rs, unsign
     }
 }
 
+/*
+ * The vector kernel's share of a PSC_FILTER_MIP scanline, as row_vector's:
+ * pixels [0, returned), each span's levels from its middle pixel's level of
+ * detail (psc_span_mip's choice).
+ */
+static unsigned mip_vector(const psc_frame_t *f, const row_setup_t *rs, unsigned count)
+{
+    const psc_viewer_t *v = f->v;
+    if (!f->simd_mip || f->sink == PSC_SINK_TRACE || rs->any_polar || v->out_width % f->span != 0 ||
+        v->col_shift == 0)
+        return 0;
+    const unsigned n = f->span, top = v->level_count - 1u, spans = count - 1u;
+    const int32_t w = (int32_t)v->out_width;
+    uint32_t *lod = f->work.lod;
+    for (unsigned k = 0; 2u * k < spans; k++) { /* span k and its mirror spans - 1 - k share a level */
+        int32_t lod_q8 = lod_q8_at(f, rs, 2 * (int32_t)(k * n) + (int32_t)n - w);
+        uint32_t level = lod_q8 < 0 ? 0u : (uint32_t)lod_q8 >> 8, frac = lod_q8 < 0 ? 0u : (uint32_t)lod_q8 & 255u;
+        if (level >= top) {
+            level = top;
+            frac = 0;
+        }
+        uint32_t next = level < top ? level + 1u : top;
+        lod[k] = lod[spans - 1u - k] = level | next << 8 | frac << 16;
+    }
+    lod[spans] = lod[spans - 1u]; /* read by the lanes beyond the last span, unused */
+    const psc_simd_mip_t job = {v->levels[0].pixels, f->level_off, f->level_stride, f->level_hmax, v->map->palette,
+                                f->work.row, f->work.t, f->work.lod, f->dst, v->out_width, f->view->span_log2,
+                                v->col_shift, v->half_col_bam, v->map->width - 1u, (uint8_t)v->map->format,
+                                f->sink == PSC_SINK_RGB565};
+    return f->simd->mip(&job);
+}
+
 /* One scanline's samples, ready to draw. */
 typedef struct {
     row_setup_t rs;
@@ -636,13 +669,17 @@ static void scanline_draw(const psc_frame_t *f, const scan_line_t *l)
         spans_fast_dispatch(f, rs, l->count, row_vector(f, rs));
         return;
     }
-    const unsigned w = f->v->out_width, n = f->span;
-    for (unsigned k = 0, x = 0; k + 1u < l->count; k++, x += n) {
-        unsigned len = w - x < n ? w - x : n;
-        if (f->work.polar[k] | f->work.polar[k + 1u])
-            polar_pixels(f, rs, x, len);
-        else
-            span_general(f, rs, x, len, span_at(f, k, len));
+    const unsigned w = f->v->out_width, n = f->span, x0 = mip_vector(f, rs, l->count);
+    for (unsigned k = x0 / n, x = k * n; k + 1u < l->count; k++, x += n) {
+        unsigned len = w - x < n ? w - x : n, skip = x0 > x ? x0 - x : 0u;
+        if (f->work.polar[k] | f->work.polar[k + 1u]) {
+            polar_pixels(f, rs, x + skip, len - skip);
+            continue;
+        }
+        span_t s = span_at(f, k, len);
+        s.row = (int32_t)((uint32_t)s.row + skip * (uint32_t)s.drow);
+        s.t += skip * (uint32_t)s.dt;
+        span_general(f, rs, x + skip, len - skip, s, 2 * (int32_t)x + (int32_t)len - (int32_t)w);
     }
 }
 

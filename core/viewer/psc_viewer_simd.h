@@ -69,6 +69,24 @@ typedef struct {
 } psc_simd_samples_t;
 
 /*
+ * A row of PSC_FILTER_MIP (psc_viewer_mip.c): each span's level of detail
+ * comes from lod[k] (level | next level << 8 | fraction << 16, the next level
+ * clamped to the top, fraction 0 at the top), then per lane the two levels
+ * are sampled bilinearly and blended, as span_mip does pixel by pixel.
+ */
+typedef struct {
+    const uint8_t *base;        /* level 0 pixels */
+    const uint32_t *level_off;  /* level k pixels - level 0 pixels, bytes (all within 2 GiB) */
+    const uint32_t *level_stride, *level_hmax;
+    const uint32_t *pal;
+    const int32_t *row;
+    const uint32_t *t, *lod;
+    void *dst;
+    uint32_t width, span_log2, col_shift, half_col, col_mask; /* col_mask: level 0 width - 1 */
+    uint8_t in, out_565;
+} psc_simd_mip_t;
+
+/*
  * A kernel's functions: the row, the samples, and the composite LUT row
  * (composite: lon and lat of n entries of the two LUT rows e0, e1 blended
  * with weight fr of e1, Q0.8, into (lon, lat) pairs at out).
@@ -77,6 +95,7 @@ typedef struct {
     unsigned (*row)(const psc_simd_row_t *r);
     unsigned (*samples)(const psc_simd_samples_t *s, uint8_t *any_polar);
     void (*composite)(const uint32_t *e0, const uint32_t *e1, uint32_t fr, uint32_t n, uint32_t *out);
+    unsigned (*mip)(const psc_simd_mip_t *m);
 } psc_simd_kernel_t;
 
 /* The kernels this build has (NULL where the target has none, and AVX2's where the CPU lacks it). */

@@ -13,6 +13,7 @@
 #define KERNEL_ROW row_avx2
 #define KERNEL_SAMPLES samples_avx2
 #define KERNEL_COMPOSITE composite_avx2
+#define KERNEL_MIP mip_avx2
 #define KERNEL kernel_avx2
 #include "viewer/psc_viewer_simd_kernel.h"
 

@@ -395,4 +395,68 @@ static void KERNEL_COMPOSITE(const uint32_t *e0, const uint32_t *e1, uint32_t fr
     }
 }
 
-static const psc_simd_kernel_t KERNEL = {KERNEL_ROW, KERNEL_SAMPLES, KERNEL_COMPOSITE};
+/* ---- the map pyramid ---------------------------------------------------------- */
+
+/* level_sample of psc_viewer_mip.c, lane by lane at each lane's level lv. */
+static PSC_ALWAYS_INLINE vu level_lanes(const psc_simd_mip_t *j, vu lv, vu row, vu t, const psc_pixfmt_t in,
+                                        const bool packed565)
+{
+    vi r = (((vi)row + 32768) >> (vi)lv) - 32768;
+    vi r0 = r >> 16, r1 = r0 + 1;
+    vu fr = ((vu)r >> 8) & 255u, hmax = ENTRY_AT(j->level_hmax, lv);
+    r0 = (vi)select_lanes((vu)(r0 < 0), (vu){0}, (vu)r0);
+    r1 = (vi)select_lanes((vu)(r1 > (vi)hmax), hmax, (vu)r1);
+    vu tk = t - (j->half_col << lv), s = j->col_shift + lv;
+    vu c0 = tk >> s, fc = (tk << (32u - s)) >> 24, c1 = (c0 + 1u) & (j->col_mask >> lv);
+    vu off = ENTRY_AT(j->level_off, lv), stride = ENTRY_AT(j->level_stride, lv);
+    vu ro0 = off + (vu)r0 * stride, ro1 = off + (vu)r1 * stride, b0 = col_bytes(c0, in), b1 = col_bytes(c1, in);
+    vu a = texel_at(j->base, ro0 + b0, in, j->pal), b = texel_at(j->base, ro0 + b1, in, j->pal);
+    vu c = texel_at(j->base, ro1 + b0, in, j->pal), d = texel_at(j->base, ro1 + b1, in, j->pal);
+    if (packed565)
+        return v_blend4_565(a, b, c, d, (fc + 4u) >> 3, (fr + 4u) >> 3);
+    return v_blend4_xrgb(v_texel_xrgb(a, in), v_texel_xrgb(b, in), v_texel_xrgb(c, in), v_texel_xrgb(d, in), fc, fr);
+}
+
+static PSC_ALWAYS_INLINE unsigned mip_lanes(const psc_simd_mip_t *j, const psc_pixfmt_t in, const bool out_565)
+{
+    const unsigned n = j->width - j->width % LANES, l2 = j->span_log2;
+    const uint32_t imask = (1u << l2) - 1u;
+    const bool packed565 = in == PSC_PIX_RGB565 && out_565;
+    const uint32_t *row = (const uint32_t *)(const void *)j->row;
+    const vu lane = LANE_IDS, lane_span = lane >> l2;
+    for (unsigned x = 0; x < n; x += LANES) {
+        vu i = (lane + x) & imask;
+        vu r0 = samples_under(row, x, l2, lane_span), r1 = samples_under(row + 1, x, l2, lane_span);
+        vu t0 = samples_under(j->t, x, l2, lane_span), t1 = samples_under(j->t + 1, x, l2, lane_span);
+        vu lod = samples_under(j->lod, x, l2, lane_span);
+        vu dr = (vu)((vi)(r1 - r0) >> (int32_t)l2), dt = (vu)((vi)(t1 - t0) >> (int32_t)l2);
+        vu r = r0 + (vu)((vi)dr >> 1) + i * dr, t = t0 + (vu)((vi)dt >> 1) + i * dt;
+        vu frac = lod >> 16;
+        vu p = level_lanes(j, lod & 255u, r, t, in, packed565), q = level_lanes(j, (lod >> 8) & 255u, r, t, in, packed565);
+        /* a fraction of 0 (the top level) blends to p exactly, as span_mip's skipping the second level */
+        vu px = packed565 ? v_blend4_565(p, q, p, q, (frac + 4u) >> 3, (vu){0}) : v_blend4_xrgb(p, q, p, q, frac, (vu){0});
+        if (out_565)
+            px = packed565 ? px : v_xrgb_to_565(px);
+        else
+            px |= 0xFF000000u;
+        store_lanes(j->dst, x, px, out_565);
+    }
+    return n;
+}
+
+#define MIP_CASE(fmt, o565)                          \
+    if (j->in == (fmt) && j->out_565 == (o565))      \
+        return mip_lanes(j, fmt, o565);
+
+static unsigned KERNEL_MIP(const psc_simd_mip_t *j)
+{
+    MIP_CASE(PSC_PIX_RGB565, 1)
+    MIP_CASE(PSC_PIX_RGB565, 0)
+    MIP_CASE(PSC_PIX_XRGB8888, 1)
+    MIP_CASE(PSC_PIX_XRGB8888, 0)
+    MIP_CASE(PSC_PIX_PAL8, 1)
+    MIP_CASE(PSC_PIX_PAL8, 0)
+    return 0;
+}
+
+static const psc_simd_kernel_t KERNEL = {KERNEL_ROW, KERNEL_SAMPLES, KERNEL_COMPOSITE, KERNEL_MIP};
