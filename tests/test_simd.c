@@ -25,6 +25,7 @@
 #include "pack/psc_pack.h"
 #include "psc_testsupport.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -68,6 +69,35 @@ static void clear_rows(const psc_surface_t *s)
         memset((uint8_t *)s->pixels + (size_t)y * s->stride, 0x5A, (size_t)s->width * psc_pixfmt_bytes(s->format));
 }
 
+/*
+ * Render view through the scalar path, then through each of paths[n] (and
+ * AUTO when with_auto), failing with what names the case if any differs.
+ * Returns the comparisons made; counts[k] adds one per path k (0 = AUTO).
+ */
+static unsigned compare_paths(tsup_viewer_t *tv, const psc_view_t *view, const psc_simd_t *paths, unsigned n,
+                              bool with_auto, uint8_t *scalar, const char *what, unsigned counts[3])
+{
+    size_t bytes = (size_t)tv->out.stride * tv->out.height;
+    assert_int_equal(psc_viewer_set_simd(&tv->v, PSC_SIMD_SCALAR), PSC_OK);
+    assert_int_equal(psc_viewer_render(&tv->v, view, &tv->out), PSC_OK);
+    memcpy(scalar, tv->out.pixels, bytes);
+    unsigned made = 0;
+    for (unsigned p = 0; p < n + (with_auto ? 1u : 0u); p++) {
+        psc_simd_t s = p < n ? paths[p] : PSC_SIMD_AUTO;
+        assert_int_equal(psc_viewer_set_simd(&tv->v, s), PSC_OK);
+        clear_rows(&tv->out);
+        assert_int_equal(psc_viewer_render(&tv->v, view, &tv->out), PSC_OK);
+        if (memcmp(scalar, tv->out.pixels, bytes) != 0)
+            fail_msg("%s, path %s: yaw %u pitch %d hfov %u filter %d span %u differs from the scalar path", what,
+                     psc_simd_name(s), (unsigned)view->yaw, (int)view->pitch, (unsigned)view->hfov, (int)view->filter,
+                     1u << view->span_log2);
+        counts[s == PSC_SIMD_AUTO ? 0 : s == PSC_SIMD_VECTOR ? 1 : 2]++;
+        made++;
+    }
+    assert_true(tsup_viewer_guard_ok(tv));
+    return made;
+}
+
 /* The vector paths this build and this CPU have. */
 static unsigned vector_paths(psc_viewer_t *v, psc_simd_t *out)
 {
@@ -102,30 +132,16 @@ static void test_paths_equal_scalar(void **state)
                                  PSC_OK);
                 psc_simd_t paths[2];
                 unsigned npaths = vector_paths(&tv.v, paths);
-                size_t bytes = (size_t)tv.out.stride * tv.out.height;
-                uint8_t *scalar = malloc(bytes);
+                uint8_t *scalar = malloc((size_t)tv.out.stride * tv.out.height);
                 assert_non_null(scalar);
+                char what[160];
+                snprintf(what, sizeof what, "map %u (%ux%u, format %d), %ux%u %s output", k, (unsigned)m.map.width,
+                         (unsigned)m.map.height, (int)m.map.format, (unsigned)SIZES[sz].w, (unsigned)SIZES[sz].h,
+                         fmt ? "xrgb8888" : "rgb565");
                 for (unsigned i = 0; i < VIEWS; i++) {
                     psc_view_t view = random_view(&r);
                     psc_viewer_clamp(&tv.v, &view, 0);
-                    assert_int_equal(psc_viewer_set_simd(&tv.v, PSC_SIMD_SCALAR), PSC_OK);
-                    assert_int_equal(psc_viewer_render(&tv.v, &view, &tv.out), PSC_OK);
-                    memcpy(scalar, tv.out.pixels, bytes);
-                    for (unsigned p = 0; p <= npaths; p++) { /* each path, then AUTO */
-                        psc_simd_t s = p < npaths ? paths[p] : PSC_SIMD_AUTO;
-                        assert_int_equal(psc_viewer_set_simd(&tv.v, s), PSC_OK);
-                        clear_rows(&tv.out);
-                        assert_int_equal(psc_viewer_render(&tv.v, &view, &tv.out), PSC_OK);
-                        if (memcmp(scalar, tv.out.pixels, bytes) != 0)
-                            fail_msg("map %u (%ux%u, format %d), %ux%u %s output, path %s: yaw %d pitch %d hfov %u "
-                                     "filter %d span %u differs from the scalar path",
-                                     k, (unsigned)m.map.width, (unsigned)m.map.height, (int)m.map.format,
-                                     (unsigned)SIZES[sz].w, (unsigned)SIZES[sz].h, fmt ? "xrgb8888" : "rgb565",
-                                     psc_simd_name(s), (int)view.yaw, (int)view.pitch, (unsigned)view.hfov,
-                                     (int)view.filter, 1u << view.span_log2);
-                        compared[s == PSC_SIMD_AUTO ? 0 : s == PSC_SIMD_VECTOR ? 1 : 2]++;
-                    }
-                    assert_true(tsup_viewer_guard_ok(&tv));
+                    compare_paths(&tv, &view, paths, npaths, true, scalar, what, compared);
                     frames++;
                 }
                 free(scalar);
@@ -136,7 +152,9 @@ static void test_paths_equal_scalar(void **state)
     }
     print_message("  %u random views: scalar bytes from auto %u, vector %u, avx2 %u times\n", frames, compared[0],
                   compared[1], compared[2]);
-    assert_true(compared[1] > 0); /* every target the project builds for has baseline vectors */
+#if defined(__SSE2__) || defined(__ARM_NEON)
+    assert_true(compared[1] > 0); /* this target has baseline vectors: they were compared */
+#endif
 }
 
 /* A pack with its pyramid, of a noisy 1024x512 image in format fmt. */
@@ -165,7 +183,7 @@ static void test_mip_paths_equal_scalar(void **state)
     static const psc_pixfmt_t fmts[] = {PSC_PIX_RGB565, PSC_PIX_XRGB8888, PSC_PIX_PAL8};
     tsup_rng_t r;
     tsup_rng_seed(&r, 4242);
-    unsigned frames = 0, compared = 0;
+    unsigned frames = 0, compared = 0, counts[3] = {0};
     for (unsigned fi = 0; fi < 3; fi++) {
         uint8_t *buf;
         size_t len;
@@ -179,28 +197,16 @@ static void test_mip_paths_equal_scalar(void **state)
             assert_int_equal(psc_viewer_set_levels(&tv.v, p.levels, p.level_count), PSC_OK);
             psc_simd_t paths[2];
             unsigned npaths = vector_paths(&tv.v, paths);
-            size_t bytes = (size_t)tv.out.stride * tv.out.height;
-            uint8_t *scalar = malloc(bytes);
+            uint8_t *scalar = malloc((size_t)tv.out.stride * tv.out.height);
             assert_non_null(scalar);
+            char what[96];
+            snprintf(what, sizeof what, "mip, map format %d, %s output", (int)fmts[fi], out565 & 1 ? "rgb565" : "xrgb8888");
             for (unsigned i = 0; i < VIEWS; i++) {
                 psc_view_t view = random_view(&r);
                 view.filter = PSC_FILTER_MIP;
                 view.hfov = tsup_bam_from_deg(tsup_rng_range(&r, 20, 120)); /* up to 3 levels down at 48 px */
                 psc_viewer_clamp(&tv.v, &view, 0);
-                assert_int_equal(psc_viewer_set_simd(&tv.v, PSC_SIMD_SCALAR), PSC_OK);
-                assert_int_equal(psc_viewer_render(&tv.v, &view, &tv.out), PSC_OK);
-                memcpy(scalar, tv.out.pixels, bytes);
-                for (unsigned k = 0; k < npaths; k++) {
-                    assert_int_equal(psc_viewer_set_simd(&tv.v, paths[k]), PSC_OK);
-                    clear_rows(&tv.out);
-                    assert_int_equal(psc_viewer_render(&tv.v, &view, &tv.out), PSC_OK);
-                    if (memcmp(scalar, tv.out.pixels, bytes) != 0)
-                        fail_msg("mip, map format %d, %s output, path %s: yaw %u pitch %d hfov %u span %u differs "
-                                 "from the scalar path",
-                                 (int)fmts[fi], out565 & 1 ? "rgb565" : "xrgb8888", psc_simd_name(paths[k]),
-                                 (unsigned)view.yaw, (int)view.pitch, (unsigned)view.hfov, 1u << view.span_log2);
-                    compared++;
-                }
+                compared += compare_paths(&tv, &view, paths, npaths, false, scalar, what, counts);
                 frames++;
             }
             free(scalar);

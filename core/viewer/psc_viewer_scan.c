@@ -596,9 +596,38 @@ static unsigned row_vector(const psc_frame_t *f, const row_setup_t *rs)
  * map in the cache, and the scanline's gathers are not a pattern the
  * hardware prefetchers follow.
  */
+/*
+ * PSC_FILTER_MIP: the lines of the two levels around the scanline's middle
+ * (the level changes little along a scanline), as psc_span_mip addresses them.
+ */
+static void prefetch_levels(const psc_frame_t *f, const row_setup_t *rs, unsigned count)
+{
+    const psc_viewer_t *v = f->v;
+    const unsigned top = v->level_count - 1u, step = pf_step(f), sh = v->col_shift;
+    if (sh == 0)
+        return;
+    int32_t lod_q8 = lod_q8_at(f, rs, 0);
+    unsigned lv = lod_q8 < 0 ? 0u : (unsigned)lod_q8 >> 8;
+    lv = lv > top ? top : lv;
+    const unsigned lv2 = lv < top ? lv + 1u : top, bpp_log2 = psc_pixfmt_bytes(v->map->format) / 2u;
+    const psc_envmap_t *a = &v->levels[lv], *b = &v->levels[lv2];
+    const int32_t *row = f->work.row;
+    const uint32_t *t = f->work.t;
+    for (unsigned k = 0; k < count; k += step) {
+        int32_t ra = ((row[k] + 32768) >> lv) >> 16, rb = ((row[k] + 32768) >> lv2) >> 16;
+        uint32_t ca = t[k] >> (sh + lv), cb = t[k] >> (sh + lv2);
+        __builtin_prefetch((const uint8_t *)a->pixels + (size_t)(ra < 0 ? 0 : ra) * a->stride + ((size_t)ca << bpp_log2));
+        __builtin_prefetch((const uint8_t *)b->pixels + (size_t)(rb < 0 ? 0 : rb) * b->stride + ((size_t)cb << bpp_log2));
+    }
+}
+
 static void prefetch_samples(const psc_frame_t *f, const row_setup_t *rs, unsigned count)
 {
     const psc_viewer_t *v = f->v;
+    if (f->mip && f->sink != PSC_SINK_TRACE) {
+        prefetch_levels(f, rs, count);
+        return;
+    }
     if (!uses_fast_spans(f))
         return;
     const uint8_t *base = v->map->pixels;

@@ -57,6 +57,22 @@ static PSC_ALWAYS_INLINE vu samples_under(const uint32_t *p, unsigned x, unsigne
 }
 
 /*
+ * The map positions of the lanes of the group starting at pixel x: row
+ * (Q16.16) and longitude t of pixel i of its span, sample + step/2 + i * step,
+ * the steps arithmetic shifts of the differences as the scalar spans take them.
+ */
+static PSC_ALWAYS_INLINE void lane_positions(const uint32_t *row, const uint32_t *t, unsigned x, unsigned l2,
+                                             vu lane_span, vu *r_out, vu *t_out)
+{
+    vu i = (LANE_IDS + x) & ((1u << l2) - 1u);
+    vu r0 = samples_under(row, x, l2, lane_span), r1 = samples_under(row + 1, x, l2, lane_span);
+    vu t0 = samples_under(t, x, l2, lane_span), t1 = samples_under(t + 1, x, l2, lane_span);
+    vu dr = (vu)((vi)(r1 - r0) >> (int32_t)l2), dt = (vu)((vi)(t1 - t0) >> (int32_t)l2);
+    *r_out = r0 + (vu)((vi)dr >> 1) + i * dr;
+    *t_out = t0 + (vu)((vi)dt >> 1) + i * dt;
+}
+
+/*
  * Byte offset of table row idx (map row idx - 1, the edge rows repeated
  * beyond the map): the row-offset table's entry, computed rather than looked
  * up where gathers are dear.
@@ -175,19 +191,14 @@ static PSC_ALWAYS_INLINE unsigned row_lanes(const psc_simd_row_t *j, const bool 
                                             const bool out_565)
 {
     const unsigned n = j->width - j->width % LANES, l2 = j->span_log2, sh = j->col_shift;
-    const uint32_t imask = (1u << l2) - 1u, cmask = (uint32_t)(((uint64_t)1 << (32u - sh)) - 1u);
+    const uint32_t cmask = (uint32_t)(((uint64_t)1 << (32u - sh)) - 1u);
     const uint8_t *base = j->base;
     const uint32_t *row = (const uint32_t *)(const void *)j->row;
-    const vu lane = LANE_IDS, lane_span = lane >> l2;
+    const vu lane_span = LANE_IDS >> l2;
     for (unsigned x = 0; x < n; x += LANES) {
-        vu i = (lane + x) & imask;
-        vu r0 = samples_under(row, x, l2, lane_span), r1 = samples_under(row + 1, x, l2, lane_span);
-        vu t0 = samples_under(j->t, x, l2, lane_span), t1 = samples_under(j->t + 1, x, l2, lane_span);
-        /* steps: arithmetic shifts of the differences, as the scalar spans take them */
-        vu dr = (vu)((vi)(r1 - r0) >> (int32_t)l2), dt = (vu)((vi)(t1 - t0) >> (int32_t)l2);
-        vu r = r0 + (vu)((vi)dr >> 1) + i * dr + 65536u; /* biased by the guard row */
-        vu t = t0 + (vu)((vi)dt >> 1) + i * dt;
-        vu px;
+        vu r, t, px;
+        lane_positions(row, j->t, x, l2, lane_span, &r, &t);
+        r += 65536u; /* biased by the guard row */
         if (!bilinear) {
             vu ro = row_offset(j, (r + 32768u) >> 16);
             vu raw = texel_at(base, ro + col_bytes(t >> sh, in), in, j->pal);
@@ -420,18 +431,12 @@ static PSC_ALWAYS_INLINE vu level_lanes(const psc_simd_mip_t *j, vu lv, vu row, 
 static PSC_ALWAYS_INLINE unsigned mip_lanes(const psc_simd_mip_t *j, const psc_pixfmt_t in, const bool out_565)
 {
     const unsigned n = j->width - j->width % LANES, l2 = j->span_log2;
-    const uint32_t imask = (1u << l2) - 1u;
     const bool packed565 = in == PSC_PIX_RGB565 && out_565;
     const uint32_t *row = (const uint32_t *)(const void *)j->row;
-    const vu lane = LANE_IDS, lane_span = lane >> l2;
+    const vu lane_span = LANE_IDS >> l2;
     for (unsigned x = 0; x < n; x += LANES) {
-        vu i = (lane + x) & imask;
-        vu r0 = samples_under(row, x, l2, lane_span), r1 = samples_under(row + 1, x, l2, lane_span);
-        vu t0 = samples_under(j->t, x, l2, lane_span), t1 = samples_under(j->t + 1, x, l2, lane_span);
-        vu lod = samples_under(j->lod, x, l2, lane_span);
-        vu dr = (vu)((vi)(r1 - r0) >> (int32_t)l2), dt = (vu)((vi)(t1 - t0) >> (int32_t)l2);
-        vu r = r0 + (vu)((vi)dr >> 1) + i * dr, t = t0 + (vu)((vi)dt >> 1) + i * dt;
-        vu frac = lod >> 16;
+        vu r, t, lod = samples_under(j->lod, x, l2, lane_span), frac = lod >> 16;
+        lane_positions(row, j->t, x, l2, lane_span, &r, &t);
         vu p = level_lanes(j, lod & 255u, r, t, in, packed565), q = level_lanes(j, (lod >> 8) & 255u, r, t, in, packed565);
         /* a fraction of 0 (the top level) blends to p exactly, as span_mip's skipping the second level */
         vu px = packed565 ? v_blend4_565(p, q, p, q, (frac + 4u) >> 3, (vu){0}) : v_blend4_xrgb(p, q, p, q, frac, (vu){0});
