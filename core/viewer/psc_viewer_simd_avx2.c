@@ -7,7 +7,6 @@
 #include "viewer/psc_viewer_simd.h"
 
 #ifdef __AVX2__
-#include <immintrin.h>
 #define KERNEL_LANES 8
 #define KERNEL_AVX2
 #define KERNEL_ROW row_avx2

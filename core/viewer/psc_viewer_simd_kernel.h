@@ -22,9 +22,34 @@ typedef int32_t vi __attribute__((vector_size(LANES * 4)));
 typedef uint16_t vu16 __attribute__((vector_size(LANES * 2)));
 
 #ifdef KERNEL_AVX2
-/* 32-bit loads at byte offsets / entries at indices, one instruction each. */
-#define LOAD32_AT(base, off) ((vu)_mm256_i32gather_epi32((const int *)(const void *)(base), (__m256i)(off), 1))
-#define ENTRY_AT(table, idx) ((vu)_mm256_i32gather_epi32((const int *)(const void *)(table), (__m256i)(idx), 4))
+/*
+ * The AVX2 instructions the kernel needs, through the compilers' builtins
+ * (the intrinsics header would bring the C library's stdlib.h into core):
+ * gathers of 32-bit loads at byte offsets / entries at indices, a lane
+ * permute, and a test for any set bit.
+ */
+typedef int v8si_t __attribute__((vector_size(32)));
+typedef long long v4di_t __attribute__((vector_size(32)));
+#if defined(__clang__)
+#define GATHER32(base, idx, scale)                                                                         \
+    ((vu)__builtin_ia32_gatherd_d256((v8si_t){0}, (const int *)(const void *)(base), (v8si_t)(idx),     \
+                                     (v8si_t){-1, -1, -1, -1, -1, -1, -1, -1}, scale))
+#else
+#define GATHER32(base, idx, scale)                                                                         \
+    ((vu)__builtin_ia32_gathersiv8si((v8si_t){0}, (const int *)(const void *)(base), (v8si_t)(idx),     \
+                                     (v8si_t){-1, -1, -1, -1, -1, -1, -1, -1}, scale))
+#endif
+#define LOAD32_AT(base, off) GATHER32(base, off, 1)
+#define ENTRY_AT(table, idx) GATHER32(table, idx, 4)
+#define PERMUTE8(v, idx) ((vu)__builtin_ia32_permvarsi256((v8si_t)(v), (v8si_t)(idx)))
+#if defined(__clang__)
+#define MAX_I32(a, b) ((vi)__builtin_elementwise_max((v8si_t)(a), (v8si_t)(b)))
+#define MIN_I32(a, b) ((vi)__builtin_elementwise_min((v8si_t)(a), (v8si_t)(b)))
+#else
+#define MAX_I32(a, b) ((vi)__builtin_ia32_pmaxsd256((v8si_t)(a), (v8si_t)(b)))
+#define MIN_I32(a, b) ((vi)__builtin_ia32_pminsd256((v8si_t)(a), (v8si_t)(b)))
+#endif
+#define ANY_BIT(v) (!__builtin_ia32_ptestz256((v4di_t)(v), (v4di_t)(v)))
 #else
 static PSC_ALWAYS_INLINE vu entry_at(const uint32_t *table, vu idx)
 {
@@ -36,6 +61,12 @@ static PSC_ALWAYS_INLINE vu entry_at(const uint32_t *table, vu idx)
 #define ENTRY_AT(table, idx) entry_at((const uint32_t *)(const void *)(table), idx)
 #endif
 
+/* a where mask is set, else b */
+static PSC_ALWAYS_INLINE vu select_lanes(vu mask, vu a, vu b)
+{
+    return (a & mask) | (b & ~mask);
+}
+
 /*
  * The samples under each lane: lane j of the group starting at pixel x takes
  * sample (x >> l2) + (j >> l2) of the scanline's array p.
@@ -46,7 +77,7 @@ static PSC_ALWAYS_INLINE vu samples_under(const uint32_t *p, unsigned x, unsigne
 #ifdef KERNEL_AVX2
     vu v;
     __builtin_memcpy(&v, p, sizeof v); /* the array holds W + 2 entries: never read past it */
-    return (vu)_mm256_permutevar8x32_epi32((__m256i)v, (__m256i)lane_span);
+    return PERMUTE8(v, lane_span);
 #else
     vu r;
     for (unsigned j = 0; j < LANES; j++)
@@ -80,9 +111,7 @@ static PSC_ALWAYS_INLINE void lane_positions(const uint32_t *row, const uint32_t
 static PSC_ALWAYS_INLINE vu row_offset(const psc_simd_row_t *j, vu idx)
 {
 #ifdef KERNEL_AVX2
-    __m256i r = _mm256_sub_epi32((__m256i)idx, _mm256_set1_epi32(1));
-    r = _mm256_max_epi32(r, _mm256_setzero_si256());
-    r = _mm256_min_epi32(r, _mm256_set1_epi32((int)j->map_height - 1));
+    vi r = MIN_I32(MAX_I32((vi)idx - 1, (vi){0}), (vi){0} + ((int32_t)j->map_height - 1));
     return (vu)r * j->stride;
 #else
     return ENTRY_AT(j->rowoff, idx);
@@ -272,15 +301,10 @@ static PSC_ALWAYS_INLINE vu reversed(vu v)
 #endif
 }
 
-static PSC_ALWAYS_INLINE vu select_lanes(vu mask, vu a, vu b)
-{
-    return (a & mask) | (b & ~mask);
-}
-
 static PSC_ALWAYS_INLINE bool any_lane(vu v)
 {
 #ifdef KERNEL_AVX2
-    return !_mm256_testz_si256((__m256i)v, (__m256i)v);
+    return ANY_BIT(v);
 #else
     uint32_t a = 0;
     for (unsigned j = 0; j < LANES; j++)
