@@ -21,6 +21,7 @@
 #include "patch_render.h"
 #include "psc_io_load.h"
 #include "psc_io_png.h"
+#include "dither/psc_dither.h"
 #include "viewer/psc_viewer.h"
 
 #include <stdarg.h>
@@ -54,6 +55,9 @@ static void print_usage(FILE *f)
             "  --simd S            code path: auto (default: the fastest this CPU has), scalar, vector\n"
             "                      (SSE2/NEON) or avx2; the bytes are the same for each\n"
             "  --size WxH          output size (default: the pack's display size)\n"
+            "  --dither T[:M]      show the frame as a display with few levels does: T mono (1 bit),\n"
+            "                      grey4 (16 greys) or pal8 (the 6x7x6 colour cube); M ordered (8x8 Bayer,\n"
+            "                      default), halftone (4x4 clustered dot) or none (nearest level)\n"
             "  --format F          output surface: rgb565 (default) or xrgb8888\n"
             "  -o view.png         output PNG\n"
             "  --version           the program's version\n"
@@ -73,6 +77,9 @@ typedef struct {
     uint16_t width, height;
     psc_pixfmt_t format;
     psc_simd_t simd;
+    bool dither;
+    psc_dither_target_t dither_target;
+    psc_dither_method_t dither_method;
 } args_t;
 
 static int span_to_log2(const char *v, uint8_t *log2)
@@ -84,6 +91,28 @@ static int span_to_log2(const char *v, uint8_t *log2)
     while ((1ul << l) < n)
         l++;
     *log2 = l;
+    return 0;
+}
+
+/* "TARGET[:METHOD]" */
+static int parse_dither(const char *v, psc_dither_target_t *t, psc_dither_method_t *m)
+{
+    static const char *const targets[] = {"mono", "grey4", "pal8"}, *const methods[] = {"none", "ordered", "halftone"};
+    size_t n = strcspn(v, ":");
+    int ti = -1, mi = 1;
+    for (int i = 0; i < 3; i++)
+        if (strlen(targets[i]) == n && strncmp(v, targets[i], n) == 0)
+            ti = i;
+    if (v[n] == ':') {
+        mi = -1;
+        for (int i = 0; i < 3; i++)
+            if (strcmp(v + n + 1, methods[i]) == 0)
+                mi = i;
+    }
+    if (ti < 0 || mi < 0)
+        return -1;
+    *t = (psc_dither_target_t)ti;
+    *m = (psc_dither_method_t)mi;
     return 0;
 }
 
@@ -128,6 +157,10 @@ static int parse_value(args_t *a, const char *name, const char *v)
         if (k > PSC_SIMD_AVX2)
             return usage_error("--simd '%s': expected auto, scalar, vector or avx2", v);
         a->simd = k;
+    } else if (strcmp(name, "--dither") == 0) {
+        if (parse_dither(v, &a->dither_target, &a->dither_method) != 0)
+            return usage_error("--dither '%s': expected mono, grey4 or pal8, optionally :ordered, :halftone or :none", v);
+        a->dither = true;
     } else if (strcmp(name, "--size") == 0) {
         if (psc_cli_parse_size(v, PSC_MAX_OUT_DIM, &a->width, &a->height) != 0)
             return usage_error("--size '%s': expected WxH, each 1..%u", v, (unsigned)PSC_MAX_OUT_DIM);
@@ -148,7 +181,7 @@ static const struct option render_options[] = {
     {"hfov", required_argument, NULL, 1},   {"filter", required_argument, NULL, 1},
     {"span", required_argument, NULL, 1},   {"repeat", required_argument, NULL, 1},
     {"size", required_argument, NULL, 1},   {"format", required_argument, NULL, 1},
-    {"threads", required_argument, NULL, 1}, {"simd", required_argument, NULL, 1},
+    {"threads", required_argument, NULL, 1}, {"simd", required_argument, NULL, 1}, {"dither", required_argument, NULL, 1},
     PSC_IO_CLI_COMMON_OPTIONS,
 };
 
@@ -211,6 +244,18 @@ static void note_clamped(const psc_view_t *want, const psc_view_t *got)
             psc_deg_from_bam(got->yaw), psc_deg_from_sbam(got->pitch), psc_deg_from_bam(got->hfov));
 }
 
+/* The frame as the display shows it: each row dithered to the target, then each level's colour. */
+static void show_dithered(const psc_surface_t *out, psc_dither_target_t t, psc_dither_method_t m)
+{
+    uint8_t row[PSC_MAX_OUT_DIM];
+    for (unsigned y = 0; y < out->height; y++) {
+        uint32_t *px = (uint32_t *)(void *)((uint8_t *)out->pixels + (size_t)y * out->stride);
+        psc_dither_row(t, m, px, out->width, y, row);
+        for (unsigned x = 0; x < out->width; x++)
+            px[x] = psc_dither_level_xrgb(t, psc_dither_get(t, row, x));
+    }
+}
+
 static int render_frames(psc_viewer_t *viewer, psc_io_bands_t *bands, const psc_view_t *view,
                          const psc_surface_t *out, unsigned long repeat)
 {
@@ -262,6 +307,8 @@ int main(int argc, char **argv)
     uint16_t w = a.have_size ? a.width : pack->display_width;
     uint16_t h = a.have_size ? a.height : pack->display_height;
 
+    if (a.dither)
+        a.format = PSC_PIX_XRGB8888; /* dithered from the full colours */
     size_t ws_size = psc_viewer_workspace_size(w, h, &pack->map);
     uint32_t bpp = psc_pixfmt_bytes(a.format);
     psc_surface_t out = {.width = w, .height = h, .stride = (uint32_t)w * bpp, .format = a.format};
@@ -295,6 +342,8 @@ int main(int argc, char **argv)
         if (!bands) {
             fprintf(stderr, PROG ": %s\n", err);
         } else if (render_frames(&viewer, bands, &view, &out, a.repeat) == 0) {
+            if (a.dither)
+                show_dithered(&out, a.dither_target, a.dither_method);
             if (psc_io_png_write(a.out, &out, err, sizeof err) != 0)
                 fprintf(stderr, PROG ": %s\n", err);
             else

@@ -392,6 +392,48 @@ static void test_render_matches_device_path(void **state)
         }
     printf("  %zu views x 3 packs: periscope-render is bit-exact with the in-process device path\n",
            sizeof views / sizeof views[0]);
+
+    /* --dither: only the display's levels, the frame's brightness kept (the mean luma within 2%) */
+    static const char *const targets[] = {"mono", "mono:halftone", "grey4", "pal8"};
+    const char *plain_args[] = {fx.pack[0], "-o", png, "--format", "xrgb8888", NULL};
+    run_t pr = run_tool("periscope-render", plain_args);
+    assert_int_equal(pr.status, 0);
+    free(pr.output);
+    psc_image_t plain;
+    char err[512];
+    if (psc_image_load(png, &plain, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    for (size_t t = 0; t < sizeof targets / sizeof targets[0]; t++) {
+        const char *args[] = {fx.pack[0], "-o", png, "--dither", targets[t], NULL};
+        run_t r = run_tool("periscope-render", args);
+        if (r.status != 0)
+            fail_msg("periscope-render --dither %s exited with %d:\n%s", targets[t], r.status, r.output);
+        free(r.output);
+        psc_image_t got;
+        if (psc_image_load(png, &got, err, sizeof err) != 0)
+            fail_msg("%s", err);
+        double a = 0.0, b = 0.0;
+        for (size_t i = 0; i < (size_t)got.width * got.height; i++) {
+            uint32_t p = got.xrgb[i] & 0xFFFFFFu, q = plain.xrgb[i];
+            if (strncmp(targets[t], "mono", 4) == 0 && p != 0 && p != 0xFFFFFFu)
+                fail_msg("--dither %s: pixel %zu is %06X, not black or white", targets[t], i, (unsigned)p);
+            if (strcmp(targets[t], "grey4") == 0 && ((p & 255u) % 17u != 0 || p != (p & 255u) * 0x010101u))
+                fail_msg("--dither grey4: pixel %zu is %06X, not one of 16 greys", i, (unsigned)p);
+            a += 0.299 * (p >> 16) + 0.587 * ((p >> 8) & 255u) + 0.114 * (p & 255u);
+            b += 0.299 * ((q >> 16) & 255u) + 0.587 * ((q >> 8) & 255u) + 0.114 * (q & 255u);
+        }
+        if (fabs(a - b) > 0.02 * b)
+            fail_msg("--dither %s: mean luma %.1f against %.1f undithered", targets[t], a / (double)(got.width * got.height),
+                     b / (double)(got.width * got.height));
+        psc_image_free(&got);
+    }
+    psc_image_free(&plain);
+    const char *bad[] = {fx.pack[0], "-o", png, "--dither", "mono:fancy", NULL};
+    run_t br = run_tool("periscope-render", bad);
+    assert_int_equal(br.status, 2);
+    assert_non_null(strstr(br.output, "--dither 'mono:fancy'"));
+    free(br.output);
+    printf("  --dither mono, mono:halftone, grey4, pal8: the display's levels only, the mean luma kept\n");
     unlink(png);
 }
 
