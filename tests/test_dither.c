@@ -66,17 +66,25 @@ static void show(psc_dither_target_t t, psc_dither_method_t m, const uint32_t *i
     }
 }
 
+/* A W x H ramp, 0..255 left to right: grey, or red up, green down and blue half a turn apart on odd rows. */
+static uint32_t *ramp_new(bool colour)
+{
+    uint32_t *in = malloc(W * H * 4);
+    assert_non_null(in);
+    for (unsigned y = 0; y < H; y++)
+        for (unsigned x = 0; x < W; x++) {
+            uint32_t v = x * 255u / (W - 1u); /* two pixels a level */
+            in[y * W + x] = 0xFF000000u | (colour ? v << 16 | (255u - v) << 8 | (v + 128u * (y & 1u)) % 256u
+                                                  : v * 0x010101u);
+        }
+    return in;
+}
+
 static void test_grey_ramp_keeps_local_average(void **state)
 {
     (void)state;
-    uint32_t *in = malloc(W * H * 4), *shown = malloc(W * H * 4);
-    assert_non_null(in);
+    uint32_t *in = ramp_new(false), *shown = malloc(W * H * 4);
     assert_non_null(shown);
-    for (unsigned y = 0; y < H; y++)
-        for (unsigned x = 0; x < W; x++) {
-            uint32_t g = x * 255u / (W - 1u); /* 0..255 across, two pixels a level */
-            in[y * W + x] = 0xFF000000u | g * 0x010101u;
-        }
     static const struct {
         psc_dither_target_t t;
         const char *name;
@@ -104,14 +112,8 @@ static void test_grey_ramp_keeps_local_average(void **state)
 static void test_colour_cube_ramp(void **state)
 {
     (void)state;
-    uint32_t *in = malloc(W * H * 4), *shown = malloc(W * H * 4);
-    assert_non_null(in);
+    uint32_t *in = ramp_new(true), *shown = malloc(W * H * 4);
     assert_non_null(shown);
-    for (unsigned y = 0; y < H; y++)
-        for (unsigned x = 0; x < W; x++) {
-            uint32_t r = x * 255u / (W - 1u), g = 255u - r, b = (r + 128u * (y & 1u)) % 256u;
-            in[y * W + x] = 0xFF000000u | r << 16 | g << 8 | b;
-        }
     show(PSC_DITHER_PAL8, PSC_DITHER_ORDERED, in, shown);
     double worst = 0.0;
     for (int ch = 0; ch < 3; ch++) {

@@ -327,30 +327,25 @@ static bool view_ok(const psc_viewer_t *v, const psc_view_t *view)
 
 /*
  * A scanline's workspace: boundary samples (at most W + 2: every pixel's left
- * edge, the right edge and one more when N does not divide W) and the
- * composite LUT row (PSC_SCAN_COMPOSITE_COLS columns).
+ * edge, the right edge and one more when N does not divide W), their polar
+ * flags and levels of detail, and the composite LUT row
+ * (PSC_SCAN_COMPOSITE_COLS columns). One layout for the size and the
+ * pointers: with scratch NULL only the size is computed.
  */
-static size_t scan_work_size(uint16_t out_width)
+static size_t scan_work_layout(uint8_t *scratch, uint16_t out_width, psc_scan_work_t *w)
 {
-    size_t n = SCAN_SAMPLES(out_width);
-    return align8(n * sizeof(int32_t)) * 3u + align8(n) + (size_t)PSC_SCAN_COMPOSITE_COLS(out_width) * 2u * sizeof(uint32_t);
-}
-
-static psc_scan_work_t scan_work(void *scratch, uint16_t out_width)
-{
-    uint8_t *at = scratch;
-    size_t n = SCAN_SAMPLES(out_width);
-    psc_scan_work_t w;
-    w.row = (int32_t *)(void *)at;
-    at += align8(n * sizeof(int32_t));
-    w.t = (uint32_t *)(void *)at;
-    at += align8(n * sizeof(uint32_t));
-    w.polar = at;
-    at += align8(n);
-    w.lod = (uint32_t *)(void *)at;
-    at += align8(n * sizeof(uint32_t));
-    w.lut_row = (uint32_t *)(void *)at;
-    return w;
+    const size_t n = SCAN_SAMPLES(out_width);
+    const size_t row = 0, t = row + align8(n * sizeof(int32_t)), polar = t + align8(n * sizeof(uint32_t));
+    const size_t lod = polar + align8(n), lut_row = lod + align8(n * sizeof(uint32_t));
+    const size_t end = lut_row + (size_t)PSC_SCAN_COMPOSITE_COLS(out_width) * 2u * sizeof(uint32_t);
+    if (scratch) {
+        w->row = (int32_t *)(void *)(scratch + row);
+        w->t = (uint32_t *)(void *)(scratch + t);
+        w->polar = scratch + polar;
+        w->lod = (uint32_t *)(void *)(scratch + lod);
+        w->lut_row = (uint32_t *)(void *)(scratch + lut_row);
+    }
+    return align8(end);
 }
 
 /* The frame of a prepared view (the zoom tables already for its hfov): reads the viewer, writes nothing of it. */
@@ -362,8 +357,8 @@ static psc_status_t frame_begin(const psc_viewer_t *v, const psc_view_t *view, p
     *f = (psc_frame_t){0};
     f->v = v;
     f->view = view;
-    f->work = scan_work(scratch, v->out_width);
-    f->work_next = scan_work((uint8_t *)scratch + scan_work_size(v->out_width), v->out_width);
+    size_t one = scan_work_layout(scratch, v->out_width, &f->work);
+    scan_work_layout((uint8_t *)scratch + one, v->out_width, &f->work_next);
     f->simd = simd_kernel(v, (psc_simd_t)v->simd);
     f->lut = v->cached_lut;
     f->span = 1u << view->span_log2;
@@ -387,7 +382,7 @@ psc_status_t psc_viewer_prepare(psc_viewer_t *v, const psc_view_t *view)
 
 size_t psc_viewer_band_scratch_size(uint16_t out_width)
 {
-    return 2u * scan_work_size(out_width); /* this scanline's and the next's */
+    return 2u * scan_work_layout(NULL, out_width, NULL); /* this scanline's and the next's */
 }
 
 psc_status_t psc_viewer_render_band(const psc_viewer_t *v, const psc_view_t *view, const psc_surface_t *out,

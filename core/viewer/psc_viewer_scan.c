@@ -336,6 +336,15 @@ static PSC_ALWAYS_INLINE span_t span_at(const psc_frame_t *f, unsigned k, unsign
     return s;
 }
 
+/* The span from boundary k (n pixels) begun `skip` pixels in, where a vector kernel stopped inside it. */
+static PSC_ALWAYS_INLINE span_t span_from(const psc_frame_t *f, unsigned k, unsigned n, unsigned skip)
+{
+    span_t s = span_at(f, k, n);
+    s.row = (int32_t)((uint32_t)s.row + skip * (uint32_t)s.drow);
+    s.t += skip * (uint32_t)s.dt;
+    return s;
+}
+
 /* ---- the general path: one pixel at a time ------------------------------------------ */
 
 /* Map column (Q16.16, integer = pixel centre) of t: wrapped on full-turn maps, unclamped on partial ones. */
@@ -553,10 +562,7 @@ static PSC_ALWAYS_INLINE void spans_fast(const psc_frame_t *f, const row_setup_t
             polar_pixels(f, rs, x + skip, len - skip);
             continue;
         }
-        span_t s = span_at(f, k, len);
-        s.row = (int32_t)((uint32_t)s.row + skip * (uint32_t)s.drow);
-        s.t += skip * (uint32_t)s.dt;
-        span_fast(&cx, x + skip, len - skip, s, filter, in, sink, pow2);
+        span_fast(&cx, x + skip, len - skip, span_from(f, k, len, skip), filter, in, sink, pow2);
     }
 }
 
@@ -705,10 +711,7 @@ static void scanline_draw(const psc_frame_t *f, const scan_line_t *l)
             polar_pixels(f, rs, x + skip, len - skip);
             continue;
         }
-        span_t s = span_at(f, k, len);
-        s.row = (int32_t)((uint32_t)s.row + skip * (uint32_t)s.drow);
-        s.t += skip * (uint32_t)s.dt;
-        span_general(f, rs, x + skip, len - skip, s, 2 * (int32_t)x + (int32_t)len - (int32_t)w);
+        span_general(f, rs, x + skip, len - skip, span_from(f, k, len, skip), 2 * (int32_t)x + (int32_t)len - (int32_t)w);
     }
 }
 
