@@ -67,6 +67,10 @@ static const view_t views[] = {
     {"teapot gouraud lit", SH_TEAPOT, PSC_SHADE_GOURAUD, PSC_TEX_NEAREST, true, true, true, -40, -30, 2.0, 60, PSC_PIX_RGB565, 32, 0},
     {"teapot texture lit", SH_TEAPOT, PSC_SHADE_TEXTURE, PSC_TEX_BILINEAR, true, true, true, 150, -10, 1.8, 60, PSC_PIX_XRGB8888, 32, 0},
     {"teapot close, no culling", SH_TEAPOT, PSC_SHADE_GOURAUD, PSC_TEX_NEAREST, true, false, true, 90, -5, 0.9, 90, PSC_PIX_RGB565, 16, 40},
+    {"sphere phong", SH_SPHERE, PSC_SHADE_PHONG, PSC_TEX_NEAREST, true, true, true, 25, 15, 3.0, 50, PSC_PIX_XRGB8888, 32, 0},
+    {"teapot phong", SH_TEAPOT, PSC_SHADE_PHONG, PSC_TEX_NEAREST, true, true, true, -40, -30, 2.0, 60, PSC_PIX_XRGB8888, 32, 0},
+    {"torus phong tiled", SH_TORUS, PSC_SHADE_PHONG, PSC_TEX_NEAREST, true, true, true, 0, -35, 2.0, 65, PSC_PIX_RGB565, 16, 32},
+    {"cube phong (flat normals)", SH_CUBE, PSC_SHADE_PHONG, PSC_TEX_NEAREST, true, true, false, -50, 35, 2.6, 70, PSC_PIX_XRGB8888, 32, 0},
 };
 
 static void make_shape(shape_t s, psc_model_t *g)
@@ -108,6 +112,8 @@ static void test_golden_views(void **state)
         d.light_dir = psc_vec3_normalize((psc_vec3_q16_t){-26000, 39000, -45000});
         d.ambient_q8 = 72;
         d.texture = i % 2 ? &tex565.tex : &tex8888.tex;
+        d.specular_q8 = v->shade == PSC_SHADE_PHONG ? (uint16_t)(64 + 32 * (i % 4)) : 0;
+        d.shininess = (uint8_t)(8u << (i % 4));
         psc_3d_config_t cfg = {W, H, v->tile, v->tile, v->depth_bits, tsup_bam_from_deg(v->hfov), PSC_Q16_ONE / 32,
                                16 * PSC_Q16_ONE, m.mesh.vertex_count};
         tsup_3d_t t;

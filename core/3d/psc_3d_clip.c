@@ -20,7 +20,7 @@ static int64_t plane_distance(const psc_clip_volume_t *vol, unsigned p, const ps
 
 unsigned psc_clip_outcode(const psc_clip_volume_t *vol, int32_t x, int32_t y, int32_t z)
 {
-    psc_clip_vertex_t v = {x, y, z, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    psc_clip_vertex_t v = {.x = x, .y = y, .z = z};
     unsigned code = 0;
     for (unsigned p = 0; p < PSC_CLIP_PLANES; p++)
         if (plane_distance(vol, p, &v) < 0)
@@ -84,6 +84,9 @@ static void cut(const psc_clip_volume_t *vol, unsigned p, const psc_clip_vertex_
         o->v1_q16 = lerp32(a->v1_q16, b->v1_q16, t);
         o->u2_q16 = lerp32(a->u2_q16, b->u2_q16, t);
         o->v2_q16 = lerp32(a->v2_q16, b->v2_q16, t);
+        o->nx_q14 = lerp32(a->nx_q14, b->nx_q14, t);
+        o->ny_q14 = lerp32(a->ny_q14, b->ny_q14, t);
+        o->nz_q14 = lerp32(a->nz_q14, b->nz_q14, t);
     }
     if (p == 0)
         o->z = vol->near_q16;

@@ -47,6 +47,7 @@ typedef struct {
     int32_t r, g, b;          /* colour channels 0..255 */
     int32_t light_q8;         /* 0..256 */
     int32_t u1_q16, v1_q16, u2_q16, v2_q16;  /* the second and third view textures' (PSC_SHADE_VIEWS) */
+    int32_t nx_q14, ny_q14, nz_q14;          /* the normal (PSC_SHADE_PHONG), camera space */
 } psc_clip_vertex_t;
 
 /** The view volume, in the units of psc_3d_clip.h's comment. */

@@ -96,10 +96,16 @@ void psc_3d_draw_defaults(psc_3d_draw_t *d, const psc_mesh_t *mesh)
     d->depth_test = true;
     d->light_dir = (psc_vec3_q16_t){0, 0, -PSC_Q16_ONE};
     d->ambient_q8 = 64;
+    d->shininess = 32;
     d->color = mesh ? mesh->base_color : 0xFFFFFFu;
 }
 
 /* ---- vertices ------------------------------------------------------------------- */
+
+static int32_t clamp_q14(int32_t v)
+{
+    return v < -16384 ? -16384 : v > 16384 ? 16384 : v;
+}
 
 /* Raster position, depth and perspective weight of a point inside the volume (near <= z <= far). */
 static void project(const psc_3d_t *r, const psc_clip_vertex_t *c, psc_raster_vertex_t *o)
@@ -120,16 +126,25 @@ static void project(const psc_3d_t *r, const psc_clip_vertex_t *c, psc_raster_ve
     o->v1_q16 = c->v1_q16;
     o->u2_q16 = c->u2_q16;
     o->v2_q16 = c->v2_q16;
+    o->n_q14[0] = (int16_t)clamp_q14(c->nx_q14);
+    o->n_q14[1] = (int16_t)clamp_q14(c->ny_q14);
+    o->n_q14[2] = (int16_t)clamp_q14(c->nz_q14);
+}
+
+/* The mesh's normal of vertex i in camera space, unit length (Q16.16). */
+static psc_vec3_q16_t camera_normal(const psc_3d_draw_t *d, const psc_mesh_t *m, uint32_t i)
+{
+    const int16_t *n = &m->normal_q14[3u * i];
+    psc_vec3_q16_t nc = psc_mat4_apply_dir(&d->camera_from_object,
+                                           (psc_vec3_q16_t){(int32_t)n[0] * 4, (int32_t)n[1] * 4, (int32_t)n[2] * 4});
+    return psc_vec3_normalize(nc);
 }
 
 static int32_t light_of(const psc_3d_draw_t *d, const psc_mesh_t *m, uint32_t i)
 {
-    if (!d->lit || !m->normal_q14)
+    if (!d->lit || !m->normal_q14 || d->shade == PSC_SHADE_PHONG)
         return 256;
-    const int16_t *n = &m->normal_q14[3u * i];
-    psc_vec3_q16_t nc = psc_mat4_apply_dir(&d->camera_from_object,
-                                           (psc_vec3_q16_t){(int32_t)n[0] * 4, (int32_t)n[1] * 4, (int32_t)n[2] * 4});
-    nc = psc_vec3_normalize(nc);
+    psc_vec3_q16_t nc = camera_normal(d, m, i);
     int64_t dot = ((int64_t)nc.x * d->light_dir.x + (int64_t)nc.y * d->light_dir.y +
                    (int64_t)nc.z * d->light_dir.z) >> 16; /* Q16.16, <= 1.0 */
     if (dot < 0)
@@ -166,7 +181,13 @@ static void transform_draw(const psc_3d_t *r, const psc_3d_draw_t *d, vcache_t *
         c->cv = (psc_clip_vertex_t){cam.x, cam.y, cam.z,
                                     m->uv_q12 ? (int32_t)m->uv_q12[2u * i] * 16 : 0,
                                     m->uv_q12 ? (int32_t)m->uv_q12[2u * i + 1] * 16 : 0,
-                                    cr, cg, cb, l, 0, 0, 0, 0};
+                                    cr, cg, cb, l, 0, 0, 0, 0, 0, 0, 0};
+        if (d->shade == PSC_SHADE_PHONG) {
+            psc_vec3_q16_t nc = camera_normal(d, m, i);
+            c->cv.nx_q14 = psc_shr_round32(nc.x, 2);
+            c->cv.ny_q14 = psc_shr_round32(nc.y, 2);
+            c->cv.nz_q14 = psc_shr_round32(nc.z, 2);
+        }
         if (d->shade == PSC_SHADE_VIEWS) {
             int32_t *uv[3][2] = {{&c->cv.u_q16, &c->cv.v_q16}, {&c->cv.u1_q16, &c->cv.v1_q16},
                                  {&c->cv.u2_q16, &c->cv.v2_q16}};
@@ -280,10 +301,30 @@ static void draw_mesh(tile_ctx_t *t, const psc_3d_draw_t *d, const vcache_t *cac
 
 /* ---- frame ---------------------------------------------------------------------- */
 
+/* A Phong draw's light, half vector and highlight in the rasterizer's terms. */
+static void phong_state(const psc_3d_draw_t *d, psc_raster_state_t *st)
+{
+    psc_vec3_q16_t l = psc_vec3_normalize(d->light_dir);
+    psc_vec3_q16_t h = psc_vec3_normalize((psc_vec3_q16_t){l.x, l.y, l.z - PSC_Q16_ONE});
+    st->light_q14[0] = (int16_t)clamp_q14(psc_shr_round32(l.x, 2));
+    st->light_q14[1] = (int16_t)clamp_q14(psc_shr_round32(l.y, 2));
+    st->light_q14[2] = (int16_t)clamp_q14(psc_shr_round32(l.z, 2));
+    st->half_q14[0] = (int16_t)clamp_q14(psc_shr_round32(h.x, 2));
+    st->half_q14[1] = (int16_t)clamp_q14(psc_shr_round32(h.y, 2));
+    st->half_q14[2] = (int16_t)clamp_q14(psc_shr_round32(h.z, 2));
+    st->ambient_q8 = (uint16_t)d->ambient_q8;
+    st->specular_q8 = d->specular_q8;
+    st->shininess = d->shininess;
+}
+
 static bool draw_ok(const psc_3d_draw_t *d)
 {
     const psc_mesh_t *m = d->mesh;
-    if (!m || !m->index || (!m->position_q15 && !m->position_q16) || d->shade > PSC_SHADE_VIEWS)
+    if (!m || !m->index || (!m->position_q15 && !m->position_q16) || d->shade > PSC_SHADE_PHONG)
+        return false;
+    if (d->shade == PSC_SHADE_PHONG &&
+        (!m->normal_q14 || d->ambient_q8 < 0 || d->ambient_q8 > 256 || d->specular_q8 > 256 ||
+         (d->specular_q8 != 0 && d->shininess == 0)))
         return false;
     if (d->shade == PSC_SHADE_VIEWS)
         for (unsigned k = 0; k < 3; k++)
@@ -390,13 +431,20 @@ psc_status_t psc_3d_render(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, 
             base = 0;
             for (unsigned i = 0; i < n; i++) {
                 const psc_3d_draw_t *d = &draws[i];
-                t.state = (psc_raster_state_t){d->shade, d->filter, d->blend, d->depth_test,
-                                               d->shade == PSC_SHADE_TEXTURE && d->lit,
-                                               d->texture ? d->texture : &d->mesh->texture,
-                                               {d->view_tex[0], d->view_tex[1], d->view_tex[2]},
-                                               {d->view_w_q8[0], d->view_w_q8[1], d->view_w_q8[2]},
-                                               d->views_mask,
-                                               d->color};
+                t.state = (psc_raster_state_t){
+                    .shade = d->shade,
+                    .filter = d->filter,
+                    .blend = d->blend,
+                    .depth_test = d->depth_test,
+                    .modulate = d->shade == PSC_SHADE_TEXTURE && d->lit,
+                    .texture = d->texture ? d->texture : &d->mesh->texture,
+                    .view_tex = {d->view_tex[0], d->view_tex[1], d->view_tex[2]},
+                    .view_w_q8 = {d->view_w_q8[0], d->view_w_q8[1], d->view_w_q8[2]},
+                    .views_mask = d->views_mask,
+                    .mask_color = d->color,
+                };
+                if (d->shade == PSC_SHADE_PHONG)
+                    phong_state(d, &t.state);
                 draw_mesh(&t, d, cache + base);
                 base += d->mesh->vertex_count;
             }

@@ -10,7 +10,8 @@
  * Per frame (psc_3d_render):
  *  1. Every vertex of every draw is transformed to camera space once
  *     (camera_from_object, Q16.16), lit (Lambert: ambient + (1 - ambient)
- *     max(0, N.L), 8-bit) and, when inside the clip volume, projected to
+ *     max(0, N.L), 8-bit; Phong draws keep the colour and carry the normal,
+ *     rotated to camera space and renormalised, to the pixels) and, when inside the clip volume, projected to
  *     raster coordinates with its depth and perspective weight: the vertex
  *     cache.
  *  2. For each tile (the whole screen when tile_width == 0), the colour and
@@ -62,9 +63,11 @@ typedef struct {
     psc_blend_t blend;
     bool cull_back;                   /* drop triangles whose projected winding is negative */
     bool depth_test;
-    bool lit;                         /* Lambert lighting from the mesh's normals */
+    bool lit;                         /* Lambert lighting from the mesh's normals (PHONG: always lit) */
     psc_vec3_q16_t light_dir;         /* toward the light, camera space, unit length */
     int32_t ambient_q8;               /* 0..256 */
+    uint16_t specular_q8;             /* PHONG: highlight strength 0..256 (0: none) */
+    uint8_t shininess;                /* PHONG: highlight exponent 1..255 */
     uint32_t color;                   /* XRGB: vertex colour when the mesh has none */
     const psc_texture_t *texture;     /* TEXTURE: NULL takes the mesh's */
     /* VIEWS (psc_raster.h): three view textures, their coordinates (u, v per
@@ -89,7 +92,7 @@ typedef struct {
 } psc_3d_stats_t;
 
 /* Bytes of vertex cache per vertex. */
-#define PSC_3D_VERTEX_CACHE_BYTES 104u
+#define PSC_3D_VERTEX_CACHE_BYTES 128u
 
 typedef struct {
     psc_3d_config_t cfg;

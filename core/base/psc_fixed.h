@@ -38,6 +38,13 @@ static inline int32_t psc_mul_q16(int32_t a, int32_t b)
 /** Floor of the square root of a 64-bit value (exact for every input). */
 uint32_t psc_isqrt64(uint64_t v);
 
+/**
+ * 2^30 / sqrt(x), rounded (relative error below 2^-16; UINT32_MAX for 0):
+ * a table of 384 mantissas and one Newton step, for renormalising vectors per
+ * pixel (Phong shading).
+ */
+uint32_t psc_rsqrt_q30(uint32_t x);
+
 /** Signed division of 64-bit values rounded to nearest (ties away from zero); d != 0
  * and the quotient must fit (not INT64_MIN / -1). */
 int64_t psc_div_round64(int64_t n, int64_t d);

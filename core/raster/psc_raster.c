@@ -23,6 +23,7 @@
 #define Q_F 8u
 #define UV_F 8u
 #define LIGHT_F 16u
+#define NORMAL_F 16u
 #define UV_SPAN_MAX_Q16 (INT64_C(16) << 16)
 
 typedef struct {
@@ -34,6 +35,7 @@ typedef struct {
 typedef struct {
     int64_t e[3], ex[3], ey[3];  /* biased edge values at the first pixel centre, steps */
     plane_t depth, r, g, b, q, uq, vq, light;
+    plane_t nx, ny, nz;          /* PHONG: the normal, Q2.14 */
     plane_t vu[3], vv[3];        /* VIEWS: u/w and v/w of each view (u and v when affine) */
     bool affine;                 /* VIEWS: the vertices' depths within 1/256 of each other: no division a pixel */
     int32_t px0, py0, px1, py1;  /* inclusive pixel bounds, inside the target */
@@ -130,6 +132,54 @@ static PSC_ALWAYS_INLINE void put_pixel(uint8_t *row, int32_t x, int out565, psc
     }
 }
 
+/* x^n for x in Q16.16 within [0, 1], by repeated squaring, each product rounded. */
+static PSC_ALWAYS_INLINE uint32_t pow_q16(uint32_t x, uint32_t n)
+{
+    uint32_t r = 65536u;
+    while (n != 0 && x != 0) {
+        if (n & 1u)
+            r = (uint32_t)(((uint64_t)r * x + 32768u) >> 16);
+        x = (uint32_t)(((uint64_t)x * x + 32768u) >> 16);
+        n >>= 1;
+    }
+    return n != 0 ? 0 : r; /* x reached 0 with bits of n left: the power is 0 */
+}
+
+/* Cosine (Q16.16, clamped to [0, 1]) of the angle between the unnormalised normal n and a unit vector d (Q2.14),
+ * given inv = 2^30 / |n| (|n| in Q2.14 units): n.d / |n| = (n.d) inv / 2^44. */
+static PSC_ALWAYS_INLINE uint32_t cos_q16(const int32_t n[3], const int16_t d[3], uint32_t inv)
+{
+    int64_t dot = (int64_t)n[0] * d[0] + (int64_t)n[1] * d[1] + (int64_t)n[2] * d[2]; /* |dot| < 2^30 */
+    int64_t c = (dot * inv + (INT64_C(1) << 27)) >> 28;
+    return c <= 0 ? 0u : c >= 65536 ? 65536u : (uint32_t)c;
+}
+
+/* Phong: the colour c lit per pixel with the normal n (psc_raster.h). */
+static PSC_ALWAYS_INLINE uint32_t phong(const psc_raster_state_t *st, uint32_t c, const int32_t n[3])
+{
+    uint32_t len2 = (uint32_t)(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]); /* each |n| <= 2^14: < 2^30 */
+    uint32_t amb = (uint32_t)st->ambient_q8 << 8, light = amb, spec = 0;
+    if (len2 != 0) {
+        uint32_t inv = psc_rsqrt_q30(len2);
+        light = amb + (uint32_t)(((uint64_t)(65536u - amb) * cos_q16(n, st->light_q14, inv) + 32768u) >> 16);
+        if (st->specular_q8 != 0) {
+            uint32_t h = cos_q16(n, st->half_q14, inv);
+            spec = (uint32_t)(((uint64_t)pow_q16(h, st->shininess) * st->specular_q8 * 255u + (1u << 23)) >> 24);
+        }
+    }
+    uint32_t out = 0;
+    for (unsigned s = 0; s < 24; s += 8) {
+        uint32_t ch = ((((c >> s) & 255u) * light + 32768u) >> 16) + spec;
+        out |= (ch > 255u ? 255u : ch) << s;
+    }
+    return out;
+}
+
+static PSC_ALWAYS_INLINE int32_t normal_value(uint64_t v)
+{
+    return (int32_t)clamp64(plane_value(v, NORMAL_F), -16384, 16384);
+}
+
 /* ---- the loop ------------------------------------------------------------------ */
 
 static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster_target_t *t,
@@ -145,12 +195,14 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
     int64_t e0r = s->e[0], e1r = s->e[1], e2r = s->e[2];
     uint64_t dr = s->depth.base, rr = s->r.base, gr = s->g.base, br = s->b.base;
     uint64_t qr = s->q.base, ur = s->uq.base, vr = s->vq.base, lr = s->light.base;
+    uint64_t nxr = s->nx.base, nyr = s->ny.base, nzr = s->nz.base;
     uint8_t *srow = (uint8_t *)t->surface->pixels + (size_t)s->py0 * t->surface->stride;
     uint8_t *zrow = zbits ? (uint8_t *)t->depth + (size_t)(s->py0 - t->y0) * t->depth_stride : 0;
 
     for (int32_t y = s->py0; y <= s->py1; y++) {
         int64_t e0 = e0r, e1 = e1r, e2 = e2r;
         uint64_t d = dr, r = rr, g = gr, b = br, q = qr, u = ur, v = vr, l = lr;
+        uint64_t nx = nxr, ny = nyr, nz = nzr;
         for (int32_t x = s->px0; x <= s->px1; x++) {
             if ((e0 | e1 | e2) >= 0) {
                 int draw = 1;
@@ -174,11 +226,15 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
                     uint32_t c;
                     if (shade == PSC_SHADE_FLAT) {
                         c = s->flat;
-                    } else if (shade == PSC_SHADE_GOURAUD) {
+                    } else if (shade == PSC_SHADE_GOURAUD || shade == PSC_SHADE_PHONG) {
                         uint32_t cr = (uint32_t)clamp64(plane_value(r, COLOR_F), 0, 255);
                         uint32_t cg = (uint32_t)clamp64(plane_value(g, COLOR_F), 0, 255);
                         uint32_t cb = (uint32_t)clamp64(plane_value(b, COLOR_F), 0, 255);
                         c = (cr << 16) | (cg << 8) | cb;
+                        if (shade == PSC_SHADE_PHONG) {
+                            const int32_t n[3] = {normal_value(nx), normal_value(ny), normal_value(nz)};
+                            c = phong(st, c, n);
+                        }
                     } else {
                         /* One division per pixel: 1/q, then u = (u/w) / (1/w). */
                         int64_t qq = clamp64(plane_value(q, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
@@ -209,10 +265,15 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
             e2 += s->ex[2];
             if (zbits)
                 d += s->depth.step_x;
-            if (shade == PSC_SHADE_GOURAUD) {
+            if (shade == PSC_SHADE_GOURAUD || shade == PSC_SHADE_PHONG) {
                 r += s->r.step_x;
                 g += s->g.step_x;
                 b += s->b.step_x;
+            }
+            if (shade == PSC_SHADE_PHONG) {
+                nx += s->nx.step_x;
+                ny += s->ny.step_x;
+                nz += s->nz.step_x;
             }
             if (shade == PSC_SHADE_TEXTURE) {
                 q += s->q.step_x;
@@ -232,6 +293,9 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
         ur += s->uq.step_y;
         vr += s->vq.step_y;
         lr += s->light.step_y;
+        nxr += s->nx.step_y;
+        nyr += s->ny.step_y;
+        nzr += s->nz.step_y;
         srow += t->surface->stride;
         if (zbits)
             zrow += t->depth_stride;
@@ -409,6 +473,8 @@ static uint32_t dispatch_z(const setup_t *s, const psc_raster_target_t *t, const
         return BY_Z(PSC_SHADE_FLAT, 0, 0);
     case PSC_SHADE_GOURAUD:
         return BY_Z(PSC_SHADE_GOURAUD, 0, 0);
+    case PSC_SHADE_PHONG:
+        return BY_Z(PSC_SHADE_PHONG, 0, 0);
     case PSC_SHADE_TEXTURE:
         if (bil)
             return tex565 ? BY_Z(PSC_SHADE_TEXTURE, 1, 1) : BY_Z(PSC_SHADE_TEXTURE, 1, 0);
@@ -453,7 +519,10 @@ static bool state_ok(const psc_raster_target_t *t, const psc_raster_state_t *st)
         }
         return sum == 256u;
     }
-    return st->shade <= PSC_SHADE_VIEWS;
+    if (st->shade == PSC_SHADE_PHONG &&
+        (st->ambient_q8 > 256u || st->specular_q8 > 256u || (st->specular_q8 != 0 && st->shininess == 0)))
+        return false;
+    return st->shade <= PSC_SHADE_PHONG;
 }
 
 uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_state_t *st,
@@ -515,11 +584,16 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
         s.ey[k] = dx * PSC_RASTER_SUBPIXEL_ONE;
     }
 
-    s.depth = s.r = s.g = s.b = s.q = s.uq = s.vq = s.light = (plane_t){0, 0, 0};
+    s.depth = s.r = s.g = s.b = s.q = s.uq = s.vq = s.light = s.nx = s.ny = s.nz = (plane_t){0, 0, 0};
     s.flat = v0->color & 0xFFFFFFu;
     if (st->depth_test)
         plane3(&s.depth, v[0]->depth_q32, v[1]->depth_q32, v[2]->depth_q32, x, y, area2, DEPTH_F, cx, cy);
-    if (st->shade == PSC_SHADE_GOURAUD) {
+    if (st->shade == PSC_SHADE_PHONG) {
+        plane3(&s.nx, v[0]->n_q14[0], v[1]->n_q14[0], v[2]->n_q14[0], x, y, area2, NORMAL_F, cx, cy);
+        plane3(&s.ny, v[0]->n_q14[1], v[1]->n_q14[1], v[2]->n_q14[1], x, y, area2, NORMAL_F, cx, cy);
+        plane3(&s.nz, v[0]->n_q14[2], v[1]->n_q14[2], v[2]->n_q14[2], x, y, area2, NORMAL_F, cx, cy);
+    }
+    if (st->shade == PSC_SHADE_GOURAUD || st->shade == PSC_SHADE_PHONG) {
         plane3(&s.r, v[0]->color >> 16 & 255, v[1]->color >> 16 & 255, v[2]->color >> 16 & 255, x, y, area2,
                COLOR_F, cx, cy);
         plane3(&s.g, v[0]->color >> 8 & 255, v[1]->color >> 8 & 255, v[2]->color >> 8 & 255, x, y, area2,

@@ -49,6 +49,15 @@
  *    non-empty texels under their weights (the alpha test of image-based
  *    rendering: the silhouette is the blend's, not the proxy's). With
  *    views_mask the pixel takes mask_color instead (part ids).
+ *  - Phong shading (PSC_SHADE_PHONG): the vertex colours (unlit) and the
+ *    vertex normals n_q14 are planes, linear on the screen like Gouraud's
+ *    colours; each pixel renormalises its normal N (one 2^30/sqrt(|N|^2),
+ *    psc_rsqrt_q30) and takes
+ *        colour x (ambient + (1 - ambient) max(0, N.L)) + 255 specular max(0, N.H)^shininess
+ *    per channel, saturated: Lambert's diffuse term and Blinn's highlight,
+ *    with H the half vector between the light L and the viewer direction
+ *    (0, 0, -1) (a viewer far away: H is constant over the frame). The power
+ *    is taken by repeated squaring in Q16.16, rounded at each product.
  */
 #ifndef PSC_RASTER_H
 #define PSC_RASTER_H
@@ -75,13 +84,15 @@ typedef struct {
     uint32_t color;          /* XRGB8888: flat (first vertex) and Gouraud colour */
     int32_t light_q8;        /* 0..256: texture modulation (1.0 = 256) */
     int32_t u1_q16, v1_q16, u2_q16, v2_q16;  /* VIEWS: the second and third views' coordinates */
+    int16_t n_q14[3];        /* PHONG: the surface normal in camera space, unit length in Q2.14 */
 } psc_raster_vertex_t;
 
 typedef enum {
     PSC_SHADE_FLAT = 0,    /* every pixel takes the first vertex's colour (the provoking vertex) */
     PSC_SHADE_GOURAUD = 1, /* vertex colours, interpolated linearly on the screen */
     PSC_SHADE_TEXTURE = 2, /* perspective-correct texture, optionally times light_q8 */
-    PSC_SHADE_VIEWS = 3    /* three view textures blended and alpha-tested (below) */
+    PSC_SHADE_VIEWS = 3,   /* three view textures blended and alpha-tested (below) */
+    PSC_SHADE_PHONG = 4    /* vertex colours lit per pixel from interpolated normals (below) */
 } psc_shade_t;
 
 typedef enum {
@@ -122,6 +133,12 @@ typedef struct {
     uint16_t view_w_q8[3];    /* VIEWS: weights summing to 256, heaviest first (pixels end sooner) */
     bool views_mask;          /* VIEWS: write mask_color where covered */
     uint32_t mask_color;
+    /* PHONG: one directional light and a viewer far along -z (camera space). */
+    int16_t light_q14[3];     /* toward the light, unit length */
+    int16_t half_q14[3];      /* Blinn's half vector: (light + (0, 0, -1)) normalised */
+    uint16_t ambient_q8;      /* 0..256 */
+    uint16_t specular_q8;     /* 0..256: the white highlight's strength */
+    uint8_t shininess;        /* 1..255: the highlight's exponent */
 } psc_raster_state_t;
 
 /** Where to draw: a rectangle of a surface, with a depth buffer covering exactly that rectangle. */

@@ -71,7 +71,8 @@ static void usage(const char *prog, FILE *f)
             "  --tiles N           render in N x N pixel tiles with a tile-sized depth buffer (0: full)\n"
             "  --depth D.pgm       also write the normalised depth as a 16-bit PGM (65535 = far)\n"
             "  --depth-bits B      16 or 32 (default 32)\n"
-            "  --shade S           flat, gouraud or texture (default: texture when there is one)\n"
+            "  --shade S           flat, gouraud, phong (lit per pixel, with a highlight) or texture\n"
+            "                      (default: texture when there is one, else gouraud)\n"
             "  --filter F          nearest or bilinear texture filter (default bilinear)\n"
             "  --format F          output surface: rgb565 (default) or xrgb8888\n"
             "  --repeat K          render K times and report the time per frame\n"
@@ -120,9 +121,9 @@ static int parse_args(const char *prog, int argc, char **argv, model_args_t *a)
                 return psc_io_cli_usage_error(prog, "--depth-bits '%s': expected 16 or 32", v);
         } else if (strcmp(name, "--shade") == 0) {
             a->shade = strcmp(v, "flat") == 0 ? PSC_SHADE_FLAT : strcmp(v, "gouraud") == 0 ? PSC_SHADE_GOURAUD
-                       : strcmp(v, "texture") == 0 ? PSC_SHADE_TEXTURE : -2;
+                       : strcmp(v, "texture") == 0 ? PSC_SHADE_TEXTURE : strcmp(v, "phong") == 0 ? PSC_SHADE_PHONG : -2;
             if (a->shade == -2)
-                return psc_io_cli_usage_error(prog, "--shade '%s': expected flat, gouraud or texture", v);
+                return psc_io_cli_usage_error(prog, "--shade '%s': expected flat, gouraud, phong or texture", v);
         } else if (strcmp(name, "--filter") == 0) {
             if (strcmp(v, "nearest") != 0 && strcmp(v, "bilinear") != 0)
                 return psc_io_cli_usage_error(prog, "--filter '%s': expected nearest or bilinear", v);
@@ -270,6 +271,12 @@ int psc_model_render_main(const char *prog, int argc, char **argv)
         fprintf(stderr, "%s: %s: --shade texture needs a texture (and texture coordinates)\n", prog, a.model);
         goto done;
     }
+    if (d.shade == PSC_SHADE_PHONG && !mf.mesh.normal_q14) {
+        fprintf(stderr, "%s: %s: --shade phong needs vertex normals, and the model has none\n", prog, a.model);
+        goto done;
+    }
+    d.specular_q8 = 90; /* a soft white highlight */
+    d.shininess = 24;
     psc_status_t s;
     if (psc_render_target_open(&rt, &cfg, vw->format, a.depth != NULL, a.model, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);

@@ -20,6 +20,7 @@ typedef struct {
     double uv[2];
     double rgb[3];    /* lit colour 0..255 */
     double light;     /* 0..1 */
+    double n[3];      /* Phong: unit normal, camera space */
 } rvert_t;
 
 typedef struct {
@@ -86,9 +87,35 @@ static int clip_z(const rvert_t *in, int n, double plane, double s, rvert_t *out
             o->uv[0] = a->uv[0] + (b->uv[0] - a->uv[0]) * t;
             o->uv[1] = a->uv[1] + (b->uv[1] - a->uv[1]) * t;
             o->light = a->light + (b->light - a->light) * t;
+            for (int k = 0; k < 3; k++)
+                o->n[k] = a->n[k] + (b->n[k] - a->n[k]) * t;
         }
     }
     return m;
+}
+
+/* Phong (psc_raster.h): Lambert's diffuse and Blinn's highlight with the viewer along -z, per pixel. */
+static void phong(const psc_3d_draw_t *d, const double nn[3], double rgb[3])
+{
+    double L[3] = {q16(d->light_dir.x), q16(d->light_dir.y), q16(d->light_dir.z)}, H[3], n[3];
+    double ll = sqrt(L[0] * L[0] + L[1] * L[1] + L[2] * L[2]), ln = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+    for (int k = 0; k < 3; k++) {
+        L[k] /= ll;
+        n[k] = ln > 0 ? nn[k] / ln : 0;
+    }
+    H[0] = L[0];
+    H[1] = L[1];
+    H[2] = L[2] - 1;
+    double lh = sqrt(H[0] * H[0] + H[1] * H[1] + H[2] * H[2]);
+    double amb = d->ambient_q8 / 256.0, nl = 0, nh = 0;
+    for (int k = 0; k < 3; k++) {
+        nl += n[k] * L[k];
+        nh += lh > 0 ? n[k] * H[k] / lh : 0;
+    }
+    double light = amb + (1 - amb) * fmax(0, fmin(1, nl));
+    double spec = ln > 0 ? 255.0 * d->specular_q8 / 256.0 * pow(fmax(0, fmin(1, nh)), d->shininess) : 0;
+    for (int k = 0; k < 3; k++)
+        rgb[k] = fmin(255, rgb[k] * light + spec);
 }
 
 static void raster(ref_t *r, const psc_3d_draw_t *d, const psc_texture_t *tex, const rvert_t *v[3],
@@ -144,9 +171,15 @@ static void raster(ref_t *r, const psc_3d_draw_t *d, const psc_texture_t *tex, c
             double out[3];
             if (d->shade == PSC_SHADE_FLAT) {
                 memcpy(out, flat, sizeof out);
-            } else if (d->shade == PSC_SHADE_GOURAUD) {
+            } else if (d->shade == PSC_SHADE_GOURAUD || d->shade == PSC_SHADE_PHONG) {
                 for (int k = 0; k < 3; k++)
                     out[k] = lam[0] * v[0]->rgb[k] + lam[1] * v[1]->rgb[k] + lam[2] * v[2]->rgb[k];
+                if (d->shade == PSC_SHADE_PHONG) {
+                    double n[3];
+                    for (int k = 0; k < 3; k++)
+                        n[k] = lam[0] * v[0]->n[k] + lam[1] * v[1]->n[k] + lam[2] * v[2]->n[k];
+                    phong(d, n, out);
+                }
             } else {
                 double u = 0, vv = 0, l = 0;
                 for (int i = 0; i < 3; i++) {
@@ -187,7 +220,8 @@ static void draw(ref_t *r, const psc_3d_draw_t *d)
         for (int k = 0; k < 3; k++)
             vs[i].p[k] = M[k][0] * p[0] + M[k][1] * p[1] + M[k][2] * p[2] + M[k][3];
         double l = 1;
-        if (d->lit && m->normal_q14) {
+        bool phong = d->shade == PSC_SHADE_PHONG;
+        if ((d->lit || phong) && m->normal_q14) {
             double n[3], nc[3], len = 0, dot = 0;
             for (int k = 0; k < 3; k++)
                 n[k] = m->normal_q14[3 * i + k] / 16384.0;
@@ -196,14 +230,16 @@ static void draw(ref_t *r, const psc_3d_draw_t *d)
                 len += nc[k] * nc[k];
             }
             len = sqrt(len);
-            for (int k = 0; k < 3; k++)
+            for (int k = 0; k < 3; k++) {
                 dot += (len > 0 ? nc[k] / len : 0) * L[k];
-            l = amb + (1 - amb) * fmax(0, fmin(1, dot));
+                vs[i].n[k] = len > 0 ? nc[k] / len : 0;
+            }
+            l = phong ? 1 : amb + (1 - amb) * fmax(0, fmin(1, dot));
         }
         uint32_t col = m->color ? m->color[i] : d->color;
         double rgb[3] = {(double)(col >> 16 & 255), (double)(col >> 8 & 255), (double)(col & 255)};
         for (int k = 0; k < 3; k++)
-            vs[i].rgb[k] = d->lit && d->shade != PSC_SHADE_TEXTURE ? rgb[k] * l : rgb[k];
+            vs[i].rgb[k] = d->lit && d->shade != PSC_SHADE_TEXTURE && !phong ? rgb[k] * l : rgb[k];
         vs[i].light = l;
         vs[i].uv[0] = m->uv_q12 ? m->uv_q12[2 * i] / 4096.0 : 0;
         vs[i].uv[1] = m->uv_q12 ? m->uv_q12[2 * i + 1] / 4096.0 : 0;
