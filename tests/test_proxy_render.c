@@ -76,7 +76,7 @@ static void test_views_rule(void **state)
         psc_surface_t sf = {64, 64, 64 * 4, PSC_PIX_XRGB8888, out};
         for (unsigned i = 0; i < 64 * 64; i++)
             out[i] = 0xFF000000u;
-        psc_raster_target_t tg = {&sf, NULL, 0, 0, 0, 0, 64, 64};
+        psc_raster_target_t tg = {&sf, NULL, 0, 0, 0, 0, 64, 64, NULL};
         /* a triangle with affine coordinates (q = 1): each view's (u, v) a different affine map of the pixel */
         psc_raster_vertex_t v[3];
         double uv[3][3][2];

@@ -84,6 +84,35 @@ psc_status_t psc_3d_init(psc_3d_t *r, const psc_3d_config_t *cfg, void *ws, size
     return PSC_OK;
 }
 
+static uint32_t tile_pixels(const psc_3d_config_t *c)
+{
+    uint32_t w = c->tile_width && c->tile_width < c->width ? c->tile_width : c->width;
+    uint32_t h = c->tile_height && c->tile_height < c->height ? c->tile_height : c->height;
+    return w * h;
+}
+
+size_t psc_3d_abuffer_bytes(const psc_3d_config_t *cfg, uint32_t fragments)
+{
+    if (!config_ok(cfg))
+        return 0;
+    return psc_abuffer_bytes(tile_pixels(cfg), fragments);
+}
+
+psc_status_t psc_3d_set_abuffer(psc_3d_t *r, void *mem, size_t bytes)
+{
+    if (!r || ((uintptr_t)mem & 7u) != 0)
+        return PSC_ERR_ARG;
+    r->aa = false;
+    if (!mem)
+        return PSC_OK;
+    uint32_t px = tile_pixels(&r->cfg), n = psc_abuffer_fragments_for(px, bytes);
+    if (n == 0)
+        return PSC_ERR_NOMEM;
+    psc_abuffer_init(&r->abuf, mem, px, n);
+    r->aa = true;
+    return PSC_OK;
+}
+
 void psc_3d_draw_defaults(psc_3d_draw_t *d, const psc_mesh_t *mesh)
 {
     *d = (psc_3d_draw_t){0};
@@ -420,10 +449,12 @@ psc_status_t psc_3d_render(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, 
             uint16_t x1 = (uint16_t)(tx + tw > r->cfg.width ? r->cfg.width : tx + tw);
             uint16_t y1 = (uint16_t)(ty + th > r->cfg.height ? r->cfg.height : ty + th);
             clear_tile(r, out, clear_xrgb, x0, y0, x1, y1);
+            if (r->aa)
+                psc_abuffer_clear(&r->abuf, (uint32_t)(x1 - x0) * (y1 - y0));
             tile_ctx_t t = {
                 .r = r,
                 .target = {out, r->depth, (uint32_t)(x1 - x0) * (r->cfg.depth_bits / 8u), r->cfg.depth_bits, x0, y0,
-                           x1, y1},
+                           x1, y1, r->aa ? &r->abuf : NULL},
                 .rect_q4 = {(int32_t)x0 * 16, (int32_t)y0 * 16, (int32_t)x1 * 16, (int32_t)y1 * 16},
                 .stats = stats,
                 .count_once = first,
@@ -445,8 +476,16 @@ psc_status_t psc_3d_render(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, 
                 };
                 if (d->shade == PSC_SHADE_PHONG)
                     phong_state(d, &t.state);
+                r->abuf.surface = (uint16_t)(i + 1u); /* fragments of one draw merge */
                 draw_mesh(&t, d, cache + base);
                 base += d->mesh->vertex_count;
+            }
+            if (r->aa) {
+                psc_abuffer_resolve(&r->abuf, out, x0, y0, x1, y1, r->depth, (uint32_t)(x1 - x0) * (r->cfg.depth_bits / 8u),
+                                    r->cfg.depth_bits);
+                if (r->abuf.peak > stats->fragments_peak)
+                    stats->fragments_peak = r->abuf.peak;
+                stats->fragments_overflow += r->abuf.overflow;
             }
             if (r->depth_out)
                 export_depth(r, x0, y0, x1, y1);

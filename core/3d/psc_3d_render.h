@@ -27,7 +27,10 @@
  *
  * Memory (all from the caller's workspace, sized by psc_3d_workspace_size):
  *  - depth: tile_width x tile_height (or width x height) x 2 or 4 bytes;
- *  - vertex cache: PSC_3D_VERTEX_CACHE_BYTES per vertex of a frame.
+ *  - vertex cache: PSC_3D_VERTEX_CACHE_BYTES per vertex of a frame;
+ *  - optionally the A-buffer (psc_3d_set_abuffer): a budget of its own,
+ *    4 bytes a pixel of a tile plus 16 a fragment; edges are anti-aliased
+ *    tile by tile, so tiles bring it down as they do the depth buffer.
  * Rendering allocates nothing.
  */
 #ifndef PSC_3D_RENDER_H
@@ -89,6 +92,8 @@ typedef struct {
     uint32_t outside;       /* wholly outside a plane, zero-area, or unrepresentable */
     uint32_t clipped;       /* needed clipping (counted once) */
     uint64_t pixels;        /* pixels written after the depth test */
+    uint32_t fragments_peak;     /* A-buffer: most fragments held at once in a tile */
+    uint32_t fragments_overflow; /* A-buffer: partly covered pixels that found no room (drawn aliased) */
 } psc_3d_stats_t;
 
 /* Bytes of vertex cache per vertex. */
@@ -102,6 +107,8 @@ typedef struct {
     size_t depth_bytes;
     void *cache;             /* max_vertices entries */
     uint16_t *depth_out;     /* optional: width x height receives the final depth (top 16 bits) */
+    bool aa;                 /* psc_3d_set_abuffer given */
+    psc_abuffer_t abuf;      /* over one tile (the screen without tiles) */
 } psc_3d_t;
 
 /** Workspace bytes for a configuration (0 if it is invalid). */
@@ -116,6 +123,19 @@ size_t psc_3d_depth_bytes(const psc_3d_config_t *cfg);
  * PSC_ERR_NOMEM for a short workspace.
  */
 psc_status_t psc_3d_init(psc_3d_t *r, const psc_3d_config_t *cfg, void *ws, size_t ws_size);
+
+/**
+ * Anti-alias with the A-buffer (psc_abuffer.h) in `bytes` of memory at mem
+ * (aligned to 8): one head per pixel of a tile (of the screen without tiles)
+ * and as many fragments as the rest holds, each tile resolved before the
+ * next. psc_3d_abuffer_bytes() gives the budget for a number of fragments.
+ * PSC_ERR_NOMEM when the memory holds the heads and not a single fragment;
+ * mem NULL turns anti-aliasing off.
+ */
+psc_status_t psc_3d_set_abuffer(psc_3d_t *r, void *mem, size_t bytes);
+
+/** Bytes for the A-buffer of a configuration with `fragments` fragments a tile (0 if the configuration is invalid). */
+size_t psc_3d_abuffer_bytes(const psc_3d_config_t *cfg, uint32_t fragments);
 
 /**
  * Render draws[0..n) into out (cfg.width x cfg.height, RGB565 or XRGB8888).

@@ -38,6 +38,9 @@ typedef struct {
     plane_t nx, ny, nz;          /* PHONG: the normal, Q2.14 */
     plane_t vu[3], vv[3];        /* VIEWS: u/w and v/w of each view (u and v when affine) */
     bool affine;                 /* VIEWS: the vertices' depths within 1/256 of each other: no division a pixel */
+    int64_t am[3];               /* A-buffer: the most a sample's edge value lies below the centre's */
+    int64_t acol[3][4], arow[3][4]; /* A-buffer: edge value offsets of the sample columns and rows */
+    uint32_t zslack;             /* A-buffer: four times the depth change across one pixel (fragments that merge) */
     int32_t px0, py0, px1, py1;  /* inclusive pixel bounds, inside the target */
     uint32_t flat;
 } setup_t;
@@ -180,12 +183,79 @@ static PSC_ALWAYS_INLINE int32_t normal_value(uint64_t v)
     return (int32_t)clamp64(plane_value(v, NORMAL_F), -16384, 16384);
 }
 
+/* ---- coverage (A-buffer) ---------------------------------------------------------- */
+
+/* Sample offsets from the pixel centre in 1/16 pixel: the 4 x 4 grid at (2i + 1)/8. */
+static const int8_t sample_off_q4[4] = {-6, -2, 2, 6};
+
+/* Samples in a dispersed order (the 4 x 4 Bayer ranks): alpha to coverage takes the first k. */
+static const uint16_t coverage_first[17] = {
+    0x0000, 0x0001, 0x0401, 0x0405, 0x0505, 0x0525, 0x8525, 0x85A5, 0xA5A5,
+    0xA5A7, 0xADA7, 0xADAF, 0xAFAF, 0xAFBF, 0xEFBF, 0xEFFF, 0xFFFF,
+};
+
+/* Where a partly covered pixel takes its attributes: the centroid of its covered samples, inside the triangle
+ * (the centre may lie far outside a sliver, where the planes extrapolate to nonsense), and where a linear
+ * attribute takes its mean over those samples. Sums of the offsets in 1/16 pixel, and the count. */
+static PSC_ALWAYS_INLINE void covered_centroid(uint32_t cover, int64_t *sx, int64_t *sy, int64_t *n)
+{
+    int64_t x = 0, y = 0, k = 0;
+    for (unsigned b = 0; b < 16u; b++)
+        if (cover >> b & 1u) {
+            x += sample_off_q4[b & 3u];
+            y += sample_off_q4[b >> 2];
+            k++;
+        }
+    *sx = x;
+    *sy = y;
+    *n = k;
+}
+
+/* A plane's value moved from the pixel centre by (sx, sy) / n sixteenths (steps are 16 x the per-sixteenth
+ * gradient), rounded to the plane's units. */
+static PSC_ALWAYS_INLINE uint64_t plane_at(const plane_t *p, uint64_t v, int64_t sx, int64_t sy, int64_t n)
+{
+    return v + (uint64_t)psc_div_round64(((int64_t)p->step_x >> 4) * sx + ((int64_t)p->step_y >> 4) * sy, n);
+}
+
+/* The samples inside the triangle, from the three edge values at the pixel centre. */
+static PSC_ALWAYS_INLINE uint32_t sample_mask(const setup_t *s, int64_t e0, int64_t e1, int64_t e2)
+{
+    if (((e0 - s->am[0]) | (e1 - s->am[1]) | (e2 - s->am[2])) >= 0)
+        return PSC_ABUF_FULL;          /* every sample inside: the common case */
+    if (((e0 + s->am[0]) | (e1 + s->am[1]) | (e2 + s->am[2])) < 0)
+        return 0;                      /* an edge has every sample outside */
+    uint32_t m = 0;
+    for (unsigned j = 0; j < 4; j++) {
+        int64_t r0 = e0 + s->arow[0][j], r1 = e1 + s->arow[1][j], r2 = e2 + s->arow[2][j];
+        for (unsigned i = 0; i < 4; i++)
+            if (((r0 + s->acol[0][i]) | (r1 + s->acol[1][i]) | (r2 + s->acol[2][i])) >= 0)
+                m |= 1u << (4u * j + i);
+    }
+    return m;
+}
+
 /* ---- the loop ------------------------------------------------------------------ */
+
+/* A partly covered pixel: its fragment to the A-buffer; true when the pixel is to be drawn after all (the merge
+ * completed its coverage, or no room was left), its depth then written here and its colour left in *c. */
+static bool partial(const psc_raster_target_t *t, uint32_t head, uint8_t *zrow, int32_t x, int zbits, uint32_t cover,
+                    bool centre, uint32_t limit, uint32_t zslack, uint32_t z, uint32_t *c)
+{
+    if (!psc_abuffer_add(t->abuf, head, (uint16_t)cover, centre, limit, zslack, &z, c))
+        return false;
+    if (zbits == 16)
+        ((uint16_t *)(void *)zrow)[x - t->x0] = (uint16_t)(z >> 16);
+    else
+        ((uint32_t *)(void *)zrow)[x - t->x0] = z;
+    return true;
+}
 
 static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster_target_t *t,
                                               const psc_raster_state_t *st, const int shade, const int out565,
-                                              const int zbits, const int bilinear, const int tex565)
+                                              const int zbits, const int bilinear, const int tex565, const int aa)
 {
+    const uint32_t head_w = (uint32_t)(t->x1 - t->x0);
     const psc_texture_t *tex = st->texture;
     const psc_blend_t blend = st->blend;
     const bool mod = st->modulate;
@@ -204,21 +274,48 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
         uint64_t d = dr, r = rr, g = gr, b = br, q = qr, u = ur, v = vr, l = lr;
         uint64_t nx = nxr, ny = nyr, nz = nzr;
         for (int32_t x = s->px0; x <= s->px1; x++) {
-            if ((e0 | e1 | e2) >= 0) {
+            uint32_t cover = aa ? sample_mask(s, e0, e1, e2) : (e0 | e1 | e2) >= 0 ? PSC_ABUF_FULL : 0;
+            if (cover != 0) {
                 int draw = 1;
-                uint32_t z = 0;
+                uint32_t z = 0, limit = 0;
+                uint64_t pd = d, pr = r, pg = g, pb = b, pq = q, pu = u, pv = v, pl = l, pnx = nx, pny = ny, pnz = nz;
+                const bool centre = (e0 | e1 | e2) >= 0;
+                if (aa && cover != PSC_ABUF_FULL) {
+                    int64_t ox, oy, n;
+                    covered_centroid(cover, &ox, &oy, &n);
+                    if (!centre) /* a triangle covering the centre keeps the centre's depth, as without the A-buffer */
+                        pd = plane_at(&s->depth, pd, ox, oy, n);
+                    if (shade == PSC_SHADE_GOURAUD || shade == PSC_SHADE_PHONG) {
+                        pr = plane_at(&s->r, pr, ox, oy, n);
+                        pg = plane_at(&s->g, pg, ox, oy, n);
+                        pb = plane_at(&s->b, pb, ox, oy, n);
+                    }
+                    if (shade == PSC_SHADE_PHONG) {
+                        pnx = plane_at(&s->nx, pnx, ox, oy, n);
+                        pny = plane_at(&s->ny, pny, ox, oy, n);
+                        pnz = plane_at(&s->nz, pnz, ox, oy, n);
+                    }
+                    if (shade == PSC_SHADE_TEXTURE) {
+                        pq = plane_at(&s->q, pq, ox, oy, n);
+                        pu = plane_at(&s->uq, pu, ox, oy, n);
+                        pv = plane_at(&s->vq, pv, ox, oy, n);
+                        pl = plane_at(&s->light, pl, ox, oy, n);
+                    }
+                }
                 if (zbits) {
-                    z = (uint32_t)clamp64(plane_value(d, DEPTH_F), 0, INT64_C(0xFFFFFFFF));
+                    z = (uint32_t)clamp64(plane_value(pd, DEPTH_F), 0, INT64_C(0xFFFFFFFF));
                     if (zbits == 16) {
                         uint16_t *zp = (uint16_t *)(void *)zrow + (x - t->x0);
                         uint16_t z16 = (uint16_t)(z >> 16);
                         draw = z16 < *zp;
-                        if (draw)
+                        limit = (uint32_t)*zp << 16;
+                        if (draw && cover == PSC_ABUF_FULL)
                             *zp = z16;
                     } else {
                         uint32_t *zp = (uint32_t *)(void *)zrow + (x - t->x0);
                         draw = z < *zp;
-                        if (draw)
+                        limit = *zp;
+                        if (draw && cover == PSC_ABUF_FULL)
                             *zp = z;
                     }
                 }
@@ -227,20 +324,20 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
                     if (shade == PSC_SHADE_FLAT) {
                         c = s->flat;
                     } else if (shade == PSC_SHADE_GOURAUD || shade == PSC_SHADE_PHONG) {
-                        uint32_t cr = (uint32_t)clamp64(plane_value(r, COLOR_F), 0, 255);
-                        uint32_t cg = (uint32_t)clamp64(plane_value(g, COLOR_F), 0, 255);
-                        uint32_t cb = (uint32_t)clamp64(plane_value(b, COLOR_F), 0, 255);
+                        uint32_t cr = (uint32_t)clamp64(plane_value(pr, COLOR_F), 0, 255);
+                        uint32_t cg = (uint32_t)clamp64(plane_value(pg, COLOR_F), 0, 255);
+                        uint32_t cb = (uint32_t)clamp64(plane_value(pb, COLOR_F), 0, 255);
                         c = (cr << 16) | (cg << 8) | cb;
                         if (shade == PSC_SHADE_PHONG) {
-                            const int32_t n[3] = {normal_value(nx), normal_value(ny), normal_value(nz)};
+                            const int32_t n[3] = {normal_value(pnx), normal_value(pny), normal_value(pnz)};
                             c = phong(st, c, n);
                         }
                     } else {
                         /* One division per pixel: 1/q, then u = (u/w) / (1/w). */
-                        int64_t qq = clamp64(plane_value(q, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
+                        int64_t qq = clamp64(plane_value(pq, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
                         int64_t inv = (INT64_C(1) << 40) / qq; /* 2^12 .. 2^28 */
-                        int64_t uu = psc_shr_round64(plane_value(u, UV_F) * inv, 24);
-                        int64_t vv = psc_shr_round64(plane_value(v, UV_F) * inv, 24);
+                        int64_t uu = psc_shr_round64(plane_value(pu, UV_F) * inv, 24);
+                        int64_t vv = psc_shr_round64(plane_value(pv, UV_F) * inv, 24);
                         if (bilinear) {
                             int64_t tx = (uu * tw >> 8) - 128, ty = (vv * th >> 8) - 128;
                             uint32_t fx = (uint32_t)tx & 255u, fy = (uint32_t)ty & 255u;
@@ -254,10 +351,15 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
                                       (uint32_t)(vv * th >> 16) & hmask);
                         }
                         if (mod)
-                            c = modulate(c, (uint32_t)clamp64(plane_value(l, LIGHT_F), 0, 256));
+                            c = modulate(c, (uint32_t)clamp64(plane_value(pl, LIGHT_F), 0, 256));
                     }
-                    put_pixel(srow, x, out565, blend, c);
-                    written++;
+                    if (aa && cover != PSC_ABUF_FULL)
+                        draw = partial(t, (uint32_t)(y - t->y0) * head_w + (uint32_t)(x - t->x0), zrow, x, zbits,
+                                       cover, centre, limit, s->zslack, z, &c);
+                    if (draw) {
+                        put_pixel(srow, x, out565, blend, c);
+                        written++;
+                    }
                 }
             }
             e0 += s->ex[0];
@@ -350,8 +452,11 @@ static PSC_ALWAYS_INLINE void view_sample(const psc_texture_t *t, int64_t uu, in
 
 static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_target_t *t,
                                              const psc_raster_state_t *st, const int out565, const int zbits,
-                                             const int bilinear, const int affine)
+                                             const int bilinear, const int affine, const int aa)
 {
+    const uint32_t head_w = (uint32_t)(t->x1 - t->x0);
+    /* Without the A-buffer a pixel needs half the weight; with it, a sixteenth (one sample's worth, rounded). */
+    const uint32_t enough = aa ? 2048u : 32768u;
     uint32_t written = 0;
     int64_t e0r = s->e[0], e1r = s->e[1], e2r = s->e[2];
     uint64_t dr = s->depth.base, qr = s->q.base, ur[3], vr[3];
@@ -366,35 +471,54 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
         int64_t e0 = e0r, e1 = e1r, e2 = e2r;
         uint64_t d = dr, q = qr, u[3] = {ur[0], ur[1], ur[2]}, v[3] = {vr[0], vr[1], vr[2]};
         for (int32_t x = s->px0; x <= s->px1; x++) {
-            if ((e0 | e1 | e2) >= 0) {
-                uint32_t z = 0;
+            uint32_t cover = aa ? sample_mask(s, e0, e1, e2) : (e0 | e1 | e2) >= 0 ? PSC_ABUF_FULL : 0;
+            if (cover != 0) {
+                uint32_t z = 0, limit = 0xFFFFFFFFu;
                 int draw = 1;
+                uint64_t pd = d, pq = q, pu[3] = {u[0], u[1], u[2]}, pv[3] = {v[0], v[1], v[2]};
+                const bool centre = (e0 | e1 | e2) >= 0;
+                if (aa && cover != PSC_ABUF_FULL) {
+                    int64_t ox, oy, n;
+                    covered_centroid(cover, &ox, &oy, &n);
+                    if (!centre)
+                        pd = plane_at(&s->depth, pd, ox, oy, n);
+                    pq = plane_at(&s->q, pq, ox, oy, n);
+                    for (unsigned k = 0; k < 3; k++) {
+                        pu[k] = plane_at(&s->vu[k], pu[k], ox, oy, n);
+                        pv[k] = plane_at(&s->vv[k], pv[k], ox, oy, n);
+                    }
+                }
                 if (zbits) {
-                    z = (uint32_t)clamp64(plane_value(d, DEPTH_F), 0, INT64_C(0xFFFFFFFF));
-                    draw = zbits == 16 ? (uint16_t)(z >> 16) < ((uint16_t *)(void *)zrow)[x - t->x0]
-                                       : z < ((uint32_t *)(void *)zrow)[x - t->x0];
+                    z = (uint32_t)clamp64(plane_value(pd, DEPTH_F), 0, INT64_C(0xFFFFFFFF));
+                    limit = zbits == 16 ? (uint32_t)((uint16_t *)(void *)zrow)[x - t->x0] << 16
+                                        : ((uint32_t *)(void *)zrow)[x - t->x0];
+                    draw = zbits == 16 ? (z >> 16) < (limit >> 16) : z < limit;
                 }
                 if (draw) {
                     int64_t inv = 0;
                     if (!affine) {
-                        int64_t qq = clamp64(plane_value(q, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
+                        int64_t qq = clamp64(plane_value(pq, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
                         inv = (INT64_C(1) << 40) / qq;
                     }
                     uint32_t cov = 0, acc[3] = {0, 0, 0}, left = 65536u;
                     for (unsigned k = 0; k < 3; k++) {
                         uint32_t wk = st->view_w_q8[k];
-                        /* the heaviest views come first: stop once the rest cannot reach one half */
-                        if (cov + left < 32768u)
+                        /* the heaviest views come first: stop once the rest cannot reach enough */
+                        if (cov + left < enough)
                             break;
                         if (wk == 0)
                             continue;
                         left -= wk << 8;
-                        int64_t uu = affine ? plane_value(u[k], UV_F) : psc_shr_round64(plane_value(u[k], UV_F) * inv, 24);
-                        int64_t vv = affine ? plane_value(v[k], UV_F) : psc_shr_round64(plane_value(v[k], UV_F) * inv, 24);
+                        int64_t uu = affine ? plane_value(pu[k], UV_F) : psc_shr_round64(plane_value(pu[k], UV_F) * inv, 24);
+                        int64_t vv = affine ? plane_value(pv[k], UV_F) : psc_shr_round64(plane_value(pv[k], UV_F) * inv, 24);
                         view_sample(st->view_tex[k], clamp64(uu, 0, 65536), clamp64(vv, 0, 65536), wk, bilinear, &cov,
                                     acc);
                     }
-                    if (cov >= 32768u) {
+                    if (aa) /* alpha to coverage: the first round(16 cov) samples of the dispersed order */
+                        cover &= coverage_first[(cov * 16u + 32768u) >> 16];
+                    else if (cov < 32768u)
+                        cover = 0;
+                    if (cover != 0) {
                         uint32_t c = st->mask_color & 0xFFFFFFu;
                         if (!st->views_mask && cov == 65536u) {   /* every texel there: no division */
                             c = 0;
@@ -408,12 +532,18 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                                 c = c << 8 | (uint32_t)(ch > 255u ? 255u : ch);
                             }
                         }
-                        if (zbits == 16)
+                        bool put = true;
+                        if (aa && cover != PSC_ABUF_FULL)
+                            put = partial(t, (uint32_t)(y - t->y0) * head_w + (uint32_t)(x - t->x0), zrow, x, zbits,
+                                          cover, centre, limit, s->zslack, z, &c);
+                        else if (zbits == 16)
                             ((uint16_t *)(void *)zrow)[x - t->x0] = (uint16_t)(z >> 16);
                         else if (zbits)
                             ((uint32_t *)(void *)zrow)[x - t->x0] = z;
-                        put_pixel(srow, x, out565, st->blend, c);
-                        written++;
+                        if (put) {
+                            put_pixel(srow, x, out565, st->blend, c);
+                            written++;
+                        }
                     }
                 }
             }
@@ -444,31 +574,35 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
 }
 
 static uint32_t dispatch_views(const setup_t *s, const psc_raster_target_t *t, const psc_raster_state_t *st,
-                               int out565, int zb)
+                               int out565, int zb, int aa)
 {
-#define VIEWS(o, z)                                                                                  \
-    (s->affine ? (st->filter == PSC_TEX_BILINEAR ? views_loop(s, t, st, o, z, 1, 1) : views_loop(s, t, st, o, z, 0, 1)) \
-               : (st->filter == PSC_TEX_BILINEAR ? views_loop(s, t, st, o, z, 1, 0) : views_loop(s, t, st, o, z, 0, 0)))
+#define VIEWS_F(o, z, a)                                                                                  \
+    (s->affine ? (st->filter == PSC_TEX_BILINEAR ? views_loop(s, t, st, o, z, 1, 1, a) : views_loop(s, t, st, o, z, 0, 1, a)) \
+               : (st->filter == PSC_TEX_BILINEAR ? views_loop(s, t, st, o, z, 1, 0, a) : views_loop(s, t, st, o, z, 0, 0, a)))
+#define VIEWS(o, z) (aa ? VIEWS_F(o, z, 1) : VIEWS_F(o, z, 0))
     if (out565)
-        return zb == 0 ? VIEWS(1, 0) : zb == 16 ? VIEWS(1, 16) : VIEWS(1, 32);
-    return zb == 0 ? VIEWS(0, 0) : zb == 16 ? VIEWS(0, 16) : VIEWS(0, 32);
+        return zb == 0 ? VIEWS_F(1, 0, 0) : zb == 16 ? VIEWS(1, 16) : VIEWS(1, 32);
+    return zb == 0 ? VIEWS_F(0, 0, 0) : zb == 16 ? VIEWS(0, 16) : VIEWS(0, 32);
 #undef VIEWS
+#undef VIEWS_F
 }
 
-/* One instantiation per state combination. */
-#define LOOP(shade, zb, bil, t565)                                                                 \
-    (out565 ? raster_loop(s, t, st, shade, 1, zb, bil, t565) : raster_loop(s, t, st, shade, 0, zb, bil, t565))
+/* One instantiation per state combination (the A-buffer only with a depth buffer). */
+#define LOOP_AA(shade, zb, bil, t565, a)                                                             \
+    (out565 ? raster_loop(s, t, st, shade, 1, zb, bil, t565, a) : raster_loop(s, t, st, shade, 0, zb, bil, t565, a))
+#define LOOP(shade, zb, bil, t565) \
+    (zb != 0 && aa ? LOOP_AA(shade, zb, bil, t565, 1) : LOOP_AA(shade, zb, bil, t565, 0))
 
 static uint32_t dispatch_z(const setup_t *s, const psc_raster_target_t *t, const psc_raster_state_t *st,
-                           int out565, int zb)
+                           int out565, int zb, int aa)
 {
     bool tex565 = st->shade == PSC_SHADE_TEXTURE && st->texture->format == PSC_PIX_RGB565;
     bool bil = st->filter == PSC_TEX_BILINEAR;
 #define BY_Z(shade, bil_, t565_)                                                                   \
-    (zb == 0 ? LOOP(shade, 0, bil_, t565_) : zb == 16 ? LOOP(shade, 16, bil_, t565_) : LOOP(shade, 32, bil_, t565_))
+    (zb == 0 ? LOOP_AA(shade, 0, bil_, t565_, 0) : zb == 16 ? LOOP(shade, 16, bil_, t565_) : LOOP(shade, 32, bil_, t565_))
     switch (st->shade) {
     case PSC_SHADE_VIEWS:
-        return dispatch_views(s, t, st, out565, zb);
+        return dispatch_views(s, t, st, out565, zb, aa);
     case PSC_SHADE_FLAT:
         return BY_Z(PSC_SHADE_FLAT, 0, 0);
     case PSC_SHADE_GOURAUD:
@@ -484,6 +618,7 @@ static uint32_t dispatch_z(const setup_t *s, const psc_raster_target_t *t, const
     return 0;
 }
 #undef LOOP
+#undef LOOP_AA
 
 /* ---- setup ------------------------------------------------------------------- */
 
@@ -558,7 +693,14 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
     int64_t xmax = x[0] > x[1] ? (x[0] > x[2] ? x[0] : x[2]) : (x[1] > x[2] ? x[1] : x[2]);
     int64_t ymin = y[0] < y[1] ? (y[0] < y[2] ? y[0] : y[2]) : (y[1] < y[2] ? y[1] : y[2]);
     int64_t ymax = y[0] > y[1] ? (y[0] > y[2] ? y[0] : y[2]) : (y[1] > y[2] ? y[1] : y[2]);
+    const int aa = t->abuf != NULL && st->depth_test && st->blend == PSC_BLEND_REPLACE;
     int64_t px0 = (xmin + 7) >> 4, px1 = (xmax - 8) >> 4, py0 = (ymin + 7) >> 4, py1 = (ymax - 8) >> 4;
+    if (aa) { /* pixels with a sample (16i + 2 .. 16i + 14) in the box */
+        px0 = (xmin + 1) >> 4;
+        px1 = (xmax - 2) >> 4;
+        py0 = (ymin + 1) >> 4;
+        py1 = (ymax - 2) >> 4;
+    }
     if (px0 < t->x0)
         px0 = t->x0;
     if (py0 < t->y0)
@@ -582,6 +724,13 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
         s.e[k] = dx * (cy - y[a]) - dy * (cx - x[a]) - (top_left ? 0 : 1);
         s.ex[k] = -dy * PSC_RASTER_SUBPIXEL_ONE;
         s.ey[k] = dx * PSC_RASTER_SUBPIXEL_ONE;
+        if (aa) {
+            s.am[k] = 6 * ((dy < 0 ? -dy : dy) + (dx < 0 ? -dx : dx));
+            for (unsigned i = 0; i < 4; i++) {
+                s.acol[k][i] = -dy * sample_off_q4[i];
+                s.arow[k][i] = dx * sample_off_q4[i];
+            }
+        }
     }
 
     s.depth = s.r = s.g = s.b = s.q = s.uq = s.vq = s.light = s.nx = s.ny = s.nz = (plane_t){0, 0, 0};
@@ -646,6 +795,11 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
             plane_setup(&s.vv[k], b, x, y, area2, UV_F, cx, cy);
         }
     }
+    if (aa) {
+        int64_t sx = (int64_t)s.depth.step_x, sy = (int64_t)s.depth.step_y;
+        uint64_t slack = (uint64_t)(((sx < 0 ? -sx : sx) + (sy < 0 ? -sy : sy)) >> (DEPTH_F - 2u)) + 2u;
+        s.zslack = slack > 0xFFFFFFFFu ? 0xFFFFFFFFu : (uint32_t)slack;
+    }
     int out565 = t->surface->format == PSC_PIX_RGB565;
-    return dispatch_z(&s, t, st, out565, st->depth_test ? t->depth_bits : 0);
+    return dispatch_z(&s, t, st, out565, st->depth_test ? t->depth_bits : 0, aa);
 }

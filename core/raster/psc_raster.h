@@ -49,6 +49,16 @@
  *    non-empty texels under their weights (the alpha test of image-based
  *    rendering: the silhouette is the blend's, not the proxy's). With
  *    views_mask the pixel takes mask_color instead (part ids).
+ *  - Anti-aliasing (target abuf set): a pixel is covered when all 16
+ *    samples of its 4 x 4 grid are inside, and drawn as above; one partly
+ *    covered gets a fragment with the coverage mask, the colour at the
+ *    centroid of the covered samples and the depth there (at the centre when
+ *    the triangle covers the centre), and the A-buffer blends it at the
+ *    resolve. View textures turn their coverage
+ *    into samples too (alpha to coverage: round(16 x coverage) samples of
+ *    the geometric mask in a dispersed order), so image-based silhouettes are
+ *    smoothed as well. Which pixels are covered stays independent of where a
+ *    tile starts.
  *  - Phong shading (PSC_SHADE_PHONG): the vertex colours (unlit) and the
  *    vertex normals n_q14 are planes, linear on the screen like Gouraud's
  *    colours; each pixel renormalises its normal N (one 2^30/sqrt(|N|^2),
@@ -63,6 +73,7 @@
 #define PSC_RASTER_H
 
 #include "base/psc_types.h"
+#include "raster/psc_abuffer.h"
 
 #define PSC_RASTER_SUBPIXEL_BITS 4
 #define PSC_RASTER_SUBPIXEL_ONE (1 << PSC_RASTER_SUBPIXEL_BITS)
@@ -148,6 +159,9 @@ typedef struct {
     uint32_t depth_stride;         /* bytes per depth row */
     uint8_t depth_bits;            /* 16 or 32 */
     uint16_t x0, y0, x1, y1;       /* pixels [x0, x1) x [y0, y1), inside the surface */
+    psc_abuffer_t *abuf;           /* NULL, or the A-buffer over the rectangle (heads row by row, x1 - x0 a row):
+                                    * depth-tested PSC_BLEND_REPLACE triangles then give partly covered pixels
+                                    * fragments (psc_abuffer.h) */
 } psc_raster_target_t;
 
 /**

@@ -150,7 +150,7 @@ static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *oth
     memset(hi, 0, (size_t)n * n * 2u);   /* PSC_VIEW_TEXEL_EMPTY */
     for (size_t i = 0; i < (size_t)n * n; i++)
         depth[i] = 0xFFFFFFFFu;
-    psc_raster_target_t t = {&sf, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n};
+    psc_raster_target_t t = {&sf, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL};
     /* the rest of the model at rest hides what it hides (the seed's obstruction, taken out of the texture) */
     for (unsigned k = 0; k < n_others; k++)
         if (&others[k] != s && may_occlude(&others[k], o))
@@ -212,7 +212,7 @@ int psc_proxy_render_billboard(const psc_proxy_shape_t *shapes, unsigned n, cons
         memset(hi, 0, (size_t)hn * hn * 2u);
         for (size_t i = 0; i < (size_t)hn * hn; i++)
             depth[i] = 0xFFFFFFFFu;
-        psc_raster_target_t tg = {&sf, depth, hn * 4u, 32, 0, 0, (uint16_t)hn, (uint16_t)hn};
+        psc_raster_target_t tg = {&sf, depth, hn * 4u, 32, 0, 0, (uint16_t)hn, (uint16_t)hn, NULL};
         for (unsigned s = 0; s < n; s++)
             draw_shape(&shapes[s], &so, &tg, false);
         downsample(hi, tex, texels + (size_t)k * tex * tex);

@@ -58,6 +58,11 @@ void tsup_texture_free(tsup_texture_t *t);
 void tsup_ref_render3d(const psc_3d_config_t *cfg, const psc_3d_draw_t *draws, unsigned n, uint32_t clear_xrgb,
                        double *rgb, uint8_t *cover);
 
+/** The reference at ss x ss samples a pixel (pixel (x, y)'s sample (i, j) at ((i + 0.5)/ss, (j + 0.5)/ss)),
+ * box-filtered; covered (may be NULL) receives each pixel's number of samples some triangle drew (ss <= 15). */
+void tsup_ref_render3d_ss(const psc_3d_config_t *cfg, const psc_3d_draw_t *draws, unsigned n, uint32_t clear_xrgb,
+                          unsigned ss, double *rgb, uint8_t *covered);
+
 /** Fraction of pixels whose largest channel difference from the reference (quantised as the surface stores it) exceeds tol. */
 double tsup_frac_differing(const psc_surface_t *s, const double *ref_rgb, double tol);
 

@@ -294,6 +294,36 @@ void tsup_ref_render3d(const psc_3d_config_t *cfg, const psc_3d_draw_t *draws, u
     free(r.depth);
 }
 
+void tsup_ref_render3d_ss(const psc_3d_config_t *cfg, const psc_3d_draw_t *draws, unsigned n, uint32_t clear_xrgb,
+                          unsigned ss, double *rgb, uint8_t *covered)
+{
+    psc_3d_config_t big = *cfg;
+    big.width = (uint16_t)(cfg->width * ss);
+    big.height = (uint16_t)(cfg->height * ss);
+    size_t np = (size_t)big.width * big.height;
+    double *hi = malloc(np * 3 * sizeof(double));
+    uint8_t *cov = malloc(np);
+    tsup_ref_render3d(&big, draws, n, clear_xrgb, hi, cov);
+    for (unsigned y = 0; y < cfg->height; y++)
+        for (unsigned x = 0; x < cfg->width; x++) {
+            unsigned c = 0;
+            for (unsigned j = 0; j < ss; j++)
+                for (unsigned i = 0; i < ss; i++)
+                    c += cov[((size_t)y * ss + j) * big.width + (size_t)x * ss + i];
+            if (covered)
+                covered[(size_t)y * cfg->width + x] = (uint8_t)c;
+            for (int k = 0; k < 3; k++) {
+                double sum = 0;
+                for (unsigned j = 0; j < ss; j++)
+                    for (unsigned i = 0; i < ss; i++)
+                        sum += hi[(((size_t)y * ss + j) * big.width + (size_t)x * ss + i) * 3 + (size_t)k];
+                rgb[((size_t)y * cfg->width + x) * 3 + (size_t)k] = sum / (ss * ss);
+            }
+        }
+    free(hi);
+    free(cov);
+}
+
 double tsup_frac_differing(const psc_surface_t *s, const double *ref_rgb, double tol)
 {
     size_t bad = 0;

@@ -1,0 +1,197 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * psc_abuffer.c - fragment lists, merging and the resolve (psc_abuffer.h).
+ */
+#include "raster/psc_abuffer.h"
+#include "base/psc_pixel.h"
+
+_Static_assert(sizeof(psc_abuf_fragment_t) == PSC_ABUF_FRAGMENT_BYTES, "fragment size is documented");
+
+static unsigned popcount16(uint32_t m)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    return (unsigned)__builtin_popcount(m & 0xFFFFu);
+#else
+    unsigned n = 0;
+    for (m &= 0xFFFFu; m; m &= m - 1u)
+        n++;
+    return n;
+#endif
+}
+
+size_t psc_abuffer_bytes(uint32_t pixels, uint32_t fragments)
+{
+    uint64_t b = (uint64_t)pixels * PSC_ABUF_HEAD_BYTES + (uint64_t)fragments * PSC_ABUF_FRAGMENT_BYTES;
+    return b > (uint64_t)(size_t)-1 ? 0 : (size_t)b;
+}
+
+uint32_t psc_abuffer_fragments_for(uint32_t pixels, size_t bytes)
+{
+    uint64_t heads = (uint64_t)pixels * PSC_ABUF_HEAD_BYTES;
+    if ((uint64_t)bytes <= heads)
+        return 0;
+    uint64_t n = ((uint64_t)bytes - heads) / PSC_ABUF_FRAGMENT_BYTES;
+    return n > 0xFFFFFFFEu ? 0xFFFFFFFEu : (uint32_t)n;
+}
+
+void psc_abuffer_init(psc_abuffer_t *a, void *mem, uint32_t pixels, uint32_t fragments)
+{
+    *a = (psc_abuffer_t){0};
+    a->head = mem;
+    a->pool = (psc_abuf_fragment_t *)(void *)((uint8_t *)mem + (size_t)pixels * PSC_ABUF_HEAD_BYTES);
+    a->pixels = pixels;
+    a->capacity = fragments;
+    psc_abuffer_clear(a, pixels);
+}
+
+void psc_abuffer_clear(psc_abuffer_t *a, uint32_t pixels)
+{
+    if (pixels > a->pixels)
+        pixels = a->pixels;
+    for (uint32_t i = 0; i < pixels; i++)
+        a->head[i] = 0;
+    a->used = a->free_list = a->live = a->peak = a->overflow = 0;
+}
+
+static void give_back(psc_abuffer_t *a, uint32_t ref)
+{
+    a->pool[ref - 1u].next = a->free_list;
+    a->free_list = ref;
+    a->live--;
+}
+
+static uint32_t take(psc_abuffer_t *a)
+{
+    uint32_t ref = 0;
+    if (a->free_list != 0) {
+        ref = a->free_list;
+        a->free_list = a->pool[ref - 1u].next;
+    } else if (a->used < a->capacity) {
+        ref = ++a->used;
+    }
+    if (ref != 0 && ++a->live > a->peak)
+        a->peak = a->live;
+    return ref;
+}
+
+/* The colours weighted by their sample counts, each channel rounded. */
+static uint32_t weighted(uint32_t c0, unsigned n0, uint32_t c1, unsigned n1)
+{
+    /* (flags above bit 23 are masked off by the channel loop) */
+    unsigned n = n0 + n1;
+    uint32_t out = 0;
+    for (unsigned s = 0; s < 24; s += 8)
+        out |= ((((c0 >> s) & 255u) * n0 + ((c1 >> s) & 255u) * n1 + n / 2u) / n) << s;
+    return out;
+}
+
+bool psc_abuffer_add(psc_abuffer_t *a, uint32_t pixel, uint16_t mask, bool centre, uint32_t limit, uint32_t zslack,
+                     uint32_t *depth, uint32_t *color)
+{
+    uint32_t z = *depth, c = *color & 0xFFFFFFu;
+    if (z >= limit)
+        return false;
+    /* Walk the list: drop what the stored surface hides, merge into this surface's fragment next to it. */
+    uint32_t *link = &a->head[pixel];
+    while (*link != 0) {
+        uint32_t ref = *link;
+        psc_abuf_fragment_t *f = &a->pool[ref - 1u];
+        if (f->depth_q32 >= limit) {
+            *link = f->next;
+            give_back(a, ref);
+            continue;
+        }
+        uint32_t dz = f->depth_q32 > z ? f->depth_q32 - z : z - f->depth_q32;
+        if (f->surface == a->surface && (f->mask & mask) == 0 && dz <= zslack) {
+            uint32_t flags = (f->color | (centre ? PSC_ABUF_CENTRE : 0u)) & PSC_ABUF_CENTRE;
+            if (centre || (!(f->color & PSC_ABUF_CENTRE) && z < f->depth_q32))
+                f->depth_q32 = z;  /* the centre's depth, as without the A-buffer; else the nearest */
+            f->color = weighted(f->color, popcount16(f->mask), c, popcount16(mask)) | flags;
+            f->mask = (uint16_t)(f->mask | mask);
+            if (f->mask != PSC_ABUF_FULL)
+                return false;
+            /* The surface now covers the pixel: it becomes the stored colour and depth. */
+            *depth = f->depth_q32;
+            *color = f->color & 0xFFFFFFu;
+            *link = f->next;
+            give_back(a, ref);
+            return true;
+        }
+        link = &f->next;
+    }
+    uint32_t ref = take(a);
+    if (ref == 0) {
+        a->overflow++;
+        return popcount16(mask) >= PSC_ABUF_SAMPLES / 2u;
+    }
+    psc_abuf_fragment_t *f = &a->pool[ref - 1u];
+    *f = (psc_abuf_fragment_t){a->head[pixel], z, mask, a->surface, c | (centre ? PSC_ABUF_CENTRE : 0u)};
+    a->head[pixel] = ref;
+    return false;
+}
+
+static uint32_t read_xrgb(const uint8_t *row, uint32_t x, bool fmt565)
+{
+    if (fmt565)
+        return psc_rgb565_to_xrgb(((const uint16_t *)(const void *)row)[x]) & 0xFFFFFFu;
+    return ((const uint32_t *)(const void *)row)[x] & 0xFFFFFFu;
+}
+
+/* The pixel's visible fragments (depth < limit), the nearest PSC_ABUF_RESOLVE_MAX, front to back, blended over
+ * the stored colour. */
+static uint32_t resolve_pixel(const psc_abuffer_t *a, uint32_t ref, uint32_t limit, uint32_t behind)
+{
+    const psc_abuf_fragment_t *near[PSC_ABUF_RESOLVE_MAX];
+    unsigned n = 0;
+    for (; ref != 0; ref = a->pool[ref - 1u].next) {
+        const psc_abuf_fragment_t *f = &a->pool[ref - 1u];
+        if (f->depth_q32 >= limit)
+            continue;
+        if (n == PSC_ABUF_RESOLVE_MAX) {
+            if (f->depth_q32 >= near[n - 1u]->depth_q32)
+                continue;
+            n--; /* the farthest makes room */
+        }
+        unsigned i = n++;
+        for (; i > 0 && near[i - 1u]->depth_q32 > f->depth_q32; i--)
+            near[i] = near[i - 1u];
+        near[i] = f;
+    }
+    uint32_t covered = 0, acc[3] = {0, 0, 0};
+    for (unsigned i = 0; i < n && covered != PSC_ABUF_FULL; i++) {
+        uint32_t m = near[i]->mask & ~covered & PSC_ABUF_FULL;
+        unsigned k = popcount16(m);
+        covered |= m;
+        for (unsigned c = 0; c < 3; c++)
+            acc[c] += ((near[i]->color >> (16u - 8u * c)) & 255u) * k;
+    }
+    unsigned rest = PSC_ABUF_SAMPLES - popcount16(covered);
+    uint32_t out = 0;
+    for (unsigned c = 0; c < 3; c++)
+        out = out << 8 | (acc[c] + ((behind >> (16u - 8u * c)) & 255u) * rest + PSC_ABUF_SAMPLES / 2u) /
+                             PSC_ABUF_SAMPLES;
+    return out;
+}
+
+void psc_abuffer_resolve(psc_abuffer_t *a, const psc_surface_t *s, uint16_t x0, uint16_t y0, uint16_t x1,
+                         uint16_t y1, const void *depth, uint32_t depth_stride, uint8_t depth_bits)
+{
+    bool fmt565 = s->format == PSC_PIX_RGB565;
+    uint32_t w = (uint32_t)(x1 - x0);
+    for (uint32_t y = y0; y < y1; y++) {
+        uint8_t *row = (uint8_t *)s->pixels + (size_t)y * s->stride;
+        const uint8_t *zrow = (const uint8_t *)depth + (size_t)(y - y0) * depth_stride;
+        const uint32_t *head = &a->head[(size_t)(y - y0) * w];
+        for (uint32_t i = 0; i < w; i++) {
+            if (head[i] == 0)
+                continue;
+            uint32_t limit = depth_bits == 16 ? (uint32_t)((const uint16_t *)(const void *)zrow)[i] << 16
+                                              : ((const uint32_t *)(const void *)zrow)[i];
+            uint32_t c = resolve_pixel(a, head[i], limit, read_xrgb(row, x0 + i, fmt565));
+            if (fmt565)
+                ((uint16_t *)(void *)row)[x0 + i] = psc_xrgb_to_rgb565(c);
+            else
+                ((uint32_t *)(void *)row)[x0 + i] = 0xFF000000u | c;
+        }
+    }
+}
