@@ -22,6 +22,7 @@
 #include "psc_io_load.h"
 #include "psc_io_png.h"
 #include "dither/psc_dither.h"
+#include "render_target.h"
 #include "viewer/psc_viewer.h"
 
 #include <stdarg.h>
@@ -94,28 +95,6 @@ static int span_to_log2(const char *v, uint8_t *log2)
     return 0;
 }
 
-/* "TARGET[:METHOD]" */
-static int parse_dither(const char *v, psc_dither_target_t *t, psc_dither_method_t *m)
-{
-    static const char *const targets[] = {"mono", "grey4", "pal8"}, *const methods[] = {"none", "ordered", "halftone"};
-    size_t n = strcspn(v, ":");
-    int ti = -1, mi = 1;
-    for (int i = 0; i < 3; i++)
-        if (strlen(targets[i]) == n && strncmp(v, targets[i], n) == 0)
-            ti = i;
-    if (v[n] == ':') {
-        mi = -1;
-        for (int i = 0; i < 3; i++)
-            if (strcmp(v + n + 1, methods[i]) == 0)
-                mi = i;
-    }
-    if (ti < 0 || mi < 0)
-        return -1;
-    *t = (psc_dither_target_t)ti;
-    *m = (psc_dither_method_t)mi;
-    return 0;
-}
-
 static int parse_value(args_t *a, const char *name, const char *v)
 {
     if (strcmp(name, "-o") == 0) {
@@ -158,7 +137,7 @@ static int parse_value(args_t *a, const char *name, const char *v)
             return usage_error("--simd '%s': expected auto, scalar, vector or avx2", v);
         a->simd = k;
     } else if (strcmp(name, "--dither") == 0) {
-        if (parse_dither(v, &a->dither_target, &a->dither_method) != 0)
+        if (psc_cli_parse_dither(v, &a->dither_target, &a->dither_method) != 0)
             return usage_error("--dither '%s': expected mono, grey4 or pal8, optionally :ordered, :halftone or :none", v);
         a->dither = true;
     } else if (strcmp(name, "--size") == 0) {
@@ -242,18 +221,6 @@ static void note_clamped(const psc_view_t *want, const psc_view_t *got)
         return;
     fprintf(stderr, PROG ": note: view brought inside the pack's limits: yaw %.3f, pitch %.3f, hfov %.3f degrees\n",
             psc_deg_from_bam(got->yaw), psc_deg_from_sbam(got->pitch), psc_deg_from_bam(got->hfov));
-}
-
-/* The frame as the display shows it: each row dithered to the target, then each level's colour. */
-static void show_dithered(const psc_surface_t *out, psc_dither_target_t t, psc_dither_method_t m)
-{
-    uint8_t row[PSC_MAX_OUT_DIM];
-    for (unsigned y = 0; y < out->height; y++) {
-        uint32_t *px = (uint32_t *)(void *)((uint8_t *)out->pixels + (size_t)y * out->stride);
-        psc_dither_row(t, m, px, out->width, y, row);
-        for (unsigned x = 0; x < out->width; x++)
-            px[x] = psc_dither_level_xrgb(t, psc_dither_get(t, row, x));
-    }
 }
 
 static int render_frames(psc_viewer_t *viewer, psc_io_bands_t *bands, const psc_view_t *view,
@@ -343,7 +310,7 @@ int main(int argc, char **argv)
             fprintf(stderr, PROG ": %s\n", err);
         } else if (render_frames(&viewer, bands, &view, &out, a.repeat) == 0) {
             if (a.dither)
-                show_dithered(&out, a.dither_target, a.dither_method);
+                psc_render_show_dithered(&out, a.dither_target, a.dither_method);
             if (psc_io_png_write(a.out, &out, err, sizeof err) != 0)
                 fprintf(stderr, PROG ": %s\n", err);
             else

@@ -646,6 +646,49 @@ static void write_text(const char *path, const char *text)
     assert_int_equal(fclose(f), 0);
 }
 
+/* The look options of the 3D modes on Thom (reference plain.png from the same view): Phong and the A-buffer change
+ * the frame; the A-buffer in 32-pixel tiles with a tile's budget gives the full screen's bytes; a budget too small
+ * for the heads is refused, one too small for the edges is said and drawn; --dither leaves only the display's
+ * levels; mistakes get their messages. */
+static void check_patch_look(const char *ppk, const char *plain, const char *out)
+{
+    char full[512];
+    tmp_path(full, sizeof full, "thom-aa.png");
+#define VIEW ppk, "--play", "Wave", "--time", "1.1", "--orbit", "200,10,2.5", "--size", "160x120"
+    const char *phong[] = {VIEW, "--shade", "phong", "-o", out, NULL};
+    expect_run("periscope-render", phong, 0, NULL);
+    assert_false(same_file(plain, out));
+    const char *aa[] = {VIEW, "--aa", "abuffer", "-o", full, NULL};
+    expect_run("periscope-render", aa, 0, NULL);
+    assert_false(same_file(plain, full));
+    const char *aa_tiles[] = {VIEW, "--aa", "abuffer:64", "--tiles", "32", "-o", out, NULL};
+    expect_run("periscope-render", aa_tiles, 0, NULL);
+    assert_true(same_file(full, out));
+    const char *heads_only[] = {VIEW, "--aa", "abuffer:4", "--tiles", "32", "-o", out, NULL};
+    const char *heads_said[] = {"--aa abuffer:4 is too small", NULL};
+    expect_run("periscope-render", heads_only, 1, heads_said);
+    const char *tight[] = {VIEW, "--aa", "abuffer:5", "--tiles", "32", "-o", out, NULL};
+    const char *tight_said[] = {"drawn aliased", NULL};
+    expect_run("periscope-render", tight, 0, tight_said);
+    const char *mono[] = {VIEW, "--aa", "abuffer", "--dither", "mono:halftone", "-o", out, NULL};
+    expect_run("periscope-render", mono, 0, NULL);
+    psc_image_t got;
+    char err[512];
+    if (psc_image_load(out, &got, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    for (size_t i = 0; i < (size_t)got.width * got.height; i++)
+        if ((got.xrgb[i] & 0xFFFFFFu) != 0 && (got.xrgb[i] & 0xFFFFFFu) != 0xFFFFFFu)
+            fail_msg("--dither mono:halftone: pixel %zu is %06X", i, (unsigned)got.xrgb[i]);
+    psc_image_free(&got);
+    const char *bad_aa[] = {VIEW, "--aa", "msaa", "-o", out, NULL}, *bad_aa_said[] = {"--aa 'msaa'", NULL};
+    expect_run("periscope-render", bad_aa, 2, bad_aa_said);
+    const char *bad_shade[] = {VIEW, "--shade", "toon", "-o", out, NULL}, *bad_shade_said[] = {"--shade 'toon'", NULL};
+    expect_run("periscope-render", bad_shade, 2, bad_shade_said);
+#undef VIEW
+    printf("  3D looks: --shade phong, --aa abuffer (tiles give the same bytes; a small budget is said), --dither\n");
+    unlink(full);
+}
+
 /* periscope-patch writes the pack periscope-render draws; the model drawn directly gives the same bytes; the
  * stats line is there and says no crack; mistakes get their messages. */
 static void test_patch_tools(void **state)
@@ -698,6 +741,7 @@ static void test_patch_tools(void **state)
     expect_run("periscope-render", turned, 1, by_name_said);
     unlink(json);
     unlink(c_png);
+    check_patch_look(ppk, a_png, b_png);
     const char *no_action[] = {ppk, "--play", "Dance", "-o", a_png, NULL};
     const char *no_action_said[] = {"has no action named 'Dance'", NULL};
     expect_run("periscope-render", no_action, 1, no_action_said);

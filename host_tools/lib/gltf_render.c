@@ -61,6 +61,7 @@ static void usage(const char *prog, FILE *f)
             "                      (model coordinates; occlusion 0..1 of the cosine-weighted hemisphere)\n"
             "  --cull back|none    back-face culling (default back)\n"
             "  --format F          output surface: rgb565 (default) or xrgb8888\n"
+            PSC_RENDER_VIEW_LOOK_HELP
             "  --repeat K          pose, shade and draw K times, and report the time per frame\n"
             "  -o view.png         output PNG\n"
             "  --version           the program's version\n"
@@ -73,7 +74,7 @@ static const struct option gltf_options[] = {
     {"size", required_argument, NULL, 1},   {"pose", required_argument, NULL, 1},
     {"shadow", required_argument, NULL, 1}, {"dump-ao", required_argument, NULL, 1},
     {"cull", required_argument, NULL, 1},   {"format", required_argument, NULL, 1},
-    {"repeat", required_argument, NULL, 1}, PSC_IO_CLI_COMMON_OPTIONS,
+    {"repeat", required_argument, NULL, 1}, PSC_RENDER_VIEW_LOOK_OPTIONS, PSC_IO_CLI_COMMON_OPTIONS,
 };
 
 static int parse_args(const char *prog, int argc, char **argv, gltf_args_t *a)
@@ -327,10 +328,16 @@ int psc_gltf_render_main(const char *prog, int argc, char **argv)
         fprintf(stderr, "%s: %s: the orbit view does not fit the fixed-point range\n", prog, a.model);
         goto done;
     }
-    if (psc_render_target_open(&rt, &cfg, vw->format, false, a.model, err, sizeof err) != 0) {
+    if (psc_render_view_shade(vw, &d, 1, a.model, err, sizeof err) != 0 ||
+        psc_render_target_open_view(&rt, &cfg, vw, false, a.model, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
+    if (d.shade == PSC_SHADE_PHONG) { /* the light of light() below, per pixel instead of baked into the colours */
+        d.light_dir = psc_vec3_normalize(psc_mat4_apply_dir(&d.camera_from_object, (psc_vec3_q16_t){26214, 52429, 29491}));
+        d.ambient_q8 = 115;
+    }
+    psc_3d_stats_t st = {0};
     double t_shade = 0;
     for (unsigned long k = 0; k < vw->repeat; k++) {
         pose(&p, &g, a.time, adjust);
@@ -341,9 +348,10 @@ int psc_gltf_render_main(const char *prog, int argc, char **argv)
                                   p.ao);
         }
         t_shade += now_s() - t0;
-        light(&p);
+        if (d.shade != PSC_SHADE_PHONG)
+            light(&p);
         uint32_t bg = BACKGROUND;
-        psc_status_t s = psc_3d_render(&rt.r, &d, 1, &bg, &rt.out, NULL);
+        psc_status_t s = psc_3d_render(&rt.r, &d, 1, &bg, &rt.out, &st);
         if (s != PSC_OK) {
             fprintf(stderr, "%s: %s: drawing failed: %s\n", prog, a.model, psc_status_str(s));
             goto done;
@@ -352,6 +360,7 @@ int psc_gltf_render_main(const char *prog, int argc, char **argv)
     if (vw->repeat > 1)
         fprintf(stderr, "%s: %lu frames of %ux%u: self-shadowing %.3f ms per frame (%u vertices)\n", prog, vw->repeat,
                 (unsigned)vw->width, (unsigned)vw->height, t_shade / vw->repeat * 1e3, (unsigned)p.mesh.vertex_count);
+    psc_render_target_note(&rt, &st, prog, a.model);
     if (psc_render_target_write(&rt, a.out, NULL, err, sizeof err) != 0 ||
         (a.dump_ao && write_ao(&p, a.dump_ao, err, sizeof err) != 0)) {
         fprintf(stderr, "%s: %s\n", prog, err);

@@ -30,7 +30,6 @@ typedef struct {
     psc_render_view_t view;
     unsigned long tile;
     psc_tex_filter_t filter;
-    int shade;            /* -1: texture when there is one, else Gouraud */
     unsigned long depth_bits;
 } model_args_t;
 
@@ -71,8 +70,8 @@ static void usage(const char *prog, FILE *f)
             "  --tiles N           render in N x N pixel tiles with a tile-sized depth buffer (0: full)\n"
             "  --depth D.pgm       also write the normalised depth as a 16-bit PGM (65535 = far)\n"
             "  --depth-bits B      16 or 32 (default 32)\n"
-            "  --shade S           flat, gouraud, phong (lit per pixel, with a highlight) or texture\n"
-            "                      (default: texture when there is one, else gouraud)\n"
+            PSC_RENDER_VIEW_LOOK_HELP
+            "                      (--shade's default: texture when there is one, else gouraud)\n"
             "  --filter F          nearest or bilinear texture filter (default bilinear)\n"
             "  --format F          output surface: rgb565 (default) or xrgb8888\n"
             "  --repeat K          render K times and report the time per frame\n"
@@ -88,7 +87,7 @@ static const struct option model_options[] = {
     {"size", required_argument, NULL, 1},    {"texture", required_argument, NULL, 1},
     {"cull", required_argument, NULL, 1},    {"tiles", required_argument, NULL, 1},
     {"depth", required_argument, NULL, 1},   {"depth-bits", required_argument, NULL, 1},
-    {"shade", required_argument, NULL, 1},   {"filter", required_argument, NULL, 1},
+    PSC_RENDER_VIEW_LOOK_OPTIONS,            {"filter", required_argument, NULL, 1},
     {"format", required_argument, NULL, 1},  {"repeat", required_argument, NULL, 1},
     {"write-pack", required_argument, NULL, 1},
     PSC_IO_CLI_COMMON_OPTIONS,
@@ -119,11 +118,6 @@ static int parse_args(const char *prog, int argc, char **argv, model_args_t *a)
         } else if (strcmp(name, "--depth-bits") == 0) {
             if (psc_cli_parse_uint(v, 16, 32, &a->depth_bits) != 0 || (a->depth_bits != 16 && a->depth_bits != 32))
                 return psc_io_cli_usage_error(prog, "--depth-bits '%s': expected 16 or 32", v);
-        } else if (strcmp(name, "--shade") == 0) {
-            a->shade = strcmp(v, "flat") == 0 ? PSC_SHADE_FLAT : strcmp(v, "gouraud") == 0 ? PSC_SHADE_GOURAUD
-                       : strcmp(v, "texture") == 0 ? PSC_SHADE_TEXTURE : strcmp(v, "phong") == 0 ? PSC_SHADE_PHONG : -2;
-            if (a->shade == -2)
-                return psc_io_cli_usage_error(prog, "--shade '%s': expected flat, gouraud, phong or texture", v);
         } else if (strcmp(name, "--filter") == 0) {
             if (strcmp(v, "nearest") != 0 && strcmp(v, "bilinear") != 0)
                 return psc_io_cli_usage_error(prog, "--filter '%s': expected nearest or bilinear", v);
@@ -233,7 +227,7 @@ static double now_s(void)
 
 int psc_model_render_main(const char *prog, int argc, char **argv)
 {
-    model_args_t a = {.view = psc_render_view_defaults(30, 20, 2.5, 60), .filter = PSC_TEX_BILINEAR, .shade = -1,
+    model_args_t a = {.view = psc_render_view_defaults(30, 20, 2.5, 60), .filter = PSC_TEX_BILINEAR,
                       .depth_bits = 32};
     int rc = parse_args(prog, argc, argv, &a);
     if (rc != 0)
@@ -266,19 +260,13 @@ int psc_model_render_main(const char *prog, int argc, char **argv)
     d.lit = mf.mesh.normal_q14 != NULL;
     d.light_dir = psc_vec3_normalize((psc_vec3_q16_t){-26000, 39000, -45000}); /* from the upper left, behind */
     d.ambient_q8 = 72;
-    d.shade = a.shade >= 0 ? (psc_shade_t)a.shade : mf.mesh.has_texture ? PSC_SHADE_TEXTURE : PSC_SHADE_GOURAUD;
-    if (d.shade == PSC_SHADE_TEXTURE && !mf.mesh.has_texture) {
-        fprintf(stderr, "%s: %s: --shade texture needs a texture (and texture coordinates)\n", prog, a.model);
+    d.shade = mf.mesh.has_texture ? PSC_SHADE_TEXTURE : PSC_SHADE_GOURAUD;
+    if (psc_render_view_shade(vw, &d, 1, a.model, err, sizeof err) != 0) {
+        fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
-    if (d.shade == PSC_SHADE_PHONG && !mf.mesh.normal_q14) {
-        fprintf(stderr, "%s: %s: --shade phong needs vertex normals, and the model has none\n", prog, a.model);
-        goto done;
-    }
-    d.specular_q8 = 90; /* a soft white highlight */
-    d.shininess = 24;
     psc_status_t s;
-    if (psc_render_target_open(&rt, &cfg, vw->format, a.depth != NULL, a.model, err, sizeof err) != 0) {
+    if (psc_render_target_open_view(&rt, &cfg, vw, a.depth != NULL, a.model, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
@@ -300,6 +288,7 @@ int psc_model_render_main(const char *prog, int argc, char **argv)
         fprintf(stderr, "%s: %lu frames of %ux%u, %u triangles (%u culled, %u outside): %.3f ms per frame "
                 "(best %.3f)\n", prog, vw->repeat, (unsigned)vw->width, (unsigned)vw->height, (unsigned)st.triangles,
                 (unsigned)st.culled, (unsigned)st.outside, total / vw->repeat * 1e3, best * 1e3);
+    psc_render_target_note(&rt, &st, prog, a.model);
     if (psc_render_target_write(&rt, a.out, a.depth, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;

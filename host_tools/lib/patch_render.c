@@ -68,6 +68,7 @@ static void usage(const char *prog, FILE *f)
             "  --tiles N           render in N x N pixel tiles (0: full screen)\n"
             "  --depth D.pgm       also write the normalised depth as a 16-bit PGM\n"
             "  --format F          output surface: rgb565 (default) or xrgb8888\n"
+            PSC_RENDER_VIEW_LOOK_HELP
             "  --stats             print patches=N triangles=T max_chord_err=E crack_edges=C culled=K\n"
             "                      (E as a fraction of R, measured; C: shared edges whose sides differ)\n"
             "  --dump-obj T.obj    write the tessellation drawn as an OBJ file\n"
@@ -96,6 +97,7 @@ static const struct option patch_options[] = {
     {"stats", no_argument, NULL, 1},           {"dump-obj", required_argument, NULL, 1},
     {"write-pack", required_argument, NULL, 1}, {"repeat", required_argument, NULL, 1},
     {"shadow", required_argument, NULL, 1},    {"dump-ao", required_argument, NULL, 1},
+    PSC_RENDER_VIEW_LOOK_OPTIONS,
     PSC_IO_CLI_COMMON_OPTIONS,
 };
 
@@ -371,7 +373,8 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
     double t_tess = 0.0, t_draw = 0.0;
     psc_3d_config_t cfg = {vw->width, vw->height, (uint16_t)a.tile, (uint16_t)a.tile, 32, psc_bam_from_deg(vw->hfov),
                            near_q16, far_q16, PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES};
-    if (psc_render_target_open(&rt, &cfg, vw->format, a.depth != NULL, a.model, err, sizeof err) != 0) {
+    psc_3d_stats_t drawn = {0};
+    if (psc_render_target_open_view(&rt, &cfg, vw, a.depth != NULL, a.model, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
@@ -390,8 +393,12 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
         double t1 = now_s();
         psc_3d_draw_t d[PSC_PATCH_MAX_BATCHES];
         unsigned n = psc_patch_draws(&t.p, &cam, d);
+        if (psc_render_view_shade(vw, d, n, a.model, err, sizeof err) != 0) {
+            fprintf(stderr, "%s: %s\n", prog, err);
+            goto done;
+        }
         uint32_t bg = BACKGROUND;
-        if ((s = psc_3d_render(&rt.r, d, n, &bg, &rt.out, NULL)) != PSC_OK) {
+        if ((s = psc_3d_render(&rt.r, d, n, &bg, &rt.out, &drawn)) != PSC_OK) {
             fprintf(stderr, "%s: %s: drawing failed: %s\n", prog, a.model, psc_status_str(s));
             goto done;
         }
@@ -403,6 +410,7 @@ int psc_patch_render_main(const char *prog, int argc, char **argv)
                 "%u triangles, %u reused)\n", prog, vw->repeat, (unsigned)vw->width, (unsigned)vw->height,
                 t_tess / vw->repeat * 1e3, t_draw / vw->repeat * 1e3, (unsigned)st.patches, (unsigned)st.triangles,
                 (unsigned)st.reused);
+    psc_render_target_note(&rt, &drawn, prog, a.model);
     if (psc_render_target_write(&rt, a.out, a.depth, err, sizeof err) != 0 ||
         (a.dump_obj && psc_patch_write_obj(&t.p, a.dump_obj, err, sizeof err) != 0) ||
         (a.dump_ao && write_ao(&t.p, ao, m, a.dump_ao, err, sizeof err) != 0)) {

@@ -60,6 +60,8 @@ static void usage(const char *prog, FILE *f)
             "  --tiles N           render in N x N pixel tiles (0: full screen)\n"
             "  --cull back|none    back-face culling (default back)\n"
             "  --format F          output surface: rgb565 (default) or xrgb8888\n"
+            PSC_RENDER_VIEW_LOOK_HELP
+            "                      (--shade with --lod full only: proxies draw their views)\n"
             "  --repeat K          pose and draw K times, and report the time per frame\n"
             "  -o view.png         output PNG\n"
             "  --version, --help\n",
@@ -73,7 +75,7 @@ static const struct option proxy_options[] = {
     {"lod", required_argument, NULL, 1},
     {"ids", required_argument, NULL, 1},   {"tiles", required_argument, NULL, 1},
     {"cull", required_argument, NULL, 1},  {"format", required_argument, NULL, 1},
-    {"repeat", required_argument, NULL, 1}, PSC_IO_CLI_COMMON_OPTIONS,
+    {"repeat", required_argument, NULL, 1}, PSC_RENDER_VIEW_LOOK_OPTIONS, PSC_IO_CLI_COMMON_OPTIONS,
 };
 
 static int parse_args(const char *prog, int argc, char **argv, proxy_args_t *a)
@@ -242,8 +244,10 @@ static double now_s(void)
 
 /* One frame: the pack's draws for this pose into target rt. */
 static psc_status_t draw(psc_proxy_t *px, psc_render_target_t *rt, const psc_mat4_q16_t *skin,
-                         const psc_mat4_q16_t *cam, psc_proxy_lod_t lod, bool ids, bool cull, psc_3d_stats_t *st)
+                         const psc_mat4_q16_t *cam, psc_proxy_lod_t lod, bool ids, const psc_render_view_t *vw,
+                         psc_3d_stats_t *st)
 {
+    bool cull = vw->cull;
     const psc_3d_draw_t *cd;
     unsigned n;
     psc_status_t s = psc_proxy_frame(px, skin, cam, lod, ids, &cd, &n);
@@ -251,6 +255,9 @@ static psc_status_t draw(psc_proxy_t *px, psc_render_target_t *rt, const psc_mat
         return s;
     for (unsigned i = 0; i < n && lod != PSC_PROXY_LOD_BILLBOARD; i++)
         px->draws[i].cull_back = cull;
+    char why[160];
+    if (lod == PSC_PROXY_LOD_FULL && !ids && psc_render_view_shade(vw, px->draws, n, "", why, sizeof why) != 0)
+        return PSC_ERR_ARG;
     uint32_t bg = ids ? 0u : BACKGROUND;
     return psc_3d_render(&rt->r, cd, n, &bg, &rt->out, st);
 }
@@ -294,7 +301,11 @@ int psc_proxy_render_main(const char *prog, int argc, char **argv)
         fprintf(stderr, "%s: %s: the orbit view does not fit the fixed-point range\n", prog, a.pack);
         goto done;
     }
-    if (psc_render_target_open(&rt, &cfg, vw->format, a.depth != NULL, a.pack, err, sizeof err) != 0 ||
+    if (vw->shade >= 0 && a.lod != PSC_PROXY_LOD_FULL) {
+        fprintf(stderr, "%s: %s: --shade needs --lod full (proxies draw their view textures)\n", prog, a.pack);
+        goto done;
+    }
+    if (psc_render_target_open_view(&rt, &cfg, vw, a.depth != NULL, a.pack, err, sizeof err) != 0 ||
         (a.ids && psc_render_target_open(&rid, &cfg, PSC_PIX_XRGB8888, false, a.pack, err, sizeof err) != 0)) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
@@ -312,7 +323,7 @@ int psc_proxy_render_main(const char *prog, int argc, char **argv)
             fprintf(stderr, "%s: %s: out of memory\n", prog, a.pack);
             goto done;
         }
-        psc_status_t s = draw(&px, &rt, skin, &cam, lod, false, vw->cull, &st);
+        psc_status_t s = draw(&px, &rt, skin, &cam, lod, false, vw, &st);
         double dt = now_s() - t0;
         total += dt;
         best = dt < best ? dt : best;
@@ -326,12 +337,13 @@ int psc_proxy_render_main(const char *prog, int argc, char **argv)
                 vw->repeat, (unsigned)vw->width, (unsigned)vw->height,
                 lod == PSC_PROXY_LOD_FULL ? "full mesh" : lod == PSC_PROXY_LOD_BILLBOARD ? "billboard" : "proxies",
                 (unsigned)st.triangles, (unsigned)st.culled, total / vw->repeat * 1e3, best * 1e3);
+    psc_render_target_note(&rt, &st, prog, a.pack);
     if (psc_render_target_write(&rt, a.out, a.depth, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
     if (a.ids) {
-        psc_status_t s = draw(&px, &rid, skin, &cam, lod, true, vw->cull, NULL);
+        psc_status_t s = draw(&px, &rid, skin, &cam, lod, true, vw, NULL);
         uint16_t *id = malloc((size_t)vw->width * vw->height * sizeof *id);
         if (s != PSC_OK || !id) {
             free(id);

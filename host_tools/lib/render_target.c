@@ -5,6 +5,7 @@
 #include "psc_io_error.h"
 #include "psc_io_png.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -31,8 +32,54 @@ int psc_render_target_open(psc_render_target_t *t, const psc_3d_config_t *cfg, p
     return 0;
 }
 
+int psc_render_target_open_view(psc_render_target_t *t, const psc_3d_config_t *cfg, const psc_render_view_t *vw,
+                                bool depth, const char *name, char *err, size_t errlen)
+{
+    psc_pixfmt_t fmt = vw->dither ? PSC_PIX_XRGB8888 : vw->format; /* dithered from the full colours */
+    if (psc_render_target_open(t, cfg, fmt, depth, name, err, errlen) != 0)
+        return -1;
+    t->dither = vw->dither;
+    t->dither_target = vw->dither_target;
+    t->dither_method = vw->dither_method;
+    if (vw->abuffer_bytes == 0)
+        return 0;
+    t->abuf_bytes = vw->abuffer_bytes;
+    psc_status_t s = PSC_ERR_NOMEM;
+    if (posix_memalign(&t->abuf, 64, t->abuf_bytes) != 0 || (s = psc_3d_set_abuffer(&t->r, t->abuf, t->abuf_bytes)) != PSC_OK) {
+        size_t need = psc_3d_abuffer_bytes(cfg, 1);
+        psc_render_target_close(t);
+        if (s == PSC_ERR_NOMEM && need > vw->abuffer_bytes)
+            return psc_io_errorf(err, errlen, name, "--aa abuffer:%zu is too small: the heads of a %s alone take %zu KB",
+                                 vw->abuffer_bytes / 1024u, cfg->tile_width ? "tile" : "frame", (need + 1023u) / 1024u);
+        return psc_io_errorf(err, errlen, name, "out of memory for an A-buffer of %zu KB", vw->abuffer_bytes / 1024u);
+    }
+    return 0;
+}
+
+void psc_render_target_note(const psc_render_target_t *t, const psc_3d_stats_t *st, const char *prog,
+                            const char *name)
+{
+    if (t->abuf && st->fragments_overflow > 0)
+        fprintf(stderr, "%s: note: %s: the A-buffer's %zu KB held %u fragments a tile; %u partly covered pixels did "
+                "not fit and were drawn aliased (give --aa abuffer:KB more)\n", prog, name, t->abuf_bytes / 1024u,
+                (unsigned)t->r.abuf.capacity, (unsigned)st->fragments_overflow);
+}
+
+void psc_render_show_dithered(const psc_surface_t *out, psc_dither_target_t target, psc_dither_method_t method)
+{
+    uint8_t row[PSC_MAX_OUT_DIM];
+    for (unsigned y = 0; y < out->height; y++) {
+        uint32_t *px = (uint32_t *)(void *)((uint8_t *)out->pixels + (size_t)y * out->stride);
+        psc_dither_row(target, method, px, out->width, y, row);
+        for (unsigned x = 0; x < out->width; x++)
+            px[x] = psc_dither_level_xrgb(target, psc_dither_get(target, row, x));
+    }
+}
+
 int psc_render_target_write(const psc_render_target_t *t, const char *png, const char *pgm, char *err, size_t errlen)
 {
+    if (t->dither)
+        psc_render_show_dithered(&t->out, t->dither_target, t->dither_method);
     if (psc_io_png_write(png, &t->out, err, errlen) != 0)
         return -1;
     if (pgm && t->depth &&
@@ -43,6 +90,7 @@ int psc_render_target_write(const psc_render_target_t *t, const char *png, const
 
 void psc_render_target_close(psc_render_target_t *t)
 {
+    free(t->abuf);
     free(t->ws);
     free(t->depth);
     free(t->out.pixels);

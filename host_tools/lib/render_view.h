@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * render_view.h - the view options periscope-render's 3D modes (models,
- * patch characters, glTF models) share: --orbit, --hfov, --size, --cull,
- * --format and --repeat, each read and checked in one place with one
- * message.
+ * patch characters, glTF models, proxy packs) share: --orbit, --hfov,
+ * --size, --cull, --format and --repeat, and how the frame looks: --shade,
+ * --specular, --shininess, --aa and --dither; each read and checked in one
+ * place with one message.
  */
 #ifndef PSC_RENDER_VIEW_H
 #define PSC_RENDER_VIEW_H
@@ -12,9 +13,31 @@
 #include <stdint.h>
 
 #include "3d/psc_3d_math.h"
+#include "3d/psc_3d_render.h"
 #include "base/psc_types.h"
+#include "dither/psc_dither.h"
 
 #define PSC_RENDER_MAX_REPEAT 100000ul
+/* --aa abuffer without a size: 4 MiB (the tool's frames; a board states its own budget) */
+#define PSC_RENDER_ABUFFER_DEFAULT_KB 4096ul
+#define PSC_RENDER_ABUFFER_MAX_KB (1024ul * 1024ul)
+
+/* The look options every 3D mode takes, for its option table. */
+#define PSC_RENDER_VIEW_LOOK_OPTIONS                                                              \
+    {"shade", required_argument, NULL, 1}, {"specular", required_argument, NULL, 1},              \
+        {"shininess", required_argument, NULL, 1}, {"aa", required_argument, NULL, 1},            \
+        {"dither", required_argument, NULL, 1}
+
+/* Their lines of --help. */
+#define PSC_RENDER_VIEW_LOOK_HELP                                                                      \
+    "  --shade S           flat, gouraud, phong (lit per pixel, with a highlight) or texture\n"       \
+    "  --specular S        Phong highlight strength 0..1 (default 0.35)\n"                            \
+    "  --shininess N       Phong highlight exponent 1..255 (default 24)\n"                            \
+    "  --aa none|abuffer[:KB]  anti-aliased edges from the A-buffer, in KB of memory a tile\n"        \
+    "                      (default 4096; what does not fit is drawn aliased, and said)\n"            \
+    "  --dither T[:M]      show the frame as a display with few levels does: T mono (1 bit),\n"       \
+    "                      grey4 (4-bit grey) or pal8 (6x7x6 colours); M ordered (default),\n"       \
+    "                      halftone or none\n"
 
 typedef struct {
     double yaw, pitch, dist;     /* --orbit Y,P,D (degrees, degrees, units of R) */
@@ -23,6 +46,13 @@ typedef struct {
     bool cull;                   /* back faces dropped */
     psc_pixfmt_t format;
     unsigned long repeat;
+    int shade;                   /* a psc_shade_t, or -1: the mode's own */
+    uint16_t specular_q8;        /* Phong highlight */
+    uint8_t shininess;
+    size_t abuffer_bytes;        /* 0: no anti-aliasing */
+    bool dither;
+    psc_dither_target_t dither_target;
+    psc_dither_method_t dither_method;
 } psc_render_view_t;
 
 /** The defaults: the orbit given, a 640x480 RGB565 view, back faces culled, drawn once. */
@@ -34,6 +64,13 @@ psc_render_view_t psc_render_view_defaults(double yaw, double pitch, double dist
  * prog) when its value is wrong, -1 when name is not a view option.
  */
 int psc_render_view_option(const char *prog, const char *name, const char *v, psc_render_view_t *o);
+
+/**
+ * The view's --shade, --specular and --shininess on draws[0..n): 0, or -1
+ * with err ("--shade phong needs vertex normals ...") naming name.
+ */
+int psc_render_view_shade(const psc_render_view_t *v, psc_3d_draw_t *draws, unsigned n, const char *name, char *err,
+                          size_t errlen);
 
 /** The orbit camera about the box lo..hi (psc_3d_orbit) for the view's --orbit, and its near and far planes. */
 psc_status_t psc_render_view_orbit(const psc_render_view_t *v, psc_vec3_q16_t lo, psc_vec3_q16_t hi,
