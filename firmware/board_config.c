@@ -83,6 +83,8 @@ static const key_spec_t key_table[] = {
     KEY("hfov_max", KEY_MILLI, hfov_max_mdeg, 0, 170000, false),
     KEY("pan_follows_zoom", KEY_BOOL, pan_follows_zoom, 0, 0, false),
     KEY("character_shadows", KEY_BOOL, character_shadows, 0, 0, false),
+    KEY("render3d_tile", KEY_U32, render3d_tile, 0, PSC_MAX_OUT_DIM, false),
+    KEY("render3d_abuffer_kb", KEY_U32, render3d_abuffer_kb, 0, 262144, false),
     KEY("attract_idle_s", KEY_MILLI_U32, attract_idle_ms, 0, 86400000, false),
     KEY("attract_rate", KEY_MILLI, attract_rate_mdeg, -90000, 90000, false),
     KEY("hotspot", KEY_HOTSPOT, hotspots, 0, 0, false),

@@ -101,6 +101,8 @@ typedef struct {
     int32_t hfov_min_mdeg, hfov_max_mdeg;     /* hfov_min, hfov_max; 0 = the pack's / viewer's */
     bool pan_follows_zoom;              /* pan_follows_zoom: pan slower when zoomed in */
     bool character_shadows;             /* character_shadows: shade characters with their .pao beside the .ppk */
+    uint32_t render3d_tile;             /* render3d_tile: 3D scenes drawn in N x N tiles, 0 = whole screen */
+    uint32_t render3d_abuffer_kb;       /* render3d_abuffer_kb: 3D scenes' A-buffer budget a tile, 0 = aliased */
 
     /* kiosk behaviour (attract.h, hotspots.h) */
     uint32_t attract_idle_ms;           /* attract_idle_s: idle time before auto-rotating, 0 = never */

@@ -54,18 +54,19 @@ static size_t shadow_bytes(const psc_shadow_model_t *sm, const psc_patch_model_t
 }
 
 size_t psc_scene_character_workspace_size(const psc_patch_model_t *m, const psc_shadow_model_t *sm, uint16_t width,
-                                          uint16_t height)
+                                          uint16_t height, const psc_scene3d_look_t *look)
 {
     psc_3d_config_t c = character_config(width, height, PSC_OBJECT_DEFAULT_HFOV);
-    size_t a = psc_patch_workspace_size(m, &character_limits), b = psc_3d_workspace_size(&c);
+    psc_scene3d_tiles(&c, look);
+    size_t a = psc_patch_workspace_size(m, &character_limits), b = psc_scene3d_workspace_size(&c, look);
     return a && b ? align_up(sizeof(state_t)) + align_up(a) + shadow_bytes(sm, m) + b : 0;
 }
 
 psc_status_t psc_scene_character_draw(const psc_patch_model_t *m, const psc_shadow_model_t *sm, int action,
                                       uint32_t time_ms, const psc_view_t *view, bool first, void *ws, size_t ws_size,
-                                      const psc_surface_t *out, psc_patch_stats_t *stats)
+                                      const psc_surface_t *out, psc_patch_stats_t *stats, const psc_scene3d_look_t *look)
 {
-    size_t need = psc_scene_character_workspace_size(m, sm, out->width, out->height);
+    size_t need = psc_scene_character_workspace_size(m, sm, out->width, out->height, look);
     size_t head = align_up(sizeof(state_t)), patch_bytes = align_up(psc_patch_workspace_size(m, &character_limits));
     size_t shade = shadow_bytes(sm, m);
     state_t *st = ws;
@@ -80,6 +81,7 @@ psc_status_t psc_scene_character_draw(const psc_patch_model_t *m, const psc_shad
     if (first && sm && (s = psc_shadow_init(&st->s, sm, m, bytes + head + patch_bytes, shade)) != PSC_OK)
         return s;
     psc_3d_config_t c = character_config(out->width, out->height, view->hfov);
+    psc_scene3d_tiles(&c, look);
     psc_vec3_q16_t lo = {m->lo_q16[0], m->lo_q16[1], m->lo_q16[2]}, hi = {m->hi_q16[0], m->hi_q16[1], m->hi_q16[2]};
     psc_patch_camera_t cam = {0};
     if ((s = psc_3d_orbit(lo, hi, view->yaw, view->pitch, PSC_CHARACTER_ORBIT_DIST_Q16, &cam.camera_from_object,
@@ -104,7 +106,7 @@ psc_status_t psc_scene_character_draw(const psc_patch_model_t *m, const psc_shad
     }
     psc_3d_t r;
     size_t used = head + patch_bytes + shade;
-    if ((s = psc_3d_init(&r, &c, bytes + used, ws_size - used)) != PSC_OK)
+    if ((s = psc_scene3d_init(&r, &c, look, bytes + used, ws_size - used)) != PSC_OK)
         return s;
     psc_3d_draw_t d[PSC_PATCH_MAX_BATCHES];
     unsigned n = psc_patch_draws(p, &cam, d);
@@ -178,8 +180,9 @@ static size_t character_workspace_size(const psc_scene_t *s, const psc_scene_env
 {
     const character_scene_t *c = s->state;
 
+    psc_scene3d_look_t look = psc_scene3d_look(env->board);
     return psc_scene_character_workspace_size(&c->file.model, c->shaded ? &c->shadow.model : NULL, env->width,
-                                              env->height);
+                                              env->height, &look);
 }
 
 static int character_enter(psc_scene_t *s, const psc_scene_env_t *env, void *ws, size_t ws_size,
@@ -209,8 +212,9 @@ static psc_status_t character_render(psc_scene_t *s, const psc_view_t *view, con
     character_scene_t *c = s->state;
     uint32_t time_ms;
     int action = action_at(&c->file.model, (s->env->now_us - c->start_us) / 1000u, &time_ms);
+    psc_scene3d_look_t look = psc_scene3d_look(s->env->board);
     psc_status_t st = psc_scene_character_draw(&c->file.model, c->shaded ? &c->shadow.model : NULL, action, time_ms,
-                                               view, c->first, c->ws, c->ws_size, out, NULL);
+                                               view, c->first, c->ws, c->ws_size, out, NULL, &look);
 
     c->first = false;
     return st;

@@ -25,6 +25,7 @@
 #include "patch/psc_patch_frame.h"
 #include "shadow/psc_shadow_frame.h"
 #include "viewer/psc_viewer.h"
+#include "scene_3d.h"
 
 #define PSC_CHARACTER_TOL_PX_Q16 (PSC_Q16_ONE / 2)   /* half a pixel */
 #define PSC_CHARACTER_MAX_VERTICES 98304u
@@ -34,9 +35,10 @@
 #define PSC_CHARACTER_HOME_PITCH ((int32_t)PSC_BAM_FROM_MDEG(10000))
 #define PSC_CHARACTER_ORBIT_DIST_Q16 (5 * PSC_Q16_ONE / 2)   /* 2.5 R */
 
-/** Workspace bytes to tessellate, shade (sm may be NULL) and draw model m on a width x height display. */
+/** Workspace bytes to tessellate, shade (sm may be NULL) and draw model m on a width x height display with the
+ * look (scene_3d.h; NULL: plain). */
 size_t psc_scene_character_workspace_size(const psc_patch_model_t *m, const psc_shadow_model_t *sm, uint16_t width,
-                                          uint16_t height);
+                                          uint16_t height, const psc_scene3d_look_t *look);
 
 /**
  * Draw model m posed by action (or -1: the rest pose) at time_ms, seen from
@@ -46,6 +48,6 @@ size_t psc_scene_character_workspace_size(const psc_patch_model_t *m, const psc_
  */
 psc_status_t psc_scene_character_draw(const psc_patch_model_t *m, const psc_shadow_model_t *sm, int action,
                                       uint32_t time_ms, const psc_view_t *view, bool first, void *ws, size_t ws_size,
-                                      const psc_surface_t *out, psc_patch_stats_t *stats);
+                                      const psc_surface_t *out, psc_patch_stats_t *stats, const psc_scene3d_look_t *look);
 
 #endif

@@ -22,16 +22,19 @@ static psc_3d_config_t object_config(const psc_mesh_t *m, uint16_t width, uint16
     return c;
 }
 
-size_t psc_scene_object_workspace_size(const psc_mesh_t *m, uint16_t width, uint16_t height)
+size_t psc_scene_object_workspace_size(const psc_mesh_t *m, uint16_t width, uint16_t height,
+                                       const psc_scene3d_look_t *look)
 {
     psc_3d_config_t c = object_config(m, width, height, PSC_OBJECT_DEFAULT_HFOV);
-    return psc_3d_workspace_size(&c);
+    psc_scene3d_tiles(&c, look);
+    return psc_scene3d_workspace_size(&c, look);
 }
 
 psc_status_t psc_scene_object_draw(const psc_mesh_t *m, const psc_view_t *view, void *ws, size_t ws_size,
-                                   const psc_surface_t *out)
+                                   const psc_surface_t *out, const psc_scene3d_look_t *look)
 {
     psc_3d_config_t c = object_config(m, out->width, out->height, view->hfov);
+    psc_scene3d_tiles(&c, look);
     psc_3d_draw_t d;
     psc_vec3_q16_t lo, hi;
     psc_3d_t r;
@@ -44,7 +47,7 @@ psc_status_t psc_scene_object_draw(const psc_mesh_t *m, const psc_view_t *view, 
                      &c.far_q16);
     if (s != PSC_OK)
         return s;
-    if ((s = psc_3d_init(&r, &c, ws, ws_size)) != PSC_OK)
+    if ((s = psc_scene3d_init(&r, &c, look, ws, ws_size)) != PSC_OK)
         return s;
     d.shade = m->has_texture ? PSC_SHADE_TEXTURE : PSC_SHADE_GOURAUD;
     d.filter = view->filter == PSC_FILTER_NEAREST ? PSC_TEX_NEAREST : PSC_TEX_BILINEAR;
@@ -73,7 +76,8 @@ static size_t object_workspace_size(const psc_scene_t *s, const psc_scene_env_t 
 {
     const object_scene_t *o = s->state;
 
-    return psc_scene_object_workspace_size(&o->file.mesh, env->width, env->height);
+    psc_scene3d_look_t look = psc_scene3d_look(env->board);
+    return psc_scene_object_workspace_size(&o->file.mesh, env->width, env->height, &look);
 }
 
 /* Orbit the model: pitch within +-85 degrees, its own zoom range. */
@@ -102,7 +106,8 @@ static psc_status_t object_render(psc_scene_t *s, const psc_view_t *view, const 
 {
     object_scene_t *o = s->state;
 
-    return psc_scene_object_draw(&o->file.mesh, view, o->ws, o->ws_size, out);
+    psc_scene3d_look_t look = psc_scene3d_look(s->env->board);
+    return psc_scene_object_draw(&o->file.mesh, view, o->ws, o->ws_size, out, &look);
 }
 
 static void object_unload(psc_scene_t *s)

@@ -16,6 +16,7 @@
 #include <stddef.h>
 #include "mesh/psc_mesh.h"
 #include "viewer/psc_viewer.h"
+#include "scene_3d.h"
 
 #define PSC_OBJECT_ORBIT_DIST_Q16 (5 * PSC_Q16_ONE / 2)   /* 2.5 R */
 #define PSC_OBJECT_DEFAULT_YAW PSC_BAM_FROM_MDEG(30000)
@@ -26,14 +27,15 @@
 #define PSC_OBJECT_PITCH_LIMIT ((int32_t)PSC_BAM_FROM_MDEG(85000))
 #define PSC_OBJECT_BACKGROUND 0x30343Cu
 
-/** Workspace bytes to draw mesh m on a width x height display. */
-size_t psc_scene_object_workspace_size(const psc_mesh_t *m, uint16_t width, uint16_t height);
+/** Workspace bytes to draw mesh m on a width x height display with the look (scene_3d.h; NULL: plain). */
+size_t psc_scene_object_workspace_size(const psc_mesh_t *m, uint16_t width, uint16_t height,
+                                       const psc_scene3d_look_t *look);
 
 /**
  * Draw mesh m seen from the orbit view (view->yaw, pitch, hfov; view->filter
  * picks the texture filter) into out, with the workspace ws.
  */
 psc_status_t psc_scene_object_draw(const psc_mesh_t *m, const psc_view_t *view, void *ws, size_t ws_size,
-                                   const psc_surface_t *out);
+                                   const psc_surface_t *out, const psc_scene3d_look_t *look);
 
 #endif

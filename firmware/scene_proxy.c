@@ -40,19 +40,22 @@ static psc_3d_config_t proxy_config(const psc_proxy_model_t *m, uint16_t width, 
     return c;
 }
 
-size_t psc_scene_proxy_workspace_size(const psc_proxy_model_t *m, uint16_t width, uint16_t height)
+size_t psc_scene_proxy_workspace_size(const psc_proxy_model_t *m, uint16_t width, uint16_t height,
+                                      const psc_scene3d_look_t *look)
 {
     psc_3d_config_t c = proxy_config(m, width, height, PSC_OBJECT_DEFAULT_HFOV);
-    size_t a = psc_proxy_workspace_size(m), b = psc_3d_workspace_size(&c);
+    psc_scene3d_tiles(&c, look);
+    size_t a = psc_proxy_workspace_size(m), b = psc_scene3d_workspace_size(&c, look);
     return a && b ? align_up(sizeof(state_t)) + align_up((size_t)m->joint_count * sizeof(psc_mat4_q16_t)) +
                         align_up(a) + b
                   : 0;
 }
 
 psc_status_t psc_scene_proxy_draw(const psc_proxy_model_t *m, uint64_t t_us, const psc_view_t *view, bool first,
-                                  void *ws, size_t ws_size, const psc_surface_t *out, psc_proxy_lod_t *lod_out)
+                                  void *ws, size_t ws_size, const psc_surface_t *out, psc_proxy_lod_t *lod_out,
+                                  const psc_scene3d_look_t *look)
 {
-    size_t need = psc_scene_proxy_workspace_size(m, out->width, out->height);
+    size_t need = psc_scene_proxy_workspace_size(m, out->width, out->height, look);
     size_t head = align_up(sizeof(state_t)), skin_bytes = align_up((size_t)m->joint_count * sizeof(psc_mat4_q16_t));
     size_t prx = align_up(psc_proxy_workspace_size(m));
     uint8_t *bytes = ws;
@@ -70,6 +73,7 @@ psc_status_t psc_scene_proxy_draw(const psc_proxy_model_t *m, uint64_t t_us, con
         psc_proxy_rest_bounds(m, &st->lo, &st->hi);
     }
     psc_3d_config_t c = proxy_config(m, out->width, out->height, view->hfov);
+    psc_scene3d_tiles(&c, look);
     psc_mat4_q16_t cam;
     if ((s = psc_3d_orbit(st->lo, st->hi, view->yaw, view->pitch, PSC_PROXY_SCENE_ORBIT_DIST_Q16, &cam, &c.near_q16,
                           &c.far_q16)) != PSC_OK)
@@ -84,7 +88,7 @@ psc_status_t psc_scene_proxy_draw(const psc_proxy_model_t *m, uint64_t t_us, con
     psc_proxy_pose_at(m, (int64_t)(t_us & INT64_MAX), skin);
     psc_3d_t r;
     size_t used = head + skin_bytes + prx;
-    if ((s = psc_3d_init(&r, &c, bytes + used, ws_size - used)) != PSC_OK)
+    if ((s = psc_scene3d_init(&r, &c, look, bytes + used, ws_size - used)) != PSC_OK)
         return s;
     const psc_3d_draw_t *d;
     unsigned n;
@@ -115,7 +119,8 @@ static size_t proxy_workspace_size(const psc_scene_t *s, const psc_scene_env_t *
 {
     const proxy_scene_t *o = s->state;
 
-    return psc_scene_proxy_workspace_size(&o->file.model, env->width, env->height);
+    psc_scene3d_look_t look = psc_scene3d_look(env->board);
+    return psc_scene_proxy_workspace_size(&o->file.model, env->width, env->height, &look);
 }
 
 static int proxy_enter(psc_scene_t *s, const psc_scene_env_t *env, void *ws, size_t ws_size, psc_scene_limits_t *lim,
@@ -143,8 +148,9 @@ static int proxy_enter(psc_scene_t *s, const psc_scene_env_t *env, void *ws, siz
 static psc_status_t proxy_render(psc_scene_t *s, const psc_view_t *view, const psc_surface_t *out)
 {
     proxy_scene_t *o = s->state;
+    psc_scene3d_look_t look = psc_scene3d_look(s->env->board);
     psc_status_t st = psc_scene_proxy_draw(&o->file.model, s->env->now_us - o->start_us, view, o->first, o->ws,
-                                           o->ws_size, out, NULL);
+                                           o->ws_size, out, NULL, &look);
 
     o->first = false;
     return st;

@@ -19,13 +19,15 @@
 
 #include "proxy/psc_proxy.h"
 #include "viewer/psc_viewer.h"
+#include "scene_3d.h"
 
 #define PSC_PROXY_SCENE_ORBIT_DIST_Q16 (3 * PSC_Q16_ONE)   /* 3 R */
 #define PSC_PROXY_SCENE_FULL_PERCENT 50u                    /* of the display's height */
 #define PSC_PROXY_SCENE_BILLBOARD_PERCENT 8u
 
-/** Workspace bytes to draw model m on a width x height display. */
-size_t psc_scene_proxy_workspace_size(const psc_proxy_model_t *m, uint16_t width, uint16_t height);
+/** Workspace bytes to draw model m on a width x height display with the look (scene_3d.h; NULL: plain). */
+size_t psc_scene_proxy_workspace_size(const psc_proxy_model_t *m, uint16_t width, uint16_t height,
+                                      const psc_scene3d_look_t *look);
 
 /**
  * Draw model m at t_us microseconds into its animation, seen from the orbit
@@ -33,6 +35,7 @@ size_t psc_scene_proxy_workspace_size(const psc_proxy_model_t *m, uint16_t width
  * of detail, afresh). *lod (may be NULL) receives the level drawn.
  */
 psc_status_t psc_scene_proxy_draw(const psc_proxy_model_t *m, uint64_t t_us, const psc_view_t *view, bool first,
-                                  void *ws, size_t ws_size, const psc_surface_t *out, psc_proxy_lod_t *lod);
+                                  void *ws, size_t ws_size, const psc_surface_t *out, psc_proxy_lod_t *lod,
+                                  const psc_scene3d_look_t *look);
 
 #endif

@@ -472,14 +472,14 @@ static void test_object_scene(void **state)
     uint8_t *b = exact_copy(buf, len);
     psc_mesh_t mesh;
     assert_int_equal(psc_mesh_parse(b, len, &mesh, NULL), PSC_OK);
-    size_t n = psc_scene_object_workspace_size(&mesh, 96, 64);
+    size_t n = psc_scene_object_workspace_size(&mesh, 96, 64, NULL);
     assert_true(n >= 96 * 64 * 2 + (size_t)mesh.vertex_count * PSC_3D_VERTEX_CACHE_BYTES / 2);
     void *ws = aligned_alloc(64, (n + 63) / 64 * 64);
     psc_surface_t s1 = tsup_surface_new(96, 64, PSC_PIX_RGB565), s2 = tsup_surface_new(96, 64, PSC_PIX_RGB565);
     psc_view_t v = {PSC_OBJECT_DEFAULT_YAW, PSC_OBJECT_DEFAULT_PITCH, PSC_OBJECT_DEFAULT_HFOV, PSC_FILTER_BILINEAR, 2};
-    assert_int_equal(psc_scene_object_draw(&mesh, &v, ws, n, &s1), PSC_OK);
+    assert_int_equal(psc_scene_object_draw(&mesh, &v, ws, n, &s1, NULL), PSC_OK);
     v.yaw += PSC_BAM_90;
-    assert_int_equal(psc_scene_object_draw(&mesh, &v, ws, n, &s2), PSC_OK);
+    assert_int_equal(psc_scene_object_draw(&mesh, &v, ws, n, &s2, NULL), PSC_OK);
     unsigned lit = 0;
     uint16_t bg = tsup_rgb888_to_rgb565(PSC_OBJECT_BACKGROUND >> 16, PSC_OBJECT_BACKGROUND >> 8 & 255,
                                         PSC_OBJECT_BACKGROUND & 255);
@@ -488,7 +488,7 @@ static void test_object_scene(void **state)
     assert_true(lit > 96 * 64 / 10);
     assert_memory_not_equal(s1.pixels, s2.pixels, 96 * 64 * 2);
     /* A short workspace is refused. */
-    assert_int_equal(psc_scene_object_draw(&mesh, &v, ws, n - 8, &s1), PSC_ERR_NOMEM);
+    assert_int_equal(psc_scene_object_draw(&mesh, &v, ws, n - 8, &s1, NULL), PSC_ERR_NOMEM);
     tsup_surface_free(&s1);
     tsup_surface_free(&s2);
     free(ws);

@@ -79,12 +79,16 @@ static void test_board_valid(void **state)
                        "debian_arch = arm64\n"
                        "backends = drm fbdev usb gpio\n"
                        "image.kernel = linux-image-arm64\n"
-                       "image.modules = vc4 bochs\n";
+                       "image.modules = vc4 bochs\n"
+                       "render3d_tile = 64\n"
+                       "render3d_abuffer_kb = 256\n";
     if (parse_board(text, &cfg, err, sizeof(err)) != 0)
         fail_msg("valid board refused: %s", err);
     assert_int_equal(cfg.display_format, PSC_PIX_XRGB8888);
     assert_int_equal(cfg.frame_rate_mhz, 29970);
     assert_int_equal(cfg.pitch_min_mdeg, -45500);
+    assert_int_equal(cfg.render3d_tile, 64);
+    assert_int_equal(cfg.render3d_abuffer_kb, 256);
     assert_int_equal(cfg.pitch_max_mdeg, 60000);
     assert_false(cfg.quality_adaptive);
     assert_false(cfg.pan_follows_zoom);

@@ -1201,7 +1201,7 @@ static void test_character_scene(void **state)
     psc_io_patch_t pf;
     load_thom(&pf);
     psc_surface_t s = tsup_surface_new(320, 240, PSC_PIX_RGB565);
-    size_t ws_size = psc_scene_character_workspace_size(&pf.model, NULL, 320, 240);
+    size_t ws_size = psc_scene_character_workspace_size(&pf.model, NULL, 320, 240, NULL);
     void *ws;
     assert_true(ws_size > 0);
     assert_int_equal(posix_memalign(&ws, 64, ws_size), 0);
@@ -1210,7 +1210,7 @@ static void test_character_scene(void **state)
     uint32_t sum[3] = {0, 0, 0};
     for (unsigned k = 0; k < 3; k++) {
         psc_patch_stats_t st;
-        assert_int_equal(psc_scene_character_draw(&pf.model, NULL, 0, k * 300u, &view, k == 0, ws, ws_size, &s, &st),
+        assert_int_equal(psc_scene_character_draw(&pf.model, NULL, 0, k * 300u, &view, k == 0, ws, ws_size, &s, &st, NULL),
                          PSC_OK);
         assert_int_equal(st.patches + st.culled, 392);
         const uint16_t *px = s.pixels;
@@ -1219,9 +1219,41 @@ static void test_character_scene(void **state)
     }
     /* something is drawn, and it moves */
     assert_true(sum[0] > 2000 && sum[0] != sum[1] && sum[1] != sum[2]);
-    assert_int_equal(psc_scene_character_draw(&pf.model, NULL, 0, 0, &view, true, ws, ws_size - 1, &s, NULL),
+    assert_int_equal(psc_scene_character_draw(&pf.model, NULL, 0, 0, &view, true, ws, ws_size - 1, &s, NULL, NULL),
                      PSC_ERR_NOMEM);
+    /* The board's look (scene_3d.h): the A-buffer's budget in the workspace; 40-pixel tiles with 64 KB a tile give
+     * the full screen's anti-aliased frame byte for byte, which differs from the plain one along edges (the
+     * quality is test_3d_abuffer's). */
+    psc_surface_t plain = tsup_surface_new(320, 240, PSC_PIX_RGB565), aa = tsup_surface_new(320, 240, PSC_PIX_RGB565);
+    assert_int_equal(psc_scene_character_draw(&pf.model, NULL, 0, 600, &view, true, ws, ws_size, &plain, NULL, NULL),
+                     PSC_OK);
     free(ws);
+    const psc_scene3d_look_t looks[2] = {{0, 2u << 20}, {40, 64u << 10}};
+    for (unsigned l = 0; l < 2; l++) {
+        size_t n = psc_scene_character_workspace_size(&pf.model, NULL, 320, 240, &looks[l]);
+        assert_true(n >= (l == 0 ? ws_size : 0) + looks[l].abuffer_bytes);
+        assert_int_equal(posix_memalign(&ws, 64, n), 0);
+        assert_int_equal(psc_scene_character_draw(&pf.model, NULL, 0, 600, &view, true, ws, n - 1, &s, NULL, &looks[l]),
+                         PSC_ERR_NOMEM);
+        assert_int_equal(psc_scene_character_draw(&pf.model, NULL, 0, 600, &view, true, ws, n, &s, NULL, &looks[l]),
+                         PSC_OK);
+        if (l == 0)
+            memcpy(aa.pixels, s.pixels, (size_t)s.stride * s.height);
+        else
+            assert_memory_equal(aa.pixels, s.pixels, (size_t)s.stride * s.height);
+        free(ws);
+    }
+    const uint16_t *p0 = plain.pixels, *p1 = aa.pixels;
+    size_t changed = 0, drawn = 0;
+    for (size_t i = 0; i < 320u * 240u; i++) {
+        changed += p0[i] != p1[i];
+        drawn += p0[i] != p0[0];
+    }
+    print_message("  the A-buffer changed %zu of the %zu pixels drawn (edges and creases)\n", changed, drawn);
+    assert_true(changed > 200 && changed < drawn / 4);
+
+    tsup_surface_free(&plain);
+    tsup_surface_free(&aa);
     tsup_surface_free(&s);
     psc_io_patch_free(&pf);
 }

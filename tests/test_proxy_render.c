@@ -456,7 +456,7 @@ static void test_scene_draw(void **state)
     (void)state;
     fixture_t f = {0};
     bake(&f, GLTF_DIR "animation_with_skeleton.gltf", 9, 16);
-    size_t n = psc_scene_proxy_workspace_size(&f.m, 160, 120);
+    size_t n = psc_scene_proxy_workspace_size(&f.m, 160, 120, NULL);
     void *ws;
     assert_int_equal(posix_memalign(&ws, 64, n), 0);
     static uint16_t px[160 * 120];
@@ -468,7 +468,7 @@ static void test_scene_draw(void **state)
     for (unsigned k = 0; k < 40; k++) {   /* zooming out as it plays: full, then proxies, then the billboard */
         psc_proxy_lod_t lod;
         v.hfov = tsup_bam_from_deg(15 + 2.2 * k);   /* the object scenes' zoom range, 15..100 degrees */
-        assert_int_equal(psc_scene_proxy_draw(&f.m, k * 33333u, &v, k == 0, ws, n, &sf, &lod), PSC_OK);
+        assert_int_equal(psc_scene_proxy_draw(&f.m, k * 33333u, &v, k == 0, ws, n, &sf, &lod, NULL), PSC_OK);
         seen[lod]++;
         unsigned drawn = 0;
         for (unsigned i = 0; i < 160 * 120; i++)
@@ -480,7 +480,7 @@ static void test_scene_draw(void **state)
     print_message("  the scene, zooming out: %u frames full, %u proxies, %u billboard\n", seen[PSC_PROXY_LOD_FULL],
                   seen[PSC_PROXY_LOD_PROXIES], seen[PSC_PROXY_LOD_BILLBOARD]);
     assert_true(seen[PSC_PROXY_LOD_FULL] > 0 && seen[PSC_PROXY_LOD_PROXIES] > 0);
-    assert_int_equal(psc_scene_proxy_draw(&f.m, 0, &v, true, ws, n - 1, &sf, NULL), PSC_ERR_NOMEM);
+    assert_int_equal(psc_scene_proxy_draw(&f.m, 0, &v, true, ws, n - 1, &sf, NULL, NULL), PSC_ERR_NOMEM);
     free(ws);
     fixture_free(&f);
 }

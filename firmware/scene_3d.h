@@ -1,0 +1,41 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * scene_3d.h - what the 3D scenes (object, character, proxy) take from the
+ * board: tiles and the A-buffer (core/raster/psc_abuffer.h).
+ *
+ *   render3d_tile = N          draw in N x N tiles: the depth buffer, and the
+ *                              A-buffer's heads, a tile's size (0: the screen)
+ *   render3d_abuffer_kb = K    anti-aliased edges from an A-buffer of K KB a
+ *                              tile (0: aliased edges); when a frame's edges
+ *                              do not fit, the rest are drawn aliased
+ *
+ * The memory is part of the scene's workspace, sized once when the scene is
+ * entered: nothing is allocated while it draws.
+ */
+#ifndef PSC_SCENE_3D_H
+#define PSC_SCENE_3D_H
+
+#include <stddef.h>
+
+#include "board_config.h"
+#include "3d/psc_3d_render.h"
+
+typedef struct {
+    uint16_t tile;            /* tile side in pixels, 0 = the whole screen */
+    size_t abuffer_bytes;     /* 0 = no anti-aliasing */
+} psc_scene3d_look_t;
+
+/** The board's look for 3D scenes (b may be NULL: the whole screen, aliased edges). */
+psc_scene3d_look_t psc_scene3d_look(const psc_board_config_t *b);
+
+/** c with the look's tiles (look may be NULL). */
+void psc_scene3d_tiles(psc_3d_config_t *c, const psc_scene3d_look_t *look);
+
+/** Bytes of the renderer's workspace and the A-buffer together (0 for an invalid configuration). */
+size_t psc_scene3d_workspace_size(const psc_3d_config_t *c, const psc_scene3d_look_t *look);
+
+/** The renderer in ws (psc_scene3d_workspace_size bytes, aligned to 8), anti-aliasing when the look asks. */
+psc_status_t psc_scene3d_init(psc_3d_t *r, const psc_3d_config_t *c, const psc_scene3d_look_t *look, void *ws,
+                              size_t ws_size);
+
+#endif
