@@ -1,17 +1,22 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * render3d - how fast Periscope's integer 3D pipeline draws a textured model,
- * side by side in one run with Mesa's OSMesa software rasterizers (issue 3).
+ * render3d - how fast Periscope's integer 3D pipeline draws a textured model
+ * and a character, side by side in one run with Mesa's OSMesa software
+ * rasterizers (issues 3 and 15).
  *
  *   build/bench/render3d --out bench/results              the timed table (`make bench`)
  *   build/bench/render3d --callgrind --out bench/results  instructions per triangle and pixel
  *                                                         under callgrind (`make bench-callgrind`)
  *
- * Scene: the Utah teapot, 10816 triangles from a mesh pack, bilinear 256x256
- * RGB565 texture modulated by per-vertex Lambert light, 16-bit depth, back
- * faces culled, RGB565 output, the teapot turning a full circle over the
- * frames. Triangles/s counts submitted triangles; Mpixels/s counts output
- * pixels (width x height per frame), as the viewer bench does.
+ * Scenes: the Utah teapot, 10816 triangles from a mesh pack, bilinear 256x256
+ * RGB565 texture modulated by per-vertex Lambert light; Thom's tessellated
+ * patch mesh (thom.c) with his vertex colours, lit. Both: 16-bit depth, back
+ * faces culled, RGB565 output, the model turning a full circle over the
+ * frames. Rows: Periscope full-screen, in 64x64 tiles, with the A-buffer
+ * (its extra cost is the ratio to the first row), Phong on Thom; Mesa
+ * softpipe and llvmpipe on one thread. Triangles/s counts submitted
+ * triangles; Mpixels/s counts output pixels (width x height per frame), as
+ * the viewer bench does.
  */
 #include "render3d.h"
 #include "base/psc_pixel.h"
@@ -29,18 +34,24 @@
 #define FRAMES 36u
 #define CG_FRAMES 4u
 
+#define ABUF_BYTES (4u << 20)
+
 typedef struct {
     const char *label;
     const char *driver;  /* NULL: Periscope */
-    uint16_t tile;
+    r3d_options_t o;
     unsigned passes;
+    bool thom_only;
 } row_spec_t;
 
 static const row_spec_t rows[] = {
-    {"periscope", NULL, 0, 5},
-    {"periscope tiles 64x64", NULL, 64, 5},
-    {"mesa softpipe", "softpipe", 0, 1},
-    {"mesa llvmpipe 1 thread", "llvmpipe", 0, 3},
+    {"periscope", NULL, {0, 0, false}, 5, false},
+    {"periscope tiles 64x64", NULL, {64, 0, false}, 5, false},
+    {"periscope A-buffer 4 MB", NULL, {0, ABUF_BYTES, false}, 5, false},
+    {"periscope A-buf tiles 64", NULL, {64, 256u << 10, false}, 5, false},
+    {"periscope phong", NULL, {0, 0, true}, 5, true},
+    {"mesa softpipe", "softpipe", {0, 0, false}, 1, false},
+    {"mesa llvmpipe 1 thread", "llvmpipe", {0, 0, false}, 3, false},
 };
 #define NROWS (sizeof rows / sizeof rows[0])
 
@@ -70,31 +81,43 @@ static double frame_psnr(const uint16_t *a, const uint16_t *b, size_t n)
     return se == 0 ? 99.0 : 10 * log10(255.0 * 255.0 * 3 * n / se);
 }
 
-static int run_table(const char *self, const char *out_dir)
+/* One scene's rows at every size: printed, and appended to the JSON rows. */
+static int run_scene(const char *self, const char *out_dir, r3d_kind_t kind, FILE *json, bool *first_json)
 {
     r3d_scene_t s;
-    if (r3d_scene_make(&s) != 0)
+    if (r3d_scene_make(&s, kind) != 0)
         return 1;
     unsigned tris = s.mesh.triangle_count;
     r3d_result_t res[NSIZES][NROWS];
     double psnr[NSIZES][NROWS];
     uint16_t *ours = malloc((size_t)800 * 480 * 2), *theirs = malloc((size_t)800 * 480 * 2);
-    printf("3D pipeline: Utah teapot, %u triangles, %u vertices, bilinear %ux%u RGB565 texture, lit, 16-bit depth,\n"
-           "back faces culled, RGB565 output, %u frames of a full turn, best of the passes; one core.\n",
-           tris, (unsigned)s.mesh.vertex_count, (unsigned)s.mesh.texture.width, (unsigned)s.mesh.texture.height,
+    if (kind == R3D_TEAPOT)
+        printf("\nUtah teapot: %u triangles, %u vertices, bilinear %ux%u RGB565 texture, lit", tris,
+               (unsigned)s.mesh.vertex_count, (unsigned)s.mesh.texture.width, (unsigned)s.mesh.texture.height);
+    else
+        printf("\nThom (assets/thom, 1.1 s into Wave, patches tessellated for an 800-pixel view): %u triangles, %u "
+               "vertices, vertex colours, lit", tris, (unsigned)s.mesh.vertex_count);
+    printf(", 16-bit depth,\nback faces culled, RGB565 output, %u frames of a full turn, best of the passes; one core.\n",
            FRAMES);
     for (size_t z = 0; z < NSIZES; z++) {
         uint16_t w = sizes[z][0], h = sizes[z][1];
         for (size_t r = 0; r < NROWS; r++) {
             uint16_t *dst = r == 0 ? ours : theirs;
-            res[z][r] = rows[r].driver ? r3d_run_mesa(self, rows[r].driver, w, h, FRAMES, rows[r].passes, dst)
-                                       : r3d_run_periscope(&s, w, h, rows[r].tile, FRAMES, rows[r].passes, dst);
+            res[z][r] = (r3d_result_t){0, 0, false};
+            psnr[z][r] = 0;
+            if (rows[r].thom_only && kind != R3D_THOM)
+                continue;
+            res[z][r] = rows[r].driver ? r3d_run_mesa(self, rows[r].driver, kind, w, h, FRAMES, rows[r].passes, dst)
+                                       : r3d_run_periscope(&s, w, h, &rows[r].o, FRAMES, rows[r].passes, dst);
             psnr[z][r] = r == 0 ? 99.0 : frame_psnr(ours, dst, (size_t)w * h);
-            if (res[z][r].ok && rows[r].tile == 0) { /* the last frame, to look at */
+            if (res[z][r].ok && rows[r].o.tile == 0) { /* the last frame, to look at */
                 char png[1024], err[512];
                 psc_surface_t sf = {w, h, (uint32_t)w * 2, PSC_PIX_RGB565, dst};
-                snprintf(png, sizeof png, "%s/render3d-%s-%ux%u.png", out_dir, rows[r].driver ? rows[r].driver : "periscope",
-                         (unsigned)w, (unsigned)h);
+                const char *who = rows[r].driver ? rows[r].driver
+                                  : rows[r].o.abuffer_bytes ? "periscope-abuffer"
+                                  : rows[r].o.phong         ? "periscope-phong"
+                                                            : "periscope";
+                snprintf(png, sizeof png, "%s/render3d-%s-%s-%ux%u.png", out_dir, s.name, who, (unsigned)w, (unsigned)h);
                 if (psc_io_png_write(png, &sf, err, sizeof err) != 0)
                     fprintf(stderr, "render3d bench: %s\n", err);
             }
@@ -102,7 +125,7 @@ static int run_table(const char *self, const char *out_dir)
                 fprintf(stderr, "render3d bench: %s at %ux%u did not run\n", rows[r].label, (unsigned)w, (unsigned)h);
         }
     }
-    printf("\n%-9s %-24s %10s %10s %10s %12s %13s\n", "size", "renderer", "ms/frame", "Mtri/s", "Mpix/s",
+    printf("%-9s %-26s %10s %10s %10s %12s %13s\n", "size", "renderer", "ms/frame", "Mtri/s", "Mpix/s",
            "vs periscope", "same image dB");
     for (size_t z = 0; z < NSIZES; z++) {
         uint16_t w = sizes[z][0], h = sizes[z][1];
@@ -110,43 +133,31 @@ static int run_table(const char *self, const char *out_dir)
         snprintf(size, sizeof size, "%ux%u", (unsigned)w, (unsigned)h);
         for (size_t r = 0; r < NROWS; r++) {
             const r3d_result_t *x = &res[z][r];
+            if (rows[r].thom_only && kind != R3D_THOM)
+                continue;
             if (!x->ok) {
-                printf("%-9s %-24s %10s\n", size, rows[r].label, "n/a");
+                printf("%-9s %-26s %10s\n", size, rows[r].label, "n/a");
                 continue;
             }
             double ratio = res[z][0].ok ? x->ms_per_frame / res[z][0].ms_per_frame : 0;
-            printf("%-9s %-24s %10.3f %10.3f %10.2f %11.2fx %13.1f\n", size, rows[r].label, x->ms_per_frame,
+            printf("%-9s %-26s %10.3f %10.3f %10.2f %11.2fx %13.1f\n", size, rows[r].label, x->ms_per_frame,
                    tris / x->ms_per_frame / 1e3, (double)w * h / x->ms_per_frame / 1e3, ratio, psnr[z][r]);
+            fprintf(json, "%s    {\"scene\": \"%s\", \"size\": \"%ux%u\", \"renderer\": \"%s\", \"ms_per_frame\": %.4f, "
+                          "\"triangles_per_s\": %.0f, \"mpixels_per_s\": %.3f, \"time_vs_periscope\": %.3f, "
+                          "\"psnr_vs_periscope_db\": %.2f}",
+                    *first_json ? "" : ",\n", s.name, (unsigned)w, (unsigned)h, rows[r].label, x->ms_per_frame,
+                    tris / x->ms_per_frame * 1e3, (double)w * h / x->ms_per_frame / 1e3, ratio, psnr[z][r]);
+            *first_json = false;
         }
     }
-    printf("(vs periscope: the row's time per frame over Periscope's full-buffer time; > 1 means Periscope is faster.\n"
-           " same image: PSNR of the row's last frame against Periscope's - the scenes match.)\n");
+    free(ours);
+    free(theirs);
+    r3d_scene_free(&s);
+    return 0;
+}
 
-    /* Memory: what the device hands the renderer. */
-    printf("\nMemory (psc_3d_workspace_size):\n");
-    printf("%-9s %-28s %12s %12s %12s\n", "size", "mode", "depth bytes", "cache bytes", "total");
-    char json_mem[2048] = "";
-    size_t jm = 0;
-    for (size_t z = 0; z < NSIZES; z++)
-        for (int t = 0; t < 4; t++) {
-            uint16_t tile = t < 2 ? 0 : 64;
-            uint8_t bits = t % 2 ? 32 : 16;
-            psc_3d_config_t cfg = {sizes[z][0], sizes[z][1], tile, tile, bits, PSC_BAM_FROM_MDEG(60000),
-                                   PSC_Q16_ONE, 4 * PSC_Q16_ONE, s.mesh.vertex_count};
-            size_t depth = psc_3d_depth_bytes(&cfg), total = psc_3d_workspace_size(&cfg);
-            char mode[40];
-            snprintf(mode, sizeof mode, "%s, %u-bit depth", tile ? "tiles 64x64" : "full screen", (unsigned)bits);
-            printf("%4ux%-4u %-28s %12zu %12zu %12zu\n", (unsigned)sizes[z][0], (unsigned)sizes[z][1], mode, depth,
-                   total - depth, total);
-            jm += (size_t)snprintf(json_mem + jm, sizeof json_mem - jm,
-                                   "%s    {\"size\": \"%ux%u\", \"tile\": %u, \"depth_bits\": %u, \"depth_bytes\": %zu, "
-                                   "\"vertex_cache_bytes\": %zu}",
-                                   jm ? ",\n" : "", (unsigned)sizes[z][0], (unsigned)sizes[z][1], (unsigned)tile,
-                                   (unsigned)bits, depth, total - depth);
-        }
-    printf("(vertex cache: %u bytes per vertex of the frame; the colour buffer is the display's)\n",
-           PSC_3D_VERTEX_CACHE_BYTES);
-
+static int run_table(const char *self, const char *out_dir)
+{
     char path[1024];
     snprintf(path, sizeof path, "%s/render3d.json", out_dir);
     FILE *f = fopen(path, "w");
@@ -157,32 +168,45 @@ static int run_table(const char *self, const char *out_dir)
     time_t now = time(NULL);
     char date[32];
     strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", gmtime(&now));
-    fprintf(f, "{\n  \"benchmark\": \"render3d\",\n  \"date\": \"%s\",\n  \"scene\": {\"model\": \"utah teapot\", "
-               "\"triangles\": %u, \"vertices\": %u, \"texture\": \"%ux%u rgb565 bilinear\", \"output\": \"rgb565\", "
-               "\"depth_bits\": 16, \"frames\": %u},\n  \"rows\": [\n",
-            date, tris, (unsigned)s.mesh.vertex_count, (unsigned)s.mesh.texture.width,
-            (unsigned)s.mesh.texture.height, FRAMES);
+    fprintf(f, "{\n  \"benchmark\": \"render3d\",\n  \"date\": \"%s\",\n  \"frames\": %u,\n  \"rows\": [\n", date, FRAMES);
+    printf("3D pipeline against Mesa's software rasterizers, one run.\n");
     bool first = true;
+    int rc = 0;
+    for (unsigned k = 0; k < R3D_KINDS && rc == 0; k++)
+        rc = run_scene(self, out_dir, (r3d_kind_t)k, f, &first);
+    printf("(vs periscope: the row's time per frame over Periscope's full-buffer time; > 1 means Periscope is faster;\n"
+           " for Periscope's own rows it is their extra cost. same image: PSNR of the row's last frame against\n"
+           " Periscope's - the scenes match; the A-buffer's and Phong's differ by what they change.)\n");
+
+    /* Memory: what the device hands the renderer. */
+    printf("\nMemory (psc_3d_workspace_size; the A-buffer's is a budget of its own):\n");
+    printf("%-9s %-28s %12s %12s %12s\n", "size", "mode", "depth bytes", "cache bytes", "total");
+    fprintf(f, "\n  ],\n  \"memory\": [\n");
+    bool fm = true;
     for (size_t z = 0; z < NSIZES; z++)
-        for (size_t r = 0; r < NROWS; r++) {
-            const r3d_result_t *x = &res[z][r];
-            if (!x->ok)
-                continue;
-            fprintf(f, "%s    {\"size\": \"%ux%u\", \"renderer\": \"%s\", \"ms_per_frame\": %.4f, "
-                       "\"triangles_per_s\": %.0f, \"mpixels_per_s\": %.3f, \"time_vs_periscope\": %.3f, "
-                       "\"psnr_vs_periscope_db\": %.2f}",
-                    first ? "" : ",\n", (unsigned)sizes[z][0], (unsigned)sizes[z][1], rows[r].label, x->ms_per_frame,
-                    tris / x->ms_per_frame * 1e3, (double)sizes[z][0] * sizes[z][1] / x->ms_per_frame / 1e3,
-                    res[z][0].ok ? x->ms_per_frame / res[z][0].ms_per_frame : 0, psnr[z][r]);
-            first = false;
+        for (int t = 0; t < 4; t++) {
+            uint16_t tile = t < 2 ? 0 : 64;
+            uint8_t bits = t % 2 ? 32 : 16;
+            psc_3d_config_t cfg = {sizes[z][0], sizes[z][1], tile, tile, bits, PSC_BAM_FROM_MDEG(60000),
+                                   PSC_Q16_ONE, 4 * PSC_Q16_ONE, 10816};
+            size_t depth = psc_3d_depth_bytes(&cfg), total = psc_3d_workspace_size(&cfg);
+            char mode[40];
+            snprintf(mode, sizeof mode, "%s, %u-bit depth", tile ? "tiles 64x64" : "full screen", (unsigned)bits);
+            printf("%4ux%-4u %-28s %12zu %12zu %12zu\n", (unsigned)sizes[z][0], (unsigned)sizes[z][1], mode, depth,
+                   total - depth, total);
+            fprintf(f, "%s    {\"size\": \"%ux%u\", \"tile\": %u, \"depth_bits\": %u, \"depth_bytes\": %zu, "
+                       "\"vertex_cache_bytes\": %zu}",
+                    fm ? "" : ",\n", (unsigned)sizes[z][0], (unsigned)sizes[z][1], (unsigned)tile, (unsigned)bits, depth,
+                    total - depth);
+            fm = false;
         }
-    fprintf(f, "\n  ],\n  \"memory\": [\n%s\n  ]\n}\n", json_mem);
+    printf("(vertex cache: %u bytes per vertex of the frame, for the teapot's 10816; the colour buffer is the "
+           "display's;\n A-buffer: %u bytes a pixel of a tile plus %u a fragment)\n",
+           PSC_3D_VERTEX_CACHE_BYTES, PSC_ABUF_HEAD_BYTES, PSC_ABUF_FRAGMENT_BYTES);
+    fprintf(f, "\n  ]\n}\n");
     fclose(f);
     printf("\nwrote %s\n", path);
-    free(ours);
-    free(theirs);
-    r3d_scene_free(&s);
-    return 0;
+    return rc;
 }
 
 /* ---- callgrind ---------------------------------------------------------------- */
@@ -190,14 +214,15 @@ static int run_table(const char *self, const char *out_dir)
 /* The workload counted: CG_FRAMES frames at 320x240, full buffer. noinline: callgrind toggles on it. */
 __attribute__((noinline)) static void cg_workload(r3d_scene_t *s, uint16_t *frame, double *pixels)
 {
-    r3d_result_t r = r3d_run_periscope(s, 320, 240, 0, CG_FRAMES, 1, frame);
+    r3d_options_t o = {0, 0, false};
+    r3d_result_t r = r3d_run_periscope(s, 320, 240, &o, CG_FRAMES, 1, frame);
     *pixels = r.pixels_written;
 }
 
 static int cg_child(void)
 {
     r3d_scene_t s;
-    if (r3d_scene_make(&s) != 0)
+    if (r3d_scene_make(&s, R3D_TEAPOT) != 0)
         return 1;
     uint16_t *frame = malloc(320 * 240 * 2);
     double px;
@@ -272,9 +297,10 @@ int main(int argc, char **argv)
     const char *out = "bench/results";
     bool callgrind = false;
     for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--mesa-child") == 0 && i + 5 < argc)
-            return r3d_mesa_child((uint16_t)atoi(argv[i + 1]), (uint16_t)atoi(argv[i + 2]),
-                                  (unsigned)atoi(argv[i + 3]), (unsigned)atoi(argv[i + 4]), argv[i + 5]);
+        if (strcmp(argv[i], "--mesa-child") == 0 && i + 6 < argc)
+            return r3d_mesa_child((r3d_kind_t)atoi(argv[i + 1]), (uint16_t)atoi(argv[i + 2]),
+                                  (uint16_t)atoi(argv[i + 3]), (unsigned)atoi(argv[i + 4]), (unsigned)atoi(argv[i + 5]),
+                                  argv[i + 6]);
         if (strcmp(argv[i], "--callgrind-child") == 0)
             return cg_child();
         if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {

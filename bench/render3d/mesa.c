@@ -39,10 +39,10 @@ static void gl_modelview(const psc_mat4_q16_t *m, GLfloat out[16])
         }
 }
 
-int r3d_mesa_child(uint16_t w, uint16_t h, unsigned frames, unsigned passes, const char *frame_path)
+int r3d_mesa_child(r3d_kind_t kind, uint16_t w, uint16_t h, unsigned frames, unsigned passes, const char *frame_path)
 {
     r3d_scene_t s;
-    if (r3d_scene_make(&s) != 0)
+    if (r3d_scene_make(&s, kind) != 0)
         return 1;
     const int attribs[] = {OSMESA_FORMAT, OSMESA_RGB_565, OSMESA_DEPTH_BITS, 16, OSMESA_STENCIL_BITS, 0,
                            OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0};
@@ -56,12 +56,19 @@ int r3d_mesa_child(uint16_t w, uint16_t h, unsigned frames, unsigned passes, con
     const psc_mesh_t *m = &s.mesh;
     GLfloat *pos = malloc(m->vertex_count * 3 * sizeof(GLfloat)), *nrm = malloc(m->vertex_count * 3 * sizeof(GLfloat));
     GLfloat *uv = malloc(m->vertex_count * 2 * sizeof(GLfloat));
+    GLubyte *rgb = malloc(m->vertex_count * 3);
     for (uint32_t i = 0; i < m->vertex_count * 3; i++) {
         pos[i] = m->position_q15[i] / 32768.0f;
         nrm[i] = m->normal_q14[i] / 16384.0f;
     }
     for (uint32_t i = 0; i < m->vertex_count * 2; i++)
-        uv[i] = m->uv_q12[i] / 4096.0f;
+        uv[i] = s.textured ? m->uv_q12[i] / 4096.0f : 0.0f;
+    for (uint32_t i = 0; i < m->vertex_count; i++) {
+        uint32_t c = m->color ? m->color[i] : m->base_color;
+        rgb[3 * i] = (GLubyte)(c >> 16);
+        rgb[3 * i + 1] = (GLubyte)(c >> 8);
+        rgb[3 * i + 2] = (GLubyte)c;
+    }
     glViewport(0, 0, w, h);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -80,7 +87,8 @@ int r3d_mesa_child(uint16_t w, uint16_t h, unsigned frames, unsigned passes, con
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
     glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
-    glEnable(GL_TEXTURE_2D);
+    if (s.textured)
+        glEnable(GL_TEXTURE_2D);
     /* Lighting: colour = ambient + (1 - ambient) max(0, N.L), white material. */
     float amb = R3D_AMBIENT_Q8 / 256.0f;
     GLfloat model_amb[4] = {amb, amb, amb, 1}, dif[4] = {1 - amb, 1 - amb, 1 - amb, 1}, zero[4] = {0, 0, 0, 1};
@@ -100,7 +108,14 @@ int r3d_mesa_child(uint16_t w, uint16_t h, unsigned frames, unsigned passes, con
     glEnable(GL_NORMALIZE);
     glEnableClientState(GL_VERTEX_ARRAY);
     glEnableClientState(GL_NORMAL_ARRAY);
-    glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+    if (s.textured) {
+        glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+    } else { /* Thom: his vertex colours as the material */
+        glColorMaterial(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE);
+        glEnable(GL_COLOR_MATERIAL);
+        glEnableClientState(GL_COLOR_ARRAY);
+        glColorPointer(3, GL_UNSIGNED_BYTE, 0, rgb);
+    }
     glVertexPointer(3, GL_FLOAT, 0, pos);
     glNormalPointer(GL_FLOAT, 0, nrm);
     glTexCoordPointer(2, GL_FLOAT, 0, uv);
@@ -140,12 +155,13 @@ int r3d_mesa_child(uint16_t w, uint16_t h, unsigned frames, unsigned passes, con
     free(pos);
     free(nrm);
     free(uv);
+    free(rgb);
     r3d_scene_free(&s);
     return 0;
 }
 
-r3d_result_t r3d_run_mesa(const char *self, const char *driver, uint16_t w, uint16_t h, unsigned frames,
-                          unsigned passes, uint16_t *last)
+r3d_result_t r3d_run_mesa(const char *self, const char *driver, r3d_kind_t kind, uint16_t w, uint16_t h,
+                          unsigned frames, unsigned passes, uint16_t *last)
 {
     r3d_result_t res = {0, 0, false};
     char frame[] = "/tmp/periscope-render3d-XXXXXX";
@@ -154,8 +170,8 @@ r3d_result_t r3d_run_mesa(const char *self, const char *driver, uint16_t w, uint
         return res;
     close(fd);
     char cmd[1024];
-    snprintf(cmd, sizeof cmd, "GALLIUM_DRIVER=%s LP_NUM_THREADS=0 '%s' --mesa-child %u %u %u %u '%s'", driver, self,
-             (unsigned)w, (unsigned)h, frames, passes, frame);
+    snprintf(cmd, sizeof cmd, "GALLIUM_DRIVER=%s LP_NUM_THREADS=0 '%s' --mesa-child %u %u %u %u %u '%s'", driver, self,
+             (unsigned)kind, (unsigned)w, (unsigned)h, frames, passes, frame);
     FILE *p = popen(cmd, "r");
     if (!p)
         return res;

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * render3d.h - the 3D benchmark's scene and the two renderers it times:
+ * render3d.h - the 3D benchmark's scenes and the two renderers it times:
  * Periscope's integer pipeline (core/3d/psc_3d_render.h) and Mesa's OSMesa
- * (softpipe, llvmpipe single-threaded), on the same textured, lit teapot.
+ * (softpipe, llvmpipe single-threaded), on the same meshes: the textured,
+ * lit Utah teapot, and Thom's tessellated patch mesh (vertex colours, lit).
  */
 #ifndef BENCH_RENDER3D_H
 #define BENCH_RENDER3D_H
@@ -11,6 +12,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include "3d/psc_3d_render.h"
+#include "model.h"
 
 #define R3D_TEAPOT_STEPS 13u    /* 32 patches x 13 x 13 x 2 = 10816 triangles */
 #define R3D_TEXTURE_SIDE 256u
@@ -19,15 +21,24 @@
 #define R3D_AMBIENT_Q8 72
 #define R3D_BACKGROUND 0x30343Cu
 
-/** The scene: the teapot as a mesh pack in memory, its texture, the light. */
+typedef enum { R3D_TEAPOT = 0, R3D_THOM = 1 } r3d_kind_t;
+#define R3D_KINDS 2
+
+/** A scene: the model as a mesh pack in memory, its texture (the teapot's), the light. */
 typedef struct {
+    r3d_kind_t kind;
+    const char *name;
+    bool textured;
     void *pack;                  /* aligned mesh pack bytes */
     size_t pack_len;
     psc_mesh_t mesh;             /* points into pack */
     psc_vec3_q16_t light_dir;    /* camera space, toward the light */
 } r3d_scene_t;
 
-int r3d_scene_make(r3d_scene_t *s);
+int r3d_scene_make(r3d_scene_t *s, r3d_kind_t kind);
+
+/** Thom at 1.1 s of Wave, tessellated for an 800-pixel-wide view (thom.c). 0, or -1 (said on stderr). */
+int r3d_thom_model(psc_model_t *out);
 void r3d_scene_free(r3d_scene_t *s);
 
 /** The view of frame k (the teapot turns 360/frames degrees per frame): draw state and near/far. */
@@ -41,15 +52,22 @@ typedef struct {
     bool ok;
 } r3d_result_t;
 
-/** Periscope: frames at w x h RGB565, tile side 0 = full-screen depth; writes the last frame into last (w*h). */
-r3d_result_t r3d_run_periscope(const r3d_scene_t *s, uint16_t w, uint16_t h, uint16_t tile, unsigned frames,
+/** How Periscope draws: tile side (0 = full-screen depth), the A-buffer's bytes (0 = off), Phong shading. */
+typedef struct {
+    uint16_t tile;
+    size_t abuffer_bytes;
+    bool phong;
+} r3d_options_t;
+
+/** Periscope: frames at w x h RGB565; writes the last frame into last (w*h). */
+r3d_result_t r3d_run_periscope(const r3d_scene_t *s, uint16_t w, uint16_t h, const r3d_options_t *o, unsigned frames,
                                unsigned passes, uint16_t *last);
 
 /** Mesa through a child process with GALLIUM_DRIVER=driver, LP_NUM_THREADS=0; last frame into last. */
-r3d_result_t r3d_run_mesa(const char *self, const char *driver, uint16_t w, uint16_t h, unsigned frames,
-                          unsigned passes, uint16_t *last);
+r3d_result_t r3d_run_mesa(const char *self, const char *driver, r3d_kind_t kind, uint16_t w, uint16_t h,
+                          unsigned frames, unsigned passes, uint16_t *last);
 
 /** The child side: render with OSMesa and print "ms <best ms per frame>"; the last frame to frame_path. */
-int r3d_mesa_child(uint16_t w, uint16_t h, unsigned frames, unsigned passes, const char *frame_path);
+int r3d_mesa_child(r3d_kind_t kind, uint16_t w, uint16_t h, unsigned frames, unsigned passes, const char *frame_path);
 
 #endif

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * scene.c - the benchmark scene (a textured, lit Utah teapot of 10816
- * triangles, as the device would load it from a mesh pack) and the timed
- * Periscope runs.
+ * scene.c - the benchmark scenes (a textured, lit Utah teapot of 10816
+ * triangles; Thom's tessellated mesh, thom.c), as the device would load them
+ * from a mesh pack, and the timed Periscope runs.
  */
 #include "render3d.h"
 #include "mesh_pack.h"
@@ -22,22 +22,31 @@ static double now_ms(void)
     return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
 }
 
-int r3d_scene_make(r3d_scene_t *s)
+int r3d_scene_make(r3d_scene_t *s, r3d_kind_t kind)
 {
     memset(s, 0, sizeof *s);
+    s->kind = kind;
+    s->name = kind == R3D_THOM ? "thom" : "teapot";
+    s->textured = kind == R3D_TEAPOT;
     psc_model_t m;
-    psc_model_teapot(&m, R3D_TEAPOT_STEPS);
-    /* A checkerboard with colour ramps: every texel differs from its neighbours. */
-    psc_image_t tex = {R3D_TEXTURE_SIDE, R3D_TEXTURE_SIDE, malloc(R3D_TEXTURE_SIDE * R3D_TEXTURE_SIDE * 4)};
-    for (uint32_t y = 0; y < R3D_TEXTURE_SIDE; y++)
-        for (uint32_t x = 0; x < R3D_TEXTURE_SIDE; x++) {
-            uint32_t check = ((x / 32) + (y / 32)) & 1u;
-            tex.xrgb[y * R3D_TEXTURE_SIDE + x] = 0xFF000000u | (x << 16) | (y << 8) | (check ? 220u : 60u);
-        }
+    psc_image_t tex = {0, 0, NULL};
+    if (kind == R3D_THOM) {
+        if (r3d_thom_model(&m) != 0)
+            return -1;
+    } else {
+        psc_model_teapot(&m, R3D_TEAPOT_STEPS);
+        /* A checkerboard with colour ramps: every texel differs from its neighbours. */
+        tex = (psc_image_t){R3D_TEXTURE_SIDE, R3D_TEXTURE_SIDE, malloc(R3D_TEXTURE_SIDE * R3D_TEXTURE_SIDE * 4)};
+        for (uint32_t y = 0; y < R3D_TEXTURE_SIDE; y++)
+            for (uint32_t x = 0; x < R3D_TEXTURE_SIDE; x++) {
+                uint32_t check = ((x / 32) + (y / 32)) & 1u;
+                tex.xrgb[y * R3D_TEXTURE_SIDE + x] = 0xFF000000u | (x << 16) | (y << 8) | (check ? 220u : 60u);
+            }
+    }
     uint8_t *bytes = NULL;
     size_t len = 0;
     char err[512];
-    int rc = psc_mesh_pack_build(&m, &tex, NULL, "teapot", &bytes, &len, err, sizeof err);
+    int rc = psc_mesh_pack_build(&m, s->textured ? &tex : NULL, NULL, s->name, &bytes, &len, err, sizeof err);
     psc_image_free(&tex);
     psc_model_free(&m);
     if (rc != 0) {
@@ -51,7 +60,7 @@ int r3d_scene_make(r3d_scene_t *s)
     memcpy(s->pack, bytes, len);
     free(bytes);
     s->pack_len = len;
-    if (psc_io_mesh_parse_named("teapot", s->pack, len, &s->mesh, err, sizeof err) != 0) {
+    if (psc_io_mesh_parse_named(s->name, s->pack, len, &s->mesh, err, sizeof err) != 0) {
         fprintf(stderr, "render3d bench: %s\n", err);
         return -1;
     }
@@ -74,7 +83,7 @@ void r3d_frame_view(const r3d_scene_t *s, unsigned k, unsigned frames, psc_3d_dr
     psc_bam_t yaw = (psc_bam_t)((uint64_t)k * 0x100000000ull / (frames ? frames : 1)) + PSC_BAM_FROM_MDEG(30000);
     (void)psc_3d_orbit(lo, hi, yaw, -(int32_t)PSC_BAM_FROM_MDEG(20000), (int32_t)(R3D_ORBIT_DIST * 65536),
                        &d->camera_from_object, near_q16, far_q16);
-    d->shade = PSC_SHADE_TEXTURE;
+    d->shade = s->textured ? PSC_SHADE_TEXTURE : PSC_SHADE_GOURAUD;
     d->filter = PSC_TEX_BILINEAR;
     d->lit = true;
     d->cull_back = true;
@@ -83,9 +92,10 @@ void r3d_frame_view(const r3d_scene_t *s, unsigned k, unsigned frames, psc_3d_dr
     d->ambient_q8 = R3D_AMBIENT_Q8;
 }
 
-r3d_result_t r3d_run_periscope(const r3d_scene_t *s, uint16_t w, uint16_t h, uint16_t tile, unsigned frames,
+r3d_result_t r3d_run_periscope(const r3d_scene_t *s, uint16_t w, uint16_t h, const r3d_options_t *o, unsigned frames,
                                unsigned passes, uint16_t *last)
 {
+    uint16_t tile = o->tile;
     r3d_result_t res = {0, 0, false};
     psc_3d_draw_t d;
     int32_t near_q16, far_q16;
@@ -96,8 +106,12 @@ r3d_result_t r3d_run_periscope(const r3d_scene_t *s, uint16_t w, uint16_t h, uin
     void *ws = NULL;
     psc_surface_t out = {w, h, (uint32_t)w * 2, PSC_PIX_RGB565, last};
     psc_3d_t r;
-    if (n == 0 || posix_memalign(&ws, 64, n) != 0 || psc_3d_init(&r, &cfg, ws, n) != PSC_OK) {
+    void *abuf = NULL;
+    if (n == 0 || posix_memalign(&ws, 64, n) != 0 || psc_3d_init(&r, &cfg, ws, n) != PSC_OK ||
+        (o->abuffer_bytes && (posix_memalign(&abuf, 64, o->abuffer_bytes) != 0 ||
+                              psc_3d_set_abuffer(&r, abuf, o->abuffer_bytes) != PSC_OK))) {
         free(ws);
+        free(abuf);
         return res;
     }
     uint32_t bg = R3D_BACKGROUND;
@@ -108,8 +122,14 @@ r3d_result_t r3d_run_periscope(const r3d_scene_t *s, uint16_t w, uint16_t h, uin
         for (unsigned k = 0; k < frames; k++) {
             psc_3d_stats_t st;
             r3d_frame_view(s, k, frames, &d, &near_q16, &far_q16);
+            if (o->phong) {
+                d.shade = PSC_SHADE_PHONG;
+                d.specular_q8 = 90;
+                d.shininess = 24;
+            }
             if (psc_3d_render(&r, &d, 1, &bg, &out, &st) != PSC_OK) {
                 free(ws);
+                free(abuf);
                 return res;
             }
             pixels += (double)st.pixels;
@@ -118,6 +138,7 @@ r3d_result_t r3d_run_periscope(const r3d_scene_t *s, uint16_t w, uint16_t h, uin
         best = ms < best ? ms : best;
     }
     free(ws);
+    free(abuf);
     res.ms_per_frame = best;
     res.pixels_written = pixels / frames;
     res.ok = true;
