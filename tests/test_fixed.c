@@ -18,6 +18,7 @@
 #include "psc_testsupport.h"
 
 __extension__ typedef __int128 i128;
+__extension__ typedef unsigned __int128 u128;
 
 /* ---- rounding shifts and Q16.16 product (inline helpers) --------------------- */
 
@@ -178,6 +179,32 @@ static void test_rsqrt(void **state)
             check_rsqrt(v, &worst);
     }
     print_message("  worst relative error beyond the rounding: %.2e (bound 2^-16 = %.2e)\n", worst, 1.0 / 65536);
+}
+
+/* psc_mul_rcp62 against a 128-bit product, rounded half away from zero. */
+static void test_mul_rcp62(void **state)
+{
+    (void)state;
+    tsup_rng_t rng;
+    tsup_rng_seed(&rng, 62);
+    for (int i = 0; i < 1000000; i++) {
+        int64_t n = (int64_t)(tsup_rng_u64(&rng) >> (1 + tsup_rng_below(&rng, 63)));
+        if (i & 1)
+            n = -n;
+        uint64_t r = tsup_rng_u64(&rng) >> (2 + tsup_rng_below(&rng, 62));
+        u128 p = (u128)(n < 0 ? -(u128)n : (u128)n) * r;
+        u128 q = (p + ((u128)1 << 61)) >> 62;
+        if (q > (u128)INT64_MAX)
+            continue; /* outside the documented range */
+        int64_t want = n < 0 ? -(int64_t)q : (int64_t)q;
+        if (psc_mul_rcp62(n, r) != want)
+            fail_msg("psc_mul_rcp62(%lld, %llu) = %lld, expected %lld", (long long)n, (unsigned long long)r,
+                     (long long)psc_mul_rcp62(n, r), (long long)want);
+    }
+    assert_int_equal(psc_mul_rcp62(INT64_MAX, UINT64_C(1) << 62), INT64_MAX);
+    assert_int_equal(psc_mul_rcp62(-INT64_MAX, UINT64_C(1) << 62), -INT64_MAX);
+    assert_int_equal(psc_mul_rcp62(3, UINT64_C(1) << 61), 2);   /* 1.5 rounds away from zero */
+    assert_int_equal(psc_mul_rcp62(-3, UINT64_C(1) << 61), -2);
 }
 
 /* ---- rounded division -------------------------------------------------------- */
@@ -461,6 +488,7 @@ int main(void)
         cmocka_unit_test(test_isqrt_exhaustive_small),
         cmocka_unit_test(test_isqrt_limits_and_random),
         cmocka_unit_test(test_rsqrt),
+        cmocka_unit_test(test_mul_rcp62),
         cmocka_unit_test(test_div_round),
         cmocka_unit_test(test_sincos),
         cmocka_unit_test(test_atan2_angle),

@@ -160,13 +160,29 @@ static void project(const psc_3d_t *r, const psc_clip_vertex_t *c, psc_raster_ve
     o->n_q14[2] = (int16_t)clamp_q14(c->nz_q14);
 }
 
+/* v / |v| in Q16.16 through one reciprocal square root (within 2^-16): every vertex's normal takes this. */
+static psc_vec3_q16_t unit_q16(psc_vec3_q16_t v)
+{
+    uint64_t len2 = (uint64_t)((int64_t)v.x * v.x) + (uint64_t)((int64_t)v.y * v.y) + (uint64_t)((int64_t)v.z * v.z);
+    if (len2 == 0)
+        return v;
+    unsigned s = 0; /* even: len2 >> s fits 32 bits */
+    while ((len2 >> s) > 0xFFFFFFFFu)
+        s += 2u;
+    /* inv = 2^30 / sqrt(len2 >> s) = 2^(30 + s/2) / sqrt(len2); v / sqrt(len2) in Q16.16 = v inv >> (14 + s/2) */
+    int64_t inv = psc_rsqrt_q30((uint32_t)(len2 >> s));
+    unsigned sh = 14u + s / 2u;
+    return (psc_vec3_q16_t){(int32_t)psc_shr_round64(v.x * inv, sh), (int32_t)psc_shr_round64(v.y * inv, sh),
+                            (int32_t)psc_shr_round64(v.z * inv, sh)};
+}
+
 /* The mesh's normal of vertex i in camera space, unit length (Q16.16). */
 static psc_vec3_q16_t camera_normal(const psc_3d_draw_t *d, const psc_mesh_t *m, uint32_t i)
 {
     const int16_t *n = &m->normal_q14[3u * i];
     psc_vec3_q16_t nc = psc_mat4_apply_dir(&d->camera_from_object,
                                            (psc_vec3_q16_t){(int32_t)n[0] * 4, (int32_t)n[1] * 4, (int32_t)n[2] * 4});
-    return psc_vec3_normalize(nc);
+    return unit_q16(nc);
 }
 
 static int32_t light_of(const psc_3d_draw_t *d, const psc_mesh_t *m, uint32_t i)

@@ -35,6 +35,25 @@ static inline int32_t psc_mul_q16(int32_t a, int32_t b)
     return (int32_t)psc_shr_round64((int64_t)a * b, 16);
 }
 
+/**
+ * n r / 2^62 rounded to nearest (ties away from zero), for |n| < 2^63 and the
+ * quotient within int64: a product through 128 bits made of four 32 x 32-bit
+ * products, the same on every target (a division by d as a product by
+ * r = 2^62 / d).
+ */
+static inline int64_t psc_mul_rcp62(int64_t n, uint64_t r)
+{
+    uint64_t a = n < 0 ? 0u - (uint64_t)n : (uint64_t)n;
+    uint64_t al = a & 0xFFFFFFFFu, ah = a >> 32, bl = r & 0xFFFFFFFFu, bh = r >> 32;
+    uint64_t ll = al * bl, lh = al * bh, hl = ah * bl, hh = ah * bh;
+    uint64_t mid = (ll >> 32) + (lh & 0xFFFFFFFFu) + (hl & 0xFFFFFFFFu);
+    uint64_t lo = (mid << 32) | (ll & 0xFFFFFFFFu), hi = hh + (lh >> 32) + (hl >> 32) + (mid >> 32);
+    uint64_t lo_r = lo + ((uint64_t)1 << 61);
+    hi += lo_r < lo;
+    uint64_t q = (hi << 2) | (lo_r >> 62);
+    return n < 0 ? -(int64_t)q : (int64_t)q;
+}
+
 /** Floor of the square root of a 64-bit value (exact for every input). */
 uint32_t psc_isqrt64(uint64_t v);
 

@@ -37,7 +37,7 @@ typedef struct {
     plane_t depth, r, g, b, q, uq, vq, light;
     plane_t nx, ny, nz;          /* PHONG: the normal, Q2.14 */
     plane_t vu[3], vv[3];        /* VIEWS: u/w and v/w of each view (u and v when affine) */
-    bool affine;                 /* VIEWS: the vertices' depths within 1/256 of each other: no division a pixel */
+    bool affine;                 /* TEXTURE, VIEWS: perspective moves u, v too little to matter: no division a pixel */
     int64_t am[3];               /* A-buffer: the most a sample's edge value lies below the centre's */
     int64_t acol[3][4], arow[3][4]; /* A-buffer: edge value offsets of the sample columns and rows */
     uint32_t zslack;             /* A-buffer: four times the depth change across one pixel (fragments that merge) */
@@ -70,15 +70,17 @@ static PSC_ALWAYS_INLINE int64_t plane_value(uint64_t v, unsigned f)
 }
 
 /* The plane through (x[i], y[i], val[i]) with f extra fraction bits, based at
- * the raster point (cx, cy). */
-static void plane_setup(plane_t *p, const int64_t val[3], const int64_t x[3], const int64_t y[3], int64_t area2,
+ * the raster point (cx, cy); rcp = floor(2^62 / doubled area). The gradients
+ * n 2^f / area come as n 2^f rcp / 2^62 (one division a triangle, not two a
+ * plane): within 2 units of 2^-f of the exact quotient, since n 2^f < 2^63. */
+static void plane_setup(plane_t *p, const int64_t val[3], const int64_t x[3], const int64_t y[3], uint64_t rcp,
                         unsigned f, int64_t cx, int64_t cy)
 {
     int64_t d1 = val[1] - val[0], d2 = val[2] - val[0];
     int64_t dx1 = x[1] - x[0], dy1 = y[1] - y[0], dx2 = x[2] - x[0], dy2 = y[2] - y[0];
     int64_t na = d1 * dy2 - d2 * dy1, nb = d2 * dx1 - d1 * dx2;
-    int64_t a = psc_div_round64(na * ((int64_t)1 << f), area2);
-    int64_t b = psc_div_round64(nb * ((int64_t)1 << f), area2);
+    int64_t a = psc_mul_rcp62(na * ((int64_t)1 << f), rcp);
+    int64_t b = psc_mul_rcp62(nb * ((int64_t)1 << f), rcp);
     p->base = (uint64_t)val[0] * ((uint64_t)1 << f) + (uint64_t)a * (uint64_t)(cx - x[0]) +
               (uint64_t)b * (uint64_t)(cy - y[0]);
     p->step_x = (uint64_t)a * (uint64_t)PSC_RASTER_SUBPIXEL_ONE;
@@ -86,10 +88,10 @@ static void plane_setup(plane_t *p, const int64_t val[3], const int64_t x[3], co
 }
 
 static void plane3(plane_t *p, int64_t a, int64_t b, int64_t c, const int64_t x[3], const int64_t y[3],
-                   int64_t area2, unsigned f, int64_t cx, int64_t cy)
+                   uint64_t rcp, unsigned f, int64_t cx, int64_t cy)
 {
     const int64_t v[3] = {a, b, c};
-    plane_setup(p, v, x, y, area2, f, cx, cy);
+    plane_setup(p, v, x, y, rcp, f, cx, cy);
 }
 
 static int64_t clamp64(int64_t v, int64_t lo, int64_t hi)
@@ -194,28 +196,30 @@ static const uint16_t coverage_first[17] = {
     0xA5A7, 0xADA7, 0xADAF, 0xAFAF, 0xAFBF, 0xEFBF, 0xEFFF, 0xFFFF,
 };
 
-/* Where a partly covered pixel takes its attributes: the centroid of its covered samples, inside the triangle
- * (the centre may lie far outside a sliver, where the planes extrapolate to nonsense), and where a linear
- * attribute takes its mean over those samples. Sums of the offsets in 1/16 pixel, and the count. */
-static PSC_ALWAYS_INLINE void covered_centroid(uint32_t cover, int64_t *sx, int64_t *sy, int64_t *n)
+/* 65536 / n, rounded, for n = 1..16 (the covered samples' count). */
+static const uint16_t inv_count_q16[17] = {0,    65535, 32768, 21845, 16384, 13107, 10923, 9362, 8192,
+                                           7282, 6554,  5958,  5461,  5041,  4681,  4369,  4096};
+
+/* Where a partly covered pixel takes its attributes: the centroid of its covered samples, rounded to 1/16 pixel
+ * (inside the triangle: the centre may lie far outside a sliver, where the planes extrapolate to nonsense; and a
+ * linear attribute's mean over those samples is its value there). Offsets from the centre in 1/16 pixel. */
+static PSC_ALWAYS_INLINE void covered_centroid(uint32_t cover, int64_t *ox, int64_t *oy)
 {
-    int64_t x = 0, y = 0, k = 0;
+    int32_t x = 0, y = 0, n = 0;
     for (unsigned b = 0; b < 16u; b++)
         if (cover >> b & 1u) {
             x += sample_off_q4[b & 3u];
             y += sample_off_q4[b >> 2];
-            k++;
+            n++;
         }
-    *sx = x;
-    *sy = y;
-    *n = k;
+    *ox = (x * inv_count_q16[n] + 32768) >> 16;
+    *oy = (y * inv_count_q16[n] + 32768) >> 16;
 }
 
-/* A plane's value moved from the pixel centre by (sx, sy) / n sixteenths (steps are 16 x the per-sixteenth
- * gradient), rounded to the plane's units. */
-static PSC_ALWAYS_INLINE uint64_t plane_at(const plane_t *p, uint64_t v, int64_t sx, int64_t sy, int64_t n)
+/* A plane's value moved from the pixel centre by (ox, oy) sixteenths (steps are 16 x the per-sixteenth gradient). */
+static PSC_ALWAYS_INLINE uint64_t plane_at(const plane_t *p, uint64_t v, int64_t ox, int64_t oy)
 {
-    return v + (uint64_t)psc_div_round64(((int64_t)p->step_x >> 4) * sx + ((int64_t)p->step_y >> 4) * sy, n);
+    return v + (uint64_t)(((int64_t)p->step_x >> 4) * ox) + (uint64_t)(((int64_t)p->step_y >> 4) * oy);
 }
 
 /* The samples inside the triangle, from the three edge values at the pixel centre. */
@@ -273,33 +277,37 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
         int64_t e0 = e0r, e1 = e1r, e2 = e2r;
         uint64_t d = dr, r = rr, g = gr, b = br, q = qr, u = ur, v = vr, l = lr;
         uint64_t nx = nxr, ny = nyr, nz = nzr;
+        bool entered = false;
         for (int32_t x = s->px0; x <= s->px1; x++) {
             uint32_t cover = aa ? sample_mask(s, e0, e1, e2) : (e0 | e1 | e2) >= 0 ? PSC_ABUF_FULL : 0;
+            if (!aa && cover == 0 && entered)
+                break; /* the pixel centres of a row inside a triangle are one run: the rest is outside */
             if (cover != 0) {
+                entered = true;
                 int draw = 1;
                 uint32_t z = 0, limit = 0;
                 uint64_t pd = d, pr = r, pg = g, pb = b, pq = q, pu = u, pv = v, pl = l, pnx = nx, pny = ny, pnz = nz;
                 const bool centre = (e0 | e1 | e2) >= 0;
                 if (aa && cover != PSC_ABUF_FULL) {
-                    int64_t ox, oy, n;
-                    covered_centroid(cover, &ox, &oy, &n);
+                    int64_t ox, oy;
+                    covered_centroid(cover, &ox, &oy);
                     if (!centre) /* a triangle covering the centre keeps the centre's depth, as without the A-buffer */
-                        pd = plane_at(&s->depth, pd, ox, oy, n);
+                        pd = plane_at(&s->depth, pd, ox, oy);
                     if (shade == PSC_SHADE_GOURAUD || shade == PSC_SHADE_PHONG) {
-                        pr = plane_at(&s->r, pr, ox, oy, n);
-                        pg = plane_at(&s->g, pg, ox, oy, n);
-                        pb = plane_at(&s->b, pb, ox, oy, n);
+                        pr = plane_at(&s->r, pr, ox, oy);
+                        pg = plane_at(&s->g, pg, ox, oy);
+                        pb = plane_at(&s->b, pb, ox, oy);
                     }
                     if (shade == PSC_SHADE_PHONG) {
-                        pnx = plane_at(&s->nx, pnx, ox, oy, n);
-                        pny = plane_at(&s->ny, pny, ox, oy, n);
-                        pnz = plane_at(&s->nz, pnz, ox, oy, n);
+                        pnx = plane_at(&s->nx, pnx, ox, oy);
+                        pny = plane_at(&s->ny, pny, ox, oy);
+                        pnz = plane_at(&s->nz, pnz, ox, oy);
                     }
                     if (shade == PSC_SHADE_TEXTURE) {
-                        pq = plane_at(&s->q, pq, ox, oy, n);
-                        pu = plane_at(&s->uq, pu, ox, oy, n);
-                        pv = plane_at(&s->vq, pv, ox, oy, n);
-                        pl = plane_at(&s->light, pl, ox, oy, n);
+                        pq = plane_at(&s->q, pq, ox, oy);
+                        pu = plane_at(&s->uq, pu, ox, oy);
+                        pv = plane_at(&s->vq, pv, ox, oy);
+                        pl = plane_at(&s->light, pl, ox, oy);
                     }
                 }
                 if (zbits) {
@@ -333,11 +341,16 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
                             c = phong(st, c, n);
                         }
                     } else {
-                        /* One division per pixel: 1/q, then u = (u/w) / (1/w). */
-                        int64_t qq = clamp64(plane_value(pq, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
-                        int64_t inv = (INT64_C(1) << 40) / qq; /* 2^12 .. 2^28 */
-                        int64_t uu = psc_shr_round64(plane_value(pu, UV_F) * inv, 24);
-                        int64_t vv = psc_shr_round64(plane_value(pv, UV_F) * inv, 24);
+                        int64_t uu, vv;
+                        if (s->affine) {
+                            uu = plane_value(pu, UV_F);
+                            vv = plane_value(pv, UV_F);
+                        } else { /* one division per pixel: 1/q, then u = (u/w) / (1/w) */
+                            int64_t qq = clamp64(plane_value(pq, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
+                            int64_t inv = (INT64_C(1) << 40) / qq; /* 2^12 .. 2^28 */
+                            uu = psc_shr_round64(plane_value(pu, UV_F) * inv, 24);
+                            vv = psc_shr_round64(plane_value(pv, UV_F) * inv, 24);
+                        }
                         if (bilinear) {
                             int64_t tx = (uu * tw >> 8) - 128, ty = (vv * th >> 8) - 128;
                             uint32_t fx = (uint32_t)tx & 255u, fy = (uint32_t)ty & 255u;
@@ -478,14 +491,14 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                 uint64_t pd = d, pq = q, pu[3] = {u[0], u[1], u[2]}, pv[3] = {v[0], v[1], v[2]};
                 const bool centre = (e0 | e1 | e2) >= 0;
                 if (aa && cover != PSC_ABUF_FULL) {
-                    int64_t ox, oy, n;
-                    covered_centroid(cover, &ox, &oy, &n);
+                    int64_t ox, oy;
+                    covered_centroid(cover, &ox, &oy);
                     if (!centre)
-                        pd = plane_at(&s->depth, pd, ox, oy, n);
-                    pq = plane_at(&s->q, pq, ox, oy, n);
+                        pd = plane_at(&s->depth, pd, ox, oy);
+                    pq = plane_at(&s->q, pq, ox, oy);
                     for (unsigned k = 0; k < 3; k++) {
-                        pu[k] = plane_at(&s->vu[k], pu[k], ox, oy, n);
-                        pv[k] = plane_at(&s->vv[k], pv[k], ox, oy, n);
+                        pu[k] = plane_at(&s->vu[k], pu[k], ox, oy);
+                        pv[k] = plane_at(&s->vv[k], pv[k], ox, oy);
                     }
                 }
                 if (zbits) {
@@ -734,20 +747,21 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
     }
 
     s.depth = s.r = s.g = s.b = s.q = s.uq = s.vq = s.light = s.nx = s.ny = s.nz = (plane_t){0, 0, 0};
+    const uint64_t rcp = (UINT64_C(1) << 62) / (uint64_t)area2; /* area2 in 1..2^39 */
     s.flat = v0->color & 0xFFFFFFu;
     if (st->depth_test)
-        plane3(&s.depth, v[0]->depth_q32, v[1]->depth_q32, v[2]->depth_q32, x, y, area2, DEPTH_F, cx, cy);
+        plane3(&s.depth, v[0]->depth_q32, v[1]->depth_q32, v[2]->depth_q32, x, y, rcp, DEPTH_F, cx, cy);
     if (st->shade == PSC_SHADE_PHONG) {
-        plane3(&s.nx, v[0]->n_q14[0], v[1]->n_q14[0], v[2]->n_q14[0], x, y, area2, NORMAL_F, cx, cy);
-        plane3(&s.ny, v[0]->n_q14[1], v[1]->n_q14[1], v[2]->n_q14[1], x, y, area2, NORMAL_F, cx, cy);
-        plane3(&s.nz, v[0]->n_q14[2], v[1]->n_q14[2], v[2]->n_q14[2], x, y, area2, NORMAL_F, cx, cy);
+        plane3(&s.nx, v[0]->n_q14[0], v[1]->n_q14[0], v[2]->n_q14[0], x, y, rcp, NORMAL_F, cx, cy);
+        plane3(&s.ny, v[0]->n_q14[1], v[1]->n_q14[1], v[2]->n_q14[1], x, y, rcp, NORMAL_F, cx, cy);
+        plane3(&s.nz, v[0]->n_q14[2], v[1]->n_q14[2], v[2]->n_q14[2], x, y, rcp, NORMAL_F, cx, cy);
     }
     if (st->shade == PSC_SHADE_GOURAUD || st->shade == PSC_SHADE_PHONG) {
-        plane3(&s.r, v[0]->color >> 16 & 255, v[1]->color >> 16 & 255, v[2]->color >> 16 & 255, x, y, area2,
+        plane3(&s.r, v[0]->color >> 16 & 255, v[1]->color >> 16 & 255, v[2]->color >> 16 & 255, x, y, rcp,
                COLOR_F, cx, cy);
-        plane3(&s.g, v[0]->color >> 8 & 255, v[1]->color >> 8 & 255, v[2]->color >> 8 & 255, x, y, area2,
+        plane3(&s.g, v[0]->color >> 8 & 255, v[1]->color >> 8 & 255, v[2]->color >> 8 & 255, x, y, rcp,
                COLOR_F, cx, cy);
-        plane3(&s.b, v[0]->color & 255, v[1]->color & 255, v[2]->color & 255, x, y, area2, COLOR_F, cx, cy);
+        plane3(&s.b, v[0]->color & 255, v[1]->color & 255, v[2]->color & 255, x, y, rcp, COLOR_F, cx, cy);
     } else if (st->shade == PSC_SHADE_TEXTURE) {
         int64_t q[3], uq[3], vq[3];
         /* Shift u and v by the whole number below their minimum: free under
@@ -761,17 +775,31 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
         }
         umin = (umin >> 16) * 65536;
         vmin = (vmin >> 16) * 65536;
+        int64_t qmin = PSC_RASTER_Q_ONE, qmax = 0, span = 1;
         for (unsigned i = 0; i < 3; i++) {
             q[i] = clamp64(v[i]->q_q28, PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
-            uq[i] = psc_shr_round64(clamp64(v[i]->u_q16 - umin, 0, UV_SPAN_MAX_Q16) * q[i], 16);
-            vq[i] = psc_shr_round64(clamp64(v[i]->v_q16 - vmin, 0, UV_SPAN_MAX_Q16) * q[i], 16);
+            qmin = q[i] < qmin ? q[i] : qmin;
+            qmax = q[i] > qmax ? q[i] : qmax;
+            int64_t su = (clamp64(v[i]->u_q16 - umin, 0, UV_SPAN_MAX_Q16) * st->texture->width) >> 16;
+            int64_t sv = (clamp64(v[i]->v_q16 - vmin, 0, UV_SPAN_MAX_Q16) * st->texture->height) >> 16;
+            span = su > span ? su : span;
+            span = sv > span ? sv : span;
         }
-        plane_setup(&s.q, q, x, y, area2, Q_F, cx, cy);
-        plane_setup(&s.uq, uq, x, y, area2, UV_F, cx, cy);
-        plane_setup(&s.vq, vq, x, y, area2, UV_F, cx, cy);
+        /* Affine u, v differ from perspective-correct ones by at most (span in texels) x (qmax - qmin) / (4 qmin):
+         * under 1/16 texel here, so small and face-on triangles divide nothing per pixel. */
+        s.affine = (qmax - qmin) * (span + 1) * 4 <= qmin;
+        for (unsigned i = 0; i < 3; i++) {
+            int64_t uu = clamp64(v[i]->u_q16 - umin, 0, UV_SPAN_MAX_Q16), vv = clamp64(v[i]->v_q16 - vmin, 0, UV_SPAN_MAX_Q16);
+            uq[i] = s.affine ? uu : psc_shr_round64(uu * q[i], 16);
+            vq[i] = s.affine ? vv : psc_shr_round64(vv * q[i], 16);
+        }
+        if (!s.affine)
+            plane_setup(&s.q, q, x, y, rcp, Q_F, cx, cy);
+        plane_setup(&s.uq, uq, x, y, rcp, UV_F, cx, cy);
+        plane_setup(&s.vq, vq, x, y, rcp, UV_F, cx, cy);
         if (st->modulate)
             plane3(&s.light, clamp64(v[0]->light_q8, 0, 256), clamp64(v[1]->light_q8, 0, 256),
-                   clamp64(v[2]->light_q8, 0, 256), x, y, area2, LIGHT_F, cx, cy);
+                   clamp64(v[2]->light_q8, 0, 256), x, y, rcp, LIGHT_F, cx, cy);
     }
     if (st->shade == PSC_SHADE_VIEWS) {
         /* Coordinates in [0, 1]: u/w and v/w planes per view, no shift needed. */
@@ -783,7 +811,7 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
         }
         /* Perspective changes u across such a triangle by under 1/256 of its span: interpolate u, v directly. */
         s.affine = (qmax - qmin) * 256 <= qmin;
-        plane_setup(&s.q, q, x, y, area2, Q_F, cx, cy);
+        plane_setup(&s.q, q, x, y, rcp, Q_F, cx, cy);
         for (unsigned k = 0; k < 3; k++) {
             for (unsigned i = 0; i < 3; i++) {
                 int32_t uu = k == 0 ? v[i]->u_q16 : k == 1 ? v[i]->u1_q16 : v[i]->u2_q16;
@@ -791,8 +819,8 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
                 a[i] = s.affine ? clamp64(uu, 0, 65536) : psc_shr_round64(clamp64(uu, 0, 65536) * q[i], 16);
                 b[i] = s.affine ? clamp64(vv, 0, 65536) : psc_shr_round64(clamp64(vv, 0, 65536) * q[i], 16);
             }
-            plane_setup(&s.vu[k], a, x, y, area2, UV_F, cx, cy);
-            plane_setup(&s.vv[k], b, x, y, area2, UV_F, cx, cy);
+            plane_setup(&s.vu[k], a, x, y, rcp, UV_F, cx, cy);
+            plane_setup(&s.vv[k], b, x, y, rcp, UV_F, cx, cy);
         }
     }
     if (aa) {
