@@ -317,6 +317,8 @@ static void test_tiles_identical(void **state)
         assert_int_equal(sf.pixels, stt.pixels);
         assert_int_equal(sf.triangles, stt.triangles);
         assert_int_equal(sf.culled, stt.culled);
+        assert_int_equal(sf.outside, stt.outside);
+        assert_int_equal(sf.clipped, stt.clipped);
         free(zf);
         free(zt);
         tsup_surface_free(&full);

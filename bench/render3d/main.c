@@ -307,6 +307,21 @@ static int run_callgrind(const char *self, const char *out_dir)
     return 0;
 }
 
+/* Periscope alone, 360 frames of scene kind at w x h (with an A-buffer of abuf bytes): for `perf record`. */
+static int profile_run(r3d_kind_t kind, uint16_t w, uint16_t h, size_t abuf)
+{
+    r3d_scene_t s;
+    if (r3d_scene_make(&s, kind) != 0 || w == 0 || h == 0 || w > 4096 || h > 4096)
+        return 1;
+    uint16_t *frame = malloc((size_t)w * h * 2);
+    r3d_options_t o = {0, abuf, false};
+    r3d_result_t r = r3d_run_periscope(&s, w, h, &o, 360, 1, frame);
+    printf("%.3f ms per frame\n", r.ms_per_frame);
+    free(frame);
+    r3d_scene_free(&s);
+    return r.ok ? 0 : 1;
+}
+
 int main(int argc, char **argv)
 {
     const char *out = "bench/results";
@@ -318,6 +333,9 @@ int main(int argc, char **argv)
                                   argv[i + 6]);
         if (strcmp(argv[i], "--callgrind-child") == 0)
             return cg_child();
+        if (strcmp(argv[i], "--profile") == 0 && i + 4 < argc) /* for perf: Periscope alone, SCENE W H ABUF_KB */
+            return profile_run((r3d_kind_t)atoi(argv[i + 1]), (uint16_t)atoi(argv[i + 2]), (uint16_t)atoi(argv[i + 3]),
+                               (size_t)atoi(argv[i + 4]) * 1024u);
         if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
             out = argv[++i];
         } else if (strcmp(argv[i], "--callgrind") == 0) {

@@ -50,11 +50,18 @@ static size_t align8(size_t v)
     return (v + 7u) & ~(size_t)7u;
 }
 
+/* Tile mode: more than one tile. */
+static bool tiled(const psc_3d_config_t *c)
+{
+    return c->tile_width != 0 && (c->tile_width < c->width || c->tile_height < c->height);
+}
+
 size_t psc_3d_workspace_size(const psc_3d_config_t *c)
 {
     if (!config_ok(c))
         return 0;
-    return align8(psc_3d_depth_bytes(c)) + (size_t)c->max_vertices * sizeof(vcache_t);
+    return align8(psc_3d_depth_bytes(c)) + (size_t)c->max_vertices * sizeof(vcache_t) +
+           (tiled(c) ? (size_t)c->max_vertices * PSC_3D_BIN_BYTES : 0);
 }
 
 psc_status_t psc_3d_init(psc_3d_t *r, const psc_3d_config_t *cfg, void *ws, size_t ws_size)
@@ -72,6 +79,7 @@ psc_status_t psc_3d_init(psc_3d_t *r, const psc_3d_config_t *cfg, void *ws, size
     r->depth_bytes = psc_3d_depth_bytes(cfg);
     r->depth = ws;
     r->cache = (uint8_t *)ws + align8(r->depth_bytes);
+    r->bins = tiled(cfg) ? (uint8_t *)r->cache + (size_t)cfg->max_vertices * sizeof(vcache_t) : NULL;
     /* f = (W/2) / tan(hfov/2) in Q24.8. */
     int32_t s30, c30;
     psc_sincos(cfg->hfov / 2u, &s30, &c30);
@@ -344,13 +352,11 @@ static void draw_mesh(tile_ctx_t *t, const psc_3d_draw_t *d, const vcache_t *cac
     }
 }
 
-/* ---- frame ---------------------------------------------------------------------- */
-
 /* A Phong draw's light, half vector and highlight in the rasterizer's terms. */
 static void phong_state(const psc_3d_draw_t *d, psc_raster_state_t *st)
 {
-    psc_vec3_q16_t l = psc_vec3_normalize(d->light_dir);
-    psc_vec3_q16_t h = psc_vec3_normalize((psc_vec3_q16_t){l.x, l.y, l.z - PSC_Q16_ONE});
+    psc_vec3_q16_t l = unit_q16(d->light_dir);
+    psc_vec3_q16_t h = unit_q16((psc_vec3_q16_t){l.x, l.y, l.z - PSC_Q16_ONE});
     st->light_q14[0] = (int16_t)clamp_q14(psc_shr_round32(l.x, 2));
     st->light_q14[1] = (int16_t)clamp_q14(psc_shr_round32(l.y, 2));
     st->light_q14[2] = (int16_t)clamp_q14(psc_shr_round32(l.z, 2));
@@ -361,6 +367,125 @@ static void phong_state(const psc_3d_draw_t *d, psc_raster_state_t *st)
     st->specular_q8 = d->specular_q8;
     st->shininess = d->shininess;
 }
+
+/* How the rasterizer draws d's triangles. */
+static void draw_state(const psc_3d_draw_t *d, psc_raster_state_t *st)
+{
+    *st = (psc_raster_state_t){
+        .shade = d->shade,
+        .filter = d->filter,
+        .blend = d->blend,
+        .depth_test = d->depth_test,
+        .modulate = d->shade == PSC_SHADE_TEXTURE && d->lit,
+        .texture = d->texture ? d->texture : &d->mesh->texture,
+        .view_tex = {d->view_tex[0], d->view_tex[1], d->view_tex[2]},
+        .view_w_q8 = {d->view_w_q8[0], d->view_w_q8[1], d->view_w_q8[2]},
+        .views_mask = d->views_mask,
+        .mask_color = d->color,
+    };
+    if (d->shade == PSC_SHADE_PHONG)
+        phong_state(d, st);
+}
+
+/* ---- tile mode: binning -------------------------------------------------------------- */
+
+/* A triangle that reaches a row of tiles: which, and the pixel columns its box spans. */
+typedef struct {
+    uint32_t tri;
+    uint32_t draw;
+    uint16_t px0, px1;
+} bin_t;
+
+_Static_assert(sizeof(bin_t) <= PSC_3D_BIN_BYTES, "bin entry larger than documented");
+
+/*
+ * The triangles of every draw that can reach pixel rows [y0, y1): culled and
+ * dropped once for the row (counted when count, the first row), clipped ones
+ * kept whole. false when more than cap reach it (the row then scans per tile).
+ */
+static bool bin_row(const psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, const vcache_t *cache, uint32_t y0,
+                    uint32_t y1, bin_t *bins, uint32_t cap, uint32_t *count, psc_3d_stats_t *stats, bool count_stats)
+{
+    psc_3d_stats_t before = *stats;
+    int32_t ylo = (int32_t)y0 * 16, yhi = (int32_t)y1 * 16, wq = (int32_t)r->cfg.width * 16;
+    uint32_t c = 0;
+    size_t base = 0;
+    for (unsigned i = 0; i < n; i++) {
+        const psc_mesh_t *m = draws[i].mesh;
+        const vcache_t *vc = cache + base;
+        base += m->vertex_count;
+        for (uint32_t k = 0; k < m->triangle_count; k++) {
+            const vcache_t *a = &vc[m->index[3u * k]], *b = &vc[m->index[3u * k + 1]], *cc = &vc[m->index[3u * k + 2]];
+            unsigned oa = a->outcode, ob = b->outcode, oc = cc->outcode;
+            uint16_t px0 = 0, px1 = r->cfg.width;
+            if (((oa | ob | oc) & CACHE_BAD) || (oa & ob & oc) != 0) {
+                stats->outside += count_stats;
+                continue;
+            }
+            if ((oa | ob | oc) == 0) {
+                const psc_raster_vertex_t *va = &a->rv, *vb = &b->rv, *vcc = &cc->rv;
+                int64_t area = area2_of(va, vb, vcc);
+                if (area == 0 || (draws[i].cull_back && area < 0)) {
+                    if (count_stats)
+                        *(area == 0 ? &stats->outside : &stats->culled) += 1;
+                    continue;
+                }
+                int32_t ymin = va->y_q4 < vb->y_q4 ? va->y_q4 : vb->y_q4, ymax = va->y_q4 > vb->y_q4 ? va->y_q4 : vb->y_q4;
+                int32_t xmin = va->x_q4 < vb->x_q4 ? va->x_q4 : vb->x_q4, xmax = va->x_q4 > vb->x_q4 ? va->x_q4 : vb->x_q4;
+                ymin = vcc->y_q4 < ymin ? vcc->y_q4 : ymin;
+                ymax = vcc->y_q4 > ymax ? vcc->y_q4 : ymax;
+                xmin = vcc->x_q4 < xmin ? vcc->x_q4 : xmin;
+                xmax = vcc->x_q4 > xmax ? vcc->x_q4 : xmax;
+                if (ymax < ylo || ymin > yhi || xmax < 0 || xmin > wq)
+                    continue; /* as outside_tile: the box misses the rows' pixel edges */
+                px0 = (uint16_t)(xmin < 0 ? 0 : xmin >> 4);
+                px1 = (uint16_t)((xmax + 15) >> 4 > (int32_t)r->cfg.width ? r->cfg.width : (xmax + 15) >> 4);
+            }
+            if (c == cap) {
+                *stats = before;
+                return false;
+            }
+            bins[c++] = (bin_t){k, i, px0, px1};
+        }
+    }
+    *count = c;
+    return true;
+}
+
+/* The row's binned triangles that reach the tile [x0, x1), draw by draw. */
+static void draw_binned(tile_ctx_t *t, const psc_3d_draw_t *draws, const vcache_t *cache, const bin_t *bins,
+                        uint32_t count, uint16_t x0, uint16_t x1)
+{
+    uint32_t cur = UINT32_MAX;
+    size_t base = 0;
+    const psc_mesh_t *m = NULL;
+    for (uint32_t e = 0; e < count; e++) {
+        const bin_t *b = &bins[e];
+        if (b->px1 < x0 || b->px0 > x1)
+            continue;
+        if (b->draw != cur) {
+            for (uint32_t i = cur == UINT32_MAX ? 0 : cur; i < b->draw; i++)
+                base += draws[i].mesh->vertex_count;
+            cur = b->draw;
+            m = draws[cur].mesh;
+            draw_state(&draws[cur], &t->state);
+            if (t->target.abuf)
+                t->target.abuf->surface = (uint16_t)(cur + 1u); /* fragments of one draw merge */
+        }
+        const vcache_t *va = &cache[base + m->index[3u * b->tri]], *vb = &cache[base + m->index[3u * b->tri + 1]],
+                       *vc = &cache[base + m->index[3u * b->tri + 2]];
+        unsigned o = (unsigned)va->outcode | vb->outcode | vc->outcode;
+        if (o != 0) {
+            draw_clipped(t, &draws[cur], va, vb, vc, o);
+            continue;
+        }
+        if (outside_tile(t, &va->rv, &vb->rv, &vc->rv))
+            continue;
+        t->stats->pixels += psc_raster_triangle(&t->target, &t->state, &va->rv, &vb->rv, &vc->rv);
+    }
+}
+
+/* ---- frame ---------------------------------------------------------------------- */
 
 static bool draw_ok(const psc_3d_draw_t *d)
 {
@@ -459,7 +584,12 @@ psc_status_t psc_3d_render(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, 
 
     uint16_t tw = r->cfg.tile_width, th = r->cfg.tile_height;
     bool first = true;
+    bin_t *bins = r->bins;
     for (uint32_t ty = 0; ty < r->cfg.height; ty += th) {
+        uint32_t binned = 0;
+        bool row_binned = bins &&
+                          bin_row(r, draws, n, cache, ty, ty + th > r->cfg.height ? r->cfg.height : ty + th, bins,
+                                  r->cfg.max_vertices, &binned, stats, first);
         for (uint32_t tx = 0; tx < r->cfg.width; tx += tw) {
             uint16_t x0 = (uint16_t)tx, y0 = (uint16_t)ty;
             uint16_t x1 = (uint16_t)(tx + tw > r->cfg.width ? r->cfg.width : tx + tw);
@@ -473,28 +603,18 @@ psc_status_t psc_3d_render(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, 
                            x1, y1, r->aa ? &r->abuf : NULL},
                 .rect_q4 = {(int32_t)x0 * 16, (int32_t)y0 * 16, (int32_t)x1 * 16, (int32_t)y1 * 16},
                 .stats = stats,
-                .count_once = first,
+                .count_once = first, /* (a binned row counted its culled triangles; draw_clipped the clipped) */
             };
-            base = 0;
-            for (unsigned i = 0; i < n; i++) {
-                const psc_3d_draw_t *d = &draws[i];
-                t.state = (psc_raster_state_t){
-                    .shade = d->shade,
-                    .filter = d->filter,
-                    .blend = d->blend,
-                    .depth_test = d->depth_test,
-                    .modulate = d->shade == PSC_SHADE_TEXTURE && d->lit,
-                    .texture = d->texture ? d->texture : &d->mesh->texture,
-                    .view_tex = {d->view_tex[0], d->view_tex[1], d->view_tex[2]},
-                    .view_w_q8 = {d->view_w_q8[0], d->view_w_q8[1], d->view_w_q8[2]},
-                    .views_mask = d->views_mask,
-                    .mask_color = d->color,
-                };
-                if (d->shade == PSC_SHADE_PHONG)
-                    phong_state(d, &t.state);
-                r->abuf.surface = (uint16_t)(i + 1u); /* fragments of one draw merge */
-                draw_mesh(&t, d, cache + base);
-                base += d->mesh->vertex_count;
+            if (row_binned) {
+                draw_binned(&t, draws, cache, bins, binned, x0, x1);
+            } else {
+                base = 0;
+                for (unsigned i = 0; i < n; i++) {
+                    draw_state(&draws[i], &t.state);
+                    r->abuf.surface = (uint16_t)(i + 1u); /* fragments of one draw merge */
+                    draw_mesh(&t, &draws[i], cache + base);
+                    base += draws[i].mesh->vertex_count;
+                }
             }
             if (r->aa) {
                 psc_abuffer_resolve(&r->abuf, out, x0, y0, x1, y1, r->depth, (uint32_t)(x1 - x0) * (r->cfg.depth_bits / 8u),

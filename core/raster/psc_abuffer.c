@@ -7,16 +7,14 @@
 
 _Static_assert(sizeof(psc_abuf_fragment_t) == PSC_ABUF_FRAGMENT_BYTES, "fragment size is documented");
 
+/* Bits set in the low 16 (a few operations: __builtin_popcount is a library call without a popcount instruction). */
 static unsigned popcount16(uint32_t m)
 {
-#if defined(__GNUC__) || defined(__clang__)
-    return (unsigned)__builtin_popcount(m & 0xFFFFu);
-#else
-    unsigned n = 0;
-    for (m &= 0xFFFFu; m; m &= m - 1u)
-        n++;
-    return n;
-#endif
+    m &= 0xFFFFu;
+    m -= (m >> 1) & 0x5555u;
+    m = (m & 0x3333u) + ((m >> 2) & 0x3333u);
+    m = (m + (m >> 4)) & 0x0F0Fu;
+    return (m + (m >> 8)) & 0x1Fu;
 }
 
 size_t psc_abuffer_bytes(uint32_t pixels, uint32_t fragments)

@@ -99,6 +99,54 @@ static int64_t clamp64(int64_t v, int64_t lo, int64_t hi)
     return v < lo ? lo : v > hi ? hi : v;
 }
 
+/* 2^24 / (256 + i + 0.5), i = 0..255: 1/M for the mantissa M of the perspective weight, Q1.15
+ * (`python3 -c "print([round(2**24 / (256 + i + 0.5)) for i in range(256)])"`). */
+static const uint16_t rcp_mantissa_q15[256] = {
+    65408, 65154, 64902, 64652, 64404, 64158, 63913, 63671, 63430, 63191, 62954, 62719,
+    62485, 62253, 62023, 61795, 61568, 61343, 61119, 60897, 60677, 60458, 60241, 60026,
+    59812, 59599, 59388, 59179, 58971, 58764, 58559, 58356, 58153, 57952, 57753, 57555,
+    57358, 57163, 56968, 56776, 56584, 56394, 56205, 56017, 55831, 55646, 55462, 55279,
+    55098, 54917, 54738, 54560, 54383, 54207, 54033, 53859, 53687, 53516, 53346, 53177,
+    53009, 52842, 52676, 52511, 52347, 52184, 52022, 51862, 51702, 51543, 51385, 51228,
+    51072, 50917, 50763, 50610, 50458, 50306, 50156, 50007, 49858, 49710, 49563, 49417,
+    49272, 49128, 48985, 48842, 48700, 48559, 48419, 48280, 48141, 48003, 47867, 47730,
+    47595, 47460, 47326, 47193, 47061, 46929, 46798, 46668, 46539, 46410, 46282, 46155,
+    46028, 45902, 45777, 45652, 45528, 45405, 45283, 45161, 45040, 44919, 44799, 44680,
+    44561, 44443, 44326, 44209, 44093, 43977, 43862, 43748, 43634, 43521, 43408, 43296,
+    43185, 43074, 42963, 42854, 42744, 42636, 42528, 42420, 42313, 42207, 42101, 41996,
+    41891, 41786, 41683, 41579, 41476, 41374, 41272, 41171, 41070, 40970, 40870, 40771,
+    40672, 40574, 40476, 40378, 40281, 40185, 40089, 39993, 39898, 39804, 39709, 39616,
+    39522, 39429, 39337, 39245, 39153, 39062, 38971, 38881, 38791, 38702, 38613, 38524,
+    38436, 38348, 38260, 38173, 38087, 38000, 37915, 37829, 37744, 37659, 37575, 37491,
+    37407, 37324, 37241, 37159, 37077, 36995, 36914, 36833, 36752, 36672, 36592, 36512,
+    36433, 36354, 36275, 36197, 36119, 36041, 35964, 35887, 35810, 35734, 35658, 35583,
+    35507, 35432, 35358, 35283, 35209, 35136, 35062, 34989, 34916, 34844, 34771, 34700,
+    34628, 34557, 34486, 34415, 34344, 34274, 34204, 34135, 34065, 33996, 33928, 33859,
+    33791, 33723, 33655, 33588, 33521, 33454, 33387, 33321, 33255, 33189, 33124, 33059,
+    32994, 32929, 32864, 32800,
+};
+
+/* 2^40 / q for the perspective weight q in [2^12, 2^28], within 2^-19 (relative): the table's 2^-10 and one
+ * Newton step; a 64-bit division a pixel costs more than the rest of a bilinear texel's work. */
+static PSC_ALWAYS_INLINE int64_t recip40(int64_t q)
+{
+    uint32_t v = (uint32_t)q;
+    unsigned lz = 0;
+#if defined(__GNUC__) || defined(__clang__)
+    lz = (unsigned)__builtin_clz(v);
+#else
+    while (!(v << lz & 0x80000000u))
+        lz++;
+#endif
+    uint32_t m = v << lz;                                           /* [2^31, 2^32): M = m / 2^32 */
+    uint64_t y = (uint64_t)rcp_mantissa_q15[(m >> 23) - 256u] << 15; /* Q30 of 1/M */
+    uint64_t e = ((uint64_t)m * y) >> 32;                           /* Q30 of M y, about 1 */
+    y = (y * ((UINT64_C(1) << 31) - e)) >> 30;                      /* y (2 - M y) */
+    /* 2^40 / q = 2^(8 + lz) / M */
+    unsigned sh = 22u - lz;
+    return (int64_t)((y + ((uint64_t)1 << (sh - 1u))) >> sh);
+}
+
 /* ---- texels and pixels -------------------------------------------------------- */
 
 static PSC_ALWAYS_INLINE uint32_t texel(const psc_texture_t *t, int fmt565, uint32_t x, uint32_t y)
@@ -200,18 +248,22 @@ static const uint16_t coverage_first[17] = {
 static const uint16_t inv_count_q16[17] = {0,    65535, 32768, 21845, 16384, 13107, 10923, 9362, 8192,
                                            7282, 6554,  5958,  5461,  5041,  4681,  4369,  4096};
 
+/* For each 4-bit row of a coverage mask: its samples, and the sum of their x offsets in 1/16 pixel. */
+static const uint8_t nibble_count[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+static const int8_t nibble_sum_q4[16] = {0, -6, -2, -8, 2, -4, 0, -6, 6, 0, 4, -2, 8, 2, 6, 0};
+
 /* Where a partly covered pixel takes its attributes: the centroid of its covered samples, rounded to 1/16 pixel
  * (inside the triangle: the centre may lie far outside a sliver, where the planes extrapolate to nonsense; and a
  * linear attribute's mean over those samples is its value there). Offsets from the centre in 1/16 pixel. */
 static PSC_ALWAYS_INLINE void covered_centroid(uint32_t cover, int64_t *ox, int64_t *oy)
 {
     int32_t x = 0, y = 0, n = 0;
-    for (unsigned b = 0; b < 16u; b++)
-        if (cover >> b & 1u) {
-            x += sample_off_q4[b & 3u];
-            y += sample_off_q4[b >> 2];
-            n++;
-        }
+    for (unsigned j = 0; j < 4u; j++) {
+        uint32_t row = cover >> (4u * j) & 15u;
+        x += nibble_sum_q4[row];
+        y += sample_off_q4[j] * nibble_count[row];
+        n += nibble_count[row];
+    }
     *ox = (x * inv_count_q16[n] + 32768) >> 16;
     *oy = (y * inv_count_q16[n] + 32768) >> 16;
 }
@@ -222,20 +274,33 @@ static PSC_ALWAYS_INLINE uint64_t plane_at(const plane_t *p, uint64_t v, int64_t
     return v + (uint64_t)(((int64_t)p->step_x >> 4) * ox) + (uint64_t)(((int64_t)p->step_y >> 4) * oy);
 }
 
-/* The samples inside the triangle, from the three edge values at the pixel centre. */
+/* The samples of a pixel on the inside of edge k, whose value at the pixel centre is e. */
+static PSC_ALWAYS_INLINE uint32_t edge_samples(const setup_t *s, unsigned k, int64_t e)
+{
+    uint32_t m = 0;
+    for (unsigned j = 0; j < 4; j++) {
+        int64_t r = e + s->arow[k][j];
+        for (unsigned i = 0; i < 4; i++)
+            m |= (uint32_t)(r + s->acol[k][i] >= 0) << (4u * j + i);
+    }
+    return m;
+}
+
+/* The samples inside the triangle, from the three edge values at the pixel centre: only the edges that cross the
+ * pixel are sampled (one, mostly). */
 static PSC_ALWAYS_INLINE uint32_t sample_mask(const setup_t *s, int64_t e0, int64_t e1, int64_t e2)
 {
     if (((e0 - s->am[0]) | (e1 - s->am[1]) | (e2 - s->am[2])) >= 0)
         return PSC_ABUF_FULL;          /* every sample inside: the common case */
     if (((e0 + s->am[0]) | (e1 + s->am[1]) | (e2 + s->am[2])) < 0)
         return 0;                      /* an edge has every sample outside */
-    uint32_t m = 0;
-    for (unsigned j = 0; j < 4; j++) {
-        int64_t r0 = e0 + s->arow[0][j], r1 = e1 + s->arow[1][j], r2 = e2 + s->arow[2][j];
-        for (unsigned i = 0; i < 4; i++)
-            if (((r0 + s->acol[0][i]) | (r1 + s->acol[1][i]) | (r2 + s->acol[2][i])) >= 0)
-                m |= 1u << (4u * j + i);
-    }
+    uint32_t m = PSC_ABUF_FULL;
+    if (e0 < s->am[0])
+        m &= edge_samples(s, 0, e0);
+    if (e1 < s->am[1])
+        m &= edge_samples(s, 1, e1);
+    if (e2 < s->am[2])
+        m &= edge_samples(s, 2, e2);
     return m;
 }
 
@@ -347,7 +412,7 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
                             vv = plane_value(pv, UV_F);
                         } else { /* one division per pixel: 1/q, then u = (u/w) / (1/w) */
                             int64_t qq = clamp64(plane_value(pq, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
-                            int64_t inv = (INT64_C(1) << 40) / qq; /* 2^12 .. 2^28 */
+                            int64_t inv = recip40(qq); /* 2^12 .. 2^28 */
                             uu = psc_shr_round64(plane_value(pu, UV_F) * inv, 24);
                             vv = psc_shr_round64(plane_value(pv, UV_F) * inv, 24);
                         }
@@ -511,7 +576,7 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                     int64_t inv = 0;
                     if (!affine) {
                         int64_t qq = clamp64(plane_value(pq, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
-                        inv = (INT64_C(1) << 40) / qq;
+                        inv = recip40(qq);
                     }
                     uint32_t cov = 0, acc[3] = {0, 0, 0}, left = 65536u;
                     for (unsigned k = 0; k < 3; k++) {
