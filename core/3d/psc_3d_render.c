@@ -56,12 +56,21 @@ static bool tiled(const psc_3d_config_t *c)
     return c->tile_width != 0 && (c->tile_width < c->width || c->tile_height < c->height);
 }
 
+/* Tile mode: entries of a row of tiles' triangle list, 4 x max_vertices shared among the rows (a mesh has about
+ * 2 triangles a vertex, and a triangle may reach two rows). */
+static uint32_t bin_capacity(const psc_3d_config_t *c)
+{
+    uint32_t th = c->tile_height && c->tile_height < c->height ? c->tile_height : c->height;
+    uint32_t rows = (c->height + th - 1u) / th;
+    return (uint32_t)((uint64_t)c->max_vertices * 4u / rows) + 256u;
+}
+
 size_t psc_3d_workspace_size(const psc_3d_config_t *c)
 {
     if (!config_ok(c))
         return 0;
     return align8(psc_3d_depth_bytes(c)) + (size_t)c->max_vertices * sizeof(vcache_t) +
-           (tiled(c) ? (size_t)c->max_vertices * PSC_3D_BIN_BYTES : 0);
+           (tiled(c) ? (size_t)bin_capacity(c) * PSC_3D_BIN_BYTES : 0);
 }
 
 psc_status_t psc_3d_init(psc_3d_t *r, const psc_3d_config_t *cfg, void *ws, size_t ws_size)
@@ -589,7 +598,7 @@ psc_status_t psc_3d_render(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, 
         uint32_t binned = 0;
         bool row_binned = bins &&
                           bin_row(r, draws, n, cache, ty, ty + th > r->cfg.height ? r->cfg.height : ty + th, bins,
-                                  r->cfg.max_vertices, &binned, stats, first);
+                                  bin_capacity(&r->cfg), &binned, stats, first);
         for (uint32_t tx = 0; tx < r->cfg.width; tx += tw) {
             uint16_t x0 = (uint16_t)tx, y0 = (uint16_t)ty;
             uint16_t x1 = (uint16_t)(tx + tw > r->cfg.width ? r->cfg.width : tx + tw);

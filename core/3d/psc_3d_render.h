@@ -20,9 +20,9 @@
  *     volume uses the cache; one outside a common plane is dropped; the others
  *     are clipped (psc_clip_polygon), projected and drawn as a fan.
  *     Tile mode bins: each row of tiles first lists the triangles that reach
- *     it, culled once, with the tiles they span (up to max_vertices entries,
- *     PSC_3D_BIN_BYTES each; a busier row, or a screen more than 256 tiles
- *     wide, scans every triangle for each of its tiles instead).
+ *     it, culled once, with the columns they span (up to 4 x max_vertices /
+ *     rows + 256 entries of PSC_3D_BIN_BYTES; a busier row scans every
+ *     triangle for each of its tiles instead).
  *  3. Back-face culling (per draw) uses the projected winding: front faces
  *     have a positive doubled area (clockwise on the screen, psc_mesh.h),
  *     which after near-plane clipping is exactly the seed's V.N < 0 test.
@@ -32,7 +32,7 @@
  * Memory (all from the caller's workspace, sized by psc_3d_workspace_size):
  *  - depth: tile_width x tile_height (or width x height) x 2 or 4 bytes;
  *  - vertex cache: PSC_3D_VERTEX_CACHE_BYTES per vertex of a frame;
- *  - tile mode: a row's triangle list, PSC_3D_BIN_BYTES per vertex;
+ *  - tile mode: a row's triangle list (above);
  *  - optionally the A-buffer (psc_3d_set_abuffer): a budget of its own,
  *    4 bytes a pixel of a tile plus 16 a fragment; edges are anti-aliased
  *    tile by tile, so tiles bring it down as they do the depth buffer.
@@ -103,7 +103,7 @@ typedef struct {
 
 /* Bytes of vertex cache per vertex. */
 #define PSC_3D_VERTEX_CACHE_BYTES 128u
-/* Tile mode: bytes of a row of tiles' triangle list, per vertex of max_vertices (psc_3d_render.h's step 2). */
+/* Tile mode: bytes an entry of a row of tiles' triangle list (psc_3d_render.h's step 2). */
 #define PSC_3D_BIN_BYTES 12u
 
 typedef struct {
@@ -113,7 +113,7 @@ typedef struct {
     void *depth;             /* tile or screen depth buffer */
     size_t depth_bytes;
     void *cache;             /* max_vertices entries */
-    void *bins;              /* tile mode: a row of tiles' triangle list, max_vertices entries; else NULL */
+    void *bins;              /* tile mode: a row of tiles' triangle list; else NULL */
     uint16_t *depth_out;     /* optional: width x height receives the final depth (top 16 bits) */
     bool aa;                 /* psc_3d_set_abuffer given */
     psc_abuffer_t abuf;      /* over one tile (the screen without tiles) */

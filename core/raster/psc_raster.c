@@ -533,8 +533,8 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                                              const int bilinear, const int affine, const int aa)
 {
     const uint32_t head_w = (uint32_t)(t->x1 - t->x0);
-    /* Without the A-buffer a pixel needs half the weight; with it, a sixteenth (one sample's worth, rounded). */
-    const uint32_t enough = aa ? 2048u : 32768u;
+    /* Without the A-buffer a pixel needs half the weight; with it, what the ramp below turns into one sample. */
+    const uint32_t enough = aa ? 30720u : 32768u;
     uint32_t written = 0;
     int64_t e0r = s->e[0], e1r = s->e[1], e2r = s->e[2];
     uint64_t dr = s->depth.base, qr = s->q.base, ur[3], vr[3];
@@ -592,8 +592,11 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                         view_sample(st->view_tex[k], clamp64(uu, 0, 65536), clamp64(vv, 0, 65536), wk, bilinear, &cov,
                                     acc);
                     }
-                    if (aa) /* alpha to coverage: the first round(16 cov) samples of the dispersed order */
-                        cover &= coverage_first[(cov * 16u + 32768u) >> 16];
+                    if (aa) { /* alpha to coverage, ramped 16x steeper about the alpha test's one half */
+                        int32_t ramp = ((int32_t)cov - 32768) * 16 + 32768;
+                        ramp = ramp < 0 ? 0 : ramp > 65536 ? 65536 : ramp;
+                        cover &= coverage_first[((uint32_t)ramp * 16u + 32768u) >> 16];
+                    }
                     else if (cov < 32768u)
                         cover = 0;
                     if (cover != 0) {

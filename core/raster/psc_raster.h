@@ -56,8 +56,10 @@
  *    the triangle covers the centre), and the A-buffer blends it at the
  *    resolve. View textures turn their coverage
  *    into samples too (alpha to coverage: round(16 x coverage) samples of
- *    the geometric mask in a dispersed order), so image-based silhouettes are
- *    smoothed as well. Which pixels are covered stays independent of where a
+ *    the geometric mask in a dispersed order, the coverage first ramped 16x
+ *    steeper about the alpha test's one half: the views' coverage is blurred
+ *    over a texel, which may span several pixels), so image-based
+ *    silhouettes are smoothed as well. Which pixels are covered stays independent of where a
  *    tile starts.
  *  - Phong shading (PSC_SHADE_PHONG): the vertex colours (unlit) and the
  *    vertex normals n_q14 are planes, linear on the screen like Gouraud's

@@ -19,9 +19,10 @@
  * A patch pack (core/patch/psc_patch.h) instead (PACK.ppk, or
  * PACK.ppk,SHADOW.pao for its self-shadowing too): a character posed, its
  * patches tessellated and drawn by the 3D pipeline at 160x120,
- *   VIEW = FORMAT,ACTION,TIME_MS,YAW,PITCH,TOL_PX_Q16
+ *   VIEW = FORMAT,ACTION,TIME_MS,YAW,PITCH,TOL_PX_Q16[,LOOK]
  *     ACTION an index into the pack's actions or -1 (the rest pose), the
- *     orbit camera at 2.5 R with hfov 50 degrees.
+ *     orbit camera at 2.5 R with hfov 50 degrees; LOOK phong, aa (the
+ *     A-buffer, 32-pixel tiles with 16 KB each) or phong+aa.
  * A proxy pack (core/proxy/psc_proxy.h, PACK.ppx): the model posed at its
  * animation's time and drawn at 160x120 as its proxies, full mesh or billboard,
  *   VIEW = FORMAT,LOD,TIME_US,YAW,PITCH,DIST_Q16
@@ -176,18 +177,21 @@ static int render_views(const psc_pack_t *pack, FILE *out, char **specs, int cou
 #define PATCH_W 160u
 #define PATCH_H 120u
 
+#define PATCH_ABUF_BYTES (16u << 10)
+
 static int render_patch_view(const psc_patch_model_t *m, psc_patch_t *p, psc_shadow_t *sh, void *ws3d,
-                             size_t ws3d_size, char *spec, void *pixels, FILE *out)
+                             size_t ws3d_size, void *abuf, char *spec, void *pixels, FILE *out)
 {
-    char *field[6];
+    char *field[7];
     unsigned n = 0;
     int32_t action, pitch, tol;
     uint32_t time_ms, yaw;
     psc_pixfmt_t format;
 
-    for (char *tok = strtok(spec, ","); tok && n < 6; tok = strtok(NULL, ","))
+    for (char *tok = strtok(spec, ","); tok && n < 7; tok = strtok(NULL, ","))
         field[n++] = tok;
-    if (n != 6 || (strcmp(field[0], "rgb565") != 0 && strcmp(field[0], "xrgb8888") != 0) ||
+    bool phong = n == 7 && strstr(field[6], "phong") != NULL, aa = n == 7 && strstr(field[6], "aa") != NULL;
+    if ((n != 6 && n != 7) || (strcmp(field[0], "rgb565") != 0 && strcmp(field[0], "xrgb8888") != 0) ||
         parse_i32(field[1], &action) != 0 || parse_u32(field[2], &time_ms) != 0 || parse_u32(field[3], &yaw) != 0 ||
         parse_i32(field[4], &pitch) != 0 || parse_i32(field[5], &tol) != 0 || tol <= 0) {
         fprintf(stderr, PROG ": bad view (FORMAT,ACTION,TIME_MS,YAW,PITCH,TOL_PX_Q16)\n");
@@ -195,7 +199,8 @@ static int render_patch_view(const psc_patch_model_t *m, psc_patch_t *p, psc_sha
     }
     format = strcmp(field[0], "rgb565") == 0 ? PSC_PIX_RGB565 : PSC_PIX_XRGB8888;
     psc_bam_t hfov = 0x238E38E4u;   /* 50 degrees */
-    psc_3d_config_t cfg = {PATCH_W, PATCH_H, 0, 0, 32, hfov, 0, 0, PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES};
+    psc_3d_config_t cfg = {PATCH_W, PATCH_H, aa ? 32 : 0, aa ? 32 : 0, 32, hfov, 0, 0,
+                           PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES};
     psc_vec3_q16_t lo = {m->lo_q16[0], m->lo_q16[1], m->lo_q16[2]}, hi = {m->hi_q16[0], m->hi_q16[1], m->hi_q16[2]};
     psc_patch_camera_t cam = {0};
     psc_status_t s = psc_3d_orbit(lo, hi, yaw, pitch, 5 * PSC_Q16_ONE / 2, &cam.camera_from_object, &cfg.near_q16,
@@ -218,10 +223,17 @@ static int render_patch_view(const psc_patch_model_t *m, psc_patch_t *p, psc_sha
     }
     if (s == PSC_OK)
         s = psc_3d_init(&r, &cfg, ws3d, ws3d_size);
+    if (s == PSC_OK && aa)
+        s = psc_3d_set_abuffer(&r, abuf, PATCH_ABUF_BYTES);
     psc_surface_t surf = {PATCH_W, PATCH_H, PATCH_W * psc_pixfmt_bytes(format), format, pixels};
     if (s == PSC_OK) {
         psc_3d_draw_t d[PSC_PATCH_MAX_BATCHES];
         unsigned draws = psc_patch_draws(p, &cam, d);
+        for (unsigned i = 0; i < draws && phong; i++) {
+            d[i].shade = PSC_SHADE_PHONG;
+            d[i].specular_q8 = 90;
+            d[i].shininess = 24;
+        }
         uint32_t bg = 0x30343Cu;
         s = psc_3d_render(&r, d, draws, &bg, &surf, NULL);
     }
@@ -240,17 +252,18 @@ static int render_patch(const void *buf, size_t len, const void *sbuf, size_t sl
     psc_patch_model_t m;
     psc_container_error_t e;
     psc_patch_limits_t lim = {PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES, 1u << 20, PSC_PATCH_MAX_DEPTH};
-    psc_3d_config_t cfg = {PATCH_W, PATCH_H, 0, 0, 32, 0x238E38E4u, PSC_Q16_ONE, 4 * PSC_Q16_ONE,
+    /* sized for tiles too (the aa views use them) */
+    psc_3d_config_t cfg = {PATCH_W, PATCH_H, 32, 32, 32, 0x238E38E4u, PSC_Q16_ONE, 4 * PSC_Q16_ONE,
                            PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES};
     psc_patch_t p;
-    void *ws = NULL, *ws3d = NULL, *pixels = NULL;
+    void *ws = NULL, *ws3d = NULL, *pixels = NULL, *abuf = NULL;
     int rc = 1;
 
     if (psc_patch_parse(buf, len, &m, &e) != PSC_OK)
         return fail("not a valid patch pack", e.what);
     size_t ws_size = psc_patch_workspace_size(&m, &lim), ws3d_size = psc_3d_workspace_size(&cfg);
     if (posix_memalign(&ws, 64, ws_size) != 0 || posix_memalign(&ws3d, 64, ws3d_size) != 0 ||
-        posix_memalign(&pixels, 64, PATCH_W * PATCH_H * 4) != 0) {
+        posix_memalign(&pixels, 64, PATCH_W * PATCH_H * 4) != 0 || posix_memalign(&abuf, 64, PATCH_ABUF_BYTES) != 0) {
         rc = fail("out of memory", NULL);
     } else if (psc_patch_init(&p, &m, &lim, ws, ws_size) != PSC_OK) {
         rc = fail("cannot set up the tessellator", NULL);
@@ -261,11 +274,12 @@ static int render_patch(const void *buf, size_t len, const void *sbuf, size_t sl
     } else {
         rc = 0;
         for (int i = 0; i < count && rc == 0; i++)
-            rc = render_patch_view(&m, &p, sbuf ? &sh : NULL, ws3d, ws3d_size, specs[i], pixels, out);
+            rc = render_patch_view(&m, &p, sbuf ? &sh : NULL, ws3d, ws3d_size, abuf, specs[i], pixels, out);
     }
     free(sh_ws);
     free(pixels);
     free(ws3d);
+    free(abuf);
     free(ws);
     return rc;
 }
