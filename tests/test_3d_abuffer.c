@@ -43,11 +43,9 @@
 #define INTERIOR_LEVELS 3
 #define MAX_INTERIOR_RMS 1.0
 
-typedef enum { SH_CUBE, SH_SPHERE, SH_TORUS, SH_TEAPOT } shape_t;
-
 typedef struct {
     const char *name;
-    shape_t shape;
+    tsup_shape_t shape;
     psc_shade_t shade;
     double yaw, pitch, dist, hfov;
     psc_pixfmt_t fmt;
@@ -56,22 +54,12 @@ typedef struct {
 } view_t;
 
 static const view_t views[] = {
-    {"cube flat", SH_CUBE, PSC_SHADE_FLAT, 30, -25, 3.0, 60, PSC_PIX_XRGB8888, 32, 0},
-    {"sphere gouraud, 16-bit depth", SH_SPHERE, PSC_SHADE_GOURAUD, 10, 20, 3.0, 50, PSC_PIX_XRGB8888, 16, 0},
-    {"torus texture, tiles", SH_TORUS, PSC_SHADE_TEXTURE, 0, -35, 2.0, 65, PSC_PIX_XRGB8888, 32, 32},
-    {"teapot phong", SH_TEAPOT, PSC_SHADE_PHONG, -40, -30, 2.0, 60, PSC_PIX_XRGB8888, 32, 0},
-    {"teapot gouraud, rgb565", SH_TEAPOT, PSC_SHADE_GOURAUD, 150, -10, 1.8, 60, PSC_PIX_RGB565, 32, 48},
+    {"cube flat", TSUP_CUBE, PSC_SHADE_FLAT, 30, -25, 3.0, 60, PSC_PIX_XRGB8888, 32, 0},
+    {"sphere gouraud, 16-bit depth", TSUP_SPHERE, PSC_SHADE_GOURAUD, 10, 20, 3.0, 50, PSC_PIX_XRGB8888, 16, 0},
+    {"torus texture, tiles", TSUP_TORUS, PSC_SHADE_TEXTURE, 0, -35, 2.0, 65, PSC_PIX_XRGB8888, 32, 32},
+    {"teapot phong", TSUP_TEAPOT, PSC_SHADE_PHONG, -40, -30, 2.0, 60, PSC_PIX_XRGB8888, 32, 0},
+    {"teapot gouraud, rgb565", TSUP_TEAPOT, PSC_SHADE_GOURAUD, 150, -10, 1.8, 60, PSC_PIX_RGB565, 32, 48},
 };
-
-static void make_shape(shape_t s, psc_model_t *g)
-{
-    switch (s) {
-    case SH_CUBE: psc_model_cube(g, 1.0); break;
-    case SH_SPHERE: psc_model_sphere(g, 1.0, 40, 21); break;
-    case SH_TORUS: psc_model_torus(g, 1.0, 0.4, 48, 20); break;
-    case SH_TEAPOT: psc_model_teapot(g, 8); break;
-    }
-}
 
 /* A renderer with the A-buffer on (fragments a tile; 0: off) and what it drew. */
 typedef struct {
@@ -178,8 +166,8 @@ static void test_silhouettes_against_supersampled(void **state)
     for (size_t vi = 0; vi < sizeof views / sizeof views[0]; vi++) {
         const view_t *v = &views[vi];
         psc_model_t g;
-        make_shape(v->shape, &g);
-        if (v->shade != PSC_SHADE_TEXTURE && v->shape != SH_TEAPOT)
+        tsup_shape_make(v->shape, &g);
+        if (v->shade != PSC_SHADE_TEXTURE && v->shape != TSUP_TEAPOT)
             psc_model_color_by_index(&g, (uint32_t)vi);
         tsup_mesh_t m;
         assert_int_equal(tsup_mesh_from_geom(&m, &g, 1), 0);
@@ -274,7 +262,7 @@ static void test_two_objects_and_tiles(void **state)
     assert_int_equal(tsup_mesh_from_geom(&ms, &gs, 0), 0);
     mc.mesh.base_color = 0x40A0E0;
     ms.mesh.base_color = 0xE0A040;
-    view_t v = {"two", SH_CUBE, PSC_SHADE_GOURAUD, 25, -20, 3.2, 60, PSC_PIX_XRGB8888, 32, 0};
+    view_t v = {"two", TSUP_CUBE, PSC_SHADE_GOURAUD, 25, -20, 3.2, 60, PSC_PIX_XRGB8888, 32, 0};
     psc_3d_draw_t d[2];
     setup_draw(&d[0], &mc, &v, NULL);
     setup_draw(&d[1], &ms, &v, NULL);

@@ -39,11 +39,9 @@
 #define MAX_BAD_FRACTION 0.006
 #define BAD_LEVELS 24.0
 
-typedef enum { SH_CUBE, SH_SPHERE, SH_TORUS, SH_TEAPOT } shape_t;
-
 typedef struct {
     const char *name;
-    shape_t shape;
+    tsup_shape_t shape;
     psc_shade_t shade;
     psc_tex_filter_t filter;
     bool lit, cull, normalised;
@@ -54,34 +52,24 @@ typedef struct {
 } view_t;
 
 static const view_t views[] = {
-    {"cube flat", SH_CUBE, PSC_SHADE_FLAT, PSC_TEX_NEAREST, false, true, false, 30, -25, 3.0, 60, PSC_PIX_RGB565, 32, 0},
-    {"cube gouraud lit", SH_CUBE, PSC_SHADE_GOURAUD, PSC_TEX_NEAREST, true, true, true, -50, 35, 2.6, 70, PSC_PIX_XRGB8888, 16, 0},
-    {"cube texture bilinear", SH_CUBE, PSC_SHADE_TEXTURE, PSC_TEX_BILINEAR, false, true, false, 20, -30, 2.2, 75, PSC_PIX_XRGB8888, 32, 32},
-    {"cube texture nearest", SH_CUBE, PSC_SHADE_TEXTURE, PSC_TEX_NEAREST, false, true, false, 200, 10, 2.4, 60, PSC_PIX_RGB565, 32, 0},
-    {"sphere outside gouraud", SH_SPHERE, PSC_SHADE_GOURAUD, PSC_TEX_NEAREST, true, true, true, 10, 20, 3.0, 50, PSC_PIX_RGB565, 32, 0},
-    {"sphere outside texture lit", SH_SPHERE, PSC_SHADE_TEXTURE, PSC_TEX_BILINEAR, true, true, false, -70, -15, 2.5, 60, PSC_PIX_XRGB8888, 32, 16},
-    {"sphere inside texture", SH_SPHERE, PSC_SHADE_TEXTURE, PSC_TEX_BILINEAR, false, false, false, 35, 10, 0.3, 100, PSC_PIX_XRGB8888, 32, 0},
-    {"sphere inside gouraud", SH_SPHERE, PSC_SHADE_GOURAUD, PSC_TEX_NEAREST, false, false, false, -120, -40, 0.0625, 120, PSC_PIX_RGB565, 16, 0},
-    {"torus texture bilinear", SH_TORUS, PSC_SHADE_TEXTURE, PSC_TEX_BILINEAR, true, true, false, 0, -35, 2.0, 65, PSC_PIX_RGB565, 32, 0},
-    {"torus flat", SH_TORUS, PSC_SHADE_FLAT, PSC_TEX_NEAREST, true, true, true, 75, -60, 2.5, 60, PSC_PIX_XRGB8888, 32, 24},
-    {"teapot gouraud lit", SH_TEAPOT, PSC_SHADE_GOURAUD, PSC_TEX_NEAREST, true, true, true, -40, -30, 2.0, 60, PSC_PIX_RGB565, 32, 0},
-    {"teapot texture lit", SH_TEAPOT, PSC_SHADE_TEXTURE, PSC_TEX_BILINEAR, true, true, true, 150, -10, 1.8, 60, PSC_PIX_XRGB8888, 32, 0},
-    {"teapot close, no culling", SH_TEAPOT, PSC_SHADE_GOURAUD, PSC_TEX_NEAREST, true, false, true, 90, -5, 0.9, 90, PSC_PIX_RGB565, 16, 40},
-    {"sphere phong", SH_SPHERE, PSC_SHADE_PHONG, PSC_TEX_NEAREST, true, true, true, 25, 15, 3.0, 50, PSC_PIX_XRGB8888, 32, 0},
-    {"teapot phong", SH_TEAPOT, PSC_SHADE_PHONG, PSC_TEX_NEAREST, true, true, true, -40, -30, 2.0, 60, PSC_PIX_XRGB8888, 32, 0},
-    {"torus phong tiled", SH_TORUS, PSC_SHADE_PHONG, PSC_TEX_NEAREST, true, true, true, 0, -35, 2.0, 65, PSC_PIX_RGB565, 16, 32},
-    {"cube phong (flat normals)", SH_CUBE, PSC_SHADE_PHONG, PSC_TEX_NEAREST, true, true, false, -50, 35, 2.6, 70, PSC_PIX_XRGB8888, 32, 0},
+    {"cube flat", TSUP_CUBE, PSC_SHADE_FLAT, PSC_TEX_NEAREST, false, true, false, 30, -25, 3.0, 60, PSC_PIX_RGB565, 32, 0},
+    {"cube gouraud lit", TSUP_CUBE, PSC_SHADE_GOURAUD, PSC_TEX_NEAREST, true, true, true, -50, 35, 2.6, 70, PSC_PIX_XRGB8888, 16, 0},
+    {"cube texture bilinear", TSUP_CUBE, PSC_SHADE_TEXTURE, PSC_TEX_BILINEAR, false, true, false, 20, -30, 2.2, 75, PSC_PIX_XRGB8888, 32, 32},
+    {"cube texture nearest", TSUP_CUBE, PSC_SHADE_TEXTURE, PSC_TEX_NEAREST, false, true, false, 200, 10, 2.4, 60, PSC_PIX_RGB565, 32, 0},
+    {"sphere outside gouraud", TSUP_SPHERE, PSC_SHADE_GOURAUD, PSC_TEX_NEAREST, true, true, true, 10, 20, 3.0, 50, PSC_PIX_RGB565, 32, 0},
+    {"sphere outside texture lit", TSUP_SPHERE, PSC_SHADE_TEXTURE, PSC_TEX_BILINEAR, true, true, false, -70, -15, 2.5, 60, PSC_PIX_XRGB8888, 32, 16},
+    {"sphere inside texture", TSUP_SPHERE, PSC_SHADE_TEXTURE, PSC_TEX_BILINEAR, false, false, false, 35, 10, 0.3, 100, PSC_PIX_XRGB8888, 32, 0},
+    {"sphere inside gouraud", TSUP_SPHERE, PSC_SHADE_GOURAUD, PSC_TEX_NEAREST, false, false, false, -120, -40, 0.0625, 120, PSC_PIX_RGB565, 16, 0},
+    {"torus texture bilinear", TSUP_TORUS, PSC_SHADE_TEXTURE, PSC_TEX_BILINEAR, true, true, false, 0, -35, 2.0, 65, PSC_PIX_RGB565, 32, 0},
+    {"torus flat", TSUP_TORUS, PSC_SHADE_FLAT, PSC_TEX_NEAREST, true, true, true, 75, -60, 2.5, 60, PSC_PIX_XRGB8888, 32, 24},
+    {"teapot gouraud lit", TSUP_TEAPOT, PSC_SHADE_GOURAUD, PSC_TEX_NEAREST, true, true, true, -40, -30, 2.0, 60, PSC_PIX_RGB565, 32, 0},
+    {"teapot texture lit", TSUP_TEAPOT, PSC_SHADE_TEXTURE, PSC_TEX_BILINEAR, true, true, true, 150, -10, 1.8, 60, PSC_PIX_XRGB8888, 32, 0},
+    {"teapot close, no culling", TSUP_TEAPOT, PSC_SHADE_GOURAUD, PSC_TEX_NEAREST, true, false, true, 90, -5, 0.9, 90, PSC_PIX_RGB565, 16, 40},
+    {"sphere phong", TSUP_SPHERE, PSC_SHADE_PHONG, PSC_TEX_NEAREST, true, true, true, 25, 15, 3.0, 50, PSC_PIX_XRGB8888, 32, 0},
+    {"teapot phong", TSUP_TEAPOT, PSC_SHADE_PHONG, PSC_TEX_NEAREST, true, true, true, -40, -30, 2.0, 60, PSC_PIX_XRGB8888, 32, 0},
+    {"torus phong tiled", TSUP_TORUS, PSC_SHADE_PHONG, PSC_TEX_NEAREST, true, true, true, 0, -35, 2.0, 65, PSC_PIX_RGB565, 16, 32},
+    {"cube phong (flat normals)", TSUP_CUBE, PSC_SHADE_PHONG, PSC_TEX_NEAREST, true, true, false, -50, 35, 2.6, 70, PSC_PIX_XRGB8888, 32, 0},
 };
-
-static void make_shape(shape_t s, psc_model_t *g)
-{
-    switch (s) {
-    case SH_CUBE: psc_model_cube(g, 1.0); break;
-    case SH_SPHERE: psc_model_sphere(g, 1.0, 40, 21); break;
-    case SH_TORUS: psc_model_torus(g, 1.0, 0.4, 48, 20); break;
-    case SH_TEAPOT: psc_model_teapot(g, 8); break;
-    }
-}
 
 static void test_golden_views(void **state)
 {
@@ -96,8 +84,8 @@ static void test_golden_views(void **state)
     for (size_t i = 0; i < sizeof views / sizeof views[0]; i++) {
         const view_t *v = &views[i];
         psc_model_t g;
-        make_shape(v->shape, &g);
-        if (v->shade != PSC_SHADE_TEXTURE && v->shape != SH_TEAPOT)
+        tsup_shape_make(v->shape, &g);
+        if (v->shade != PSC_SHADE_TEXTURE && v->shape != TSUP_TEAPOT)
             psc_model_color_by_index(&g, (uint32_t)i);
         tsup_mesh_t m;
         assert_int_equal(tsup_mesh_from_geom(&m, &g, v->normalised), 0);

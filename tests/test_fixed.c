@@ -179,6 +179,20 @@ static void test_rsqrt(void **state)
             check_rsqrt(v, &worst);
     }
     print_message("  worst relative error beyond the rounding: %.2e (bound 2^-16 = %.2e)\n", worst, 1.0 / 65536);
+    /* psc_rsqrt46 over the whole 64-bit range (the shadows' normalising) */
+    double worst46 = 0;
+    assert_true(psc_rsqrt46(0) == UINT64_MAX);
+    for (int i = 0; i < 1000000; i++) {
+        uint64_t v = tsup_rng_u64(&rng) >> tsup_rng_below(&rng, 64);
+        if (v == 0)
+            continue;
+        long double want = 70368744177664.0L / sqrtl((long double)v), got = (long double)psc_rsqrt46(v);
+        double rel = (double)(fabsl(got - want) - 0.5L) / (double)want;
+        worst46 = rel > worst46 ? rel : worst46;
+        if (rel > 1.0 / 65536)
+            fail_msg("psc_rsqrt46(%llu) = %.0Lf, expected %.3Lf", (unsigned long long)v, got, want);
+    }
+    print_message("  psc_rsqrt46 over 64-bit values: worst relative error %.2e\n", worst46);
 }
 
 /* psc_mul_rcp62 against a 128-bit product, rounded half away from zero. */

@@ -248,19 +248,28 @@ static const uint16_t rsqrt_mantissa_q14[384] = {
     16571, 16555, 16538, 16522, 16505, 16489, 16473, 16456, 16440, 16424, 16408, 16392,
 };
 
-uint32_t psc_rsqrt_q30(uint32_t x)
+uint64_t psc_rsqrt46(uint64_t v)
 {
-    if (x == 0)
-        return UINT32_MAX;
-    /* x * 4^k = m in [2^30, 2^32): 1/sqrt(x) = 2^k / sqrt(m). */
-    unsigned k = (32u - bit_length(x)) / 2u;
-    uint64_t m = (uint64_t)x << (2u * k);
+    if (v == 0)
+        return UINT64_MAX;
+    /* v = m 2^e with e even and m in [2^30, 2^32): 1/sqrt(v) = 2^(-e/2) / sqrt(m). */
+    int e = (int)bit_length(v) - 31;
+    e -= e & 1;
+    uint64_t m = e >= 0 ? v >> e : v << -e;
     /* y ~ 2^46 / sqrt(m) (Q30 of 1/sqrt(m / 2^32)) from the table, then one Newton step
      * y' = y (3 - M y^2) / 2 with M = m / 2^32: the table's error (at most 2^-9) becomes 1.5 (2^-9)^2 < 2^-17. */
     uint64_t y = (uint64_t)rsqrt_mantissa_q14[(m >> 23) - 128u] << 16;
     uint64_t y2 = (y * y) >> 30;                  /* Q30, < 2^32 */
     uint64_t my2 = ((m >> 2) * y2) >> 30;         /* Q30: M y^2 ~ 1 */
     y = (y * ((UINT64_C(3) << 30) - my2)) >> 31;  /* y < 2^31, 3 - M y^2 < 2^32 */
-    /* 2^30 / sqrt(x) = 2^(30 + k) / sqrt(m) = y 2^(k + 14) / 2^30 */
-    return (uint32_t)((y + ((uint64_t)1 << (15u - k))) >> (16u - k));
+    if (e <= 0)
+        return y << (-e / 2);
+    return (y + ((uint64_t)1 << (e / 2 - 1))) >> (e / 2);
+}
+
+uint32_t psc_rsqrt_q30(uint32_t x)
+{
+    if (x == 0)
+        return UINT32_MAX;
+    return (uint32_t)((psc_rsqrt46(x) + 32768u) >> 16); /* 2^46 / sqrt(x) <= 2^46: 2^30 / sqrt(x) fits */
 }

@@ -58,10 +58,13 @@ static inline int64_t psc_mul_rcp62(int64_t n, uint64_t r)
 uint32_t psc_isqrt64(uint64_t v);
 
 /**
- * 2^30 / sqrt(x), rounded (relative error below 2^-16; UINT32_MAX for 0):
- * a table of 384 mantissas and one Newton step, for renormalising vectors per
- * pixel (Phong shading).
+ * 2^46 / sqrt(v) (relative error below 2^-16; UINT64_MAX for 0): a table of
+ * 384 mantissas and one Newton step, multiplications only. For normalising
+ * vectors: v a squared length in Q32 gives 2^30 / the length in Q16.
  */
+uint64_t psc_rsqrt46(uint64_t v);
+
+/** 2^30 / sqrt(x), rounded (relative error below 2^-16; UINT32_MAX for 0): renormalising a normal a pixel. */
 uint32_t psc_rsqrt_q30(uint32_t x);
 
 /** Signed division of 64-bit values rounded to nearest (ties away from zero); d != 0

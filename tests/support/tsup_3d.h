@@ -22,6 +22,12 @@
 #include "3d/psc_3d_render.h"
 #include "model.h"
 
+/** The generated shapes the 3D tests draw. */
+typedef enum { TSUP_CUBE, TSUP_SPHERE, TSUP_TORUS, TSUP_TEAPOT } tsup_shape_t;
+
+/** Shape s into g: a unit cube, a 40 x 21 sphere, a 48 x 20 torus, the teapot at 8 steps (free with psc_model_free). */
+void tsup_shape_make(tsup_shape_t s, psc_model_t *g);
+
 /** A mesh the tests own, built from a geometry. */
 typedef struct {
     psc_mesh_t mesh;

@@ -17,6 +17,16 @@ static void *xcalloc(size_t n, size_t size)
 
 /* ---- meshes ------------------------------------------------------------------- */
 
+void tsup_shape_make(tsup_shape_t s, psc_model_t *g)
+{
+    switch (s) {
+    case TSUP_CUBE: psc_model_cube(g, 1.0); break;
+    case TSUP_SPHERE: psc_model_sphere(g, 1.0, 40, 21); break;
+    case TSUP_TORUS: psc_model_torus(g, 1.0, 0.4, 48, 20); break;
+    case TSUP_TEAPOT: psc_model_teapot(g, 8); break;
+    }
+}
+
 static int16_t round16(double v)
 {
     double r = floor(v + 0.5);
