@@ -153,15 +153,17 @@ static int32_t clamp_q14(int32_t v)
     return v < -16384 ? -16384 : v > 16384 ? 16384 : v;
 }
 
-/* Raster position, depth and perspective weight of a point inside the volume (near <= z <= far). */
+/* Raster position, depth and perspective weight of a point inside the volume (near <= z <= far): one division,
+ * 2^62 / z, and the quotients as products by it (psc_mul_rcp62, each within 1/16 of a unit of the exact one). */
 static void project(const psc_3d_t *r, const psc_clip_vertex_t *c, psc_raster_vertex_t *o)
 {
     int64_t z = c->z;
-    o->x_q4 = (int32_t)((int64_t)r->cfg.width * 8 + psc_div_round64((int64_t)c->x * r->vol.f_q8, z * 16));
-    o->y_q4 = (int32_t)((int64_t)r->cfg.height * 8 - psc_div_round64((int64_t)c->y * r->vol.f_q8, z * 16));
-    o->q_q28 = (int32_t)psc_div_round64((int64_t)r->vol.near_q16 << 28, z);
+    uint64_t rz = (UINT64_C(1) << 62) / (uint64_t)z, rz16 = rz >> 4; /* z >= near > 0 */
+    o->x_q4 = (int32_t)((int64_t)r->cfg.width * 8 + psc_mul_rcp62((int64_t)c->x * r->vol.f_q8, rz16));
+    o->y_q4 = (int32_t)((int64_t)r->cfg.height * 8 - psc_mul_rcp62((int64_t)c->y * r->vol.f_q8, rz16));
+    o->q_q28 = (int32_t)psc_mul_rcp62((int64_t)r->vol.near_q16 << 28, rz);
     /* depth = (1 - near/z) far / (far - near): (z - near)/z in Q1.31 times K in Q2.30. */
-    uint64_t ratio = ((uint64_t)(z - r->vol.near_q16) << 31) / (uint64_t)z;
+    uint64_t ratio = (uint64_t)psc_mul_rcp62((z - r->vol.near_q16) << 31, rz);
     uint64_t d = (ratio * (uint64_t)r->depth_k_q30 + ((uint64_t)1 << 28)) >> 29;
     o->depth_q32 = d > 0xFFFFFFFFu ? 0xFFFFFFFFu : (uint32_t)d;
     o->u_q16 = c->u_q16;
