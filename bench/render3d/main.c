@@ -195,7 +195,7 @@ static int run_table(const char *self, const char *out_dir)
 
     /* Memory: what the device hands the renderer. */
     printf("\nMemory (psc_3d_workspace_size; the A-buffer's is a budget of its own):\n");
-    printf("%-9s %-28s %12s %12s %12s\n", "size", "mode", "depth bytes", "cache bytes", "total");
+    printf("%-9s %-28s %12s %12s %12s\n", "size", "mode", "depth bytes", "cache, lists", "total");
     fprintf(f, "\n  ],\n  \"memory\": [\n");
     bool fm = true;
     for (size_t z = 0; z < NSIZES; z++)
@@ -215,8 +215,8 @@ static int run_table(const char *self, const char *out_dir)
                     total - depth);
             fm = false;
         }
-    printf("(vertex cache: %u bytes per vertex of the frame, for the teapot's 10816; the colour buffer is the "
-           "display's;\n A-buffer: %u bytes a pixel of a tile plus %u a fragment)\n",
+    printf("(for up to 10816 vertices a frame: the vertex cache, %u bytes a vertex, and in tiles the rows' triangle lists;\n"
+           " the colour buffer is the display's; A-buffer: %u bytes a pixel of a tile plus %u a fragment)\n",
            PSC_3D_VERTEX_CACHE_BYTES, PSC_ABUF_HEAD_BYTES, PSC_ABUF_FRAGMENT_BYTES);
     fprintf(f, "\n  ]\n}\n");
     fclose(f);
