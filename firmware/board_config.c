@@ -23,6 +23,7 @@ typedef enum {
     KEY_FORMAT,         /* rgb565 | xrgb8888 -> psc_pixfmt_t */
     KEY_FILTER,         /* nearest | bilinear | mip -> psc_filter_t */
     KEY_QUALITY,        /* adaptive | fixed -> bool */
+    KEY_LEVELS,         /* mono | grey4 | pal8 [:ordered | :halftone | :none] -> psc_io_levels_t */
     KEY_U32,            /* whole number -> uint32_t */
     KEY_U8,             /* whole number -> uint8_t */
     KEY_MILLI,          /* decimal x 1000 -> int32_t */
@@ -52,6 +53,7 @@ static const key_spec_t key_table[] = {
     KEY("display", KEY_BACKEND, display_backend, 0, 0, true),
     KEY_WH("display_size", display_width, display_height, 16, PSC_MAX_OUT_DIM, true),
     KEY("display_format", KEY_FORMAT, display_format, 0, 0, false),
+    KEY("display_levels", KEY_LEVELS, display_levels, 0, 0, false),
     KEY("display_buffers", KEY_U8, display_buffers, 1, 3, false),
     KEY("frame_rate", KEY_MILLI_U32, frame_rate_mhz, 1000, 240000, false),
     KEY("render_threads", KEY_U8, render_threads, 0, PSC_IO_BANDS_MAX_THREADS, false),
@@ -325,6 +327,11 @@ static int board_set_key(board_parser_t *p, const key_spec_t *k, const char *val
             *(psc_pixfmt_t *)field = PSC_PIX_XRGB8888;
         else
             return board_fail(p, "%s must be rgb565 or xrgb8888, got '%s'", k->key, value);
+        return 0;
+    case KEY_LEVELS:
+        if (psc_io_levels_parse(value, (psc_io_levels_t *)field) != 0)
+            return board_fail(p, "%s must be mono, grey4 or pal8, optionally :ordered, :halftone or :none, got '%s'",
+                              k->key, value);
         return 0;
     case KEY_FILTER:
         if (strcmp(value, "nearest") == 0)

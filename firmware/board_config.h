@@ -30,6 +30,7 @@
 #include "psc_hal.h"
 #include "viewer/psc_viewer.h"
 #include "hotspots.h"
+#include "psc_io_levels.h"
 
 #define PSC_BOARD_NAME_MAX 32u
 #define PSC_BOARD_PATH_MAX 256u
@@ -62,6 +63,7 @@ typedef struct {
     char display_backend[PSC_BOARD_NAME_MAX];      /* display (required) */
     uint16_t display_width, display_height;        /* display_size (required) */
     psc_pixfmt_t display_format;                   /* display_format: rgb565 | xrgb8888 */
+    psc_io_levels_t display_levels;                /* display_levels: mono|grey4|pal8[:method], off when absent */
     uint8_t display_buffers;                       /* display_buffers, 1..3 */
     uint32_t frame_rate_mhz;                       /* frame_rate, Hz */
     uint8_t render_threads;                        /* render_threads: the viewer's threads, 0 = the processors */

@@ -187,6 +187,7 @@ static int loop_draw(psc_app_t *app, const psc_view_t *view, uint32_t frame, cha
     if (s->ops->overlay != NULL)
         s->ops->overlay(s, view, &back);
     psc_device_status_draw(&app->dev.status, &back);
+    psc_io_levels_apply(&app->board.display_levels, &back); /* a display with few levels: what it shows */
     if ((rc = psc_hal_display_present(app->dev.display)) != 0) {
         psc_hal_error_set(err, errlen, "display (%s backend): present of frame %u failed: %s",
                           app->dev.display->backend, (unsigned)frame, strerror(-rc));

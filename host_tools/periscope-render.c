@@ -21,8 +21,7 @@
 #include "patch_render.h"
 #include "psc_io_load.h"
 #include "psc_io_png.h"
-#include "dither/psc_dither.h"
-#include "render_target.h"
+#include "psc_io_levels.h"
 #include "viewer/psc_viewer.h"
 
 #include <stdarg.h>
@@ -78,9 +77,7 @@ typedef struct {
     uint16_t width, height;
     psc_pixfmt_t format;
     psc_simd_t simd;
-    bool dither;
-    psc_dither_target_t dither_target;
-    psc_dither_method_t dither_method;
+    psc_io_levels_t levels;   /* --dither */
 } args_t;
 
 static int span_to_log2(const char *v, uint8_t *log2)
@@ -137,9 +134,8 @@ static int parse_value(args_t *a, const char *name, const char *v)
             return usage_error("--simd '%s': expected auto, scalar, vector or avx2", v);
         a->simd = k;
     } else if (strcmp(name, "--dither") == 0) {
-        if (psc_cli_parse_dither(v, &a->dither_target, &a->dither_method) != 0)
+        if (psc_io_levels_parse(v, &a->levels) != 0)
             return usage_error("--dither '%s': expected mono, grey4 or pal8, optionally :ordered, :halftone or :none", v);
-        a->dither = true;
     } else if (strcmp(name, "--size") == 0) {
         if (psc_cli_parse_size(v, PSC_MAX_OUT_DIM, &a->width, &a->height) != 0)
             return usage_error("--size '%s': expected WxH, each 1..%u", v, (unsigned)PSC_MAX_OUT_DIM);
@@ -274,7 +270,7 @@ int main(int argc, char **argv)
     uint16_t w = a.have_size ? a.width : pack->display_width;
     uint16_t h = a.have_size ? a.height : pack->display_height;
 
-    if (a.dither)
+    if (a.levels.on)
         a.format = PSC_PIX_XRGB8888; /* dithered from the full colours */
     size_t ws_size = psc_viewer_workspace_size(w, h, &pack->map);
     uint32_t bpp = psc_pixfmt_bytes(a.format);
@@ -309,8 +305,7 @@ int main(int argc, char **argv)
         if (!bands) {
             fprintf(stderr, PROG ": %s\n", err);
         } else if (render_frames(&viewer, bands, &view, &out, a.repeat) == 0) {
-            if (a.dither)
-                psc_render_show_dithered(&out, a.dither_target, a.dither_method);
+            psc_io_levels_apply(&a.levels, &out);
             if (psc_io_png_write(a.out, &out, err, sizeof err) != 0)
                 fprintf(stderr, PROG ": %s\n", err);
             else

@@ -19,6 +19,8 @@
 #include <cmocka.h>
 
 #include "dither/psc_dither.h"
+#include "base/psc_pixel.h"
+#include "psc_io_levels.h"
 #include "psc_testsupport.h"
 
 #include <math.h>
@@ -208,6 +210,48 @@ static void test_halftone_cell_grows_from_centre(void **state)
     }
 }
 
+/* The names the tools and boards use, and a frame turned in place in either format: an RGB565 frame with only the
+ * 16 greys (as RGB565 holds them), an XRGB8888 one with only black and white; off leaves the frame alone. */
+static void test_levels_in_place(void **state)
+{
+    (void)state;
+    psc_io_levels_t l;
+    char name[32];
+    assert_int_equal(psc_io_levels_parse("grey4", &l), 0);
+    assert_true(l.on && l.target == PSC_DITHER_GREY4 && l.method == PSC_DITHER_ORDERED);
+    assert_string_equal(psc_io_levels_name(&l, name, sizeof name), "grey4:ordered");
+    assert_int_equal(psc_io_levels_parse("pal8:none", &l), 0);
+    assert_true(l.target == PSC_DITHER_PAL8 && l.method == PSC_DITHER_NONE);
+    assert_int_equal(psc_io_levels_parse("grey", &l), -1);
+    assert_int_equal(psc_io_levels_parse("mono:", &l), -1);
+    assert_int_equal(psc_io_levels_parse("mono:halftone:x", &l), -1);
+    enum { LW = 64, LH = 16 };
+    static uint16_t p565[LW * LH];
+    static uint32_t p8888[LW * LH];
+    for (unsigned i = 0; i < LW * LH; i++) {
+        uint32_t c = (i % LW) * 4u * 0x010101u;
+        p565[i] = psc_xrgb_to_rgb565(c);
+        p8888[i] = 0xFF000000u | c;
+    }
+    psc_surface_t s565 = {LW, LH, LW * 2, PSC_PIX_RGB565, p565}, s8888 = {LW, LH, LW * 4, PSC_PIX_XRGB8888, p8888};
+    psc_io_levels_t off = {false, PSC_DITHER_MONO, PSC_DITHER_ORDERED};
+    psc_io_levels_apply(&off, &s8888);
+    assert_int_equal(p8888[5] & 0xFFFFFFu, 20u * 0x010101u);
+    assert_int_equal(psc_io_levels_parse("grey4", &l), 0);
+    psc_io_levels_apply(&l, &s565);
+    for (unsigned i = 0; i < LW * LH; i++) {
+        bool grey = false;
+        for (uint32_t k = 0; k < 16; k++)
+            grey |= p565[i] == psc_xrgb_to_rgb565(k * 17u * 0x010101u);
+        if (!grey)
+            fail_msg("grey4 in RGB565: pixel %u is %04X", i, (unsigned)p565[i]);
+    }
+    assert_int_equal(psc_io_levels_parse("mono:halftone", &l), 0);
+    psc_io_levels_apply(&l, &s8888);
+    for (unsigned i = 0; i < LW * LH; i++)
+        assert_true((p8888[i] & 0xFFFFFFu) == 0 || (p8888[i] & 0xFFFFFFu) == 0xFFFFFFu);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -215,6 +259,7 @@ int main(void)
         cmocka_unit_test(test_colour_cube_ramp),
         cmocka_unit_test(test_random_pixels),
         cmocka_unit_test(test_halftone_cell_grows_from_centre),
+        cmocka_unit_test(test_levels_in_place),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -20,6 +20,7 @@
 #include <unistd.h>
 
 #include "app.h"
+#include "image_io.h"
 #include "board_config.h"
 #include "motion.h"
 #include "pack_build.h"
@@ -81,7 +82,8 @@ static void test_board_valid(void **state)
                        "image.kernel = linux-image-arm64\n"
                        "image.modules = vc4 bochs\n"
                        "render3d_tile = 64\n"
-                       "render3d_abuffer_kb = 256\n";
+                       "render3d_abuffer_kb = 256\n"
+                       "display_levels = grey4:halftone\n";
     if (parse_board(text, &cfg, err, sizeof(err)) != 0)
         fail_msg("valid board refused: %s", err);
     assert_int_equal(cfg.display_format, PSC_PIX_XRGB8888);
@@ -89,6 +91,9 @@ static void test_board_valid(void **state)
     assert_int_equal(cfg.pitch_min_mdeg, -45500);
     assert_int_equal(cfg.render3d_tile, 64);
     assert_int_equal(cfg.render3d_abuffer_kb, 256);
+    assert_true(cfg.display_levels.on);
+    assert_int_equal(cfg.display_levels.target, PSC_DITHER_GREY4);
+    assert_int_equal(cfg.display_levels.method, PSC_DITHER_HALFTONE);
     assert_int_equal(cfg.pitch_max_mdeg, 60000);
     assert_false(cfg.quality_adaptive);
     assert_false(cfg.pan_follows_zoom);
@@ -144,6 +149,8 @@ static void test_board_errors(void **state)
     expect_board_error("display_size = 8x8\n", "t/board.conf:5:", "display_size"); /* duplicate and too small */
     expect_board_error("image. = x\n", "t/board.conf:5:", "image.");    /* the build prefix alone */
     expect_board_error("imagekernel = x\n", "t/board.conf:5:", "imagekernel");
+    expect_board_error("display_levels = sepia\n", "t/board.conf:5:", "display_levels");
+    expect_board_error("display_levels = mono:fancy\n", "t/board.conf:5:", "mono:fancy");
 
     /* A missing required key names the file and the key. */
     psc_board_config_t cfg;
@@ -654,6 +661,38 @@ static void test_sim_board_end_to_end(void **state)
             fail_msg("capture of frame %u missing: %s", f, cap);
         unlink(cap);
     }
+    psc_app_close(app);
+
+    /* The same board as a 1-bit display (display_levels): the frames it presents hold black and white only, and
+     * about the scene's brightness. */
+    snprintf(conf, sizeof(conf),
+             "display = sim\ndisplay_size = 96x64\ndisplay_format = xrgb8888\nframe_rate = 30\n"
+             "input = sim\nclock = sim\nscene = %s\ndisplay_levels = mono:halftone\n",
+             pack);
+    write_text(path, conf);
+    opt.max_frames = 2;
+    opt.frames_every = 1;
+    if (psc_app_open(&opt, &app, err, sizeof(err)) != 0)
+        fail_msg("psc_app_open (display_levels): %s", err);
+    if (psc_app_run(app, &st, err, sizeof(err)) != 0)
+        fail_msg("psc_app_run (display_levels): %s", err);
+    char cap[600];
+    assert_int_equal(psc_sim_capture_path(cap, sizeof(cap), psc_app_out_dir(app), 1), 0);
+    psc_image_t img;
+    if (psc_image_load(cap, &img, err, sizeof(err)) != 0)
+        fail_msg("%s", err);
+    size_t white = 0;
+    for (size_t i = 0; i < (size_t)img.width * img.height; i++) {
+        uint32_t c = img.xrgb[i] & 0xFFFFFFu;
+        if (c != 0 && c != 0xFFFFFFu)
+            fail_msg("display_levels = mono: pixel %zu of %s is %06X", i, cap, (unsigned)c);
+        white += c != 0;
+    }
+    printf("  display_levels = mono:halftone: a presented frame holds black and white only (%.0f%% white)\n",
+           100.0 * (double)white / ((double)img.width * img.height));
+    assert_true(white > 0 && white < (size_t)img.width * img.height);
+    psc_image_free(&img);
+    unlink(cap);
     psc_app_close(app);
 
     /* A board whose scene is missing fails to open, naming the file. */

@@ -79,24 +79,3 @@ int psc_cli_parse_orbit(const char *s, double *yaw, double *pitch, double *dist)
         return -1;
     return *pitch >= -90 && *pitch <= 90 && *dist >= 1.0 / 64 && *dist <= 256 ? 0 : -1;
 }
-
-int psc_cli_parse_dither(const char *v, psc_dither_target_t *t, psc_dither_method_t *m)
-{
-    static const char *const targets[] = {"mono", "grey4", "pal8"}, *const methods[] = {"none", "ordered", "halftone"};
-    size_t n = strcspn(v, ":");
-    int ti = -1, mi = 1;
-    for (int i = 0; i < 3; i++)
-        if (strlen(targets[i]) == n && strncmp(v, targets[i], n) == 0)
-            ti = i;
-    if (v[n] == ':') {
-        mi = -1;
-        for (int i = 0; i < 3; i++)
-            if (strcmp(v + n + 1, methods[i]) == 0)
-                mi = i;
-    }
-    if (ti < 0 || mi < 0)
-        return -1;
-    *t = (psc_dither_target_t)ti;
-    *m = (psc_dither_method_t)mi;
-    return 0;
-}

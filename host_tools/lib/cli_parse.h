@@ -11,8 +11,6 @@
 
 #include <stdint.h>
 
-#include "dither/psc_dither.h"
-
 /** A finite decimal number. */
 int psc_cli_parse_double(const char *s, double *out);
 
@@ -27,8 +25,5 @@ int psc_cli_parse_pair(const char *s, double *a, double *b);
 
 /** "YAW,PITCH,DIST" for --orbit: degrees, pitch -90..90, distance 1/64..256 (in R). 0, or -1. */
 int psc_cli_parse_orbit(const char *s, double *yaw, double *pitch, double *dist);
-
-/** "TARGET[:METHOD]" for --dither: mono, grey4 or pal8, then ordered (the default), halftone or none. */
-int psc_cli_parse_dither(const char *s, psc_dither_target_t *t, psc_dither_method_t *m);
 
 #endif

@@ -35,12 +35,10 @@ int psc_render_target_open(psc_render_target_t *t, const psc_3d_config_t *cfg, p
 int psc_render_target_open_view(psc_render_target_t *t, const psc_3d_config_t *cfg, const psc_render_view_t *vw,
                                 bool depth, const char *name, char *err, size_t errlen)
 {
-    psc_pixfmt_t fmt = vw->dither ? PSC_PIX_XRGB8888 : vw->format; /* dithered from the full colours */
+    psc_pixfmt_t fmt = vw->levels.on ? PSC_PIX_XRGB8888 : vw->format; /* dithered from the full colours */
     if (psc_render_target_open(t, cfg, fmt, depth, name, err, errlen) != 0)
         return -1;
-    t->dither = vw->dither;
-    t->dither_target = vw->dither_target;
-    t->dither_method = vw->dither_method;
+    t->levels = vw->levels;
     if (vw->abuffer_bytes == 0)
         return 0;
     t->abuf_bytes = vw->abuffer_bytes;
@@ -65,21 +63,9 @@ void psc_render_target_note(const psc_render_target_t *t, const psc_3d_stats_t *
                 (unsigned)t->r.abuf.capacity, (unsigned)st->fragments_overflow);
 }
 
-void psc_render_show_dithered(const psc_surface_t *out, psc_dither_target_t target, psc_dither_method_t method)
-{
-    uint8_t row[PSC_MAX_OUT_DIM];
-    for (unsigned y = 0; y < out->height; y++) {
-        uint32_t *px = (uint32_t *)(void *)((uint8_t *)out->pixels + (size_t)y * out->stride);
-        psc_dither_row(target, method, px, out->width, y, row);
-        for (unsigned x = 0; x < out->width; x++)
-            px[x] = psc_dither_level_xrgb(target, psc_dither_get(target, row, x));
-    }
-}
-
 int psc_render_target_write(const psc_render_target_t *t, const char *png, const char *pgm, char *err, size_t errlen)
 {
-    if (t->dither)
-        psc_render_show_dithered(&t->out, t->dither_target, t->dither_method);
+    psc_io_levels_apply(&t->levels, &t->out);
     if (psc_io_png_write(png, &t->out, err, errlen) != 0)
         return -1;
     if (pgm && t->depth &&

@@ -12,7 +12,7 @@
 #include <stddef.h>
 
 #include "3d/psc_3d_render.h"
-#include "dither/psc_dither.h"
+#include "psc_io_levels.h"
 #include "render_view.h"
 
 typedef struct {
@@ -22,9 +22,7 @@ typedef struct {
     uint16_t *depth;             /* width x height when asked for, else NULL */
     void *abuf;                  /* the A-buffer's memory when anti-aliasing, else NULL */
     size_t abuf_bytes;
-    bool dither;                 /* the PNG shows the frame dithered (the surface stays XRGB8888) */
-    psc_dither_target_t dither_target;
-    psc_dither_method_t dither_method;
+    psc_io_levels_t levels;      /* the PNG shows the frame with only these levels (the surface XRGB8888) */
 } psc_render_target_t;
 
 /** Allocate and set up for cfg with output format fmt. 0, or -1 with err ("out of memory ...", "cannot set up ..."). */
@@ -41,9 +39,6 @@ int psc_render_target_open_view(psc_render_target_t *t, const psc_3d_config_t *c
 /** Say on stderr (as prog) what the A-buffer held, when edges did not fit: "note: ... drawn aliased". */
 void psc_render_target_note(const psc_render_target_t *t, const psc_3d_stats_t *st, const char *prog,
                             const char *name);
-
-/** Replace each pixel of an XRGB8888 surface by the colour of the level the display shows for it. */
-void psc_render_show_dithered(const psc_surface_t *out, psc_dither_target_t target, psc_dither_method_t method);
 
 /** Write the frame to png and, when set up with depth, the depth to pgm (may be NULL). 0, or -1 with err. */
 int psc_render_target_write(const psc_render_target_t *t, const char *png, const char *pgm, char *err, size_t errlen);

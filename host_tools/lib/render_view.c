@@ -13,8 +13,8 @@
 
 psc_render_view_t psc_render_view_defaults(double yaw, double pitch, double dist, double hfov)
 {
-    return (psc_render_view_t){yaw,   pitch, dist, hfov, 640, 480, true, PSC_PIX_RGB565, 1, -1, 90, 24, 0, false,
-                               PSC_DITHER_MONO, PSC_DITHER_ORDERED};
+    return (psc_render_view_t){yaw, pitch, dist, hfov, 640, 480, true, PSC_PIX_RGB565, 1, -1, 90, 24, 0,
+                               {false, PSC_DITHER_MONO, PSC_DITHER_ORDERED}};
 }
 
 int psc_render_view_option(const char *prog, const char *name, const char *v, psc_render_view_t *o)
@@ -65,10 +65,9 @@ int psc_render_view_option(const char *prog, const char *name, const char *v, ps
                                           PSC_RENDER_ABUFFER_MAX_KB);
         o->abuffer_bytes = (size_t)kb * 1024u;
     } else if (strcmp(name, "--dither") == 0) {
-        if (psc_cli_parse_dither(v, &o->dither_target, &o->dither_method) != 0)
+        if (psc_io_levels_parse(v, &o->levels) != 0)
             return psc_io_cli_usage_error(prog, "--dither '%s': expected mono, grey4 or pal8, optionally :ordered, "
                                           ":halftone or :none", v);
-        o->dither = true;
     } else if (strcmp(name, "--repeat") == 0) {
         if (psc_cli_parse_uint(v, 1, PSC_RENDER_MAX_REPEAT, &o->repeat) != 0)
             return psc_io_cli_usage_error(prog, "--repeat '%s': expected a count of 1..%lu", v, PSC_RENDER_MAX_REPEAT);

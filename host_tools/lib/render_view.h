@@ -15,7 +15,7 @@
 #include "3d/psc_3d_math.h"
 #include "3d/psc_3d_render.h"
 #include "base/psc_types.h"
-#include "dither/psc_dither.h"
+#include "psc_io_levels.h"
 
 #define PSC_RENDER_MAX_REPEAT 100000ul
 /* --aa abuffer without a size: 4 MiB (the tool's frames; a board states its own budget) */
@@ -50,9 +50,7 @@ typedef struct {
     uint16_t specular_q8;        /* Phong highlight */
     uint8_t shininess;
     size_t abuffer_bytes;        /* 0: no anti-aliasing */
-    bool dither;
-    psc_dither_target_t dither_target;
-    psc_dither_method_t dither_method;
+    psc_io_levels_t levels;      /* --dither */
 } psc_render_view_t;
 
 /** The defaults: the orbit given, a 640x480 RGB565 view, back faces culled, drawn once. */
