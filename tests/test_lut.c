@@ -186,6 +186,14 @@ static void test_build_metadata_and_check(void **state)
     bad = lut;
     bad.rows = 1;
     assert_int_not_equal(psc_lut_check(&bad), PSC_OK);
+    /* A table claiming to reach almost 180 degrees (tan(hfov/2) near 2^30 in Q24) while u_max says 90: refused
+     * (issue 16: the reach comparison overflowed int64 there and let it pass, so views past the table were drawn). */
+    static const uint32_t far_reach[] = {0x7FFFFFFFu, 0x7FFF0000u, 0x7F000000u, 0x7E000000u};
+    for (size_t i = 0; i < sizeof far_reach / sizeof far_reach[0]; i++) {
+        bad = lut;
+        bad.hfov_max = far_reach[i];
+        assert_int_equal(psc_lut_check(&bad), PSC_ERR_CORRUPT);
+    }
     bad = lut;
     bad.cols = 0;
     assert_int_not_equal(psc_lut_check(&bad), PSC_OK);

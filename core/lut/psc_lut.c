@@ -26,7 +26,7 @@ psc_status_t psc_lut_check(const psc_lut_t *lut)
     int64_t diff = want - (int64_t)lut->u_max_q24;
     if (diff < 0)
         diff = -diff;
-    if (diff * 4096 > want)
+    if (diff > want / 4096) /* diff * 4096 > want, without the product: want reaches 2^54 near 180 degrees */
         return PSC_ERR_CORRUPT;
     return PSC_OK;
 }
