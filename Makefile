@@ -133,7 +133,7 @@ TESTS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_MAINS))
 # Objects reached through pattern rules would count as intermediate files and be
 # deleted after each link; keep them so a second build compiles nothing.
 .SECONDARY:
-.PHONY: all deps run test vm-test check-core-nofloat check-layers check-clang install clean bench bench-callgrind FORCE
+.PHONY: all deps run test vm-test check-core-nofloat check-layers check-clang check-sanitize install clean bench bench-callgrind FORCE
 .DEFAULT_GOAL := all
 
 all: $(CORE_LIB) $(IO_LIB) $(FIRMWARE) $(TOOLS)
@@ -249,7 +249,25 @@ test: deps
 	$(Q)$(MAKE) --no-print-directory check-core-nofloat
 	$(Q)$(MAKE) --no-print-directory check-layers
 	$(Q)$(MAKE) --no-print-directory check-clang
+	$(Q)$(MAKE) --no-print-directory check-sanitize
+	$(Q)$(MAKE) --no-print-directory check-sanitize SAN_CC=clang
 	$(Q)sh tests/run_all.sh $(BUILD) $(TESTS)
+
+# The unit and fuzz-loop tests again, built with AddressSanitizer and UBSan (part of `make test`): any
+# out-of-bounds access, use after free, leak or undefined behaviour fails the run (-fno-sanitize-recover).
+# Leaks inside third-party libraries are suppressed by name (tests/sanitize/lsan.supp). SAN_CC=clang for clang's.
+SAN_CC ?= $(CC)
+SAN_BUILD := $(BUILD)/sanitize-$(notdir $(SAN_CC))
+SAN_FLAGS := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+SAN_TESTS := $(addprefix $(SAN_BUILD)/tests/,test_3d_abuffer test_3d_golden test_3d_mesh test_3d_raster \
+	test_accuracy test_bands test_config_fuzz test_crc32 test_dither test_envmap test_firmware test_fisheye \
+	test_fixed test_golden test_hid test_image_io test_input test_kiosk test_lut test_mip test_pack test_patch \
+	test_pixel test_pose test_proxy test_proxy_render test_shadow test_simd)
+check-sanitize: deps
+	$(Q)$(MAKE) --no-print-directory CC=$(SAN_CC) BUILD=$(SAN_BUILD) OPT="-O1 -g" CFLAGS="$(SAN_FLAGS)" \
+		LDFLAGS="-fsanitize=address,undefined" all $(SAN_TESTS)
+	$(Q)ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1 \
+		LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitize/lsan.supp sh tests/run_all.sh $(SAN_BUILD) $(SAN_TESTS)
 
 # Only the VM cases (part of `make test`): the real backends against real drivers under QEMU.
 vm-test: all

@@ -49,9 +49,10 @@ size_t tsup_boards_with_key(const char *key, char names[][TSUP_BOARD_NAME_MAX], 
     if (d == NULL)
         return 0;
     while (n < max && (e = readdir(d)) != NULL) {
-        if (e->d_name[0] == '.' || strlen(e->d_name) >= TSUP_BOARD_NAME_MAX || !tsup_board_has_key(e->d_name, key))
+        size_t len = strlen(e->d_name);
+        if (e->d_name[0] == '.' || len >= TSUP_BOARD_NAME_MAX || !tsup_board_has_key(e->d_name, key))
             continue;
-        snprintf(names[n++], TSUP_BOARD_NAME_MAX, "%s", e->d_name);
+        memcpy(names[n++], e->d_name, len + 1); /* (snprintf here failed -O1 builds: -Wformat-truncation) */
     }
     closedir(d);
     qsort(names, n, TSUP_BOARD_NAME_MAX, tsup_cmp_names);
