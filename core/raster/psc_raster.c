@@ -669,7 +669,7 @@ static uint32_t dispatch_views(const setup_t *s, const psc_raster_target_t *t, c
 }
 
 /* One instantiation per state combination; the A-buffer (only with a depth buffer) is a branch in the same code:
- * a copy of every loop for it would double the rasterizer's size (224 KB on a Cortex-M7) for no measurable gain. */
+ * a copy of every loop for it would make the rasterizer far larger (224 KB on a Cortex-M7) for no measurable gain. */
 #define LOOP_AA(shade, zb, bil, t565, a)                                                             \
     (out565 ? raster_loop(s, t, st, shade, 1, zb, bil, t565, a) : raster_loop(s, t, st, shade, 0, zb, bil, t565, a))
 #define LOOP(shade, zb, bil, t565) LOOP_AA(shade, zb, bil, t565, aa) /* the A-buffer a branch, not a copy */
