@@ -25,6 +25,7 @@ struct psc_app {
     bool quiet;
     psc_cli_dump_t dumps[PSC_CLI_MAX_DUMPS];
     unsigned dump_count;
+    char dump_error[300];      /* the first failed frame dump: the run ends non-zero */
 
     psc_devices_t dev;
     psc_scene_list_t scenes;

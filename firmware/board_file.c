@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "board_file.h"
+#include "psc_io_file.h"
 
 void psc_board_lines_init(psc_board_lines_t *l, const char *text, size_t len)
 {
@@ -96,16 +97,15 @@ int psc_board_lines_next(psc_board_lines_t *l, const char **key, const char **va
 
 int psc_board_file_read(const char *path, char **text, size_t *len, char *err, size_t errlen)
 {
-    FILE *f = fopen(path, "rb");
     char *buf;
     size_t n;
 
     *text = NULL;
     *len = 0;
-    if (f == NULL) {
-        snprintf(err, errlen, "cannot read board file %s: %s", path, strerror(errno));
+    /* a regular file of at most 64 KiB: a FIFO or a device is refused without waiting on it */
+    FILE *f = psc_io_fopen_regular(path, PSC_BOARD_FILE_MAX, err, errlen);
+    if (f == NULL)
         return -1;
-    }
     buf = malloc(PSC_BOARD_FILE_MAX + 1u);
     if (buf == NULL) {
         fclose(f);

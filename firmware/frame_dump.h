@@ -19,9 +19,10 @@
 #include "base/psc_types.h"
 
 /**
- * Write surface s to path (created or truncated) in the format above with
- * plain write(2) calls, so it can run inside the frame loop without
- * allocating. 0, or -1 with err naming the file and the reason.
+ * Write surface s to path in the format above, atomically (psc_io_atomic.h:
+ * a temporary beside it, fsync, rename; a FIFO is written in place), without
+ * allocating, so it can run inside the frame loop. 0, or -1 with err naming
+ * the file and the reason (then path is as it was).
  */
 int psc_frame_dump_write(const char *path, const psc_surface_t *s, char *err, size_t errlen);
 

@@ -158,9 +158,12 @@ static void loop_dump_frame(psc_app_t *app, uint32_t frame, const psc_surface_t 
             continue;
         if (psc_hal_display_get_front_buffer(app->dev.display, &front) != 0)
             front = *drawn;   /* a display that cannot read back: the frame as drawn */
-        if (psc_frame_dump_write(app->dumps[i].path, &front, why, sizeof why) != 0)
+        if (psc_frame_dump_write(app->dumps[i].path, &front, why, sizeof why) != 0) {
             fprintf(stderr, "periscope: %s\n", why);
-        else if (!app->quiet)
+            /* the kiosk keeps showing; the run ends non-zero when it ends */
+            if (app->dump_error[0] == '\0')
+                snprintf(app->dump_error, sizeof app->dump_error, "%s", why);
+        } else if (!app->quiet)
             printf("frame %5u  dumped %ux%u %s to %s\n", (unsigned)frame, (unsigned)front.width,
                    (unsigned)front.height, front.format == PSC_PIX_RGB565 ? "rgb565" : "xrgb8888",
                    app->dumps[i].path);
@@ -262,6 +265,10 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
                                                                        psc_hal_clock_now_us(app->dev.clock)));
     }
     loop_stop_requested = 0;   /* honoured: a later run in this process starts afresh */
+    if (rc == 0 && app->dump_error[0] != '\0') {
+        psc_hal_error_set(err, errlen, "a frame dump failed: %s", app->dump_error);
+        rc = -1;
+    }
     stats->frames = frame;
     stats->sim_time_us = psc_hal_clock_now_us(app->dev.clock) - start;
     stats->wall_time_us = loop_wall_us() - wall0;

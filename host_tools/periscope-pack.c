@@ -12,6 +12,7 @@
 #include "pack_build.h"
 #include "psc_io_cli.h"
 #include "psc_io_file.h"
+#include "psc_io_png.h"
 
 #include <stdarg.h>
 #include <stdbool.h>
@@ -45,6 +46,8 @@ static void print_usage(FILE *f)
             "  --lut-size ROWSxCOLS        table size (default: chosen from the display width)\n"
             "  --levels N                  map pyramid levels incl. the map, for --filter mip\n"
             "                              (default: as many as the size allows; 1: none)\n"
+            "  --max-pixels N              refuse a larger image before decoding it (default\n"
+            "                              134217728 = 16384x8192; it takes 4 bytes a pixel)\n"
             "  --quiet                     no progress or summary\n"
             "  --version                   the program's version\n"
             "  --help                      this text\n"
@@ -173,6 +176,7 @@ static void print_summary(const char *out_path, const psc_pack_t *p, size_t len)
 
 typedef struct {
     const char *in, *out;
+    uint64_t max_pixels;
     bool have_display, quiet;
     psc_pack_options_t opt;
 } args_t;
@@ -220,6 +224,7 @@ static const struct option pack_options[] = {
     {"lat-range", required_argument, NULL, 1},  {"hfov-min", required_argument, NULL, 1},
     {"lut-switch", required_argument, NULL, 1}, {"hfov-max", required_argument, NULL, 1},
     {"lut-size", required_argument, NULL, 1},   {"levels", required_argument, NULL, 1},
+    {"max-pixels", required_argument, NULL, 1},
     {"quiet", no_argument, NULL, 'q'},          PSC_IO_CLI_COMMON_OPTIONS,
 };
 
@@ -279,6 +284,12 @@ static int parse_args(int argc, char **argv, args_t *a)
             if (psc_cli_parse_uint(v, 1, PSC_PACK_MAX_LEVELS, &n) != 0)
                 return usage_error("--levels '%s': expected 1..%u", v, PSC_PACK_MAX_LEVELS);
             o->map_levels = (unsigned)n;
+        } else if (strcmp(name, "--max-pixels") == 0) {
+            unsigned long n;
+            if (psc_cli_parse_uint(v, 1, (unsigned long)PSC_MAX_MAP_DIM * PSC_MAX_MAP_DIM, &n) != 0)
+                return usage_error("--max-pixels '%s': expected 1..%lu", v,
+                                   (unsigned long)PSC_MAX_MAP_DIM * PSC_MAX_MAP_DIM);
+            a->max_pixels = n;
         }
         if (rc != 0)
             return rc;
@@ -306,7 +317,7 @@ static int parse_args(int argc, char **argv, args_t *a)
 
 int main(int argc, char **argv)
 {
-    args_t a = {0};
+    args_t a = {.max_pixels = PSC_IMAGE_MAX_PIXELS};
     psc_pack_options_default(&a.opt);
     int rc = parse_args(argc, argv, &a);
     if (rc != 0)
@@ -324,9 +335,11 @@ int main(int argc, char **argv)
     char err[512];
     psc_image_t img;
     progress_show("loading image", 0, &prog);
-    if (psc_image_load(a.in, &img, err, sizeof err) != 0) {
+    if (psc_image_load_within(a.in, a.max_pixels, &img, err, sizeof err) != 0) {
         progress_end(&prog, false);
         fprintf(stderr, PROG ": %s\n", err);
+        if (strstr(err, "more than the budget"))
+            fprintf(stderr, PROG ": --max-pixels N raises the budget, if the image is meant to be that large\n");
         return 1;
     }
     uint8_t *pack = NULL;

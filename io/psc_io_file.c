@@ -35,11 +35,14 @@ void *psc_io_alloc_large(size_t size)
     return mem;
 }
 
-int psc_io_read_aligned(const char *path, uint64_t max_size, void **buf, size_t *len, char *err, size_t errlen)
+int psc_io_open_regular(const char *path, uint64_t max_size, int *fd_out, uint64_t *size, char *err, size_t errlen)
 {
-    *buf = NULL;
-    *len = 0;
-    int fd = open(path, O_RDONLY);
+    *fd_out = -1;
+    *size = 0;
+    if (!path)
+        return psc_io_errorf(err, errlen, "(file)", "no file name");
+    /* O_NONBLOCK: opening a FIFO for reading would wait for a writer forever */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
     if (fd < 0)
         return psc_io_errorf(err, errlen, path, "cannot open: %s", strerror(errno));
     struct stat st;
@@ -48,102 +51,104 @@ int psc_io_read_aligned(const char *path, uint64_t max_size, void **buf, size_t 
         close(fd);
         return psc_io_errorf(err, errlen, path, "cannot stat: %s", strerror(e));
     }
+    const char *kind = S_ISDIR(st.st_mode) ? "a directory" : S_ISFIFO(st.st_mode) ? "a FIFO"
+                     : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device" : S_ISSOCK(st.st_mode) ? "a socket"
+                     : NULL;
     if (!S_ISREG(st.st_mode)) {
         close(fd);
-        return psc_io_errorf(err, errlen, path, "not a regular file");
+        return psc_io_errorf(err, errlen, path, "not a regular file (%s)", kind ? kind : "a special file");
     }
-    if (st.st_size <= 0 || (uint64_t)st.st_size > max_size) {
+    if (st.st_size <= 0) {
         close(fd);
-        if (st.st_size <= 0)
-            return psc_io_errorf(err, errlen, path, "file is empty");
-        return psc_io_errorf(err, errlen, path, "file is larger than %llu bytes", (unsigned long long)max_size);
+        return psc_io_errorf(err, errlen, path, "file is empty");
     }
-    size_t size = (size_t)st.st_size;
-    void *mem = NULL;
-    if (!(mem = psc_io_alloc_large(size))) {
+    if ((uint64_t)st.st_size > max_size) {
         close(fd);
-        return psc_io_errorf(err, errlen, path, "out of memory for %zu bytes", size);
+        return psc_io_errorf(err, errlen, path, "file is %llu bytes, larger than the limit of %llu bytes",
+                             (unsigned long long)st.st_size, (unsigned long long)max_size);
     }
-    size_t got = 0;
-    while (got < size) {
-        ssize_t n = read(fd, (uint8_t *)mem + got, size - got);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n <= 0) {
-            int e = errno;
-            close(fd);
-            free(mem);
-            return n == 0 ? psc_io_errorf(err, errlen, path, "file shrank while being read")
-                          : psc_io_errorf(err, errlen, path, "read error: %s", strerror(e));
-        }
-        got += (size_t)n;
-    }
-    close(fd);
-    *buf = mem;
-    *len = size;
+    /* back to blocking reads: a regular file never waits long */
+    int flags = fcntl(fd, F_GETFL);
+    if (flags >= 0)
+        (void)fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+    *fd_out = fd;
+    *size = (uint64_t)st.st_size;
     return 0;
 }
 
-static int write_all(int fd, const void *data, size_t len)
+int psc_io_read_at(int fd, const char *path, void *dst, size_t len, uint64_t at, char *err, size_t errlen)
 {
-    const uint8_t *p = data;
-    while (len > 0) {
-        ssize_t n = write(fd, p, len);
+    size_t got = 0;
+    while (got < len) {
+        ssize_t n = pread(fd, (uint8_t *)dst + got, len - got, (off_t)(at + got));
         if (n < 0 && errno == EINTR)
             continue;
         if (n <= 0)
-            return -1;
-        p += n;
-        len -= (size_t)n;
+            return n == 0 ? psc_io_errorf(err, errlen, path, "file shrank while being read")
+                          : psc_io_errorf(err, errlen, path, "read error: %s", strerror(errno));
+        got += (size_t)n;
     }
     return 0;
 }
 
-int psc_io_write_atomic(const char *path, const void *data, size_t len, char *err, size_t errlen)
+FILE *psc_io_fopen_regular(const char *path, uint64_t max_size, char *err, size_t errlen)
 {
-    /* The temporary sits beside the target so that rename() stays within one
-     * file system and readers never see a half-written file. */
-    if (!path || (!data && len > 0))
-        return psc_io_errorf(err, errlen, path ? path : "(file)", "no file name or no data to write");
-    size_t plen = strlen(path);
-    char *tmp = malloc(plen + 32);
-    if (!tmp)
-        return psc_io_errorf(err, errlen, path, "out of memory");
-    int fd = -1;
-    for (unsigned attempt = 0; attempt < 100 && fd < 0; attempt++) {
-        snprintf(tmp, plen + 32, "%s.tmp%ld.%u", path, (long)getpid(), attempt);
-        fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL, 0666);
-        if (fd < 0 && errno != EEXIST)
-            break;
+    int fd;
+    uint64_t size;
+    if (psc_io_open_regular(path, max_size, &fd, &size, err, errlen) != 0)
+        return NULL;
+    FILE *f = fdopen(fd, "rb");
+    if (!f) {
+        psc_io_errorf(err, errlen, path, "cannot open: %s", strerror(errno));
+        close(fd);
     }
-    if (fd < 0) {
-        int e = errno;
-        free(tmp);
-        return psc_io_errorf(err, errlen, path, "cannot create a temporary file beside it: %s", strerror(e));
+    return f;
+}
+
+int psc_io_read_fd_aligned(int fd, const char *path, uint64_t size, void **buf, size_t *len, char *err,
+                           size_t errlen)
+{
+    *buf = NULL;
+    *len = 0;
+    if (size > SIZE_MAX)
+        return psc_io_errorf(err, errlen, path, "file of %llu bytes does not fit in memory",
+                             (unsigned long long)size);
+    void *mem = psc_io_alloc_large((size_t)size);
+    if (!mem)
+        return psc_io_errorf(err, errlen, path, "out of memory for %llu bytes", (unsigned long long)size);
+    if (psc_io_read_at(fd, path, mem, (size_t)size, 0, err, errlen) != 0) {
+        free(mem);
+        return -1;
     }
-    int rc = 0;
-    if (write_all(fd, data, len) != 0)
-        rc = psc_io_errorf(err, errlen, path, "write error: %s", strerror(errno));
-    if (close(fd) != 0 && rc == 0)
-        rc = psc_io_errorf(err, errlen, path, "write error on close: %s", strerror(errno));
-    if (rc == 0 && rename(tmp, path) != 0)
-        rc = psc_io_errorf(err, errlen, path, "cannot replace the file: %s", strerror(errno));
-    if (rc != 0)
-        unlink(tmp);
-    free(tmp);
+    *buf = mem;
+    *len = (size_t)size;
+    return 0;
+}
+
+int psc_io_read_aligned(const char *path, uint64_t max_size, void **buf, size_t *len, char *err, size_t errlen)
+{
+    int fd;
+    uint64_t size;
+    *buf = NULL;
+    *len = 0;
+    if (psc_io_open_regular(path, max_size, &fd, &size, err, errlen) != 0)
+        return -1;
+    int rc = psc_io_read_fd_aligned(fd, path, size, buf, len, err, errlen);
+    close(fd);
     return rc;
 }
 
 bool psc_io_file_has_magic(const char *path, const char *magic, size_t n)
 {
     char head[16];
-    FILE *f;
-    bool yes;
+    int fd;
+    uint64_t size;
 
-    if (n > sizeof head || (f = fopen(path, "rb")) == NULL)
+    /* a FIFO or a device is no file of ours: never opened for a blocking read */
+    if (n > sizeof head || psc_io_open_regular(path, UINT64_MAX, &fd, &size, NULL, 0) != 0)
         return false;
-    yes = fread(head, 1, n, f) == n && memcmp(head, magic, n) == 0;
-    fclose(f);
+    bool yes = size >= n && psc_io_read_at(fd, path, head, n, 0, NULL, 0) == 0 && memcmp(head, magic, n) == 0;
+    close(fd);
     return yes;
 }
 

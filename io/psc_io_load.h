@@ -97,9 +97,13 @@ int psc_io_container_errorf(char *err, size_t errlen, const char *name, const ch
                             const psc_container_error_t *e);
 
 /**
- * The common part of every loader: read path whole (at most 4 GiB, the
- * container's limit) into *buf and *len. 0, or -1 with err.
+ * The common part of every loader: path must be a regular file (at most
+ * 4 GiB, the container's limit) whose header is one of format fmt with the
+ * file's own size (psc_container_check_head: checked on its first 32 bytes,
+ * before the file is read; a problem is reported after prefix); then it is read whole into *buf and *len. 0, or
+ * -1 with err naming the file and the problem.
  */
-int psc_io_container_read(const char *path, void **buf, size_t *len, char *err, size_t errlen);
+int psc_io_container_read(const char *path, const psc_container_format_t *fmt, const char *prefix, void **buf,
+                          size_t *len, char *err, size_t errlen);
 
 #endif

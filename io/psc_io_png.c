@@ -52,8 +52,15 @@ static void png_job_read(png_structp png, png_bytep data, size_t len)
         png_error(png, ferror(job->file) ? "read error" : "file ends early (truncated)");
 }
 
-static int png_read_run(png_job_t *job, const char *path, uint32_t max_side, psc_surface_t *img, char *err,
-                        size_t errlen)
+int psc_io_image_over_budget(char *err, size_t errlen, const char *path, uint32_t w, uint32_t h, uint64_t max_pixels)
+{
+    return psc_io_errorf(err, errlen, path,
+                         "image is %ux%u (%llu pixels), more than the budget of %llu pixels (checked before decoding)",
+                         (unsigned)w, (unsigned)h, (unsigned long long)w * h, (unsigned long long)max_pixels);
+}
+
+static int png_read_run(png_job_t *job, const char *path, uint32_t max_side, uint64_t max_pixels, psc_surface_t *img,
+                        char *err, size_t errlen)
 {
     png_structp png = job->png;
     png_infop info = job->info;
@@ -68,6 +75,8 @@ static int png_read_run(png_job_t *job, const char *path, uint32_t max_side, psc
     if (w > max_side || h > max_side || w > UINT16_MAX || h > UINT16_MAX)
         return psc_io_errorf(err, errlen, path, "image is %ux%u, larger than the limit of %u pixels per side",
                              (unsigned)w, (unsigned)h, (unsigned)(max_side < UINT16_MAX ? max_side : UINT16_MAX));
+    if ((uint64_t)w * h > max_pixels)
+        return psc_io_image_over_budget(err, errlen, path, w, h, max_pixels);
     uint32_t *xrgb = malloc((size_t)w * h * sizeof(uint32_t));
     if (!xrgb)
         return psc_io_errorf(err, errlen, path, "out of memory for a %ux%u image", (unsigned)w, (unsigned)h);
@@ -102,7 +111,8 @@ static int png_read_run(png_job_t *job, const char *path, uint32_t max_side, psc
     return 0;
 }
 
-int psc_io_png_decode(FILE *f, const char *path, uint32_t max_side, psc_surface_t *img, char *err, size_t errlen)
+int psc_io_png_decode(FILE *f, const char *path, uint32_t max_side, uint64_t max_pixels, psc_surface_t *img,
+                      char *err, size_t errlen)
 {
     *img = (psc_surface_t){0, 0, 0, PSC_PIX_XRGB8888, NULL};
     png_job_t *job = calloc(1, sizeof *job);
@@ -111,7 +121,7 @@ int psc_io_png_decode(FILE *f, const char *path, uint32_t max_side, psc_surface_
     job->file = f;
     job->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, job, png_job_error, png_job_warning);
     job->info = job->png ? png_create_info_struct(job->png) : NULL;
-    int rc = job->info ? png_read_run(job, path, max_side, img, err, errlen)
+    int rc = job->info ? png_read_run(job, path, max_side, max_pixels, img, err, errlen)
                        : psc_io_errorf(err, errlen, path, "out of memory (libpng)");
     png_destroy_read_struct(&job->png, &job->info, NULL);
     free(job->rows);
@@ -197,7 +207,8 @@ static int png_encode(uint32_t width, uint32_t height, png_row_fn row, const voi
     return rc;
 }
 
-int psc_io_png_read(const char *path, uint32_t max_side, psc_surface_t *img, char *err, size_t errlen)
+int psc_io_png_read(const char *path, uint32_t max_side, uint64_t max_pixels, psc_surface_t *img, char *err,
+                    size_t errlen)
 {
     static const uint8_t magic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
     uint8_t head[8];
@@ -205,14 +216,14 @@ int psc_io_png_read(const char *path, uint32_t max_side, psc_surface_t *img, cha
     int rc;
 
     *img = (psc_surface_t){0, 0, 0, PSC_PIX_XRGB8888, NULL};
-    if (!path || (f = fopen(path, "rb")) == NULL)
-        return psc_io_errorf(err, errlen, path, "cannot open: %s", strerror(errno));
+    if (!path || (f = psc_io_fopen_regular(path, PSC_IMAGE_MAX_FILE_BYTES, err, errlen)) == NULL)
+        return -1;
     if (fread(head, 1, sizeof head, f) != sizeof head || memcmp(head, magic, sizeof magic) != 0)
         rc = psc_io_errorf(err, errlen, path, "not a PNG image");
     else if (fseek(f, 0, SEEK_SET) != 0)
         rc = psc_io_errorf(err, errlen, path, "cannot seek: %s", strerror(errno));
     else
-        rc = psc_io_png_decode(f, path, max_side, img, err, errlen);
+        rc = psc_io_png_decode(f, path, max_side, max_pixels, img, err, errlen);
     fclose(f);
     return rc;
 }

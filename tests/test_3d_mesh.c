@@ -25,6 +25,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include "mesh_pack.h"
@@ -353,8 +355,8 @@ static void test_obj_material(void **state)
     (void)state;
     const char *dir = getenv("PSC_TEST_TMPDIR");
     char obj[512], mtl[512];
-    snprintf(obj, sizeof obj, "%s/3d_mat.obj", dir && *dir ? dir : ".");
-    snprintf(mtl, sizeof mtl, "%s/3d_mat.mtl", dir && *dir ? dir : ".");
+    snprintf(obj, sizeof obj, "%s/3d_mat.obj", dir && *dir ? dir : "/tmp");
+    snprintf(mtl, sizeof mtl, "%s/3d_mat.mtl", dir && *dir ? dir : "/tmp");
     FILE *f = fopen(mtl, "w");
     assert_non_null(f);
     fprintf(f, "newmtl first\nmap_Kd one.png\nnewmtl second\nKd 1 1 1\nmap_Kd -s 1 1 1 two.png\n");
@@ -378,6 +380,50 @@ static void test_obj_material(void **state)
     assert_non_null(strstr(note, "nowhere.mtl"));
     assert_null(m.texture_path);
     psc_model_free(&m);
+
+    /* Names that leave the model's folder are not followed (issue 16: /etc/passwd was read silently). */
+    static const char *const outside[] = {"/etc/passwd", "../3d_mat.mtl", "sub/../../3d_mat.mtl",
+                                          "..\\..\\3d_mat.mtl", "C:\\models\\3d_mat.mtl"};
+    for (size_t i = 0; i < sizeof outside / sizeof outside[0]; i++) {
+        f = fopen(obj, "w");
+        fprintf(f, "mtllib %s\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", outside[i]);
+        fclose(f);
+        note[0] = '\0';
+        assert_int_equal(psc_obj_load(obj, &m, note, sizeof note, err, sizeof err), 0);
+        printf("  mtllib %s: %s\n", outside[i], note);
+        assert_non_null(strstr(note, "is outside the model's folder: not read"));
+        assert_null(m.texture_path);
+        psc_model_free(&m);
+    }
+    /* ... nor a texture named so by a library inside it; one in a subfolder is */
+    f = fopen(mtl, "w");
+    fprintf(f, "newmtl a\nmap_Kd ../../secret.png\n");
+    fclose(f);
+    f = fopen(obj, "w");
+    fprintf(f, "mtllib 3d_mat.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    fclose(f);
+    note[0] = '\0';
+    assert_int_equal(psc_obj_load(obj, &m, note, sizeof note, err, sizeof err), 0);
+    assert_non_null(strstr(note, "texture '../../secret.png' is outside the model's folder"));
+    assert_null(m.texture_path);
+    psc_model_free(&m);
+    f = fopen(mtl, "w");
+    fprintf(f, "newmtl a\nmap_Kd textures/wood..grain.png\n");
+    fclose(f);
+    assert_int_equal(psc_obj_load(obj, &m, note, sizeof note, err, sizeof err), 0);
+    assert_non_null(m.texture_path);
+    assert_non_null(strstr(m.texture_path, "textures/wood..grain.png"));
+    psc_model_free(&m);
+    /* a FIFO as the library: refused at once, a note */
+    unlink(mtl);
+    assert_int_equal(mkfifo(mtl, 0600), 0);
+    alarm(20);
+    assert_int_equal(psc_obj_load(obj, &m, note, sizeof note, err, sizeof err), 0);
+    alarm(0);
+    assert_non_null(strstr(note, "not a regular file (a FIFO)"));
+    psc_model_free(&m);
+    unlink(mtl);
+    unlink(obj);
 }
 
 static void test_obj_errors(void **state)

@@ -954,7 +954,7 @@ static void test_files(void **state)
     tsup_tmp_path(path, sizeof path, "test_config_fuzz", "big.conf");
     assert_int_equal(tsup_write_bytes(path, t.p, t.len), 0);
     assert_int_not_equal(psc_board_config_load(path, &cfg, err, sizeof err), 0);
-    if (!strstr(err, path) || !strstr(err, "64 KiB"))
+    if (!strstr(err, path) || !strstr(err, "larger than the limit of 65536 bytes"))
         fail_msg("board file over 64 KiB: \"%s\"", err);
     printf("  \"%s\"\n", err);
     unlink(path);
@@ -999,6 +999,18 @@ static void test_files(void **state)
     assert_int_equal(tour.count, 0);
     printf("  \"%s\"\n", err);
     rmdir(path);
+    /* A FIFO (or a device) where a file should be: refused at once, not waited on for a writer. */
+    tsup_tmp_path(path, sizeof path, "test_config_fuzz", "a-fifo");
+    unlink(path);
+    assert_int_equal(mkfifo(path, 0600), 0);
+    alarm(20);
+    assert_int_not_equal(psc_board_config_load(path, &cfg, err, sizeof err), 0);
+    printf("  \"%s\"\n", err);
+    assert_true(tsup_msg_starts_with_path(err, path) && strstr(err, "not a regular file (a FIFO)"));
+    assert_int_not_equal(psc_sim_tour_load(path, LONG_PRESS_MS, &tour, err, sizeof err), 0);
+    assert_true(tsup_msg_starts_with_path(err, path) && strstr(err, "not a regular file (a FIFO)"));
+    alarm(0);
+    unlink(path);
     tsup_tmp_path(path, sizeof path, "test_config_fuzz", "missing.txt");
     assert_int_not_equal(psc_sim_tour_load(path, LONG_PRESS_MS, &tour, err, sizeof err), 0);
     assert_non_null(strstr(err, path));

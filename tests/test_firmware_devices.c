@@ -18,6 +18,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -189,7 +191,7 @@ static void test_frame_dump(void **state)
     free(data);
     unlink(path);
     assert_int_equal(psc_frame_dump_write("/nonexistent-dir/frame.raw", &s, err, sizeof err), -1);
-    assert_non_null(strstr(err, "/nonexistent-dir/frame.raw: cannot create the frame dump"));
+    assert_non_null(strstr(err, "/nonexistent-dir/frame.raw: cannot create a temporary file beside it"));
 
     assert_int_equal(psc_frame_dump_parse("30:/tmp/a.raw", &frame, &p), 0);
     assert_int_equal(frame, 30);
@@ -422,6 +424,84 @@ static void test_stop_request(void **state)
     psc_app_close(app);
 }
 
+/* Files in dir whose names contain part (a temporary left behind). */
+static unsigned count_files_with(const char *dir, const char *part)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    unsigned n = 0;
+
+    assert_non_null(d);
+    while ((e = readdir(d)) != NULL)
+        n += strstr(e->d_name, part) != NULL;
+    closedir(d);
+    return n;
+}
+
+/*
+ * --dump-frame on a full disk (issue 16: it printed an error, exited 0 and
+ * left a truncated file): a file-size limit makes every write past 4 KiB fail
+ * with EFBIG, as a full disk fails with ENOSPC. The run ends non-zero naming
+ * the dump and the reason, the earlier dump at that path is untouched, and no
+ * temporary is left beside it.
+ */
+static void test_frame_dump_full_disk(void **state)
+{
+    char dir[400], conf[1200], path[500], pack[400], tour[400], dump[500], err[600];
+    struct rlimit old, small;
+    psc_app_stats_t st;
+    psc_app_t *app = NULL;
+    size_t len;
+    uint8_t *data;
+    (void)state;
+
+    snprintf(pack, sizeof pack, "%s/cam.pano", root);
+    snprintf(tour, sizeof tour, "%s/still.txt", root);
+    snprintf(dir, sizeof dir, "%s/fulldisk", root);
+    mkdir(dir, 0755);
+    snprintf(path, sizeof path, "%s/board.conf", dir);
+    snprintf(conf, sizeof conf, "display = sim\ndisplay_size = 160x120\ninput = sim\ntour = %s\nclock = sim\n"
+             "scene = %s\n", tour, pack);
+    write_text(path, conf);
+    snprintf(dump, sizeof dump, "%s/frame2.raw", dir);
+    write_text(dump, "the dump of an earlier run");
+
+    psc_cli_options_t opt = { .board = "fulldisk", .boards_dir = root, .frames_every = -1, .quiet = true,
+                              .max_frames = 4, .dump_count = 1 };
+    opt.dumps[0] = (psc_cli_dump_t){ 2, dump };
+    assert_int_equal(psc_app_open(&opt, &app, err, sizeof err), 0);
+    assert_int_equal(getrlimit(RLIMIT_FSIZE, &old), 0);
+    small = old;
+    small.rlim_cur = 4096;
+    signal(SIGXFSZ, SIG_IGN);   /* EFBIG instead of the signal */
+    assert_int_equal(setrlimit(RLIMIT_FSIZE, &small), 0);
+    int rc = psc_app_run(app, &st, err, sizeof err);
+    assert_int_equal(setrlimit(RLIMIT_FSIZE, &old), 0);
+    signal(SIGXFSZ, SIG_DFL);
+    psc_app_close(app);
+    printf("  %s\n", err);
+    assert_int_equal(rc, -1);
+    assert_int_equal(st.frames, 4);   /* the kiosk kept showing */
+    assert_non_null(strstr(err, "a frame dump failed: "));
+    assert_non_null(strstr(err, dump));
+    assert_non_null(strstr(err, "File too large"));
+    data = tsup_read_bytes(dump, &len);
+    assert_non_null(data);
+    assert_int_equal(len, strlen("the dump of an earlier run"));
+    free(data);
+    assert_int_equal(count_files_with(dir, ".tmp"), 0);
+
+    /* with room, the same run succeeds and replaces it: 160 x 120 RGB565 */
+    assert_int_equal(psc_app_open(&opt, &app, err, sizeof err), 0);
+    assert_int_equal(psc_app_run(app, &st, err, sizeof err), 0);
+    psc_app_close(app);
+    data = tsup_read_bytes(dump, &len);
+    assert_non_null(data);
+    assert_int_equal(len, 160 * 120 * 2);
+    free(data);
+    assert_int_equal(count_files_with(dir, ".tmp"), 0);
+}
+
 /* What scripts/board-key prints for a key of a board (the build's reader). */
 static void board_key_output(const char *board, const char *key, char *out, size_t len)
 {
@@ -530,6 +610,7 @@ int main(void)
         cmocka_unit_test(test_camera_scene_run),
         cmocka_unit_test(test_absent_camera_run),
         cmocka_unit_test(test_stop_request),
+        cmocka_unit_test(test_frame_dump_full_disk),
         cmocka_unit_test(test_board_files),
         cmocka_unit_test(test_vm_boards_match_reference),
     };

@@ -929,6 +929,78 @@ static void write_png_header_only(const char *path, uint32_t w, uint32_t h, size
     assert_int_equal(tsup_write_bytes(path, b, n), 0);
 }
 
+/* ---- limits before work ----------------------------------------------------------------- */
+
+/* The first SOFn marker's height and width in a JPEG set to h and w. */
+static void jpeg_set_size(uint8_t *b, size_t n, uint16_t w, uint16_t h)
+{
+    for (size_t i = 2; i + 9 < n; i++)
+        if (b[i] == 0xFF && (b[i + 1] == 0xC0 || b[i + 1] == 0xC2)) {
+            b[i + 5] = (uint8_t)(h >> 8);
+            b[i + 6] = (uint8_t)h;
+            b[i + 7] = (uint8_t)(w >> 8);
+            b[i + 8] = (uint8_t)w;
+            return;
+        }
+    fail_msg("no SOF marker");
+}
+
+/*
+ * The pixel budget (issue 16): an image whose header declares more pixels
+ * than the budget is refused from the header, naming the size and the budget,
+ * before anything is decoded or allocated for it; within the budget the same
+ * file loads as before.
+ */
+static void test_pixel_budget(void **state)
+{
+    (void)state;
+    char path[512], err[512];
+    psc_image_t img;
+
+    /* what a decompression bomb looks like from its header (the 818 KB PNG of issue 16) */
+    tmp_path(path, sizeof path, "bomb.png");
+    write_png_header_only(path, 16384, 16384, 256);
+    assert_int_equal(psc_image_load(path, &img, err, sizeof err), -1);
+    printf("  a tiny PNG declaring 16384x16384: \"%s\"\n", err);
+    assert_true(tsup_msg_starts_with_path(err, path));
+    assert_non_null(strstr(err, "16384x16384 (268435456 pixels), more than the budget of 134217728 pixels"));
+    assert_null(img.xrgb);
+    psc_surface_t s;
+    assert_int_equal(psc_io_png_read(path, 16384, PSC_IMAGE_MAX_PIXELS, &s, err, sizeof err), -1);
+    assert_non_null(strstr(err, "more than the budget"));
+    /* just inside the budget the header passes, and the missing rows are what fails */
+    write_png_header_only(path, 16384, 8192, 256);
+    assert_int_equal(psc_image_load(path, &img, err, sizeof err), -1);
+    assert_null(strstr(err, "budget"));
+    assert_non_null(strstr(err, "truncated"));
+
+    /* a real image against a budget one pixel short of it, then exactly its size */
+    enum { W = 96, H = 64 };
+    uint8_t *rgb = malloc(W * H * 3);
+    assert_non_null(rgb);
+    for (unsigned i = 0; i < W * H * 3; i++)
+        rgb[i] = (uint8_t)(i * 7);
+    static const jpeg_spec_t spec = {JCS_RGB, 3, 90, 1, 0, 0};
+    tmp_path(path, sizeof path, "budget.jpg");
+    write_jpeg(path, rgb, W, H, &spec);
+    assert_int_equal(psc_image_load_within(path, W * H - 1, &img, err, sizeof err), -1);
+    assert_non_null(strstr(err, "96x64 (6144 pixels), more than the budget of 6143 pixels"));
+    assert_int_equal(psc_image_load_within(path, W * H, &img, err, sizeof err), 0);
+    psc_image_free(&img);
+    /* the same JPEG declaring 16384x16384 */
+    size_t jlen;
+    uint8_t *jpg = tsup_read_bytes(path, &jlen);
+    assert_non_null(jpg);
+    jpeg_set_size(jpg, jlen, 16384, 16384);
+    assert_int_equal(tsup_write_bytes(path, jpg, jlen), 0);
+    assert_int_equal(psc_image_load(path, &img, err, sizeof err), -1);
+    printf("  a %zu-byte JPEG declaring 16384x16384: \"%s\"\n", jlen, err);
+    assert_non_null(strstr(err, "16384x16384 (268435456 pixels), more than the budget"));
+    free(jpg);
+    free(rgb);
+    unlink(path);
+}
+
 static void test_not_images(void **state)
 {
     (void)state;
@@ -1018,6 +1090,7 @@ int main(void)
         cmocka_unit_test(test_corrupt_png),
         cmocka_unit_test(test_corrupt_jpeg),
         cmocka_unit_test(test_not_images),
+        cmocka_unit_test(test_pixel_budget),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -20,6 +20,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <zlib.h>
 
@@ -618,6 +620,86 @@ static void tmp_path(char *buf, size_t n, const char *name)
     snprintf(buf, n, "%s/test_pack_%ld_%s", dir && *dir ? dir : "/tmp", (long)getpid(), name);
 }
 
+/* Bytes this process has read through read(2) and pread(2) so far (/proc/self/io "rchar"). */
+static unsigned long long bytes_read_so_far(void)
+{
+    FILE *f = fopen("/proc/self/io", "r");
+    unsigned long long n = 0;
+    char line[128];
+    assert_non_null(f);
+    while (fgets(line, sizeof line, f))
+        if (sscanf(line, "rchar: %llu", &n) == 1)
+            break;
+    fclose(f);
+    return n;
+}
+
+/*
+ * Limits before work (issue 16): a 3 GiB file of junk and a real pack with a
+ * gigabyte appended are refused from their first 32 bytes (counted: under
+ * 64 KiB read, where the loader used to read the file whole first); a FIFO
+ * and a directory are refused at once, naming what they are (a FIFO used to
+ * block the loader in open() until some writer came).
+ */
+static void test_file_limits(void **state)
+{
+    (void)state;
+    char path[512], err[512];
+    psc_io_pack_t pf;
+
+    tmp_path(path, sizeof path, "junk-3GiB.pano");
+    int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    assert_true(fd >= 0);
+    assert_int_equal(write(fd, "this is no pack, only the start of junk\n", 40), 40);
+    assert_int_equal(ftruncate(fd, (off_t)3 << 30), 0);   /* sparse: no disk used */
+    close(fd);
+    unsigned long long before = bytes_read_so_far();
+    assert_int_equal(psc_io_pack_load(path, &pf, err, sizeof err), -1);
+    unsigned long long read_bytes = bytes_read_so_far() - before;
+    printf("  3 GiB of junk: %llu bytes read: \"%s\"\n", read_bytes, err);
+    assert_true(read_bytes < 65536);
+    assert_non_null(strstr(err, path));
+    assert_non_null(strstr(err, "bad magic"));
+    assert_null(pf.buf);
+
+    /* a valid pack with a gigabyte after it: its header's size disagrees with the file's */
+    pack_t p = small_pack(PSC_PIX_RGB565);
+    assert_int_equal(psc_io_write_atomic(path, p.buf, p.len, err, sizeof err), 0);
+    assert_int_equal(truncate(path, (off_t)p.len + ((off_t)1 << 30)), 0);
+    before = bytes_read_so_far();
+    assert_int_equal(psc_io_pack_load(path, &pf, err, sizeof err), -1);
+    read_bytes = bytes_read_so_far() - before;
+    printf("  a pack and 1 GiB more: %llu bytes read: \"%s\"\n", read_bytes, err);
+    assert_true(read_bytes < 65536);
+    assert_non_null(strstr(err, "trailing bytes after the recorded file size"));
+    unlink(path);
+    free(p.buf);
+
+    /* a FIFO: refused without waiting for a writer (alarm: a hang fails the test instead of stalling it) */
+    tmp_path(path, sizeof path, "scene-fifo.pano");
+    unlink(path);
+    assert_int_equal(mkfifo(path, 0600), 0);
+    alarm(20);
+    assert_int_equal(psc_io_pack_load(path, &pf, err, sizeof err), -1);
+    printf("  a FIFO: \"%s\"\n", err);
+    assert_non_null(strstr(err, "not a regular file (a FIFO)"));
+    assert_false(psc_io_file_has_magic(path, PSC_PACK_MAGIC, PSC_CONTAINER_MAGIC_SIZE));
+    void *buf;
+    size_t len;
+    assert_int_equal(psc_io_read_aligned(path, 1u << 20, &buf, &len, err, sizeof err), -1);
+    assert_non_null(strstr(err, "a FIFO"));
+    alarm(0);
+    unlink(path);
+
+    /* over the size limit: the limit is named */
+    tmp_path(path, sizeof path, "big.txt");
+    assert_int_equal(psc_io_write_atomic(path, "0123456789", 10, err, sizeof err), 0);
+    assert_int_equal(psc_io_read_aligned(path, 9, &buf, &len, err, sizeof err), -1);
+    printf("  over the limit: \"%s\"\n", err);
+    assert_non_null(strstr(err, "file is 10 bytes, larger than the limit of 9 bytes"));
+    unlink(path);
+}
+
 static void test_file_load(void **state)
 {
     (void)state;
@@ -878,6 +960,7 @@ int main(void)
         cmocka_unit_test(test_bad_headers),
         cmocka_unit_test(test_bad_sections),
         cmocka_unit_test(test_file_load),
+        cmocka_unit_test(test_file_limits),
         cmocka_unit_test(test_status_strings),
         cmocka_unit_test(test_fuzz),
     };

@@ -26,13 +26,17 @@
 #include <setjmp.h>
 #include <cmocka.h>
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <math.h>
 #include <spawn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -438,6 +442,109 @@ static void test_render_matches_device_path(void **state)
 }
 
 /* ---- exit status and messages ------------------------------------------------------------------------------ */
+
+/* Names in the directory of path that start with path's own name and contain ".tmp": left-behind temporaries. */
+static unsigned temporaries_beside(const char *path)
+{
+    char dir[512];
+    const char *slash = strrchr(path, '/');
+    snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) : 1, slash ? path : ".");
+    const char *base = slash ? slash + 1 : path;
+    DIR *d = opendir(dir);
+    assert_non_null(d);
+    unsigned n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL)
+        n += strncmp(e->d_name, base, strlen(base)) == 0 && strstr(e->d_name + strlen(base), ".tmp") != NULL;
+    closedir(d);
+    return n;
+}
+
+/*
+ * Limits and nothing half-written (issue 16), as a user meets them:
+ *  - a tiny PNG declaring 16384 x 16384 is refused from its header with the
+ *    budget named and --max-pixels suggested (it used to peak at 3.5 GB and
+ *    write a 716 MB pack); --max-pixels below an image's size refuses it too;
+ *  - a FIFO given as the input is refused at once (no waiting for a writer);
+ *  - periscope-pack stopped by a fatal signal while writing (here SIGXFSZ
+ *    from a 16 KiB file-size limit, deterministic where a timed SIGTERM is
+ *    not: the same handler serves SIGINT, SIGTERM, SIGHUP and SIGQUIT) dies
+ *    of that signal, leaves no OUT.tmpPID.N beside the output, and an
+ *    earlier output there stays as it was.
+ */
+static void test_limits_and_interrupted_writes(void **state)
+{
+    (void)state;
+    need_packs();
+    char png[512], out[512];
+    tmp_path(png, sizeof png, "declares-16384x16384.png");
+    tmp_path(out, sizeof out, "never.pano");
+    unlink(out);
+    /* PNG signature, IHDR 16384 x 16384 8-bit grey, an IDAT of one zlib-compressed byte, IEND */
+    static const uint8_t bomb[] = {
+        0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R', 0, 0, 0x40, 0, 0, 0, 0x40, 0,
+        8, 0, 0, 0, 0, 0x8C, 0xA3, 0x4F, 0x58, 0, 0, 0, 9, 'I', 'D', 'A', 'T', 0x78, 0x9C, 0x63, 0, 0, 0, 1, 0, 1,
+        0x5E, 0xFF, 0x7D, 0xF9, 0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
+    assert_int_equal(tsup_write_bytes(png, bomb, sizeof bomb), 0);
+    const char *bomb_args[] = {png, "-o", out, "--display", "160x120", NULL};
+    const char *bomb_says[] = {"16384x16384 (268435456 pixels), more than the budget of 134217728 pixels",
+                               "--max-pixels", NULL};
+    expect_run("periscope-pack", bomb_args, 1, bomb_says);
+    assert_false(tsup_file_exists(out));
+    const char *small_args[] = {fx.png, "-o", out, "--display", "160x120", "--max-pixels", "1000", NULL};
+    const char *small_says[] = {"more than the budget of 1000 pixels", NULL};
+    expect_run("periscope-pack", small_args, 1, small_says);
+    assert_false(tsup_file_exists(out));
+
+    char fifo[512];
+    tmp_path(fifo, sizeof fifo, "input-fifo.png");
+    unlink(fifo);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    const char *fifo_args[] = {fifo, "-o", out, "--display", "160x120", NULL};
+    const char *fifo_says[] = {"not a regular file (a FIFO)", NULL};
+    alarm(60);
+    expect_run("periscope-pack", fifo_args, 1, fifo_says);
+    alarm(0);
+    unlink(fifo);
+
+    /* interrupted while writing: an earlier pack at OUT survives whole */
+    char exe[512], log[512];
+    snprintf(exe, sizeof exe, "%s/periscope-pack", bin_dir());
+    tmp_path(out, sizeof out, "interrupted.pano");
+    tmp_path(log, sizeof log, "interrupted.log");
+    static const char earlier[] = "an earlier pack";
+    assert_int_equal(tsup_write_bytes(out, earlier, sizeof earlier), 0);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        struct rlimit lim = {16384, 16384};
+        int fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (fd < 0 || dup2(fd, 1) < 0 || dup2(fd, 2) < 0 || setrlimit(RLIMIT_FSIZE, &lim) != 0)
+            _exit(126);
+        execl(exe, exe, fx.png, "-o", out, "--display", "160x120", "--quiet", (char *)NULL);
+        _exit(127);
+    }
+    int ws;
+    while (waitpid(pid, &ws, 0) < 0)
+        assert_int_equal(errno, EINTR);
+    size_t len;
+    char *said = (char *)tsup_read_bytes(log, &len);
+    if (!WIFSIGNALED(ws) || WTERMSIG(ws) != SIGXFSZ)
+        fail_msg("periscope-pack under a 16 KiB file limit should die of SIGXFSZ; status 0x%x, output:\n%s", ws,
+                 said ? said : "");
+    free(said);
+    unlink(log);
+    printf("  periscope-pack killed by signal %d while writing: %u temporaries left beside %s\n", WTERMSIG(ws),
+           temporaries_beside(out), out);
+    assert_int_equal(temporaries_beside(out), 0);
+    char *kept = (char *)tsup_read_bytes(out, &len);
+    assert_non_null(kept);
+    assert_int_equal(len, sizeof earlier);
+    assert_memory_equal(kept, earlier, sizeof earlier);
+    free(kept);
+    unlink(out);
+    unlink(png);
+}
 
 static void test_exit_codes(void **state)
 {
@@ -994,6 +1101,7 @@ int main(void)
         cmocka_unit_test(test_pack),
         cmocka_unit_test(test_render_matches_device_path),
         cmocka_unit_test(test_exit_codes),
+        cmocka_unit_test(test_limits_and_interrupted_writes),
         cmocka_unit_test(test_command_line_convention),
         cmocka_unit_test(test_patch_tools),
         cmocka_unit_test(test_gltf_tools),

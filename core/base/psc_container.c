@@ -27,6 +27,43 @@ static bool host_is_little_endian(void)
     return *(const uint8_t *)&probe == 1;
 }
 
+psc_status_t psc_container_check_head(const void *head, size_t head_len, uint64_t file_len,
+                                      const psc_container_format_t *fmt, psc_container_error_t *err)
+{
+    const uint8_t *b = head;
+    if (!head || !fmt)
+        return psc_container_fail(err, PSC_ERR_ARG, "no buffer", 0);
+    if (head_len < PSC_CONTAINER_MAGIC_SIZE || file_len < PSC_CONTAINER_MAGIC_SIZE)
+        return psc_container_fail(err, PSC_ERR_TRUNCATED, "file shorter than the magic", 0);
+    for (unsigned i = 0; i < PSC_CONTAINER_MAGIC_SIZE; i++)
+        if (b[PSC_CONTAINER_MAGIC_OFFSET + i] != (uint8_t)fmt->magic[i])
+            return psc_container_fail(err, PSC_ERR_MAGIC, fmt->bad_magic, 0);
+    if (head_len < PSC_CONTAINER_HEADER_SIZE || file_len < PSC_CONTAINER_HEADER_SIZE)
+        return psc_container_fail(err, PSC_ERR_TRUNCATED, "file shorter than the header",
+                                  (uint32_t)(file_len < head_len ? file_len : head_len));
+    if (psc_rd16(b + PSC_CONTAINER_VERSION_MAJOR_OFFSET) != fmt->version_major)
+        return psc_container_fail(err, PSC_ERR_VERSION, "unsupported major version",
+                                  PSC_CONTAINER_VERSION_MAJOR_OFFSET);
+    uint32_t header_size = psc_rd32(b + PSC_CONTAINER_HEADER_SIZE_OFFSET),
+             file_size = psc_rd32(b + PSC_CONTAINER_FILE_SIZE_OFFSET);
+    uint16_t nsec = psc_rd16(b + PSC_CONTAINER_SECTION_COUNT_OFFSET);
+    uint32_t at = file_len > UINT32_MAX ? UINT32_MAX : (uint32_t)file_len;
+    if (file_size > file_len)
+        return psc_container_fail(err, PSC_ERR_TRUNCATED, "file shorter than its recorded size", at);
+    if (file_size < file_len)
+        return psc_container_fail(err, PSC_ERR_CORRUPT, "trailing bytes after the recorded file size", file_size);
+    if (header_size < PSC_CONTAINER_HEADER_SIZE || header_size > file_size)
+        return psc_container_fail(err, PSC_ERR_CORRUPT, "header size out of range",
+                                  PSC_CONTAINER_HEADER_SIZE_OFFSET);
+    if (nsec == 0 || nsec > fmt->max_sections)
+        return psc_container_fail(err, PSC_ERR_CORRUPT, "section count out of range",
+                                  PSC_CONTAINER_SECTION_COUNT_OFFSET);
+    if ((uint64_t)header_size + (uint64_t)nsec * PSC_CONTAINER_SECTION_SIZE > file_size)
+        return psc_container_fail(err, PSC_ERR_TRUNCATED, "section table extends past the end of the file",
+                                  header_size);
+    return PSC_OK;
+}
+
 psc_status_t psc_container_open(const void *buf, size_t len, const psc_container_format_t *fmt, psc_container_t *c,
                                 psc_container_error_t *err)
 {
@@ -37,35 +74,18 @@ psc_status_t psc_container_open(const void *buf, size_t len, const psc_container
         return psc_container_fail(err, PSC_ERR_ARG, "buffer not aligned to 8 bytes", 0);
     if (!host_is_little_endian())
         return psc_container_fail(err, PSC_ERR_UNSUPPORTED, "big-endian hosts cannot read packs in place", 0);
-    if (len < PSC_CONTAINER_MAGIC_SIZE)
-        return psc_container_fail(err, PSC_ERR_TRUNCATED, "file shorter than the magic", 0);
-    for (unsigned i = 0; i < PSC_CONTAINER_MAGIC_SIZE; i++)
-        if (b[PSC_CONTAINER_MAGIC_OFFSET + i] != (uint8_t)fmt->magic[i])
-            return psc_container_fail(err, PSC_ERR_MAGIC, fmt->bad_magic, 0);
-    if (len < PSC_CONTAINER_HEADER_SIZE)
-        return psc_container_fail(err, PSC_ERR_TRUNCATED, "file shorter than the header", (uint32_t)len);
-    if (psc_rd16(b + PSC_CONTAINER_VERSION_MAJOR_OFFSET) != fmt->version_major)
-        return psc_container_fail(err, PSC_ERR_VERSION, "unsupported major version", PSC_CONTAINER_VERSION_MAJOR_OFFSET);
-    uint32_t header_size = psc_rd32(b + PSC_CONTAINER_HEADER_SIZE_OFFSET),
-             file_size = psc_rd32(b + PSC_CONTAINER_FILE_SIZE_OFFSET);
-    uint16_t nsec = psc_rd16(b + PSC_CONTAINER_SECTION_COUNT_OFFSET);
-    if (file_size > len)
-        return psc_container_fail(err, PSC_ERR_TRUNCATED, "file shorter than its recorded size", (uint32_t)len);
-    if (file_size < len)
-        return psc_container_fail(err, PSC_ERR_CORRUPT, "trailing bytes after the recorded file size", file_size);
-    if (header_size < PSC_CONTAINER_HEADER_SIZE || header_size > file_size)
-        return psc_container_fail(err, PSC_ERR_CORRUPT, "header size out of range", PSC_CONTAINER_HEADER_SIZE_OFFSET);
-    if (nsec == 0 || nsec > fmt->max_sections)
-        return psc_container_fail(err, PSC_ERR_CORRUPT, "section count out of range", PSC_CONTAINER_SECTION_COUNT_OFFSET);
-    if ((uint64_t)header_size + (uint64_t)nsec * PSC_CONTAINER_SECTION_SIZE > file_size)
-        return psc_container_fail(err, PSC_ERR_TRUNCATED, "section table extends past the end of the file", header_size);
+    psc_status_t s = psc_container_check_head(b, len, len, fmt, err);
+    if (s != PSC_OK)
+        return s;
+    uint32_t file_size = psc_rd32(b + PSC_CONTAINER_FILE_SIZE_OFFSET);
     if (psc_container_crc(b, file_size) != psc_rd32(b + PSC_CONTAINER_CRC_OFFSET))
-        return psc_container_fail(err, PSC_ERR_CRC, "CRC-32 mismatch: the file is corrupt", PSC_CONTAINER_CRC_OFFSET);
+        return psc_container_fail(err, PSC_ERR_CRC, "CRC-32 mismatch: the file is corrupt",
+                                  PSC_CONTAINER_CRC_OFFSET);
     c->base = b;
-    c->header_size = header_size;
+    c->header_size = psc_rd32(b + PSC_CONTAINER_HEADER_SIZE_OFFSET);
     c->file_size = file_size;
     c->version_minor = psc_rd16(b + PSC_CONTAINER_VERSION_MINOR_OFFSET);
-    c->section_count = nsec;
+    c->section_count = psc_rd16(b + PSC_CONTAINER_SECTION_COUNT_OFFSET);
     return PSC_OK;
 }
 

@@ -91,6 +91,15 @@ static inline uint32_t psc_rd32(const uint8_t *p)
 psc_status_t psc_container_fail(psc_container_error_t *err, psc_status_t s, const char *what, uint32_t offset);
 
 /**
+ * The checks that need only the header's 32 bytes and the file's length:
+ * magic, major version, recorded file size, header size, section count and
+ * table extent. A loader runs them before it reads a file whole, so a file
+ * of the wrong kind or size costs 32 bytes of reading, not gigabytes.
+ */
+psc_status_t psc_container_check_head(const void *head, size_t head_len, uint64_t file_len,
+                                      const psc_container_format_t *fmt, psc_container_error_t *err);
+
+/**
  * Check buf[0..len) as a container of format fmt: 8-byte alignment, a
  * little-endian host, magic, major version, header and file sizes, section
  * count and table extent, and the CRC-32 of the whole file (CRC field taken

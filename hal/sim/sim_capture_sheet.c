@@ -112,7 +112,7 @@ int psc_sim_contact_sheet_write(const char *capture_dir, uint32_t frames, uint32
         uint32_t frame = i * step * every;
 
         if (psc_sim_capture_path(path, sizeof path, capture_dir, frame) != 0 ||
-            psc_io_png_read(path, PSC_MAX_OUT_DIM, &img, err, errlen) != 0)
+            psc_io_png_read(path, PSC_MAX_OUT_DIM, PSC_IMAGE_MAX_PIXELS, &img, err, errlen) != 0)
             goto out;
         if (sheet.xrgb == NULL) {
             /* the first capture fixes the layout; every capture has the display's size */

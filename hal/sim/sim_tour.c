@@ -51,6 +51,7 @@
 #include <string.h>
 
 #include "psc_hal_parse.h"
+#include "psc_io_file.h"
 #include "psc_sim_tour.h"
 
 #define TOUR_MAX_WORDS 8u
@@ -541,11 +542,9 @@ int psc_sim_tour_load(const char *path, uint32_t long_press_ms, psc_sim_tour_t *
     int rc;
 
     memset(tour, 0, sizeof *tour);
-    f = fopen(path, "rb");
-    if (f == NULL) {
-        psc_hal_error_set(err, errlen, "cannot read tour script %s: %s", path, strerror(errno));
+    f = psc_io_fopen_regular(path, (uint64_t)16 << 20, err, errlen);
+    if (f == NULL)
         return -EIO;
-    }
     for (;;) {
         if (len == cap) {
             char *n;

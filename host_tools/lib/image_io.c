@@ -6,6 +6,7 @@
 #include "image_io.h"
 #include "image_codecs.h"
 #include "psc_io_error.h"
+#include "psc_io_file.h"
 #include "psc_io_png.h"
 
 #include <errno.h>
@@ -13,7 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-int psc_image_alloc(psc_image_t *img, uint32_t w, uint32_t h, const char *path, char *err, size_t errlen)
+int psc_image_alloc(psc_image_t *img, uint32_t w, uint32_t h, uint64_t max_pixels, const char *path, char *err,
+                    size_t errlen)
 {
     img->width = img->height = 0;
     img->xrgb = NULL;
@@ -22,6 +24,8 @@ int psc_image_alloc(psc_image_t *img, uint32_t w, uint32_t h, const char *path, 
     if (w > PSC_MAX_MAP_DIM || h > PSC_MAX_MAP_DIM)
         return psc_io_errorf(err, errlen, path, "image is %ux%u, larger than the limit of %u pixels per side",
                               (unsigned)w, (unsigned)h, (unsigned)PSC_MAX_MAP_DIM);
+    if ((uint64_t)w * h > max_pixels)
+        return psc_io_image_over_budget(err, errlen, path, w, h, max_pixels);
     img->xrgb = malloc((size_t)w * h * sizeof(uint32_t));
     if (!img->xrgb)
         return psc_io_errorf(err, errlen, path, "out of memory for a %ux%u image", (unsigned)w, (unsigned)h);
@@ -35,13 +39,18 @@ static const uint8_t png_magic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'
 
 int psc_image_load(const char *path, psc_image_t *img, char *err, size_t errlen)
 {
+    return psc_image_load_within(path, PSC_IMAGE_MAX_PIXELS, img, err, errlen);
+}
+
+int psc_image_load_within(const char *path, uint64_t max_pixels, psc_image_t *img, char *err, size_t errlen)
+{
     if (!path || !img)
         return psc_io_errorf(err, errlen, path, "no file or no image to load into");
     img->width = img->height = 0;
     img->xrgb = NULL;
-    FILE *f = fopen(path, "rb");
+    FILE *f = psc_io_fopen_regular(path, PSC_IMAGE_MAX_FILE_BYTES, err, errlen);
     if (!f)
-        return psc_io_errorf(err, errlen, path, "cannot open: %s", strerror(errno));
+        return -1;
     uint8_t head[8];
     size_t got = fread(head, 1, sizeof head, f);
     int rc;
@@ -50,10 +59,10 @@ int psc_image_load(const char *path, psc_image_t *img, char *err, size_t errlen)
     } else if (fseek(f, 0, SEEK_SET) != 0) {
         rc = psc_io_errorf(err, errlen, path, "cannot seek: %s", strerror(errno));
     } else if (got >= sizeof jpeg_magic && memcmp(head, jpeg_magic, sizeof jpeg_magic) == 0) {
-        rc = psc_jpeg_decode(f, path, img, err, errlen);
+        rc = psc_jpeg_decode(f, path, max_pixels, img, err, errlen);
     } else if (got >= sizeof png_magic && memcmp(head, png_magic, sizeof png_magic) == 0) {
         psc_surface_t dec;
-        rc = psc_io_png_decode(f, path, PSC_MAX_MAP_DIM, &dec, err, errlen);
+        rc = psc_io_png_decode(f, path, PSC_MAX_MAP_DIM, max_pixels, &dec, err, errlen);
         if (rc == 0) {   /* XRGB8888 rows without padding: the image's own layout */
             img->width = dec.width;
             img->height = dec.height;
@@ -85,7 +94,7 @@ int psc_surface_to_image(const psc_surface_t *s, psc_image_t *img)
     img->xrgb = NULL;
     if (!s || !psc_io_surface_is_valid(s))
         return -1;
-    if (psc_image_alloc(img, s->width, s->height, NULL, NULL, 0) != 0)
+    if (psc_image_alloc(img, s->width, s->height, UINT64_MAX, NULL, NULL, 0) != 0)
         return -1;
     for (uint32_t y = 0; y < s->height; y++)
         for (uint32_t x = 0; x < s->width; x++)

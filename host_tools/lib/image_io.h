@@ -17,8 +17,17 @@ typedef struct {
     uint32_t *xrgb;   /* malloc'd; free with psc_image_free */
 } psc_image_t;
 
-/** Load a JPEG or PNG (detected from its first bytes). 0 on success; -1 and err filled on failure. */
+/**
+ * Load a JPEG or PNG (detected from its first bytes) of at most
+ * PSC_IMAGE_MAX_PIXELS pixels. 0 on success; -1 and err filled on failure.
+ */
 int psc_image_load(const char *path, psc_image_t *img, char *err, size_t errlen);
+
+/**
+ * The same with another pixel budget: an image whose header declares more
+ * than max_pixels pixels is refused before it is decoded, naming the budget.
+ */
+int psc_image_load_within(const char *path, uint64_t max_pixels, psc_image_t *img, char *err, size_t errlen);
 void psc_image_free(psc_image_t *img);
 
 /** Write an 8-bit RGB PNG of img. */

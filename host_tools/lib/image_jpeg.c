@@ -73,7 +73,8 @@ static uint32_t cmyk_to_xrgb(const JSAMPLE *p, bool inverted)
     return 0xFF000000u | r << 16 | g << 8 | b;
 }
 
-static int jpeg_run(jpeg_job_t *job, FILE *f, const char *path, psc_image_t *img, char *err, size_t errlen)
+static int jpeg_run(jpeg_job_t *job, FILE *f, const char *path, uint64_t max_pixels, psc_image_t *img, char *err,
+                    size_t errlen)
 {
     struct jpeg_decompress_struct *cinfo = &job->cinfo;
     if (setjmp(job->fail.jump))
@@ -89,7 +90,7 @@ static int jpeg_run(jpeg_job_t *job, FILE *f, const char *path, psc_image_t *img
     if (!cmyk && cinfo->jpeg_color_space != JCS_GRAYSCALE && cinfo->jpeg_color_space != JCS_YCbCr &&
         cinfo->jpeg_color_space != JCS_RGB)
         return psc_io_errorf(err, errlen, path, "unsupported JPEG colour space %d", (int)cinfo->jpeg_color_space);
-    if (psc_image_alloc(img, cinfo->image_width, cinfo->image_height, path, err, errlen) != 0)
+    if (psc_image_alloc(img, cinfo->image_width, cinfo->image_height, max_pixels, path, err, errlen) != 0)
         return -1;
 
     cinfo->out_color_space = cmyk ? JCS_CMYK : JCS_RGB;
@@ -120,7 +121,7 @@ static int jpeg_run(jpeg_job_t *job, FILE *f, const char *path, psc_image_t *img
     return 0;
 }
 
-int psc_jpeg_decode(FILE *f, const char *path, psc_image_t *img, char *err, size_t errlen)
+int psc_jpeg_decode(FILE *f, const char *path, uint64_t max_pixels, psc_image_t *img, char *err, size_t errlen)
 {
     jpeg_job_t *job = calloc(1, sizeof *job);
     if (!job)
@@ -128,7 +129,7 @@ int psc_jpeg_decode(FILE *f, const char *path, psc_image_t *img, char *err, size
     job->cinfo.err = jpeg_std_error(&job->fail.mgr);
     job->fail.mgr.error_exit = jpeg_fail_exit;
     job->fail.mgr.emit_message = jpeg_fail_message;
-    int rc = jpeg_run(job, f, path, img, err, errlen);
+    int rc = jpeg_run(job, f, path, max_pixels, img, err, errlen);
     if (job->created)
         jpeg_destroy_decompress(&job->cinfo);
     free(job->row);

@@ -331,11 +331,9 @@ static int parse_line(obj_t *o, const char *p, const char *end)
     return 0; /* o, g, s, l, p, vp, ...: nothing to draw */
 }
 
-/* dir of path (with the slash) + file. */
+/* dir of path (with the slash) + file (a relative name that stays_beside allowed). */
 static char *path_beside(const char *path, const char *file)
 {
-    if (file[0] == '/')
-        return strdup(file);
     const char *slash = strrchr(path, '/');
     size_t dl = slash ? (size_t)(slash - path + 1) : 0;
     char *out = malloc(dl + strlen(file) + 1);
@@ -346,15 +344,45 @@ static char *path_beside(const char *path, const char *file)
     return out;
 }
 
+/*
+ * A name an OBJ or MTL file gives for another file (its material library, a
+ * texture) is followed only inside the model's own folder: relative, with no
+ * ".." part (either slash counts: Windows exporters write backslashes). A
+ * model from elsewhere must not make a tool read /etc/passwd or ../../secret.
+ */
+static bool stays_beside(const char *name)
+{
+    if (name[0] == '/' || name[0] == '\\' || (name[0] && name[1] == ':'))
+        return false;
+    for (const char *p = name; *p;) {
+        size_t n = strcspn(p, "/\\");
+        if (n == 2 && p[0] == '.' && p[1] == '.')
+            return false;
+        p += n;
+        if (*p)
+            p++;
+    }
+    return true;
+}
+
+#define OBJ_MAX_MTL_FILE ((uint64_t)16 << 20)
+
 /* The texture of the first used material (else the first map_Kd) in the material library. */
 static void read_material(obj_t *o, psc_model_t *m, char *note, size_t notelen)
 {
+    char why[600];
+    if (!stays_beside(o->mtllib)) {
+        if (note && notelen)
+            snprintf(note, notelen, "%s: material library '%s' is outside the model's folder: not read (no texture "
+                     "from it; copy it beside the model)", o->name, o->mtllib);
+        return;
+    }
     char *mtl = path_beside(o->name, o->mtllib);
-    FILE *f = mtl ? fopen(mtl, "r") : NULL;
+    FILE *f = mtl ? psc_io_fopen_regular(mtl, OBJ_MAX_MTL_FILE, why, sizeof why) : NULL;
     if (!f) {
         if (note && notelen)
-            snprintf(note, notelen, "%s: cannot open material library %s: %s (no texture from it)", o->name,
-                     mtl ? mtl : o->mtllib, strerror(errno));
+            snprintf(note, notelen, "%s: cannot read material library: %s (no texture from it)", o->name,
+                     mtl ? why : "out of memory");
         free(mtl);
         return;
     }
@@ -384,8 +412,13 @@ static void read_material(obj_t *o, psc_model_t *m, char *note, size_t notelen)
     }
     fclose(f);
     const char *pick = used_map[0] ? used_map : first_map;
-    if (pick[0])
+    if (pick[0] && !stays_beside(pick)) {
+        if (note && notelen)
+            snprintf(note, notelen, "%s: texture '%s' is outside the model's folder: not read (copy it beside the "
+                     "model)", mtl, pick);
+    } else if (pick[0]) {
         m->texture_path = path_beside(mtl, pick);
+    }
     free(mtl);
 }
 

@@ -2,6 +2,7 @@
 /* pose_file_load.c - POSE.json read with json-c (pose_file.h). */
 #include "pose_file.h"
 #include "psc_io_error.h"
+#include "psc_io_file.h"
 
 #include <json-c/json.h>
 
@@ -69,9 +70,9 @@ int psc_pose_file_load(const char *path, psc_pose_file_t *out, char *err, size_t
 {
     memset(out, 0, sizeof *out);
     out->time = -1.0;
-    FILE *f = fopen(path, "rb");
+    FILE *f = psc_io_fopen_regular(path, MAX_BYTES, err, errlen);
     if (f == NULL)
-        return psc_io_errorf(err, errlen, path, "cannot open: %s", strerror(errno));
+        return -1;
     char *text = malloc(MAX_BYTES + 1u);
     size_t len = text ? fread(text, 1, MAX_BYTES + 1u, f) : 0;
     bool read_error = ferror(f) != 0;
