@@ -121,9 +121,13 @@ int psc_app_open(const psc_cli_options_t *opt, psc_app_t **out, char *err, size_
         printf("periscope: note: --scene replaces the scene list; the board's %u hotspot%s are not used\n",
                b->hotspot_count, b->hotspot_count == 1 ? "" : "s");
     }
-    if (psc_scene_list_load(&app->scenes, opt->scene, &env, err, errlen) != 0 ||
-        psc_app_enter_scene(app, 0, err, errlen) != 0 || psc_devices_start(&app->dev, b, err, errlen) != 0)
+    if (psc_scene_list_load(&app->scenes, opt->scene, &env, err, errlen) != 0)
         goto fail;
+    psc_scene_list_attach(&app->scenes);
+    if (psc_app_enter_scene(app, 0, err, errlen) != 0 || psc_devices_start(&app->dev, b, err, errlen) != 0)
+        goto fail;
+    if (opt->scene != NULL)
+        snprintf(app->only_scene, sizeof app->only_scene, "%s", opt->scene);
     *out = app;
     return 0;
 fail:
@@ -140,6 +144,7 @@ void psc_app_close(psc_app_t *app)
 {
     if (app == NULL)
         return;
+    psc_scene_reload_discard(&app->reload);
     psc_devices_close(&app->dev);
     psc_scene_list_free(&app->scenes);
     psc_io_bands_stop(app->bands);

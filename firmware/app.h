@@ -39,6 +39,9 @@ typedef struct {
     uint32_t scene_switches;
     uint32_t attract_starts;      /* times attract mode began (attract.h) */
     uint32_t hotspot_follows;     /* hotspots followed with select (hotspots.h) */
+    uint32_t reloads;             /* scene lists taken over after SIGHUP */
+    uint32_t reload_failures;     /* reloads refused (the old scenes kept) */
+    uint32_t status_reports;      /* status lines logged for SIGUSR1 */
     uint32_t capture_every;       /* the sim display's capture period, 0 = none */
     bool watchdog_known;          /* the watchdog fields below are filled */
     psc_hal_watchdog_status_t watchdog;
@@ -70,6 +73,17 @@ const char *psc_app_out_dir(const psc_app_t *app);
  * then restores the display's mode and tells the watchdog STOPPING=1.
  */
 void psc_app_request_stop(void);
+
+/**
+ * Ask a running psc_app_run to load the scenes again (SIGHUP): they load
+ * beside the current ones, which stay on screen, and take over between two
+ * frames; if any fails the current ones stay and the log says why.
+ * Async-signal-safe.
+ */
+void psc_app_request_reload(void);
+
+/** Ask a running psc_app_run to log one status line (SIGUSR1). Async-signal-safe. */
+void psc_app_request_status(void);
 
 /** Close every device and free every buffer, in the reverse order of open (NULL is ignored). */
 void psc_app_close(psc_app_t *app);

@@ -15,6 +15,7 @@
 #include "motion.h"
 #include "quality.h"
 #include "scene_list.h"
+#include "scene_reload.h"
 
 struct psc_app {
     psc_board_config_t board;
@@ -36,6 +37,10 @@ struct psc_app {
     psc_quality_t quality;
     psc_frame_pacer_t pacer;
     uint32_t scene_switches;
+    char only_scene[PSC_BOARD_PATH_MAX];   /* --scene, or empty for the board's scene lines */
+    psc_scene_reload_t reload;             /* SIGHUP: the scenes loaded again */
+    uint32_t reloads, reload_failures;
+    uint64_t run_start_us;                 /* for SIGUSR1's status line */
     psc_io_bands_t *bands;     /* the viewer's worker threads, started with the display */
 };
 

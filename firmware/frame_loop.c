@@ -19,11 +19,21 @@
 
 /* Set from a signal handler (SIGTERM from systemd, Ctrl-C): the loop ends
  * after the frame in progress, and everything is closed in order. */
-static volatile sig_atomic_t loop_stop_requested;
+static volatile sig_atomic_t loop_stop_requested, loop_reload_requested, loop_status_requested;
 
 void psc_app_request_stop(void)
 {
     loop_stop_requested = 1;
+}
+
+void psc_app_request_reload(void)
+{
+    loop_reload_requested = 1;
+}
+
+void psc_app_request_status(void)
+{
+    loop_status_requested = 1;
 }
 
 static const char *loop_filter_name(psc_filter_t f)
@@ -147,6 +157,85 @@ static void loop_report_devices(psc_app_t *app, uint32_t frame, const char *last
         psc_hal_watchdog_set_status(app->dev.watchdog, text);
 }
 
+/* SIGUSR1: one line of what the kiosk is doing, whatever --quiet says (it was asked for). */
+static void loop_log_status(psc_app_t *app, uint32_t frame, uint64_t now, const char *devices)
+{
+    const psc_scene_list_t *l = &app->scenes;
+    uint64_t up = now - app->run_start_us;
+    uint64_t fps_x100 = up ? (uint64_t)frame * 100000000u / up : 0;
+    char when[32];
+
+    loop_format_time(when, sizeof when, up);
+    printf("frame %5u  %s  status: scene %u of %u (%s), %llu.%02llu frames/s, %s quality, %u scene switches, "
+           "%u reloads (%u refused)%s, devices: %s\n", (unsigned)frame, when, l->current + 1u, l->count,
+           l->scene[l->current].path, (unsigned long long)(fps_x100 / 100u), (unsigned long long)(fps_x100 % 100u),
+           app->quality.fast ? "fast" : "calm", (unsigned)app->scene_switches, (unsigned)app->reloads,
+           (unsigned)app->reload_failures, psc_scene_reload_busy(&app->reload) ? ", a reload under way" : "",
+           devices);
+    fflush(stdout);
+}
+
+/* The new list takes over between two frames: the same scene (or the last,
+ * if there are fewer now) with the view where it was. If the scene cannot be
+ * entered the old list comes back. */
+static void loop_take_reloaded(psc_app_t *app, uint32_t frame)
+{
+    psc_scene_reload_t *r = &app->reload;
+    unsigned cur = app->scenes.current;
+    psc_bam_t yaw = app->motion.yaw, hfov = app->motion.hfov;
+    int32_t pitch = app->motion.pitch;
+    psc_scene_t *on = psc_scene_list_current(&app->scenes);
+    char err[600];
+
+    if (on->ops->leave != NULL)
+        on->ops->leave(on);
+    psc_scene_list_move(r->old, &app->scenes);
+    r->old->current = r->old->count;   /* left */
+    psc_scene_list_move(&app->scenes, r->next);
+    psc_scene_list_attach(&app->scenes);
+    if (psc_app_enter_scene(app, cur < app->scenes.count ? cur : app->scenes.count - 1u, err, sizeof err) != 0) {
+        psc_scene_list_move(r->next, &app->scenes);
+        psc_scene_list_move(&app->scenes, r->old);
+        psc_scene_list_attach(&app->scenes);
+        printf("frame %5u  reload refused, the scenes before it kept: %s\n", (unsigned)frame, err);
+        app->reload_failures++;
+        if (psc_app_enter_scene(app, cur, err, sizeof err) != 0)
+            fprintf(stderr, "periscope: %s\n", err);
+    } else {
+        printf("frame %5u  reload: %u scene%s loaded again, scene %u on screen\n", (unsigned)frame,
+               app->scenes.count, app->scenes.count == 1 ? "" : "s", app->scenes.current + 1u);
+        app->reloads++;
+    }
+    psc_motion_set_view(&app->motion, yaw, pitch, hfov);
+    psc_scene_reload_discard(r);
+}
+
+/* SIGHUP: start a load beside the current scenes; take it when it is complete. */
+static void loop_reload(psc_app_t *app, uint32_t frame)
+{
+    char err[300];
+
+    if (loop_reload_requested) {
+        loop_reload_requested = 0;
+        if (psc_scene_reload_start(&app->reload, app->only_scene[0] ? app->only_scene : NULL, &app->scenes.env, err,
+                                   sizeof err) != 0)
+            printf("frame %5u  reload not started: %s\n", (unsigned)frame, err);
+        else
+            printf("frame %5u  reload: loading the scenes again beside the ones on screen\n", (unsigned)frame);
+        fflush(stdout);
+    }
+    if (!psc_scene_reload_finished(&app->reload))
+        return;
+    if (app->reload.rc != 0) {
+        printf("frame %5u  reload refused, the scenes before it kept: %s\n", (unsigned)frame, app->reload.err);
+        app->reload_failures++;
+        psc_scene_reload_discard(&app->reload);
+    } else {
+        loop_take_reloaded(app, frame);
+    }
+    fflush(stdout);
+}
+
 /* --dump-frame: the frame just presented, as the display holds it. */
 static void loop_dump_frame(psc_app_t *app, uint32_t frame, const psc_surface_t *drawn)
 {
@@ -211,6 +300,7 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
     int rc = 0;
 
     *stats = (psc_app_stats_t){ .capture_every = app->capture_every };
+    app->run_start_us = start;
     psc_frame_pacer_init(&app->pacer, start, app->board.frame_rate_mhz);
     psc_kiosk_init(&app->kiosk, app->board.attract_idle_ms, psc_app_bam_from_mdeg(app->board.attract_rate_mdeg), start,
                    env->hotspots, env->hotspot_count, app->quiet);
@@ -226,6 +316,12 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
             break;
         if (!loop_poll_input(app, now, start, frame, &activity))
             break;
+        loop_reload(app, frame);
+        if (loop_status_requested) {
+            loop_status_requested = 0;
+            stats->status_reports++;
+            loop_log_status(app, frame, now, devices_text[devices_cur]);
+        }
         if (loop_handle_requests(app, frame, err, errlen) != 0) {
             rc = -1;
             break;
@@ -277,6 +373,8 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
     stats->scene_switches = app->scene_switches;
     stats->attract_starts = app->kiosk.attract_starts;
     stats->hotspot_follows = app->kiosk.hotspot_follows;
+    stats->reloads = app->reloads;
+    stats->reload_failures = app->reload_failures;
     if (app->dev.watchdog != NULL && psc_hal_watchdog_get_status(app->dev.watchdog, &stats->watchdog) == 0)
         stats->watchdog_known = true;
     return rc;

@@ -6,6 +6,7 @@
  */
 #include <signal.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "app.h"
 #include "board_file.h"
@@ -30,28 +31,41 @@ static void main_report(const psc_app_stats_t *st, const char *out_dir)
         printf("periscope: watchdog: %u kicks, longest gap %llu ms%s\n", (unsigned)st->watchdog.kicks,
                (unsigned long long)(st->watchdog.longest_gap_us / 1000u),
                st->watchdog.would_have_fired ? " (a real one would have fired)" : "");
+    if (st->reloads != 0 || st->reload_failures != 0)
+        printf("periscope: reloads (SIGHUP): %u taken, %u refused\n", (unsigned)st->reloads,
+               (unsigned)st->reload_failures);
     if (out_dir[0] != '\0')
         printf("periscope: output directory: %s (every %u-th frame)\n", out_dir, (unsigned)st->capture_every);
 }
 
 /* SIGTERM (systemd stopping the service) and SIGINT (Ctrl-C) end the frame
  * loop cleanly, so the display's previous mode comes back and the watchdog
- * says STOPPING=1. SA_RESETHAND: a second signal ends the program at once. */
+ * says STOPPING=1. SA_RESETHAND: a second signal ends the program at once.
+ * SIGHUP (systemctl reload) loads the scenes again, SIGUSR1 logs a status
+ * line; both are taken between frames and lose none. */
 static void main_on_signal(int sig)
 {
-    (void)sig;
-    psc_app_request_stop();
+    if (sig == SIGHUP)
+        psc_app_request_reload();
+    else if (sig == SIGUSR1)
+        psc_app_request_status();
+    else
+        psc_app_request_stop();
 }
 
 static void main_catch_signals(void)
 {
     struct sigaction sa;
 
+    memset(&sa, 0, sizeof sa);
     sigemptyset(&sa.sa_mask);
     sa.sa_flags = SA_RESETHAND;
     sa.sa_handler = main_on_signal;
     sigaction(SIGTERM, &sa, NULL);
     sigaction(SIGINT, &sa, NULL);
+    sa.sa_flags = SA_RESTART;   /* again and again, and no read interrupted */
+    sigaction(SIGHUP, &sa, NULL);
+    sigaction(SIGUSR1, &sa, NULL);
 }
 
 /* --print-key: a board file's value as the device reads it (0 found, 1 not set, 2 unreadable). */

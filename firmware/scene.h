@@ -58,8 +58,11 @@ typedef struct {
     const char *magic;                 /* PSC_CONTAINER_MAGIC_SIZE bytes its files start with, or NULL */
     bool places;                       /* hotspots can be placed in its scenes (directions in a panorama) */
 
-    /** Load the scene's file (s->path) and set up s->state. 0, or -1 with err. */
+    /** Load the scene's file (s->path) and set up s->state. 0, or -1 with err. May run on a
+     *  thread of its own (a reload, SIGHUP): it touches nothing but the scene. */
     int (*load)(psc_scene_t *s, const psc_scene_env_t *env, char *err, size_t errlen);
+    /** Connect to the program's live devices, on the frame loop's thread, after load (may be NULL). */
+    void (*attach)(psc_scene_t *s);
     /** Workspace bytes it needs to draw on env's display. */
     size_t (*workspace_size)(const psc_scene_t *s, const psc_scene_env_t *env);
     /** Become the scene on screen, drawing with ws; fill its limits. 0, or -1 with err. */

@@ -48,9 +48,16 @@ static int camera_load_fisheye(psc_scene_t *s, camera_scene_t *c, char *err, siz
                           (unsigned)shape.height);
         return -1;
     }
-    if (s->env->feed != NULL)
-        psc_camera_feed_set_fisheye(s->env->feed, t, c->fisheye_map);
     return 0;
+}
+
+/* The feed remaps into this scene's map from now on (the frame loop's thread: the feed is live). */
+static void camera_attach(psc_scene_t *s)
+{
+    camera_scene_t *c = s->state;
+
+    if (s->env->feed != NULL && c->fisheye.buf != NULL)
+        psc_camera_feed_set_fisheye(s->env->feed, &c->fisheye.table, c->fisheye_map);
 }
 
 static int camera_load(psc_scene_t *s, const psc_scene_env_t *env, char *err, size_t errlen)
@@ -111,6 +118,9 @@ static void camera_unload(psc_scene_t *s)
     camera_scene_t *c = s->state;
 
     if (c != NULL) {
+        /* a feed still remapping into this map (no scene took over) stops first */
+        if (s->env->feed != NULL && s->env->feed->fisheye_map == c->fisheye_map && c->fisheye_map != NULL)
+            psc_camera_feed_set_fisheye(s->env->feed, NULL, NULL);
         psc_io_fisheye_free(&c->fisheye);
         free(c->fisheye_map);
     }
@@ -122,6 +132,7 @@ const psc_scene_ops_t psc_scene_camera = {
     .magic = NULL,   /* named by the board's camera_scene line, not recognised by its file */
     .places = true,
     .load = camera_load,
+    .attach = camera_attach,
     .workspace_size = camera_workspace_size,
     .enter = camera_enter,
     .update = camera_update,

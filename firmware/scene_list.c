@@ -111,6 +111,21 @@ int psc_scene_list_load(psc_scene_list_t *l, const char *only_scene, const psc_s
     return 0;
 }
 
+void psc_scene_list_attach(psc_scene_list_t *l)
+{
+    for (unsigned i = 0; i < l->count; i++)
+        if (l->scene[i].ops->attach != NULL)
+            l->scene[i].ops->attach(&l->scene[i]);
+}
+
+void psc_scene_list_move(psc_scene_list_t *dst, psc_scene_list_t *src)
+{
+    memcpy(dst, src, sizeof *dst);
+    for (unsigned i = 0; i < dst->count; i++)
+        dst->scene[i].env = &dst->env;   /* the scenes read their environment through this */
+    memset(src, 0, sizeof *src);
+}
+
 int psc_scene_list_enter(psc_scene_list_t *l, unsigned i, char *err, size_t errlen)
 {
     psc_scene_t *s = &l->scene[i];

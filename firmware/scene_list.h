@@ -31,6 +31,15 @@ typedef struct {
 int psc_scene_list_load(psc_scene_list_t *l, const char *only_scene, const psc_scene_env_t *env, char *err,
                         size_t errlen);
 
+/** Connect every scene to the live devices (scene ops attach), on the frame loop's thread. */
+void psc_scene_list_attach(psc_scene_list_t *l);
+
+/**
+ * Take over src's scenes into dst (dst's own are not freed: move them out
+ * first), pointing them at dst's environment. Lists are moved, not copied.
+ */
+void psc_scene_list_move(psc_scene_list_t *dst, psc_scene_list_t *src);
+
 /** Put scene i on screen (leaving the one before); l->limits become its. 0, or -1 with err. */
 int psc_scene_list_enter(psc_scene_list_t *l, unsigned i, char *err, size_t errlen);
 

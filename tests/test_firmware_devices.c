@@ -9,6 +9,8 @@
  * NO CAMERA in the corner).
  */
 #include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -21,9 +23,11 @@
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "app.h"
+#include "app_internal.h"
 #include "board_config.h"
 #include "board_file.h"
 #include "camera_feed.h"
@@ -502,6 +506,184 @@ static void test_frame_dump_full_disk(void **state)
     assert_int_equal(count_files_with(dir, ".tmp"), 0);
 }
 
+/* Dump frame 0 of the next run to path (the app's own list: app_internal.h). */
+static void app_set_dump(psc_app_t *app, const char *path)
+{
+    app->dumps[0] = (psc_cli_dump_t){ 0, path };
+    app->dump_count = 1;
+}
+
+/* Run app for one frame, dumping it to dump. */
+static void run_one_frame(psc_app_t *app, const char *dump, psc_app_stats_t *st)
+{
+    char err[600];
+    app_set_dump(app, dump);
+    if (psc_app_run(app, st, err, sizeof err) != 0)
+        fail_msg("psc_app_run: %s", err);
+    assert_int_equal(st->frames, 1);
+}
+
+static bool same_bytes(const char *a, const char *b)
+{
+    size_t la, lb;
+    uint8_t *pa = tsup_read_bytes(a, &la), *pb = tsup_read_bytes(b, &lb);
+    bool same = pa && pb && la == lb && memcmp(pa, pb, la) == 0;
+    free(pa);
+    free(pb);
+    return same;
+}
+
+/*
+ * SIGHUP and SIGUSR1 (issue 16: both killed the program without its summary):
+ * the reload loads the board's scenes beside the current ones while frames go
+ * on (every run below draws its one frame), and the new pack is on screen once
+ * it has taken over - the same frame a fresh start on it draws; a corrupt pack
+ * is refused and the scene before it stays; a status request is answered with
+ * one line.
+ */
+static void test_reload_and_status(void **state)
+{
+    char dir[400], conf[1200], path[500], pack[500], tour[400], err[600];
+    char dump_a[500], dump_b[500], dump_fresh[500], dump_kept[500];
+    psc_app_stats_t st;
+    psc_app_t *app = NULL;
+    (void)state;
+
+    snprintf(tour, sizeof tour, "%s/still.txt", root);
+    snprintf(dir, sizeof dir, "%s/reload", root);
+    mkdir(dir, 0755);
+    snprintf(pack, sizeof pack, "%s/scene.pano", dir);
+    if (tsup_write_synth_pack(pack, 128, 64, 160, 120, 32, 128, err, sizeof err) != 0)
+        fail_msg("pack: %s", err);
+    snprintf(path, sizeof path, "%s/board.conf", dir);
+    snprintf(conf, sizeof conf, "display = sim\ndisplay_size = 160x120\ninput = sim\ntour = %s\nclock = sim\n"
+             "scene = %s\nquality = fixed\n", tour, pack);
+    write_text(path, conf);
+    snprintf(dump_a, sizeof dump_a, "%s/a.raw", dir);
+    snprintf(dump_b, sizeof dump_b, "%s/b.raw", dir);
+    snprintf(dump_fresh, sizeof dump_fresh, "%s/fresh.raw", dir);
+    snprintf(dump_kept, sizeof dump_kept, "%s/kept.raw", dir);
+
+    psc_cli_options_t opt = { .board = "reload", .boards_dir = root, .frames_every = -1, .quiet = true,
+                              .max_frames = 1 };
+    assert_int_equal(psc_app_open(&opt, &app, err, sizeof err), 0);
+    run_one_frame(app, dump_a, &st);
+
+    /* the author replaces the pack (a finer map of the same scene) and sends SIGHUP */
+    if (tsup_write_synth_pack(pack, 256, 128, 160, 120, 32, 128, err, sizeof err) != 0)
+        fail_msg("pack: %s", err);
+    psc_app_request_reload();
+    unsigned runs = 0;
+    do {   /* the load runs on its own thread: a bounded wait, frame by frame */
+        run_one_frame(app, dump_b, &st);
+        if (st.reloads == 0)
+            usleep(1000);
+    } while (st.reloads == 0 && ++runs < 20000);
+    printf("  the reload took over after %u one-frame runs\n", runs + 1);
+    assert_int_equal(st.reloads, 1);
+    assert_int_equal(st.reload_failures, 0);
+    assert_false(same_bytes(dump_a, dump_b));
+
+    /* a corrupt pack: refused, the scene on screen stays */
+    write_text(pack, "not a pack any more");
+    psc_app_request_reload();
+    runs = 0;
+    do {
+        run_one_frame(app, dump_kept, &st);
+        if (st.reload_failures == 0)
+            usleep(1000);
+    } while (st.reload_failures == 0 && ++runs < 20000);
+    assert_int_equal(st.reload_failures, 1);
+    assert_int_equal(st.reloads, 1);   /* the one before */
+    assert_true(same_bytes(dump_b, dump_kept));
+
+    /* status: one line, the frames go on */
+    psc_app_request_status();
+    run_one_frame(app, dump_kept, &st);
+    assert_int_equal(st.status_reports, 1);
+    psc_app_close(app);
+
+    /* what a fresh start on the finer pack draws: the reloaded frame */
+    if (tsup_write_synth_pack(pack, 256, 128, 160, 120, 32, 128, err, sizeof err) != 0)
+        fail_msg("pack: %s", err);
+    assert_int_equal(psc_app_open(&opt, &app, err, sizeof err), 0);
+    run_one_frame(app, dump_fresh, &st);
+    psc_app_close(app);
+    assert_true(same_bytes(dump_b, dump_fresh));
+}
+
+/* Wait (up to 30 s) until the file at path contains text. */
+static bool wait_for_text(const char *path, const char *text)
+{
+    for (int i = 0; i < 3000; i++) {
+        size_t len;
+        char *got = (char *)tsup_read_bytes(path, &len);
+        bool found = got && strstr(got, text) != NULL;
+        free(got);
+        if (found)
+            return true;
+        usleep(10000);
+    }
+    return false;
+}
+
+/*
+ * The same through real signals to the device program: SIGUSR1 logs a status
+ * line, SIGHUP reloads, and SIGTERM still ends it with its summary and exit 0.
+ */
+static void test_signals_to_the_program(void **state)
+{
+    char exe[400], dir[400], conf[1200], path[500], pack[500], tour[400], log[500], err[300];
+    const char *bin = getenv("PSC_BIN_DIR");
+    (void)state;
+
+    snprintf(exe, sizeof exe, "%s/periscope", bin && *bin ? bin : "build/bin");
+    if (access(exe, X_OK) != 0)
+        fail_msg("%s is not there: make all first", exe);
+    snprintf(tour, sizeof tour, "%s/long.txt", root);
+    write_text(tour, "wait 80000s\nend\n");
+    snprintf(dir, sizeof dir, "%s/signals", root);
+    mkdir(dir, 0755);
+    snprintf(pack, sizeof pack, "%s/scene.pano", dir);
+    if (tsup_write_synth_pack(pack, 128, 64, 160, 120, 32, 128, err, sizeof err) != 0)
+        fail_msg("pack: %s", err);
+    snprintf(path, sizeof path, "%s/board.conf", dir);
+    snprintf(conf, sizeof conf, "display = sim\ndisplay_size = 160x120\ninput = sim\ntour = %s\nclock = sim\n"
+             "scene = %s\n", tour, pack);
+    write_text(path, conf);
+    snprintf(log, sizeof log, "%s/periscope.log", dir);
+
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        int fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (fd < 0 || dup2(fd, 1) < 0 || dup2(fd, 2) < 0)
+            _exit(126);
+        execl(exe, exe, "--board", "signals", "--boards-dir", root, "--frames-every", "0", (char *)NULL);
+        _exit(127);
+    }
+    if (!wait_for_text(log, "frame")) {   /* running (a failure must not leave it running) */
+        kill(pid, SIGKILL);
+        waitpid(pid, NULL, 0);
+        fail_msg("the program did not start; see %s", log);
+    }
+    kill(pid, SIGUSR1);
+    bool status = wait_for_text(log, "status: scene 1 of 1");
+    kill(pid, SIGHUP);
+    bool reload = wait_for_text(log, "reload: 1 scene loaded again");
+    kill(pid, SIGTERM);
+    int ws;
+    while (waitpid(pid, &ws, 0) < 0)
+        assert_int_equal(errno, EINTR);
+    size_t len;
+    char *out = (char *)tsup_read_bytes(log, &len);
+    assert_non_null(out);
+    if (!status || !reload || !WIFEXITED(ws) || WEXITSTATUS(ws) != 0 || !strstr(out, "frames rendered") ||
+        !strstr(out, "reloads (SIGHUP): 1 taken, 0 refused"))
+        fail_msg("status %d reload %d, exit 0x%x; the program said:\n%s", status, reload, ws, out);
+    free(out);
+}
+
 /* What scripts/board-key prints for a key of a board (the build's reader). */
 static void board_key_output(const char *board, const char *key, char *out, size_t len)
 {
@@ -611,6 +793,8 @@ int main(void)
         cmocka_unit_test(test_absent_camera_run),
         cmocka_unit_test(test_stop_request),
         cmocka_unit_test(test_frame_dump_full_disk),
+        cmocka_unit_test(test_reload_and_status),
+        cmocka_unit_test(test_signals_to_the_program),
         cmocka_unit_test(test_board_files),
         cmocka_unit_test(test_vm_boards_match_reference),
     };
