@@ -13,6 +13,13 @@
  *    everything owned by root;
  *  - conffiles names the board config, whose scene lines name the packaged
  *    sample; the systemd unit's notify/watchdog/restart settings and user;
+ *  - the unit's sandbox: `systemd-analyze security --offline=true` rates it
+ *    2.5 or less (and the same check rates the unhardened unit of before
+ *    above 2.5, so it can fail); its DeviceAllow= lines are exactly those of
+ *    the devices the board names (scripts/build-deb --print unit, also for
+ *    rpi-arm64, with no camera, and a framebuffer board with a watchdog);
+ *  - the udev rules: installed, naming the periscope group, only for the
+ *    board's devices; postinst reloads them only where udev runs;
  *    the maintainer scripts parse and guard starting the unit;
  *  - the packaged periscope-render renders the packaged scene;
  *  - `dpkg --root` installs it into a scratch root (scripts run chrootless,
@@ -98,6 +105,17 @@ static int has_line(const char *text, const char *line)
     size_t n = strlen(line);
     for (const char *p = text; p && *p; p = strchr(p, '\n') ? strchr(p, '\n') + 1 : NULL) {
         if (strncmp(p, line, n) == 0 && (p[n] == '\n' || p[n] == '\0'))
+            return 1;
+    }
+    return 0;
+}
+
+/* A template placeholder (@NAME@, upper case) left in generated text. */
+static int has_placeholder(const char *text)
+{
+    for (const char *p = strchr(text, '@'); p; p = strchr(p + 1, '@')) {
+        size_t n = strspn(p + 1, "ABCDEFGHIJKLMNOPQRSTUVWXYZ_");
+        if (n > 0 && p[1 + n] == '@')
             return 1;
     }
     return 0;
@@ -221,6 +239,8 @@ static void test_file_list(void **state)
                           "./usr/share/doc/periscope/changelog.gz",
                           "./usr/share/doc/periscope/ATTRIBUTION.md",
                           "./lib/systemd/system/periscope.service",
+                          "./lib/udev/rules.d/60-periscope.rules",
+                          "./usr/lib/modules-load.d/periscope.conf",
                           "./usr/share/man/man1/periscope.1.gz",
                           "./usr/share/man/man1/periscope-pack.1.gz",
                           "./usr/share/man/man1/periscope-render.1.gz",
@@ -292,8 +312,191 @@ static void test_unit(void **state)
     const char *wd = strstr(unit, "\nWatchdogSec=");
     assert_non_null(wd);
     assert_true(atoi(wd + strlen("\nWatchdogSec=")) >= 1);
-    assert_null(strstr(unit, "@")); /* no template placeholder left */
+    assert_false(has_placeholder(unit)); /* no template placeholder left */
     free(unit);
+}
+
+/* ---- the unit's sandbox ---------------------------------------------------------- */
+
+#define EXPOSURE_MAX 2.5
+
+/* The unhardened unit of before (issue 16: 8.6 EXPOSED), for the check's self-test. */
+static const char old_unit[] = "[Unit]\nDescription=Periscope\nAfter=systemd-udev-settle.service\n\n"
+                               "[Service]\nType=notify\nNotifyAccess=main\n"
+                               "ExecStart=/usr/bin/periscope --board x86-kiosk --boards-dir /etc/periscope/boards --quiet\n"
+                               "User=periscope\nGroup=periscope\nWorkingDirectory=/var/lib/periscope\n"
+                               "WatchdogSec=2\nRestart=on-failure\nNoNewPrivileges=yes\nProtectSystem=full\n"
+                               "ProtectHome=read-only\nPrivateTmp=yes\n\n[Install]\nWantedBy=multi-user.target\n";
+
+/* systemd-analyze's overall exposure of a unit file (its name must end in .service):
+ * 0 with *level set, 1 when systemd-analyze is not there, -1 on another failure. */
+static int exposure(const char *unit, double *level)
+{
+    static char out[OUT_MAX];
+    if (run(NULL, 0, "command -v systemd-analyze >/dev/null 2>&1") != 0)
+        return 1;
+    int rc = run(out, sizeof out, "systemd-analyze security --offline=true '%s' 2>&1", unit);
+    const char *p = strstr(out, "Overall exposure level for ");
+    p = p ? strstr(p, ": ") : NULL;
+    if (rc != 0 || !p || sscanf(p + 2, "%lf", level) != 1) {
+        fprintf(stderr, "test_deb: systemd-analyze security --offline=true %s (status %d):\n%s\n", unit, rc, out);
+        return -1;
+    }
+    const char *eol = strchr(p, '\n');
+    printf("test_deb: %s: exposure %.*s\n", unit, eol ? (int)(eol - p - 2) : 20, p + 2);
+    return 0;
+}
+
+#define SKIP_IF_NO_ANALYZE(rc)                                                                                \
+    do {                                                                                                      \
+        if ((rc) == 1) {                                                                                      \
+            printf("test_deb: skipped: no systemd-analyze (Debian: systemd, in scripts/install-deps.sh)\n"); \
+            skip();                                                                                           \
+        }                                                                                                     \
+    } while (0)
+
+static void test_unit_exposure(void **state)
+{
+    (void)state;
+    SKIP_IF_NO_PACKAGE();
+    char unit[1100];
+    double level = 99;
+    snprintf(unit, sizeof unit, "%s/lib/systemd/system/periscope.service", root);
+    int rc = exposure(unit, &level);
+    SKIP_IF_NO_ANALYZE(rc);
+    assert_int_equal(rc, 0);
+    if (level > EXPOSURE_MAX)
+        fail_msg("the unit's exposure is %.1f, more than %.1f", level, EXPOSURE_MAX);
+}
+
+/* The same check on the unit before the hardening must fail (8.6). */
+static void test_unit_exposure_rejects_unhardened_unit(void **state)
+{
+    (void)state;
+    char dir[1100], unit[1200];
+    double level = 0;
+    snprintf(dir, sizeof dir, "%s/old-unit", getenv("PSC_TEST_TMPDIR") && *getenv("PSC_TEST_TMPDIR")
+                                                   ? getenv("PSC_TEST_TMPDIR")
+                                                   : "/tmp");
+    snprintf(unit, sizeof unit, "%s/periscope.service", dir);
+    assert_int_equal(run(NULL, 0, "mkdir -p '%s'", dir), 0);
+    FILE *f = fopen(unit, "w");
+    assert_non_null(f);
+    fputs(old_unit, f);
+    fclose(f);
+    int rc = exposure(unit, &level);
+    SKIP_IF_NO_ANALYZE(rc);
+    assert_int_equal(rc, 0);
+    if (level <= EXPOSURE_MAX)
+        fail_msg("the unhardened unit rates %.1f: the exposure check cannot fail", level);
+}
+
+/* The unit's DeviceAllow= values, "|"-joined in file order. */
+static void device_allow(const char *unit, char *out, size_t n)
+{
+    out[0] = '\0';
+    for (const char *p = unit; p && *p; p = strchr(p, '\n') ? strchr(p, '\n') + 1 : NULL) {
+        if (strncmp(p, "DeviceAllow=", 12) == 0) {
+            size_t len = strcspn(p + 12, "\n"), used = strlen(out);
+            snprintf(out + used, n - used, "%s%.*s", used ? "|" : "", (int)len, p + 12);
+        }
+    }
+}
+
+/* scripts/build-deb --print WHAT for a board (or a board file) into a buffer. */
+static char *print_for(const char *board_name, const char *conf, const char *what)
+{
+    static char out[OUT_MAX];
+    int rc = run(out, sizeof out, "sh scripts/build-deb --board '%s' %s%s%s --print %s 2>&1", board_name,
+                 conf ? "--conf '" : "", conf ? conf : "", conf ? "'" : "", what);
+    if (rc != 0)
+        fail_msg("scripts/build-deb --board %s --print %s failed (%d):\n%s", board_name, what, rc, out);
+    return out;
+}
+
+static void test_unit_device_allow(void **state)
+{
+    (void)state;
+    char got[1024];
+
+    /* the packaged unit: the board's display, gamepad and camera classes */
+    if (!skip_reason) {
+        char *unit = root_file("/lib/systemd/system/periscope.service");
+        assert_non_null(unit);
+        assert_true(has_line(unit, "DevicePolicy=closed"));
+        assert_true(has_line(unit, "CapabilityBoundingSet="));
+        assert_true(has_line(unit, "PrivateNetwork=yes"));
+        assert_true(has_line(unit, "StateDirectory=periscope"));
+        assert_null(strstr(unit, "systemd-udev-settle")); /* deprecated */
+        device_allow(unit, got, sizeof got);
+        printf("test_deb: the %s unit allows %s\n", board, got);
+        if (strcmp(board, "x86-kiosk") == 0) {
+            assert_string_equal(got, "char-drm rw|char-usb_device rw|char-video4linux rw");
+            assert_true(has_line(unit, "RestrictAddressFamilies=AF_UNIX AF_NETLINK"));
+        }
+        free(unit);
+    }
+    /* rpi-arm64: DRM, GPIO buttons and a gamepad, no camera: no video4linux */
+    device_allow(print_for("rpi-arm64", NULL, "unit"), got, sizeof got);
+    assert_string_equal(got, "char-drm rw|char-gpiochip rw|char-usb_device rw");
+
+    /* a framebuffer board with its console, the kernel's watchdog, no gamepad:
+     * exactly those nodes, the console as the controlling terminal, no netlink */
+    char dir[1100], conf[1200];
+    snprintf(dir, sizeof dir, "%s/fb-board", getenv("PSC_TEST_TMPDIR") && *getenv("PSC_TEST_TMPDIR")
+                                                 ? getenv("PSC_TEST_TMPDIR")
+                                                 : "/tmp");
+    snprintf(conf, sizeof conf, "%s/board.conf", dir);
+    assert_int_equal(run(NULL, 0, "mkdir -p '%s'", dir), 0);
+    FILE *f = fopen(conf, "w");
+    assert_non_null(f);
+    fputs("debian_arch = amd64\ndisplay = fbdev\ndisplay_size = 640x480\ndisplay.device = /dev/fb1\n"
+          "display.console = /dev/tty1\ninput = gpio\ninput.line.home = GPIO17\nclock = linux\n"
+          "watchdog = linux\nwatchdog_timeout_ms = 4000\ncamera = none\nscene = a.pano\n",
+          f);
+    fclose(f);
+    char *unit = print_for("fb-board", conf, "unit");
+    device_allow(unit, got, sizeof got);
+    assert_string_equal(got, "/dev/fb1 rw|/dev/tty1 rw|char-gpiochip rw|/dev/watchdog0 rw");
+    assert_true(has_line(unit, "TTYPath=/dev/tty1"));
+    assert_true(has_line(unit, "RestrictAddressFamilies=AF_UNIX"));
+    assert_true(has_line(unit, "WatchdogSec=4"));
+    assert_false(has_placeholder(unit));
+    char *rules = print_for("fb-board", conf, "udev-rules");
+    assert_non_null(strstr(rules, "KERNEL==\"gpiochip[0-9]*\", GROUP=\"periscope\""));
+    assert_non_null(strstr(rules, "KERNEL==\"watchdog0\", GROUP=\"periscope\""));
+    assert_null(strstr(rules, "SUBSYSTEM==\"usb\""));
+}
+
+static void test_udev_rules(void **state)
+{
+    (void)state;
+    SKIP_IF_NO_PACKAGE();
+    char *rules = root_file("/lib/udev/rules.d/60-periscope.rules");
+    if (!rules)
+        fail_msg("the package has no /lib/udev/rules.d/60-periscope.rules");
+    assert_non_null(strstr(rules, "GROUP=\"periscope\""));
+    if (strcmp(board, "x86-kiosk") == 0) {
+        /* a gamepad, no GPIO buttons, no hardware watchdog */
+        assert_non_null(strstr(rules, "SUBSYSTEM==\"usb\", ENV{DEVTYPE}==\"usb_device\", "
+                                      "ENV{ID_USB_INTERFACES}==\"*:0300??:*\", GROUP=\"periscope\", MODE=\"0660\""));
+        assert_null(strstr(rules, "gpiochip"));
+        assert_null(strstr(rules, "KERNEL==\"watchdog"));
+    }
+    free(rules);
+    char *modules = root_file("/usr/lib/modules-load.d/periscope.conf");
+    assert_non_null(modules);
+    if (strcmp(board, "x86-kiosk") == 0)
+        assert_true(has_line(modules, "drm") && has_line(modules, "usbcore") && has_line(modules, "videodev"));
+    free(modules);
+    /* postinst applies them where udev runs, never in a chroot or image build */
+    char *postinst = root_file("/DEBIAN/postinst");
+    assert_non_null(postinst);
+    const char *reload = strstr(postinst, "udevadm control --reload-rules");
+    assert_non_null(reload);
+    const char *guard = strstr(postinst, "[ -d /run/udev ]");
+    assert_true(guard && guard < reload);
+    free(postinst);
 }
 
 static void test_docs_and_scripts(void **state)
@@ -397,6 +600,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_control_fields),    cmocka_unit_test(test_file_list),
         cmocka_unit_test(test_conffile_and_board), cmocka_unit_test(test_unit),
+        cmocka_unit_test(test_unit_exposure),     cmocka_unit_test(test_unit_exposure_rejects_unhardened_unit),
+        cmocka_unit_test(test_unit_device_allow), cmocka_unit_test(test_udev_rules),
         cmocka_unit_test(test_docs_and_scripts),  cmocka_unit_test(test_scene_renders),
         cmocka_unit_test(test_dpkg_root_install),
     };

@@ -13,12 +13,18 @@
  *                             the same initramfs and disk bytes;
  *   boot_initramfs_<board>    the kernel and initramfs on QEMU (virt, q35)
  *                             with a bochs-display: first frame, frames 20 and
- *                             40 bit-exact with the simulated board;
+ *                             40 bit-exact with the simulated board; in every
+ *                             boot but the Pi model's, the viewer runs as the
+ *                             image's unprivileged user (uid not 0);
  *   boot_own_<board>          the image as it ships: its own board and scene,
  *                             the screen's preferred mode, the hardware
  *                             watchdog kicked (amd64) or turned off (none);
  *   boot_card_<board>         the initramfs boot with the disk attached: /init runs the
- *                             board and scene copied into its periscope/;
+ *                             board and scene copied into its periscope/ (the
+ *                             board opts in: image.removable_content = yes);
+ *   boot_card_refused_<board> the same disk with the opt-in turned off in the
+ *                             initramfs: /init refuses the card, saying so, and
+ *                             runs the image's board;
  *   boot_firmware_<board>     the disk started by the machine's firmware: the
  *                             Pi model as its boot firmware would, OVMF
  *                             through systemd-boot (frames checked).
@@ -58,6 +64,7 @@ static const deploy_kind_t deploy_kinds[] = {
     { "boot_initramfs", "tests/image/boot.sh", "initramfs" },
     { "boot_own", "tests/image/boot.sh", "own" },
     { "boot_card", "tests/image/boot.sh", "card" },
+    { "boot_card_refused", "tests/image/boot.sh", "card-refused" },
     { "boot_firmware", "tests/image/boot.sh", "firmware" },
 };
 #define KINDS (sizeof deploy_kinds / sizeof deploy_kinds[0])

@@ -6,7 +6,7 @@
 # viewer the image's /init starts reached its first frame and shows the
 # expected view.
 #
-#   usage: sh tests/image/boot.sh [--build DIR] BOARD [initramfs|own|card|firmware]
+#   usage: sh tests/image/boot.sh [--build DIR] BOARD [initramfs|own|card|card-refused|firmware]
 #
 #   initramfs  the image's kernel and initramfs alone. /init takes the board
 #              from the run's 9p share (`periscope.share=1`, share/kiosk.env):
@@ -24,7 +24,13 @@
 #              virtio disk, with a board.conf, the tour and the scene copied
 #              into its periscope/ folder the way a kiosk maker would: /init
 #              must find the PERISCOPE partition, mount it and run that board
-#              in that folder (kiosk.env names no board then).
+#              in that folder (kiosk.env names no board then). The board
+#              must opt in (image.removable_content = yes), else skipped.
+#   card-refused the card mode's disk, booted with the image's initramfs plus
+#              an archive that turns the opt-in off (/etc/periscope/
+#              removable-content = no, what a board without the key builds):
+#              /init must say it refuses the card and run the initramfs mode's
+#              board from the share (its frames checked as there).
 #   firmware   the disk image started by the machine's own firmware:
 #              - image.disk = raspi: QEMU's Raspberry Pi model (raspi3b for
 #                arm64, raspi2b for armhf), loaded as the Pi's boot firmware
@@ -40,7 +46,9 @@
 #                in periscope/ and the share added to the boot entry; frames
 #                are checked as in the card mode.
 #
-# Except for the Pi model, frames 20 and 40 (the firmware's dumps of the presented DRM
+# Except for the Pi model, the viewer must run as the image's unprivileged
+# user (/share/viewer-ids, from /proc/PID/status: Name periscope, Uid not 0),
+# and frames 20 and 40 (the firmware's dumps of the presented DRM
 # buffer) must equal, bit for bit, the simulated board boards/vm-reference
 # run on the host over the same scene (tests/vm/host_firmware.sh does the
 # reference and the comparison). The boot time (kernel start to frame 0 on
@@ -53,7 +61,7 @@ VM_ROOT=$(pwd)
 VM_DIR=$VM_ROOT/tests/vm
 kind=boot
 . tests/image/lib.sh
-image_args "[--build DIR] BOARD [initramfs|own|card|firmware]" "$@"
+image_args "[--build DIR] BOARD [initramfs|own|card|card-refused|firmware]" "$@"
 mode=${mode:-initramfs}
 name="boot $board ($mode)"
 PSC_BIN_DIR=${PSC_BIN_DIR:-$build/bin}
@@ -92,12 +100,14 @@ fi
 [ -x "$PSC_BIN_DIR/periscope" ] || skip "$PSC_BIN_DIR/periscope is not built (make)"
 case $mode in
 initramfs) ;;
-card|firmware)
+card|firmware|card-refused)
     [ -f "$card_img" ] || skip "no disk image $card_img (image.disk in boards/$board/board.conf)"
     command -v mcopy >/dev/null 2>&1 || skip "no mcopy (Debian: mtools)"
+    [ "$mode" = card-refused ] || [ "$(board_key image.removable_content)" = yes ] ||
+        skip "boards/$board/board.conf does not opt in to content from the card (image.removable_content)"
     ;;
 own) ;;
-*) echo "usage: $0 [--build DIR] BOARD [initramfs|own|card|firmware]" >&2; exit 2 ;;
+*) echo "usage: $0 [--build DIR] BOARD [initramfs|own|card|card-refused|firmware]" >&2; exit 2 ;;
 esac
 run=$VM_ROOT/build/$board/image-test-$mode
 rm -rf "$run"
@@ -190,9 +200,24 @@ elif [ "$mode" != initramfs ]; then
     mcopy -o -i "$run/card.img@@4M" "$run/board.conf" boards/sim/tour.txt scene.pano ::periscope/ ||
         fail "cannot copy the board and scene onto the card image"
     disk="-drive if=none,file=$run/card.img,format=raw,id=card -device virtio-blk-pci,drive=card"
-    cat >kiosk.env <<EOF
+    if [ "$mode" = card-refused ]; then
+        # the image without the opt-in: a later archive in the initrd overwrites the flag
+        mkdir -p "$run/no-opt-in/etc/periscope"
+        echo no >"$run/no-opt-in/etc/periscope/removable-content"
+        (cd "$run/no-opt-in" && find . -mindepth 1 | LC_ALL=C sort | cpio --quiet -o -H newc -R 0:0) |
+            gzip -n >"$run/no-opt-in.cpio.gz" || fail "cannot make the archive that turns the opt-in off"
+        cat "$img/initramfs.cpio.gz" "$run/no-opt-in.cpio.gz" >"$run/initramfs.cpio.gz"
+        boot="-kernel $img/vmlinuz -initrd $run/initramfs.cpio.gz"
+        cat >kiosk.env <<EOF
+PSC_BOARD=vm-drm
+PSC_BOARDS_DIR=boards
+PSC_ARGS="--scene /usr/share/periscope/scenes/sample.pano --max-frames $((last + 1))$dumps"
+EOF
+    else
+        cat >kiosk.env <<EOF
 PSC_ARGS="--max-frames $((last + 1))$dumps"
 EOF
+    fi
 else
     cat >kiosk.env <<EOF
 PSC_BOARD=vm-drm
@@ -231,6 +256,15 @@ wall=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
 [ -f "$run/share/status" ] || fail "the image's /init reported no result"
 [ "$(cat "$run/share/status")" = 0 ] || fail "the viewer exited with status $(cat "$run/share/status")"
 grep -q 'first frame at' "$run/console.log" || fail "no 'first frame' line on the serial console"
+# the viewer ran as the image's unprivileged user: "Name periscope Uid R E S F Gid ..."
+[ -s "$run/share/viewer-ids" ] || fail "the image's /init reported no viewer process ids (share/viewer-ids)"
+# shellcheck disable=SC2046
+set -- $(cat "$run/share/viewer-ids")
+[ "${1:-}" = Name ] && [ "${2:-}" = periscope ] && [ "${3:-}" = Uid ] ||
+    fail "share/viewer-ids is not the viewer's: $(cat "$run/share/viewer-ids")"
+[ "$4" != 0 ] && [ "$5" != 0 ] && [ "$6" != 0 ] && [ "$7" != 0 ] ||
+    fail "the viewer ran as root: $(cat "$run/share/viewer-ids")"
+who="the viewer as uid $4"
 if [ "$mode" = own ]; then
     grep -q '^periscope: 60 frames rendered' "$run/share/firmware.log" || fail "the image's own board did not render 60 frames"
     if [ "$arch" = amd64 ]; then
@@ -245,16 +279,22 @@ if [ "$mode" = own ]; then
     fi
     set -- $(cat "$run/share/boot-times")
     echo "$name: kernel $(cat "$img/kernel-version"): the image's own board ($(sed -n 's/^drm display [^:]*: \([0-9x@.]* Hz [A-Z0-9]*\),.*/\1/p' \
-        "$run/share/firmware.log" | head -n 1)): first frame at $4 s after kernel start, 60 frames; $what; VM wall time $wall s (TCG)"
+        "$run/share/firmware.log" | head -n 1)): first frame at $4 s after kernel start, 60 frames; $what; $who; VM wall time $wall s (TCG)"
     exit 0
 fi
-if [ "$mode" != initramfs ]; then
+if [ "$mode" = card-refused ]; then
+    grep -q 'removable content refused: the board does not opt in (image.removable_content)' "$run/console.log" ||
+        fail "/init did not say it refused the card of an image without the opt-in"
+    ! grep -q 'board and scenes from the card' "$run/console.log" ||
+        fail "/init took the board from the card although the image does not opt in"
+    who="$who; the card refused"
+elif [ "$mode" != initramfs ]; then
     grep -q 'board and scenes from the card' "$run/console.log" ||
         fail "/init did not take the board from the card's periscope/ folder"
 fi
 grep -q '^frame *0 .*dumped' "$run/share/firmware.log" || fail "the viewer's log shows no frame 0"
 # the image's own board asks for the hardware watchdog, which this machine lacks
-if [ "$mode" = initramfs ]; then
+if [ "$mode" = initramfs ] || [ "$mode" = card-refused ]; then
     grep -q 'no hardware watchdog (/dev/watchdog0): running without one' "$run/console.log" ||
         fail "/init did not turn off the watchdog of a board on a machine without one"
 fi
@@ -264,5 +304,5 @@ for f in $FRAMES; do
 done
 set -- $(cat "$run/share/boot-times")
 echo "$name: kernel $(cat "$img/kernel-version"): viewer started at $2 s, first frame at $4 s after kernel start;" \
-    "frames $FRAMES equal the simulated board's; VM wall time $wall s (TCG)"
+    "frames $FRAMES equal the simulated board's; $who; VM wall time $wall s (TCG)"
 exit 0
