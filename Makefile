@@ -253,7 +253,8 @@ test: deps
 	$(Q)$(MAKE) --no-print-directory check-sanitize SAN_CC=clang
 	$(Q)sh tests/run_all.sh $(BUILD) $(TESTS)
 
-# The unit and fuzz-loop tests again, built with AddressSanitizer and UBSan (part of `make test`): any
+# The unit and fuzz-loop tests again, and the fuzz corpora replayed (mk/fuzz.mk), built with
+# AddressSanitizer and UBSan (part of `make test`): any
 # out-of-bounds access, use after free, leak or undefined behaviour fails the run (-fno-sanitize-recover).
 # Leaks inside third-party libraries are suppressed by name (tests/sanitize/lsan.supp). SAN_CC=clang for clang's.
 SAN_CC ?= $(CC)
@@ -268,6 +269,8 @@ check-sanitize: deps
 		LDFLAGS="-fsanitize=address,undefined" all $(SAN_TESTS)
 	$(Q)ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1 \
 		LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitize/lsan.supp sh tests/run_all.sh $(SAN_BUILD) $(SAN_TESTS)
+	$(Q)$(MAKE) --no-print-directory CC=$(SAN_CC) BUILD=$(SAN_BUILD) OPT="-O1 -g" CFLAGS="$(SAN_FLAGS)" \
+		LDFLAGS="-fsanitize=address,undefined" check-fuzz-corpus
 
 # Only the VM cases (part of `make test`): the real backends against real drivers under QEMU.
 vm-test: all

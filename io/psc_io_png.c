@@ -59,6 +59,9 @@ int psc_io_image_over_budget(char *err, size_t errlen, const char *path, uint32_
                          (unsigned)w, (unsigned)h, (unsigned long long)w * h, (unsigned long long)max_pixels);
 }
 
+/* the largest ancillary chunk read (8 MiB: a generous ICC profile) */
+#define PSC_IO_PNG_CHUNK_MAX ((png_alloc_size_t)8 << 20)
+
 static int png_read_run(png_job_t *job, const char *path, uint32_t max_side, uint64_t max_pixels, psc_surface_t *img,
                         char *err, size_t errlen)
 {
@@ -120,6 +123,17 @@ int psc_io_png_decode(FILE *f, const char *path, uint32_t max_side, uint64_t max
         return psc_io_errorf(err, errlen, path, "out of memory");
     job->file = f;
     job->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, job, png_job_error, png_job_warning);
+    if (job->png) {
+        /* The metadata chunks are skipped unread: the pixels need none of them, and a
+         * 43-byte file can declare a 1 GiB text chunk that libpng would allocate
+         * whole (found by fuzzing); any other chunk is bounded. */
+        static const png_byte skipped[] = "tEXt\0zTXt\0iTXt\0iCCP\0sPLT\0eXIf\0hIST\0pHYs\0sBIT\0bKGD\0"
+                                          "cHRM\0gAMA\0sRGB\0tIME\0oFFs\0pCAL\0sCAL";
+        png_set_keep_unknown_chunks(job->png, PNG_HANDLE_CHUNK_NEVER, skipped, (int)(sizeof skipped / 5));
+        png_set_keep_unknown_chunks(job->png, PNG_HANDLE_CHUNK_NEVER, NULL, 0);
+        png_set_chunk_malloc_max(job->png, PSC_IO_PNG_CHUNK_MAX);
+        png_set_chunk_cache_max(job->png, 1000);
+    }
     job->info = job->png ? png_create_info_struct(job->png) : NULL;
     int rc = job->info ? png_read_run(job, path, max_side, max_pixels, img, err, errlen)
                        : psc_io_errorf(err, errlen, path, "out of memory (libpng)");

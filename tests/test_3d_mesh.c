@@ -439,6 +439,7 @@ static void test_obj_errors(void **state)
         {"v 0 0 zero\n", "model.obj:1: v: expected a number, got 'zero'"},
         {"v 0 0 0 0 0\n", "model.obj:1: 'v' has more than 4 numbers"},
         {"vn 1 nan 0\n", "model.obj:1: vn: expected a number"},
+        {"v 0 -01e308 0\n", "model.obj:1: v: -01e308 is out of range (at most 1e15 in size)"},
         {"v 0 0 0\nv 1 0 0\nf 1 2\n", "model.obj:3: face with 2 corners"},
         {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2/1 3/1\n", "model.obj:4: face: texture coordinate index 1 is out of range (0 defined so far)"},
         {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//2 2//2 3//2\n", "model.obj:4: face: normal index 2 is out of range (0 defined so far)"},

@@ -38,8 +38,23 @@ void psc_curve_reverse(const psc_curve_t *c, psc_curve_t *out)
 /* |v| for an int64 vector whose components stay within 2^31. */
 static uint32_t length64(const int64_t v[3])
 {
-    uint64_t s = (uint64_t)(v[0] * v[0]) + (uint64_t)(v[1] * v[1]) + (uint64_t)(v[2] * v[2]);
-    return psc_isqrt64(s);
+    /* components past 2^31 (a far-flung posed point) are scaled down first so the squares'
+     * sum fits 64 bits; the length comes back scaled up, saturated at UINT32_MAX */
+    int64_t w[3];
+    uint64_t big = 0;
+    unsigned shift = 0;
+    for (unsigned k = 0; k < 3; k++) {
+        uint64_t m = v[k] < 0 ? (uint64_t)0 - (uint64_t)v[k] : (uint64_t)v[k];
+        if (m > big)
+            big = m;
+    }
+    while ((big >> shift) >= ((uint64_t)1 << 31))
+        shift++;
+    for (unsigned k = 0; k < 3; k++)
+        w[k] = v[k] / ((int64_t)1 << shift);
+    uint64_t s = (uint64_t)(w[0] * w[0]) + (uint64_t)(w[1] * w[1]) + (uint64_t)(w[2] * w[2]);
+    uint64_t l = (uint64_t)psc_isqrt64(s) << shift;
+    return l > UINT32_MAX ? UINT32_MAX : (uint32_t)l;
 }
 
 int32_t psc_vec_length_q16(const int32_t v[3])
@@ -99,6 +114,33 @@ static int64_t dot64(const int64_t a[3], const int64_t b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+/*
+ * Only the signs of dot products of these three vectors are used: where a
+ * component passes 2^29 (posed points far from the origin, which a pack the
+ * parser accepts can give: found by fuzzing), all three are divided by the
+ * same power of two first, so dot64 stays within int64. Within 2^29 nothing
+ * changes.
+ */
+static void shrink_for_dot(int64_t a[3], int64_t b[3], int64_t c[3])
+{
+    int64_t *v[3] = {a, b, c}, big = 0;
+    unsigned shift = 0;
+
+    for (unsigned i = 0; i < 3; i++)
+        for (unsigned k = 0; k < 3; k++) {
+            int64_t m = v[i][k] < 0 ? -v[i][k] : v[i][k];
+            if (m > big)
+                big = m;
+        }
+    while ((big >> shift) >= ((int64_t)1 << 29))
+        shift++;
+    if (shift == 0)
+        return;
+    for (unsigned i = 0; i < 3; i++)
+        for (unsigned k = 0; k < 3; k++)
+            v[i][k] /= (int64_t)1 << shift;
+}
+
 bool psc_curve_needs_split(const psc_curve_t *c, psc_curve_kind_t kind, int32_t t_q16, bool *c_left, bool *c_right)
 {
     int64_t d1[3], d2[3];
@@ -121,6 +163,7 @@ bool psc_curve_needs_split(const psc_curve_t *c, psc_curve_kind_t kind, int32_t 
         em[a] = d1[a] + d2[a];
         e1[a] = 2 * d2[a] - d1[a];
     }
+    shrink_for_dot(e0, em, e1);
     *c_left = dot64(e0, em) >= 0;
     *c_right = dot64(em, e1) >= 0;
     uint64_t l1 = length64(d1);

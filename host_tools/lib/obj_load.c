@@ -173,6 +173,8 @@ static bool next_token(const char **p, const char *end, const char **s, const ch
     return true;
 }
 
+#define OBJ_MAX_COORDINATE 1e15
+
 static int parse_number(obj_t *o, const char *s, const char *e, const char *what, double *out)
 {
     char buf[64];
@@ -186,6 +188,9 @@ static int parse_number(obj_t *o, const char *s, const char *e, const char *what
     double v = strtod(buf, &end);
     if (*end != '\0' || errno == ERANGE || !isfinite(v))
         return obj_fail(o, "%s: expected a number, got '%s'", what, buf);
+    /* beyond this the normals' products overflow to infinity (found by fuzzing: 1e308) */
+    if (fabs(v) > OBJ_MAX_COORDINATE)
+        return obj_fail(o, "%s: %s is out of range (at most 1e15 in size)", what, buf);
     *out = v;
     return 0;
 }

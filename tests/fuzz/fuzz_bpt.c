@@ -1,0 +1,40 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * fuzz_bpt.c - Newell's Bezier patch files (.bpt, host_tools/lib/bpt_load.h)
+ * as periscope-patch reads them: psc_bpt_parse, then for a file that parses
+ * its patch pack (psc_patch_pack_build), which must parse with core's
+ * psc_patch_parse. Every refusal must name the file; everything is freed.
+ */
+#include <stdlib.h>
+
+#include "bpt_load.h"
+#include "fuzz_support.h"
+#include "patch/psc_patch.h"
+#include "patch_build.h"
+
+#define NAME "fuzz/model.bpt"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    psc_patch_src_t src;
+    char err[512] = "";
+
+    if (psc_bpt_parse(NAME, (const char *)data, size, &src, err, sizeof err) != 0) {
+        fuzz_require_message_names(err, NAME);
+        return 0;
+    }
+    FUZZ_REQUIRE(src.face_count <= 3u * PSC_BPT_MAX_PATCHES);
+    uint8_t *pack = NULL;
+    size_t len = 0;
+    if (psc_patch_pack_build(&src, NAME, &pack, &len, err, sizeof err) == 0) {
+        uint8_t *aligned = fuzz_aligned_copy(pack, len);
+        psc_patch_model_t parsed;
+        FUZZ_REQUIRE(psc_patch_parse(aligned, len, &parsed, NULL) == PSC_OK);
+        free(aligned);
+        free(pack);
+    } else {
+        fuzz_require_message_names(err, NAME);
+    }
+    psc_patch_src_free(&src);
+    return 0;
+}

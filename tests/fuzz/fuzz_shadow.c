@@ -1,0 +1,79 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * fuzz_shadow.c - shadow packs (.pao, core/shadow/psc_shadow.h: the sphere
+ * tree and its occlusion tables) as the character scene loads them: the
+ * input, 64-byte aligned and with its container CRC made right, through
+ * psc_shadow_parse; a refusal must give a message that io's loader
+ * formats naming the file. A pack that parses must keep its counts within
+ * the documented limits, levels in increasing order ending at the sphere
+ * count, and be used as the shading uses it (psc_shadow_init_mesh, as for a
+ * mesh with the pack's own bone count; the character scene's psc_shadow_init
+ * differs only in taking the bone count from the patch pack): the spheres
+ * posed (identity skins), occlusions at a few points within 0..1 (Q16).
+ */
+#include <stdlib.h>
+
+#include "3d/psc_3d_math.h"
+#include "fuzz_support.h"
+#include "psc_io_load.h"
+#include "shadow/psc_shadow_frame.h"
+
+#define NAME "fuzz.pao"
+
+static void check_parsed(const psc_shadow_model_t *m)
+{
+    FUZZ_REQUIRE(m->sphere_count >= 1 && m->sphere_count <= PSC_SHADOW_MAX_SPHERES);
+    FUZZ_REQUIRE(m->level_count >= 1 && m->level_count <= PSC_SHADOW_MAX_LEVELS);
+    FUZZ_REQUIRE(m->level_first[m->level_count] == m->sphere_count);
+    for (uint32_t l = 0; l < m->level_count; l++)
+        FUZZ_REQUIRE(m->level_first[l] < m->level_first[l + 1]);
+    FUZZ_REQUIRE(m->access_omega <= PSC_SHADOW_MAX_TABLE && m->access_theta <= PSC_SHADOW_MAX_TABLE);
+    FUZZ_REQUIRE(m->comp_theta <= PSC_SHADOW_MAX_TABLE && m->comp_delta <= PSC_SHADOW_MAX_TABLE);
+}
+
+static void use_parsed(const psc_shadow_model_t *m, uint32_t pick)
+{
+    size_t ws_size = psc_shadow_workspace_size(m, NULL);
+    void *ws = NULL;
+    psc_mat4_q16_t *skin = calloc(m->bone_count ? m->bone_count : 1, sizeof *skin);
+    psc_shadow_t s;
+
+    FUZZ_REQUIRE(skin != NULL && posix_memalign(&ws, 64, ws_size ? ws_size : 8) == 0);
+    if (psc_shadow_init_mesh(&s, m, m->bone_count, ws, ws_size) == PSC_OK) {
+        for (uint32_t b = 0; b < m->bone_count; b++)
+            psc_mat4_identity(&skin[b]);
+        psc_shadow_update_bones(&s, skin, m->bone_count);
+        static const int32_t normals[3][3] = {{0, 65536, 0}, {65536, 0, 0}, {0, 0, -65536}};
+        for (unsigned k = 0; k < 3; k++) {
+            int32_t pos[3] = {(int32_t)(pick & 0x3FFFFu) - 0x20000, (int32_t)((pick >> 7) & 0x3FFFFu) - 0x20000,
+                              (int32_t)((pick >> 14) & 0x3FFFFu) - 0x20000};
+            int32_t bent[3];
+            FUZZ_REQUIRE(psc_shadow_occlusion(&s, pos, normals[k]) <= 65536u);
+            FUZZ_REQUIRE(psc_shadow_occlusion_bent(&s, pos, normals[k], bent) <= 65536u);
+            pick = pick * 2654435761u + 1u;
+        }
+    }
+    free(skin);
+    free(ws);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    uint8_t *buf = fuzz_aligned_copy(data, size);
+    psc_shadow_model_t model;
+    psc_container_error_t e = {NULL, 0};
+
+    fuzz_fix_container_crc(buf, size);
+    psc_status_t s = psc_shadow_parse(buf, size, &model, &e);
+    if (s == PSC_OK) {
+        check_parsed(&model);
+        use_parsed(&model, fuzz_hash(data, size));
+    } else {
+        char err[512];
+        FUZZ_REQUIRE(s > PSC_OK && s <= PSC_ERR_UNSUPPORTED && e.what != NULL);
+        FUZZ_REQUIRE(psc_io_container_errorf(err, sizeof err, NAME, "not a usable shadow pack: ", s, &e) == -1);
+        fuzz_require_message_names(err, NAME);
+    }
+    free(buf);
+    return 0;
+}
