@@ -133,7 +133,7 @@ TESTS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_MAINS))
 # Objects reached through pattern rules would count as intermediate files and be
 # deleted after each link; keep them so a second build compiles nothing.
 .SECONDARY:
-.PHONY: all deps run test vm-test check-core-nofloat check-layers check-clang check-sanitize install clean bench bench-callgrind FORCE
+.PHONY: all deps run test soak check-memcheck vm-test check-core-nofloat check-layers check-clang check-sanitize install clean bench bench-callgrind FORCE
 .DEFAULT_GOAL := all
 
 all: $(CORE_LIB) $(IO_LIB) $(FIRMWARE) $(TOOLS)
@@ -245,12 +245,13 @@ run: deps
 
 # ---- test ------------------------------------------------------------------
 test: deps
-	$(Q)$(MAKE) --no-print-directory all $(TESTS)
+	$(Q)$(MAKE) --no-print-directory all $(TESTS) $(SAMPLE_CHARACTER)
 	$(Q)$(MAKE) --no-print-directory check-core-nofloat
 	$(Q)$(MAKE) --no-print-directory check-layers
 	$(Q)$(MAKE) --no-print-directory check-clang
 	$(Q)$(MAKE) --no-print-directory check-sanitize
 	$(Q)$(MAKE) --no-print-directory check-sanitize SAN_CC=clang
+	$(Q)$(MAKE) --no-print-directory check-memcheck
 	$(Q)sh tests/run_all.sh $(BUILD) $(TESTS)
 
 # The unit and fuzz-loop tests again, and the fuzz corpora replayed (mk/fuzz.mk), built with
@@ -271,6 +272,24 @@ check-sanitize: deps
 		LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitize/lsan.supp sh tests/run_all.sh $(SAN_BUILD) $(SAN_TESTS)
 	$(Q)$(MAKE) --no-print-directory CC=$(SAN_CC) BUILD=$(SAN_BUILD) OPT="-O1 -g" CFLAGS="$(SAN_FLAGS)" \
 		LDFLAGS="-fsanitize=address,undefined" check-fuzz-corpus
+
+# valgrind's memcheck over the device program on the simulated board (part of `make test`): the
+# panorama while the tour turns and zooms it, then Thom's patch character; an invalid read or write,
+# a use of uninitialised memory, or a block definitely or indirectly lost fails the run.
+MEMCHECK := valgrind -q --error-exitcode=99 --leak-check=full --show-leak-kinds=definite,indirect \
+	--errors-for-leak-kinds=definite,indirect
+check-memcheck: all $(SAMPLE_PACK) $(SAMPLE_CHARACTER)
+	@echo "  CHECK   valgrind memcheck: the device program, a panorama and a character on the sim board"
+	$(Q)$(MEMCHECK) $(FIRMWARE) --board sim --frames-every 0 --max-frames 90 --quiet
+	$(Q)$(MEMCHECK) $(FIRMWARE) --board sim --scene $(SAMPLE_CHARACTER) --frames-every 0 --max-frames 20 --quiet
+
+# A long run of the device program on the simulated board (tests/test_soak.c): 10^5 frames of a tour
+# through attract mode, hotspots, scene switches and a gamepad pulled out and back; asserts not one
+# allocation after start-up and prints the frame-time distribution. `make test` runs 3000 frames.
+SOAK_FRAMES ?= 100000
+soak: deps
+	$(Q)$(MAKE) --no-print-directory all $(BUILD)/tests/test_soak $(SAMPLE_CHARACTER)
+	$(Q)PSC_SOAK_FRAMES=$(SOAK_FRAMES) sh tests/run_all.sh $(BUILD) $(BUILD)/tests/test_soak
 
 # Only the VM cases (part of `make test`): the real backends against real drivers under QEMU.
 vm-test: all

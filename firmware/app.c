@@ -135,6 +135,12 @@ fail:
     return -1;
 }
 
+void psc_app_record_frame_times(psc_app_t *app, uint32_t *us, uint32_t cap)
+{
+    app->frame_times_us = us;
+    app->frame_times_cap = us != NULL ? cap : 0;
+}
+
 const char *psc_app_out_dir(const psc_app_t *app)
 {
     return app->out_dir;

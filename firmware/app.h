@@ -63,6 +63,14 @@ int psc_app_open(const psc_cli_options_t *opt, psc_app_t **out, char *err, size_
  */
 int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen);
 
+/**
+ * Record each frame's wall-clock work (input to present, not the wait for
+ * the next frame time) in microseconds into us[frame] for frames below cap,
+ * from the next psc_app_run on (soak runs and benchmarks; the caller owns
+ * the array, nothing is allocated). NULL stops recording.
+ */
+void psc_app_record_frame_times(psc_app_t *app, uint32_t *us, uint32_t cap);
+
 /** The directory captures and the contact sheet go to ("" when none). */
 const char *psc_app_out_dir(const psc_app_t *app);
 

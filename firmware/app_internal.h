@@ -41,6 +41,8 @@ struct psc_app {
     psc_scene_reload_t reload;             /* SIGHUP: the scenes loaded again */
     uint32_t reloads, reload_failures;
     uint64_t run_start_us;                 /* for SIGUSR1's status line */
+    uint32_t *frame_times_us;              /* psc_app_record_frame_times, or NULL */
+    uint32_t frame_times_cap;
     psc_io_bands_t *bands;     /* the viewer's worker threads, started with the display */
 };
 

@@ -311,6 +311,7 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
         psc_motion_input_t in;
         psc_scene_t *scene;
         bool activity;
+        uint64_t frame_wall0 = app->frame_times_cap ? loop_wall_us() : 0;
 
         if ((app->max_frames != 0 && frame >= app->max_frames) || loop_stop_requested)
             break;
@@ -352,6 +353,10 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
         }
         if (app->dev.watchdog != NULL)
             psc_hal_watchdog_kick(app->dev.watchdog);
+        if (frame < app->frame_times_cap) {
+            uint64_t took = loop_wall_us() - frame_wall0;
+            app->frame_times_us[frame] = took > UINT32_MAX ? UINT32_MAX : (uint32_t)took;
+        }
         frame++;
         last = now;
         /* pace to the frame rate (absolute deadlines, late ones skipped); on

@@ -70,6 +70,15 @@ static int png_read_run(png_job_t *job, const char *path, uint32_t max_side, uin
     if (setjmp(png_jmpbuf(png)))
         return psc_io_errorf(err, errlen, path, "corrupt or truncated PNG: %s", job->msg);
 
+    /* The metadata chunks are skipped unread: the pixels need none of them, and a 43-byte
+     * file can declare a 1 GiB text chunk that libpng would allocate whole (found by
+     * fuzzing); any other chunk is bounded. After the setjmp: these may fail (memory). */
+    static const png_byte skipped[] = "tEXt\0zTXt\0iTXt\0iCCP\0sPLT\0eXIf\0hIST\0pHYs\0sBIT\0bKGD\0"
+                                      "cHRM\0gAMA\0sRGB\0tIME\0oFFs\0pCAL\0sCAL";
+    png_set_keep_unknown_chunks(png, PNG_HANDLE_CHUNK_NEVER, skipped, (int)(sizeof skipped / 5));
+    png_set_keep_unknown_chunks(png, PNG_HANDLE_CHUNK_NEVER, NULL, 0);
+    png_set_chunk_malloc_max(png, PSC_IO_PNG_CHUNK_MAX);
+    png_set_chunk_cache_max(png, 1000);
     png_set_read_fn(png, job, png_job_read);
     png_read_info(png, info);
     uint32_t w = png_get_image_width(png, info), h = png_get_image_height(png, info);
@@ -123,17 +132,6 @@ int psc_io_png_decode(FILE *f, const char *path, uint32_t max_side, uint64_t max
         return psc_io_errorf(err, errlen, path, "out of memory");
     job->file = f;
     job->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, job, png_job_error, png_job_warning);
-    if (job->png) {
-        /* The metadata chunks are skipped unread: the pixels need none of them, and a
-         * 43-byte file can declare a 1 GiB text chunk that libpng would allocate
-         * whole (found by fuzzing); any other chunk is bounded. */
-        static const png_byte skipped[] = "tEXt\0zTXt\0iTXt\0iCCP\0sPLT\0eXIf\0hIST\0pHYs\0sBIT\0bKGD\0"
-                                          "cHRM\0gAMA\0sRGB\0tIME\0oFFs\0pCAL\0sCAL";
-        png_set_keep_unknown_chunks(job->png, PNG_HANDLE_CHUNK_NEVER, skipped, (int)(sizeof skipped / 5));
-        png_set_keep_unknown_chunks(job->png, PNG_HANDLE_CHUNK_NEVER, NULL, 0);
-        png_set_chunk_malloc_max(job->png, PSC_IO_PNG_CHUNK_MAX);
-        png_set_chunk_cache_max(job->png, 1000);
-    }
     job->info = job->png ? png_create_info_struct(job->png) : NULL;
     int rc = job->info ? png_read_run(job, path, max_side, max_pixels, img, err, errlen)
                        : psc_io_errorf(err, errlen, path, "out of memory (libpng)");

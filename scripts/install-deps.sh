@@ -8,7 +8,7 @@ set -eu
 
 PACKAGES="gcc clang make pkg-config libjpeg62-turbo-dev libpng-dev zlib1g-dev libcmocka-dev
           libusb-1.0-0-dev libdrm-dev libsdl2-dev libgpiod-dev dpkg-dev libassimp-dev libjson-c-dev
-          libclang-rt-14-dev systemd"
+          libclang-rt-14-dev systemd valgrind"
 [ $# -gt 0 ] && PACKAGES="$PACKAGES $*"
 
 missing=""

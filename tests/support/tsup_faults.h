@@ -1,0 +1,46 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * tsup_faults.h - a counting allocator and I/O shim for the tests (glibc
+ * only): the program that links this object has malloc, calloc, realloc,
+ * free, aligned_alloc, posix_memalign and memalign, and open, openat, fopen,
+ * read and pread, replaced by versions that count each call while counting is
+ * on, and make the n-th counted one fail (ENOMEM / EIO) when asked - the
+ * SQLite way of proving every failure path: run start-up once to count, then
+ * again with call 1, 2, ... N failing in turn.
+ *
+ * Only programs that call a tsup_faults_* function link it (an archive
+ * member is pulled in by its symbols), so other tests keep the C library's.
+ */
+#ifndef TSUP_FAULTS_H
+#define TSUP_FAULTS_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+
+typedef struct {
+    uint64_t allocations;      /* successful allocation calls counted */
+    uint64_t frees;            /* free() of a non-NULL pointer counted */
+    uint64_t io_calls;         /* open/openat/fopen/read/pread calls counted */
+    bool fired;                /* the armed failure happened */
+} tsup_faults_stats_t;
+
+/** Start counting from zero; fail the fail_alloc-th allocation and the fail_io-th I/O call (0: none). */
+void tsup_faults_start(uint64_t fail_alloc, uint64_t fail_io);
+
+/** Stop counting (and failing); what was counted. */
+tsup_faults_stats_t tsup_faults_stop(void);
+
+/**
+ * Blocks allocated while counting and still not freed, leaving out the
+ * dynamic loader's own (the TLS of the thread stacks glibc keeps for reuse).
+ */
+uint64_t tsup_faults_leaked(void);
+
+/** The blocks allocated while counting and not freed, with the address of the caller of each (addr2line). */
+void tsup_faults_print_live(FILE *f);
+
+/** What has been counted so far, counting on. */
+tsup_faults_stats_t tsup_faults_now(void);
+
+#endif
