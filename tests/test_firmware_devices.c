@@ -400,21 +400,29 @@ static void test_absent_camera_run(void **state)
     assert_non_null(strstr(err, "camera_scene is set but camera = none"));
 }
 
+/* root/NAME/board.conf: a 160x120 sim display with the sim tour and clock showing pack (and extra lines). */
+static void write_sim_board(const char *name, const char *pack, const char *tour, const char *extra)
+{
+    char dir[400], path[500], conf[1400];
+
+    snprintf(dir, sizeof dir, "%s/%s", root, name);
+    mkdir(dir, 0755);
+    snprintf(path, sizeof path, "%s/board.conf", dir);
+    snprintf(conf, sizeof conf, "display = sim\ndisplay_size = 160x120\ninput = sim\ntour = %s\nclock = sim\n"
+             "scene = %s\n%s", tour, pack, extra);
+    write_text(path, conf);
+}
+
 static void test_stop_request(void **state)
 {
-    char dir[400], conf[1200], path[500], pack[400], tour[400], err[300];
+    char pack[400], tour[400], err[300];
     psc_app_stats_t st;
     psc_app_t *app = NULL;
     (void)state;
 
     snprintf(pack, sizeof pack, "%s/cam.pano", root);
     snprintf(tour, sizeof tour, "%s/still.txt", root);
-    snprintf(dir, sizeof dir, "%s/stop", root);
-    mkdir(dir, 0755);
-    snprintf(path, sizeof path, "%s/board.conf", dir);
-    snprintf(conf, sizeof conf, "display = sim\ndisplay_size = 160x120\ninput = sim\ntour = %s\nclock = sim\n"
-             "scene = %s\n", tour, pack);
-    write_text(path, conf);
+    write_sim_board("stop", pack, tour, "");
     psc_cli_options_t opt = { .board = "stop", .boards_dir = root, .frames_every = -1, .quiet = true };
     assert_int_equal(psc_app_open(&opt, &app, err, sizeof err), 0);
     psc_app_request_stop();   /* what SIGTERM does */
@@ -428,20 +436,6 @@ static void test_stop_request(void **state)
     psc_app_close(app);
 }
 
-/* Files in dir whose names contain part (a temporary left behind). */
-static unsigned count_files_with(const char *dir, const char *part)
-{
-    DIR *d = opendir(dir);
-    struct dirent *e;
-    unsigned n = 0;
-
-    assert_non_null(d);
-    while ((e = readdir(d)) != NULL)
-        n += strstr(e->d_name, part) != NULL;
-    closedir(d);
-    return n;
-}
-
 /*
  * --dump-frame on a full disk (issue 16: it printed an error, exited 0 and
  * left a truncated file): a file-size limit makes every write past 4 KiB fail
@@ -451,7 +445,7 @@ static unsigned count_files_with(const char *dir, const char *part)
  */
 static void test_frame_dump_full_disk(void **state)
 {
-    char dir[400], conf[1200], path[500], pack[400], tour[400], dump[500], err[600];
+    char dir[400], pack[400], tour[400], dump[500], err[600];
     struct rlimit old, small;
     psc_app_stats_t st;
     psc_app_t *app = NULL;
@@ -461,12 +455,8 @@ static void test_frame_dump_full_disk(void **state)
 
     snprintf(pack, sizeof pack, "%s/cam.pano", root);
     snprintf(tour, sizeof tour, "%s/still.txt", root);
+    write_sim_board("fulldisk", pack, tour, "");
     snprintf(dir, sizeof dir, "%s/fulldisk", root);
-    mkdir(dir, 0755);
-    snprintf(path, sizeof path, "%s/board.conf", dir);
-    snprintf(conf, sizeof conf, "display = sim\ndisplay_size = 160x120\ninput = sim\ntour = %s\nclock = sim\n"
-             "scene = %s\n", tour, pack);
-    write_text(path, conf);
     snprintf(dump, sizeof dump, "%s/frame2.raw", dir);
     write_text(dump, "the dump of an earlier run");
 
@@ -493,7 +483,7 @@ static void test_frame_dump_full_disk(void **state)
     assert_non_null(data);
     assert_int_equal(len, strlen("the dump of an earlier run"));
     free(data);
-    assert_int_equal(count_files_with(dir, ".tmp"), 0);
+    assert_int_equal(tsup_count_names(dir, "", ".tmp"), 0);
 
     /* with room, the same run succeeds and replaces it: 160 x 120 RGB565 */
     assert_int_equal(psc_app_open(&opt, &app, err, sizeof err), 0);
@@ -503,7 +493,7 @@ static void test_frame_dump_full_disk(void **state)
     assert_non_null(data);
     assert_int_equal(len, 160 * 120 * 2);
     free(data);
-    assert_int_equal(count_files_with(dir, ".tmp"), 0);
+    assert_int_equal(tsup_count_names(dir, "", ".tmp"), 0);
 }
 
 /* Dump frame 0 of the next run to path (the app's own list: app_internal.h). */
@@ -543,7 +533,7 @@ static bool same_bytes(const char *a, const char *b)
  */
 static void test_reload_and_status(void **state)
 {
-    char dir[400], conf[1200], path[500], pack[500], tour[400], err[600];
+    char dir[400], pack[500], tour[400], err[600];
     char dump_a[500], dump_b[500], dump_fresh[500], dump_kept[500];
     psc_app_stats_t st;
     psc_app_t *app = NULL;
@@ -555,10 +545,7 @@ static void test_reload_and_status(void **state)
     snprintf(pack, sizeof pack, "%s/scene.pano", dir);
     if (tsup_write_synth_pack(pack, 128, 64, 160, 120, 32, 128, err, sizeof err) != 0)
         fail_msg("pack: %s", err);
-    snprintf(path, sizeof path, "%s/board.conf", dir);
-    snprintf(conf, sizeof conf, "display = sim\ndisplay_size = 160x120\ninput = sim\ntour = %s\nclock = sim\n"
-             "scene = %s\nquality = fixed\n", tour, pack);
-    write_text(path, conf);
+    write_sim_board("reload", pack, tour, "quality = fixed\n");
     snprintf(dump_a, sizeof dump_a, "%s/a.raw", dir);
     snprintf(dump_b, sizeof dump_b, "%s/b.raw", dir);
     snprintf(dump_fresh, sizeof dump_fresh, "%s/fresh.raw", dir);
@@ -633,7 +620,7 @@ static bool wait_for_text(const char *path, const char *text)
  */
 static void test_signals_to_the_program(void **state)
 {
-    char exe[400], dir[400], conf[1200], path[500], pack[500], tour[400], log[500], err[300];
+    char exe[400], dir[400], pack[500], tour[400], log[500], err[300];
     const char *bin = getenv("PSC_BIN_DIR");
     (void)state;
 
@@ -647,10 +634,7 @@ static void test_signals_to_the_program(void **state)
     snprintf(pack, sizeof pack, "%s/scene.pano", dir);
     if (tsup_write_synth_pack(pack, 128, 64, 160, 120, 32, 128, err, sizeof err) != 0)
         fail_msg("pack: %s", err);
-    snprintf(path, sizeof path, "%s/board.conf", dir);
-    snprintf(conf, sizeof conf, "display = sim\ndisplay_size = 160x120\ninput = sim\ntour = %s\nclock = sim\n"
-             "scene = %s\n", tour, pack);
-    write_text(path, conf);
+    write_sim_board("signals", pack, tour, "");
     snprintf(log, sizeof log, "%s/periscope.log", dir);
 
     pid_t pid = fork();

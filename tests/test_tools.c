@@ -26,7 +26,6 @@
 #include <setjmp.h>
 #include <cmocka.h>
 
-#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -443,21 +442,13 @@ static void test_render_matches_device_path(void **state)
 
 /* ---- exit status and messages ------------------------------------------------------------------------------ */
 
-/* Names in the directory of path that start with path's own name and contain ".tmp": left-behind temporaries. */
+/* Temporaries left beside path: names in its folder that begin with its own name and contain ".tmp". */
 static unsigned temporaries_beside(const char *path)
 {
     char dir[512];
     const char *slash = strrchr(path, '/');
     snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) : 1, slash ? path : ".");
-    const char *base = slash ? slash + 1 : path;
-    DIR *d = opendir(dir);
-    assert_non_null(d);
-    unsigned n = 0;
-    struct dirent *e;
-    while ((e = readdir(d)) != NULL)
-        n += strncmp(e->d_name, base, strlen(base)) == 0 && strstr(e->d_name + strlen(base), ".tmp") != NULL;
-    closedir(d);
-    return n;
+    return tsup_count_names(dir, slash ? slash + 1 : path, ".tmp");
 }
 
 /*

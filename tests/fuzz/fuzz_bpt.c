@@ -24,17 +24,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         return 0;
     }
     FUZZ_REQUIRE(src.face_count <= 3u * PSC_BPT_MAX_PATCHES);
-    uint8_t *pack = NULL;
-    size_t len = 0;
-    if (psc_patch_pack_build(&src, NAME, &pack, &len, err, sizeof err) == 0) {
-        uint8_t *aligned = fuzz_aligned_copy(pack, len);
-        psc_patch_model_t parsed;
-        FUZZ_REQUIRE(psc_patch_parse(aligned, len, &parsed, NULL) == PSC_OK);
-        free(aligned);
-        free(pack);
-    } else {
-        fuzz_require_message_names(err, NAME);
-    }
+    fuzz_require_patch_pack(&src, NAME);
     psc_patch_src_free(&src);
     return 0;
 }

@@ -10,6 +10,8 @@
 
 #include "base/psc_container.h"
 #include "base/psc_crc32.h"
+#include "patch/psc_patch.h"
+#include "patch_build.h"
 
 void fuzz_fail(const char *file, int line, const char *what)
 {
@@ -62,4 +64,21 @@ void fuzz_require_message_names(const char *msg, const char *name)
 {
     FUZZ_REQUIRE(msg != NULL && msg[0] != '\0');
     FUZZ_REQUIRE(strstr(msg, name) != NULL);
+}
+
+void fuzz_require_patch_pack(const psc_patch_src_t *src, const char *name)
+{
+    uint8_t *pack = NULL;
+    size_t len = 0;
+    char err[512] = "";
+
+    if (psc_patch_pack_build(src, name, &pack, &len, err, sizeof err) == 0) {
+        uint8_t *aligned = fuzz_aligned_copy(pack, len);
+        psc_patch_model_t parsed;
+        FUZZ_REQUIRE(psc_patch_parse(aligned, len, &parsed, NULL) == PSC_OK);
+        free(aligned);
+        free(pack);
+    } else {
+        fuzz_require_message_names(err, name);
+    }
 }

@@ -12,6 +12,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "patch_build.h"
+
 /** The one entry point every harness defines (libFuzzer's). */
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -38,5 +40,11 @@ uint32_t fuzz_hash(const uint8_t *data, size_t size);
 
 /** Abort unless msg is a non-empty message that names name (the parsers' "NAME: ..." / "NAME:LINE: ..."). */
 void fuzz_require_message_names(const char *msg, const char *name);
+
+/**
+ * A patch model the host tools made from the input (an A:M model, a .bpt):
+ * its pack must build and parse again, or the refusal must name the input.
+ */
+void fuzz_require_patch_pack(const psc_patch_src_t *src, const char *name);
 
 #endif

@@ -2,6 +2,7 @@
 /* tsup_files.c - scratch files and message checks for the file-parser tests (see tsup_files.h). */
 #include "tsup_files.h"
 
+#include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -69,4 +70,19 @@ int tsup_msg_starts_with_path(const char *msg, const char *path)
 {
     size_t n = strlen(path);
     return msg && strncmp(msg, path, n) == 0 && msg[n] == ':' && msg[n + 1] == ' ' && msg[n + 2] != '\0';
+}
+
+unsigned tsup_count_names(const char *dir, const char *prefix, const char *part)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    unsigned n = 0;
+    size_t plen = strlen(prefix);
+
+    if (d == NULL)
+        return 0;
+    while ((e = readdir(d)) != NULL)
+        n += strncmp(e->d_name, prefix, plen) == 0 && strstr(e->d_name + plen, part) != NULL;
+    closedir(d);
+    return n;
 }

@@ -22,6 +22,12 @@ int tsup_write_bytes(const char *path, const void *data, size_t len);
 /** The whole file as a malloc'd buffer (one spare NUL byte after the end), or NULL. */
 uint8_t *tsup_read_bytes(const char *path, size_t *len);
 
+/**
+ * How many names in dir begin with prefix ("" for any) and contain part after it
+ * (e.g. the ".tmp" of a temporary left beside a file).
+ */
+unsigned tsup_count_names(const char *dir, const char *prefix, const char *part);
+
 /** 1 if path names an existing file (of any kind). */
 int tsup_file_exists(const char *path);
 
