@@ -39,7 +39,7 @@ IO_INC := -Icore -Iio
 HAL_INC := $(IO_INC) -Ihal
 FW_INC := $(HAL_INC) -Ifirmware
 TOOLS_INC := $(IO_INC) -Ihost_tools/lib
-TEST_INC := $(FW_INC) -Ihost_tools/lib -Itests/support
+TEST_INC := $(FW_INC) -Ihost_tools/lib -Itests/support -Itests/faults
 
 # The image libraries: io's PNG files (libpng) and the host tools' JPEG
 # decoding and pack CRCs (libjpeg, zlib).
@@ -204,6 +204,10 @@ $(BUILD)/bin/%: $(BUILD)/obj/host_tools/%.o $(HOST_LIB) $(IO_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(IMG_LIBS) $(LDLIBS_HOST)
+
+# The counting allocator and I/O shim (tests/faults/) replaces malloc and open: linked as an object into
+# the programs that count, never from the archive (which would hand it to every program calling malloc).
+$(BUILD)/tests/test_faults $(BUILD)/tests/test_soak: $(BUILD)/obj/tests/faults/tsup_faults.o
 
 $(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(TESTSUP_LIB) $(FW_LIB) $(HAL_LIB) $(HOST_LIB) $(IO_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)

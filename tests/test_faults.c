@@ -3,7 +3,7 @@
  * test_faults.c - fault injection, the SQLite way (issue 16): the device
  * program's start-up (psc_app_open: board file, devices, tour, scenes, render
  * threads), three frames and shutdown, run once to count its allocations and
- * file operations (open, openat, fopen, read, pread: tests/support/
+ * file operations (open, openat, fopen, read, pread: tests/faults/
  * tsup_faults.h), then once more for each of them with exactly that one
  * failing (ENOMEM, EIO). Every run, in a child process of its own:
  *  - ends: no crash, no hang (a watchdog alarm);

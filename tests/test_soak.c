@@ -7,7 +7,7 @@
  * gamepad unplugged and plugged again - over two panoramas and a patch
  * character when the sample one is built. Asserts: every frame is drawn,
  * and not one allocation (malloc, calloc, realloc, aligned) is made after
- * start-up (tests/support/tsup_faults.h counts them), and none is freed.
+ * start-up (tests/faults/tsup_faults.h counts them), and none is freed.
  *
  * PSC_SOAK_FRAMES sets the length (default 3000: about 100 s of board time,
  * what `make test` runs); `make soak` runs 100000 frames and prints the

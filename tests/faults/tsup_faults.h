@@ -8,8 +8,9 @@
  * SQLite way of proving every failure path: run start-up once to count, then
  * again with call 1, 2, ... N failing in turn.
  *
- * Only programs that call a tsup_faults_* function link it (an archive
- * member is pulled in by its symbols), so other tests keep the C library's.
+ * It is not in the test support archive (an archive member defining malloc
+ * would be pulled into every program that calls malloc): the Makefile links
+ * tests/faults/tsup_faults.o into test_faults and test_soak only.
  */
 #ifndef TSUP_FAULTS_H
 #define TSUP_FAULTS_H
