@@ -92,6 +92,10 @@ static psc_status_t check_topology(const psc_patch_model_t *m, uint32_t base, ps
             uint32_t ei = f->edge[k] & ~PSC_PATCH_EDGE_REVERSED;
             if (ei >= m->edge_count)
                 return fail(err, PSC_ERR_CORRUPT, "a patch names an edge beyond the edges", base);
+            /* a 3-, 5- or 6-sided patch is cut into quads at its edges' midpoints: they must have one */
+            if (f->sides != 4 && m->edges[ei].min_depth == 0)
+                return fail(err, PSC_ERR_CORRUPT, "an edge of a patch of 3, 5 or 6 sides is not halved (min_depth 0)",
+                            base);
             unsigned rev = (f->edge[k] & PSC_PATCH_EDGE_REVERSED) != 0;
             int32_t a = psc_patch_edge_point(m, &m->edges[ei], rev), b = psc_patch_edge_point(m, &m->edges[ei], !rev);
             if (k == 0)
