@@ -222,6 +222,56 @@ static void test_flatness_bound(void **state)
     assert_true(checked > 20000);
 }
 
+/*
+ * The split test at the range's limits (a posed pack may put points anywhere in Q16.16: found by
+ * fuzzing, the products overflowed int64): 100 000 random cubics with control points up to ±(2^31 - 1)
+ * (UBSan watches the arithmetic in the sanitizer builds); the convexity flags agree with the signs of
+ * the dot products in double wherever the angle is not within 10^-6 of a right angle, and a curve whose
+ * second differences pass T is always split.
+ */
+static void test_split_test_at_range_limits(void **state)
+{
+    (void)state;
+    tsup_rng_t r;
+    tsup_rng_seed(&r, 1601);
+    unsigned compared = 0;
+    for (unsigned n = 0; n < 100000; n++) {
+        psc_curve_t c;
+        double scale = n % 4 == 0 ? 2147483647.0 : tsup_rng_range(&r, 1.0, 2147483647.0);
+        for (unsigned i = 0; i < 4; i++)
+            for (unsigned k = 0; k < 3; k++)
+                c.p[i][k] = (int32_t)lround(tsup_rng_range(&r, -1.0, 1.0) * scale);
+        int32_t t = (int32_t)lround(tsup_rng_range(&r, 0.0005, 2.0) * 65536.0);
+        bool cl, cr, split = psc_curve_needs_split(&c, PSC_CURVE_S, t, &cl, &cr);
+        double d1[3], d2[3], e0[3], em[3], e1[3], dl = 0, dr = 0, nl0 = 0, nlm = 0, nl1 = 0, len1 = 0;
+        for (unsigned k = 0; k < 3; k++) {
+            d1[k] = 4.0 * c.p[0][k] - 6.0 * c.p[1][k] + 2.0 * c.p[3][k];
+            d2[k] = 2.0 * c.p[0][k] - 6.0 * c.p[2][k] + 4.0 * c.p[3][k];
+            e0[k] = 2 * d1[k] - d2[k];
+            em[k] = d1[k] + d2[k];
+            e1[k] = 2 * d2[k] - d1[k];
+            dl += e0[k] * em[k];
+            dr += em[k] * e1[k];
+            nl0 += e0[k] * e0[k];
+            nlm += em[k] * em[k];
+            nl1 += e1[k] * e1[k];
+            len1 += d1[k] * d1[k];
+        }
+        if (sqrt(len1) > t + 2.0)
+            assert_true(split);
+        if (fabs(dl) > 1e-6 * sqrt(nl0 * nlm)) {
+            assert_int_equal(cl, dl >= 0);
+            compared++;
+        }
+        if (fabs(dr) > 1e-6 * sqrt(nlm * nl1)) {
+            assert_int_equal(cr, dr >= 0);
+            compared++;
+        }
+    }
+    print_message("  %u convexity flags of curves out to 2^31 agree with double\n", compared);
+    assert_true(compared > 190000);
+}
+
 static void test_make_flat(void **state)
 {
     (void)state;
@@ -1263,6 +1313,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_curve_split),
         cmocka_unit_test(test_flatness_bound),
+        cmocka_unit_test(test_split_test_at_range_limits),
         cmocka_unit_test(test_make_flat),
         cmocka_unit_test(test_cracks_random),
         cmocka_unit_test(test_cracks_thom),
