@@ -513,16 +513,6 @@ static void run_one_frame(psc_app_t *app, const char *dump, psc_app_stats_t *st)
     assert_int_equal(st->frames, 1);
 }
 
-static bool same_bytes(const char *a, const char *b)
-{
-    size_t la, lb;
-    uint8_t *pa = tsup_read_bytes(a, &la), *pb = tsup_read_bytes(b, &lb);
-    bool same = pa && pb && la == lb && memcmp(pa, pb, la) == 0;
-    free(pa);
-    free(pb);
-    return same;
-}
-
 /*
  * SIGHUP and SIGUSR1 (issue 16: both killed the program without its summary):
  * the reload loads the board's scenes beside the current ones while frames go
@@ -569,7 +559,7 @@ static void test_reload_and_status(void **state)
     printf("  the reload took over after %u one-frame runs\n", runs + 1);
     assert_int_equal(st.reloads, 1);
     assert_int_equal(st.reload_failures, 0);
-    assert_false(same_bytes(dump_a, dump_b));
+    assert_false(tsup_same_file(dump_a, dump_b));
 
     /* a corrupt pack: refused, the scene on screen stays */
     write_text(pack, "not a pack any more");
@@ -582,7 +572,7 @@ static void test_reload_and_status(void **state)
     } while (st.reload_failures == 0 && ++runs < 20000);
     assert_int_equal(st.reload_failures, 1);
     assert_int_equal(st.reloads, 1);   /* the one before */
-    assert_true(same_bytes(dump_b, dump_kept));
+    assert_true(tsup_same_file(dump_b, dump_kept));
 
     /* status: one line, the frames go on */
     psc_app_request_status();
@@ -596,7 +586,7 @@ static void test_reload_and_status(void **state)
     assert_int_equal(psc_app_open(&opt, &app, err, sizeof err), 0);
     run_one_frame(app, dump_fresh, &st);
     psc_app_close(app);
-    assert_true(same_bytes(dump_b, dump_fresh));
+    assert_true(tsup_same_file(dump_b, dump_fresh));
 }
 
 /* Wait (up to 30 s) until the file at path contains text. */

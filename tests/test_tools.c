@@ -726,16 +726,6 @@ static void test_command_line_convention(void **state)
 
 /* ---- characters -------------------------------------------------------------------------------------------- */
 
-static bool same_file(const char *a, const char *b)
-{
-    size_t la, lb;
-    uint8_t *pa = tsup_read_bytes(a, &la), *pb = tsup_read_bytes(b, &lb);
-    bool same = pa && pb && la == lb && memcmp(pa, pb, la) == 0;
-    free(pa);
-    free(pb);
-    return same;
-}
-
 static void write_text(const char *path, const char *text)
 {
     FILE *f = fopen(path, "w");
@@ -755,13 +745,13 @@ static void check_patch_look(const char *ppk, const char *plain, const char *out
 #define VIEW ppk, "--play", "Wave", "--time", "1.1", "--orbit", "200,10,2.5", "--size", "160x120"
     const char *phong[] = {VIEW, "--shade", "phong", "-o", out, NULL};
     expect_run("periscope-render", phong, 0, NULL);
-    assert_false(same_file(plain, out));
+    assert_false(tsup_same_file(plain, out));
     const char *aa[] = {VIEW, "--aa", "abuffer", "-o", full, NULL};
     expect_run("periscope-render", aa, 0, NULL);
-    assert_false(same_file(plain, full));
+    assert_false(tsup_same_file(plain, full));
     const char *aa_tiles[] = {VIEW, "--aa", "abuffer:64", "--tiles", "32", "-o", out, NULL};
     expect_run("periscope-render", aa_tiles, 0, NULL);
-    assert_true(same_file(full, out));
+    assert_true(tsup_same_file(full, out));
     const char *heads_only[] = {VIEW, "--aa", "abuffer:4", "--tiles", "32", "-o", out, NULL};
     const char *heads_said[] = {"--aa abuffer:4 is too small", NULL};
     expect_run("periscope-render", heads_only, 1, heads_said);
@@ -823,17 +813,17 @@ static void test_patch_tools(void **state)
     const char *by_pose[] = {ppk, "--play", "Wave", "--pose", "t=1.1", "--orbit", "200,10,2.5", "--size", "160x120",
                              "-o", b_png, NULL};
     expect_run("periscope-render", by_pose, 0, NULL);
-    assert_true(same_file(a_png, b_png));
+    assert_true(tsup_same_file(a_png, b_png));
     write_text(json, "{\"time\": 1.1}");
     const char *by_file[] = {ppk, "--play", "Wave", "--pose", json, "--orbit", "200,10,2.5", "--size", "160x120",
                              "-o", b_png, NULL};
     expect_run("periscope-render", by_file, 0, NULL);
-    assert_true(same_file(a_png, b_png));
+    assert_true(tsup_same_file(a_png, b_png));
     write_text(json, "{\"time\": 1.1, \"nodes\": {\"14\": {\"rotate\": [1, 0, 0, 40]}}}");
     const char *turned[] = {ppk, "--play", "Wave", "--pose", json, "--orbit", "200,10,2.5", "--size", "160x120",
                             "-o", c_png, NULL};
     expect_run("periscope-render", turned, 0, NULL);
-    assert_false(same_file(a_png, c_png));
+    assert_false(tsup_same_file(a_png, c_png));
     write_text(json, "{\"nodes\": {\"Thigh\": {\"rotate\": [1, 0, 0, 40]}}}");
     const char *by_name_said[] = {json, "node 'Thigh'", "given by number", NULL};
     expect_run("periscope-render", turned, 1, by_name_said);
@@ -887,11 +877,11 @@ static void test_proxy_tools(void **state)
     assert_true(tsup_file_exists(depth));
     const char *full[] = {ppx, "--pose", "t=0.4", "--size", "160x120", "--full", "--tiles", "32", "-o", b_png, NULL};
     expect_run("periscope-render", full, 0, NULL);
-    assert_false(same_file(a_png, b_png));
+    assert_false(tsup_same_file(a_png, b_png));
     write_text(json, "{\"time\": 0.4, \"nodes\": {\"5\": {\"rotate\": [0, 0, 1, 60]}}}");
     const char *posed[] = {ppx, "--pose", json, "--size", "160x120", "-o", b_png, NULL};
     expect_run("periscope-render", posed, 0, NULL);
-    assert_false(same_file(a_png, b_png));
+    assert_false(tsup_same_file(a_png, b_png));
     const char *tex48[] = {"bake", bar, "-o", ppx, "--tex", "48", NULL}, *tex48_said[] = {"--tex '48'", NULL};
     expect_run("periscope-proxy", tex48, 2, tex48_said);
     const char *verb[] = {"make", bar, "-o", ppx, NULL}, *verb_said[] = {"expected the command 'bake'", NULL};
@@ -949,14 +939,14 @@ static void test_gltf_tools(void **state)
     free(text);
     const char *plain[] = {bar, "--pose", "t=0.4", "--size", "160x120", "-o", b_png, NULL};
     expect_run("periscope-render", plain, 0, NULL);
-    assert_false(same_file(a_png, b_png));   /* the shading shows */
+    assert_false(tsup_same_file(a_png, b_png));   /* the shading shows */
     /* a node turned by a pose file moves it */
     const char *rest[] = {truck, "--size", "160x120", "-o", a_png, NULL};
     expect_run("periscope-render", rest, 0, NULL);
     write_text(json, "{\"nodes\": {\"Geometry-mesh001Node\": {\"translate\": [0, 0.6, 0]}}}");
     const char *posed[] = {truck, "--pose", json, "--size", "160x120", "-o", b_png, NULL};
     expect_run("periscope-render", posed, 0, NULL);
-    assert_false(same_file(a_png, b_png));
+    assert_false(tsup_same_file(a_png, b_png));
     write_text(json, "{\"nodes\": {\"NoSuchNode\": {\"translate\": [0, 1, 0]}}}");
     const char *no_node_said[] = {json, "node 'NoSuchNode'", NULL};
     expect_run("periscope-render", posed, 1, no_node_said);

@@ -86,3 +86,13 @@ unsigned tsup_count_names(const char *dir, const char *prefix, const char *part)
     closedir(d);
     return n;
 }
+
+int tsup_same_file(const char *a, const char *b)
+{
+    size_t la, lb;
+    uint8_t *pa = tsup_read_bytes(a, &la), *pb = tsup_read_bytes(b, &lb);
+    int same = pa && pb && la == lb && memcmp(pa, pb, la) == 0;
+    free(pa);
+    free(pb);
+    return same;
+}

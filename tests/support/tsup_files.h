@@ -28,6 +28,9 @@ uint8_t *tsup_read_bytes(const char *path, size_t *len);
  */
 unsigned tsup_count_names(const char *dir, const char *prefix, const char *part);
 
+/** 1 if both files can be read and hold the same bytes. */
+int tsup_same_file(const char *a, const char *b);
+
 /** 1 if path names an existing file (of any kind). */
 int tsup_file_exists(const char *path);
 
