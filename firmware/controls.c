@@ -87,6 +87,10 @@ void psc_controls_apply(psc_controls_t *c, const psc_hal_input_event_t *ev)
                                                                                        : ev->value);
         break;
     case PSC_HAL_INPUT_QUIT:
+    case PSC_HAL_INPUT_POINTER_DOWN:   /* gestures (gestures.c) take the pointer's events */
+    case PSC_HAL_INPUT_POINTER_MOVE:
+    case PSC_HAL_INPUT_POINTER_UP:
+    case PSC_HAL_INPUT_WHEEL:
         break;
     }
 }

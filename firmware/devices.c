@@ -66,7 +66,11 @@ int psc_devices_open(psc_devices_t *d, const psc_board_config_t *b, const psc_de
     else if (b->tour[0] != '\0')
         extra[n_extra++] = (psc_hal_option_t){ "script", b->tour, b->tour_origin };
     n = devices_options(b, PSC_BOARD_DEV_INPUT, extra, n_extra, items);
-    psc_hal_input_config_t icfg = { .clock = d->clock, .long_press_ms = b->long_press_ms, .options = { items, n } };
+    psc_hal_input_config_t icfg = { .clock = d->clock,
+                                    .long_press_ms = b->long_press_ms,
+                                    .display_width = b->display_width,
+                                    .display_height = b->display_height,
+                                    .options = { items, n } };
     if (psc_hal_input_open(b->input_backend, &icfg, &d->input, err, errlen) != 0)
         return -1;
 

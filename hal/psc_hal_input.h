@@ -19,7 +19,21 @@
  *                             device held (no UP events follow);
  *   QUIT                      the input source asks the program to end (the
  *                             simulated tour reached its end; a real board
- *                             may map a service key to it).
+ *                             may map a service key to it; q or Escape on a
+ *                             keyboard);
+ *   POINTER_DOWN / _MOVE / _UP
+ *                             a contact on the picture: a finger on a touch
+ *                             screen (code = its contact number, 0..
+ *                             PSC_HAL_POINTER_MAX - 1) or a mouse with its
+ *                             left button held (code 0); x, y in display
+ *                             pixels (the frame's own, whatever the window's
+ *                             size), may lie off the display while a drag
+ *                             goes on. The firmware makes the gestures
+ *                             (grab-drag, pinch, tap: firmware/gestures.h);
+ *                             a backend only reports contacts. After a
+ *                             LEAVE no UP follows;
+ *   WHEEL                     a scroll wheel turned: value notches, > 0 away
+ *                             from the user (zoom in), at the pointer (x, y).
  * Backends behind this interface:
  *   gpio    libgpiod 1.6 or 2.x, lines by name ("input.line.home =
  *           BTN_HOME"), edge events, kernel or software debounce, long press
@@ -29,6 +43,9 @@
  *           logical min..max to Q1.15 (hal/usb/);
  *   sdl     the SDL2 window's keyboard and mouse and SDL game controllers,
  *           for the desktop (hal/sdl/);
+ *   evdev   the kernel's input devices (libevdev): keyboards, mice, touch
+ *           screens and the gamepads the kernel drives, hot-plugged
+ *           (hal/evdev/);
  *   sim     a tour script (hal/sim/psc_sim_tour.h) replayed on the sim clock;
  *   a list  "gpio,usb" merges backends into one input (psc_hal_input_multi.h).
  * Each event carries the device slot it came from (0..PSC_HAL_INPUT_MAX_DEVICES-1).
@@ -44,6 +61,8 @@
 #define PSC_HAL_AXIS_MAX 32767
 /** Q1.15 axis value of full deflection in the negative direction. */
 #define PSC_HAL_AXIS_MIN (-32768)
+/** Contacts a touch screen may report at once (code of POINTER_* events). */
+#define PSC_HAL_POINTER_MAX 10u
 
 /** Kind of an input event. */
 typedef enum {
@@ -53,7 +72,11 @@ typedef enum {
     PSC_HAL_INPUT_AXIS,
     PSC_HAL_INPUT_DEVICE_ARRIVE,
     PSC_HAL_INPUT_DEVICE_LEAVE,
-    PSC_HAL_INPUT_QUIT
+    PSC_HAL_INPUT_QUIT,
+    PSC_HAL_INPUT_POINTER_DOWN,
+    PSC_HAL_INPUT_POINTER_MOVE,
+    PSC_HAL_INPUT_POINTER_UP,
+    PSC_HAL_INPUT_WHEEL
 } psc_hal_input_type_t;
 
 /** Logical buttons. Names (psc_hal_action_name) are what board files and tours use. */
@@ -85,8 +108,9 @@ typedef enum {
 typedef struct {
     psc_hal_input_type_t type;
     uint8_t device;       /* device slot, < PSC_HAL_INPUT_MAX_DEVICES */
-    uint16_t code;        /* psc_hal_action_t for buttons, psc_hal_axis_t for AXIS, else 0 */
-    int32_t value;        /* AXIS: Q1.15 position; BUTTON_*: 1 down/long, 0 up; else 0 */
+    uint16_t code;        /* psc_hal_action_t for buttons, psc_hal_axis_t for AXIS, contact for POINTER_*, else 0 */
+    int32_t value;        /* AXIS: Q1.15 position; BUTTON_*: 1 down/long, 0 up; WHEEL: notches; else 0 */
+    int16_t x, y;         /* POINTER_*, WHEEL: display pixels from the top left; else 0 */
     uint64_t time_us;     /* when it happened, on the input's clock */
 } psc_hal_input_event_t;
 
@@ -94,6 +118,8 @@ typedef struct {
 typedef struct psc_hal_input_config {
     psc_hal_clock_t *clock;       /* timestamps, debounce and script time; must outlive the input */
     uint32_t long_press_ms;       /* held this long = BUTTON_LONG; 0 = the backend's default */
+    uint16_t display_width;       /* the display mode, for pointer coordinates (touch screens */
+    uint16_t display_height;      /* scale their own range to it); 0 = unknown */
     psc_hal_options_t options;    /* backend-specific (sim: script) */
 } psc_hal_input_config_t;
 
