@@ -41,25 +41,28 @@ FW_INC := $(HAL_INC) -Ifirmware
 TOOLS_INC := $(IO_INC) -Ihost_tools/lib
 TEST_INC := $(FW_INC) -Ihost_tools/lib -Itests/support -Itests/faults
 
-# The image libraries: io's PNG files (libpng) and the host tools' JPEG
-# decoding and pack CRCs (libjpeg, zlib).
-IO_PKGS := libpng
+# The image libraries: io's PNG files (libpng) and JPEG decoding (libjpeg),
+# which the device program needs too (it packs a JPEG or PNG scene itself,
+# io/psc_io_pack_image.h); the host tools and tests add zlib (tests compare
+# core's CRC with it).
+IO_PKGS := libpng libjpeg
 IO_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(IO_PKGS) 2>/dev/null)
-IO_LIBS := $(shell $(PKG_CONFIG) --libs $(IO_PKGS) 2>/dev/null || echo -lpng)
+IO_LIBS := $(shell $(PKG_CONFIG) --libs $(IO_PKGS) 2>/dev/null || echo -lpng -ljpeg)
 IMG_PKGS := libpng libjpeg zlib
 IMG_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(IMG_PKGS) 2>/dev/null)
 IMG_LIBS := $(shell $(PKG_CONFIG) --libs $(IMG_PKGS) 2>/dev/null || echo -lpng -ljpeg -lz)
 # The device backends compiled in, one folder each (hal/<backend>/), and the
 # library each needs: the simulated board's PNG captures, DRM/KMS, the SDL2
-# desktop window, USB gamepads, GPIO buttons, V4L2 cameras (MJPEG). All by
+# desktop window, USB gamepads, GPIO buttons, the kernel's input devices (libevdev:
+# touch screens, keyboards, mice, gamepads), V4L2 cameras (MJPEG). All by
 # default; a board's `backends` line narrows its cross build (mk/cross.mk: a
 # kiosk leaves out SDL2 and the desktop stack it pulls in, and the sim's
-# captures with libpng). linux (clock, systemd and kernel watchdogs) and the
+# captures). linux (clock, systemd and kernel watchdogs) and the
 # sim's deterministic devices need no library and are always in: the VM and
 # image tests drive real displays with the sim clock and tour input.
 # libgpiod's major version picks its API. The device program links exactly
-# these libraries: nothing of the host tools.
-HAL_ALL_BACKENDS := sim linux fbdev drm sdl usb gpio v4l2
+# these libraries and io's (IO_PKGS): nothing of the host tools.
+HAL_ALL_BACKENDS := sim linux fbdev drm sdl usb gpio evdev v4l2
 HAL_BACKENDS ?= $(HAL_ALL_BACKENDS)
 override HAL_BACKENDS := $(sort linux $(filter $(HAL_ALL_BACKENDS),$(HAL_BACKENDS)))
 hal_pkg_sim := libpng
@@ -67,6 +70,7 @@ hal_pkg_drm := libdrm
 hal_pkg_sdl := sdl2
 hal_pkg_usb := libusb-1.0
 hal_pkg_gpio := libgpiod
+hal_pkg_evdev := libevdev
 hal_pkg_v4l2 := libjpeg
 HAL_PKGS := $(sort $(foreach b,$(HAL_BACKENDS),$(hal_pkg_$(b))))
 HAL_CFLAGS := $(if $(HAL_PKGS),$(shell $(PKG_CONFIG) --cflags $(HAL_PKGS) 2>/dev/null)) \
@@ -194,11 +198,11 @@ $(FW_LIB): $(call obj,$(filter-out $(FW_MAIN),$(FW_SRC)))
 $(TESTSUP_LIB): $(call obj,$(TESTSUP_SRC))
 
 # Dependencies point one way: firmware -> hal -> io -> core, host_tools -> io -> core.
-# The device program links its backends' libraries and nothing of the host tools.
+# The device program links its backends' libraries, io's image libraries and nothing of the host tools.
 $(FIRMWARE): $(call obj,$(FW_MAIN)) $(FW_LIB) $(HAL_LIB) $(IO_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HAL_LIBS) $(LDLIBS_HOST)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HAL_LIBS) $(IO_LIBS) $(LDLIBS_HOST)
 
 $(BUILD)/bin/%: $(BUILD)/obj/host_tools/%.o $(HOST_LIB) $(IO_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
@@ -267,8 +271,8 @@ SAN_BUILD := $(BUILD)/sanitize-$(notdir $(SAN_CC))
 SAN_FLAGS := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 SAN_TESTS := $(addprefix $(SAN_BUILD)/tests/,test_3d_abuffer test_3d_golden test_3d_mesh test_3d_raster \
 	test_accuracy test_bands test_config_fuzz test_crc32 test_dither test_envmap test_firmware test_fisheye \
-	test_fixed test_golden test_hid test_image_io test_input test_io_atomic test_kiosk test_lut test_mip test_pack test_patch \
-	test_pixel test_pose test_proxy test_proxy_render test_shadow test_simd)
+	test_evdev test_fixed test_golden test_hid test_image_io test_input test_io_atomic test_kiosk test_lut test_mip test_pack test_patch \
+	test_pixel test_pose test_proxy test_proxy_render test_shadow test_simd test_gestures test_log test_open_image)
 check-sanitize: deps
 	$(Q)$(MAKE) --no-print-directory CC=$(SAN_CC) BUILD=$(SAN_BUILD) OPT="-O1 -g" CFLAGS="$(SAN_FLAGS)" \
 		LDFLAGS="-fsanitize=address,undefined" all $(SAN_TESTS)

@@ -10,6 +10,7 @@
 
 #include "app_internal.h"
 #include "psc_hal.h"
+#include "psc_io_log.h"
 
 int64_t psc_app_bam_from_mdeg(int64_t mdeg)
 {
@@ -38,7 +39,41 @@ int psc_app_enter_scene(psc_app_t *app, unsigned i, char *err, size_t errlen)
         .hfov_max = lim->hfov_max,
         .pan_follows_zoom = lim->pan_follows_zoom,
     };
-    psc_motion_init(&app->motion, &mc, lim->home.yaw, lim->home.pitch, lim->home.hfov);
+    psc_view_t home = lim->home;
+    if (app->only_scene[0] == '\0' && i < b->scene_count && b->scene_has_view[i]) {
+        /* the board's starting view (scene.ID.view) is the scene's home; motion keeps it in the limits */
+        home.yaw = PSC_BAM_FROM_MDEG(b->scene_view_mdeg[i][0]);
+        home.pitch = (int32_t)PSC_BAM_FROM_MDEG(b->scene_view_mdeg[i][1]);
+        home.hfov = PSC_BAM_FROM_MDEG(b->scene_view_mdeg[i][2]);
+    }
+    psc_motion_init(&app->motion, &mc, home.yaw, home.pitch, home.hfov);
+    psc_gestures_release_all(&app->gestures);
+    return 0;
+}
+
+/*
+ * display_dither (on by default) on an RGB565 display without display_levels:
+ * an XRGB8888 frame of the display's size for the scenes to draw in, and the
+ * dither's tables. Start-up only; the frame loop allocates nothing.
+ */
+static int app_start_dither(psc_app_t *app, char *err, size_t errlen)
+{
+    const psc_hal_display_mode_t *m = &app->dev.mode;
+    size_t stride = (size_t)m->width * 4u;
+
+    if (app->board.display_dither == PSC_DITHER_NONE || m->format != PSC_PIX_RGB565 || app->board.display_levels.on)
+        return 0;
+    app->dither565 = malloc(sizeof *app->dither565);
+    void *px = aligned_alloc(64, (stride * m->height + 63u) & ~(size_t)63u);
+    if (app->dither565 == NULL || px == NULL) {
+        free(px);
+        psc_hal_error_set(err, errlen, "out of memory for the %ux%u frame display_dither draws in (display_dither = "
+                          "none needs none)", (unsigned)m->width, (unsigned)m->height);
+        return -1;
+    }
+    psc_dither_565_init(app->dither565);
+    app->draw = (psc_surface_t){ .width = m->width, .height = m->height, .stride = (uint32_t)stride,
+                                 .format = PSC_PIX_XRGB8888, .pixels = px };
     return 0;
 }
 
@@ -75,6 +110,37 @@ static psc_devices_extra_t app_device_extras(const psc_app_t *app, const psc_cli
     };
 }
 
+/*
+ * Files on the command line are the scene list, in place of the board's
+ * scene lines and its camera scene (which names a pack of its own): a reload
+ * (SIGHUP) loads them again as it would the board's.
+ */
+static int app_take_files(psc_app_t *app, const psc_cli_options_t *opt, char *err, size_t errlen)
+{
+    psc_board_config_t *b = &app->board;
+
+    _Static_assert(PSC_CLI_MAX_FILES <= PSC_BOARD_MAX_SCENES, "every file given must fit the scene list");
+    if (opt->file_count == 0)
+        return 0;
+    for (unsigned i = 0; i < opt->file_count; i++) {
+        if (strlen(opt->files[i]) >= sizeof b->scenes[i]) {
+            psc_hal_error_set(err, errlen, "%s: path longer than %u characters", opt->files[i],
+                              (unsigned)sizeof b->scenes[i] - 1u);
+            return -1;
+        }
+        snprintf(b->scenes[i], sizeof b->scenes[i], "%s", opt->files[i]);
+    }
+    /* the board's scene ids, titles and views belong to its own scene lines */
+    for (unsigned i = 0; i < PSC_BOARD_MAX_SCENES; i++) {
+        b->scene_ids[i][0] = '\0';
+        b->scene_titles[i][0] = '\0';
+        b->scene_has_view[i] = false;
+    }
+    b->scene_count = opt->file_count;
+    b->camera_scene[0] = '\0';
+    return 0;
+}
+
 int psc_app_open(const psc_cli_options_t *opt, psc_app_t **out, char *err, size_t errlen)
 {
     psc_app_t *app;
@@ -91,6 +157,8 @@ int psc_app_open(const psc_cli_options_t *opt, psc_app_t **out, char *err, size_
     snprintf(app->board_path, sizeof app->board_path, "%s/%s/board.conf", opt->boards_dir, opt->board);
     if (psc_board_config_load(app->board_path, &app->board, err, errlen) != 0)
         goto fail;
+    if (app_take_files(app, opt, err, errlen) != 0)
+        goto fail;
     b = &app->board;
     app->capture_every = opt->frames_every >= 0 ? (uint32_t)opt->frames_every : b->frames_every;
     if (opt->out_dir != NULL)
@@ -105,6 +173,13 @@ int psc_app_open(const psc_cli_options_t *opt, psc_app_t **out, char *err, size_
     if (psc_devices_open(&app->dev, b, &extra, err, errlen) != 0)
         goto fail;
 
+    if (app_start_dither(app, err, errlen) != 0)
+        goto fail;
+    /* scenes draw (and fade) in the dither's XRGB8888 frame when there is one */
+    if (psc_scene_fade_init(&app->fade, b->scene_fade_ms, app->dev.mode.width, app->dev.mode.height,
+                            app->dither565 != NULL ? PSC_PIX_XRGB8888 : app->dev.mode.format, err, errlen) != 0)
+        goto fail;
+    psc_gestures_init(&app->gestures, app->dev.mode.width, app->dev.mode.height);
     app->bands = psc_io_bands_start(b->render_threads ? b->render_threads : psc_io_online_cpus(),
                                     app->dev.mode.width, err, errlen);
     if (!app->bands)
@@ -114,20 +189,20 @@ int psc_app_open(const psc_cli_options_t *opt, psc_app_t **out, char *err, size_
         .board = b, .width = app->dev.mode.width, .height = app->dev.mode.height, .format = app->dev.mode.format,
         .feed = &app->dev.feed, .now_us = psc_hal_clock_now_us(app->dev.clock), .bands = app->bands,
     };
-    if (opt->scene == NULL) {
+    if (opt->scene == NULL && opt->file_count == 0) {
         env.hotspots = b->hotspots;
         env.hotspot_count = b->hotspot_count;
     } else if (b->hotspot_count != 0 && !app->quiet) {
-        printf("periscope: note: --scene replaces the scene list; the board's %u hotspot%s are not used\n",
-               b->hotspot_count, b->hotspot_count == 1 ? "" : "s");
+        psc_log(PSC_LOG_NOTICE, "periscope: note: %s replaces the scene list; the board's %u hotspot%s are not used",
+               opt->scene != NULL ? "--scene" : "the files given", b->hotspot_count, b->hotspot_count == 1 ? "" : "s");
     }
     if (psc_scene_list_load(&app->scenes, opt->scene, &env, err, errlen) != 0)
         goto fail;
     psc_scene_list_attach(&app->scenes);
-    if (psc_app_enter_scene(app, 0, err, errlen) != 0 || psc_devices_start(&app->dev, b, err, errlen) != 0)
-        goto fail;
     if (opt->scene != NULL)
         snprintf(app->only_scene, sizeof app->only_scene, "%s", opt->scene);
+    if (psc_app_enter_scene(app, 0, err, errlen) != 0 || psc_devices_start(&app->dev, b, err, errlen) != 0)
+        goto fail;
     *out = app;
     return 0;
 fail:
@@ -155,5 +230,8 @@ void psc_app_close(psc_app_t *app)
     psc_scene_list_free(&app->scenes);
     psc_io_bands_stop(app->bands);
     app->bands = NULL;
+    free(app->dither565);
+    free(app->draw.pixels);
+    psc_scene_fade_free(&app->fade);
     free(app);
 }

@@ -11,11 +11,14 @@
 #include "controls.h"
 #include "devices.h"
 #include "frame_pacer.h"
+#include "gestures.h"
 #include "kiosk.h"
 #include "motion.h"
 #include "quality.h"
 #include "scene_list.h"
+#include "scene_fade.h"
 #include "scene_reload.h"
+#include "dither/psc_dither.h"
 
 struct psc_app {
     psc_board_config_t board;
@@ -44,6 +47,13 @@ struct psc_app {
     uint32_t *frame_times_us;              /* psc_app_record_frame_times, or NULL */
     uint32_t frame_times_cap;
     psc_io_bands_t *bands;     /* the viewer's worker threads, started with the display */
+    psc_gestures_t gestures;   /* mouse and touch on the picture */
+    psc_scene_fade_t fade;     /* scene_fade_ms */
+    psc_surface_t last_drawn;  /* where the last frame was drawn (a fade starts from it; pixels NULL: none yet) */
+    /* display_dither on an RGB565 display: scenes draw 8 bits a channel here, and the frame loop
+     * turns each frame into the back buffer's RGB565 through the 8 x 8 Bayer matrix (NULL: off) */
+    psc_dither_565_t *dither565;
+    psc_surface_t draw;        /* XRGB8888, the display's size (dither565 only) */
 };
 
 /**

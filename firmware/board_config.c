@@ -24,6 +24,7 @@ typedef enum {
     KEY_FILTER,         /* nearest | bilinear | mip -> psc_filter_t */
     KEY_QUALITY,        /* adaptive | fixed -> bool */
     KEY_LEVELS,         /* mono | grey4 | pal8 [:ordered | :halftone | :none] -> psc_io_levels_t */
+    KEY_DITHER,         /* ordered | none -> psc_dither_method_t */
     KEY_U32,            /* whole number -> uint32_t */
     KEY_U8,             /* whole number -> uint8_t */
     KEY_MILLI,          /* decimal x 1000 -> int32_t */
@@ -54,6 +55,7 @@ static const key_spec_t key_table[] = {
     KEY_WH("display_size", display_width, display_height, 16, PSC_MAX_OUT_DIM, true),
     KEY("display_format", KEY_FORMAT, display_format, 0, 0, false),
     KEY("display_levels", KEY_LEVELS, display_levels, 0, 0, false),
+    KEY("display_dither", KEY_DITHER, display_dither, 0, 0, false),
     KEY("display_buffers", KEY_U8, display_buffers, 1, 3, false),
     KEY("frame_rate", KEY_MILLI_U32, frame_rate_mhz, 1000, 240000, false),
     KEY("render_threads", KEY_U8, render_threads, 0, PSC_IO_BANDS_MAX_THREADS, false),
@@ -90,6 +92,7 @@ static const key_spec_t key_table[] = {
     KEY("attract_idle_s", KEY_MILLI_U32, attract_idle_ms, 0, 86400000, false),
     KEY("attract_rate", KEY_MILLI, attract_rate_mdeg, -90000, 90000, false),
     KEY("hotspot", KEY_HOTSPOT, hotspots, 0, 0, false),
+    KEY("scene_fade_ms", KEY_U32, scene_fade_ms, 0, 5000, false),
     KEY("quality", KEY_QUALITY, quality_adaptive, 0, 0, false),
     KEY("quality_fast_speed", KEY_MILLI_U32, quality_fast_speed, 1, 100000, false),
     KEY("quality_settle_frames", KEY_U32, quality_settle_frames, 1, 10000, false),
@@ -129,6 +132,7 @@ void psc_board_config_defaults(psc_board_config_t *cfg)
 {
     memset(cfg, 0, sizeof *cfg);
     cfg->display_format = PSC_PIX_RGB565;
+    cfg->display_dither = PSC_DITHER_ORDERED;
     cfg->display_buffers = 2;
     cfg->frame_rate_mhz = 30000;
     cfg->long_press_ms = 800;
@@ -333,6 +337,12 @@ static int board_set_key(board_parser_t *p, const key_spec_t *k, const char *val
             return board_fail(p, "%s must be mono, grey4 or pal8, optionally :ordered, :halftone or :none, got '%s'",
                               k->key, value);
         return 0;
+    case KEY_DITHER:
+        if (strcmp(value, "ordered") == 0 || strcmp(value, "none") == 0) {
+            *(psc_dither_method_t *)field = value[0] == 'o' ? PSC_DITHER_ORDERED : PSC_DITHER_NONE;
+            return 0;
+        }
+        return board_fail(p, "%s must be ordered or none, got '%s'", k->key, value);
     case KEY_FILTER:
         if (strcmp(value, "nearest") == 0)
             *(psc_filter_t *)field = PSC_FILTER_NEAREST;
@@ -364,7 +374,7 @@ static int board_set_key(board_parser_t *p, const key_spec_t *k, const char *val
     }
     case KEY_SCENE:
         if (cfg->scene_count == PSC_BOARD_MAX_SCENES)
-            return board_fail(p, "too many %s lines (at most %s)", k->key, "8");
+            return board_fail(p, "too many %s lines (at most %s)", k->key, "32");
         return board_set_string(p, cfg->scenes[cfg->scene_count++], PSC_BOARD_PATH_MAX, k->key, value);
     case KEY_HOTSPOT: {
         char why[200];
@@ -400,9 +410,76 @@ static int board_add_option(board_parser_t *p, psc_board_dev_t dev, const char *
     return 0;
 }
 
+/* The scene declared by scene.ID = FILE above this line, or -1. */
+static int board_scene_by_id(const psc_board_config_t *cfg, const char *id)
+{
+    for (unsigned i = 0; i < cfg->scene_count; i++)
+        if (strcmp(cfg->scene_ids[i], id) == 0)
+            return (int)i;
+    return -1;
+}
+
+/* "scene.ID = FILE", "scene.ID.title = TEXT", "scene.ID.view = YAW PITCH HFOV". */
+static int board_parse_scene_key(board_parser_t *p, const char *rest, const char *value)
+{
+    psc_board_config_t *cfg = p->cfg;
+    char id[PSC_SCENE_ID_MAX];
+    const char *dot = strchr(rest, '.');
+    size_t n = dot != NULL ? (size_t)(dot - rest) : strlen(rest);
+    int i;
+
+    if (n >= sizeof id)
+        return board_fail(p, "scene id '%.40s' is longer than %s characters", rest, "31");
+    memcpy(id, rest, n);
+    id[n] = '\0';
+    if (!psc_scene_id_valid(id))
+        return board_fail(p, "scene id '%s' must start with a lower-case letter and hold only lower-case letters, "
+                          "digits and _%s", id, "");
+    i = board_scene_by_id(cfg, id);
+    if (dot == NULL) {
+        if (i >= 0)
+            return board_fail(p, "scene '%s' is declared twice (scene.%s = FILE)", id, id);
+        if (cfg->scene_count == PSC_BOARD_MAX_SCENES)
+            return board_fail(p, "too many scenes (at most %s); scene.%s is one too many", "32", id);
+        strcpy(cfg->scene_ids[cfg->scene_count], id);
+        return board_set_string(p, cfg->scenes[cfg->scene_count++], PSC_BOARD_PATH_MAX, "scene", value);
+    }
+    if (i < 0)
+        return board_fail(p, "%s: no scene '%s' declared above (scene.%s = FILE comes first)", dot + 1, id);
+    if (strcmp(dot + 1, "title") == 0) {
+        if (strlen(value) >= PSC_BOARD_TITLE_MAX)
+            return board_fail(p, "scene.%s.title is longer than %s characters", id, "63");
+        strcpy(cfg->scene_titles[i], value);
+        return 0;
+    }
+    if (strcmp(dot + 1, "view") == 0) {
+        char buf[96], *save = NULL, *w;
+        static const int64_t lo[3] = { -360000, -90000, 1000 }, hi[3] = { 360000, 90000, 170000 };
+        int64_t v[3];
+        unsigned k = 0;
+
+        snprintf(buf, sizeof buf, "%s", value);
+        for (w = strtok_r(buf, " \t", &save); w != NULL; w = strtok_r(NULL, " \t", &save)) {
+            if (k == 3 || psc_hal_parse_decimal(w, 3, &v[k]) != 0 || v[k] < lo[k] || v[k] > hi[k])
+                break;
+            k++;
+        }
+        if (k != 3 || w != NULL)
+            return board_fail(p, "scene.%s.view must be 'YAW PITCH HFOV' in degrees (yaw -360..360, pitch -90..90, "
+                              "hfov 1..170), got '%s'", id, value);
+        for (k = 0; k < 3; k++)
+            cfg->scene_view_mdeg[i][k] = (int32_t)v[k];
+        cfg->scene_has_view[i] = true;
+        return 0;
+    }
+    return board_fail(p, "unknown key 'scene.%s.%s': a scene has FILE, .title and .view", id, dot + 1);
+}
+
 /* One "key = value" line of the board file (board_file.h did the syntax). */
 static int board_parse_line(board_parser_t *p, const char *key, const char *value)
 {
+    if (strncmp(key, "scene.", 6) == 0)
+        return board_parse_scene_key(p, key + 6, value);
     for (unsigned d = 0; d < PSC_BOARD_DEV_COUNT; d++) {
         size_t n = strlen(dev_prefix[d]);
         if (strncmp(key, dev_prefix[d], n) == 0)
@@ -479,10 +556,29 @@ static int board_check(board_parser_t *p)
                           "camera's frames, name its backend (camera = v4l2)", p->file);
         return -1;
     }
-    /* hotspots name scenes by number: every number must be a scene of this board */
+    /* hotspots name scenes by id or number: every one must be a scene of this board */
     unsigned scenes = cfg->scene_count + (cfg->camera_scene[0] != '\0' ? 1u : 0u);
     for (unsigned i = 0; i < cfg->hotspot_count; i++) {
-        const psc_hotspot_t *h = &cfg->hotspots[i];
+        psc_hotspot_t *h = &cfg->hotspots[i];
+        const char *ids[2] = { h->from_id, h->to_id };
+        uint8_t *nums[2] = { &h->from_scene, &h->to_scene };
+        for (unsigned e = 0; e < 2; e++) {
+            int at;
+            if (ids[e][0] == '\0')
+                continue;
+            if ((at = board_scene_by_id(cfg, ids[e])) < 0) {
+                psc_hal_error_set(p->err, p->errlen, "%s:%u: hotspot names scene '%s', but no line declares it "
+                                  "(scene.%s = FILE)", p->file, h->line, ids[e], ids[e]);
+                return -1;
+            }
+            *nums[e] = (uint8_t)at;
+        }
+        if (h->label[0] == '\0' && h->to_scene < cfg->scene_count) {
+            /* the title (64) cut to a label (48) */
+            size_t n = strnlen(cfg->scene_titles[h->to_scene], sizeof h->label - 1u);
+            memcpy(h->label, cfg->scene_titles[h->to_scene], n);
+            h->label[n] = '\0';
+        }
         unsigned bad = h->from_scene >= scenes ? h->from_scene : h->to_scene >= scenes ? h->to_scene : 0u;
         if (h->from_scene >= scenes || h->to_scene >= scenes) {
             psc_hal_error_set(p->err, p->errlen, "%s:%u: hotspot names scene %u, but this board has %u scene%s "
@@ -527,6 +623,24 @@ int psc_board_config_parse(const char *text, size_t len, const char *file, psc_b
     return board_check(&p);
 }
 
+/* A relative path in the board file is the board folder's: "x.pano" beside board.conf. */
+static int board_resolve_path(const char *board_path, const char *key, char *field, char *err, size_t errlen)
+{
+    const char *slash = strrchr(board_path, '/');
+    char joined[2 * PSC_BOARD_PATH_MAX];
+
+    if (field[0] == '\0' || field[0] == '/' || slash == NULL)
+        return 0;   /* absolute, unset, or a board file in the working directory */
+    snprintf(joined, sizeof joined, "%.*s/%s", (int)(slash - board_path), board_path, field);
+    if (strlen(joined) >= PSC_BOARD_PATH_MAX) {
+        psc_hal_error_set(err, errlen, "%s: %s '%s' is longer than %u characters from the board's folder", board_path,
+                          key, field, PSC_BOARD_PATH_MAX - 1u);
+        return -1;
+    }
+    strcpy(field, joined);
+    return 0;
+}
+
 int psc_board_config_load(const char *path, psc_board_config_t *cfg, char *err, size_t errlen)
 {
     char *text;
@@ -538,7 +652,16 @@ int psc_board_config_load(const char *path, psc_board_config_t *cfg, char *err, 
         return -1;
     rc = psc_board_config_parse(text, len, path, cfg, err, errlen);
     free(text);
-    return rc;
+    if (rc != 0)
+        return rc;
+    for (unsigned i = 0; i < cfg->scene_count; i++)
+        if (board_resolve_path(path, "scene", cfg->scenes[i], err, errlen) != 0)
+            return -1;
+    if (board_resolve_path(path, "tour", cfg->tour, err, errlen) != 0 ||
+        board_resolve_path(path, "camera_scene", cfg->camera_scene, err, errlen) != 0 ||
+        board_resolve_path(path, "camera_fisheye_table", cfg->camera_fisheye_table, err, errlen) != 0)
+        return -1;
+    return 0;
 }
 
 size_t psc_board_config_options(const psc_board_config_t *cfg, psc_board_dev_t dev,

@@ -4,8 +4,11 @@
  *
  * Format: one "key = value" per line; '#' at the start of a line or after a
  * space starts a comment; blank lines are ignored; keys are lower case.
- * Every key but "scene" and "hotspot" (lists) may appear once. Paths are relative to the
- * directory the program runs in. The keys, their units and defaults are
+ * Every key but "scene" and "hotspot" (lists) may appear once. Scenes with
+ * an id: "scene.ID = FILE", then "scene.ID.title = TEXT" and
+ * "scene.ID.view = YAW PITCH HFOV" (its starting and home view) below it. Relative paths (scene, tour,
+ * camera_scene, camera_fisheye_table) are the board folder's: "x.pano" is
+ * the file beside board.conf (psc_board_config_load resolves them). The keys, their units and defaults are
  * listed in boards/README.md and in the table in board_config.c.
  *
  * Units stored here (converted from what people write, integer only):
@@ -35,7 +38,8 @@
 #define PSC_BOARD_NAME_MAX 32u
 #define PSC_BOARD_PATH_MAX 256u
 #define PSC_BOARD_ORIGIN_MAX (PSC_BOARD_PATH_MAX + 16u)
-#define PSC_BOARD_MAX_SCENES 8u
+#define PSC_BOARD_MAX_SCENES 32u
+#define PSC_BOARD_TITLE_MAX 64u
 #define PSC_BOARD_MAX_OPTIONS 32u
 
 /** The device kinds, for backend-specific options. */
@@ -64,6 +68,7 @@ typedef struct {
     uint16_t display_width, display_height;        /* display_size (required) */
     psc_pixfmt_t display_format;                   /* display_format: rgb565 | xrgb8888 */
     psc_io_levels_t display_levels;                /* display_levels: mono|grey4|pal8[:method], off when absent */
+    psc_dither_method_t display_dither;            /* display_dither: ordered (default) | none, RGB565 displays */
     uint8_t display_buffers;                       /* display_buffers, 1..3 */
     uint32_t frame_rate_mhz;                       /* frame_rate, Hz */
     uint8_t render_threads;                        /* render_threads: the viewer's threads, 0 = the processors */
@@ -91,6 +96,12 @@ typedef struct {
 
     char scenes[PSC_BOARD_MAX_SCENES][PSC_BOARD_PATH_MAX];   /* scene lines, in order */
     unsigned scene_count;
+    /* scene.ID = FILE lines: the id ("" for a plain scene line), title, starting view */
+    char scene_ids[PSC_BOARD_MAX_SCENES][PSC_SCENE_ID_MAX];
+    char scene_titles[PSC_BOARD_MAX_SCENES][PSC_BOARD_TITLE_MAX];   /* scene.ID.title, "" = none */
+    bool scene_has_view[PSC_BOARD_MAX_SCENES];                       /* scene.ID.view = YAW PITCH HFOV */
+    int32_t scene_view_mdeg[PSC_BOARD_MAX_SCENES][3];
+    uint32_t scene_fade_ms;             /* scene_fade_ms: cross-fade between scenes, 0 = cut */
 
     /* camera limits and motion (millidegrees, per second, per second squared) */
     int32_t yaw_rate_max_mdeg;          /* yaw_rate_max */

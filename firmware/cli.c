@@ -4,8 +4,12 @@
  * programs' one convention (io/psc_io_cli.h). Kept out of main.c so tests
  * can feed it argument vectors.
  */
+#include <dirent.h>
+#include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "board_config.h"
 #include "cli.h"
 #include "frame_dump.h"
 #include "psc_hal.h"
@@ -17,10 +21,17 @@ const char *psc_cli_usage(void)
     return "usage: periscope --board NAME [--boards-dir DIR] [--scene PACK] [--out DIR]\n"
            "                 [--tour FILE] [--frames-every K] [--max-frames N] [--quiet]\n"
            "                 [--dump-frame N:PATH]...\n"
+           "       periscope [--board NAME] [options] FILE...\n"
            "       periscope --board NAME --print-key KEY\n"
+           "  FILE...             show these files as the scene list: scene packs, or JPEG or PNG\n"
+           "                      panoramas (packed for the display, kept in the pack cache:\n"
+           "                      $PERISCOPE_CACHE_DIR, else $XDG_CACHE_HOME/periscope or\n"
+           "                      ~/.cache/periscope); up to 8; the board defaults to desktop\n"
            "  --board NAME        read DIR/NAME/board.conf\n"
-           "  --boards-dir DIR    where board descriptions live (default: boards)\n"
-           "  --scene PACK        show this scene pack instead of the board's scene list\n"
+           "  --boards-dir DIR    where board descriptions live (default: boards; with FILEs and\n"
+           "                      no boards/desktop there, " PSC_CLI_INSTALLED_BOARDS ")\n"
+           "  --scene PACK        show this scene pack (or JPEG or PNG panorama) instead of the\n"
+           "                      board's scene list\n"
            "  --out DIR           captured frames and contact sheet (default: out/NAME)\n"
            "  --tour FILE         replay this tour script instead of the board's\n"
            "  --frames-every K    capture every K-th frame (0: none; default: the board's)\n"
@@ -107,6 +118,48 @@ static int cli_take(psc_cli_options_t *o, int opt, const char *name, const char 
     return 0;
 }
 
+static bool cli_has_board(const char *dir, const char *name)
+{
+    char path[PSC_BOARD_PATH_MAX * 2];
+
+    snprintf(path, sizeof path, "%s/%s/board.conf", dir, name);
+    return access(path, R_OK) == 0;
+}
+
+/*
+ * Files to show and no --board: the desktop board, from --boards-dir or
+ * ./boards, else the installed boards' desktop or, when the package
+ * installed one board only, that one (a kiosk's own display).
+ */
+static int cli_default_board(psc_cli_options_t *o, bool boards_dir_given, char *err, size_t errlen)
+{
+    o->board = "desktop";
+    if (boards_dir_given || cli_has_board(o->boards_dir, "desktop"))
+        return 0;
+    o->boards_dir = PSC_CLI_INSTALLED_BOARDS;
+    if (cli_has_board(o->boards_dir, "desktop"))
+        return 0;
+    unsigned found = 0;
+    DIR *d = opendir(o->boards_dir);
+    struct dirent *e;
+    while (d != NULL && (e = readdir(d)) != NULL) {
+        if (e->d_name[0] == '.' || strlen(e->d_name) >= sizeof o->board_buf || !cli_has_board(o->boards_dir, e->d_name))
+            continue;
+        if (found++ == 0)
+            snprintf(o->board_buf, sizeof o->board_buf, "%s", e->d_name);
+    }
+    if (d != NULL)
+        closedir(d);
+    if (found == 1) {
+        o->board = o->board_buf;
+        return 0;
+    }
+    psc_hal_error_set(err, errlen, "no board to show %s on: no boards/desktop/board.conf here and %s in %s; "
+                      "name one with --board NAME (and --boards-dir DIR)", o->files[0],
+                      found == 0 ? "no board installed" : "more than one board installed", PSC_CLI_INSTALLED_BOARDS);
+    return -1;
+}
+
 int psc_cli_parse(int argc, char *const *argv, psc_cli_options_t *o, char *err, size_t errlen)
 {
     psc_io_cli_t c;
@@ -115,6 +168,7 @@ int psc_cli_parse(int argc, char *const *argv, psc_cli_options_t *o, char *err, 
     *o = (psc_cli_options_t){ .boards_dir = "boards", .frames_every = -1 };
     /* getopt moves the arguments that are not options behind the options */
     psc_io_cli_begin(&c, argc, (char **)argv, "h", cli_options);
+    bool boards_dir_given = false;
     while ((opt = psc_io_cli_next(&c, err, errlen)) != 0) {
         if (opt < 0)
             return -1;
@@ -125,13 +179,25 @@ int psc_cli_parse(int argc, char *const *argv, psc_cli_options_t *o, char *err, 
         }
         if (cli_take(o, opt, c.name, c.arg, err, errlen) != 0)
             return -1;
+        boards_dir_given |= opt == OPT_BOARDS_DIR;
     }
-    if (psc_io_cli_rest(&c) < argc) {
-        psc_hal_error_set(err, errlen, "unexpected argument '%s' (options start with --)", argv[psc_io_cli_rest(&c)]);
+    for (int i = psc_io_cli_rest(&c); i < argc; i++) {
+        if (o->file_count == PSC_CLI_MAX_FILES) {
+            psc_hal_error_set(err, errlen, "more than %u files to show ('%s'): a board has at most %u scenes",
+                              PSC_CLI_MAX_FILES, argv[i], PSC_CLI_MAX_FILES);
+            return -1;
+        }
+        o->files[o->file_count++] = argv[i];
+    }
+    if (o->file_count != 0 && o->scene != NULL) {
+        psc_hal_error_set(err, errlen, "--scene and files to show (%s) are given: the files are the scene list, "
+                          "so give one or the other", o->files[0]);
         return -1;
     }
+    if (o->board == NULL && o->file_count != 0 && cli_default_board(o, boards_dir_given, err, errlen) != 0)
+        return -1;
     if (o->board == NULL) {
-        psc_hal_error_set(err, errlen, "--board NAME is required (e.g. --board sim)");
+        psc_hal_error_set(err, errlen, "--board NAME is required (e.g. --board sim), or files to show");
         return -1;
     }
     /* the board name becomes a path component: keep it one */

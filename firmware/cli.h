@@ -5,13 +5,19 @@
  *   periscope --board NAME [--boards-dir DIR] [--scene PACK] [--out DIR]
  *             [--tour FILE] [--frames-every K] [--max-frames N] [--quiet]
  *             [--dump-frame N:PATH]...
+ *   periscope [--board NAME] [options] FILE...
  *   periscope --board NAME --print-key KEY
  *   periscope --help | --version
  *
  * Options follow the programs' one convention (io/psc_io_cli.h): --opt VALUE
  * or --opt=VALUE, whole option names only.
  * The board file is DIR/NAME/board.conf (DIR defaults to "boards"). --scene
- * replaces the board's scene list with one pack; --tour replaces its tour;
+ * replaces the board's scene list with one pack (or JPEG or PNG panorama);
+ * files named after the options replace it with those, in order (up to
+ * PSC_CLI_MAX_FILES; scene packs, JPEGs, PNGs), and then the board defaults
+ * to "desktop": boards/desktop, else the installed boards'
+ * (PSC_CLI_INSTALLED_BOARDS, "desktop" there or the one board installed);
+ * --tour replaces its tour;
  * --out is where the sim display captures frames and the contact sheet goes
  * (default out/NAME); --frames-every overrides the board's capture period
  * (0 = no captures); --max-frames stops after N frames (0 = no limit), so a
@@ -27,6 +33,10 @@
 #include <stdint.h>
 
 #define PSC_CLI_MAX_DUMPS 8u
+/* as many files as a board's scene lines (PSC_BOARD_MAX_SCENES) */
+#define PSC_CLI_MAX_FILES 8u
+/* where the Debian package installs the board descriptions (packaging/deb) */
+#define PSC_CLI_INSTALLED_BOARDS "/etc/periscope/boards"
 
 /** One --dump-frame request. */
 typedef struct {
@@ -49,6 +59,9 @@ typedef struct {
     const char *print_key;      /* --print-key KEY: print the board file's KEY, run nothing */
     psc_cli_dump_t dumps[PSC_CLI_MAX_DUMPS];   /* --dump-frame N:PATH */
     unsigned dump_count;
+    const char *files[PSC_CLI_MAX_FILES];      /* FILE...: the scene list, in order */
+    unsigned file_count;
+    char board_buf[256];        /* the installed board's name, when board defaults to it */
 } psc_cli_options_t;
 
 /**

@@ -16,6 +16,7 @@
 #include "app_internal.h"
 #include "frame_dump.h"
 #include "psc_hal.h"
+#include "psc_io_log.h"
 
 /* Set from a signal handler (SIGTERM from systemd, Ctrl-C): the loop ends
  * after the frame in progress, and everything is closed in order. */
@@ -65,7 +66,7 @@ static void loop_log_event(const psc_app_t *app, const psc_hal_input_event_t *ev
     if (psc_hal_input_get_device_name(app->dev.input, ev->device, name, sizeof name) != 0)
         snprintf(name, sizeof name, "device %u", (unsigned)ev->device);
     loop_format_time(when, sizeof when, t_us);
-    printf("frame %5u  %s  input: %s %s\n", (unsigned)frame, when, name,
+    psc_log(PSC_LOG_NOTICE, "frame %5u  %s  input: %s %s", (unsigned)frame, when, name,
            ev->type == PSC_HAL_INPUT_DEVICE_ARRIVE ? "arrived" : "left");
 }
 
@@ -82,13 +83,15 @@ static bool loop_poll_input(psc_app_t *app, uint64_t now, uint64_t start, uint32
         if (ev.type == PSC_HAL_INPUT_BUTTON_DOWN || ev.type == PSC_HAL_INPUT_BUTTON_UP ||
             ev.type == PSC_HAL_INPUT_BUTTON_LONG)
             *activity = true;
+        if (psc_gestures_event(&app->gestures, &ev, &app->motion))
+            *activity = true;   /* a finger or the mouse on the picture is a person too */
         psc_device_status_input_event(&app->dev.status, &ev);
         loop_log_event(app, &ev, frame, ev.time_us > start ? ev.time_us - start : 0);   /* arrivals at open predate the loop */
     }
     /* a failing input source is shown on screen and retried every frame:
      * the kiosk keeps showing its scene rather than exiting */
     if (psc_device_status_input_failed(&app->dev.status, rc < 0) && rc < 0)
-        fprintf(stderr, "periscope: input (%s backend) failed: %s; retrying every frame\n", app->dev.input->backend,
+        psc_log(PSC_LOG_ERR, "periscope: input (%s backend) failed: %s; retrying every frame", app->dev.input->backend,
                 strerror(-rc));
     return !app->controls.quit;
 }
@@ -102,7 +105,7 @@ static void loop_log_quality(const psc_app_t *app, uint32_t frame, uint64_t t_us
     if (app->quiet)
         return;
     loop_format_time(when, sizeof when, t_us);
-    printf("frame %5u  %s  quality: %s (%s, span %u) at %u.%03u view widths/s\n", (unsigned)frame, when,
+    psc_log(PSC_LOG_INFO, "frame %5u  %s  quality: %s (%s, span %u) at %u.%03u view widths/s", (unsigned)frame, when,
            fast ? "fast" : "calm", loop_filter_name(fast ? c->fast_filter : c->calm_filter),
            1u << (fast ? c->fast_span_log2 : c->calm_span_log2), (unsigned)(speed / 1000u),
            (unsigned)(speed % 1000u));
@@ -114,22 +117,35 @@ static int loop_handle_requests(psc_app_t *app, uint32_t frame, char *err, size_
     psc_scene_list_t *l = &app->scenes;
     psc_kiosk_go_t go;
 
-    if (!psc_kiosk_requests(&app->kiosk, &app->controls, &app->motion, l->current, l->count,
-                            psc_scene_list_current(l)->ops->places, &go))
+    bool places = psc_scene_list_current(l)->ops->places;
+    int32_t tx, ty;
+    bool tapped = psc_gestures_take_tap(&app->gestures, &tx, &ty);
+    /* a tap reaches a marker from a finger's width away: the marker's radius and the tap slop, twice */
+    int32_t reach = 2 * (PSC_HOTSPOT_MARKER_RADIUS * (app->gestures.height >= 240u ? app->gestures.height / 240 : 1) +
+                         app->gestures.slop_px);
+
+    if (!(tapped && psc_kiosk_tap(&app->kiosk, &app->motion, l->current, places, app->gestures.width,
+                                  app->gestures.height, tx, ty, reach, &go)) &&
+        !psc_kiosk_requests(&app->kiosk, &app->controls, &app->motion, l->current, l->count, places, &go))
         return 0;
     if (!app->quiet) {
         if (go.via != NULL)
-            printf("frame %5u  hotspot (line %u) -> scene %u: %s\n", (unsigned)frame, go.via->line, go.scene,
-                   l->scene[go.scene].path);
+            psc_log(PSC_LOG_INFO, "frame %5u  hotspot (line %u%s) -> scene %u: %s", (unsigned)frame, go.via->line,
+                   tapped ? ", tapped" : "", go.scene, l->scene[go.scene].path);
+        else if (go.back != NULL)
+            psc_log(PSC_LOG_INFO, "frame %5u  back -> scene %u: %s", (unsigned)frame, go.scene, l->scene[go.scene].path);
         else
-            printf("frame %5u  scene %u: %s\n", (unsigned)frame, go.scene, l->scene[go.scene].path);
+            psc_log(PSC_LOG_INFO, "frame %5u  scene %u: %s", (unsigned)frame, go.scene, l->scene[go.scene].path);
     }
     if (go.scene != l->current)
         app->scene_switches++;
+    psc_scene_fade_begin(&app->fade, &app->last_drawn, app->scenes.env.now_us);
     if (psc_app_enter_scene(app, go.scene, err, errlen) != 0)
         return -1;
     if (go.via != NULL)
         psc_kiosk_look_through(go.via, &app->motion);
+    else if (go.back != NULL)
+        psc_motion_set_view(&app->motion, go.back->yaw, go.back->pitch, go.back->hfov);
     return 0;
 }
 
@@ -151,8 +167,9 @@ static void loop_report_devices(psc_app_t *app, uint32_t frame, const char *last
     psc_device_status_text(&app->dev.status, text, len);
     if (strcmp(text, last) == 0)
         return;
-    if (!app->quiet)
-        printf("frame %5u  devices: %s\n", (unsigned)frame, text);
+    if (!app->quiet)   /* a device missing is a warning; all back, a notice */
+        psc_log(strcmp(text, "all devices present") == 0 ? PSC_LOG_NOTICE : PSC_LOG_WARNING, "frame %5u  devices: %s",
+                (unsigned)frame, text);
     if (app->dev.watchdog != NULL)
         psc_hal_watchdog_set_status(app->dev.watchdog, text);
 }
@@ -166,8 +183,8 @@ static void loop_log_status(psc_app_t *app, uint32_t frame, uint64_t now, const 
     char when[32];
 
     loop_format_time(when, sizeof when, up);
-    printf("frame %5u  %s  status: scene %u of %u (%s), %llu.%02llu frames/s, %s quality, %u scene switches, "
-           "%u reloads (%u refused)%s, devices: %s\n", (unsigned)frame, when, l->current + 1u, l->count,
+    psc_log(PSC_LOG_NOTICE, "frame %5u  %s  status: scene %u of %u (%s), %llu.%02llu frames/s, %s quality, %u scene switches, "
+           "%u reloads (%u refused)%s, devices: %s", (unsigned)frame, when, l->current + 1u, l->count,
            l->scene[l->current].path, (unsigned long long)(fps_x100 / 100u), (unsigned long long)(fps_x100 % 100u),
            app->quality.fast ? "fast" : "calm", (unsigned)app->scene_switches, (unsigned)app->reloads,
            (unsigned)app->reload_failures, psc_scene_reload_busy(&app->reload) ? ", a reload under way" : "",
@@ -197,12 +214,12 @@ static void loop_take_reloaded(psc_app_t *app, uint32_t frame)
         psc_scene_list_move(r->next, &app->scenes);
         psc_scene_list_move(&app->scenes, r->old);
         psc_scene_list_attach(&app->scenes);
-        printf("frame %5u  reload refused, the scenes before it kept: %s\n", (unsigned)frame, err);
+        psc_log(PSC_LOG_WARNING, "frame %5u  reload refused, the scenes before it kept: %s", (unsigned)frame, err);
         app->reload_failures++;
         if (psc_app_enter_scene(app, cur, err, sizeof err) != 0)
-            fprintf(stderr, "periscope: %s\n", err);
+            psc_log(PSC_LOG_ERR, "periscope: %s", err);
     } else {
-        printf("frame %5u  reload: %u scene%s loaded again, scene %u on screen\n", (unsigned)frame,
+        psc_log(PSC_LOG_NOTICE, "frame %5u  reload: %u scene%s loaded again, scene %u on screen", (unsigned)frame,
                app->scenes.count, app->scenes.count == 1 ? "" : "s", app->scenes.current + 1u);
         app->reloads++;
     }
@@ -219,15 +236,15 @@ static void loop_reload(psc_app_t *app, uint32_t frame)
         loop_reload_requested = 0;
         if (psc_scene_reload_start(&app->reload, app->only_scene[0] ? app->only_scene : NULL, &app->scenes.env, err,
                                    sizeof err) != 0)
-            printf("frame %5u  reload not started: %s\n", (unsigned)frame, err);
+            psc_log(PSC_LOG_WARNING, "frame %5u  reload not started: %s", (unsigned)frame, err);
         else
-            printf("frame %5u  reload: loading the scenes again beside the ones on screen\n", (unsigned)frame);
+            psc_log(PSC_LOG_NOTICE, "frame %5u  reload: loading the scenes again beside the ones on screen", (unsigned)frame);
         fflush(stdout);
     }
     if (!psc_scene_reload_finished(&app->reload))
         return;
     if (app->reload.rc != 0) {
-        printf("frame %5u  reload refused, the scenes before it kept: %s\n", (unsigned)frame, app->reload.err);
+        psc_log(PSC_LOG_WARNING, "frame %5u  reload refused, the scenes before it kept: %s", (unsigned)frame, app->reload.err);
         app->reload_failures++;
         psc_scene_reload_discard(&app->reload);
     } else {
@@ -248,22 +265,34 @@ static void loop_dump_frame(psc_app_t *app, uint32_t frame, const psc_surface_t 
         if (psc_hal_display_get_front_buffer(app->dev.display, &front) != 0)
             front = *drawn;   /* a display that cannot read back: the frame as drawn */
         if (psc_frame_dump_write(app->dumps[i].path, &front, why, sizeof why) != 0) {
-            fprintf(stderr, "periscope: %s\n", why);
+            psc_log(PSC_LOG_ERR, "periscope: %s", why);
             /* the kiosk keeps showing; the run ends non-zero when it ends */
             if (app->dump_error[0] == '\0')
                 snprintf(app->dump_error, sizeof app->dump_error, "%s", why);
         } else if (!app->quiet)
-            printf("frame %5u  dumped %ux%u %s to %s\n", (unsigned)frame, (unsigned)front.width,
+            psc_log(PSC_LOG_INFO, "frame %5u  dumped %ux%u %s to %s", (unsigned)frame, (unsigned)front.width,
                    (unsigned)front.height, front.format == PSC_PIX_RGB565 ? "rgb565" : "xrgb8888",
                    app->dumps[i].path);
     }
 }
 
-/* Draw the scene and what goes over it into the back buffer, and show it. */
+/* display_dither: the frame drawn at 8 bits a channel into the RGB565 back buffer, the matrix fixed to the screen. */
+static void loop_dither_565(const psc_app_t *app, const psc_surface_t *back)
+{
+    const psc_surface_t *d = &app->draw;
+    unsigned w = d->width < back->width ? d->width : back->width, h = d->height < back->height ? d->height : back->height;
+
+    for (unsigned y = 0; y < h; y++)
+        psc_dither_row_rgb565(app->dither565, PSC_DITHER_ORDERED,
+                              (const uint32_t *)(const void *)((const uint8_t *)d->pixels + (size_t)y * d->stride), w,
+                              0, y, (uint16_t *)(void *)((uint8_t *)back->pixels + (size_t)y * back->stride));
+}
+
+/* Draw the scene and what goes over it into the back buffer (or, dithering, the draw frame), and show it. */
 static int loop_draw(psc_app_t *app, const psc_view_t *view, uint32_t frame, char *err, size_t errlen)
 {
     psc_scene_t *s = psc_scene_list_current(&app->scenes);
-    psc_surface_t back;
+    psc_surface_t back, *target;
     psc_status_t st;
     int rc;
 
@@ -271,14 +300,24 @@ static int loop_draw(psc_app_t *app, const psc_view_t *view, uint32_t frame, cha
         psc_hal_error_set(err, errlen, "display (%s backend): no back buffer", app->dev.display->backend);
         return -1;
     }
-    if ((st = s->ops->render(s, view, &back)) != PSC_OK) {
+    /* display_dither: scenes with more than RGB565 holds draw 8 bits a channel (always while fades are on, so
+     * that the frames faded between share one format) */
+    target = app->dither565 != NULL && back.format == PSC_PIX_RGB565 &&
+                     (s->ops->fits_565 == NULL || !s->ops->fits_565(s) || app->fade.snap.pixels != NULL)
+                 ? &app->draw
+                 : &back;
+    if ((st = s->ops->render(s, view, target)) != PSC_OK) {
         psc_hal_error_set(err, errlen, "rendering frame %u of %s failed: %s", (unsigned)frame, s->path,
                           psc_status_str(st));
         return -1;
     }
     if (s->ops->overlay != NULL)
-        s->ops->overlay(s, view, &back);
-    psc_device_status_draw(&app->dev.status, &back);
+        s->ops->overlay(s, view, target);
+    psc_scene_fade_apply(&app->fade, target, app->scenes.env.now_us);
+    app->last_drawn = *target;
+    psc_device_status_draw(&app->dev.status, target);
+    if (target != &back)
+        loop_dither_565(app, &back);
     psc_io_levels_apply(&app->board.display_levels, &back); /* a display with few levels: what it shows */
     if ((rc = psc_hal_display_present(app->dev.display)) != 0) {
         psc_hal_error_set(err, errlen, "display (%s backend): present of frame %u failed: %s",
@@ -315,6 +354,7 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
 
         if ((app->max_frames != 0 && frame >= app->max_frames) || loop_stop_requested)
             break;
+        app->scenes.env.now_us = now;
         if (!loop_poll_input(app, now, start, frame, &activity))
             break;
         loop_reload(app, frame);
@@ -329,7 +369,6 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
         }
         psc_devices_poll_camera(&app->dev);
         scene = psc_scene_list_current(&app->scenes);
-        app->scenes.env.now_us = now;
         if (scene->ops->update != NULL && scene->ops->update(scene, err, errlen) != 0) {
             rc = -1;
             break;
@@ -339,6 +378,7 @@ int psc_app_run(psc_app_t *app, psc_app_stats_t *stats, char *err, size_t errlen
         devices_cur ^= 1u;
         psc_controls_motion_input(&app->controls, &in);
         psc_kiosk_step_camera(&app->kiosk, &app->motion, &in, activity, now, dt, frame);
+        (void)psc_gestures_apply(&app->gestures, &app->motion, now);
         loop_view(app, &view);
 
         uint32_t speed = psc_quality_speed(&prev, &view, dt);

@@ -8,6 +8,7 @@
 
 #include "hotspots.h"
 #include "overlay_font.h"
+#include "view_geometry.h"
 #include "base/psc_fixed.h"
 #include "psc_hal_parse.h"
 
@@ -20,18 +21,48 @@ typedef struct {
     int64_t min_mdeg, max_mdeg;
 } hotspot_field_t;
 
-/* The eight numbers in the order written, FROM and TO as whole numbers. */
+/* The eight numbers in the order written, FROM and TO as whole numbers or ids. */
 static const hotspot_field_t hotspot_fields[HOTSPOT_WORDS] = {
     { "FROM scene", 0, 255 }, { "yaw", -360000, 360000 }, { "pitch", -90000, 90000 },
     { "radius", 100, 90000 }, { "->", 0, 0 }, { "TO scene", 0, 255 },
     { "target yaw", -360000, 360000 }, { "target pitch", -90000, 90000 }, { "target hfov", 1000, 170000 },
 };
 
-static const char hotspot_syntax[] = "FROM YAW PITCH RADIUS -> TO YAW PITCH HFOV";
+static const char hotspot_syntax[] = "FROM YAW PITCH RADIUS -> TO YAW PITCH HFOV [LABEL]";
+
+bool psc_scene_id_valid(const char *text)
+{
+    size_t n = strlen(text);
+
+    if (n == 0 || n >= PSC_SCENE_ID_MAX || text[0] < 'a' || text[0] > 'z')
+        return false;
+    return strspn(text, "abcdefghijklmnopqrstuvwxyz0123456789_") == n;
+}
+
+/* The label: the rest of the line after HFOV, quotes around it dropped. */
+static int hotspot_label(const char *rest, char *label, char *why, size_t whylen)
+{
+    size_t n = strlen(rest);
+
+    while (n > 0 && (rest[n - 1] == ' ' || rest[n - 1] == '\t'))
+        n--;
+    if (n >= 2 && rest[0] == '"' && rest[n - 1] == '"') {
+        rest++;
+        n -= 2;
+    }
+    if (n >= PSC_HOTSPOT_LABEL_MAX) {
+        snprintf(why, whylen, "hotspot label '%.*s' is longer than %u characters", (int)n, rest,
+                 PSC_HOTSPOT_LABEL_MAX - 1u);
+        return -1;
+    }
+    memcpy(label, rest, n);
+    label[n] = '\0';
+    return 0;
+}
 
 int psc_hotspot_parse(const char *text, psc_hotspot_t *out, char *why, size_t whylen)
 {
-    char buf[256], *words[HOTSPOT_WORDS + 1], *save = NULL;
+    char buf[256], *words[HOTSPOT_WORDS + 1], *save = NULL, label[PSC_HOTSPOT_LABEL_MAX] = "";
     int64_t v[HOTSPOT_WORDS];
     unsigned n = 0;
 
@@ -42,9 +73,9 @@ int psc_hotspot_parse(const char *text, psc_hotspot_t *out, char *why, size_t wh
     strcpy(buf, text);
     for (char *w = strtok_r(buf, " \t", &save); w != NULL; w = strtok_r(NULL, " \t", &save)) {
         if (n == HOTSPOT_WORDS) {
-            snprintf(why, whylen, "hotspot has more than %u fields after '%s' (expected '%s')", HOTSPOT_WORDS,
-                     words[n - 1], hotspot_syntax);
-            return -1;
+            if (hotspot_label(text + (w - buf), label, why, whylen) != 0)
+                return -1;
+            break;
         }
         words[n++] = w;
     }
@@ -58,10 +89,15 @@ int psc_hotspot_parse(const char *text, psc_hotspot_t *out, char *why, size_t wh
 
         if (i == 4)
             continue;
+        if (whole && psc_scene_id_valid(words[i])) {
+            v[i] = 0;   /* an id: resolved by the board */
+            continue;
+        }
         if (psc_hal_parse_decimal(words[i], whole ? 0 : 3, &v[i]) != 0 || v[i] < f->min_mdeg ||
             v[i] > f->max_mdeg || (whole && strspn(words[i], "0123456789") != strlen(words[i]))) {
             if (whole)
-                snprintf(why, whylen, "hotspot %s must be a scene number from 0, got '%s'", f->name, words[i]);
+                snprintf(why, whylen, "hotspot %s must be a scene id (a letter, then letters, digits or _) "
+                         "or a scene number from 0, got '%s'", f->name, words[i]);
             else
                 snprintf(why, whylen, "hotspot %s must be %lld.%01lld..%lld degrees, got '%s'", f->name,
                          (long long)(f->min_mdeg / 1000), (long long)(f->min_mdeg % 1000 / 100),
@@ -79,6 +115,11 @@ int psc_hotspot_parse(const char *text, psc_hotspot_t *out, char *why, size_t wh
         .to_pitch = (int32_t)PSC_BAM_FROM_MDEG(v[7]),
         .to_hfov = PSC_BAM_FROM_MDEG(v[8]),
     };
+    if (psc_scene_id_valid(words[0]))
+        strcpy(out->from_id, words[0]);
+    if (psc_scene_id_valid(words[5]))
+        strcpy(out->to_id, words[5]);
+    strcpy(out->label, label);
     return 0;
 }
 
@@ -185,6 +226,48 @@ static void hotspot_draw_marker(const psc_surface_t *s, int32_t cx, int32_t cy, 
     }
 }
 
+/* The label on a dark band, right of the marker (left of it when it would leave the screen). */
+static void hotspot_draw_label(const psc_surface_t *s, int32_t cx, int32_t cy, int32_t r, uint32_t scale,
+                               const char *label)
+{
+    int32_t pad = (int32_t)scale, w, h, x, y;
+
+    if (label[0] == '\0')
+        return;
+    w = (int32_t)psc_font_text_width(label, scale) + 2 * pad;
+    h = (int32_t)(PSC_FONT_CELL_H * scale) + pad;
+    x = cx + r + 3 * pad;
+    if (x + w > (int32_t)s->width && cx - r - 3 * pad - w >= 0)
+        x = cx - r - 3 * pad - w;
+    y = cy - h / 2;
+    psc_overlay_fill(s, x, y, (uint32_t)w, (uint32_t)h, PSC_HOTSPOT_OUTLINE_RGB);
+    psc_overlay_text(s, x + pad, y + pad, scale, label, PSC_HOTSPOT_RGB);
+}
+
+int psc_hotspot_pick_at(const psc_hotspot_t *list, unsigned count, unsigned scene, const psc_view_t *view,
+                        uint16_t width, uint16_t height, int32_t x, int32_t y, int32_t reach_px)
+{
+    int best = -1;
+    int64_t best_d2 = (int64_t)reach_px * reach_px;
+    psc_bam_t yaw;
+    int32_t pitch;
+
+    for (unsigned i = 0; i < count; i++) {
+        int32_t mx, my;
+        if (list[i].from_scene != scene || !psc_hotspot_project(view, width, height, list[i].yaw, list[i].pitch, &mx, &my))
+            continue;
+        int64_t dx = mx - x, dy = my - y, d2 = dx * dx + dy * dy;
+        if (d2 <= best_d2) {
+            best_d2 = d2;
+            best = (int)i;
+        }
+    }
+    if (best >= 0)
+        return best;
+    psc_view_unproject(view, width, height, x, y, &yaw, &pitch);
+    return psc_hotspot_pick(list, count, scene, yaw, pitch);
+}
+
 unsigned psc_hotspots_draw(const psc_hotspot_t *list, unsigned count, unsigned scene, const psc_view_t *view,
                            const psc_surface_t *s)
 {
@@ -206,6 +289,7 @@ unsigned psc_hotspots_draw(const psc_hotspot_t *list, unsigned count, unsigned s
         if (x < -r - 1 || y < -r - 1 || x > (int32_t)s->width + r || y > (int32_t)s->height + r)
             continue;
         hotspot_draw_marker(s, x, y, r, 2 * scale, (int)i == pick ? PSC_HOTSPOT_ACTIVE_RGB : PSC_HOTSPOT_RGB);
+        hotspot_draw_label(s, x, y, r, (uint32_t)scale, list[i].label);
         drawn++;
     }
     return drawn;

@@ -12,30 +12,31 @@
 #include "board_file.h"
 #include "cli.h"
 #include "psc_io_cli.h"
+#include "psc_io_log.h"
 
 static void main_report(const psc_app_stats_t *st, const char *out_dir)
 {
     /* frames per second x 100, in integers: the firmware has no float */
     uint64_t fps_x100 = st->wall_time_us ? (uint64_t)st->frames * 100000000u / st->wall_time_us : 0;
 
-    printf("periscope: %u frames rendered, %llu.%03llu s of board time, %llu.%03llu s wall clock, "
-           "%llu.%02llu frames/s\n",
+    psc_log(PSC_LOG_INFO, "periscope: %u frames rendered, %llu.%03llu s of board time, %llu.%03llu s wall clock, "
+           "%llu.%02llu frames/s",
            (unsigned)st->frames, (unsigned long long)(st->sim_time_us / 1000000u),
            (unsigned long long)(st->sim_time_us / 1000u % 1000u),
            (unsigned long long)(st->wall_time_us / 1000000u),
            (unsigned long long)(st->wall_time_us / 1000u % 1000u),
            (unsigned long long)(fps_x100 / 100u), (unsigned long long)(fps_x100 % 100u));
-    printf("periscope: adaptive quality: %u frames fast, %u switches\n", (unsigned)st->fast_frames,
+    psc_log(PSC_LOG_INFO, "periscope: adaptive quality: %u frames fast, %u switches", (unsigned)st->fast_frames,
            (unsigned)st->quality_switches);
     if (st->watchdog_known)
-        printf("periscope: watchdog: %u kicks, longest gap %llu ms%s\n", (unsigned)st->watchdog.kicks,
+        psc_log(PSC_LOG_INFO, "periscope: watchdog: %u kicks, longest gap %llu ms%s", (unsigned)st->watchdog.kicks,
                (unsigned long long)(st->watchdog.longest_gap_us / 1000u),
                st->watchdog.would_have_fired ? " (a real one would have fired)" : "");
     if (st->reloads != 0 || st->reload_failures != 0)
-        printf("periscope: reloads (SIGHUP): %u taken, %u refused\n", (unsigned)st->reloads,
+        psc_log(PSC_LOG_INFO, "periscope: reloads (SIGHUP): %u taken, %u refused", (unsigned)st->reloads,
                (unsigned)st->reload_failures);
     if (out_dir[0] != '\0')
-        printf("periscope: output directory: %s (every %u-th frame)\n", out_dir, (unsigned)st->capture_every);
+        psc_log(PSC_LOG_INFO, "periscope: output directory: %s (every %u-th frame)", out_dir, (unsigned)st->capture_every);
 }
 
 /* SIGTERM (systemd stopping the service) and SIGINT (Ctrl-C) end the frame
@@ -77,11 +78,11 @@ static int main_print_key(const psc_cli_options_t *opt)
     snprintf(path, sizeof path, "%s/%s/board.conf", opt->boards_dir, opt->board);
     rc = psc_board_file_value(path, opt->print_key, value, sizeof value, err, sizeof err);
     if (rc < 0) {
-        fprintf(stderr, "periscope: %s\n", err);
+        psc_log(PSC_LOG_ERR, "periscope: %s", err);
         return 2;
     }
     if (rc == 0) {
-        fprintf(stderr, "periscope: %s sets no %s\n", path, opt->print_key);
+        psc_log(PSC_LOG_ERR, "periscope: %s sets no %s", path, opt->print_key);
         return 1;
     }
     printf("%s\n", value);
@@ -115,13 +116,13 @@ int main(int argc, char **argv)
         return main_print_key(&opt);
     main_catch_signals();
     if (psc_app_open(&opt, &app, err, sizeof err) != 0) {
-        fprintf(stderr, "periscope: %s\n", err);
+        psc_log(PSC_LOG_ERR, "periscope: %s", err);
         return 1;
     }
     rc = psc_app_run(app, &stats, err, sizeof err);
     main_report(&stats, psc_app_out_dir(app));
     if (rc != 0)
-        fprintf(stderr, "periscope: %s\n", err);
+        psc_log(PSC_LOG_ERR, "periscope: %s", err);
     psc_app_close(app);
     return rc == 0 ? 0 : 1;
 }

@@ -76,6 +76,10 @@ typedef struct {
     psc_status_t (*render)(psc_scene_t *s, const psc_view_t *view, const psc_surface_t *out);
     /** Draw on top of the frame, e.g. hotspot markers (may be NULL). */
     void (*overlay)(psc_scene_t *s, const psc_view_t *view, const psc_surface_t *out);
+    /** Whether its frames hold only colours RGB565 has (a panorama of an RGB565 map): on an RGB565 display
+     *  it then draws straight into the back buffer, display_dither's 8-bit frame and pass buying nothing
+     *  (may be NULL: no, it draws in 8 bits). */
+    bool (*fits_565)(const psc_scene_t *s);
     /** Stop being the scene on screen (may be NULL). */
     void (*leave)(psc_scene_t *s);
     /** Free what load took. */

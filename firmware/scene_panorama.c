@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * scene_panorama.c - the panorama scene: a scene pack (core/pack/psc_pack.h)
- * shown by the look-up-table viewer, with the tour's hotspots drawn on it.
+ * scene_panorama.c - the panorama scene: a scene pack (core/pack/psc_pack.h),
+ * or a JPEG or PNG packed on loading (scene_image.c), shown by the
+ * look-up-table viewer, with the tour's hotspots drawn on it.
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,7 +10,9 @@
 #include "psc_hal.h"
 #include "psc_io_load.h"
 #include "scene.h"
+#include "scene_image.h"
 #include "scene_panorama.h"
+#include "psc_io_log.h"
 
 /* A bam angle as degrees with 2 decimals ("20.00"), for messages. */
 static void panorama_format_degrees(char *buf, size_t len, psc_bam_t bam)
@@ -23,11 +26,13 @@ int psc_panorama_load(psc_scene_t *s, psc_panorama_t *p, char *err, size_t errle
 {
     const psc_scene_env_t *env = s->env;
 
-    if (psc_io_pack_load(s->path, &p->file, err, errlen) != 0)
+    /* a JPEG or PNG is packed for this display first (scene_image.c) */
+    if (psc_scene_image_is_image(s->path) ? psc_scene_image_load(s, &p->file, err, errlen) != 0
+                                          : psc_io_pack_load(s->path, &p->file, err, errlen) != 0)
         return -1;
     if (p->file.pack.display_width != env->width || p->file.pack.display_height != env->height)
-        fprintf(stderr, "periscope: note: %s was packed for a %ux%u display, this one is %ux%u; "
-                        "it will render, with tables not tuned for this size\n",
+        psc_log(PSC_LOG_NOTICE, "periscope: note: %s was packed for a %ux%u display, this one is %ux%u; "
+                        "it will render, with tables not tuned for this size",
                 s->path, (unsigned)p->file.pack.display_width, (unsigned)p->file.pack.display_height,
                 (unsigned)env->width, (unsigned)env->height);
     return 0;
@@ -130,6 +135,14 @@ psc_status_t psc_panorama_render(psc_scene_t *s, const psc_view_t *view, const p
     return psc_viewer_render(&p->viewer, view, out);
 }
 
+/* An RGB565 map (and its pyramid): nothing for display_dither to keep but what the blends add between texels. */
+static bool panorama_fits_565(const psc_scene_t *s)
+{
+    const psc_panorama_t *p = s->state;
+
+    return p->file.pack.map.format == PSC_PIX_RGB565;
+}
+
 void psc_panorama_overlay(psc_scene_t *s, const psc_view_t *view, const psc_surface_t *out)
 {
     psc_hotspots_draw(s->env->hotspots, s->env->hotspot_count, s->index, view, out);
@@ -155,5 +168,6 @@ const psc_scene_ops_t psc_scene_panorama = {
     .clamp = psc_panorama_clamp,
     .render = psc_panorama_render,
     .overlay = psc_panorama_overlay,
+    .fits_565 = panorama_fits_565,
     .unload = psc_panorama_unload,
 };

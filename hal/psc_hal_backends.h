@@ -40,6 +40,10 @@ extern const psc_hal_backend_t psc_hal_drm_backend;
 /** Push buttons on GPIO lines found by name, libgpiod 1.6 or 2.x (hal/gpio/). */
 extern const psc_hal_backend_t psc_hal_gpio_backend;
 
+/** The kernel's input devices through libevdev: touch screens (multitouch), keyboards, mice and
+ *  gamepads, hot-plugged by inotify (hal/evdev/). */
+extern const psc_hal_backend_t psc_hal_evdev_backend;
+
 /** SDL2 window display and keyboard/mouse/game-controller input, for the desktop (hal/sdl/). */
 extern const psc_hal_backend_t psc_hal_sdl_backend;
 

@@ -36,6 +36,9 @@ static const psc_hal_backend_t *const registry[] = {
 #ifndef PSC_HAL_WITHOUT_gpio
     &psc_hal_gpio_backend,
 #endif
+#ifndef PSC_HAL_WITHOUT_evdev
+    &psc_hal_evdev_backend,
+#endif
 };
 
 #define REGISTRY_COUNT (sizeof registry / sizeof registry[0])

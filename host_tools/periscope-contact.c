@@ -9,7 +9,7 @@
  */
 #include "cli_parse.h"
 #include "psc_io_cli.h"
-#include "image_io.h"
+#include "psc_io_image.h"
 #include "image_scale.h"
 
 #include <stdarg.h>

@@ -20,7 +20,7 @@
 #include "cli_parse.h"
 #include "psc_io_cli.h"
 #include "fisheye_build.h"
-#include "pack_build.h"
+#include "psc_io_pack_build.h"
 #include "psc_io_file.h"
 
 #define PROG "periscope-fisheye"

@@ -6,10 +6,11 @@
  *
  * Exit status: 0 done, 1 the work failed, 2 bad arguments.
  */
-#include "angle_conv.h"
+#include "psc_io_angle.h"
 #include "cli_parse.h"
-#include "image_io.h"
-#include "pack_build.h"
+#include "psc_io_image.h"
+#include "psc_io_pack_build.h"
+#include "psc_io_pack_image.h"
 #include "psc_io_cli.h"
 #include "psc_io_file.h"
 #include "psc_io_png.h"
@@ -39,7 +40,9 @@ static void print_usage(FILE *f)
             "                              default the full turn, -180:180)\n"
             "  --lat-range TOP:BOTTOM      latitudes of the image's top and bottom edges, degrees\n"
             "                              (default: the projection's full coverage); a partial\n"
-            "                              panorama opens looking at the middle of its ranges\n"
+            "                              panorama opens looking at the middle of its ranges.\n"
+            "                              Without them, an equirectangular image's GPano XMP\n"
+            "                              (photo-sphere metadata) gives its crop, if it has one\n"
             "  --hfov-min D                narrowest zoom the viewer allows (default 20)\n"
             "  --lut-switch D              widest view served by the narrow table (default 60)\n"
             "  --hfov-max D                widest view served by the wide table (default 120, max 170)\n"
@@ -119,6 +122,21 @@ static void progress_end(progress_t *p, bool ok)
     p->line_open = false;
 }
 
+/* Notes on the image, a line each: warnings always, the rest unless --quiet. */
+static void print_notes(progress_t *p, const char *notes)
+{
+    while (*notes != '\0') {
+        size_t n = strcspn(notes, "\n");
+        if (!p->quiet || strncmp(notes, "warning:", 8) == 0) {
+            if (p->line_open)
+                fprintf(stderr, "\n");
+            p->line_open = false;
+            fprintf(stderr, PROG ": %.*s\n", (int)n, notes);
+        }
+        notes += n + (notes[n] == '\n');
+    }
+}
+
 /* ---- summary --------------------------------------------------------------- */
 
 static void print_size(FILE *f, double bytes)
@@ -178,6 +196,7 @@ typedef struct {
     const char *in, *out;
     uint64_t max_pixels;
     bool have_display, quiet;
+    bool lon_given, lat_given;   /* --lon-range, --lat-range: they override the image's GPano XMP */
     psc_pack_options_t opt;
 } args_t;
 
@@ -189,32 +208,21 @@ static int take_degrees(const char *name, const char *value, double *deg)
     return 0;
 }
 
-static int parse_lon_range(const char *v, psc_pack_options_t *o)
+static int parse_lon_range(const char *v, args_t *a)
 {
     double lo, hi;
-    if (psc_cli_parse_pair(v, &lo, &hi) != 0 || !(hi > lo) || hi - lo > 360.0)
+    if (psc_cli_parse_pair(v, &lo, &hi) != 0 || psc_pack_options_set_lon_range(&a->opt, lo, hi) != 0)
         return usage_error("--lon-range '%s': expected MIN:MAX in degrees with MIN < MAX and MAX - MIN <= 360", v);
-    o->lon_min = psc_bam_from_deg(lo);
-    o->lon_span = psc_bam_from_deg(hi - lo); /* exactly 360 wraps to 0: the full turn */
-    /* lon_min and lon_span both 0 mean "the projection's default" (left edge
-     * at -180), so a full turn starting at exactly 0 cannot be said; one unit
-     * (8e-8 degrees) off is far below any map's pixel. */
-    if (o->lon_min == 0 && o->lon_span == 0)
-        o->lon_min = 1;
-    /* A partial panorama opens looking at the middle of what it shows. */
-    if (hi - lo < 360.0)
-        o->default_yaw_deg = (lo + hi) / 2.0;
+    a->lon_given = true;
     return 0;
 }
 
-static int parse_lat_range(const char *v, psc_pack_options_t *o)
+static int parse_lat_range(const char *v, args_t *a)
 {
     double top, bottom;
-    if (psc_cli_parse_pair(v, &top, &bottom) != 0 || !(top > bottom) || top > 90.0 || bottom < -90.0)
+    if (psc_cli_parse_pair(v, &top, &bottom) != 0 || psc_pack_options_set_lat_range(&a->opt, top, bottom) != 0)
         return usage_error("--lat-range '%s': expected TOP:BOTTOM in degrees with 90 >= TOP > BOTTOM >= -90", v);
-    o->lat_top = psc_sbam_from_deg(top);
-    o->lat_bottom = psc_sbam_from_deg(bottom);
-    o->default_pitch_deg = (top + bottom) / 2.0;
+    a->lat_given = true;
     return 0;
 }
 
@@ -266,9 +274,9 @@ static int parse_args(int argc, char **argv, args_t *a)
             if (!parse_projection(v, &o->projection))
                 return usage_error("--projection '%s': expected equirect, cylinder, sine, elliptical or diamond", v);
         } else if (strcmp(name, "--lon-range") == 0) {
-            rc = parse_lon_range(v, o);
+            rc = parse_lon_range(v, a);
         } else if (strcmp(name, "--lat-range") == 0) {
-            rc = parse_lat_range(v, o);
+            rc = parse_lat_range(v, a);
         } else if (strcmp(name, "--hfov-min") == 0) {
             rc = take_degrees(name, v, &o->hfov_min_deg);
         } else if (strcmp(name, "--lut-switch") == 0) {
@@ -342,6 +350,10 @@ int main(int argc, char **argv)
             fprintf(stderr, PROG ": --max-pixels N raises the budget, if the image is meant to be that large\n");
         return 1;
     }
+    /* the image's GPano XMP for the axes the options leave open; the 2:1 warning */
+    char notes[1024] = "";
+    psc_io_pack_image_coverage(a.in, img.width, img.height, a.lon_given, a.lat_given, &a.opt, notes, sizeof notes);
+    print_notes(&prog, notes);
     uint8_t *pack = NULL;
     size_t len = 0;
     rc = psc_pack_build(&img, &a.opt, &pack, &len, err, sizeof err);

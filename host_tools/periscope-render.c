@@ -9,12 +9,13 @@
  *
  * Exit status: 0 done, 1 the work failed, 2 bad arguments.
  */
-#include "angle_conv.h"
+#include "psc_io_angle.h"
 #include "cli_parse.h"
 #include "psc_io_cli.h"
-#include "image_io.h"
+#include "psc_io_image.h"
 #include "model_render.h"
-#include "pack_build.h"
+#include "psc_io_pack_build.h"
+#include "psc_io_pack_image.h"
 #include "gltf_render.h"
 #include "proxy_render.h"
 #include "psc_io_bands.h"
@@ -38,6 +39,8 @@ static void print_usage(FILE *f)
 {
     fprintf(f,
             "usage: " PROG " PACK.pano -o view.png [options]\n"
+            "       " PROG " PANORAMA.{jpg,png} -o view.png [options]  (packed for --size and --format,\n"
+            "                        as periscope shows it; kept in periscope's pack cache)\n"
             "       " PROG " MODEL.{obj,pmesh} --orbit Y,P,D -o view.png [options]  (see --help with a model)\n"
             "       " PROG " MODEL.{mdl,bpt,ppk} -o view.png [options]  (see --help with a patch model)\n"
             "\n"
@@ -244,6 +247,35 @@ static int render_frames(psc_viewer_t *viewer, psc_io_bands_t *bands, const psc_
     return 0;
 }
 
+/*
+ * The pack, or a JPEG or PNG packed as the device packs one given directly
+ * (io/psc_io_pack_image.h): for the output size (default 640x480) and
+ * format, through the same cache.
+ */
+static int load_scene(const args_t *a, psc_io_pack_t *pf, char *err, size_t errlen)
+{
+    if (!psc_io_image_sniff(a->pack))
+        return psc_io_pack_load(a->pack, pf, err, errlen);
+    psc_io_pack_image_request_t rq = {
+        .display_width = a->have_size ? a->width : 640,
+        .display_height = a->have_size ? a->height : 480,
+        .format = a->format,
+    };
+    psc_io_pack_image_result_t res;
+    char notes[1024] = "";
+    int rc = psc_io_pack_image_load(a->pack, &rq, pf, &res, notes, sizeof notes, err, errlen);
+    for (const char *n = notes; *n != '\0';) {
+        size_t k = strcspn(n, "\n");
+        fprintf(stderr, PROG ": %.*s\n", (int)k, n);
+        n += k + (n[k] == '\n');
+    }
+    if (rc == 0 && res.cache_off)
+        fprintf(stderr, PROG ": note: no pack cache: %s\n", res.cache_problem);
+    if (rc == 0)
+        fprintf(stderr, PROG ": %s\n", res.line);
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     if (psc_proxy_render_wanted(argc, argv))
@@ -262,16 +294,15 @@ int main(int argc, char **argv)
 
     char err[512];
     psc_io_pack_t pf;
-    if (psc_io_pack_load(a.pack, &pf, err, sizeof err) != 0) {
+    if (a.levels.on)
+        a.format = PSC_PIX_XRGB8888; /* dithered from the full colours */
+    if (load_scene(&a, &pf, err, sizeof err) != 0) {
         fprintf(stderr, PROG ": %s\n", err);
         return 1;
     }
     const psc_pack_t *pack = &pf.pack;
     uint16_t w = a.have_size ? a.width : pack->display_width;
     uint16_t h = a.have_size ? a.height : pack->display_height;
-
-    if (a.levels.on)
-        a.format = PSC_PIX_XRGB8888; /* dithered from the full colours */
     size_t ws_size = psc_viewer_workspace_size(w, h, &pack->map);
     uint32_t bpp = psc_pixfmt_bytes(a.format);
     psc_surface_t out = {.width = w, .height = h, .stride = (uint32_t)w * bpp, .format = a.format};

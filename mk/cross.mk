@@ -8,7 +8,7 @@
 # (/usr/lib/<triplet>), or else the sysroot build/sysroot/ARCH
 # (scripts/cross-env decides, scripts/cross-deps installs either). Without the target's image libraries (libpng, libjpeg, zlib) only core
 # and psc-render-raw are built; without its device libraries (libdrm, libusb,
-# SDL2, libgpiod) not the firmware. Each case is said, not silent.
+# SDL2, libgpiod, libevdev) not the firmware. Each case is said, not silent.
 # A board without debian_arch (a microcontroller) is not handled here.
 # The cross build is a sub-make with BUILD, CROSS_COMPILE and PKG_CONFIG set
 # (and HAL_BACKENDS from the board's `backends` line), so the rules of the

@@ -13,11 +13,11 @@
 # `make test` builds the package of the native board (x86-kiosk on amd64) from
 # this build's binaries into $(BUILD)/deb/; tests/test_deb.c checks it.
 
-.PHONY: image deb deb-lintian deb-test-package deb-cross-test-packages
+.PHONY: image deb deb-lintian deb-test-package deb-cross-test-packages check-man-board
 
 DEB_VERSION := $(shell tr -d ' \n' < VERSION 2>/dev/null)
 DEB_SAMPLE_JPG := assets/pannellum-examplepano.jpg
-DEB_INPUTS := VERSION scripts/build-deb $(wildcard packaging/deb/* packaging/man/*.1) assets/ATTRIBUTION.md
+DEB_INPUTS := VERSION scripts/build-deb $(wildcard packaging/deb/* packaging/man/*.1 packaging/man/*.5) assets/ATTRIBUTION.md
 DEB_HOST_ARCH := $(shell dpkg --print-architecture 2>/dev/null)
 # the board built natively for `make test`: x86-kiosk on amd64, else the first of that architecture
 DEB_HOST_BOARD := $(firstword $(foreach b,x86-kiosk $(filter-out x86-kiosk,$(CROSS_BOARDS)),\
@@ -79,6 +79,18 @@ $(DEB_TEST_PACKAGE): $(FIRMWARE) $(TOOLS) $(BUILD)/scenes/$(DEB_HOST_BOARD).pano
 	$(Q)sh scripts/build-deb --board $(DEB_HOST_BOARD) --bindir $(BUILD)/bin --pack $(BUILD)/scenes/$(DEB_HOST_BOARD).pano \
 		--strip strip --compress gzip --out $@
 endif
+
+# ---- make test: the board file's manual page, periscope-board(5) ---------------------
+# documents every key the sources read (firmware/board_config.c's key_table, each
+# backend's options, the build and image keys) and renders without a groff
+# warning (scripts/check-man-board); the self-test proves each omission is refused.
+# tests/test_deb.c runs it again with the page's examples on the sim board.
+test: check-man-board
+check-man-board:
+	@echo "  CHECK   periscope-board(5) documents every board key, renders without warnings"
+	$(Q)command -v groff >/dev/null 2>&1 || sh scripts/install-deps.sh groff-base
+	$(Q)sh scripts/check-man-board
+	$(Q)sh scripts/check-man-board --self-test >/dev/null
 
 # ---- make test: the package of every image board (rpi-arm64, rpi-armhf) -------------
 # where its cross compiler and target libraries are there; tests/test_deploy.c

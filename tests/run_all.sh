@@ -21,7 +21,9 @@ fi
 build=$1
 shift
 logs="$build/test-logs"
-PSC_TEST_TMPDIR="$build/test-tmp"
+# absolute: boards written there name their scenes by it, and a board's relative paths are its folder's
+mkdir -p "$build"
+PSC_TEST_TMPDIR="$(cd "$build" && pwd)/test-tmp"
 export PSC_TEST_TMPDIR
 # the command-line tools under test are this build's (test_tools)
 PSC_BIN_DIR=${PSC_BIN_DIR:-$build/bin}

@@ -23,7 +23,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "image_io.h"
+#include "psc_io_image.h"
 #include "mcu/cm_view.h"
 #include "tsup_script.h"
 

@@ -22,6 +22,11 @@
  *    board's devices; postinst reloads them only where udev runs;
  *    the maintainer scripts parse and guard starting the unit;
  *  - the packaged periscope-render renders the packaged scene;
+ *  - the board file's manual page, periscope-board(5), is packaged as
+ *    packaging/man/periscope-board.5 is (gzip -n: no name, no time), and
+ *    (without a package too) scripts/check-man-board passes with its examples
+ *    run on the sim board by this build's periscope: every board key, backend
+ *    option and build key has an entry, groff -ww says nothing;
  *  - `dpkg --root` installs it into a scratch root (scripts run chrootless,
  *    DPKG_ROOT set: they must not touch this machine), registers the
  *    conffile, and purges it again.
@@ -248,6 +253,7 @@ static void test_file_list(void **state)
                           "./usr/share/man/man1/periscope-fisheye.1.gz",
                           "./usr/share/man/man1/periscope-patch.1.gz",
                           "./usr/share/man/man1/periscope-shadow.1.gz",
+                          "./usr/share/man/man5/periscope-board.5.gz",
                           conf};
     for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
         char line[300];
@@ -284,6 +290,11 @@ static void test_conffile_and_board(void **state)
     assert_true(has_line(conf, "scene = " SCENE));
     /* every scene or camera_scene line names the packaged sample */
     for (const char *p = conf; (p = strstr(p, "scene =")) != NULL; p++) {
+        const char *line = p;
+        while (line > conf && line[-1] != '\n')
+            line--;
+        if (*line == '#')
+            continue;   /* a commented example (x86-kiosk's camera) */
         assert_true(strncmp(p, "scene = " SCENE "\n", strlen("scene = " SCENE "\n")) == 0);
     }
     assert_true(has_line(conf, "watchdog = systemd"));
@@ -431,14 +442,19 @@ static void test_unit_device_allow(void **state)
         device_allow(unit, got, sizeof got);
         printf("test_deb: the %s unit allows %s\n", board, got);
         if (strcmp(board, "x86-kiosk") == 0) {
-            assert_string_equal(got, "char-drm rw|char-usb_device rw|char-video4linux rw");
+            /* no camera unless the board names one (x86-kiosk's is commented out) */
+            assert_string_equal(got, "char-drm rw|char-usb_device rw|char-input r");
             assert_true(has_line(unit, "RestrictAddressFamilies=AF_UNIX AF_NETLINK"));
         }
         free(unit);
     }
-    /* rpi-arm64: DRM, GPIO buttons and a gamepad, no camera: no video4linux */
+    /* rpi-arm64: DRM, GPIO buttons, a gamepad and the kernel's input devices (evdev: read only), no camera */
     device_allow(print_for("rpi-arm64", NULL, "unit"), got, sizeof got);
-    assert_string_equal(got, "char-drm rw|char-gpiochip rw|char-usb_device rw");
+    assert_string_equal(got, "char-drm rw|char-gpiochip rw|char-usb_device rw|char-input r");
+    assert_true(has_line(print_for("rpi-arm64", NULL, "modules"), "evdev"));
+    assert_non_null(strstr(print_for("rpi-arm64", NULL, "udev-rules"),
+                           "SUBSYSTEM==\"input\", KERNEL==\"event[0-9]*\", ENV{ID_INPUT_TOUCHSCREEN}==\"1\", "
+                           "GROUP=\"periscope\", MODE=\"0660\""));
 
     /* a framebuffer board with its console, the kernel's watchdog, no gamepad:
      * exactly those nodes, the console as the controlling terminal, no netlink */
@@ -462,10 +478,22 @@ static void test_unit_device_allow(void **state)
     assert_true(has_line(unit, "RestrictAddressFamilies=AF_UNIX"));
     assert_true(has_line(unit, "WatchdogSec=4"));
     assert_false(has_placeholder(unit));
+    assert_null(strstr(unit, "char-input"));   /* no evdev in its input */
     char *rules = print_for("fb-board", conf, "udev-rules");
     assert_non_null(strstr(rules, "KERNEL==\"gpiochip[0-9]*\", GROUP=\"periscope\""));
     assert_non_null(strstr(rules, "KERNEL==\"watchdog0\", GROUP=\"periscope\""));
     assert_null(strstr(rules, "SUBSYSTEM==\"usb\""));
+    assert_null(strstr(rules, "SUBSYSTEM==\"input\""));
+
+    /* the same board with a UVC camera named: video4linux and its module, nothing else more */
+    f = fopen(conf, "a");
+    assert_non_null(f);
+    fputs("camera = v4l2\ncamera.device = /dev/video0\ncamera_scene = a.pano\n", f);
+    fclose(f);
+    assert_int_equal(run(NULL, 0, "sed -i '/^camera = none$/d' '%s'", conf), 0);
+    device_allow(print_for("fb-board", conf, "unit"), got, sizeof got);
+    assert_string_equal(got, "/dev/fb1 rw|/dev/tty1 rw|char-gpiochip rw|char-video4linux rw|/dev/watchdog0 rw");
+    assert_true(has_line(print_for("fb-board", conf, "modules"), "videodev"));
 }
 
 static void test_udev_rules(void **state)
@@ -487,7 +515,8 @@ static void test_udev_rules(void **state)
     char *modules = root_file("/usr/lib/modules-load.d/periscope.conf");
     assert_non_null(modules);
     if (strcmp(board, "x86-kiosk") == 0)
-        assert_true(has_line(modules, "drm") && has_line(modules, "usbcore") && has_line(modules, "videodev"));
+        assert_true(has_line(modules, "drm") && has_line(modules, "usbcore") && has_line(modules, "evdev") &&
+                    !has_line(modules, "videodev"));
     free(modules);
     /* postinst applies them where udev runs, never in a chroot or image build */
     char *postinst = root_file("/DEBIAN/postinst");
@@ -559,6 +588,48 @@ static void test_scene_renders(void **state)
     assert_true(st.st_size > 1000);
 }
 
+/* The board file's manual page: in the package as in the source tree, compressed with gzip -n. */
+static void test_board_manual_packaged(void **state)
+{
+    (void)state;
+    SKIP_IF_NO_PACKAGE();
+    char gz[1100], head[64];
+    snprintf(gz, sizeof gz, "%s/usr/share/man/man5/periscope-board.5.gz", root);
+    if (run(NULL, 0, "gzip -dc '%s' | cmp -s - packaging/man/periscope-board.5", gz) != 0)
+        fail_msg("%s is not packaging/man/periscope-board.5 (the package is older than the page?)", gz);
+    /* gzip header: flags (byte 3) without FNAME, modification time (bytes 4..7) zero */
+    assert_int_equal(run(head, sizeof head, "od -An -tu1 -N8 '%s' | tr -s ' \\n' ' '", gz), 0);
+    unsigned b[8];
+    assert_int_equal(sscanf(head, "%u %u %u %u %u %u %u %u", &b[0], &b[1], &b[2], &b[3], &b[4], &b[5], &b[6], &b[7]), 8);
+    assert_int_equal(b[0], 0x1f);
+    assert_int_equal(b[1], 0x8b);
+    assert_int_equal(b[3] & 0x08u, 0);
+    assert_int_equal(b[4] | b[5] | b[6] | b[7], 0);
+}
+
+/*
+ * The page documents every key the sources read and renders without warnings, and its examples run on the
+ * sim board (scripts/check-man-board); no package needed.
+ */
+static void test_board_manual_complete(void **state)
+{
+    (void)state;
+    if (run(NULL, 0, "command -v groff >/dev/null 2>&1") != 0) {
+        printf("test_deb: skipped: no groff to render the manual page (sh scripts/install-deps.sh groff-base)\n");
+        skip();
+    }
+    const char *bin = getenv("PSC_BIN_DIR"), *tmp = getenv("PSC_TEST_TMPDIR");
+    char scene[64] = "", out[OUT_MAX];
+    struct stat st;
+    if (stat("out/sample.pano", &st) == 0)
+        snprintf(scene, sizeof scene, "--scene out/sample.pano");   /* else the sample JPEG, packed at start-up */
+    int rc = run(out, sizeof out, "TMPDIR='%s' sh scripts/check-man-board --periscope '%s/periscope' %s 2>&1",
+                 tmp && *tmp ? tmp : "/tmp", bin && *bin ? bin : "build/bin", scene);
+    printf("%s", out);
+    if (rc != 0)
+        fail_msg("scripts/check-man-board failed (%d)", rc);
+}
+
 static void test_dpkg_root_install(void **state)
 {
     (void)state;
@@ -603,6 +674,7 @@ int main(void)
         cmocka_unit_test(test_unit_exposure),     cmocka_unit_test(test_unit_exposure_rejects_unhardened_unit),
         cmocka_unit_test(test_unit_device_allow), cmocka_unit_test(test_udev_rules),
         cmocka_unit_test(test_docs_and_scripts),  cmocka_unit_test(test_scene_renders),
+        cmocka_unit_test(test_board_manual_packaged), cmocka_unit_test(test_board_manual_complete),
         cmocka_unit_test(test_dpkg_root_install),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

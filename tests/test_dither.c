@@ -10,7 +10,20 @@
  *    value (never further), flat areas of a level the display has stay flat,
  *    and the packing round-trips with the bits beyond a row's end zero;
  *  - the halftone cell grows from its centre: level k of 17 darkens k dots
- *    that touch each other, the first at the centre.
+ *    that touch each other, the first at the centre;
+ *  - RGB565 (psc_dither_row_rgb565): every 8-bit value against every threshold
+ *    shows one of the two RGB565 levels around it, the 64 cells average to it
+ *    within 1/128 of a step, each of the 65 536 RGB565 colours comes back
+ *    unchanged in every cell, "none" is psc_xrgb_to_rgb565 byte for byte, and
+ *    the pattern is fixed to the screen (x0);
+ *  - RGB565 banding, the metric issue 17 quotes: a smooth 8-bit sky gradient
+ *    and a slow grey ramp shown as RGB565 with and without the dither; the
+ *    error against the 8-bit picture (in double) low-passed by a Gaussian of
+ *    sigma 1.5 px, about what the eye integrates at viewing distance: its RMS
+ *    must be at least 2x lower dithered, the largest jump of the low-passed
+ *    luma between neighbouring pixels (the visible band edge) and of the
+ *    low-passed luma error each at least 2x lower, and the mean colour kept
+ *    within 0.25 of an 8-bit unit.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -252,6 +265,233 @@ static void test_levels_in_place(void **state)
         assert_true((p8888[i] & 0xFFFFFFu) == 0 || (p8888[i] & 0xFFFFFFu) == 0xFFFFFFu);
 }
 
+/* ---- RGB565 ---------------------------------------------------------------------------------------------- */
+
+/* The RGB565 level k of a channel bits wide as the display shows it (bit replication). */
+static uint32_t e565(uint32_t k, unsigned bits)
+{
+    return k << (8u - bits) | k >> (2u * bits - 8u);
+}
+
+static void test_rgb565_levels(void **state)
+{
+    (void)state;
+    static psc_dither_565_t t;
+    psc_dither_565_init(&t);
+    /* one channel at a time in a grey-free pixel: every value against all 64 cells (8 x 8 positions) */
+    for (unsigned ch = 0; ch < 3; ch++) {
+        unsigned bits = ch == 1 ? 6u : 5u, shift = ch == 0 ? 11u : ch == 1 ? 5u : 0u;
+        uint32_t top = (1u << bits) - 1u;
+        for (uint32_t v = 0; v < 256; v++) {
+            uint32_t k = 0;
+            while (k < top && e565(k + 1u, bits) <= v)
+                k++;
+            uint32_t src[8], sum = 0;
+            uint16_t dst[8];
+            for (unsigned x = 0; x < 8; x++)
+                src[x] = v << (16u - 8u * ch);
+            for (unsigned y = 0; y < 8; y++) {
+                psc_dither_row_rgb565(&t, PSC_DITHER_ORDERED, src, 8, 0, y, dst);
+                for (unsigned x = 0; x < 8; x++) {
+                    uint32_t q = (dst[x] >> shift) & top;
+                    if (q != k && q != k + 1u)
+                        fail_msg("channel %u value %u cell (%u,%u): level %u, not %u or %u", ch, v, x, y, q, k, k + 1u);
+                    if (v == e565(k, bits) && q != k)
+                        fail_msg("channel %u: the display's own level %u (value %u) changed to %u", ch, k, v, q);
+                    sum += q - k;
+                }
+            }
+            /* the 64 cells' mean, in steps above k, against (v - E(k)) / d: within 1/128 */
+            if (k < top) {
+                double want = (double)(v - e565(k, bits)) / (double)(e565(k + 1u, bits) - e565(k, bits));
+                assert_true(fabs((double)sum / 64.0 - want) <= 1.0 / 128.0 + 1e-12);
+            }
+        }
+    }
+    /* every RGB565 colour drawn again stays itself, at every position; none is today's rounding */
+    static uint32_t row[65536];
+    static uint16_t out[65536];
+    for (uint32_t p = 0; p < 65536; p++)
+        row[p] = psc_rgb565_to_xrgb(p);
+    for (unsigned y = 0; y < 8; y++) {
+        psc_dither_row_rgb565(&t, PSC_DITHER_ORDERED, row, 65536, y * 3u, y, out);
+        for (uint32_t p = 0; p < 65536; p++)
+            if (out[p] != p)
+                fail_msg("RGB565 %04X drawn again at (%u,%u) became %04X", p, p, y, out[p]);
+    }
+    tsup_rng_t r;
+    tsup_rng_seed(&r, 565);
+    for (uint32_t i = 0; i < 65536; i++)
+        row[i] = tsup_rng_u32(&r);
+    psc_dither_row_rgb565(&t, PSC_DITHER_NONE, row, 65536, 5, 3, out);
+    for (uint32_t i = 0; i < 65536; i++)
+        assert_int_equal(out[i], psc_xrgb_to_rgb565(row[i]));
+    /* x0 places the row on the screen: a row drawn from column 3 is the tail of the row drawn from 0 */
+    static uint16_t whole[64];
+    for (unsigned y = 0; y < 16; y++) {
+        psc_dither_row_rgb565(&t, PSC_DITHER_ORDERED, row, 64, 0, y, whole);
+        psc_dither_row_rgb565(&t, PSC_DITHER_ORDERED, row + 3, 61, 3, y, out);
+        assert_memory_equal(out, whole + 3, 61 * sizeof out[0]);
+        /* halftone is taken as ordered */
+        psc_dither_row_rgb565(&t, PSC_DITHER_HALFTONE, row, 64, 0, y, out);
+        assert_memory_equal(out, whole, 64 * sizeof out[0]);
+    }
+}
+
+#define SW 320u
+#define SH 240u
+#define SIGMA 1.5
+#define KR 5 /* kernel radius: 3.3 sigma */
+
+/* In place: a separable Gaussian (sigma SIGMA) over an SW x SH plane, edges clamped. */
+static void gauss_blur(double *p)
+{
+    static double tmp[SW * SH];
+    double k[2 * KR + 1], sum = 0.0;
+    for (int i = -KR; i <= KR; i++)
+        sum += k[i + KR] = exp(-(double)(i * i) / (2.0 * SIGMA * SIGMA));
+    for (int i = 0; i <= 2 * KR; i++)
+        k[i] /= sum;
+    for (int y = 0; y < (int)SH; y++)
+        for (int x = 0; x < (int)SW; x++) {
+            double a = 0.0;
+            for (int i = -KR; i <= KR; i++) {
+                int xx = x + i < 0 ? 0 : x + i >= (int)SW ? (int)SW - 1 : x + i;
+                a += k[i + KR] * p[y * (int)SW + xx];
+            }
+            tmp[y * (int)SW + x] = a;
+        }
+    for (int y = 0; y < (int)SH; y++)
+        for (int x = 0; x < (int)SW; x++) {
+            double a = 0.0;
+            for (int i = -KR; i <= KR; i++) {
+                int yy = y + i < 0 ? 0 : y + i >= (int)SH ? (int)SH - 1 : y + i;
+                a += k[i + KR] * tmp[yy * (int)SW + x];
+            }
+            p[y * (int)SW + x] = a;
+        }
+}
+
+typedef struct {
+    double rms;       /* RMS over the three channels of the low-passed error, 8-bit units */
+    double step;      /* largest jump of the low-passed luma between neighbouring pixels */
+    double estep;     /* largest jump of the low-passed luma error between neighbours: a band's edge */
+    double bias[3];   /* mean error per channel (R, G, B) */
+} banding_t;
+
+/*
+ * The banding of an RGB565 frame shown for an 8-bit picture: the error of
+ * what the display shows (bit replication) against the picture, per channel,
+ * low-passed by the Gaussian; the jump is of the low-passed luma (Rec. 601
+ * weights) of what is shown. Pixels within KR of an edge are left out.
+ */
+static banding_t banding(const uint32_t *pic, const uint16_t *shown)
+{
+    static double err[3][SW * SH], luma[SW * SH];
+    banding_t b = {0.0, 0.0, 0.0, {0.0, 0.0, 0.0}};
+    for (unsigned i = 0; i < SW * SH; i++) {
+        uint32_t s = psc_rgb565_to_xrgb(shown[i]);
+        luma[i] = 0.0;
+        for (unsigned c = 0; c < 3; c++) {
+            double e = (double)((s >> (16u - 8u * c)) & 255u);
+            err[c][i] = e - (double)((pic[i] >> (16u - 8u * c)) & 255u);
+            luma[i] += (c == 0 ? 0.299 : c == 1 ? 0.587 : 0.114) * e;
+            b.bias[c] += err[c][i] / (double)(SW * SH);
+        }
+    }
+    for (unsigned c = 0; c < 3; c++)
+        gauss_blur(err[c]);
+    gauss_blur(luma);
+    double sq = 0.0;
+    unsigned n = 0;
+    for (unsigned y = KR; y < SH - KR; y++)
+        for (unsigned x = KR; x < SW - KR; x++) {
+            unsigned i = y * SW + x;
+            for (unsigned c = 0; c < 3; c++)
+                sq += err[c][i] * err[c][i];
+            n += 3;
+            double dx = fabs(luma[i + 1] - luma[i]), dy = fabs(luma[i + SW] - luma[i]);
+            b.step = dx > b.step ? dx : b.step;
+            b.step = dy > b.step ? dy : b.step;
+            double l0 = 0.0, l1 = 0.0, l2 = 0.0;
+            for (unsigned c = 0; c < 3; c++) {
+                double wt = c == 0 ? 0.299 : c == 1 ? 0.587 : 0.114;
+                l0 += wt * err[c][i];
+                l1 += wt * err[c][i + 1];
+                l2 += wt * err[c][i + SW];
+            }
+            b.estep = fabs(l1 - l0) > b.estep ? fabs(l1 - l0) : b.estep;
+            b.estep = fabs(l2 - l0) > b.estep ? fabs(l2 - l0) : b.estep;
+        }
+    b.rms = sqrt(sq / (double)n);
+    return b;
+}
+
+/* The largest jump of the low-passed luma of the 8-bit picture itself: the gradient the picture has. */
+static double picture_step(const uint32_t *pic)
+{
+    static double luma[SW * SH];
+    for (unsigned i = 0; i < SW * SH; i++)
+        luma[i] = 0.299 * ((pic[i] >> 16) & 255u) + 0.587 * ((pic[i] >> 8) & 255u) + 0.114 * (pic[i] & 255u);
+    gauss_blur(luma);
+    double step = 0.0;
+    for (unsigned y = KR; y < SH - KR; y++)
+        for (unsigned x = KR; x < SW - KR; x++) {
+            unsigned i = y * SW + x;
+            double dx = fabs(luma[i + 1] - luma[i]), dy = fabs(luma[i + SW] - luma[i]);
+            step = dx > step ? dx : step;
+            step = dy > step ? dy : step;
+        }
+    return step;
+}
+
+static void test_rgb565_banding(void **state)
+{
+    (void)state;
+    static psc_dither_565_t t;
+    static uint32_t pic[SW * SH];
+    static uint16_t none[SW * SH], ordered[SW * SH];
+    psc_dither_565_init(&t);
+    for (unsigned kind = 0; kind < 2; kind++) {
+        /* 0: a clear sky, darker blue at the top of the screen to pale at the horizon (each channel a few RGB565
+         *    steps over the screen's height) with a slight drift across it;
+         * 1: a slow grey ramp, 8-bit values 100..131 left to right (four red/blue, eight green RGB565 steps) */
+        for (unsigned y = 0; y < SH; y++)
+            for (unsigned x = 0; x < SW; x++) {
+                double rgb[3], v = (double)y / (double)(SH - 1u), u = (double)x / (double)(SW - 1u);
+                if (kind == 0) {
+                    rgb[0] = 78.0 + 34.0 * v + 5.0 * u;
+                    rgb[1] = 128.0 + 40.0 * v + 3.0 * u;
+                    rgb[2] = 196.0 + 30.0 * v;
+                } else {
+                    rgb[0] = rgb[1] = rgb[2] = 100.0 + 31.0 * u;
+                }
+                uint32_t p = 0xFF000000u;
+                for (unsigned c = 0; c < 3; c++)
+                    p |= (uint32_t)lround(rgb[c]) << (16u - 8u * c);
+                pic[y * SW + x] = p;
+            }
+        for (unsigned y = 0; y < SH; y++) {
+            psc_dither_row_rgb565(&t, PSC_DITHER_NONE, pic + y * SW, SW, 0, y, none + y * SW);
+            psc_dither_row_rgb565(&t, PSC_DITHER_ORDERED, pic + y * SW, SW, 0, y, ordered + y * SW);
+        }
+        banding_t a = banding(pic, none), b = banding(pic, ordered);
+        double own = picture_step(pic);
+        print_message("  RGB565 banding, %s %ux%u (error against the 8-bit picture, Gaussian sigma %.1f px):\n"
+                      "    low-passed RMS error: none %.3f, ordered %.3f (%.1fx lower)\n"
+                      "    largest low-passed luma step: none %.3f, ordered %.3f (the picture's own %.3f)\n"
+                      "    largest step of the low-passed luma error: none %.3f, ordered %.3f\n"
+                      "    mean error R/G/B: none %+.3f %+.3f %+.3f, ordered %+.3f %+.3f %+.3f\n",
+                      kind == 0 ? "sky gradient" : "grey ramp", SW, SH, SIGMA, a.rms, b.rms, a.rms / b.rms, a.step,
+                      b.step, own, a.estep, b.estep, a.bias[0], a.bias[1], a.bias[2], b.bias[0], b.bias[1], b.bias[2]);
+        assert_true(b.rms * 2.0 <= a.rms);
+        assert_true(b.step * 2.0 <= a.step);
+        assert_true(b.estep * 2.0 <= a.estep);
+        for (unsigned c = 0; c < 3; c++)
+            assert_true(fabs(b.bias[c]) <= 0.25);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -260,6 +500,8 @@ int main(void)
         cmocka_unit_test(test_random_pixels),
         cmocka_unit_test(test_halftone_cell_grows_from_centre),
         cmocka_unit_test(test_levels_in_place),
+        cmocka_unit_test(test_rgb565_levels),
+        cmocka_unit_test(test_rgb565_banding),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -47,7 +47,7 @@ static void write_text(const char *path, const char *text)
 
 static int setup(void **state)
 {
-    char path[600], pack0[500], pack1[500], tour[500], conf[2048], err[300];
+    char path[600], pack0[500], pack1[500], tour[500], conf[4096], err[300];
     const char *tmp = getenv("PSC_TEST_TMPDIR");
     (void)state;
 
@@ -67,7 +67,7 @@ static int setup(void **state)
              "display = sim\ndisplay_size = 160x120\nframe_rate = 30\ninput = sim\ntour = %s\nclock = sim\n"
              "watchdog = sim\ncamera = sim\ncamera_size = 64x32\nframes_every = 1\n"
              "scene = %s\nscene = %s\n%shotspot = 0 0 0 15 -> 1 180 0 90\n",
-             tour, pack0, pack1, access("out/thom.ppk", R_OK) == 0 ? "scene = out/thom.ppk\n" : "");
+             tour, pack0, pack1, tsup_thom_scene_line());
     snprintf(path, sizeof path, "%s/faults/board.conf", root);
     write_text(path, conf);
     return 0;

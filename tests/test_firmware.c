@@ -20,10 +20,10 @@
 #include <unistd.h>
 
 #include "app.h"
-#include "image_io.h"
+#include "psc_io_image.h"
 #include "board_config.h"
 #include "motion.h"
-#include "pack_build.h"
+#include "psc_io_pack_build.h"
 #include "sim/psc_hal_sim.h"
 #include "sim/psc_sim_tour.h"
 #include "quality.h"
@@ -56,6 +56,7 @@ static void test_board_valid(void **state)
     assert_true(cfg.display_width >= 16 && cfg.display_height >= 16);
     assert_true(cfg.frame_rate_mhz >= 1000);
     assert_true(cfg.scene_count >= 1);
+    assert_int_equal(cfg.display_dither, PSC_DITHER_ORDERED);   /* on unless a board says none */
 
     /* Units, comments, CRLF, decimals, backend options with their origin. */
     const char *text = "# a board\r\n"
@@ -83,7 +84,8 @@ static void test_board_valid(void **state)
                        "image.modules = vc4 bochs\n"
                        "render3d_tile = 64\n"
                        "render3d_abuffer_kb = 256\n"
-                       "display_levels = grey4:halftone\n";
+                       "display_levels = grey4:halftone\n"
+                       "display_dither = none\n";
     if (parse_board(text, &cfg, err, sizeof(err)) != 0)
         fail_msg("valid board refused: %s", err);
     assert_int_equal(cfg.display_format, PSC_PIX_XRGB8888);
@@ -94,6 +96,7 @@ static void test_board_valid(void **state)
     assert_true(cfg.display_levels.on);
     assert_int_equal(cfg.display_levels.target, PSC_DITHER_GREY4);
     assert_int_equal(cfg.display_levels.method, PSC_DITHER_HALFTONE);
+    assert_int_equal(cfg.display_dither, PSC_DITHER_NONE);
     assert_int_equal(cfg.pitch_max_mdeg, 60000);
     assert_false(cfg.quality_adaptive);
     assert_false(cfg.pan_follows_zoom);
@@ -151,6 +154,7 @@ static void test_board_errors(void **state)
     expect_board_error("imagekernel = x\n", "t/board.conf:5:", "imagekernel");
     expect_board_error("display_levels = sepia\n", "t/board.conf:5:", "display_levels");
     expect_board_error("display_levels = mono:fancy\n", "t/board.conf:5:", "mono:fancy");
+    expect_board_error("display_dither = halftone\n", "t/board.conf:5:", "display_dither must be ordered or none");
 
     /* A missing required key names the file and the key. */
     psc_board_config_t cfg;

@@ -6,7 +6,10 @@
  * the device program: a camera scene fed by the sim camera (the frame shown
  * is exactly the camera's map through the scene pack's tables), and a board
  * whose V4L2 camera is absent (it runs, shows the pack's picture and says
- * NO CAMERA in the corner).
+ * NO CAMERA in the corner), and an RGB565 display with display_dither on (the
+ * default: an 8-bit pack's frame drawn at 8 bits, then the 8 x 8 ordered
+ * dither; an RGB565 pack's straight) and off (exactly the frame rendered
+ * straight into RGB565, as before the key).
  */
 #include <dirent.h>
 #include <errno.h>
@@ -17,6 +20,7 @@
 #include <setjmp.h>
 #include <cmocka.h>
 
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,9 +39,9 @@
 #include "device_status.h"
 #include "frame_dump.h"
 #include "frame_pacer.h"
-#include "image_io.h"
+#include "psc_io_image.h"
 #include "overlay_font.h"
-#include "pack_build.h"
+#include "psc_io_pack_build.h"
 #include "base/psc_pixel.h"
 #include "psc_testsupport.h"
 #include "tsup_pack.h"
@@ -286,14 +290,14 @@ static void run_board(const char *name, uint32_t frames, uint32_t dump_at, const
     psc_app_close(app);
 }
 
-/* The frame the viewer makes of map with the pack's tables at its default view, calm quality. */
-static uint32_t *expected_frame(const psc_pack_t *pk, const psc_envmap_t *map)
+/* The frame the viewer makes of map with the pack's tables at its default view, calm quality, in format fmt. */
+static void *expected_frame_as(const psc_pack_t *pk, const psc_envmap_t *map, psc_pixfmt_t fmt)
 {
     psc_viewer_t v;
     size_t ws_size = psc_viewer_workspace_size(160, 120, map);
     void *ws = aligned_alloc(64, (ws_size + 63) & ~(size_t)63);
-    uint32_t *px = malloc(160 * 120 * 4);
-    psc_surface_t out = { 160, 120, 160 * 4, PSC_PIX_XRGB8888, px };
+    void *px = malloc(160 * 120 * 4);
+    psc_surface_t out = { 160, 120, 160 * psc_pixfmt_bytes(fmt), fmt, px };
     psc_view_t view = { .yaw = pk->default_yaw, .pitch = pk->default_pitch, .hfov = pk->default_hfov,
                         .filter = PSC_FILTER_MIP, .span_log2 = 2 };
 
@@ -302,6 +306,11 @@ static uint32_t *expected_frame(const psc_pack_t *pk, const psc_envmap_t *map)
     assert_int_equal(psc_viewer_render(&v, &view, &out), PSC_OK);
     free(ws);
     return px;
+}
+
+static uint32_t *expected_frame(const psc_pack_t *pk, const psc_envmap_t *map)
+{
+    return expected_frame_as(pk, map, PSC_PIX_XRGB8888);
 }
 
 static void test_camera_scene_run(void **state)
@@ -398,6 +407,89 @@ static void test_absent_camera_run(void **state)
     psc_app_t *app = NULL;
     assert_int_not_equal(psc_app_open(&opt, &app, err, sizeof err), 0);
     assert_non_null(strstr(err, "camera_scene is set but camera = none"));
+}
+
+/* A pack of the synthetic scene for a 160x120 display whose map is in format fmt (tsup_write_synth_pack's, RGB565). */
+static void make_pack_as(const char *path, psc_pixfmt_t fmt)
+{
+    psc_image_t img = { 128, 64, malloc(128 * 64 * 4) };
+    psc_pack_options_t o;
+    uint8_t *buf;
+    size_t len;
+    char err[300];
+
+    assert_non_null(img.xrgb);
+    for (uint32_t y = 0; y < 64; y++)
+        for (uint32_t x = 0; x < 128; x++) {
+            double rgb[3];
+            tsup_synth_color(((x + 0.5) / 128 - 0.5) * 2 * TSUP_PI, (0.5 - (y + 0.5) / 64) * TSUP_PI, rgb);
+            img.xrgb[y * 128 + x] = 0xFF000000u | ((uint32_t)rgb[0] << 16) | ((uint32_t)rgb[1] << 8) | (uint32_t)rgb[2];
+        }
+    psc_pack_options_default(&o);
+    o.format = fmt;
+    o.display_width = 160;
+    o.display_height = 120;
+    o.lut_rows = 32;
+    o.lut_cols = 128;
+    if (psc_pack_build(&img, &o, &buf, &len, err, sizeof err) != 0)
+        fail_msg("pack: %s", err);
+    assert_int_equal(tsup_write_bytes(path, buf, len), 0);
+    free(buf);
+    free(img.xrgb);
+}
+
+/*
+ * An RGB565 display (the default format), settled (mip blends texels into 8-bit values), with display_dither
+ * absent (on), ordered and none:
+ *  - an XRGB8888 pack: on, the viewer's XRGB8888 frame through psc_dither_row_rgb565, the matrix fixed to the
+ *    screen; none, exactly what the viewer renders into RGB565 (the frames before the key);
+ *  - an RGB565 pack (the scene fits RGB565): drawn straight into RGB565 whatever the key, the frames before it.
+ */
+static void test_display_dither_run(void **state)
+{
+    char dir[400], pack[400], conf[1200], path[500], dump[400], tour[400], err[300];
+    static psc_dither_565_t t;
+    static uint16_t ordered[160 * 120];
+    size_t len;
+    (void)state;
+
+    psc_dither_565_init(&t);
+    snprintf(tour, sizeof tour, "%s/dither-still.txt", root);
+    write_text(tour, "wait 10s\nend\n");
+    for (unsigned f = 0; f < 2; f++) {
+        psc_pixfmt_t fmt = f == 0 ? PSC_PIX_XRGB8888 : PSC_PIX_RGB565;
+        psc_io_pack_t pf;
+        snprintf(pack, sizeof pack, "%s/dither%u.pano", root, f);
+        make_pack_as(pack, fmt);
+        assert_int_equal(psc_io_pack_load(pack, &pf, err, sizeof err), 0);
+        assert_int_equal(pf.pack.map.format, fmt);
+        uint16_t *none = expected_frame_as(&pf.pack, &pf.pack.map, PSC_PIX_RGB565);
+        uint32_t *full = expected_frame(&pf.pack, &pf.pack.map);
+        for (unsigned y = 0; y < 120; y++)
+            psc_dither_row_rgb565(&t, PSC_DITHER_ORDERED, full + y * 160, 160, 0, y, ordered + y * 160);
+        assert_memory_not_equal(none, ordered, sizeof ordered);
+        for (unsigned k = 0; k < 3; k++) {
+            static const char *const key[] = { "", "display_dither = ordered\n", "display_dither = none\n" };
+            snprintf(dir, sizeof dir, "%s/dither%u%u", root, f, k);
+            mkdir(dir, 0755);
+            snprintf(path, sizeof path, "%s/board.conf", dir);
+            snprintf(conf, sizeof conf, "display = sim\ndisplay_size = 160x120\nframe_rate = 30\ninput = sim\n"
+                     "tour = %s\nclock = sim\nscene = %s\nquality = fixed\n%s", tour, pack, key[k]);
+            write_text(path, conf);
+            snprintf(dump, sizeof dump, "%s/dither%u%u.raw", root, f, k);
+            snprintf(path, sizeof path, "dither%u%u", f, k);
+            run_board(path, 3, 2, dump);
+            uint8_t *got = tsup_read_bytes(dump, &len);
+            assert_non_null(got);
+            assert_int_equal(len, sizeof ordered);
+            assert_memory_equal(got, f == 0 && k < 2 ? ordered : none, len);
+            free(got);
+            unlink(dump);
+        }
+        free(none);
+        free(full);
+        psc_io_pack_free(&pf);
+    }
 }
 
 /* root/NAME/board.conf: a 160x120 sim display with the sim tour and clock showing pack (and extra lines). */
@@ -733,6 +825,18 @@ static void test_vm_boards_match_reference(void **state)
         memcpy(vm.file, ref.file, sizeof vm.file);
         memcpy(vm.display_backend, ref.display_backend, sizeof vm.display_backend);
         memcpy(vm.tour_origin, ref.tour_origin, sizeof vm.tour_origin);
+        /* relative paths are each board's folder's: the same files by another way */
+        char a[PATH_MAX], b[PATH_MAX];
+        assert_non_null(realpath(vm.tour, a));
+        assert_non_null(realpath(ref.tour, b));
+        assert_string_equal(a, b);
+        memcpy(vm.tour, ref.tour, sizeof vm.tour);
+        assert_int_equal(vm.scene_count, ref.scene_count);
+        for (unsigned k = 0; k < vm.scene_count; k++) {
+            if (realpath(vm.scenes[k], a) != NULL && realpath(ref.scenes[k], b) != NULL)
+                assert_string_equal(a, b);
+            memcpy(vm.scenes[k], ref.scenes[k], sizeof vm.scenes[k]);
+        }
         memcpy(vm.options, ref.options, sizeof vm.options);
         vm.option_count = ref.option_count;
         assert_memory_equal(&vm, &ref, sizeof vm);
@@ -765,6 +869,7 @@ int main(void)
         cmocka_unit_test(test_frame_pacer),
         cmocka_unit_test(test_camera_scene_run),
         cmocka_unit_test(test_absent_camera_run),
+        cmocka_unit_test(test_display_dither_run),
         cmocka_unit_test(test_stop_request),
         cmocka_unit_test(test_frame_dump_full_disk),
         cmocka_unit_test(test_reload_and_status),

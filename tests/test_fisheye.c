@@ -25,7 +25,7 @@
 #include "camera_feed.h"
 #include "cli.h"
 #include "fisheye_build.h"
-#include "pack_build.h"
+#include "psc_io_pack_build.h"
 #include "base/psc_crc32.h"
 #include "fisheye/psc_fisheye.h"
 #include "psc_hal_camera.h"

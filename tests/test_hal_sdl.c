@@ -134,7 +134,8 @@ static void test_display(void **state)
 static psc_hal_input_t *open_input(void)
 {
     psc_hal_option_t dz = { "dead_zone", "8000", "b.conf:9" };
-    psc_hal_input_config_t cfg = { .clock = clk, .long_press_ms = 800, .options = { &dz, 1 } };
+    psc_hal_input_config_t cfg = { .clock = clk, .long_press_ms = 800, .display_width = 640, .display_height = 480,
+                                   .options = { &dz, 1 } };
     psc_hal_input_t *in;
     char err[256];
 
@@ -191,6 +192,21 @@ static void expect_at(int line, psc_hal_input_t *in, psc_hal_input_type_t type, 
 }
 
 #define expect(...) expect_at(__LINE__, __VA_ARGS__)
+
+/* The next event is a pointer or wheel event of contact code at (x, y) with value. */
+#define expect_xy(in, type, code, x, y, value) expect_xy_at(__LINE__, in, type, code, x, y, value)
+static void expect_xy_at(int line, psc_hal_input_t *in, psc_hal_input_type_t type, uint16_t code, int x, int y,
+                         int32_t value)
+{
+    psc_hal_input_event_t ev;
+
+    if (psc_hal_input_poll(in, psc_hal_clock_now_us(clk), &ev) != 1)
+        fail_msg("line %d: no event, expected type %d", line, (int)type);
+    if (ev.type != type || ev.code != code || ev.x != x || ev.y != y || ev.value != value || ev.device != 0)
+        fail_msg("line %d: got type %d code %u at (%d, %d) value %d, expected type %d code %u at (%d, %d) value %d",
+                 line, (int)ev.type, (unsigned)ev.code, ev.x, ev.y, (int)ev.value, (int)type, (unsigned)code, x, y,
+                 (int)value);
+}
 
 static void expect_none(psc_hal_input_t *in)
 {
@@ -252,48 +268,62 @@ static void test_keyboard_and_mouse(void **state)
     expect(in, PSC_HAL_INPUT_BUTTON_UP, 0, PSC_HAL_ACTION_ZOOM_OUT, 0, t0 + 900000);
     expect(in, PSC_HAL_INPUT_BUTTON_UP, 0, PSC_HAL_ACTION_PREV_SCENE, 0, t0 + 900000);
 
-    /* drag: a virtual stick from the press point, full at 160 pixels */
+    /* the left button held is contact 0 in the frame's pixels; motion without it is nothing */
     uint64_t t1 = t0 + 1000000;
     psc_hal_clock_sleep_until(clk, t1);
-    mouse_motion(50, 50);   /* not dragging: nothing */
+    mouse_motion(50, 50);
     mouse_button(true, 100, 100);
     mouse_motion(180, 60);
-    mouse_motion(420, 300);
-    mouse_button(false, 420, 300);
-    /* the whole drag lands in one poll: a queued AXIS event is replaced by the
-     * newer one of the same axis, so only where the stick ended up remains */
-    expect(in, PSC_HAL_INPUT_AXIS, 0, PSC_HAL_AXIS_YAW, 0, t1);
-    expect(in, PSC_HAL_INPUT_AXIS, 0, PSC_HAL_AXIS_PITCH, 0, t1);
+    mouse_motion(-20, 300);   /* dragged off the window: still reported */
+    mouse_button(false, -20, 300);
+    expect_xy(in, PSC_HAL_INPUT_POINTER_DOWN, 0, 100, 100, 0);
+    expect_xy(in, PSC_HAL_INPUT_POINTER_MOVE, 0, 180, 60, 0);
+    expect_xy(in, PSC_HAL_INPUT_POINTER_MOVE, 0, -20, 300, 0);
+    expect_xy(in, PSC_HAL_INPUT_POINTER_UP, 0, -20, 300, 0);
     expect_none(in);
 
-    /* a wheel notch up zooms in for 150 ms */
+    /* the wheel: notches at the pointer, flipped wheels turned the right way */
+    mouse_motion(30, 40);
     SDL_Event wheel = { .type = SDL_MOUSEWHEEL };
     wheel.wheel.y = 1;
     wheel.wheel.direction = SDL_MOUSEWHEEL_NORMAL;
     assert_int_equal(SDL_PushEvent(&wheel), 1);
-    expect(in, PSC_HAL_INPUT_AXIS, 0, PSC_HAL_AXIS_ZOOM, 32767, t1);
-    psc_hal_clock_sleep_until(clk, t1 + 149999);
-    expect_none(in);
-    psc_hal_clock_sleep_until(clk, t1 + 150000);
-    expect(in, PSC_HAL_INPUT_AXIS, 0, PSC_HAL_AXIS_ZOOM, 0, t1 + 150000);
-    wheel.wheel.y = -2;   /* two notches down: zoom out for 300 ms */
+    expect_xy(in, PSC_HAL_INPUT_WHEEL, 0, 30, 40, 1);
+    wheel.wheel.y = 2;
+    wheel.wheel.direction = SDL_MOUSEWHEEL_FLIPPED;
     assert_int_equal(SDL_PushEvent(&wheel), 1);
-    expect(in, PSC_HAL_INPUT_AXIS, 0, PSC_HAL_AXIS_ZOOM, -32767, t1 + 150000);
-    psc_hal_clock_sleep_until(clk, t1 + 450000);
-    expect(in, PSC_HAL_INPUT_AXIS, 0, PSC_HAL_AXIS_ZOOM, 0, t1 + 450000);
+    expect_xy(in, PSC_HAL_INPUT_WHEEL, 0, 30, 40, -2);
+    expect_none(in);
+
+    /* q quits as Escape does */
+    key(SDLK_q, true, false);
+    key(SDLK_q, false, false);
+    expect(in, PSC_HAL_INPUT_QUIT, 0, 0, 0, t1);
+    expect_none(in);
 
     /* Escape and closing the window both quit */
     key(SDLK_ESCAPE, true, false);
     key(SDLK_ESCAPE, false, false);
     SDL_Event quit = { .type = SDL_QUIT };
     assert_int_equal(SDL_PushEvent(&quit), 1);
-    expect(in, PSC_HAL_INPUT_QUIT, 0, 0, 0, t1 + 450000);
-    expect(in, PSC_HAL_INPUT_QUIT, 0, 0, 0, t1 + 450000);
+    expect(in, PSC_HAL_INPUT_QUIT, 0, 0, 0, t1);
+    expect(in, PSC_HAL_INPUT_QUIT, 0, 0, 0, t1);
     expect_none(in);
     psc_hal_input_close(in);
 }
 
-static void test_drag_events_one_by_one(void **state)
+static void finger(Uint32 type, SDL_FingerID id, float x, float y)
+{
+    SDL_Event e = { .type = type };
+
+    e.tfinger.fingerId = id;
+    e.tfinger.x = x;
+    e.tfinger.y = y;
+    assert_int_equal(SDL_PushEvent(&e), 1);
+}
+
+/* Two fingers: contacts 1 and 2 at the frame's pixels (the window's fraction times 640 x 480). */
+static void test_touch_fingers(void **state)
 {
     psc_hal_input_t *in = open_input();
     uint64_t t = psc_hal_clock_now_us(clk);
@@ -301,16 +331,17 @@ static void test_drag_events_one_by_one(void **state)
 
     SDL_FlushEvents(SDL_FIRSTEVENT, SDL_LASTEVENT);
     expect(in, PSC_HAL_INPUT_DEVICE_ARRIVE, 0, 0, 0, t);
-    mouse_button(true, 100, 100);
-    mouse_motion(180, 60);
-    expect(in, PSC_HAL_INPUT_AXIS, 0, PSC_HAL_AXIS_YAW, 16383, t);
-    expect(in, PSC_HAL_INPUT_AXIS, 0, PSC_HAL_AXIS_PITCH, 8191, t);
-    mouse_motion(420, 300);   /* far past full: saturates at +-1.0 */
-    expect(in, PSC_HAL_INPUT_AXIS, 0, PSC_HAL_AXIS_YAW, 32767, t);
-    expect(in, PSC_HAL_INPUT_AXIS, 0, PSC_HAL_AXIS_PITCH, -32768, t);
-    mouse_button(false, 420, 300);
-    expect(in, PSC_HAL_INPUT_AXIS, 0, PSC_HAL_AXIS_YAW, 0, t);
-    expect(in, PSC_HAL_INPUT_AXIS, 0, PSC_HAL_AXIS_PITCH, 0, t);
+    finger(SDL_FINGERDOWN, 77, 0.25f, 0.5f);
+    finger(SDL_FINGERDOWN, 78, 0.75f, 0.5f);
+    finger(SDL_FINGERMOTION, 78, 0.875f, 0.25f);
+    finger(SDL_FINGERUP, 77, 0.25f, 0.5f);
+    finger(SDL_FINGERUP, 78, 0.875f, 0.25f);
+    finger(SDL_FINGERMOTION, 79, 0.5f, 0.5f);   /* a finger never down: nothing */
+    expect_xy(in, PSC_HAL_INPUT_POINTER_DOWN, 1, 160, 240, 0);
+    expect_xy(in, PSC_HAL_INPUT_POINTER_DOWN, 2, 480, 240, 0);
+    expect_xy(in, PSC_HAL_INPUT_POINTER_MOVE, 2, 560, 120, 0);
+    expect_xy(in, PSC_HAL_INPUT_POINTER_UP, 1, 160, 240, 0);
+    expect_xy(in, PSC_HAL_INPUT_POINTER_UP, 2, 560, 120, 0);
     expect_none(in);
     psc_hal_input_close(in);
 }
@@ -403,7 +434,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_display),
         cmocka_unit_test(test_keyboard_and_mouse),
-        cmocka_unit_test(test_drag_events_one_by_one),
+        cmocka_unit_test(test_touch_fingers),
         cmocka_unit_test(test_game_controller),
         cmocka_unit_test(test_input_options),
     };

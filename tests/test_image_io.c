@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * test_image_io.c - host_tools/lib/image_io.h: PNG and JPEG loading, PNG
+ * test_image_io.c - io/psc_io_image.h: PNG and JPEG loading, PNG
  * writing of images and surfaces.
  *
  *  - PNG write -> load is exact for random images of many shapes;
@@ -36,7 +36,7 @@
 #include <jpeglib.h>
 #include <zlib.h>
 
-#include "image_io.h"
+#include "psc_io_image.h"
 #include "psc_testsupport.h"
 #include "tsup_files.h"
 #include "psc_io_png.h"

@@ -24,7 +24,7 @@
 #include "board_config.h"
 #include "hotspots.h"
 #include "motion.h"
-#include "pack_build.h"
+#include "psc_io_pack_build.h"
 #include "base/psc_pixel.h"
 #include "psc_testsupport.h"
 #include "tsup_pack.h"
@@ -234,7 +234,9 @@ static void test_hotspot_lines(void **state)
     /* Lines 1-6 are MIN_BOARD: the first line of body is line 7. */
     expect_board_error("hotspot = 0 45 -5 10 1 180 0 90\n", "t/board.conf:7:", "FROM YAW PITCH RADIUS -> TO");
     expect_board_error("\nhotspot = 0 45 -5 10 ->\n", "t/board.conf:8:", "->");
-    expect_board_error("hotspot = 0 45 -5 10 -> 1 180 0 90 7\n", "t/board.conf:7:", "more than 9 fields");
+    /* words after HFOV are the label (test_gestures.c checks labels and ids) */
+    assert_int_equal(parse_board("scene = a\nscene = b\nhotspot = 0 45 -5 10 -> 1 180 0 90 7\n", &cfg, err, sizeof err), 0);
+    assert_string_equal(cfg.hotspots[0].label, "7");
     expect_board_error("hotspot = 0 45 95 10 -> 1 180 0 90\n", "t/board.conf:7:", "pitch");
     expect_board_error("hotspot = 0 45 5 0 -> 1 180 0 90\n", "t/board.conf:7:", "radius");
     expect_board_error("hotspot = 0 45 5 91 -> 1 180 0 90\n", "t/board.conf:7:", "radius");

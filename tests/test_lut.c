@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * test_lut.c - the scanline-coherent table (core/lut/psc_lut.h) as built by
- * host_tools/lib/lut_build.c: the stored octant plus the reflections that
+ * io/psc_io_lut_build.c: the stored octant plus the reflections that
  * psc_lut.h documents must reproduce the whole cylinder, a in [-180, 180)
  * degrees and u in [-u_max, u_max], within the Q0.16 quantisation.
  */
@@ -15,7 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "lut_build.h"
+#include "psc_io_lut_build.h"
 #include "lut/psc_lut.h"
 #include "psc_testsupport.h"
 

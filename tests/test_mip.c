@@ -22,8 +22,8 @@
 
 #include <zlib.h>
 
-#include "map_pyramid.h"
-#include "pack_build.h"
+#include "psc_io_map_pyramid.h"
+#include "psc_io_pack_build.h"
 #include "pack/psc_pack.h"
 #include "viewer/psc_viewer.h"
 #include "psc_testsupport.h"

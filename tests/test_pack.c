@@ -25,9 +25,9 @@
 #include <unistd.h>
 #include <zlib.h>
 
-#include "lut_build.h"
-#include "container_write.h"
-#include "pack_build.h"
+#include "psc_io_lut_build.h"
+#include "psc_io_container_write.h"
+#include "psc_io_pack_build.h"
 #include "base/psc_crc32.h"
 #include "pack/psc_pack.h"
 #include "viewer/psc_viewer.h"

@@ -33,7 +33,7 @@
 #include "tsup_patch.h"
 
 #include "am_action.h"
-#include "angle_conv.h"
+#include "psc_io_angle.h"
 #include "am_model.h"
 #include "am_rig.h"
 #include "bpt_load.h"

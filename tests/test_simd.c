@@ -21,7 +21,7 @@
 #include <setjmp.h>
 #include <cmocka.h>
 
-#include "pack_build.h"
+#include "psc_io_pack_build.h"
 #include "pack/psc_pack.h"
 #include "psc_testsupport.h"
 

@@ -101,7 +101,7 @@ static void soak_board(uint32_t frames)
     snprintf(tour, sizeof tour, "%s/tour.txt", root);
     write_text(tour, text);
     free(text);
-    bool thom = access("out/thom.ppk", R_OK) == 0;
+    bool thom = tsup_thom_scene_line()[0] != '\0';
     snprintf(conf, sizeof conf,
              "display = sim\ndisplay_size = %ux%u\ndisplay_format = rgb565\nframe_rate = 30\n"
              "input = sim\ntour = %s\nclock = sim\nwatchdog = sim\nwatchdog_timeout_ms = 2000\n"
@@ -109,7 +109,7 @@ static void soak_board(uint32_t frames)
              "attract_idle_s = 5\nattract_rate = 10\n"
              "hotspot = 0 0 0 15 -> 1 180 0 90\nhotspot = 1 0 -5 20 -> 0 90 0 75\n"
              "quality = adaptive\nquality_fast_speed = 0.6\n",
-             SOAK_W, SOAK_H, tour, pack0, pack1, thom ? "scene = out/thom.ppk\n" : "");
+             SOAK_W, SOAK_H, tour, pack0, pack1, tsup_thom_scene_line());
     snprintf(path, sizeof path, "%s/soak/board.conf", root);
     write_text(path, conf);
     printf("  soak board: two panoramas%s, %u visits of 35 s\n", thom ? " and Thom" : " (out/thom.ppk not built)",

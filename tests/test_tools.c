@@ -39,9 +39,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "angle_conv.h"
-#include "image_io.h"
-#include "pack_build.h"
+#include "psc_io_angle.h"
+#include "psc_io_image.h"
+#include "psc_io_pack_build.h"
 #include "viewer/psc_viewer.h"
 #include "psc_testsupport.h"
 #include "tsup_files.h"
@@ -647,12 +647,15 @@ static void test_exit_codes(void **state)
         expect_run("periscope-render", a, 1, m);
         assert_false(tsup_file_exists(out));
     }
-    /* An image is not a pack. */
-    snprintf(named, sizeof named, "%s: ", fx.png);
+    /* An image is packed first, as the device packs one (tests/test_open_image.c); no cache here. */
+    snprintf(named, sizeof named, "%s: packed for 640x480 rgb565 in ", fx.png);
     {
-        const char *a[] = {fx.png, "-o", out, NULL}, *m[] = {named, "magic", NULL};
-        expect_run("periscope-render", a, 1, m);
-        assert_false(tsup_file_exists(out));
+        const char *a[] = {fx.png, "-o", out, NULL}, *m[] = {named, "not cached", NULL};
+        assert_int_equal(setenv("PERISCOPE_CACHE_DIR", "", 1), 0);
+        expect_run("periscope-render", a, 0, m);
+        assert_int_equal(unsetenv("PERISCOPE_CACHE_DIR"), 0);
+        assert_true(tsup_file_exists(out));
+        unlink(out);
     }
     free(pack);
     unlink(bad);

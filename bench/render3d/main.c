@@ -20,7 +20,7 @@
  */
 #include "render3d.h"
 #include "base/psc_pixel.h"
-#include "image_io.h"
+#include "psc_io_image.h"
 #include "psc_io_png.h"
 
 #include <math.h>

@@ -7,7 +7,7 @@
 #define BENCH_SUPPORT_H
 
 #include "bench_viewer.h"
-#include "image_io.h"
+#include "psc_io_image.h"
 #include "pack/psc_pack.h"
 #include "viewer/psc_viewer.h"
 

@@ -13,8 +13,8 @@
  * each output file.
  */
 #include "bench_support.h"
-#include "angle_conv.h"
-#include "pack_build.h"
+#include "psc_io_angle.h"
+#include "psc_io_pack_build.h"
 #include "psc_io_load.h"
 #include "psc_io_file.h"
 

@@ -5,7 +5,7 @@
  * packs built exactly as periscope-pack builds them.
  */
 #include "bench_support.h"
-#include "pack_build.h"
+#include "psc_io_pack_build.h"
 #include "psc_io_file.h"
 
 #include <stdlib.h>

@@ -15,7 +15,7 @@
  * after one warm-up frame; everything runs on one thread.
  */
 #include "bench_support.h"
-#include "angle_conv.h"
+#include "psc_io_angle.h"
 #include "psc_io_bands.h"
 
 #include <math.h>

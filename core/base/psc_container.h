@@ -5,7 +5,7 @@
  * layout is defined here and only here; each format adds its magic, its
  * versions and its sections (psc_container_format_t), core parses it in place
  * (psc_container_open / psc_container_section), and the host tools write it
- * with the one writer in host_tools/lib/container_write.h.
+ * with the one writer in io/psc_io_container_write.h.
  *
  * Header (all integers little-endian, read byte-wise):
  *   offset size

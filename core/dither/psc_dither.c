@@ -3,6 +3,7 @@
  * psc_dither.c - threshold-matrix quantization (see psc_dither.h).
  */
 #include "dither/psc_dither.h"
+#include "base/psc_pixel.h"
 
 /* 8 x 8 Bayer: each 2 x 2 refinement puts the next four thresholds as far apart as it can. */
 static const uint8_t bayer8[8][8] = {
@@ -120,4 +121,51 @@ uint32_t psc_dither_level_xrgb(psc_dither_target_t target, uint32_t v)
         break;
     }
     return 0xFF000000u | r << 16 | g << 8 | b;
+}
+
+/* ---- RGB565 ---------------------------------------------------------------------------------------------- */
+
+/* One channel's table: bits wide (5 or 6), levels shown by bit replication. */
+static void dither_565_channel(uint16_t *tab, unsigned bits)
+{
+    uint32_t top = (1u << bits) - 1u, k = 0;
+    for (uint32_t v = 0; v < 256u; v++) {
+        while (k < top && ((k + 1u) << (8u - bits) | (k + 1u) >> (2u * bits - 8u)) <= v)
+            k++;
+        uint32_t e0 = k << (8u - bits) | k >> (2u * bits - 8u), c = 0;
+        if (k < top) {
+            uint32_t d = ((k + 1u) << (8u - bits) | (k + 1u) >> (2u * bits - 8u)) - e0;
+            c = (128u * (v - e0) + d - 1u) / (2u * d);
+        }
+        tab[v] = (uint16_t)(k << 8 | c);
+    }
+}
+
+void psc_dither_565_init(psc_dither_565_t *t)
+{
+    dither_565_channel(t->ch5, 5u);
+    dither_565_channel(t->ch6, 6u);
+}
+
+static PSC_ALWAYS_INLINE uint16_t dither_565_pixel(const psc_dither_565_t *t, uint32_t p, uint32_t bias)
+{
+    uint32_t r = (t->ch5[(p >> 16) & 255u] + bias) >> 8, g = (t->ch6[(p >> 8) & 255u] + bias) >> 8;
+    uint32_t b = (t->ch5[p & 255u] + bias) >> 8;
+    return (uint16_t)(r << 11 | g << 5 | b);
+}
+
+void psc_dither_row_rgb565(const psc_dither_565_t *t, psc_dither_method_t method, const uint32_t *src, unsigned n,
+                           unsigned x0, unsigned y, uint16_t *dst)
+{
+    if (method == PSC_DITHER_NONE) {
+        for (unsigned x = 0; x < n; x++)
+            dst[x] = psc_xrgb_to_rgb565(src[x]);
+        return;
+    }
+    /* (k << 8 | c) + 255 - T carries into k exactly when c > T: one add and one shift a channel */
+    uint32_t bias[8];
+    for (unsigned i = 0; i < 8u; i++)
+        bias[i] = 255u - bayer8[y & 7u][(x0 + i) & 7u];
+    for (unsigned x = 0; x < n; x++)
+        dst[x] = dither_565_pixel(t, src[x], bias[x & 7u]);
 }

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * psc_dither.h - frames for displays with few levels: 1-bit (e-paper), 4-bit
- * grey and 8-bit palette LCDs.
+ * grey and 8-bit palette LCDs; and RGB565 without bands (at the end).
  *
  * Each pixel is quantized against a threshold matrix tiled over the screen
  * (seed 004, "Halftone & Dithering"): an M x M matrix turns a level between
@@ -55,5 +55,42 @@ uint32_t psc_dither_get(psc_dither_target_t target, const uint8_t *row, unsigned
 
 /** The colour level v shows, XRGB8888 (for previews and measurements). */
 uint32_t psc_dither_level_xrgb(psc_dither_target_t target, uint32_t v);
+
+/*
+ * RGB565 displays (16 bits a pixel): 8-bit pictures shown with 32 levels of
+ * red and blue and 64 of green band in smooth skies, one step every 8 (4)
+ * values. The same 8 x 8 Bayer matrix, indexed by the output pixel, puts
+ * each channel between its two nearest RGB565 levels, the levels as the
+ * display and psc_rgb565_to_xrgb show them (bit replication, E5(k) = k<<3 |
+ * k>>2, E6(k) = k<<2 | k>>4), so that
+ *  - the 8 x 8 average keeps the value: with v = E(k) + r, d = E(k+1) -
+ *    E(k), the pixel shows k+1 where T < c = floor((128 r + d - 1) / (2 d)),
+ *    i.e. where (T + 1/2) / 64 < r / d: c of 64 cells, within 1/128 of a
+ *    step (about 0.07 of an 8-bit unit) of r / d;
+ *  - a value the display has (an RGB565 map, texture or colour drawn again)
+ *    stays exactly that level in every cell: r = 0 gives c = 0.
+ * The table is per channel width, (k << 8 | c) for each 8-bit value; adding
+ * 255 - T carries into k exactly when c > T, so a pixel is three loads, three
+ * adds, three shifts and the packing. PSC_DITHER_NONE is
+ * psc_xrgb_to_rgb565 (round to nearest), byte for byte; PSC_DITHER_HALFTONE
+ * is taken as ORDERED (its 16 clustered steps suit few-level displays, not
+ * RGB565's small ones).
+ */
+typedef struct {
+    uint16_t ch5[256]; /* red and blue: k 0..31, c < 64 */
+    uint16_t ch6[256]; /* green: k 0..63, c < 64 */
+} psc_dither_565_t;
+
+/** Fill t (once, at start-up; 1 KiB, read-only afterwards: any thread may share it). */
+void psc_dither_565_init(psc_dither_565_t *t);
+
+/**
+ * Pixels [0, n) of output row y (XRGB8888, X ignored) as RGB565 into dst,
+ * pixel x against the matrix at (x0 + x, y): x0 is the row's first column on
+ * the screen, so the pattern stays fixed to the screen whatever is drawn.
+ * src and dst may not overlap.
+ */
+void psc_dither_row_rgb565(const psc_dither_565_t *t, psc_dither_method_t method, const uint32_t *src, unsigned n,
+                           unsigned x0, unsigned y, uint16_t *dst);
 
 #endif

@@ -11,6 +11,12 @@
  *           nearest-neighbour scaling, to see a small panel's pixels
  *   vsync   yes (default) / no: present waits for the desktop's vblank
  *   title   the window title (default "periscope")
+ *   fullscreen  yes / no (default): start fullscreen at the desktop's
+ *           resolution; F11 or f toggles it either way (sdl_input.c)
+ * The window can be resized: the frame keeps its size and aspect and is
+ * scaled to fit, black bars beside it (SDL's logical size, which also maps
+ * the mouse back to the frame's pixels); nearest-neighbour at whole
+ * multiples, linear otherwise.
  * Without an SDL input, present pumps the window's events itself so the
  * desktop does not consider the window hung.
  */
@@ -36,7 +42,16 @@ typedef struct {
     char title[64];
 } sdl_display_t;
 
-static const char *const sdl_display_known_options[] = { "scale", "vsync", "title", NULL };
+static const char *const sdl_display_known_options[] = { "scale", "vsync", "title", "fullscreen", NULL };
+
+void psc_sdl_toggle_fullscreen(uint32_t window_id)
+{
+    SDL_Window *w = SDL_GetWindowFromID(window_id);
+
+    if (w != NULL)
+        SDL_SetWindowFullscreen(w, (SDL_GetWindowFlags(w) & SDL_WINDOW_FULLSCREEN) ? 0
+                                                                                   : SDL_WINDOW_FULLSCREEN_DESKTOP);
+}
 
 static sdl_display_t *to_sdl(psc_hal_display_t *d)
 {
@@ -125,7 +140,7 @@ int psc_sdl_display_open(const psc_hal_display_config_t *cfg, psc_hal_display_t 
     const psc_hal_option_t *title;
     sdl_display_t *s;
     uint32_t scale;
-    bool vsync;
+    bool vsync, fullscreen;
     int rc;
 
     *out = NULL;
@@ -146,7 +161,8 @@ int psc_sdl_display_open(const psc_hal_display_config_t *cfg, psc_hal_display_t 
     s->base.backend = "sdl";
     if ((rc = psc_hal_options_check(&cfg->options, sdl_display_known_options, "display", "sdl", err, errlen)) ||
         (rc = psc_hal_options_get_u32(&cfg->options, "scale", 1, 8, 1, &scale, err, errlen)) ||
-        (rc = psc_hal_options_get_bool(&cfg->options, "vsync", "display", true, &vsync, err, errlen)))
+        (rc = psc_hal_options_get_bool(&cfg->options, "vsync", "display", true, &vsync, err, errlen)) ||
+        (rc = psc_hal_options_get_bool(&cfg->options, "fullscreen", "display", false, &fullscreen, err, errlen)))
         goto fail;
     title = psc_hal_options_find(&cfg->options, "title");
     snprintf(s->title, sizeof s->title, "%s", title != NULL && title->value != NULL ? title->value : "periscope");
@@ -167,11 +183,18 @@ int psc_sdl_display_open(const psc_hal_display_config_t *cfg, psc_hal_display_t 
     if ((rc = psc_sdl_init(SDL_INIT_VIDEO, "display", err, errlen)) != 0)
         goto fail;
     s->sdl_started = true;
-    SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, "nearest");
+    SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, scale > 1 ? "nearest" : "linear");   /* a panel's pixels, or smooth */
     s->window = SDL_CreateWindow(s->title, SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, (int)(cfg->width * scale),
-                                 (int)(cfg->height * scale), SDL_WINDOW_SHOWN);
+                                 (int)(cfg->height * scale),
+                                 SDL_WINDOW_SHOWN | SDL_WINDOW_RESIZABLE |
+                                     (fullscreen ? SDL_WINDOW_FULLSCREEN_DESKTOP : 0u));
     if (s->window != NULL)
         s->renderer = SDL_CreateRenderer(s->window, -1, vsync ? SDL_RENDERER_PRESENTVSYNC : 0);
+    /* the frame keeps its size whatever the window's: scaled to fit, mouse mapped back */
+    if (s->renderer != NULL && SDL_RenderSetLogicalSize(s->renderer, cfg->width, cfg->height) != 0) {
+        SDL_DestroyRenderer(s->renderer);
+        s->renderer = NULL;
+    }
     if (s->renderer != NULL)
         s->texture = SDL_CreateTexture(s->renderer,
                                        cfg->format == PSC_PIX_RGB565 ? SDL_PIXELFORMAT_RGB565 : SDL_PIXELFORMAT_RGB888,

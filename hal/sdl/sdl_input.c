@@ -10,11 +10,15 @@
  *   keyboard        arrows: pan_left, pan_right, look_up, look_down
  *                   + = (and keypad +): zoom_in; - (keypad -): zoom_out
  *                   Home: home; Page Up: prev_scene; Page Down: next_scene
- *                   Enter: select; Backspace: back; Escape: quit
- *   mouse           drag with the left button: a virtual stick, the offset
- *                   from where the button went down giving yaw (right) and
- *                   pitch (up), full deflection at drag_pixels - the way
- *                   QuickTime VR panned; wheel: zoom for wheel_ms per notch
+ *                   Enter: select; Backspace: back; Escape or q: quit;
+ *                   F11 or f: fullscreen on and off (sdl_display.c)
+ *   mouse           the left button held: a pointer (contact 0) in the
+ *                   frame's pixels, whatever the window's size (the
+ *                   renderer's logical size maps them); the firmware grabs
+ *                   the picture with it (firmware/gestures.h); the wheel:
+ *                   WHEEL events at the pointer
+ *   touch           fingers on a touch screen or pad SDL reports: contacts
+ *                   1..9 (SDL's own mouse emulation of them is ignored)
  *   controller      left stick: yaw, pitch; right stick up / right trigger:
  *                   zoom in, down / left trigger: zoom out; D-pad: pan and
  *                   look buttons; A select, B back, X zoom_out, Y zoom_in,
@@ -26,8 +30,7 @@
  * axis still reaches full deflection. Key repeat is ignored.
  * Buttons share the HAL's long-press logic (psc_hal_button.h).
  *
- * Options: dead_zone (0..30000, default 0), drag_pixels (10..4000, default 160),
- * wheel_ms (10..2000, default 150).
+ * Options: dead_zone (0..30000, default 0).
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -39,6 +42,7 @@
 #include "psc_hal_clock.h"
 #include "psc_hal_event_queue.h"
 #include "sdl_internal.h"
+#include "psc_io_log.h"
 
 #define SDL_INPUT_QUEUE 64u
 #define SDL_INPUT_SLOTS PSC_HAL_INPUT_MAX_DEVICES
@@ -60,23 +64,34 @@ typedef struct {
     psc_hal_clock_t *clock;
     bool sdl_started;
     psc_hal_button_timing_t timing;
-    uint32_t dead_zone, drag_pixels, wheel_ms;
+    uint32_t dead_zone;
+    uint16_t width, height;           /* the frame's size: touch positions come as fractions of it */
     sdl_slot_t slots[SDL_INPUT_SLOTS];
     bool dragging;
-    int32_t drag_x, drag_y;           /* where the left button went down */
-    int32_t wheel;                    /* current wheel zoom: +1, -1 or 0 */
-    uint64_t wheel_until_us;
+    int32_t mouse_x, mouse_y;         /* the pointer, frame pixels */
+    SDL_FingerID fingers[PSC_HAL_POINTER_MAX];   /* contact i's finger (contact 0 is the mouse) */
+    bool finger_down[PSC_HAL_POINTER_MAX];
     psc_hal_event_queue_t queue;
     psc_hal_input_event_t queue_store[SDL_INPUT_QUEUE];
 } sdl_input_t;
 
-static const char *const sdl_input_known_options[] = { "dead_zone", "drag_pixels", "wheel_ms", NULL };
+static const char *const sdl_input_known_options[] = { "dead_zone", NULL };
 
 static void push(sdl_input_t *s, psc_hal_input_type_t type, uint8_t slot, uint16_t code, int32_t value, uint64_t t)
 {
     psc_hal_input_event_t ev = { .type = type, .device = slot, .code = code, .value = value, .time_us = t };
 
     (void)psc_hal_event_queue_push(&s->queue, &ev);   /* a full queue counts the loss itself */
+}
+
+static void push_pointer(sdl_input_t *s, psc_hal_input_type_t type, uint16_t contact, int32_t x, int32_t y,
+                         int32_t value, uint64_t t)
+{
+    psc_hal_input_event_t ev = { .type = type, .device = 0, .code = contact, .value = value, .time_us = t,
+                                 .x = (int16_t)(x < -32768 ? -32768 : x > 32767 ? 32767 : x),
+                                 .y = (int16_t)(y < -32768 ? -32768 : y > 32767 ? 32767 : y) };
+
+    (void)psc_hal_event_queue_push(&s->queue, &ev);
 }
 
 static void push_edges(sdl_input_t *s, uint8_t slot, psc_hal_action_t action, const psc_hal_button_edge_t *e,
@@ -190,12 +205,12 @@ static void controller_added(sdl_input_t *s, int device_index, uint64_t now)
         if (!s->slots[i].used)
             slot = i;
     if (slot == 0) {
-        fprintf(stderr, "sdl input: more than %u game controllers; ignoring another\n", SDL_INPUT_SLOTS - 1u);
+        psc_log(PSC_LOG_WARNING, "sdl input: more than %u game controllers; ignoring another", SDL_INPUT_SLOTS - 1u);
         return;
     }
     gc = SDL_GameControllerOpen(device_index);
     if (gc == NULL) {
-        fprintf(stderr, "sdl input: cannot open game controller %d: %s\n", device_index, SDL_GetError());
+        psc_log(PSC_LOG_WARNING, "sdl input: cannot open game controller %d: %s", device_index, SDL_GetError());
         return;
     }
     memset(&s->slots[slot], 0, sizeof s->slots[slot]);
@@ -238,12 +253,37 @@ static void controller_axis(sdl_input_t *s, uint8_t slot, uint8_t axis, int16_t 
              -dead_zoned(s, sl->stick_zoom) + dead_zoned(s, sl->trigger_in) - dead_zoned(s, sl->trigger_out), now);
 }
 
-static void mouse_drag(sdl_input_t *s, int32_t x, int32_t y, uint64_t now)
+/* A finger's contact number (1..9), a new one for a finger going down; 0 when none is free or known. */
+static uint16_t finger_contact(sdl_input_t *s, SDL_FingerID id, bool down)
 {
-    int64_t dx = x - s->drag_x, dy = y - s->drag_y;
+    for (uint16_t i = 1; i < PSC_HAL_POINTER_MAX; i++)
+        if (s->finger_down[i] && s->fingers[i] == id)
+            return i;
+    if (!down)
+        return 0;
+    for (uint16_t i = 1; i < PSC_HAL_POINTER_MAX; i++)
+        if (!s->finger_down[i]) {
+            s->finger_down[i] = true;
+            s->fingers[i] = id;
+            return i;
+        }
+    return 0;
+}
 
-    set_axis(s, 0, PSC_HAL_AXIS_YAW, (int32_t)(dx * PSC_HAL_AXIS_MAX / (int64_t)s->drag_pixels), now);
-    set_axis(s, 0, PSC_HAL_AXIS_PITCH, (int32_t)(-dy * PSC_HAL_AXIS_MAX / (int64_t)s->drag_pixels), now);
+static void finger_event(sdl_input_t *s, const SDL_TouchFingerEvent *f, uint64_t now)
+{
+    bool down = f->type == SDL_FINGERDOWN;
+    uint16_t c = finger_contact(s, f->fingerId, down);
+    /* SDL gives the window's fraction 0..1: the frame's pixel, rounded down */
+    int32_t x = (int32_t)(f->x * s->width), y = (int32_t)(f->y * s->height);
+
+    if (c == 0)
+        return;
+    push_pointer(s, down ? PSC_HAL_INPUT_POINTER_DOWN : f->type == SDL_FINGERUP ? PSC_HAL_INPUT_POINTER_UP
+                                                                             : PSC_HAL_INPUT_POINTER_MOVE,
+                 c, x, y, 0, now);
+    if (f->type == SDL_FINGERUP)
+        s->finger_down[c] = false;
 }
 
 static void handle_event(sdl_input_t *s, const SDL_Event *e, uint64_t now)
@@ -258,42 +298,53 @@ static void handle_event(sdl_input_t *s, const SDL_Event *e, uint64_t now)
     case SDL_KEYUP:
         if (e->key.repeat)
             break;
-        if (e->key.keysym.sym == SDLK_ESCAPE) {
+        if (e->key.keysym.sym == SDLK_ESCAPE || e->key.keysym.sym == SDLK_q) {
             if (e->type == SDL_KEYDOWN)
                 push(s, PSC_HAL_INPUT_QUIT, 0, 0, 0, now);
+            break;
+        }
+        if (e->key.keysym.sym == SDLK_F11 || e->key.keysym.sym == SDLK_f) {
+            if (e->type == SDL_KEYDOWN)
+                psc_sdl_toggle_fullscreen(e->key.windowID);
             break;
         }
         press(s, 0, key_action(e->key.keysym.sym), e->type == SDL_KEYDOWN, now);
         break;
     case SDL_MOUSEBUTTONDOWN:
-        if (e->button.button == SDL_BUTTON_LEFT) {
+    case SDL_MOUSEBUTTONUP:
+        if (e->button.button != SDL_BUTTON_LEFT || e->button.which == SDL_TOUCH_MOUSEID)
+            break;
+        s->mouse_x = e->button.x;
+        s->mouse_y = e->button.y;
+        if (e->type == SDL_MOUSEBUTTONDOWN && !s->dragging) {
             s->dragging = true;
-            s->drag_x = e->button.x;
-            s->drag_y = e->button.y;
+            push_pointer(s, PSC_HAL_INPUT_POINTER_DOWN, 0, s->mouse_x, s->mouse_y, 0, now);
+        } else if (e->type == SDL_MOUSEBUTTONUP && s->dragging) {
+            s->dragging = false;
+            push_pointer(s, PSC_HAL_INPUT_POINTER_UP, 0, s->mouse_x, s->mouse_y, 0, now);
         }
         break;
     case SDL_MOUSEMOTION:
+        if (e->motion.which == SDL_TOUCH_MOUSEID)
+            break;
+        s->mouse_x = e->motion.x;
+        s->mouse_y = e->motion.y;
         if (s->dragging)
-            mouse_drag(s, e->motion.x, e->motion.y, now);
-        break;
-    case SDL_MOUSEBUTTONUP:
-        if (e->button.button == SDL_BUTTON_LEFT && s->dragging) {
-            s->dragging = false;
-            set_axis(s, 0, PSC_HAL_AXIS_YAW, 0, now);
-            set_axis(s, 0, PSC_HAL_AXIS_PITCH, 0, now);
-        }
+            push_pointer(s, PSC_HAL_INPUT_POINTER_MOVE, 0, s->mouse_x, s->mouse_y, 0, now);
         break;
     case SDL_MOUSEWHEEL: {
         int32_t notches = e->wheel.y;
         if (e->wheel.direction == SDL_MOUSEWHEEL_FLIPPED)
             notches = -notches;
-        if (notches == 0)
-            break;
-        s->wheel = notches > 0 ? 1 : -1;
-        s->wheel_until_us = now + (uint64_t)(notches > 0 ? notches : -notches) * s->wheel_ms * 1000u;
-        set_axis(s, 0, PSC_HAL_AXIS_ZOOM, s->wheel * PSC_HAL_AXIS_MAX, now);
+        if (notches != 0 && e->wheel.which != SDL_TOUCH_MOUSEID)
+            push_pointer(s, PSC_HAL_INPUT_WHEEL, 0, s->mouse_x, s->mouse_y, notches, now);
         break;
     }
+    case SDL_FINGERDOWN:
+    case SDL_FINGERMOTION:
+    case SDL_FINGERUP:
+        finger_event(s, &e->tfinger, now);
+        break;
     case SDL_CONTROLLERDEVICEADDED:
         controller_added(s, e->cdevice.which, now);
         break;
@@ -314,7 +365,7 @@ static void handle_event(sdl_input_t *s, const SDL_Event *e, uint64_t now)
     }
 }
 
-/* Long presses and the end of a wheel zoom, due by now. */
+/* Long presses due by now. */
 static void advance_timers(sdl_input_t *s, uint64_t now)
 {
     for (uint8_t i = 0; i < SDL_INPUT_SLOTS; i++) {
@@ -329,10 +380,6 @@ static void advance_timers(sdl_input_t *s, uint64_t now)
             n = psc_hal_button_advance(&sl->button[a], &s->timing, now, e);
             push_edges(s, i, (psc_hal_action_t)a, e, n);
         }
-    }
-    if (s->wheel != 0 && now >= s->wheel_until_us) {
-        s->wheel = 0;
-        set_axis(s, 0, PSC_HAL_AXIS_ZOOM, 0, s->wheel_until_us);
     }
 }
 
@@ -401,10 +448,10 @@ int psc_sdl_input_open(const psc_hal_input_config_t *cfg, psc_hal_input_t **out,
     s->base.backend = "sdl";
     s->clock = cfg->clock;
     if ((rc = psc_hal_options_check(&cfg->options, sdl_input_known_options, "input", "sdl", err, errlen)) ||
-        (rc = psc_hal_options_get_u32(&cfg->options, "dead_zone", 0, 30000, 0, &s->dead_zone, err, errlen)) ||
-        (rc = psc_hal_options_get_u32(&cfg->options, "drag_pixels", 10, 4000, 160, &s->drag_pixels, err, errlen)) ||
-        (rc = psc_hal_options_get_u32(&cfg->options, "wheel_ms", 10, 2000, 150, &s->wheel_ms, err, errlen)))
+        (rc = psc_hal_options_get_u32(&cfg->options, "dead_zone", 0, 30000, 0, &s->dead_zone, err, errlen)))
         goto fail;
+    s->width = cfg->display_width ? cfg->display_width : 1u;
+    s->height = cfg->display_height ? cfg->display_height : 1u;
     s->timing = (psc_hal_button_timing_t){ 0, (cfg->long_press_ms ? cfg->long_press_ms : 800u) * 1000u };
     psc_hal_event_queue_init(&s->queue, s->queue_store, SDL_INPUT_QUEUE);
     /* the window's keyboard and mouse events need the video subsystem */

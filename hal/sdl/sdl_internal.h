@@ -26,6 +26,9 @@ void psc_sdl_quit(uint32_t flags);
 /** Open inputs of the SDL backend (they pump SDL's event queue; the display need not). */
 extern unsigned psc_sdl_inputs_open;
 
+/** F11: the display's window with this id goes fullscreen (desktop resolution) or back (sdl_display.c). */
+void psc_sdl_toggle_fullscreen(uint32_t window_id);
+
 /** Open the SDL window display (sdl_display.c). */
 int psc_sdl_display_open(const psc_hal_display_config_t *cfg, psc_hal_display_t **out, char *err, size_t errlen);
 

@@ -30,6 +30,16 @@
  *                              keypad, is plugged in at time 0)
  *   plug N / unplug N          device N arrives / leaves (a gamepad
  *                              hot-plug); leaving releases what it held
+ *   tap X Y                    a finger (or click) at display pixel X Y,
+ *                              lifted 50 ms later
+ *   drag TIME X0 Y0 X1 Y1      a finger down at X0 Y0 moved evenly to X1 Y1
+ *                              over TIME (a move every 20 ms), lifted there:
+ *                              a short TIME is a flick; the cursor moves
+ *                              to the lift
+ *   pinch TIME X Y D0 D1       two fingers about X Y, D0 pixels apart
+ *                              across, moved to D1 apart over TIME (D1 > D0
+ *                              zooms in), lifted; the cursor moves on
+ *   wheel N                    the wheel turned N notches (> 0 zooms in)
  *   end                        the tour ends here; without it, it ends with
  *                              its last event
  *
@@ -367,6 +377,83 @@ static int tour_cmd_plug(tour_parser_t *p, bool plug, char **w, unsigned n)
     return tour_add(p, p->cursor_ms, plug ? PSC_HAL_INPUT_DEVICE_ARRIVE : PSC_HAL_INPUT_DEVICE_LEAVE, slot, 0, 0);
 }
 
+static int tour_add_pointer(tour_parser_t *p, uint64_t t_ms, psc_hal_input_type_t type, uint16_t contact, int32_t x,
+                            int32_t y)
+{
+    int rc = tour_add(p, t_ms, type, p->device, contact, 0);
+
+    if (rc == 0) {
+        p->items[p->count - 1u].ev.x = (int16_t)x;
+        p->items[p->count - 1u].ev.y = (int16_t)y;
+    }
+    return rc;
+}
+
+/* A pixel coordinate: a whole number, -32768..32767 (off the display is allowed). */
+static int tour_parse_pixel(tour_parser_t *p, const char *s, int32_t *v)
+{
+    int64_t n;
+
+    if (psc_hal_parse_decimal(s, 0, &n) != 0 || n < -32768 || n > 32767)
+        return tour_fail(p, "expected a pixel coordinate, a whole number from -32768 to 32767, got", s);
+    *v = (int32_t)n;
+    return 0;
+}
+
+/* tap X Y | drag TIME X0 Y0 X1 Y1 | pinch TIME X Y D0 D1 | wheel N */
+static int tour_cmd_pointer(tour_parser_t *p, char **w, unsigned n)
+{
+    int32_t v[5] = { 0, 0, 0, 0, 0 };
+    uint64_t ms = 0, t0 = p->cursor_ms;
+    bool tap = w[0][0] == 't', wheel = w[0][0] == 'w', pinch = w[0][0] == 'p';
+    unsigned want = tap ? 3u : wheel ? 2u : 6u, first = tap || wheel ? 1u : 2u;
+    int rc;
+
+    if (n != want)
+        return tour_fail(p, tap ? "expected 'tap X Y'" : wheel ? "expected 'wheel N'" :
+                            pinch ? "expected 'pinch TIME X Y D0 D1'" : "expected 'drag TIME X0 Y0 X1 Y1'", NULL);
+    if ((rc = tour_need_device(p)) != 0 || (!tap && !wheel && (rc = tour_parse_time(p, w[1], &ms)) != 0))
+        return rc;
+    for (unsigned i = first; i < n; i++)
+        if ((rc = tour_parse_pixel(p, w[i], &v[i - first])) != 0)
+            return rc;
+    if (wheel)
+        return tour_add(p, t0, PSC_HAL_INPUT_WHEEL, p->device, 0, v[0]);
+    if (tap) {
+        if ((rc = tour_add_pointer(p, t0, PSC_HAL_INPUT_POINTER_DOWN, 0, v[0], v[1])) != 0)
+            return rc;
+        return tour_add_pointer(p, t0 + 50u, PSC_HAL_INPUT_POINTER_UP, 0, v[0], v[1]);
+    }
+    if (ms == 0)
+        return tour_fail(p, "a drag or pinch takes some time, got", w[1]);
+    unsigned steps = (unsigned)((ms + 19u) / 20u);
+    for (unsigned k = 0; k <= steps; k++) {
+        uint64_t t = t0 + ms * k / steps;
+        psc_hal_input_type_t type = k == 0 ? PSC_HAL_INPUT_POINTER_DOWN : PSC_HAL_INPUT_POINTER_MOVE;
+        int64_t a = (int64_t)v[pinch ? 2 : 0], b = (int64_t)v[pinch ? 3 : 2];
+        int32_t x = (int32_t)(a + (b - a) * (int64_t)k / (int64_t)steps);
+        if (!pinch) {
+            int32_t y = (int32_t)(v[1] + ((int64_t)v[3] - v[1]) * (int64_t)k / (int64_t)steps);
+            rc = tour_add_pointer(p, t, type, 0, x, y);
+        } else {
+            /* x is the fingers' distance here: half of it each side of the centre */
+            rc = tour_add_pointer(p, t, type, 0, v[0] - x / 2, v[1]);
+            if (rc == 0)
+                rc = tour_add_pointer(p, t, type, 1, v[0] + (x - x / 2), v[1]);
+        }
+        if (rc != 0)
+            return rc;
+    }
+    /* lifted where the last step left them (copies: adding may move the items) */
+    int32_t lx = p->items[p->count - 1u].ev.x, ly = p->items[p->count - 1u].ev.y;
+    int32_t fx = pinch ? p->items[p->count - 2u].ev.x : lx;
+    if ((rc = tour_add_pointer(p, t0 + ms, PSC_HAL_INPUT_POINTER_UP, 0, fx, ly)) != 0)
+        return rc;
+    if (pinch && (rc = tour_add_pointer(p, t0 + ms, PSC_HAL_INPUT_POINTER_UP, 1, lx, ly)) != 0)
+        return rc;
+    return tour_move_cursor(p, t0 + ms);
+}
+
 /* One command, its words already split; w[0] is the command. */
 static int tour_command(tour_parser_t *p, char **w, unsigned n)
 {
@@ -392,6 +479,9 @@ static int tour_command(tour_parser_t *p, char **w, unsigned n)
         return tour_cmd_axis(p, w, n);
     if (strcmp(cmd, "plug") == 0 || strcmp(cmd, "unplug") == 0)
         return tour_cmd_plug(p, cmd[0] == 'p', w, n);
+    if (strcmp(cmd, "tap") == 0 || strcmp(cmd, "drag") == 0 || strcmp(cmd, "pinch") == 0 ||
+        strcmp(cmd, "wheel") == 0)
+        return tour_cmd_pointer(p, w, n);
     if (strcmp(cmd, "device") == 0) {
         if (n != 2)
             return tour_fail(p, "expected 'device N'", NULL);
@@ -412,8 +502,8 @@ static int tour_command(tour_parser_t *p, char **w, unsigned n)
         char *aw[3] = { "axis", w[0], w[1] };
         return tour_cmd_axis(p, aw, 3);
     }
-    return tour_fail(p, "unknown command (at wait press down up hold axis device plug unplug end, "
-                        "or an action or axis name):", cmd);
+    return tour_fail(p, "unknown command (at wait press down up hold axis tap drag pinch wheel device plug unplug "
+                        "end, or an action or axis name):", cmd);
 }
 
 /* Split line (modified in place) into words, stopping at '#'. */

@@ -60,6 +60,7 @@
 #include "psc_hal_input.h"
 #include "psc_usb_desc.h"
 #include "psc_usb_pad.h"
+#include "psc_io_log.h"
 
 #define USB_MAX_PADS 4u                   /* gamepads at once (device slots 0..3) */
 #define USB_XFERS_PER_PAD 2u              /* interrupt transfers in flight per pad */
@@ -140,13 +141,13 @@ static void usb_log(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
  * and departures; this says why a plugged-in device was not used. */
 static void usb_log(const char *fmt, ...)
 {
+    char line[PSC_LOG_LINE_MAX];
     va_list ap;
 
-    fputs("periscope: usb input: ", stderr);
     va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
+    vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
-    fputc('\n', stderr);
+    psc_log(PSC_LOG_NOTICE, "periscope: usb input: %s", line);
 }
 
 static void usb_queue_device_event(usb_input_t *s, usb_pad_t *p, psc_hal_input_type_t type)

@@ -5,12 +5,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "container_write.h"
+#include "psc_io_container_write.h"
 
 #include "psc_io_error.h"
 #include "fisheye_build.h"
 #include "psc_io_file.h"
-#include "le_bytes.h"
+#include "psc_io_le_bytes.h"
 
 #define FISH_PI 3.14159265358979323846
 

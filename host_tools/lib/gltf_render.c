@@ -6,7 +6,7 @@
 #include "psc_io_error.h"
 #include "psc_io_file.h"
 #include "psc_io_load.h"
-#include "angle_conv.h"
+#include "psc_io_angle.h"
 #include "cli_parse.h"
 #include "pose_file.h"
 #include "render_target.h"

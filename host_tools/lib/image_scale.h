@@ -5,7 +5,7 @@
 #ifndef PSC_IMAGE_SCALE_H
 #define PSC_IMAGE_SCALE_H
 
-#include "image_io.h"
+#include "psc_io_image.h"
 
 /**
  * Resize src to w x h with a box filter: each output pixel is the

@@ -10,8 +10,8 @@
 #include "psc_io_file.h"
 #include "psc_io_load.h"
 #include "image_scale.h"
-#include "container_write.h"
-#include "le_bytes.h"
+#include "psc_io_container_write.h"
+#include "psc_io_le_bytes.h"
 #include "base/psc_pixel.h"
 
 #include <errno.h>

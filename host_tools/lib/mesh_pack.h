@@ -10,7 +10,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
-#include "image_io.h"
+#include "psc_io_image.h"
 #include "model.h"
 #include "mesh/psc_mesh.h"
 

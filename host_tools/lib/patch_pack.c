@@ -6,7 +6,7 @@
  * times in milliseconds. Every conversion rounds to nearest.
  */
 #include "patch_build.h"
-#include "container_write.h"
+#include "psc_io_container_write.h"
 #include "psc_io_error.h"
 #include "psc_io_load.h"
 #include "quat.h"

@@ -13,7 +13,7 @@
 #include "text_out.h"
 #include "3d/psc_3d_render.h"
 #include "shadow/psc_shadow_frame.h"
-#include "angle_conv.h"
+#include "psc_io_angle.h"
 
 #include <math.h>
 #include <stdio.h>

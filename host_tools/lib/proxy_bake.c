@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* proxy_bake.c - parts, joints, proxies, animation and the proxy pack (proxy_bake.h). */
 #include "proxy_bake.h"
-#include "container_write.h"
+#include "psc_io_container_write.h"
 #include "psc_io_error.h"
 #include "proxy/psc_proxy.h"
 

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* proxy_render.c - periscope-render's proxy-pack mode (proxy_render.h). */
 #include "proxy_render.h"
-#include "angle_conv.h"
+#include "psc_io_angle.h"
 #include "cli_parse.h"
 #include "depth_pgm.h"
 #include "gltf_load.h"

@@ -3,7 +3,7 @@
 #include "render_view.h"
 #include "cli_parse.h"
 #include "psc_io_cli.h"
-#include "angle_conv.h"
+#include "psc_io_angle.h"
 #include "3d/psc_3d_orbit.h"
 #include "3d/psc_3d_render.h"
 #include "psc_io_error.h"

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* shadow_build.c - the sphere tree, its skin and the two maps of the self-shadowing (shadow_build.h). */
 #include "shadow_build.h"
-#include "container_write.h"
+#include "psc_io_container_write.h"
 #include "note_text.h"
 #include "psc_io_error.h"
 #include "patch/psc_patch_frame.h"

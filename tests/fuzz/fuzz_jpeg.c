@@ -10,7 +10,7 @@
 #include <stdlib.h>
 
 #include "fuzz_support.h"
-#include "image_codecs.h"
+#include "psc_io_image_codecs.h"
 
 #define NAME "fuzz/image.jpg"
 #define MAX_PIXELS ((uint64_t)1 << 22)

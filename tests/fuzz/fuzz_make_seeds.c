@@ -15,7 +15,7 @@
 
 #include <jpeglib.h>
 
-#include "image_io.h"
+#include "psc_io_image.h"
 #include "mesh_pack.h"
 #include "model.h"
 

@@ -5,8 +5,9 @@
 #   - Package, Version (the VERSION file's) and Architecture (the board's
 #     debian_arch); Depends names a package for every shared library the
 #     packaged periscope needs (dpkg-shlibdeps, from multiarch or the sysroot),
-#     and it links no SDL2 when the board's `backends` line leaves sdl out, no
-#     libpng without sim, no libjpeg without v4l2 and never zlib;
+#     and it links no SDL2 when the board's `backends` line leaves sdl out,
+#     libpng and libjpeg always (it packs a JPEG or PNG scene itself) and
+#     never zlib;
 #   - every program in /usr/bin is an ELF of the board's architecture and has
 #     its manual page;
 #   - the conffile is the board's description, naming the packaged sample;
@@ -62,17 +63,11 @@ if [ -n "$HAL_BACKENDS" ]; then
     *" sdl "*) ;;
     *) ! echo "$needed" | grep -q '^libSDL2' || fail "periscope links SDL2, which boards/$board leaves out" ;;
     esac
-    # the device program links nothing of the host tools: libpng comes only
-    # with the sim's PNG captures, libjpeg only with V4L2's MJPEG, zlib never
-    case " $HAL_BACKENDS " in
-    *" sim "*) ;;
-    *) ! echo "$needed" | grep -q '^libpng' || fail "periscope links libpng, which only the sim's captures need" ;;
-    esac
-    case " $HAL_BACKENDS " in
-    *" v4l2 "*) ;;
-    *) ! echo "$needed" | grep -q '^libjpeg' || fail "periscope links libjpeg without the v4l2 backend" ;;
-    esac
 fi
+# the device program links nothing of the host tools; io's image libraries it
+# needs on every board (a JPEG or PNG given as a scene is packed on the device)
+echo "$needed" | grep -q '^libpng' || fail "periscope does not link libpng: it cannot open a PNG scene"
+echo "$needed" | grep -q '^libjpeg' || fail "periscope does not link libjpeg: it cannot open a JPEG scene"
 ! echo "$needed" | grep -q '^libz\.' || fail "periscope links zlib, a host tools' library"
 for so in $needed; do
     case $so in

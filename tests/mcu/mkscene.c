@@ -5,7 +5,7 @@
  *
  *   mkscene IN.{jpg,png} OUT.png WIDTH HEIGHT
  */
-#include "image_io.h"
+#include "psc_io_image.h"
 #include "image_scale.h"
 
 #include <stdio.h>

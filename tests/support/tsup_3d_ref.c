@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "image_io.h"
+#include "psc_io_image.h"
 #include "psc_io_png.h"
 
 typedef struct {

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* tsup_env.c - look-up tables, viewers and output surfaces built in memory for a test. */
 #include "psc_testsupport.h"
-#include "lut_build.h"
+#include "psc_io_lut_build.h"
 
 #include <stdlib.h>
 #include <string.h>

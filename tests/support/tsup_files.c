@@ -96,3 +96,14 @@ int tsup_same_file(const char *a, const char *b)
     free(pb);
     return same;
 }
+
+const char *tsup_thom_scene_line(void)
+{
+    static char line[540];
+    char cwd[512];
+
+    if (access("out/thom.ppk", R_OK) != 0 || getcwd(cwd, sizeof cwd) == NULL)
+        return "";
+    snprintf(line, sizeof line, "scene = %s/out/thom.ppk\n", cwd);
+    return line;
+}

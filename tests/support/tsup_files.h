@@ -40,4 +40,10 @@ int tsup_file_exists(const char *path);
  */
 int tsup_msg_starts_with_path(const char *msg, const char *path);
 
+/**
+ * "scene = /ABS/out/thom.ppk\n" when the character is built (make all out/thom.ppk), else "": an
+ * absolute path, because a board's relative paths are its own folder's and test boards live elsewhere.
+ */
+const char *tsup_thom_scene_line(void);
+
 #endif

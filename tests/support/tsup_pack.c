@@ -3,7 +3,7 @@
 #include <stddef.h>
 #include <stdlib.h>
 
-#include "pack_build.h"
+#include "psc_io_pack_build.h"
 #include "psc_testsupport.h"
 #include "tsup_pack.h"
 #include "psc_io_file.h"

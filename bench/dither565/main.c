@@ -1,0 +1,535 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * dither565 - what display_dither costs on an RGB565 display, and what it buys
+ * (issue 17, item 5), side by side in one run with the frames before it.
+ *
+ *   build/bench/dither565 --out bench/results              the timed table and the banding (`make bench`)
+ *   build/bench/dither565 --callgrind --out bench/results  instructions per frame under callgrind
+ *                                                          (`make bench-callgrind`)
+ *
+ * The bundled sample packed for an 800x480 display twice, as periscope-pack
+ * does: with RGB565 maps (the default) and with XRGB8888 maps. Per frame, one
+ * core, mip, span 4, four views, best of PASSES passes:
+ *   565 pack -> 565          the viewer straight into RGB565: the frames before the key, and what the
+ *                            device still draws for an RGB565 pack (the scene fits RGB565)
+ *   565 pack -> 8888 + dither  what dithering an RGB565 pack would cost (the device does not: it buys nothing)
+ *   8888 pack -> 565         an 8-bit pack with display_dither = none (rounded to nearest)
+ *   8888 pack -> 8888 + dither an 8-bit pack with the default: the viewer into the XRGB8888 draw frame, then
+ *                            psc_dither_row_rgb565; the sky's 8 bits reach the screen
+ *   the pass alone            ordered, and the same pass rounding (none), over a drawn frame
+ * Banding, on a real sky (yaw 200, pitch 50, hfov 90: sky over the whole
+ * frame): each RGB565 frame against the 8-bit frame the 8-bit pack renders,
+ * the error low-passed by a Gaussian of sigma 1.5 px (tests/test_dither.c's
+ * metric): RMS, the largest low-passed luma step between neighbours, the mean.
+ */
+#include "psc_io_file.h"
+#include "psc_io_image.h"
+#include "psc_io_pack_build.h"
+#include "base/psc_pixel.h"
+#include "dither/psc_dither.h"
+#include "pack/psc_pack.h"
+#include "viewer/psc_viewer.h"
+
+#include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define W 800u
+#define H 480u
+#define VIEWS 4u
+#define PASSES 5u
+#define REPEAT 4u
+#define SAMPLE "assets/pannellum-examplepano.jpg"
+
+typedef struct {
+    uint8_t *buf;
+    size_t len;
+    psc_pack_t pack;
+    psc_viewer_t v;
+    void *ws;
+} pack_t;
+
+typedef struct {
+    pack_t p565, p8888;
+    uint16_t *out;   /* the RGB565 back buffer */
+    uint32_t *draw;  /* the XRGB8888 draw frame */
+    psc_dither_565_t t;
+} bench_t;
+
+static const double view_deg[VIEWS][3] = {{0, 0, 90}, {120, 25, 70}, {240, -10, 100}, {200, 50, 90}};
+
+static psc_bam_t bam(double deg)
+{
+    return (psc_bam_t)(int64_t)llround(deg / 360.0 * 4294967296.0);
+}
+
+static psc_view_t view_of(const pack_t *p, unsigned i)
+{
+    psc_view_t v = {.yaw = bam(view_deg[i][0]), .pitch = (int32_t)bam(view_deg[i][1]), .hfov = bam(view_deg[i][2]),
+                    .filter = PSC_FILTER_MIP, .span_log2 = 2};
+    psc_viewer_clamp(&p->v, &v, p->pack.hfov_min);
+    return v;
+}
+
+static int pack_make(const psc_image_t *img, psc_pixfmt_t fmt, pack_t *p)
+{
+    psc_pack_options_t opt;
+    char err[512];
+    psc_pack_options_default(&opt);
+    opt.format = fmt;
+    opt.display_width = W;
+    opt.display_height = H;
+    *p = (pack_t){0};
+    if (psc_pack_build(img, &opt, &p->buf, &p->len, err, sizeof err) != 0) {
+        fprintf(stderr, "dither565 bench: psc_pack_build: %s\n", err);
+        return -1;
+    }
+    psc_container_error_t perr = {0};
+    size_t ws_size;
+    if (psc_pack_parse(p->buf, p->len, &p->pack, &perr) != PSC_OK ||
+        (ws_size = psc_viewer_workspace_size(W, H, &p->pack.map)) == 0 || posix_memalign(&p->ws, 64, ws_size) != 0 ||
+        psc_viewer_init(&p->v, &p->pack.map, p->pack.luts, p->pack.lut_count, W, H, p->ws, ws_size) != PSC_OK ||
+        psc_viewer_set_levels(&p->v, p->pack.levels, p->pack.level_count) != PSC_OK) {
+        fprintf(stderr, "dither565 bench: the pack does not open\n");
+        return -1;
+    }
+    return 0;
+}
+
+static int setup(bench_t *b)
+{
+    psc_image_t img;
+    char err[512];
+    memset(b, 0, sizeof *b);
+    if (psc_image_load(SAMPLE, &img, err, sizeof err) != 0) {
+        fprintf(stderr, "dither565 bench: %s (run from the repository root)\n", err);
+        return -1;
+    }
+    int rc = pack_make(&img, PSC_PIX_RGB565, &b->p565) | pack_make(&img, PSC_PIX_XRGB8888, &b->p8888);
+    free(img.xrgb);
+    if (rc != 0 || posix_memalign((void **)&b->out, 64, W * H * 2) != 0 ||
+        posix_memalign((void **)&b->draw, 64, W * H * 4) != 0)
+        return -1;
+    psc_dither_565_init(&b->t);
+    return 0;
+}
+
+static void teardown(bench_t *b)
+{
+    pack_t *p[2] = {&b->p565, &b->p8888};
+    for (unsigned i = 0; i < 2; i++) {
+        free(p[i]->buf);
+        free(p[i]->ws);
+    }
+    free(b->out);
+    free(b->draw);
+}
+
+/* ---- the paths, one frame each (noinline: callgrind toggles on them) ---- */
+
+__attribute__((noinline)) static void pass_dither(bench_t *b, psc_dither_method_t m)
+{
+    for (unsigned y = 0; y < H; y++)
+        psc_dither_row_rgb565(&b->t, m, b->draw + y * W, W, 0, y, b->out + y * W);
+}
+
+__attribute__((noinline)) static void frame_direct(bench_t *b, pack_t *p, unsigned i)
+{
+    psc_view_t v = view_of(p, i);
+    psc_surface_t s = {W, H, W * 2, PSC_PIX_RGB565, b->out};
+    psc_viewer_render(&p->v, &v, &s);
+}
+
+__attribute__((noinline)) static void frame_dithered(bench_t *b, pack_t *p, unsigned i)
+{
+    psc_view_t v = view_of(p, i);
+    psc_surface_t s = {W, H, W * 4, PSC_PIX_XRGB8888, b->draw};
+    psc_viewer_render(&p->v, &v, &s);
+    pass_dither(b, PSC_DITHER_ORDERED);
+}
+
+__attribute__((noinline)) static void pass_ordered(bench_t *b)
+{
+    pass_dither(b, PSC_DITHER_ORDERED);
+}
+
+__attribute__((noinline)) static void pass_none(bench_t *b)
+{
+    pass_dither(b, PSC_DITHER_NONE);
+}
+
+/* ---- banding (tests/test_dither.c's metric) ---- */
+
+#define SIGMA 1.5
+#define KR 5
+
+static void gauss_blur(double *p, double *tmp)
+{
+    double k[2 * KR + 1], sum = 0.0;
+    for (int i = -KR; i <= KR; i++)
+        sum += k[i + KR] = exp(-(double)(i * i) / (2.0 * SIGMA * SIGMA));
+    for (int i = 0; i <= 2 * KR; i++)
+        k[i] /= sum;
+    for (int y = 0; y < (int)H; y++)
+        for (int x = 0; x < (int)W; x++) {
+            double a = 0.0;
+            for (int i = -KR; i <= KR; i++) {
+                int xx = x + i < 0 ? 0 : x + i >= (int)W ? (int)W - 1 : x + i;
+                a += k[i + KR] * p[y * (int)W + xx];
+            }
+            tmp[y * (int)W + x] = a;
+        }
+    for (int y = 0; y < (int)H; y++)
+        for (int x = 0; x < (int)W; x++) {
+            double a = 0.0;
+            for (int i = -KR; i <= KR; i++) {
+                int yy = y + i < 0 ? 0 : y + i >= (int)H ? (int)H - 1 : y + i;
+                a += k[i + KR] * tmp[yy * (int)W + x];
+            }
+            p[y * (int)W + x] = a;
+        }
+}
+
+typedef struct {
+    double rms, step, estep, bias[3];
+} banding_t;
+
+static banding_t banding(const uint32_t *pic, const uint16_t *shown)
+{
+    double *err[3], *luma = malloc(W * H * sizeof(double)), *tmp = malloc(W * H * sizeof(double));
+    banding_t b = {0.0, 0.0, 0.0, {0.0, 0.0, 0.0}};
+    for (unsigned c = 0; c < 3; c++)
+        err[c] = malloc(W * H * sizeof(double));
+    if (!luma || !tmp || !err[0] || !err[1] || !err[2]) {
+        fprintf(stderr, "dither565 bench: out of memory\n");
+        exit(1);
+    }
+    for (unsigned i = 0; i < W * H; i++) {
+        uint32_t s = psc_rgb565_to_xrgb(shown[i]);
+        luma[i] = 0.0;
+        for (unsigned c = 0; c < 3; c++) {
+            double e = (double)((s >> (16u - 8u * c)) & 255u);
+            err[c][i] = e - (double)((pic[i] >> (16u - 8u * c)) & 255u);
+            luma[i] += (c == 0 ? 0.299 : c == 1 ? 0.587 : 0.114) * e;
+            b.bias[c] += err[c][i] / (double)(W * H);
+        }
+    }
+    for (unsigned c = 0; c < 3; c++)
+        gauss_blur(err[c], tmp);
+    gauss_blur(luma, tmp);
+    double sq = 0.0;
+    unsigned n = 0;
+    for (unsigned y = KR; y < H - KR; y++)
+        for (unsigned x = KR; x < W - KR; x++) {
+            unsigned i = y * W + x;
+            for (unsigned c = 0; c < 3; c++)
+                sq += err[c][i] * err[c][i];
+            n += 3;
+            double dx = fabs(luma[i + 1] - luma[i]), dy = fabs(luma[i + W] - luma[i]);
+            b.step = dx > b.step ? dx : b.step;
+            b.step = dy > b.step ? dy : b.step;
+            double l0 = 0.0, l1 = 0.0, l2 = 0.0;
+            for (unsigned c = 0; c < 3; c++) {
+                double wt = c == 0 ? 0.299 : c == 1 ? 0.587 : 0.114;
+                l0 += wt * err[c][i];
+                l1 += wt * err[c][i + 1];
+                l2 += wt * err[c][i + W];
+            }
+            b.estep = fabs(l1 - l0) > b.estep ? fabs(l1 - l0) : b.estep;
+            b.estep = fabs(l2 - l0) > b.estep ? fabs(l2 - l0) : b.estep;
+        }
+    b.rms = sqrt(sq / (double)n);
+    for (unsigned c = 0; c < 3; c++)
+        free(err[c]);
+    free(luma);
+    free(tmp);
+    return b;
+}
+
+/* The largest jump of the low-passed luma of the 8-bit picture itself. */
+static double own_step(const uint32_t *pic)
+{
+    double *luma = malloc(W * H * sizeof(double)), *tmp = malloc(W * H * sizeof(double)), step = 0.0;
+    if (!luma || !tmp) {
+        fprintf(stderr, "dither565 bench: out of memory\n");
+        exit(1);
+    }
+    for (unsigned i = 0; i < W * H; i++)
+        luma[i] = 0.299 * ((pic[i] >> 16) & 255u) + 0.587 * ((pic[i] >> 8) & 255u) + 0.114 * (pic[i] & 255u);
+    gauss_blur(luma, tmp);
+    for (unsigned y = KR; y < H - KR; y++)
+        for (unsigned x = KR; x < W - KR; x++) {
+            unsigned i = y * W + x;
+            double dx = fabs(luma[i + 1] - luma[i]), dy = fabs(luma[i + W] - luma[i]);
+            step = dx > step ? dx : step;
+            step = dy > step ? dy : step;
+        }
+    free(luma);
+    free(tmp);
+    return step;
+}
+
+static void run_banding(bench_t *b, FILE *j)
+{
+    unsigned sky = VIEWS - 1u;
+    uint32_t *ref = malloc(W * H * 4);
+    uint16_t *shown[4];
+    static const char *const name[4] = {"565 pack -> 565 (before)", "565 pack -> dither",
+                                        "8888 pack -> 565", "8888 pack -> dither"};
+    if (!ref) {
+        fprintf(stderr, "dither565 bench: out of memory\n");
+        exit(1);
+    }
+    frame_dithered(b, &b->p8888, sky);
+    memcpy(ref, b->draw, W * H * 4);
+    for (unsigned k = 0; k < 4; k++) {
+        pack_t *p = k < 2 ? &b->p565 : &b->p8888;
+        if (k & 1u)
+            frame_dithered(b, p, sky);
+        else
+            frame_direct(b, p, sky);
+        shown[k] = malloc(W * H * 2);
+        if (!shown[k]) {
+            fprintf(stderr, "dither565 bench: out of memory\n");
+            exit(1);
+        }
+        memcpy(shown[k], b->out, W * H * 2);
+    }
+    printf("\nBanding on the sample's sky (yaw 200, pitch 50, hfov 90, %ux%u, mip): each RGB565 frame against the\n"
+           "8-bit frame of the XRGB8888 pack, error low-passed by a Gaussian of sigma %.1f px (8-bit units)\n"
+           "(max step: of the low-passed luma, the picture's own %.3f; error step: of the low-passed luma error)\n"
+           "%-28s %8s %9s %11s %22s\n", W, H, SIGMA, own_step(ref), "path", "RMS", "max step", "error step",
+           "mean error R/G/B");
+    fprintf(j, "  \"banding\": {\n");
+    for (unsigned k = 0; k < 4; k++) {
+        banding_t r = banding(ref, shown[k]);
+        printf("%-28s %8.3f %9.3f %11.3f %+7.3f %+7.3f %+7.3f\n", name[k], r.rms, r.step, r.estep, r.bias[0],
+               r.bias[1], r.bias[2]);
+        fprintf(j, "    \"%s\": {\"rms\": %.4f, \"max_step\": %.4f, \"error_step\": %.4f, \"bias\": [%.4f, %.4f, %.4f]}%s\n",
+                name[k], r.rms, r.step, r.estep, r.bias[0], r.bias[1], r.bias[2], k + 1u < 4u ? "," : "");
+        free(shown[k]);
+    }
+    fprintf(j, "  }\n");
+    free(ref);
+}
+
+/* ---- the timed table ---- */
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* best of PASSES passes of REPEAT rounds of the four views: ms per frame */
+static double time_path(bench_t *b, unsigned path)
+{
+    double best = 1e30;
+    for (unsigned pass = 0; pass < PASSES; pass++) {
+        double t0 = now_s();
+        for (unsigned r = 0; r < REPEAT; r++)
+            for (unsigned i = 0; i < VIEWS; i++)
+                switch (path) {
+                case 0: frame_direct(b, &b->p565, i); break;
+                case 1: frame_dithered(b, &b->p565, i); break;
+                case 2: frame_direct(b, &b->p8888, i); break;
+                case 3: frame_dithered(b, &b->p8888, i); break;
+                case 4: pass_ordered(b); break;
+                default: pass_none(b); break;
+                }
+        double t = (now_s() - t0) / (REPEAT * VIEWS);
+        best = t < best ? t : best;
+    }
+    return best * 1e3;
+}
+
+static const char *const path_name[6] = {"565 pack -> 565 (none)", "565 pack -> 8888 + dither",
+                                         "8888 pack -> 565 (none)", "8888 pack -> 8888 + dither",
+                                         "the pass alone, ordered", "the pass alone, none"};
+
+static int run_table(const char *out_dir)
+{
+    bench_t b;
+    if (setup(&b) != 0)
+        return 1;
+    char path[512];
+    snprintf(path, sizeof path, "%s/dither565.json", out_dir);
+    FILE *j = fopen(path, "w");
+    if (!j) {
+        fprintf(stderr, "dither565 bench: cannot write %s\n", path);
+        return 1;
+    }
+    printf("RGB565 output at %ux%u, one core, mip span 4, four views, best of %u: ms per frame (ns per pixel)\n", W, H,
+           PASSES);
+    fprintf(j, "{\n  \"benchmark\": \"dither565\",\n  \"width\": %u, \"height\": %u,\n  \"ms_per_frame\": {\n", W, H);
+    double base = 0.0;
+    for (unsigned k = 0; k < 6; k++) {
+        double ms = time_path(&b, k);
+        if (k == 0)
+            base = ms;
+        printf("%-30s %8.3f ms (%5.2f ns/pixel)  x%.2f\n", path_name[k], ms, ms * 1e6 / (W * H), ms / base);
+        fprintf(j, "    \"%s\": %.4f%s\n", path_name[k], ms, k < 5 ? "," : "");
+    }
+    fprintf(j, "  },\n");
+    size_t map565 = (size_t)b.p565.pack.map.stride * b.p565.pack.map.height;
+    size_t map8888 = (size_t)b.p8888.pack.map.stride * b.p8888.pack.map.height;
+    printf("\nMemory: the draw frame %u KiB (%ux%u XRGB8888; none with display_dither = none), the tables %zu bytes;\n"
+           "packs %zu KiB (RGB565 maps, map %zu KiB) and %zu KiB (XRGB8888 maps, map %zu KiB), pyramids included\n",
+           W * H * 4u / 1024u, W, H, sizeof b.t, b.p565.len / 1024u, map565 / 1024u, b.p8888.len / 1024u,
+           map8888 / 1024u);
+    fprintf(j, "  \"bytes\": {\"draw_frame\": %u, \"tables\": %zu, \"pack_rgb565\": %zu, \"pack_xrgb8888\": %zu},\n",
+            W * H * 4u, sizeof b.t, b.p565.len, b.p8888.len);
+    run_banding(&b, j);
+    fprintf(j, "}\n");
+    fclose(j);
+    teardown(&b);
+    return 0;
+}
+
+/* ---- callgrind ---- */
+
+__attribute__((noinline)) static void cg_direct565(bench_t *b)
+{
+    for (unsigned i = 0; i < VIEWS; i++)
+        frame_direct(b, &b->p565, i);
+}
+
+__attribute__((noinline)) static void cg_dither565(bench_t *b)
+{
+    for (unsigned i = 0; i < VIEWS; i++)
+        frame_dithered(b, &b->p565, i);
+}
+
+__attribute__((noinline)) static void cg_direct8888(bench_t *b)
+{
+    for (unsigned i = 0; i < VIEWS; i++)
+        frame_direct(b, &b->p8888, i);
+}
+
+__attribute__((noinline)) static void cg_dither8888(bench_t *b)
+{
+    for (unsigned i = 0; i < VIEWS; i++)
+        frame_dithered(b, &b->p8888, i);
+}
+
+__attribute__((noinline)) static void cg_pass_ordered(bench_t *b)
+{
+    for (unsigned i = 0; i < VIEWS; i++)
+        pass_ordered(b);
+}
+
+__attribute__((noinline)) static void cg_pass_none(bench_t *b)
+{
+    for (unsigned i = 0; i < VIEWS; i++)
+        pass_none(b);
+}
+
+static int cg_child(void)
+{
+    bench_t b;
+    if (setup(&b) != 0)
+        return 1;
+    /* the first frame of each pack warms nothing callgrind counts; every path draws the same four views */
+    cg_direct565(&b);
+    cg_dither565(&b);
+    cg_direct8888(&b);
+    cg_dither8888(&b);
+    cg_pass_ordered(&b);
+    cg_pass_none(&b);
+    teardown(&b);
+    return 0;
+}
+
+/* instructions under callgrind, toggled on fn; -1 on failure */
+static double callgrind_count(const char *self, const char *fn)
+{
+    char dir[] = "/tmp/periscope-dithercg-XXXXXX";
+    if (!mkdtemp(dir))
+        return -1;
+    char cmd[8192], out[128], line[256];
+    snprintf(out, sizeof out, "%s/cg.out", dir);
+    snprintf(cmd, sizeof cmd,
+             "valgrind --tool=callgrind --quiet --collect-atstart=no --toggle-collect=%s "
+             "--callgrind-out-file=%s '%s' --callgrind-child >/dev/null",
+             fn, out, self);
+    if (system(cmd) != 0)
+        return -1;
+    FILE *f = fopen(out, "r");
+    double ir = -1;
+    while (f && fgets(line, sizeof line, f)) {
+        double v;
+        if (sscanf(line, "totals: %lf", &v) == 1 || sscanf(line, "summary: %lf", &v) == 1)
+            ir = v;
+    }
+    if (f)
+        fclose(f);
+    remove(out);
+    rmdir(dir);
+    return ir;
+}
+
+static int run_callgrind(const char *self, const char *out_dir)
+{
+    if (system("valgrind --version >/dev/null 2>&1") != 0) {
+        fprintf(stderr, "dither565 bench: valgrind is not installed; run `make bench-callgrind`, which installs it\n");
+        return 1;
+    }
+    static const char *const fns[] = {"cg_direct565", "cg_dither565", "cg_direct8888", "cg_dither8888", "cg_pass_ordered",
+                                      "cg_pass_none"};
+    static const char *const names[] = {"565 pack -> 565 (none)", "565 pack -> 8888 + dither",
+                                        "8888 pack -> 565 (none)", "8888 pack -> 8888 + dither",
+                                        "the pass alone, ordered", "the pass alone, none"};
+    double ir[6];
+    for (unsigned i = 0; i < 6; i++)
+        if ((ir[i] = callgrind_count(self, fns[i])) <= 0) {
+            fprintf(stderr, "dither565 bench: the callgrind run (%s) failed\n", fns[i]);
+            return 1;
+        }
+    printf("RGB565 output under callgrind at %ux%u, mip span 4, the same %u views: instructions per frame\n", W, H,
+           VIEWS);
+    char path[512];
+    snprintf(path, sizeof path, "%s/dither565-callgrind.json", out_dir);
+    FILE *j = fopen(path, "w");
+    if (j)
+        fprintf(j, "{\n  \"benchmark\": \"dither565-callgrind\",\n  \"per_frame\": {\n");
+    for (unsigned i = 0; i < 6; i++) {
+        double per = ir[i] / VIEWS;
+        printf("%-30s %12.0f (%5.2f a pixel)  x%.2f\n", names[i], per, per / (W * H), per / (ir[0] / VIEWS));
+        if (j)
+            fprintf(j, "    \"%s\": %.0f%s\n", names[i], per, i < 5 ? "," : "");
+    }
+    if (j) {
+        fprintf(j, "  }\n}\n");
+        fclose(j);
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    const char *out = "bench/results";
+    bool callgrind = false;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--callgrind-child") == 0)
+            return cg_child();
+        if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
+            out = argv[++i];
+        } else if (strcmp(argv[i], "--callgrind") == 0) {
+            callgrind = true;
+        } else {
+            fprintf(stderr, "usage: build/bench/dither565 [--out DIR] [--callgrind]\n");
+            return 2;
+        }
+    }
+    char self[4096];
+    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (n <= 0)
+        return 1;
+    self[n] = '\0';
+    return callgrind ? run_callgrind(self, out) : run_table(out);
+}
