@@ -445,7 +445,7 @@ static int board_parse_scene_key(board_parser_t *p, const char *rest, const char
         return board_set_string(p, cfg->scenes[cfg->scene_count++], PSC_BOARD_PATH_MAX, "scene", value);
     }
     if (i < 0)
-        return board_fail(p, "%s: no scene '%s' declared above (scene.%s = FILE comes first)", dot + 1, id);
+        return board_fail(p, "no scene '%s' declared above (scene.%s = FILE comes first)", id, id);
     if (strcmp(dot + 1, "title") == 0) {
         if (strlen(value) >= PSC_BOARD_TITLE_MAX)
             return board_fail(p, "scene.%s.title is longer than %s characters", id, "63");
