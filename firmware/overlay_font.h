@@ -4,8 +4,9 @@
  * the device shows on top of the picture ("CAMERA LOST"), so a kiosk can say
  * what is wrong without a font library, floating point or allocation.
  *
- * Glyphs: A-Z, 0-9, space and - : . / ! ? (lower case is drawn as upper
- * case; anything else as '?'). A glyph cell is 6x8 pixels (one column and one
+ * Glyphs: A-Z, 0-9, space and - : . / ! ? , ' & ( ) (hotspot labels need
+ * the last five; lower case is drawn as upper case, like signage; anything
+ * else as '?'). A glyph cell is 6x8 pixels (one column and one
  * row of spacing) times an integer scale. Colours are 0xRRGGBB, stored in
  * the surface's format (RGB565 rounded to nearest, as everywhere).
  */

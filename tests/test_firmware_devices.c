@@ -160,7 +160,7 @@ static void test_device_status_drawing(void **state)
 
 static void test_font(void **state)
 {
-    const char *all = "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789 -:./!?";
+    const char *all = "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789 -:./!?,'&()";
     (void)state;
 
     /* every glyph distinct, lower case drawn as upper, unknown as '?' */
