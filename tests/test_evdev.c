@@ -170,6 +170,7 @@ static void caps_pad(psc_evdev_caps_t *c)
                                      BTN_START, BTN_MODE, BTN_THUMBL, BTN_THUMBR };
     memset(c, 0, sizeof *c);
     snprintf(c->name, sizeof c->name, "Microsoft X-Box 360 pad");
+    c->bustype = BUS_USB;
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
         psc_evdev_caps_key(c, keys[i]);
     psc_evdev_caps_abs(c, ABS_X, -32768, 32767);
@@ -209,8 +210,18 @@ static void test_classify(void **state)
     assert_int_equal(psc_evdev_classify(&c, &map), PSC_EVDEV_MOUSE);
     caps_pad(&c);
     assert_int_equal(psc_evdev_classify(&c, &map), PSC_EVDEV_GAMEPAD);
-    /* a plain joystick */
+    /* the same pad over Bluetooth: also a wireless one, which kiosks take beside the usb backend */
+    c.bustype = BUS_BLUETOOTH;
+    assert_int_equal(psc_evdev_classify(&c, &map), PSC_EVDEV_GAMEPAD | PSC_EVDEV_WIRELESS_GAMEPAD);
+    unsigned kiosk;
+    assert_int_equal(psc_evdev_parse_kinds("touch,keyboard,mouse,wireless_gamepad", &kiosk, "b:1", "devices", text,
+                                           sizeof text), 0);
+    assert_int_equal(psc_evdev_taken_kinds(PSC_EVDEV_GAMEPAD | PSC_EVDEV_WIRELESS_GAMEPAD, kiosk), PSC_EVDEV_GAMEPAD);
+    assert_int_equal(psc_evdev_taken_kinds(PSC_EVDEV_GAMEPAD, kiosk), 0);   /* a USB pad: the usb backend's */
+    c.bustype = BUS_USB;
+    /* a plain (USB) joystick */
     memset(&c, 0, sizeof c);
+    c.bustype = BUS_USB;
     psc_evdev_caps_key(&c, BTN_TRIGGER);
     psc_evdev_caps_abs(&c, ABS_X, 0, 1023);
     psc_evdev_caps_abs(&c, ABS_Y, 0, 1023);

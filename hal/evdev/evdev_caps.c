@@ -68,7 +68,7 @@ unsigned psc_evdev_classify(const psc_evdev_caps_t *c, const psc_evdev_map_t *m)
         kinds |= PSC_EVDEV_MOUSE;
     if (!mt && !st && caps_has_abs(c, ABS_X) &&
         (caps_has_key(c, BTN_SOUTH) || caps_has_key(c, BTN_TRIGGER)))
-        kinds |= PSC_EVDEV_GAMEPAD;
+        kinds |= PSC_EVDEV_GAMEPAD | (c->bustype != BUS_USB ? PSC_EVDEV_WIRELESS_GAMEPAD : 0u);
     if (psc_evdev_bit(c->ev, EV_KEY)) {
         for (unsigned code = 1; code < KEY_CNT; code++) {
             if (m->action[code] != 0 && psc_evdev_key_kind(code) == PSC_EVDEV_KEYBOARD && psc_evdev_bit(c->key, code)) {
@@ -89,6 +89,7 @@ static const struct {
     { "keyboard", PSC_EVDEV_KEYBOARD, "keyboard" },
     { "mouse", PSC_EVDEV_MOUSE, "mouse" },
     { "gamepad", PSC_EVDEV_GAMEPAD, "gamepad" },
+    { "wireless_gamepad", PSC_EVDEV_WIRELESS_GAMEPAD, "gamepad not on USB" },
 };
 
 int psc_evdev_parse_kinds(const char *list, unsigned *kinds, const char *origin, const char *board_key, char *err,
@@ -115,7 +116,7 @@ int psc_evdev_parse_kinds(const char *list, unsigned *kinds, const char *origin,
                 break;
         if (k == sizeof kind_names / sizeof kind_names[0]) {
             psc_hal_error_set(err, errlen, "%s: %s: '%.*s' is not a kind of device (touch, keyboard, mouse, gamepad, "
-                              "separated by commas)", origin, board_key, (int)(n > 40 ? 40 : n), start);
+                              "wireless_gamepad, separated by commas)", origin, board_key, (int)(n > 40 ? 40 : n), start);
             return -EINVAL;
         }
         *kinds |= kind_names[k].kind;

@@ -148,6 +148,9 @@ static int evdev_read_caps(int fd, psc_evdev_caps_t *c)
         return -errno;
     if (ioctl(fd, EVIOCGNAME(sizeof c->name - 1), c->name) < 0)
         snprintf(c->name, sizeof c->name, "unnamed input device");
+    struct input_id id;
+    if (ioctl(fd, EVIOCGID, &id) == 0)
+        c->bustype = id.bustype;
     (void)ioctl(fd, EVIOCGBIT(EV_KEY, sizeof c->key), c->key);
     (void)ioctl(fd, EVIOCGBIT(EV_REL, sizeof c->rel), c->rel);
     (void)ioctl(fd, EVIOCGBIT(EV_ABS, sizeof c->abs), c->abs);
@@ -285,8 +288,8 @@ static void evdev_probe(evdev_input_t *s, const char *node)
     free_slot->rdev = st.st_rdev;
     free_slot->syncing = false;
     snprintf(free_slot->node, sizeof free_slot->node, "%s", node);
-    psc_evdev_dev_init(&free_slot->tr, &s->shared, caps, kinds & s->kinds, (uint8_t)(free_slot - s->slots),
-                       s->now_us);
+    psc_evdev_dev_init(&free_slot->tr, &s->shared, caps, psc_evdev_taken_kinds(kinds, s->kinds),
+                       (uint8_t)(free_slot - s->slots), s->now_us);
     evdev_push_device(s, (uint8_t)(free_slot - s->slots), PSC_HAL_INPUT_DEVICE_ARRIVE);
 }
 

@@ -41,7 +41,10 @@
 #define PSC_EVDEV_KEYBOARD 0x2u   /* keys the key map maps (a keyboard, a keypad, a remote) */
 #define PSC_EVDEV_MOUSE 0x4u      /* REL_X, REL_Y and BTN_LEFT */
 #define PSC_EVDEV_GAMEPAD 0x8u    /* BTN_SOUTH or BTN_TRIGGER, with ABS_X */
-#define PSC_EVDEV_ALL_KINDS 0xFu
+/* a gamepad on a bus other than USB (Bluetooth, a console's own port): the kiosks' usb backend
+ * takes USB pads from the kernel, so "wireless_gamepad" lets evdev have just the others */
+#define PSC_EVDEV_WIRELESS_GAMEPAD 0x10u
+#define PSC_EVDEV_ALL_KINDS 0x1Fu
 
 #define PSC_EVDEV_BITS(n) (((n) + 7u) / 8u)
 #define PSC_EVDEV_NAME_MAX 128u
@@ -49,6 +52,7 @@
 /** What a device can report, as the kernel tells it (EVIOCGBIT, EVIOCGABS, EVIOCGPROP). */
 typedef struct {
     char name[PSC_EVDEV_NAME_MAX];
+    uint16_t bustype;              /* BUS_USB, BUS_BLUETOOTH, ... (EVIOCGID); 0 unknown */
     uint8_t ev[PSC_EVDEV_BITS(EV_CNT)];
     uint8_t key[PSC_EVDEV_BITS(KEY_CNT)];
     uint8_t abs[PSC_EVDEV_BITS(ABS_CNT)];
@@ -100,6 +104,14 @@ unsigned psc_evdev_key_kind(unsigned code);
 
 /** The kinds (PSC_EVDEV_*) the device is, with map deciding what counts as a keyboard. */
 unsigned psc_evdev_classify(const psc_evdev_caps_t *c, const psc_evdev_map_t *m);
+
+/** What of a device of kinds is translated for a board taking board_kinds (a wireless pad taken is a pad). */
+static inline unsigned psc_evdev_taken_kinds(unsigned kinds, unsigned board_kinds)
+{
+    unsigned taken = kinds & board_kinds;
+
+    return taken & PSC_EVDEV_WIRELESS_GAMEPAD ? (taken | PSC_EVDEV_GAMEPAD) & ~PSC_EVDEV_WIRELESS_GAMEPAD : taken;
+}
 
 /** "touch,keyboard" -> kinds; 0 and err for an unknown word. */
 int psc_evdev_parse_kinds(const char *list, unsigned *kinds, const char *origin, const char *board_key, char *err,
