@@ -72,7 +72,15 @@ static const char soak_visit[] =
     "wait 0.5s\n"
     "unplug 1\n"
     "device 0\n"
-    "wait 14s\n";
+    "drag 300ms 60 60 200 80\n"  /* a flick: the view coasts */
+    "wait 1s\n"
+    "pinch 300ms 160 120 40 100\n"
+    "wheel -2\n"
+    "wait 1s\n"
+    "press back\n"           /* back through the scenes left, each a cross-fade */
+    "wait 1s\n"
+    "press back\n"
+    "wait 10.4s\n";
 
 /* The soak's board: two panoramas with hotspots between them (and Thom when out/thom.ppk is built). */
 static void soak_board(uint32_t frames)
@@ -107,7 +115,7 @@ static void soak_board(uint32_t frames)
              "input = sim\ntour = %s\nclock = sim\nwatchdog = sim\nwatchdog_timeout_ms = 2000\n"
              "frames_every = 0\nscene = %s\nscene = %s\n%s"
              "attract_idle_s = 5\nattract_rate = 10\n"
-             "hotspot = 0 0 0 15 -> 1 180 0 90\nhotspot = 1 0 -5 20 -> 0 90 0 75\n"
+             "hotspot = 0 0 0 15 -> 1 180 0 90\nhotspot = 1 0 -5 20 -> 0 90 0 75\nscene_fade_ms = 300\n"
              "quality = adaptive\nquality_fast_speed = 0.6\n",
              SOAK_W, SOAK_H, tour, pack0, pack1, tsup_thom_scene_line());
     snprintf(path, sizeof path, "%s/soak/board.conf", root);
