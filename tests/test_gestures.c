@@ -90,7 +90,7 @@ static void test_unproject_matches_double(void **state)
                      TO_DEG(v.pitch), (double)v.hfov * 360 / 4294967296.0, x, y, TO_DEG(yaw), TO_DEG(pitch),
                      ry * 180 / M_PI, rp * 180 / M_PI);
     }
-    printf("  unproject: worst %.5f degrees over 20000 cases\n", worst);
+    printf("  unproject: worst %.2g degrees over 20000 cases\n", worst);
 }
 
 /* The grab solve puts the grabbed direction back under the new pixel (the inverse of unproject). */
@@ -122,7 +122,7 @@ static void test_grab_keeps_direction_under_pixel(void **state)
             fail_msg("case %d: grabbed %.4f %.4f, under the pixel after %.4f %.4f", i, TO_DEG(yaw), TO_DEG(pitch),
                      TO_DEG(yaw1), TO_DEG(pitch1));
     }
-    printf("  grab: %u of 20000 solvable, worst %.5f degrees\n", exact, worst);
+    printf("  grab: %u of 20000 solvable, worst %.2g degrees\n", exact, worst);
     assert_true(exact > 15000);
 }
 
