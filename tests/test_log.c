@@ -20,6 +20,8 @@
 #include <unistd.h>
 
 #include "psc_io_log.h"
+#include "tsup_files.h"
+#include "tsup_pack.h"
 
 static char tmp_path[512];
 
@@ -136,13 +138,25 @@ static void test_device_program_lines(void **state)
     (void)state;
     const char *bin = getenv("PSC_BIN_DIR");
     const char *dir = getenv("PSC_TEST_TMPDIR");
-    char prog[600], out[600], scene[600];
+    char prog[600], root[400], board[500], out[600], scene[600], pack[600], conf[1024], err[300];
 
     snprintf(prog, sizeof prog, "%s/periscope", bin && *bin ? bin : "build/bin");
-    if (access(prog, X_OK) != 0 || access("boards/sim/board.conf", R_OK) != 0 || access("out/sample.pano", R_OK) != 0)
-        skip();
-    snprintf(out, sizeof out, "%s/test_log_fw_%ld.txt", dir && *dir ? dir : "/tmp", (long)getpid());
-    snprintf(scene, sizeof scene, "%s/test_log_nope_%ld.pano", dir && *dir ? dir : "/tmp", (long)getpid());
+    assert_int_equal(access(prog, X_OK), 0);
+    snprintf(root, sizeof root, "%s/test_log_%ld", dir && *dir ? dir : "/tmp", (long)getpid());
+    snprintf(board, sizeof board, "%s/b", root);
+    mkdir(root, 0755);
+    mkdir(board, 0755);
+    snprintf(pack, sizeof pack, "%s/tiny.pano", root);
+    if (tsup_write_synth_pack(pack, 256, 128, 96, 64, 32, 24, err, sizeof err) != 0)
+        fail_msg("pack: %s", err);
+    snprintf(conf, sizeof conf, "display = sim\ndisplay_size = 96x64\ninput = sim\ntour = tour.txt\nclock = sim\n"
+                                "scene = %s\n", pack);
+    snprintf(out, sizeof out, "%s/board.conf", board);
+    assert_int_equal(tsup_write_bytes(out, conf, strlen(conf)), 0);
+    snprintf(out, sizeof out, "%s/tour.txt", board);
+    assert_int_equal(tsup_write_bytes(out, "hold 0.5s axis yaw 1.0\nwait 1s\nend\n", 34), 0);
+    snprintf(out, sizeof out, "%s/log.txt", root);
+    snprintf(scene, sizeof scene, "%s/nope.pano", root);
     for (int bad = 0; bad < 2; bad++) {
         pid_t pid = fork();
         assert_true(pid >= 0);
@@ -154,9 +168,10 @@ static void test_device_program_lines(void **state)
             dup2(fd, 2);
             set_journal_stream(fd);
             if (bad)
-                execl(prog, prog, "--board", "sim", "--scene", scene, "--max-frames", "3", (char *)NULL);
+                execl(prog, prog, "--boards-dir", root, "--board", "b", "--scene", scene, "--max-frames", "3",
+                      (char *)NULL);
             else
-                execl(prog, prog, "--board", "sim", "--max-frames", "40", "--frames-every", "0", (char *)NULL);
+                execl(prog, prog, "--boards-dir", root, "--board", "b", "--frames-every", "0", (char *)NULL);
             _exit(91);
         }
         int status;
@@ -176,10 +191,12 @@ static void test_device_program_lines(void **state)
         if (bad)
             assert_non_null(strstr(text, "<3>periscope: "));
         else
-            assert_non_null(strstr(text, "<6>frame "));
+            assert_true(strstr(text, "<5>frame ") != NULL && strstr(text, "<6>frame ") != NULL);
         free(text);
     }
-    unlink(out);
+    char cmd[800];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", root);
+    assert_int_equal(system(cmd), 0);
 }
 
 int main(void)
