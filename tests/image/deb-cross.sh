@@ -76,6 +76,7 @@ for so in $needed; do
     libusb-1.0.so.*) pkg=libusb-1.0-0 ;;
     libSDL2-2.0.so.*) pkg=libsdl2-2.0-0 ;;
     libgpiod.so.*) pkg=libgpiod ;;
+    libevdev.so.*) pkg=libevdev2 ;;
     libjpeg.so.*) pkg=libjpeg62-turbo ;;
     libpng16.so.*) pkg=libpng16-16 ;;
     libz.so.*) pkg=zlib1g ;;
