@@ -35,6 +35,7 @@
 #include "base/psc_pixel.h"
 #include "psc_io_levels.h"
 #include "psc_testsupport.h"
+#include "banding_measure.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -340,111 +341,6 @@ static void test_rgb565_levels(void **state)
 
 #define SW 320u
 #define SH 240u
-#define SIGMA 1.5
-#define KR 5 /* kernel radius: 3.3 sigma */
-
-/* In place: a separable Gaussian (sigma SIGMA) over an SW x SH plane, edges clamped. */
-static void gauss_blur(double *p)
-{
-    static double tmp[SW * SH];
-    double k[2 * KR + 1], sum = 0.0;
-    for (int i = -KR; i <= KR; i++)
-        sum += k[i + KR] = exp(-(double)(i * i) / (2.0 * SIGMA * SIGMA));
-    for (int i = 0; i <= 2 * KR; i++)
-        k[i] /= sum;
-    for (int y = 0; y < (int)SH; y++)
-        for (int x = 0; x < (int)SW; x++) {
-            double a = 0.0;
-            for (int i = -KR; i <= KR; i++) {
-                int xx = x + i < 0 ? 0 : x + i >= (int)SW ? (int)SW - 1 : x + i;
-                a += k[i + KR] * p[y * (int)SW + xx];
-            }
-            tmp[y * (int)SW + x] = a;
-        }
-    for (int y = 0; y < (int)SH; y++)
-        for (int x = 0; x < (int)SW; x++) {
-            double a = 0.0;
-            for (int i = -KR; i <= KR; i++) {
-                int yy = y + i < 0 ? 0 : y + i >= (int)SH ? (int)SH - 1 : y + i;
-                a += k[i + KR] * tmp[yy * (int)SW + x];
-            }
-            p[y * (int)SW + x] = a;
-        }
-}
-
-typedef struct {
-    double rms;       /* RMS over the three channels of the low-passed error, 8-bit units */
-    double step;      /* largest jump of the low-passed luma between neighbouring pixels */
-    double estep;     /* largest jump of the low-passed luma error between neighbours: a band's edge */
-    double bias[3];   /* mean error per channel (R, G, B) */
-} banding_t;
-
-/*
- * The banding of an RGB565 frame shown for an 8-bit picture: the error of
- * what the display shows (bit replication) against the picture, per channel,
- * low-passed by the Gaussian; the jump is of the low-passed luma (Rec. 601
- * weights) of what is shown. Pixels within KR of an edge are left out.
- */
-static banding_t banding(const uint32_t *pic, const uint16_t *shown)
-{
-    static double err[3][SW * SH], luma[SW * SH];
-    banding_t b = {0.0, 0.0, 0.0, {0.0, 0.0, 0.0}};
-    for (unsigned i = 0; i < SW * SH; i++) {
-        uint32_t s = psc_rgb565_to_xrgb(shown[i]);
-        luma[i] = 0.0;
-        for (unsigned c = 0; c < 3; c++) {
-            double e = (double)((s >> (16u - 8u * c)) & 255u);
-            err[c][i] = e - (double)((pic[i] >> (16u - 8u * c)) & 255u);
-            luma[i] += (c == 0 ? 0.299 : c == 1 ? 0.587 : 0.114) * e;
-            b.bias[c] += err[c][i] / (double)(SW * SH);
-        }
-    }
-    for (unsigned c = 0; c < 3; c++)
-        gauss_blur(err[c]);
-    gauss_blur(luma);
-    double sq = 0.0;
-    unsigned n = 0;
-    for (unsigned y = KR; y < SH - KR; y++)
-        for (unsigned x = KR; x < SW - KR; x++) {
-            unsigned i = y * SW + x;
-            for (unsigned c = 0; c < 3; c++)
-                sq += err[c][i] * err[c][i];
-            n += 3;
-            double dx = fabs(luma[i + 1] - luma[i]), dy = fabs(luma[i + SW] - luma[i]);
-            b.step = dx > b.step ? dx : b.step;
-            b.step = dy > b.step ? dy : b.step;
-            double l0 = 0.0, l1 = 0.0, l2 = 0.0;
-            for (unsigned c = 0; c < 3; c++) {
-                double wt = c == 0 ? 0.299 : c == 1 ? 0.587 : 0.114;
-                l0 += wt * err[c][i];
-                l1 += wt * err[c][i + 1];
-                l2 += wt * err[c][i + SW];
-            }
-            b.estep = fabs(l1 - l0) > b.estep ? fabs(l1 - l0) : b.estep;
-            b.estep = fabs(l2 - l0) > b.estep ? fabs(l2 - l0) : b.estep;
-        }
-    b.rms = sqrt(sq / (double)n);
-    return b;
-}
-
-/* The largest jump of the low-passed luma of the 8-bit picture itself: the gradient the picture has. */
-static double picture_step(const uint32_t *pic)
-{
-    static double luma[SW * SH];
-    for (unsigned i = 0; i < SW * SH; i++)
-        luma[i] = 0.299 * ((pic[i] >> 16) & 255u) + 0.587 * ((pic[i] >> 8) & 255u) + 0.114 * (pic[i] & 255u);
-    gauss_blur(luma);
-    double step = 0.0;
-    for (unsigned y = KR; y < SH - KR; y++)
-        for (unsigned x = KR; x < SW - KR; x++) {
-            unsigned i = y * SW + x;
-            double dx = fabs(luma[i + 1] - luma[i]), dy = fabs(luma[i + SW] - luma[i]);
-            step = dx > step ? dx : step;
-            step = dy > step ? dy : step;
-        }
-    return step;
-}
-
 static void test_rgb565_banding(void **state)
 {
     (void)state;
@@ -475,14 +371,16 @@ static void test_rgb565_banding(void **state)
             psc_dither_row_rgb565(&t, PSC_DITHER_NONE, pic + y * SW, SW, 0, y, none + y * SW);
             psc_dither_row_rgb565(&t, PSC_DITHER_ORDERED, pic + y * SW, SW, 0, y, ordered + y * SW);
         }
-        banding_t a = banding(pic, none), b = banding(pic, ordered);
-        double own = picture_step(pic);
+        psc_banding_t a, b;
+        assert_int_equal(psc_banding_measure(pic, none, SW, SH, &a), 0);
+        assert_int_equal(psc_banding_measure(pic, ordered, SW, SH, &b), 0);
+        double own = psc_banding_picture_step(pic, SW, SH);
         print_message("  RGB565 banding, %s %ux%u (error against the 8-bit picture, Gaussian sigma %.1f px):\n"
                       "    low-passed RMS error: none %.3f, ordered %.3f (%.1fx lower)\n"
                       "    largest low-passed luma step: none %.3f, ordered %.3f (the picture's own %.3f)\n"
                       "    largest step of the low-passed luma error: none %.3f, ordered %.3f\n"
                       "    mean error R/G/B: none %+.3f %+.3f %+.3f, ordered %+.3f %+.3f %+.3f\n",
-                      kind == 0 ? "sky gradient" : "grey ramp", SW, SH, SIGMA, a.rms, b.rms, a.rms / b.rms, a.step,
+                      kind == 0 ? "sky gradient" : "grey ramp", SW, SH, PSC_BANDING_SIGMA, a.rms, b.rms, a.rms / b.rms, a.step,
                       b.step, own, a.estep, b.estep, a.bias[0], a.bias[1], a.bias[2], b.bias[0], b.bias[1], b.bias[2]);
         assert_true(b.rms * 2.0 <= a.rms);
         assert_true(b.step * 2.0 <= a.step);

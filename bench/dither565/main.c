@@ -22,6 +22,7 @@
  * the error low-passed by a Gaussian of sigma 1.5 px (tests/test_dither.c's
  * metric): RMS, the largest low-passed luma step between neighbours, the mean.
  */
+#include "banding_measure.h"
 #include "psc_io_file.h"
 #include "psc_io_image.h"
 #include "psc_io_pack_build.h"
@@ -162,116 +163,7 @@ __attribute__((noinline)) static void pass_none(bench_t *b)
     pass_dither(b, PSC_DITHER_NONE);
 }
 
-/* ---- banding (tests/test_dither.c's metric) ---- */
-
-#define SIGMA 1.5
-#define KR 5
-
-static void gauss_blur(double *p, double *tmp)
-{
-    double k[2 * KR + 1], sum = 0.0;
-    for (int i = -KR; i <= KR; i++)
-        sum += k[i + KR] = exp(-(double)(i * i) / (2.0 * SIGMA * SIGMA));
-    for (int i = 0; i <= 2 * KR; i++)
-        k[i] /= sum;
-    for (int y = 0; y < (int)H; y++)
-        for (int x = 0; x < (int)W; x++) {
-            double a = 0.0;
-            for (int i = -KR; i <= KR; i++) {
-                int xx = x + i < 0 ? 0 : x + i >= (int)W ? (int)W - 1 : x + i;
-                a += k[i + KR] * p[y * (int)W + xx];
-            }
-            tmp[y * (int)W + x] = a;
-        }
-    for (int y = 0; y < (int)H; y++)
-        for (int x = 0; x < (int)W; x++) {
-            double a = 0.0;
-            for (int i = -KR; i <= KR; i++) {
-                int yy = y + i < 0 ? 0 : y + i >= (int)H ? (int)H - 1 : y + i;
-                a += k[i + KR] * tmp[yy * (int)W + x];
-            }
-            p[y * (int)W + x] = a;
-        }
-}
-
-typedef struct {
-    double rms, step, estep, bias[3];
-} banding_t;
-
-static banding_t banding(const uint32_t *pic, const uint16_t *shown)
-{
-    double *err[3], *luma = malloc(W * H * sizeof(double)), *tmp = malloc(W * H * sizeof(double));
-    banding_t b = {0.0, 0.0, 0.0, {0.0, 0.0, 0.0}};
-    for (unsigned c = 0; c < 3; c++)
-        err[c] = malloc(W * H * sizeof(double));
-    if (!luma || !tmp || !err[0] || !err[1] || !err[2]) {
-        fprintf(stderr, "dither565 bench: out of memory\n");
-        exit(1);
-    }
-    for (unsigned i = 0; i < W * H; i++) {
-        uint32_t s = psc_rgb565_to_xrgb(shown[i]);
-        luma[i] = 0.0;
-        for (unsigned c = 0; c < 3; c++) {
-            double e = (double)((s >> (16u - 8u * c)) & 255u);
-            err[c][i] = e - (double)((pic[i] >> (16u - 8u * c)) & 255u);
-            luma[i] += (c == 0 ? 0.299 : c == 1 ? 0.587 : 0.114) * e;
-            b.bias[c] += err[c][i] / (double)(W * H);
-        }
-    }
-    for (unsigned c = 0; c < 3; c++)
-        gauss_blur(err[c], tmp);
-    gauss_blur(luma, tmp);
-    double sq = 0.0;
-    unsigned n = 0;
-    for (unsigned y = KR; y < H - KR; y++)
-        for (unsigned x = KR; x < W - KR; x++) {
-            unsigned i = y * W + x;
-            for (unsigned c = 0; c < 3; c++)
-                sq += err[c][i] * err[c][i];
-            n += 3;
-            double dx = fabs(luma[i + 1] - luma[i]), dy = fabs(luma[i + W] - luma[i]);
-            b.step = dx > b.step ? dx : b.step;
-            b.step = dy > b.step ? dy : b.step;
-            double l0 = 0.0, l1 = 0.0, l2 = 0.0;
-            for (unsigned c = 0; c < 3; c++) {
-                double wt = c == 0 ? 0.299 : c == 1 ? 0.587 : 0.114;
-                l0 += wt * err[c][i];
-                l1 += wt * err[c][i + 1];
-                l2 += wt * err[c][i + W];
-            }
-            b.estep = fabs(l1 - l0) > b.estep ? fabs(l1 - l0) : b.estep;
-            b.estep = fabs(l2 - l0) > b.estep ? fabs(l2 - l0) : b.estep;
-        }
-    b.rms = sqrt(sq / (double)n);
-    for (unsigned c = 0; c < 3; c++)
-        free(err[c]);
-    free(luma);
-    free(tmp);
-    return b;
-}
-
-/* The largest jump of the low-passed luma of the 8-bit picture itself. */
-static double own_step(const uint32_t *pic)
-{
-    double *luma = malloc(W * H * sizeof(double)), *tmp = malloc(W * H * sizeof(double)), step = 0.0;
-    if (!luma || !tmp) {
-        fprintf(stderr, "dither565 bench: out of memory\n");
-        exit(1);
-    }
-    for (unsigned i = 0; i < W * H; i++)
-        luma[i] = 0.299 * ((pic[i] >> 16) & 255u) + 0.587 * ((pic[i] >> 8) & 255u) + 0.114 * (pic[i] & 255u);
-    gauss_blur(luma, tmp);
-    for (unsigned y = KR; y < H - KR; y++)
-        for (unsigned x = KR; x < W - KR; x++) {
-            unsigned i = y * W + x;
-            double dx = fabs(luma[i + 1] - luma[i]), dy = fabs(luma[i + W] - luma[i]);
-            step = dx > step ? dx : step;
-            step = dy > step ? dy : step;
-        }
-    free(luma);
-    free(tmp);
-    return step;
-}
+/* ---- banding: host_tools/lib/banding_measure.h, test_dither's metric ---- */
 
 static void run_banding(bench_t *b, FILE *j)
 {
@@ -302,11 +194,15 @@ static void run_banding(bench_t *b, FILE *j)
     printf("\nBanding on the sample's sky (yaw 200, pitch 50, hfov 90, %ux%u, mip): each RGB565 frame against the\n"
            "8-bit frame of the XRGB8888 pack, error low-passed by a Gaussian of sigma %.1f px (8-bit units)\n"
            "(max step: of the low-passed luma, the picture's own %.3f; error step: of the low-passed luma error)\n"
-           "%-28s %8s %9s %11s %22s\n", W, H, SIGMA, own_step(ref), "path", "RMS", "max step", "error step",
+           "%-28s %8s %9s %11s %22s\n", W, H, PSC_BANDING_SIGMA, psc_banding_picture_step(ref, W, H), "path", "RMS", "max step", "error step",
            "mean error R/G/B");
     fprintf(j, "  \"banding\": {\n");
     for (unsigned k = 0; k < 4; k++) {
-        banding_t r = banding(ref, shown[k]);
+        psc_banding_t r;
+        if (psc_banding_measure(ref, shown[k], W, H, &r) != 0) {
+            fprintf(stderr, "dither565 bench: out of memory\n");
+            exit(1);
+        }
         printf("%-28s %8.3f %9.3f %11.3f %+7.3f %+7.3f %+7.3f\n", name[k], r.rms, r.step, r.estep, r.bias[0],
                r.bias[1], r.bias[2]);
         fprintf(j, "    \"%s\": {\"rms\": %.4f, \"max_step\": %.4f, \"error_step\": %.4f, \"bias\": [%.4f, %.4f, %.4f]}%s\n",
