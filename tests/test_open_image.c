@@ -30,7 +30,6 @@
 
 #include <errno.h>
 #include <fcntl.h>
-#include <spawn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,70 +46,29 @@
 #include "psc_io_xmp.h"
 #include "psc_testsupport.h"
 #include "tsup_files.h"
+#include "tsup_tool.h"
 
-extern char **environ;
 
 #define DISP "160x120"
 #define MAP_W 256
 #define MAP_H 128
-
-static const char *bin_dir(void)
-{
-    const char *d = getenv("PSC_BIN_DIR");
-    return d && *d ? d : "build/bin";
-}
 
 static void tmp_path(char *buf, size_t n, const char *name)
 {
     tsup_tmp_path(buf, n, "test_open_image", name);
 }
 
-typedef struct {
-    int status;
-    char *output;   /* stdout and stderr together (malloc'd) */
-} run_t;
 
 /* Run $PSC_BIN_DIR/tool with args (NULL-terminated); it must exit. */
-static run_t run_tool(const char *tool, const char *const *args)
+static tsup_tool_run_t run_tool(const char *tool, const char *const *args)
 {
-    char exe[512], log[512];
-    snprintf(exe, sizeof exe, "%s/%s", bin_dir(), tool);
-    if (access(exe, X_OK) != 0)
-        fail_msg("%s is not there: build it first (make all), or set PSC_BIN_DIR", exe);
-    tmp_path(log, sizeof log, "output.txt");
-    const char *argv[32];
-    size_t n = 0;
-    argv[n++] = exe;
-    for (; args[n - 1] && n < 31; n++)
-        argv[n] = args[n - 1];
-    argv[n] = NULL;
-    posix_spawn_file_actions_t fa;
-    assert_int_equal(posix_spawn_file_actions_init(&fa), 0);
-    assert_int_equal(posix_spawn_file_actions_addopen(&fa, 1, log, O_WRONLY | O_CREAT | O_TRUNC, 0644), 0);
-    assert_int_equal(posix_spawn_file_actions_adddup2(&fa, 1, 2), 0);
-    pid_t pid;
-    int rc = posix_spawn(&pid, exe, &fa, NULL, (char *const *)argv, environ);
-    posix_spawn_file_actions_destroy(&fa);
-    if (rc != 0)
-        fail_msg("cannot start %s: %s", exe, strerror(rc));
-    int ws;
-    while (waitpid(pid, &ws, 0) < 0)
-        assert_int_equal(errno, EINTR);
-    run_t r;
-    size_t len;
-    r.output = (char *)tsup_read_bytes(log, &len);
-    assert_non_null(r.output);
-    unlink(log);
-    if (!WIFEXITED(ws))
-        fail_msg("%s died of signal %d; its output:\n%s", tool, WIFSIGNALED(ws) ? WTERMSIG(ws) : -1, r.output);
-    r.status = WEXITSTATUS(ws);
-    return r;
+    return tsup_run_tool("test_open_image", tool, args);
 }
 
 /* Run, require exit status 0 and return the output (free it). */
 static char *run_ok(const char *tool, const char *const *args)
 {
-    run_t r = run_tool(tool, args);
+    tsup_tool_run_t r = run_tool(tool, args);
     if (r.status != 0)
         fail_msg("%s %s ... exited with %d:\n%s", tool, args[0], r.status, r.output);
     return r.output;
@@ -630,7 +588,7 @@ static void test_positional_files(void **state)
     /* no --board: the desktop board of the boards dir; two files, the first on screen */
     snprintf(arg, sizeof arg, "2:%s", dump);
     const char *args[] = {"--boards-dir", fx.boards, fx.jpg, fx.png, "--max-frames", "3", "--dump-frame", arg, NULL};
-    run_t r = run_tool("periscope", args);
+    tsup_tool_run_t r = run_tool("periscope", args);
     if (r.status != 0)
         fail_msg("periscope FILE FILE exited with %d:\n%s", r.status, r.output);
     expect_in(r.output, fx.jpg);

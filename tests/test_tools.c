@@ -30,7 +30,6 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <math.h>
-#include <spawn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -45,9 +44,9 @@
 #include "viewer/psc_viewer.h"
 #include "psc_testsupport.h"
 #include "tsup_files.h"
+#include "tsup_tool.h"
 #include "psc_io_load.h"
 
-extern char **environ;
 
 #define MAP_W 256
 #define MAP_H 128
@@ -56,64 +55,22 @@ extern char **environ;
 
 /* ---- running the tools --------------------------------------------------------------------- */
 
-static const char *bin_dir(void)
-{
-    const char *d = getenv("PSC_BIN_DIR");
-    return d && *d ? d : "build/bin";
-}
-
 static void tmp_path(char *buf, size_t n, const char *name)
 {
     tsup_tmp_path(buf, n, "test_tools", name);
 }
 
-typedef struct {
-    int status;      /* the exit status */
-    char *output;    /* stdout and stderr together, NUL-terminated (malloc'd) */
-} run_t;
 
-/* Run $PSC_BIN_DIR/tool with args (NULL-terminated); it must exit (not die of a signal). */
-static run_t run_tool(const char *tool, const char *const *args)
+/* Run $PSC_BIN_DIR/tool with args (NULL-terminated); it must exit. */
+static tsup_tool_run_t run_tool(const char *tool, const char *const *args)
 {
-    char exe[512], log[512];
-    snprintf(exe, sizeof exe, "%s/%s", bin_dir(), tool);
-    if (access(exe, X_OK) != 0)
-        fail_msg("%s is not there: build the tools first (make all), or set PSC_BIN_DIR", exe);
-    tmp_path(log, sizeof log, "tool-output.txt");
-    const char *argv[32];
-    size_t n = 0;
-    argv[n++] = exe;
-    for (; args[n - 1] && n < 31; n++)
-        argv[n] = args[n - 1];
-    argv[n] = NULL;
-
-    posix_spawn_file_actions_t fa;
-    assert_int_equal(posix_spawn_file_actions_init(&fa), 0);
-    assert_int_equal(posix_spawn_file_actions_addopen(&fa, 1, log, O_WRONLY | O_CREAT | O_TRUNC, 0644), 0);
-    assert_int_equal(posix_spawn_file_actions_adddup2(&fa, 1, 2), 0);
-    pid_t pid;
-    int rc = posix_spawn(&pid, exe, &fa, NULL, (char *const *)argv, environ);
-    posix_spawn_file_actions_destroy(&fa);
-    if (rc != 0)
-        fail_msg("cannot start %s: %s", exe, strerror(rc));
-    int ws;
-    while (waitpid(pid, &ws, 0) < 0)
-        assert_int_equal(errno, EINTR);
-    run_t r;
-    size_t len;
-    r.output = (char *)tsup_read_bytes(log, &len);
-    assert_non_null(r.output);
-    unlink(log);
-    if (!WIFEXITED(ws))
-        fail_msg("%s died of signal %d; its output:\n%s", tool, WIFSIGNALED(ws) ? WTERMSIG(ws) : -1, r.output);
-    r.status = WEXITSTATUS(ws);
-    return r;
+    return tsup_run_tool("test_tools", tool, args);
 }
 
 /* Run and require exit status `status` and output containing each of the NULL-terminated mentions. */
 static void expect_run(const char *tool, const char *const *args, int status, const char *const *mentions)
 {
-    run_t r = run_tool(tool, args);
+    tsup_tool_run_t r = run_tool(tool, args);
     char cmd[1024];
     size_t n = (size_t)snprintf(cmd, sizeof cmd, "%s", tool);
     for (size_t i = 0; args[i] && n < sizeof cmd; i++)
@@ -184,7 +141,7 @@ static void need_packs(void)
         unlink(fx.pack[f]);
         const char *args[] = {fx.png, "-o", fx.pack[f], "--display", "160x120", "--format", pack_format_names[f],
                               "--quiet", NULL};
-        run_t r = run_tool("periscope-pack", args);
+        tsup_tool_run_t r = run_tool("periscope-pack", args);
         if (r.status != 0)
             fail_msg("periscope-pack --format %s exited with %d:\n%s", pack_format_names[f], r.status, r.output);
         /* --quiet means no output at all on success. */
@@ -343,7 +300,7 @@ static void test_render_matches_device_path(void **state)
                 args[n++] = vc->args[i];
             args[n] = NULL;
             unlink(png);
-            run_t r = run_tool("periscope-render", args);
+            tsup_tool_run_t r = run_tool("periscope-render", args);
             if (r.status != 0)
                 fail_msg("periscope-render %s (%s pack) exited with %d:\n%s", vc->name, pack_format_names[f],
                          r.status, r.output);
@@ -399,7 +356,7 @@ static void test_render_matches_device_path(void **state)
     /* --dither: only the display's levels, the frame's brightness kept (the mean luma within 2%) */
     static const char *const targets[] = {"mono", "mono:halftone", "grey4", "pal8"};
     const char *plain_args[] = {fx.pack[0], "-o", png, "--format", "xrgb8888", NULL};
-    run_t pr = run_tool("periscope-render", plain_args);
+    tsup_tool_run_t pr = run_tool("periscope-render", plain_args);
     assert_int_equal(pr.status, 0);
     free(pr.output);
     psc_image_t plain;
@@ -408,7 +365,7 @@ static void test_render_matches_device_path(void **state)
         fail_msg("%s", err);
     for (size_t t = 0; t < sizeof targets / sizeof targets[0]; t++) {
         const char *args[] = {fx.pack[0], "-o", png, "--dither", targets[t], NULL};
-        run_t r = run_tool("periscope-render", args);
+        tsup_tool_run_t r = run_tool("periscope-render", args);
         if (r.status != 0)
             fail_msg("periscope-render --dither %s exited with %d:\n%s", targets[t], r.status, r.output);
         free(r.output);
@@ -432,7 +389,7 @@ static void test_render_matches_device_path(void **state)
     }
     psc_image_free(&plain);
     const char *bad[] = {fx.pack[0], "-o", png, "--dither", "mono:fancy", NULL};
-    run_t br = run_tool("periscope-render", bad);
+    tsup_tool_run_t br = run_tool("periscope-render", bad);
     assert_int_equal(br.status, 2);
     assert_non_null(strstr(br.output, "--dither 'mono:fancy'"));
     free(br.output);
@@ -500,7 +457,7 @@ static void test_limits_and_interrupted_writes(void **state)
 
     /* interrupted while writing: an earlier pack at OUT survives whole */
     char exe[512], log[512];
-    snprintf(exe, sizeof exe, "%s/periscope-pack", bin_dir());
+    snprintf(exe, sizeof exe, "%s/periscope-pack", tsup_bin_dir());
     tmp_path(out, sizeof out, "interrupted.pano");
     tmp_path(log, sizeof log, "interrupted.log");
     static const char earlier[] = "an earlier pack";
