@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: MIT
 # Periscope - build, run and test.
 #   make run     the viewer on the simulated board with the bundled panorama
-#   make test    every test (unit, golden, fuzz, integration, clang build, no-float check)
+#   make test    the tests a developer runs after each change (unit, golden, tools, desktop, firmware; minutes)
+#   make check   everything CI runs: make test, clang, sanitizers, valgrind, VM, images, cross-architecture, Cortex-M
 #   make all     libraries, firmware and host tools
 # Conventions: CROSS_COMPILE=prefix-, CC, PKG_CONFIG, PREFIX, DESTDIR, V=1 for full commands.
 
@@ -137,7 +138,8 @@ TESTS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_MAINS))
 # Objects reached through pattern rules would count as intermediate files and be
 # deleted after each link; keep them so a second build compiles nothing.
 .SECONDARY:
-.PHONY: all deps run test soak check-memcheck vm-test check-core-nofloat check-layers check-clang check-sanitize install clean bench bench-callgrind FORCE
+.PHONY: all deps run test check check-system check-self-contained soak check-memcheck vm-test check-core-nofloat \
+	check-layers check-clang check-sanitize install clean bench bench-callgrind FORCE
 .DEFAULT_GOAL := all
 
 all: $(CORE_LIB) $(IO_LIB) $(FIRMWARE) $(TOOLS)
@@ -251,19 +253,56 @@ run: deps
 	$(Q)$(MAKE) --no-print-directory $(SAMPLE_PACK) $(SAMPLE_CHARACTER) $(SAMPLE_SHADOW)
 	$(FIRMWARE) --board sim --out out/run
 
-# ---- test ------------------------------------------------------------------
+# ---- test and check ----------------------------------------------------------
+# `make test`: what a developer runs after every change, in minutes: the gcc
+# build, the no-float, layer, self-containment and manual-page checks, the fuzz
+# corpora replayed, and every unit, golden, property, tool, desktop-window and
+# simulated-board test program, side by side (tests/run_all.sh, -j nproc).
+# `make check`: everything, what CI runs: `make test`, then the clang build,
+# both sanitizer stages with the fuzz corpora under them, valgrind, and the
+# system tests - the VM harness, the packages, the boot images, the
+# cross-architecture runs under qemu-user, the Cortex-M run (docs/testing.md).
+NPROC := $(shell nproc 2>/dev/null || getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)
+# the builds inside test and check use every processor, unless the caller chose -j
+PAR := $(if $(filter -j% --jobserver%,$(MAKEFLAGS)),,-j$(NPROC))
+# Test programs that need cross compilers, QEMU, images or packages: `make check` only.
+SYSTEM_TEST_NAMES := test_cortex_m test_deb test_deploy test_portability test_vm test_vm_gpiod2
+SYSTEM_TESTS := $(filter $(SYSTEM_TEST_NAMES:%=$(BUILD)/tests/%),$(TESTS))
+QUICK_TESTS := $(filter-out $(SYSTEM_TESTS),$(TESTS))
+
 test: deps
-	$(Q)$(MAKE) --no-print-directory all $(TESTS) $(SAMPLE_CHARACTER)
-	$(Q)$(MAKE) --no-print-directory check-core-nofloat
-	$(Q)$(MAKE) --no-print-directory check-layers
+	$(Q)$(MAKE) $(PAR) --no-print-directory all $(QUICK_TESTS) $(SAMPLE_PACK) $(SAMPLE_CHARACTER) fuzz-replay-build
+	$(Q)$(MAKE) --no-print-directory check-self-contained check-core-nofloat check-layers check-man-board \
+		check-fuzz-corpus
+	$(Q)sh tests/run_all.sh $(BUILD) $(QUICK_TESTS)
+
+check: deps
+	$(Q)$(MAKE) --no-print-directory test
 	$(Q)$(MAKE) --no-print-directory check-clang
 	$(Q)$(MAKE) --no-print-directory check-sanitize
 	$(Q)$(MAKE) --no-print-directory check-sanitize SAN_CC=clang
 	$(Q)$(MAKE) --no-print-directory check-memcheck
-	$(Q)sh tests/run_all.sh $(BUILD) $(TESTS)
+	$(Q)$(MAKE) --no-print-directory check-system
+
+.PHONY: system-test-prep
+system-test-prep:
+
+# The system tests: what they run on is built first (cross builds for every board with a compiler, the
+# native and cross packages, the boot images: mk/cross.mk, mk/deb.mk, mk/image-boot.mk), then they run side by side.
+check-system: deps
+	$(Q)$(MAKE) $(PAR) --no-print-directory all $(SYSTEM_TESTS)
+	$(Q)$(MAKE) --no-print-directory system-test-prep
+	$(Q)sh tests/run_all.sh $(BUILD) $(SYSTEM_TESTS)
+
+# A clone with nothing beside it: no file reaches outside the repository, every test data file has its origin
+# and licence (scripts/check-self-contained; its self-test proves both checks refuse).
+check-self-contained:
+	@echo "  CHECK   the repository is self-contained: nothing read from outside it, test data with its sources"
+	$(Q)sh scripts/check-self-contained
+	$(Q)sh scripts/check-self-contained --self-test >/dev/null
 
 # The unit and fuzz-loop tests again, and the fuzz corpora replayed (mk/fuzz.mk), built with
-# AddressSanitizer and UBSan (part of `make test`): any
+# AddressSanitizer and UBSan (part of `make check`): any
 # out-of-bounds access, use after free, leak or undefined behaviour fails the run (-fno-sanitize-recover).
 # Leaks inside third-party libraries are suppressed by name (tests/sanitize/lsan.supp). SAN_CC=clang for clang's.
 SAN_CC ?= $(CC)
@@ -274,14 +313,14 @@ SAN_TESTS := $(addprefix $(SAN_BUILD)/tests/,test_3d_abuffer test_3d_golden test
 	test_evdev test_fixed test_golden test_hid test_image_io test_input test_io_atomic test_kiosk test_lut test_mip test_pack test_patch \
 	test_pixel test_pose test_proxy test_proxy_render test_shadow test_simd test_gestures test_log test_open_image)
 check-sanitize: deps
-	$(Q)$(MAKE) --no-print-directory CC=$(SAN_CC) BUILD=$(SAN_BUILD) OPT="-O1 -g" CFLAGS="$(SAN_FLAGS)" \
-		LDFLAGS="-fsanitize=address,undefined" all $(SAN_TESTS)
+	$(Q)$(MAKE) $(PAR) --no-print-directory CC=$(SAN_CC) BUILD=$(SAN_BUILD) OPT="-O1 -g" CFLAGS="$(SAN_FLAGS)" \
+		LDFLAGS="-fsanitize=address,undefined" all $(SAN_TESTS) fuzz-replay-build
 	$(Q)ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1 \
 		LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitize/lsan.supp sh tests/run_all.sh $(SAN_BUILD) $(SAN_TESTS)
 	$(Q)$(MAKE) --no-print-directory CC=$(SAN_CC) BUILD=$(SAN_BUILD) OPT="-O1 -g" CFLAGS="$(SAN_FLAGS)" \
 		LDFLAGS="-fsanitize=address,undefined" check-fuzz-corpus
 
-# valgrind's memcheck over the device program on the simulated board (part of `make test`): the
+# valgrind's memcheck over the device program on the simulated board (part of `make check`): the
 # panorama while the tour turns and zooms it, then Thom's patch character; an invalid read or write,
 # a use of uninitialised memory, or a block definitely or indirectly lost fails the run.
 MEMCHECK := valgrind -q --error-exitcode=99 --leak-check=full --show-leak-kinds=definite,indirect \
@@ -299,7 +338,7 @@ soak: deps
 	$(Q)$(MAKE) --no-print-directory all $(BUILD)/tests/test_soak $(SAMPLE_CHARACTER)
 	$(Q)PSC_SOAK_FRAMES=$(SOAK_FRAMES) sh tests/run_all.sh $(BUILD) $(BUILD)/tests/test_soak
 
-# Only the VM cases (part of `make test`): the real backends against real drivers under QEMU.
+# Only the VM cases (part of `make check`): the real backends against real drivers under QEMU.
 vm-test: all
 	$(Q)sh tests/vm/run.sh --build $(BUILD)
 
@@ -333,10 +372,10 @@ check-layers: $(FIRMWARE) $(HOST_LIB)
 # Everything (tests included) must also build warning-free with clang.
 check-clang:
 	@echo "  CHECK   the whole tree builds with clang -Werror"
-	$(Q)$(MAKE) --no-print-directory CC=clang BUILD=$(BUILD)/clang all $(patsubst $(BUILD)/%,$(BUILD)/clang/%,$(TESTS))
+	$(Q)$(MAKE) $(PAR) --no-print-directory CC=clang BUILD=$(BUILD)/clang all $(patsubst $(BUILD)/%,$(BUILD)/clang/%,$(TESTS))
 
 # ---- bench: speed, always side by side with a reference in the same run ------
-# Not part of `make test` (no timing in tests). Each bench/<name>/ folder is one
+# Not part of `make test` or `make check` (no timing in tests). Each bench/<name>/ folder is one
 # program build/bench/<name> from its .c and .cpp files; its extra libraries
 # come from bench/<name>/pkg-config (pkg-config module names, one line).
 # bench/packages.txt lists the Debian packages the benchmarks need.

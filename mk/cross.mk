@@ -55,7 +55,7 @@ define cross_make
 		bf="env DEB_BUILD_MAINT_OPTIONS=hardening=+all DEB_HOST_ARCH=$$arch dpkg-buildflags --get"; \
 		hard="$$($$bf CPPFLAGS) $$($$bf CFLAGS)"; hard_ld=$$($$bf LDFLAGS); fi; \
 	echo "  CROSS   $$b ($${prefix}gcc, $$arch, libraries: $$libs) -> build/$$b/"; \
-	$(MAKE) --no-print-directory PSC_CROSS_INNER=1 BOARD=$$b BUILD=build/$$b CROSS_COMPILE=$$prefix \
+	$(MAKE) $(PAR) --no-print-directory PSC_CROSS_INNER=1 BOARD=$$b BUILD=build/$$b CROSS_COMPILE=$$prefix \
 		CC="$$TARGET_CC" AR=$${prefix}ar PKG_CONFIG="$$pc" $${HAL_BACKENDS:+HAL_BACKENDS="$$HAL_BACKENDS"} \
 		CFLAGS="$$hard $(CFLAGS)" LDFLAGS="$$hard_ld $(LDFLAGS)" $$goals
 endef
@@ -80,7 +80,7 @@ endif
 # `make test`: the native probe, and the probe and periscope-render for every
 # board whose compiler is installed (tests/test_portability.c runs them under
 # qemu-user; a missing compiler or library is reported there as a skip).
-test: portability-builds
+system-test-prep: portability-builds
 portability-builds: deps
 	$(Q)$(MAKE) --no-print-directory $(PORT_RENDER) $(BUILD)/bin/periscope-render
 	+$(Q)for b in $(CROSS_BOARDS); do \

@@ -60,10 +60,10 @@ deb-lintian: deb
 	$(Q)sh scripts/install-deps.sh lintian
 	lintian --info build/$(BOARD)/periscope_$(DEB_VERSION)_$(call board_key,$(BOARD),debian_arch).deb
 
-# ---- make test: the native board's package from this build's binaries -------------
+# ---- make check: the native board's package from this build's binaries ------------
 DEB_TEST_PACKAGE := $(if $(DEB_HOST_BOARD),$(BUILD)/deb/periscope_$(DEB_VERSION)_$(DEB_HOST_ARCH).deb)
 
-test: deb-test-package
+system-test-prep: deb-test-package
 deb-test-package: deps
 	+$(Q)if ! command -v dpkg-deb >/dev/null 2>&1 || ! command -v dpkg-shlibdeps >/dev/null 2>&1; then \
 		echo "deb: no dpkg-deb or dpkg-shlibdeps (dpkg-dev): no package to test, test_deb skips"; \
@@ -80,22 +80,21 @@ $(DEB_TEST_PACKAGE): $(FIRMWARE) $(TOOLS) $(BUILD)/scenes/$(DEB_HOST_BOARD).pano
 		--strip strip --compress gzip --out $@
 endif
 
-# ---- make test: the board file's manual page, periscope-board(5) ---------------------
+# ---- make test: the board file's manual page, periscope-board(5) (the recipe runs it) ----
 # documents every key the sources read (firmware/board_config.c's key_table, each
 # backend's options, the build and image keys) and renders without a groff
 # warning (scripts/check-man-board); the self-test proves each omission is refused.
 # tests/test_deb.c runs it again with the page's examples on the sim board.
-test: check-man-board
 check-man-board:
 	@echo "  CHECK   periscope-board(5) documents every board key, renders without warnings"
 	$(Q)command -v groff >/dev/null 2>&1 || sh scripts/install-deps.sh groff-base
 	$(Q)sh scripts/check-man-board
 	$(Q)sh scripts/check-man-board --self-test >/dev/null
 
-# ---- make test: the package of every image board (rpi-arm64, rpi-armhf) -------------
+# ---- make check: the package of every image board (rpi-arm64, rpi-armhf) ------------
 # where its cross compiler and target libraries are there; tests/test_deploy.c
 # takes each apart (tests/image/deb-cross.sh) or says why it is skipped.
-test: deb-cross-test-packages
+system-test-prep: deb-cross-test-packages
 deb-cross-test-packages: deps portability-builds
 	+$(Q)for b in $(IMAGE_BOARDS); do \
 		env=$$(sh scripts/cross-env $$b) || exit 1; eval "$$env"; \

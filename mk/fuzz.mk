@@ -7,7 +7,8 @@
 #                             FUZZ_JOBS (1) at a time, niced: $(FUZZ_DIR)/long/NAME.log and summary.txt
 #   make fuzz-merge           the inputs of $(FUZZ_DIR)/corpus/NAME that add coverage, into the
 #                             tree's tests/fuzz/corpus/NAME (by hand, after a run; review before committing)
-#   make check-fuzz-corpus    (part of `make test`) every seed corpus and tests/fuzz/regress/NAME
+#   make check-fuzz-corpus    (part of `make test`, and of `make check` under both sanitizers) every seed
+#                             corpus and tests/fuzz/regress/NAME
 #                             replayed through the harnesses built with $(CC) by a plain main()
 #                             (tests/fuzz/fuzz_replay_main.c) into $(BUILD)/fuzz-replay/
 # FUZZ_NAMES=pack,mesh (or space-separated) runs only those harnesses.
@@ -87,7 +88,7 @@ fuzz-long: fuzz-build
 fuzz-merge: fuzz-build
 	$(Q)$(FUZZ_RUN) --merge $(call fuzz_targets,$(FUZZ_NAMES))
 
-# ---- corpus replay: a regression test of `make test` ----------------------------------------------------
+# ---- corpus replay: a regression test of `make test` (and of `make check`'s sanitizer builds) --------------
 FUZZ_REPLAY_DIR = $(BUILD)/fuzz-replay
 FUZZ_REPLAY_BINS = $(addprefix $(FUZZ_REPLAY_DIR)/fuzz_,$(FUZZ_NAMES))
 
@@ -112,6 +113,9 @@ $(FUZZ_REPLAY_DIR)/fuzz_make_%: $(FUZZ_REPLAY_DIR)/obj/fuzz_make_%.o $(FUZZ_LINK
 -include $(wildcard $(FUZZ_REPLAY_DIR)/obj/*.d)
 
 # The sanitizer options matter only in sanitizer builds (check-sanitize's BUILD and flags).
+.PHONY: fuzz-replay-build
+fuzz-replay-build: $(FUZZ_REPLAY_BINS)
+
 check-fuzz-corpus: $(FUZZ_REPLAY_BINS)
 	@echo "  CHECK   fuzz corpora replayed: $(words $(FUZZ_NAMES)) harnesses"
 	$(Q)export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1 \
@@ -124,4 +128,3 @@ check-fuzz-corpus: $(FUZZ_REPLAY_BINS)
 	done; \
 	[ -z "$$failed" ] || { echo "check-fuzz-corpus: failed:$$failed (logs: $(FUZZ_REPLAY_DIR)/NAME.log)"; exit 1; }
 
-test: check-fuzz-corpus

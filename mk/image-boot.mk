@@ -26,7 +26,7 @@ boot-image:
 	$(Q)sh scripts/boot-image $(BOARD)
 
 # after portability-builds: both build into build/<board>/
-test: boot-image-test-prep
+system-test-prep: boot-image-test-prep
 boot-image-test-prep: deps portability-builds
 	+$(Q)if [ -n "$$PSC_VM_SKIP" ]; then exit 0; fi; \
 	for b in $(IMAGE_BOARDS); do \

@@ -1,8 +1,15 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
-# Run cmocka test programs and sum up their results.
-#   usage: sh tests/run_all.sh BUILD_DIR TEST_PROGRAM...
-# Each program's output is shown (and kept in BUILD_DIR/test-logs/NAME.log).
+# Run cmocka test programs side by side and sum up their results.
+#   usage: sh tests/run_all.sh [-j N] BUILD_DIR TEST_PROGRAM...
+# Up to N programs run at once (default: PSC_TEST_JOBS, else the number of
+# processors); each one's output goes to BUILD_DIR/test-logs/NAME.log and is
+# shown whole, in the order the programs were given, as soon as it and every
+# program before it have finished, so the output reads as a serial run's.
+# The longest programs of the last run (their times are kept in
+# BUILD_DIR/test-logs/NAME.time) start first, so the run ends sooner. A
+# program still running after PSC_TEST_TIMEOUT seconds (1800) is stopped and
+# fails.
 # Test cases are counted from cmocka's summary lines "[  PASSED  ] N test(s).",
 # "[  FAILED  ] N test(s)" and "[  SKIPPED ] N test(s)" (a case that could not
 # run here, e.g. without QEMU, says why in its log); a program that dies
@@ -14,8 +21,41 @@
 # any case or program failed.
 set -u
 
+# One program: its log, then its exit status (the .rc file appears last: it says the program is done).
+run_one() {
+    t=$1
+    name=$(basename "$t")
+    rm -f "$logs/$name.rc"
+    start=$(date +%s)
+    if [ ! -f "$t" ] || [ ! -x "$t" ]; then
+        echo "run_all: $t: no such test program" >"$logs/$name.log"
+        rc=127
+    else
+        timeout -k 10 "${PSC_TEST_TIMEOUT:-1800}" "$t" >"$logs/$name.log" 2>&1 </dev/null
+        rc=$?
+        [ "$rc" -ne 124 ] || echo "run_all: $name was stopped after ${PSC_TEST_TIMEOUT:-1800} s (PSC_TEST_TIMEOUT)" >>"$logs/$name.log"
+    fi
+    echo $(($(date +%s) - start)) >"$logs/$name.time"
+    echo "$rc" >"$logs/$name.rc.tmp" && mv "$logs/$name.rc.tmp" "$logs/$name.rc"
+}
+
+if [ "${1:-}" = --one ]; then   # one program, for the parallel runner: --one LOGS_DIR PROGRAM
+    logs=$2
+    run_one "$3"
+    exit 0
+fi
+
+jobs=${PSC_TEST_JOBS:-}
+if [ "${1:-}" = -j ]; then
+    jobs=${2:-}
+    shift 2
+fi
+[ -n "$jobs" ] || jobs=$(nproc 2>/dev/null || getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)
+case $jobs in
+'' | *[!0-9]* | 0) echo "run_all: -j wants a positive number, not '$jobs'" >&2; exit 2 ;;
+esac
 if [ $# -lt 1 ]; then
-    echo "usage: $0 BUILD_DIR TEST_PROGRAM..." >&2
+    echo "usage: $0 [-j N] BUILD_DIR TEST_PROGRAM..." >&2
     exit 2
 fi
 build=$1
@@ -30,6 +70,27 @@ PSC_BIN_DIR=${PSC_BIN_DIR:-$build/bin}
 export PSC_BIN_DIR
 mkdir -p "$logs" "$PSC_TEST_TMPDIR"
 
+# The start order: by the last run's time, longest first (programs never timed first of all: they may be long).
+start_order() {
+    for t in "$@"; do
+        name=$(basename "$t")
+        s=999999
+        [ -s "$logs/$name.time" ] && s=$(cat "$logs/$name.time")
+        echo "$s $t"
+    done | sort -k1,1nr -s | cut -d' ' -f2-
+}
+
+for t in "$@"; do
+    rm -f "$logs/$(basename "$t").rc"
+done
+if [ "$jobs" -gt 1 ] && [ $# -gt 1 ]; then
+    # xargs keeps N running, each through this script's --one mode (build paths have no spaces)
+    start_order "$@" | xargs -P "$jobs" -n 1 sh "$0" --one "$logs" &
+    runner=$!
+else
+    runner=
+fi
+
 prog_pass=0
 prog_fail=0
 case_pass=0
@@ -41,17 +102,25 @@ skipped_cases=""
 for t in "$@"; do
     name=$(basename "$t")
     log="$logs/$name.log"
+    if [ -n "$runner" ]; then
+        # wait for this program (the runner may have died: then stop waiting)
+        while [ ! -f "$logs/$name.rc" ]; do
+            kill -0 "$runner" 2>/dev/null || [ -f "$logs/$name.rc" ] || break
+            sleep 1
+        done
+    else
+        run_one "$t"
+    fi
     echo "==== $name"
-    if [ ! -f "$t" ] || [ ! -x "$t" ]; then
-        echo "run_all: $t: no such test program"
+    rc=$(cat "$logs/$name.rc" 2>/dev/null || echo 125)
+    cat "$log" 2>/dev/null
+    if [ "$rc" -eq 127 ] || [ "$rc" -eq 125 ]; then
+        [ "$rc" -eq 125 ] && echo "run_all: $name was not run"
         prog_fail=$((prog_fail + 1))
         case_fail=$((case_fail + 1))
         failed_progs="$failed_progs $name"
         continue
     fi
-    "$t" >"$log" 2>&1
-    rc=$?
-    cat "$log"
     passed=$(sed -n 's/^\[  PASSED  \] \([0-9][0-9]*\) test(s)\..*$/\1/p' "$log" | tail -n 1)
     failed=$(sed -n 's/^\[  FAILED  \] \([0-9][0-9]*\) test(s).*$/\1/p' "$log" | tail -n 1)
     running=$(sed -n 's/^\[==========\] Running \([0-9][0-9]*\) test(s)\..*$/\1/p' "$log" | tail -n 1)
@@ -86,6 +155,7 @@ for t in "$@"; do
         failed_progs="$failed_progs $name"
     fi
 done
+[ -z "$runner" ] || wait "$runner"
 
 echo "===="
 echo "test programs: $prog_pass passed, $prog_fail failed${failed_progs:+ (}${failed_progs# }${failed_progs:+)}"

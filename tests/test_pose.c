@@ -21,6 +21,7 @@
 #include "patch_load.h"
 #include "patch_pose.h"
 #include "pose_file.h"
+#include "tsup_files.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -28,7 +29,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#define TRUCK "../shared/data/models/gltf/CesiumMilkTruck.gltf"
+#define TRUCK TSUP_DATA_GLTF "CesiumMilkTruck.gltf"
 #define WHEEL "Geometry-mesh001Node"
 
 static char *write_temp(const char *text)
@@ -211,9 +212,9 @@ static void test_patch_bone(void **state)
     (void)state;
     psc_io_patch_t pf;
     char err[768];
-    psc_patch_load_opts_t o = {.actions = {"assets/thom/Wave.act"}, .action_count = 1,
-                               .skin_from = "assets/thom/Thom2.mdl", .quiet = true};
-    if (psc_patch_load_any("assets/thom/Thom.mdl", &o, &pf, err, sizeof err) != 0)
+    psc_patch_load_opts_t o = {.actions = {TSUP_THOM_DIR "Wave.act"}, .action_count = 1,
+                               .skin_from = TSUP_THOM_DIR "Thom2.mdl", .quiet = true};
+    if (psc_patch_load_any(TSUP_THOM_DIR "Thom.mdl", &o, &pf, err, sizeof err) != 0)
         fail_msg("%s", err);
     const psc_patch_model_t *m = &pf.model;
     psc_patch_limits_t lim = {PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES, 1u << 20, 4};

@@ -45,7 +45,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#define GLTF_DIR "../shared/data/models/gltf/"
+#define GLTF_DIR TSUP_DATA_GLTF
 #define BG 0x30343Cu
 #define W 320
 #define H 240

@@ -23,6 +23,7 @@
 #include <cmocka.h>
 
 #include "psc_testsupport.h"
+#include "tsup_files.h"
 #include "tsup_patch.h"
 #include "tsup_raycast.h"
 #include "tsup_teapot.h"
@@ -43,7 +44,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#define THOM "assets/thom/Thom.mdl"
+#define THOM TSUP_THOM_DIR "Thom.mdl"
 
 /* ---- the maps --------------------------------------------------------------------------------------------- */
 
@@ -61,7 +62,7 @@ static void test_access_closed_form(void **state)
                 double want = cos(omega) * sin(alpha) * sin(alpha);
                 worst = fmax(worst, fabs(area - want));
                 checked++;
-                assert_true(fabs(area - want) <= 0.002);
+                assert_true(fabs(area - want) <= 1e-14);
             }
             assert_true(area >= 0 && area <= 1.0 + 1e-9);
         }
@@ -233,16 +234,50 @@ static void frame_mesh(const psc_patch_t *p, double (**pos)[3], size_t *nv, uint
 }
 
 typedef struct {
-    double corr, mae;
+    double corr, mae;          /* buried vertices left out */
+    double corr_all, mae_all;  /* every vertex compared */
+    unsigned compared, buried; /* vertices compared, and of them buried */
+    unsigned unnormed;         /* vertices without a normal, left out before comparing */
 } accuracy_t;
+
+/* Correlation and mean absolute error over pairs (x: the product, y: the ray-cast reference). */
+typedef struct {
+    double sx, sy, sxx, syy, sxy, sad;
+    unsigned n;
+} pairs_t;
+
+static void pairs_add(pairs_t *s, double x, double y)
+{
+    s->sx += x, s->sy += y, s->sxx += x * x, s->syy += y * y, s->sxy += x * y, s->sad += fabs(x - y);
+    s->n++;
+}
+
+static void pairs_result(const pairs_t *s, double *corr, double *mae)
+{
+    double n = s->n, cov = s->sxy / n - s->sx / n * s->sy / n;
+    double vx = s->sxx / n - s->sx / n * s->sx / n, vy = s->syy / n - s->sy / n * s->sy / n;
+    *corr = cov / sqrt(vx * vy);
+    *mae = s->sad / n;
+}
+
+/* Both figures from the pairs, without and with the buried vertices. */
+static accuracy_t accuracy_of(const pairs_t *open, const pairs_t *all)
+{
+    accuracy_t a = {0};
+    pairs_result(open, &a.corr, &a.mae);
+    pairs_result(all, &a.corr_all, &a.mae_all);
+    a.compared = all->n;
+    a.buried = all->n - open->n;
+    return a;
+}
 
 /* The frame's occlusion (occ, per vertex) against ray-cast AO over every 7th vertex of p's frame; vertices every
  * ray of which is blocked are buried inside another part of the body (Thom's arm passes through his shirt as he
- * walks: the model's own), nobody sees them, and they are left out. */
+ * walks: the model's own), nobody sees them, and the first figures leave them out; the second include them. */
 static accuracy_t compare(const psc_patch_t *p, const uint32_t *occ, const tsup_bvh_t *bvh)
 {
-    double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0, sad = 0;
-    unsigned n = 0;
+    pairs_t open = {0}, all = {0};
+    unsigned unnormed = 0;
     for (uint32_t i = 0; i < p->vtx_total; i += 7) {
         int32_t nq[3] = {p->out_nrm[3 * i] * 4, p->out_nrm[3 * i + 1] * 4, p->out_nrm[3 * i + 2] * 4};
         double x = occ[i] / 65536.0;
@@ -252,24 +287,30 @@ static accuracy_t compare(const psc_patch_t *p, const uint32_t *occ, const tsup_
             nn[k] = nq[k] / 65536.0;
         }
         double l = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
-        if (l < 0.5)
+        if (l < 0.5) {
+            unnormed++;   /* no normal to cast rays about (a degenerate spot): left out, counted */
             continue;
+        }
         for (unsigned k = 0; k < 3; k++)
             nn[k] /= l;
         double y = tsup_ao(bvh, pp, nn, 16, 2e-3, 1.0);
-        if (y >= 1.0)
-            continue;   /* buried */
-        sx += x;
-        sy += y;
-        sxx += x * x;
-        syy += y * y;
-        sxy += x * y;
-        sad += fabs(x - y);
-        n++;
+        pairs_add(&all, x, y);
+        if (y < 1.0)
+            pairs_add(&open, x, y);
     }
-    double cov = sxy / n - sx / n * sy / n, vx = sxx / n - sx / n * sx / n, vy = syy / n - sy / n * sy / n;
-    accuracy_t a = {cov / sqrt(vx * vy), sad / n};
+    accuracy_t a = accuracy_of(&open, &all);
+    a.unnormed = unnormed;
     return a;
+}
+
+/* Vertices left out (buried, or without a normal): say how many, and at most max_share of those sampled. */
+static void print_left_out(const char *label, const accuracy_t *a, double max_share)
+{
+    unsigned sampled = a->compared + a->unnormed, left_out = a->buried + a->unnormed;
+    print_message("  %-20s %u of %u vertices left out (%.2f %%: %u buried, %u without a normal); with the buried: "
+                  "correlation %.3f, mean abs error %.3f\n", label, left_out, sampled, 100.0 * left_out / sampled,
+                  a->buried, a->unnormed, a->corr_all, a->mae_all);
+    assert_true(left_out <= max_share * sampled);
 }
 
 static int cmp_vertex(const void *a, const void *b)
@@ -312,7 +353,7 @@ static seams_t seams(const psc_patch_t *p, const uint32_t *occ)
 
 static void shade_and_compare(const char *label, const psc_patch_model_t *m, const psc_shadow_model_t *sm,
                               const psc_shadow_model_t *single, int action, uint32_t ms, double min_corr,
-                              double max_mae)
+                              double max_mae, double max_left_out)
 {
     tsup_tess_t t;
     assert_int_equal(tsup_tess_new(&t, m), 0);
@@ -351,6 +392,7 @@ static void shade_and_compare(const char *label, const psc_patch_model_t *m, con
     free(normals);
     accuracy_t a = compare(&t.p, frame, bvh), b = compare(&t.p, frame1, bvh), c = compare(&t.p, own, bvh);
     seams_t sd = seams(&t.p, frame);
+    print_left_out(label, &a, max_left_out);
     print_message("  %-20s the frame: correlation %.3f, mean abs error %.3f; one level: %.3f, %.3f; each vertex its "
                   "own spheres: %.3f, %.3f\n  %-20s patches' mean edge %.3f R (%s); of %u vertices two patches share, "
                   "%u disagree by more than 0.01 (worst %.3f)\n", label, a.corr, a.mae, b.corr, b.mae, c.corr, c.mae,
@@ -400,9 +442,10 @@ static void test_against_raycast(void **state)
     psc_shadow_model_t tree, single;
     build_pack(&pf.model, PSC_SHADOW_BUILD_LEVELS, PSC_SHADOW_BUILD_SPHERES, &b3, &tree);
     build_pack(&pf.model, 1, PSC_SHADOW_BUILD_SPHERES, &b1, &single);
-    shade_and_compare("Thom at rest", &pf.model, &tree, &single, -1, 0, 0.85, 0.06);   /* the goal: 0.85 */
-    shade_and_compare("Thom walking, 0.5 s", &pf.model, &tree, &single, 0, 500, 0.85, 0.06);   /* the goal: 0.85 */
-    shade_and_compare("Thom waving, 1.1 s", &pf.model, &tree, &single, 1, 1100, 0.85, 0.06);   /* the goal: 0.85 */
+    /* the goal: 0.85; left out: his arm passes through his shirt as it comes down (the model's own; 3.1 % waving) */
+    shade_and_compare("Thom at rest", &pf.model, &tree, &single, -1, 0, 0.85, 0.06, 0.02);
+    shade_and_compare("Thom walking, 0.5 s", &pf.model, &tree, &single, 0, 500, 0.85, 0.06, 0.02);
+    shade_and_compare("Thom waving, 1.1 s", &pf.model, &tree, &single, 1, 1100, 0.85, 0.06, 0.04);
     free(b3);
     free(b1);
     psc_io_patch_free(&pf);
@@ -421,7 +464,8 @@ static void test_against_raycast(void **state)
     assert_int_equal(psc_patch_parse(pack, plen, &tm, &e), PSC_OK);
     build_pack(&tm, PSC_SHADOW_BUILD_LEVELS, PSC_SHADOW_BUILD_SPHERES, &b3, &tree);
     build_pack(&tm, 1, PSC_SHADOW_BUILD_SPHERES, &b1, &single);
-    shade_and_compare("the teapot", &tm, &tree, &single, -1, 0, 0.75, 0.08);   /* a thin shell: spheres fit it worse */
+    /* left out: 14.7 % - the spout's and the handle's ends run inside the body, the Utah teapot's own */
+    shade_and_compare("the teapot", &tm, &tree, &single, -1, 0, 0.75, 0.08, 0.15);   /* a thin shell: spheres fit it worse */
     free(b3);
     free(b1);
     free(pack);
@@ -431,13 +475,13 @@ static void test_against_raycast(void **state)
 
 /* ---- glTF models --------------------------------------------------------------------------------------------- */
 
-#define GLTF_DIR "../shared/data/models/gltf/"
+#define GLTF_DIR TSUP_DATA_GLTF
 
 /* A glTF model posed at t (< 0: rest) in units of R, shaded by the run time at every vertex, against ray-cast AO
  * on the same posed triangles; mean[0], mean[1]: the two mean occlusions; mean[2]: how far the finest spheres'
  * posed centres lie from the posed surface (the mean distance to the nearest vertex, units of R). */
-static accuracy_t gltf_accuracy(const psc_gltf_t *g, const psc_shadow_model_t *sm, double t, uint32_t *occ_out,
-                                double *mean)
+static accuracy_t gltf_accuracy(const psc_gltf_t *g, const psc_shadow_model_t *sm, double t, int bend,
+                                uint32_t *occ_out, double *mean)
 {
     uint32_t nv = g->mesh.vertex_count, nj = g->joint_count;
     double c[3], r, (*skin)[12] = malloc(nj * sizeof *skin), *pos = malloc(nv * 3 * sizeof *pos);
@@ -452,7 +496,19 @@ static accuracy_t gltf_accuracy(const psc_gltf_t *g, const psc_shadow_model_t *s
     assert_true(skin && pos && nrm && local && skin_q16 && pq && nq && col && occ && dpos && tri);
     psc_gltf_frame(g, c, &r);
     psc_gltf_pose(g, t, local);
-    psc_gltf_skin(g, local, NULL, skin);
+    psc_gltf_adjust_t *adjust = NULL;
+    if (bend) {   /* every third joint turned by bend degrees about z, past anything the animation does */
+        double cb = cos(bend * M_PI / 180), sn = sin(bend * M_PI / 180);
+        const double id[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, rz[12] = {cb, -sn, 0, 0, sn, cb, 0, 0, 0, 0, 1, 0};
+        adjust = malloc(nj * sizeof *adjust);
+        assert_non_null(adjust);
+        for (uint32_t j = 0; j < nj; j++) {
+            memcpy(adjust[j].pre, id, sizeof id);
+            memcpy(adjust[j].post, j > 2 && j % 3 == 0 ? rz : id, sizeof id);
+        }
+    }
+    psc_gltf_skin(g, local, adjust, skin);
+    free(adjust);
     psc_gltf_deform(g, (const double(*)[12])skin, pos, nrm);
     for (uint32_t i = 0; i < nv; i++)
         for (unsigned a = 0; a < 3; a++) {
@@ -496,27 +552,31 @@ static accuracy_t gltf_accuracy(const psc_gltf_t *g, const psc_shadow_model_t *s
     mean[2] = tracked ? track / tracked : 0.0;
     psc_shadow_apply_mesh(&s, pq, nq, col, nv, PSC_SHADOW_STRENGTH_Q16, occ);
     assert_int_equal(s.shaded, nv);
-    double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0, sad = 0;
-    unsigned n = 0;
+    pairs_t open = {0}, all = {0};
     for (uint32_t i = 0; i < nv; i += 3) {
         double y = tsup_ao(bvh, dpos[i], &nrm[3 * i], 16, 2e-3, 1.0), x = occ[i] / 65536.0;
-        if (y >= 1.0)
-            continue;   /* buried */
-        sx += x, sy += y, sxx += x * x, syy += y * y, sxy += x * y, sad += fabs(x - y);
-        n++;
+        pairs_add(&all, x, y);
+        if (y < 1.0)
+            pairs_add(&open, x, y);   /* not buried */
     }
-    double cov = sxy / n - sx / n * sy / n, vx = sxx / n - sx / n * sx / n, vy = syy / n - sy / n * sy / n;
-    mean[0] = sx / n;
-    mean[1] = sy / n;
+    mean[0] = open.sx / open.n;
+    mean[1] = open.sy / open.n;
     tsup_bvh_free(bvh);
     free(ws);
     free(skin), free(pos), free(nrm), free(local), free(skin_q16), free(pq), free(nq), free(col), free(dpos), free(tri);
     if (!occ_out)
         free(occ);
-    return (accuracy_t){cov / sqrt(vx * vy), sad / n};
+    return accuracy_of(&open, &all);
 }
 
-static void gltf_case(const char *file, const double *times, unsigned ntimes, double min_corr, double max_mae)
+typedef struct {
+    double t;                  /* seconds; < 0: rest */
+    int bend;                  /* degrees at every third joint, 0: none */
+    double min_corr;           /* correlation at least */
+    double max_mae, max_left_out;
+} gltf_pose_t;
+
+static void gltf_case(const char *file, const gltf_pose_t *poses, unsigned npose, bool beats_one_level)
 {
     psc_gltf_t g;
     char err[512], note[256] = "", path[256];
@@ -534,22 +594,23 @@ static void gltf_case(const char *file, const double *times, unsigned ntimes, do
     double rest_track = 0;
     assert_int_equal(psc_shadow_parse(b, len, &sm, &e), PSC_OK);
     assert_int_equal(psc_shadow_parse(b1, len1, &sm1, &e), PSC_OK);
-    for (unsigned k = 0; k < ntimes; k++) {
+    for (unsigned k = 0; k < npose; k++) {
+        const gltf_pose_t *ps = &poses[k];
         double mean[3], mean1[3];
-        accuracy_t a = gltf_accuracy(&g, &sm, times[k], NULL, mean), a1 = gltf_accuracy(&g, &sm1, times[k], NULL, mean1);
+        accuracy_t a = gltf_accuracy(&g, &sm, ps->t, ps->bend, NULL, mean);
+        accuracy_t a1 = gltf_accuracy(&g, &sm1, ps->t, ps->bend, NULL, mean1);
         char label[96];
-        if (times[k] < 0)
-            snprintf(label, sizeof label, "%s at rest", file);
-        else
-            snprintf(label, sizeof label, "%s at %.2f s", file, times[k]);
+        int at = snprintf(label, sizeof label, ps->t < 0 ? "%s at rest" : "%s at %.2f s", file, ps->t);
+        if (ps->bend)
+            snprintf(label + at, sizeof label - (size_t)at, ", bent %d", ps->bend);
         print_message("  %-40s correlation %.3f, mean abs error %.3f, mean %.3f against %.3f (one level: %.3f, %.3f);\n"
                       "  %-40s the finest spheres' centres %.4f R from the surface\n", label, a.corr, a.mae, mean[0],
                       mean[1], a1.corr, a1.mae, "", mean[2]);
-        if (min_corr > 0) {
-            assert_true(a.corr >= min_corr);
+        print_left_out(label, &a, ps->max_left_out);
+        assert_true(a.corr >= ps->min_corr);
+        if (beats_one_level)
             assert_true(a.corr > a1.corr);   /* the tree beats one level */
-        }
-        assert_true(a.mae <= max_mae);
+        assert_true(a.mae <= ps->max_mae);
         if (k == 0)
             rest_track = mean[2];
         assert_true(mean[2] <= 1.5 * rest_track);   /* the spheres follow the joints: as near the skin as at rest */
@@ -559,15 +620,17 @@ static void gltf_case(const char *file, const double *times, unsigned ntimes, do
     psc_gltf_free(&g);
 }
 
-/* The glTF models: a skinned bar bent by a bone chain (rest and two times of its animation: it hardly occludes
- * itself, so what counts is no false shadow and spheres that follow the bones) and a rigid truck (a hollow shell
- * with an inside: spheres fit it worse than a body). */
+/* The glTF models: a skinned bar bent by a bone chain and a rigid truck (a hollow shell with an inside: spheres fit
+ * it worse than a body). In its own animation the bar hardly occludes itself (ray-cast mean 0.000 to 0.005), so
+ * its correlation is weak (measured 0.22 to 0.57) and what counts most is no false shadow (mean abs error) and
+ * spheres that follow the bones. */
 static void test_gltf_against_raycast(void **state)
 {
     (void)state;
-    const double bar_times[] = {-1.0, 0.2, 0.4}, truck_times[] = {-1.0};
-    gltf_case("animation_with_skeleton.gltf", bar_times, 3, -1.0, 0.04);
-    gltf_case("CesiumMilkTruck.gltf", truck_times, 1, 0.5, 0.3);
+    const gltf_pose_t bar[] = {{-1.0, 0, 0.5, 0.04, 0.0}, {0.2, 0, 0.2, 0.04, 0.0}, {0.4, 0, 0.35, 0.04, 0.0}};
+    const gltf_pose_t truck[] = {{-1.0, 0, 0.5, 0.3, 0.10}};   /* its cab's inside is closed: 9.4 % buried */
+    gltf_case("animation_with_skeleton.gltf", bar, 3, false);
+    gltf_case("CesiumMilkTruck.gltf", truck, 1, true);
 }
 
 /* Mutated and truncated glTF files: the importer refuses them with a message naming the file, or reads a model

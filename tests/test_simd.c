@@ -85,6 +85,8 @@ static unsigned compare_paths(tsup_viewer_t *tv, const psc_view_t *view, const p
     for (unsigned p = 0; p < n + (with_auto ? 1u : 0u); p++) {
         psc_simd_t s = p < n ? paths[p] : PSC_SIMD_AUTO;
         assert_int_equal(psc_viewer_set_simd(&tv->v, s), PSC_OK);
+        if (s != PSC_SIMD_AUTO)
+            assert_int_equal(psc_viewer_simd(&tv->v), s);   /* the frame is drawn with that kernel */
         clear_rows(&tv->out);
         assert_int_equal(psc_viewer_render(&tv->v, view, &tv->out), PSC_OK);
         if (memcmp(scalar, tv->out.pixels, bytes) != 0)
@@ -96,6 +98,16 @@ static unsigned compare_paths(tsup_viewer_t *tv, const psc_view_t *view, const p
     }
     assert_true(tsup_viewer_guard_ok(tv));
     return made;
+}
+
+/* Whether this CPU has AVX2 (the x86-64 build always has the AVX2 kernel: then it must be compared). */
+static bool cpu_has_avx2(void)
+{
+#if defined(__x86_64__)
+    return __builtin_cpu_supports("avx2") != 0;
+#else
+    return false;
+#endif
 }
 
 /* The vector paths this build and this CPU have. */
@@ -150,8 +162,11 @@ static void test_paths_equal_scalar(void **state)
         }
         tsup_map_free(&m);
     }
-    print_message("  %u random views: scalar bytes from auto %u, vector %u, avx2 %u times\n", frames, compared[0],
-                  compared[1], compared[2]);
+    print_message("  %u random views: scalar bytes from auto %u, vector %u, avx2 %u times (AVX2 %s)\n", frames,
+                  compared[0], compared[1], compared[2], cpu_has_avx2() ? "on this CPU: its kernel ran" :
+                                                                          "not on this CPU: its kernel did not run");
+    if (cpu_has_avx2())
+        assert_true(compared[2] > 0);   /* where the CPU has it, the AVX2 kernel drew and was compared */
 #if defined(__SSE2__) || defined(__ARM_NEON)
     assert_true(compared[1] > 0); /* this target has baseline vectors: they were compared */
 #endif
@@ -214,8 +229,11 @@ static void test_mip_paths_equal_scalar(void **state)
         }
         free(buf);
     }
-    print_message("  %u random mip views: the scalar bytes %u times\n", frames, compared);
+    print_message("  %u random mip views: the scalar bytes %u times (vector %u, avx2 %u)\n", frames, compared, counts[1],
+                  counts[2]);
     assert_true(compared > 0);
+    if (cpu_has_avx2())
+        assert_true(counts[2] > 0);
 }
 
 static void test_choice(void **state)

@@ -32,6 +32,9 @@
 #include "tsup_faults.h"
 #include "tsup_files.h"
 #include "tsup_pack.h"
+#include "psc_io_image.h"
+
+#include <png.h>
 
 #define SOAK_W 320
 #define SOAK_H 240
@@ -183,9 +186,60 @@ static void test_soak(void **state)
     assert_int_equal(c.frees, 0);
 }
 
+/* The window the soak counts in sees what is allocated out of sight too: inside the C library (strdup, fopen's
+ * FILE) and inside a shared library (libpng's read structures, a whole PNG decoded through io), each counted and
+ * each freed. */
+static void test_window_sees_library_allocations(void **state)
+{
+    (void)state;
+    char path[512], err[300];
+    tsup_tmp_path(path, sizeof path, "test_soak", "probe.png");
+    psc_image_t img = {.width = 8, .height = 4};
+    img.xrgb = calloc(8 * 4, sizeof *img.xrgb);
+    assert_non_null(img.xrgb);
+    if (psc_image_write_png(path, &img, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    psc_image_free(&img);
+
+    tsup_faults_start(0, 0);
+    char *volatile copy = strdup("probe");
+    tsup_faults_stats_t after_strdup = tsup_faults_now();
+    free(copy);
+    FILE *f = fopen(path, "rb");
+    tsup_faults_stats_t after_fopen = tsup_faults_now();
+    assert_non_null(f);
+    fclose(f);
+    tsup_faults_stats_t before_png = tsup_faults_now();
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    tsup_faults_stats_t after_png = tsup_faults_now();
+    png_destroy_read_struct(&png, &info, NULL);
+    tsup_faults_stats_t before_decode = tsup_faults_now();
+    psc_image_t back;
+    int rc = psc_image_load(path, &back, err, sizeof err);
+    tsup_faults_stats_t after_decode = tsup_faults_now();
+    if (rc == 0)
+        psc_image_free(&back);
+    tsup_faults_stats_t end = tsup_faults_stop();
+    remove(path);
+    printf("  counted: strdup %llu, fopen %llu, libpng's read structures %llu, a PNG decoded %llu allocations; "
+           "%llu allocated and %llu freed in all\n", (unsigned long long)after_strdup.allocations,
+           (unsigned long long)(after_fopen.allocations - after_strdup.allocations),
+           (unsigned long long)(after_png.allocations - before_png.allocations),
+           (unsigned long long)(after_decode.allocations - before_decode.allocations),
+           (unsigned long long)end.allocations, (unsigned long long)end.frees);
+    assert_int_equal(rc, 0);
+    assert_int_equal(after_strdup.allocations, 1);
+    assert_true(after_fopen.allocations > after_strdup.allocations);
+    assert_true(after_png.allocations >= before_png.allocations + 2);   /* png_struct and png_info, in libpng */
+    assert_true(after_decode.allocations > before_decode.allocations + 1);   /* libpng's, beside io's pixels */
+    assert_int_equal(end.frees, end.allocations);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_window_sees_library_allocations),
         cmocka_unit_test(test_soak),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

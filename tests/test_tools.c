@@ -810,7 +810,7 @@ static void test_patch_tools(void **state)
 static void test_proxy_tools(void **state)
 {
     (void)state;
-    const char *bar = "../shared/data/models/gltf/animation_with_skeleton.gltf";
+    const char *bar = TSUP_DATA_GLTF "animation_with_skeleton.gltf";
     char ppx[512], a_png[512], b_png[512], ids[512], depth[512], json[512];
     tmp_path(ppx, sizeof ppx, "bar.ppx");
     tmp_path(a_png, sizeof a_png, "bar-a.png");
@@ -875,8 +875,8 @@ static void test_proxy_tools(void **state)
 static void test_gltf_tools(void **state)
 {
     (void)state;
-    const char *bar = "../shared/data/models/gltf/animation_with_skeleton.gltf";
-    const char *truck = "../shared/data/models/gltf/CesiumMilkTruck.gltf";
+    const char *bar = TSUP_DATA_GLTF "animation_with_skeleton.gltf";
+    const char *truck = TSUP_DATA_GLTF "CesiumMilkTruck.gltf";
     char pao[512], a_png[512], b_png[512], csv[512], json[512];
     tmp_path(pao, sizeof pao, "bar.pao");
     tmp_path(a_png, sizeof a_png, "bar-a.png");

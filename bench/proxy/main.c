@@ -8,7 +8,7 @@
  * the proxies are the level of detail drawn):
  *  - a rigid assembly of 12 rings of 9 216 triangles each (110 592 in all),
  *    every ring its own node, built here;
- *  - the bundled skinned bar (../shared/data/models/gltf), its animation
+ *  - the bundled skinned bar (tests/data/gltf), its animation
  *    playing.
  * Each is baked here with periscope-proxy's defaults (7 x 7 views of 64^2).
  *
@@ -173,9 +173,9 @@ int main(int argc, char **argv)
     model_t models[2] = {{.name = "assembly, 12 rigid rings"}, {.name = "bar, skinned, playing", .t_step = 1.0 / 60}};
     if (make_assembly(&asm_g) != 0 || bake(&models[0], &asm_g) != 0)
         return 1;
-    if (psc_gltf_load("../shared/data/models/gltf/animation_with_skeleton.gltf", &bar_g, note, sizeof note, err,
+    if (psc_gltf_load("tests/data/gltf/animation_with_skeleton.gltf", &bar_g, note, sizeof note, err,
                       sizeof err) != 0) {
-        fprintf(stderr, "proxy bench: %s (run from the repository, ../shared beside it)\n", err);
+        fprintf(stderr, "proxy bench: %s (run from the repository's root)\n", err);
         return 1;
     }
     if (bake(&models[1], &bar_g) != 0)

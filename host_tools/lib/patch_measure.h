@@ -29,6 +29,12 @@ long psc_patch_measure_cracks(const psc_patch_t *p);
  */
 double psc_patch_measure_chord(const psc_patch_t *p, const psc_patch_t *ref);
 
+/**
+ * The largest distance (units of R) from the n points pts (units of R) to
+ * the triangles of face f in p's last tessellation; 0 when it has none.
+ */
+double psc_patch_measure_points(const psc_patch_t *p, uint32_t f, const double (*pts)[3], size_t n);
+
 /** The vertices and triangles of face f in p's last tessellation (into the face cache). */
 void psc_patch_face_output(const psc_patch_t *p, uint32_t f, const psc_patch_vtx_t **vtx, uint32_t *vn,
                            const uint16_t **idx, uint32_t *tn);

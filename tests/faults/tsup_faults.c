@@ -28,24 +28,28 @@ static uint64_t faults_fail_alloc, faults_fail_io;
 static atomic_bool faults_fired;
 
 /* The blocks allocated while counting and not yet freed, with their callers, to name a leak. */
-#define LIVE_MAX 4096
+#define LIVE_MAX TSUP_FAULTS_LIVE_MAX
 static struct {
     void *p;
     void *caller;
 } faults_live[LIVE_MAX];
 static atomic_flag faults_live_lock = ATOMIC_FLAG_INIT;
+static atomic_bool faults_live_overflow;   /* a block found the table full: the leak count cannot be trusted */
 
 static void live_add(void *p, void *caller)
 {
+    bool kept = false;
     while (atomic_flag_test_and_set(&faults_live_lock))
         ;
-    for (int i = 0; i < LIVE_MAX; i++)
+    for (int i = 0; i < LIVE_MAX && !kept; i++)
         if (faults_live[i].p == NULL) {
             faults_live[i].p = p;
             faults_live[i].caller = caller;
-            break;
+            kept = true;
         }
     atomic_flag_clear(&faults_live_lock);
+    if (!kept)
+        atomic_store(&faults_live_overflow, true);
 }
 
 static void live_remove(void *p)
@@ -69,6 +73,8 @@ static bool from_loader(void *caller)
 
 uint64_t tsup_faults_leaked(void)
 {
+    if (atomic_load(&faults_live_overflow))
+        return UINT64_MAX;
     uint64_t n = 0;
     for (int i = 0; i < LIVE_MAX; i++)
         n += faults_live[i].p != NULL && !from_loader(faults_live[i].caller);
@@ -89,6 +95,7 @@ void tsup_faults_print_live(FILE *f)
 void tsup_faults_start(uint64_t fail_alloc, uint64_t fail_io)
 {
     memset(faults_live, 0, sizeof faults_live);
+    atomic_store(&faults_live_overflow, false);
     atomic_store(&faults_allocs, 0);
     atomic_store(&faults_frees, 0);
     atomic_store(&faults_io, 0);
@@ -101,7 +108,7 @@ void tsup_faults_start(uint64_t fail_alloc, uint64_t fail_io)
 tsup_faults_stats_t tsup_faults_now(void)
 {
     return (tsup_faults_stats_t){atomic_load(&faults_allocs), atomic_load(&faults_frees), atomic_load(&faults_io),
-                                 atomic_load(&faults_fired)};
+                                 atomic_load(&faults_fired), atomic_load(&faults_live_overflow)};
 }
 
 tsup_faults_stats_t tsup_faults_stop(void)

@@ -19,11 +19,16 @@
 #include <stdint.h>
 #include <stdio.h>
 
+/* How many blocks allocated while counting the shim tracks at once (to name leaks). */
+#define TSUP_FAULTS_LIVE_MAX 4096
+
 typedef struct {
     uint64_t allocations;      /* successful allocation calls counted */
     uint64_t frees;            /* free() of a non-NULL pointer counted */
     uint64_t io_calls;         /* open/openat/fopen/read/pread calls counted */
     bool fired;                /* the armed failure happened */
+    bool live_overflow;        /* more blocks were live than the table of live blocks holds (LIVE_MAX): the leak
+                                  count and list are incomplete, and a test must fail rather than trust them */
 } tsup_faults_stats_t;
 
 /** Start counting from zero; fail the fail_alloc-th allocation and the fail_io-th I/O call (0: none). */
@@ -34,7 +39,9 @@ tsup_faults_stats_t tsup_faults_stop(void);
 
 /**
  * Blocks allocated while counting and still not freed, leaving out the
- * dynamic loader's own (the TLS of the thread stacks glibc keeps for reuse).
+ * dynamic loader's own (the TLS of the thread stacks glibc keeps for reuse);
+ * UINT64_MAX when the table of live blocks overflowed (live_overflow): a
+ * count it cannot give is never reported as small.
  */
 uint64_t tsup_faults_leaked(void);
 

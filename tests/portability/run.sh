@@ -130,7 +130,7 @@ p5=$(head -c 345600 "$tmp/ref-thom.raw" | tail -c 76800 | cksum)
 echo "portability: $board ($arch): psc-render-raw: 8 self-shadowed patch frames of Thom (Phong, the A-buffer) equal to x86-64's ($(wc -c <"$tmp/ref-thom.raw") bytes)"
 
 # the proxy animator: the skinned bar baked once here, drawn by core as proxies, full mesh and billboard
-"$build/bin/periscope-proxy" bake ../shared/data/models/gltf/animation_with_skeleton.gltf --views 9 --tex 32 \
+"$build/bin/periscope-proxy" bake tests/data/gltf/animation_with_skeleton.gltf --views 9 --tex 32 \
     -o "$tmp/bar.ppx" >"$tmp/proxy.log" 2>&1 || { cat "$tmp/proxy.log"; die "periscope-proxy failed"; }
 xspecs="rgb565,0,-1,357913941,238609294,144179 xrgb8888,0,400000,1789569706,-119304647,144179
         rgb565,1,620000,3221225472,178956970,144179 xrgb8888,2,-1,536870912,0,786432

@@ -10,6 +10,12 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* The models the tests read, in the repository (the tests run from its root): tests/data/ (each folder's
+ * SOURCES.md names origin and licence) and the sample character the product ships, assets/thom/. */
+#define TSUP_DATA_AM "tests/data/am/"
+#define TSUP_DATA_GLTF "tests/data/gltf/"
+#define TSUP_THOM_DIR "assets/thom/"
+
 /**
  * "<dir>/<prefix>_<pid>_<name>" in buf[n], where dir is $PSC_TEST_TMPDIR
  * (tests/run_all.sh sets it) or /tmp when that is unset or empty.

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* tsup_patch.c - the double-precision reference for patch tessellation (tsup_patch.h). */
 #include "tsup_patch.h"
+#include "patch_measure.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -118,8 +119,12 @@ int tsup_patch_ref_build(const psc_patch_t *p, unsigned depth, tsup_patch_ref_t 
     const psc_patch_model_t *m = p->m;
 
     memset(out, 0, sizeof *out);
+    out->face_first = malloc((m->face_count + 1u) * sizeof *out->face_first);
+    if (out->face_first == NULL)
+        return -1;
     for (uint32_t fi = 0; fi < m->face_count; fi++) {
         const psc_patch_face_t *f = &m->faces[fi];
+        out->face_first[fi] = out->vertex_count;
         unsigned n = f->sides;
         dcurve_t side[PSC_PATCH_MAX_SIDES];
         for (unsigned i = 0; i < n; i++) {
@@ -173,13 +178,26 @@ int tsup_patch_ref_build(const psc_patch_t *p, unsigned depth, tsup_patch_ref_t 
                 return -1;
         }
     }
+    out->face_first[m->face_count] = out->vertex_count;
     return 0;
+}
+
+double tsup_patch_ref_chord(const psc_patch_t *p, const tsup_patch_ref_t *r)
+{
+    double worst = 0.0;
+    for (uint32_t f = 0; f < p->m->face_count; f++) {
+        double d = psc_patch_measure_points(p, f, (const double(*)[3])(r->pos + r->face_first[f]),
+                                            r->face_first[f + 1] - r->face_first[f]);
+        worst = d > worst ? d : worst;
+    }
+    return worst;
 }
 
 void tsup_patch_ref_free(tsup_patch_ref_t *r)
 {
     free(r->pos);
     free(r->tri);
+    free(r->face_first);
     memset(r, 0, sizeof *r);
 }
 

@@ -26,6 +26,7 @@ typedef struct {
     size_t vertex_count;
     uint32_t (*tri)[3];
     size_t triangle_count;
+    size_t *face_first;          /* face f's vertices: pos[face_first[f] .. face_first[f + 1]) */
 } tsup_patch_ref_t;
 
 /** A tessellator with a heap workspace for the tests (generous limits). */
@@ -44,6 +45,13 @@ int tsup_tess_fine(tsup_tess_t *t, int action, uint32_t ms);
 /** The reference surface of p's current pose (after psc_patch_tangents): quads halved depth times each way. */
 int tsup_patch_ref_build(const psc_patch_t *p, unsigned depth, tsup_patch_ref_t *out);
 void tsup_patch_ref_free(tsup_patch_ref_t *r);
+
+/**
+ * The chord error of p's last tessellation (culling off) against the
+ * reference surface r of the same pose: the largest distance (units of R)
+ * from a vertex of r's patch f to p's triangles of patch f, over all patches.
+ */
+double tsup_patch_ref_chord(const psc_patch_t *p, const tsup_patch_ref_t *r);
 
 /**
  * Rasterize triangles (object space) seen through cam (rigid, Q16.16) with

@@ -13,6 +13,10 @@
 #       binary the VM runs)
 #   sh host_firmware.sh compare FRAME A LAYOUT [B LAYOUT] : rawcmp the VM's
 #       file(s) against sim-FRAME.raw (layouts: tests/vm/probes/rawcmp.c)
+#   sh host_firmware.sh same A B : the two files exist, are not empty and hold
+#       the same bytes
+#   sh host_firmware.sh differ A B : the two files exist, are not empty and
+#       differ (a missing file fails: `! cmp -s` would have passed)
 # Environment (from the harness): VM_ROOT, VM_DIR, VM_PROBES, PSC_BIN_DIR.
 set -eu
 
@@ -63,6 +67,16 @@ compare)
         "$VM_PROBES/rawcmp" 640 480 "sim-$frame.raw" xrgb8888 "$1" "$2"
         shift 2
     done
+    ;;
+same | differ)
+    for f in "$1" "$2"; do
+        [ -s "$f" ] || { echo "host_firmware.sh $cmd: $f: missing or empty" >&2; exit 1; }
+    done
+    if cmp -s "$1" "$2"; then
+        [ "$cmd" = same ] || { echo "host_firmware.sh differ: $1 and $2 are the same bytes" >&2; exit 1; }
+    else
+        [ "$cmd" = differ ] || { echo "host_firmware.sh same: $1 and $2 differ: $(cmp "$1" "$2" 2>&1)" >&2; exit 1; }
+    fi
     ;;
 *)
     echo "host_firmware.sh: unknown command $cmd" >&2

@@ -5,11 +5,17 @@
 # the firmware streams from it. The firmware must keep rendering, log the
 # loss and show CAMERA LOST, let go of the dead device (so the driver can be
 # unloaded), and pick up the new /dev/video0 of a reloaded driver.
+# The frame it dumps at frame 30 is compared: /dev/fb0 read back while the
+# firmware is held there shows it bit for bit, and it holds vivid's 75 %
+# colour bars (yellow, cyan, green, magenta, red, blue: the live picture,
+# not the scene's stand-in).
 # vm-modules: vivid vfb
 # vm-needs: @bin/periscope
 # vm-needs: @probe/v4l2_probe
 # vm-needs: @probe/fb_probe
 # vm-before: sh "$VM_DIR/host_firmware.sh" prepare vm-camera
+# vm-after: "$VM_PROBES/rawcmp" 640 480 fw-30.raw xrgb8888 fb-30.raw xbgr8888
+# vm-after: "$VM_PROBES/rawcmp" --colours 640 480 fw-30.raw xrgb8888 bfbf00 00bfbf 00bf00 bf00bf bf0000 0000bf
 # vm-expect: firmware.log v4l2 camera /dev/video0: YUYV
 # vm-expect: firmware.log devices: camera lost
 # vm-expect: firmware.log v4l2 camera /dev/video0: back

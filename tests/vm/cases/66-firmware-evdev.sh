@@ -27,7 +27,7 @@
 # vm-after: sh "$VM_DIR/host_firmware.sh" compare 45 fw-45.raw xrgb8888
 # vm-after: sh "$VM_DIR/host_firmware.sh" compare 85 fw-85.raw xrgb8888
 # vm-after: sh "$VM_DIR/host_firmware.sh" compare 86 fw-86.raw xrgb8888
-# vm-after: ! cmp -s sim-95.raw fw-95.raw
+# vm-after: sh "$VM_DIR/host_firmware.sh" differ sim-95.raw fw-95.raw
 # vm-expect: firmware.log input: periscope-vm touch screen arrived
 # vm-expect: firmware.log input: periscope-vm keyboard arrived
 # vm-expect: firmware.log input: device 0 left

@@ -13,6 +13,12 @@
  *
  * Exit 0 when every pixel matches; 1 with the count of differing pixels and
  * the first few (position and both values) otherwise.
+ *
+ *   rawcmp --colours W H A LAYOUT RRGGBB...
+ *     every colour listed covers at least 1/500 of the frame, each pixel
+ *     counted within 24 levels on every channel (a camera's test pattern,
+ *     converted from YUV, resampled and filtered, is in the frame); exit 0,
+ *     or 1 naming the colours missing and how much of each was found.
  */
 #include "probe_util.h"
 
@@ -95,14 +101,51 @@ static uint32_t raw_rgb(const raw_frame_t *f, size_t i)
     }
 }
 
+static int raw_has_colours(int argc, char **argv)
+{
+    raw_frame_t a;
+    uint32_t w, h;
+    int missing = 0;
+
+    w = (uint32_t)probe_number("width", argv[2]);
+    h = (uint32_t)probe_number("height", argv[3]);
+    a = (raw_frame_t){ .path = argv[4], .layout = raw_layout(argv[5]) };
+    raw_load(&a, w, h);
+    for (int c = 6; c < argc; c++) {
+        char *end;
+        unsigned long want = strtoul(argv[c], &end, 16);
+        size_t near = 0;
+
+        if (*end != '\0' || end - argv[c] != 6)
+            probe_fail(0, "'%s' is not a colour RRGGBB", argv[c]);
+        for (size_t i = 0; i < (size_t)w * h; i++) {
+            uint32_t v = raw_rgb(&a, i);
+            int ok = 1;
+            for (unsigned sh = 0; sh < 24; sh += 8) {
+                int d = (int)((v >> sh) & 255) - (int)((want >> sh) & 255);
+                ok &= d >= -24 && d <= 24;
+            }
+            near += (size_t)ok;
+        }
+        printf("%s: #%06lx in %zu of %zu pixels\n", a.path, want, near, (size_t)w * h);
+        missing += near * 500 < (size_t)w * h;
+    }
+    free(a.data);
+    if (missing != 0)
+        printf("%s: %d of the %d colours cover less than 1/500 of the frame\n", a.path, missing, argc - 6);
+    return missing != 0;
+}
+
 int main(int argc, char **argv)
 {
     raw_frame_t a, b;
     uint32_t w, h;
     size_t differ = 0;
 
+    if (argc >= 7 && strcmp(argv[1], "--colours") == 0)
+        return raw_has_colours(argc, argv);
     if (argc != 7) {
-        fprintf(stderr, "usage: rawcmp W H A LAYOUT_A B LAYOUT_B\n");
+        fprintf(stderr, "usage: rawcmp W H A LAYOUT_A B LAYOUT_B | rawcmp --colours W H A LAYOUT RRGGBB...\n");
         return 2;
     }
     w = (uint32_t)probe_number("width", argv[1]);
