@@ -19,7 +19,7 @@
 #   make BOARD=cortex-m7 mcu-run    also run it under qemu-system-arm (board's qemu_machine,
 #                                   semihosting) -> build/<name>/qemu.log, and render the same
 #                                   view on the host -> build/<name>/host-view.png
-# tests/test_cortex_m.c runs both from `make test` and compares the frames byte for byte.
+# tests/test_cortex_m.c runs both from `make check` and compares the frames byte for byte.
 # Toolchain on Debian: apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi (qemu-system-arm to run it).
 
 CM_CONF := $(if $(BOARD),$(wildcard boards/$(BOARD)/board.conf))

@@ -77,7 +77,7 @@ endif
 endif
 endif
 
-# `make test`: the native probe, and the probe and periscope-render for every
+# `make check`: the native probe, and the probe and periscope-render for every
 # board whose compiler is installed (tests/test_portability.c runs them under
 # qemu-user; a missing compiler or library is reported there as a skip).
 system-test-prep: portability-builds

@@ -10,7 +10,7 @@
 # is the same on every architecture) into $(BUILD)/scenes/<board>.pano.
 # scripts/build-deb assembles the package; a board whose target libraries are
 # not installed (its cross build is core only) stops with the reason.
-# `make test` builds the package of the native board (x86-kiosk on amd64) from
+# `make check` builds the package of the native board (x86-kiosk on amd64) from
 # this build's binaries into $(BUILD)/deb/; tests/test_deb.c checks it.
 
 .PHONY: image deb deb-lintian deb-test-package deb-cross-test-packages check-man-board
@@ -19,7 +19,7 @@ DEB_VERSION := $(shell tr -d ' \n' < VERSION 2>/dev/null)
 DEB_SAMPLE_JPG := assets/pannellum-examplepano.jpg
 DEB_INPUTS := VERSION scripts/build-deb $(wildcard packaging/deb/* packaging/man/*.1 packaging/man/*.5) assets/ATTRIBUTION.md
 DEB_HOST_ARCH := $(shell dpkg --print-architecture 2>/dev/null)
-# the board built natively for `make test`: x86-kiosk on amd64, else the first of that architecture
+# the board built natively for `make check`: x86-kiosk on amd64, else the first of that architecture
 DEB_HOST_BOARD := $(firstword $(foreach b,x86-kiosk $(filter-out x86-kiosk,$(CROSS_BOARDS)),\
 	$(if $(filter $(DEB_HOST_ARCH),$(call board_key,$(b),debian_arch)),$(b))))
 

@@ -4,7 +4,7 @@
 #                                     build/rpi-arm64/image/{vmlinuz,initramfs.cpio.gz,README}
 #                                     and, with `image.disk = raspi|efi`, the
 #                                     bootable disk periscope-rpi-arm64.img
-# `make test` makes the image of every board with an `image.kernel` key
+# `make check` makes the image of every board with an `image.kernel` key
 # (rpi-arm64, rpi-armhf) whose cross compiler is there, and
 # tests/test_deploy.c checks the SD card and boots the images
 # (tests/image/). When this machine cannot make one (no target libraries, no
