@@ -133,6 +133,11 @@ FW_LIB := $(BUILD)/lib/libpsc_firmware.a
 TESTSUP_LIB := $(BUILD)/lib/libpsc_testsupport.a
 FIRMWARE := $(BUILD)/bin/periscope
 TOOLS := $(patsubst host_tools/%.c,$(BUILD)/bin/%,$(TOOL_MAINS))
+# The one list of the programs Periscope ships: the device program and every host tool (host_tools/periscope-*.c).
+# The package (scripts/build-deb), its test (test_deb), the tools' test (test_tools) and the manual pages
+# (packaging/man/NAME.1, checked by check-man-pages) all take it from $(BUILD)/programs.txt.
+PROGRAMS := $(notdir $(FIRMWARE) $(TOOLS))
+PROGRAM_LIST := $(BUILD)/programs.txt
 TESTS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_MAINS))
 
 # Objects reached through pattern rules would count as intermediate files and be
@@ -142,7 +147,12 @@ TESTS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_MAINS))
 	check-layers check-clang check-sanitize install clean bench bench-callgrind FORCE
 .DEFAULT_GOAL := all
 
-all: $(CORE_LIB) $(IO_LIB) $(FIRMWARE) $(TOOLS)
+all: $(CORE_LIB) $(IO_LIB) $(FIRMWARE) $(TOOLS) $(PROGRAM_LIST)
+
+# rewritten only when the list changes (FORCE below)
+$(PROGRAM_LIST): FORCE
+	@mkdir -p $(@D)
+	@printf '%s\n' $(PROGRAMS) | cmp -s - $@ || printf '%s\n' $(PROGRAMS) >$@
 
 deps:
 	$(Q)sh scripts/install-deps.sh
@@ -383,18 +393,22 @@ CXX ?= $(CROSS_COMPILE)g++
 ifeq ($(origin CXX),default)
 CXX := $(CROSS_COMPILE)g++
 endif
-BENCH_DIRS := $(sort $(patsubst %/,%,$(dir $(wildcard bench/*/*.c bench/*/*.cpp))))
+# bench/common/ is what the benchmarks share (linked into each, included as "common/NAME.h").
+BENCH_DIRS := $(filter-out bench/common,$(sort $(patsubst %/,%,$(dir $(wildcard bench/*/*.c bench/*/*.cpp)))))
 BENCH_PROGS := $(patsubst bench/%,$(BUILD)/bench/%,$(BENCH_DIRS))
+BENCH_COMMON_OBJS := $(call obj,$(wildcard bench/common/*.c))
+$(BUILD)/obj/bench/%.o: TEST_INC += -Ibench
 BENCH_PACKAGES = $(shell cat bench/packages.txt 2>/dev/null)
 bench_pkgs = $(shell cat bench/$(1)/pkg-config 2>/dev/null)
 
 $(BUILD)/obj/bench/%.o: bench/%.cpp
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  CXX     $<")
-	$(Q)$(CXX) -std=c++17 -O2 -g -MMD -MP -Wall -Wextra -Werror -Icore -Iio -Ihost_tools/lib $(shell $(PKG_CONFIG) --cflags $(call bench_pkgs,$(firstword $(subst /, ,$*))) 2>/dev/null) -c $< -o $@
+	$(Q)$(CXX) -std=c++17 -O2 -g -MMD -MP -Wall -Wextra -Werror -Icore -Iio -Ihost_tools/lib -Ibench $(shell $(PKG_CONFIG) --cflags $(call bench_pkgs,$(firstword $(subst /, ,$*))) 2>/dev/null) -c $< -o $@
 
 .SECONDEXPANSION:
-$(BUILD)/bench/%: $$(addprefix $(BUILD)/obj/,$$(addsuffix .o,$$(basename $$(wildcard bench/$$*/*.c bench/$$*/*.cpp)))) $(HOST_LIB) $(IO_LIB) $(CORE_LIB)
+$(BUILD)/bench/%: $$(addprefix $(BUILD)/obj/,$$(addsuffix .o,$$(basename $$(wildcard bench/$$*/*.c bench/$$*/*.cpp)))) \
+		$(BENCH_COMMON_OBJS) $(HOST_LIB) $(IO_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(if $(wildcard bench/$*/*.cpp),$(CXX),$(CC)) $(LDFLAGS) -o $@ $^ $(shell $(PKG_CONFIG) --libs $(call bench_pkgs,$*) 2>/dev/null) $(IMG_LIBS) $(LDLIBS_HOST)
