@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "app_internal.h"
+#include "board_find.h"
 #include "psc_hal.h"
 #include "psc_io_log.h"
 
@@ -154,7 +155,15 @@ int psc_app_open(const psc_cli_options_t *opt, psc_app_t **out, char *err, size_
     }
     app->quiet = opt->quiet;
     app->max_frames = opt->max_frames;
-    snprintf(app->board_path, sizeof app->board_path, "%s/%s/board.conf", opt->boards_dir, opt->board);
+    /* no --boards-dir: the first place that has the board (board_find.h) */
+    char found[PSC_BOARD_PATH_MAX];
+    const char *boards_dir = opt->boards_dir;
+    if (boards_dir == NULL) {
+        if (psc_board_find_default(opt->board, found, sizeof found, err, errlen) != 0)
+            goto fail;
+        boards_dir = found;
+    }
+    snprintf(app->board_path, sizeof app->board_path, "%s/%s/board.conf", boards_dir, opt->board);
     if (psc_board_config_load(app->board_path, &app->board, err, errlen) != 0)
         goto fail;
     if (app_take_files(app, opt, err, errlen) != 0)

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "board_config.h"
+#include "board_find.h"
 #include "cli.h"
 #include "frame_dump.h"
 #include "psc_hal.h"
@@ -28,8 +29,10 @@ const char *psc_cli_usage(void)
            "                      $PERISCOPE_CACHE_DIR, else $XDG_CACHE_HOME/periscope or\n"
            "                      ~/.cache/periscope); up to 8; the board defaults to desktop\n"
            "  --board NAME        read DIR/NAME/board.conf\n"
-           "  --boards-dir DIR    where board descriptions live (default: boards; with FILEs and\n"
-           "                      no boards/desktop there, " PSC_CLI_INSTALLED_BOARDS ")\n"
+           "  --boards-dir DIR    where board descriptions live (default: the first of ./boards,\n"
+           "                      the build tree's boards beside the program and\n"
+           "                      " PSC_BOARD_FIND_ETC " that has the board; with FILEs and no\n"
+           "                      desktop board there, the one board in " PSC_CLI_INSTALLED_BOARDS ")\n"
            "  --scene PACK        show this scene pack (or JPEG or PNG panorama) instead of the\n"
            "                      board's scene list\n"
            "  --out DIR           captured frames and contact sheet (default: out/NAME)\n"
@@ -127,23 +130,27 @@ static bool cli_has_board(const char *dir, const char *name)
 }
 
 /*
- * Files to show and no --board: the desktop board, from --boards-dir or
- * ./boards, else the installed boards' desktop or, when the package
- * installed one board only, that one (a kiosk's own display).
+ * Files to show and no --board: the desktop board, from --boards-dir or the
+ * first place that has one (board_find.h), else, when the package installed
+ * one board only, that one (a kiosk's own display).
  */
-static int cli_default_board(psc_cli_options_t *o, bool boards_dir_given, char *err, size_t errlen)
+static int cli_default_board(psc_cli_options_t *o, char *err, size_t errlen)
 {
+    char why[600];
+
     o->board = "desktop";
-    if (boards_dir_given || cli_has_board(o->boards_dir, "desktop"))
+    if (o->boards_dir != NULL)
         return 0;
-    o->boards_dir = PSC_CLI_INSTALLED_BOARDS;
-    if (cli_has_board(o->boards_dir, "desktop"))
+    if (psc_board_find_default("desktop", o->boards_dir_buf, sizeof o->boards_dir_buf, why, sizeof why) == 0) {
+        o->boards_dir = o->boards_dir_buf;
         return 0;
+    }
     unsigned found = 0;
-    DIR *d = opendir(o->boards_dir);
+    DIR *d = opendir(PSC_CLI_INSTALLED_BOARDS);
     struct dirent *e;
     while (d != NULL && (e = readdir(d)) != NULL) {
-        if (e->d_name[0] == '.' || strlen(e->d_name) >= sizeof o->board_buf || !cli_has_board(o->boards_dir, e->d_name))
+        if (e->d_name[0] == '.' || strlen(e->d_name) >= sizeof o->board_buf ||
+            !cli_has_board(PSC_CLI_INSTALLED_BOARDS, e->d_name))
             continue;
         if (found++ == 0)
             snprintf(o->board_buf, sizeof o->board_buf, "%s", e->d_name);
@@ -152,10 +159,15 @@ static int cli_default_board(psc_cli_options_t *o, bool boards_dir_given, char *
         closedir(d);
     if (found == 1) {
         o->board = o->board_buf;
+        o->boards_dir = PSC_CLI_INSTALLED_BOARDS;
         return 0;
     }
-    psc_hal_error_set(err, errlen, "no board to show %s on: no boards/desktop/board.conf here and %s in %s; "
-                      "name one with --board NAME (and --boards-dir DIR)", o->files[0],
+    psc_board_places_t p;
+    char places[1200];
+    psc_board_places_default(&p);
+    psc_board_places_text(p.dirs, p.count, places, sizeof places);
+    psc_hal_error_set(err, errlen, "no board to show %s on: no desktop/board.conf in %s, and %s in %s; "
+                      "name one with --board NAME (and --boards-dir DIR)", o->files[0], places,
                       found == 0 ? "no board installed" : "more than one board installed", PSC_CLI_INSTALLED_BOARDS);
     return -1;
 }
@@ -165,10 +177,9 @@ int psc_cli_parse(int argc, char *const *argv, psc_cli_options_t *o, char *err, 
     psc_io_cli_t c;
     int opt;
 
-    *o = (psc_cli_options_t){ .boards_dir = "boards", .frames_every = -1 };
+    *o = (psc_cli_options_t){ .frames_every = -1 };
     /* getopt moves the arguments that are not options behind the options */
     psc_io_cli_begin(&c, argc, (char **)argv, "h", cli_options);
-    bool boards_dir_given = false;
     while ((opt = psc_io_cli_next(&c, err, errlen)) != 0) {
         if (opt < 0)
             return -1;
@@ -179,7 +190,6 @@ int psc_cli_parse(int argc, char *const *argv, psc_cli_options_t *o, char *err, 
         }
         if (cli_take(o, opt, c.name, c.arg, err, errlen) != 0)
             return -1;
-        boards_dir_given |= opt == OPT_BOARDS_DIR;
     }
     for (int i = psc_io_cli_rest(&c); i < argc; i++) {
         if (o->file_count == PSC_CLI_MAX_FILES) {
@@ -194,7 +204,7 @@ int psc_cli_parse(int argc, char *const *argv, psc_cli_options_t *o, char *err, 
                           "so give one or the other", o->files[0]);
         return -1;
     }
-    if (o->board == NULL && o->file_count != 0 && cli_default_board(o, boards_dir_given, err, errlen) != 0)
+    if (o->board == NULL && o->file_count != 0 && cli_default_board(o, err, errlen) != 0)
         return -1;
     if (o->board == NULL) {
         psc_hal_error_set(err, errlen, "--board NAME is required (e.g. --board sim), or files to show");
@@ -203,7 +213,7 @@ int psc_cli_parse(int argc, char *const *argv, psc_cli_options_t *o, char *err, 
     /* the board name becomes a path component: keep it one */
     if (strchr(o->board, '/') != NULL || strcmp(o->board, "..") == 0 || strcmp(o->board, ".") == 0) {
         psc_hal_error_set(err, errlen, "board name '%s' must be a directory name under %s, not a path",
-                          o->board, o->boards_dir);
+                          o->board, o->boards_dir != NULL ? o->boards_dir : "the boards directory");
         return -1;
     }
     return 0;

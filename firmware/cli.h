@@ -11,12 +11,15 @@
  *
  * Options follow the programs' one convention (io/psc_io_cli.h): --opt VALUE
  * or --opt=VALUE, whole option names only.
- * The board file is DIR/NAME/board.conf (DIR defaults to "boards"). --scene
+ * The board file is DIR/NAME/board.conf: DIR is --boards-dir, else the first
+ * place that has the board (board_find.h: ./boards, the build tree's boards
+ * beside the program, /etc/periscope/boards, PSC_CLI_INSTALLED_BOARDS), which
+ * the program looks up once it runs (boards_dir stays NULL here). --scene
  * replaces the board's scene list with one pack (or JPEG or PNG panorama);
  * files named after the options replace it with those, in order (up to
  * PSC_CLI_MAX_FILES; scene packs, JPEGs, PNGs), and then the board defaults
- * to "desktop": boards/desktop, else the installed boards'
- * (PSC_CLI_INSTALLED_BOARDS, "desktop" there or the one board installed);
+ * to "desktop": the first of those places with a desktop board, else the
+ * installed boards' (PSC_CLI_INSTALLED_BOARDS: the one board installed);
  * --tour replaces its tour;
  * --out is where the sim display captures frames and the contact sheet goes
  * (default out/NAME); --frames-every overrides the board's capture period
@@ -47,7 +50,7 @@ typedef struct {
 /** Parsed command line; strings point into argv. */
 typedef struct {
     const char *board;
-    const char *boards_dir;     /* default "boards" */
+    const char *boards_dir;     /* --boards-dir; NULL = look for the board (board_find.h) */
     const char *scene;          /* NULL = the board's scenes */
     const char *out_dir;        /* NULL = out/<board> */
     const char *tour;           /* NULL = the board's tour */
@@ -62,6 +65,7 @@ typedef struct {
     const char *files[PSC_CLI_MAX_FILES];      /* FILE...: the scene list, in order */
     unsigned file_count;
     char board_buf[256];        /* the installed board's name, when board defaults to it */
+    char boards_dir_buf[256];   /* where the default desktop board was found */
 } psc_cli_options_t;
 
 /**

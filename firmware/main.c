@@ -10,6 +10,7 @@
 
 #include "app.h"
 #include "board_file.h"
+#include "board_find.h"
 #include "cli.h"
 #include "psc_io_cli.h"
 #include "psc_io_log.h"
@@ -72,10 +73,19 @@ static void main_catch_signals(void)
 /* --print-key: a board file's value as the device reads it (0 found, 1 not set, 2 unreadable). */
 static int main_print_key(const psc_cli_options_t *opt)
 {
-    char path[PSC_BOARD_LINE_MAX * 2], value[PSC_BOARD_LINE_MAX], err[600];
+    char path[PSC_BOARD_LINE_MAX * 2], value[PSC_BOARD_LINE_MAX], err[1400], dir[PSC_BOARD_PATH_MAX];
+    const char *boards_dir = opt->boards_dir;
     int rc;
 
-    snprintf(path, sizeof path, "%s/%s/board.conf", opt->boards_dir, opt->board);
+    /* no --boards-dir: the first place that has the board (board_find.h) */
+    if (boards_dir == NULL) {
+        if (psc_board_find_default(opt->board, dir, sizeof dir, err, sizeof err) != 0) {
+            psc_log(PSC_LOG_ERR, "periscope: %s", err);
+            return 2;
+        }
+        boards_dir = dir;
+    }
+    snprintf(path, sizeof path, "%s/%s/board.conf", boards_dir, opt->board);
     rc = psc_board_file_value(path, opt->print_key, value, sizeof value, err, sizeof err);
     if (rc < 0) {
         psc_log(PSC_LOG_ERR, "periscope: %s", err);
@@ -98,7 +108,7 @@ int main(int argc, char **argv)
     psc_cli_options_t opt;
     psc_app_stats_t stats;
     psc_app_t *app;
-    char err[512] = "";
+    char err[1400] = "";
     int rc;
 
     setvbuf(stdout, main_stdout_buffer, _IOLBF, sizeof main_stdout_buffer);

@@ -9,11 +9,14 @@
 # board's display_size and display_format by the host's periscope-pack (a pack
 # is the same on every architecture) into $(BUILD)/scenes/<board>.pano.
 # scripts/build-deb assembles the package; a board whose target libraries are
-# not installed (its cross build is core only) stops with the reason.
+# not installed (its cross build is core only) stops with the reason. The
+# programs it packages are the build's list, BUILD/programs.txt (the
+# Makefile's PROGRAMS, written by `make all`): $(BUILD)/programs.txt for the
+# native package, build/<board>/programs.txt for a cross build's.
 # `make check` builds the package of the native board (x86-kiosk on amd64) from
 # this build's binaries into $(BUILD)/deb/; tests/test_deb.c checks it.
 
-.PHONY: image deb deb-lintian deb-test-package deb-cross-test-packages check-man-board
+.PHONY: image deb deb-lintian deb-test-package deb-cross-test-packages check-man-board check-man-pages
 
 DEB_VERSION := $(shell tr -d ' \n' < VERSION 2>/dev/null)
 DEB_SAMPLE_JPG := assets/pannellum-examplepano.jpg
@@ -52,8 +55,8 @@ deb:
 	+$(Q)$(MAKE) --no-print-directory $(BUILD)/bin/periscope-pack
 	+$(Q)$(MAKE) --no-print-directory $(BUILD)/scenes/$(BOARD).pano
 	$(Q)rm -f build/$(BOARD)/periscope_*.deb
-	$(Q)sh scripts/build-deb --board $(BOARD) --bindir build/$(BOARD)/bin --pack $(BUILD)/scenes/$(BOARD).pano \
-		--strip $(call board_key,$(BOARD),toolchain)strip \
+	$(Q)sh scripts/build-deb --board $(BOARD) --bindir build/$(BOARD)/bin --programs build/$(BOARD)/programs.txt \
+		--pack $(BUILD)/scenes/$(BOARD).pano --strip $(call board_key,$(BOARD),toolchain)strip \
 		--out build/$(BOARD)/periscope_$(DEB_VERSION)_$(call board_key,$(BOARD),debian_arch).deb
 
 deb-lintian: deb
@@ -74,18 +77,32 @@ deb-test-package: deps
 	fi
 
 ifneq ($(DEB_TEST_PACKAGE),)
-$(DEB_TEST_PACKAGE): $(FIRMWARE) $(TOOLS) $(BUILD)/scenes/$(DEB_HOST_BOARD).pano boards/$(DEB_HOST_BOARD)/board.conf $(DEB_INPUTS)
+$(DEB_TEST_PACKAGE): $(FIRMWARE) $(TOOLS) $(PROGRAM_LIST) $(BUILD)/scenes/$(DEB_HOST_BOARD).pano \
+		boards/$(DEB_HOST_BOARD)/board.conf $(DEB_INPUTS)
 	$(Q)rm -f $(@D)/periscope_*.deb
-	$(Q)sh scripts/build-deb --board $(DEB_HOST_BOARD) --bindir $(BUILD)/bin --pack $(BUILD)/scenes/$(DEB_HOST_BOARD).pano \
-		--strip strip --compress gzip --out $@
+	$(Q)sh scripts/build-deb --board $(DEB_HOST_BOARD) --bindir $(BUILD)/bin --programs $(PROGRAM_LIST) \
+		--pack $(BUILD)/scenes/$(DEB_HOST_BOARD).pano --strip strip --compress gzip --out $@
 endif
 
-# ---- make test: the board file's manual page, periscope-board(5) (the recipe runs it) ----
-# documents every key the sources read (firmware/board_config.c's key_table, each
-# backend's options, the build and image keys) and renders without a groff
-# warning (scripts/check-man-board); the self-test proves each omission is refused.
-# tests/test_deb.c runs it again with the page's examples on the sim board.
-check-man-board:
+# ---- make test: the manual pages --------------------------------------------------
+# check-man-pages: every program of $(PROGRAM_LIST) has its page packaging/man/NAME.1
+# (and every page there a program), naming it, with every option its --help shows,
+# rendering without a groff warning (scripts/check-man-pages; its self-test proves
+# a missing page, an undocumented option, a warning and a page without a program
+# are refused). It reads the programs' --help, so it needs them built.
+check-man-pages: $(PROGRAM_LIST) $(FIRMWARE) $(TOOLS)
+	@echo "  CHECK   every program in $(PROGRAM_LIST) has a manual page with its options, no groff warnings"
+	$(Q)command -v groff >/dev/null 2>&1 || sh scripts/install-deps.sh groff-base
+	$(Q)sh scripts/check-man-pages --programs $(PROGRAM_LIST) --bindir $(BUILD)/bin
+	$(Q)sh scripts/check-man-pages --self-test >/dev/null
+
+# check-man-board (which `make test` runs; it runs check-man-pages first): the board
+# file's manual page, periscope-board(5), documents every key the sources read
+# (firmware/board_config.c's key_table, each backend's options, the build and image
+# keys) and renders without a groff warning (scripts/check-man-board); the self-test
+# proves each omission is refused. tests/test_deb.c runs it again with the page's
+# examples on the sim board.
+check-man-board: check-man-pages
 	@echo "  CHECK   periscope-board(5) documents every board key, renders without warnings"
 	$(Q)command -v groff >/dev/null 2>&1 || sh scripts/install-deps.sh groff-base
 	$(Q)sh scripts/check-man-board

@@ -7,8 +7,11 @@
  * with dpkg-deb and checks:
  *  - the control fields: name, the VERSION file's version, the host's
  *    architecture, Depends on adduser and the shared libraries;
- *  - the file list: the program and host tools with their manual pages, the
- *    sample scene, the documentation (copyright in Debian's machine-readable format, changelog,
+ *  - the programs: exactly those of the build's list, $PSC_BIN_DIR/../programs.txt
+ *    (the Makefile's PROGRAMS), in /usr/bin, each running --help, with exactly
+ *    their manual pages in man1, each packaging/man/NAME.1 as it is; the
+ *    description names each of them;
+ *  - the file list: the sample scene, the documentation (copyright in Debian's machine-readable format, changelog,
  *    the panorama's attribution byte for byte), the unit, the board config,
  *    everything owned by root;
  *  - conffiles names the board config, whose scene lines name the packaged
@@ -38,6 +41,7 @@
 #include <setjmp.h>
 #include <cmocka.h>
 
+#include <ctype.h>
 #include <glob.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -183,6 +187,61 @@ static int setup(void **state)
         }                                                                                                     \
     } while (0)
 
+/* ---- the programs: the build's list ------------------------------------------------ */
+
+#define MAX_PROGRAMS 64
+static char program_text[4096];
+static const char *programs[MAX_PROGRAMS];
+static size_t n_programs;
+
+/* $PSC_BIN_DIR/../programs.txt (make all writes it, one name a line) into programs[]. */
+static void read_program_list(void)
+{
+    const char *bin = getenv("PSC_BIN_DIR");
+    char path[1100];
+    snprintf(path, sizeof path, "%s/../programs.txt", bin && *bin ? bin : "build/bin");
+    char *text = read_file(path);
+    if (!text)
+        fail_msg("no program list %s: make all writes it", path);
+    snprintf(program_text, sizeof program_text, "%s", text);
+    free(text);
+    n_programs = 0;
+    for (char *line = strtok(program_text, "\n"); line; line = strtok(NULL, "\n")) {
+        if (line[0] < 'a' || line[0] > 'z' || strspn(line, "abcdefghijklmnopqrstuvwxyz0123456789-") != strlen(line))
+            fail_msg("%s: '%s' is not a program name", path, line);
+        if (n_programs == MAX_PROGRAMS)
+            fail_msg("%s: more than %d programs", path, MAX_PROGRAMS);
+        programs[n_programs++] = line;
+    }
+    int device = 0;
+    for (size_t i = 0; i < n_programs; i++)
+        device |= strcmp(programs[i], "periscope") == 0;
+    if (!device)
+        fail_msg("%s does not list the device program periscope", path);
+}
+
+static int is_listed(const char *name, size_t len)
+{
+    for (size_t i = 0; i < n_programs; i++) {
+        if (strlen(programs[i]) == len && strncmp(programs[i], name, len) == 0)
+            return 1;
+    }
+    return 0;
+}
+
+/* A whole word of text: not inside a longer name (letters, digits, '-', '_', '/', '.' around it). */
+static int has_word(const char *text, const char *word)
+{
+    size_t n = strlen(word);
+    for (const char *p = strstr(text, word); p; p = strstr(p + 1, word)) {
+        int before = p == text || !(isalnum((unsigned char)p[-1]) || strchr("-_/.", p[-1]));
+        int after = !(isalnum((unsigned char)p[n]) || (p[n] && strchr("-_/", p[n])));
+        if (before && after)
+            return 1;
+    }
+    return 0;
+}
+
 static void field(const char *name, char *out, size_t n)
 {
     assert_int_equal(run(out, n, "dpkg-deb -f '%s' %s", deb, name), 0);
@@ -222,6 +281,20 @@ static void test_control_fields(void **state)
     assert_true(atol(v) > 1000);
     field("Description", v, sizeof v);
     assert_true(strlen(v) > 10);
+
+    /* the description names every program of the build's list, its lines wrapped as Debian's policy asks */
+    char desc[4096];
+    assert_int_equal(run(desc, sizeof desc, "dpkg-deb -f '%s' Description", deb), 0);
+    read_program_list();
+    for (size_t i = 0; i < n_programs; i++) {
+        if (!has_word(desc, programs[i]))
+            fail_msg("the package's description does not name %s:\n%s", programs[i], desc);
+    }
+    for (const char *l = desc; *l; l += strcspn(l, "\n") + (l[strcspn(l, "\n")] != '\0')) {
+        if (strcspn(l, "\n") > 80)
+            fail_msg("a description line is longer than 80 characters: %.*s", (int)strcspn(l, "\n"), l);
+    }
+    assert_null(strchr(desc, '@')); /* no placeholder left */
 }
 
 static void test_file_list(void **state)
@@ -232,27 +305,13 @@ static void test_file_list(void **state)
     assert_int_equal(run(list, sizeof list, "dpkg-deb -c '%s'", deb), 0);
     char conf[256];
     snprintf(conf, sizeof conf, "./etc/periscope/boards/%s/board.conf", board);
-    const char *want[] = {"./usr/bin/periscope",
-                          "./usr/bin/periscope-pack",
-                          "./usr/bin/periscope-render",
-                          "./usr/bin/periscope-contact",
-                          "./usr/bin/periscope-fisheye",
-                          "./usr/bin/periscope-patch",
-                          "./usr/bin/periscope-shadow",
-                          "." SCENE,
+    const char *want[] = {"." SCENE,
                           "./usr/share/doc/periscope/copyright",
                           "./usr/share/doc/periscope/changelog.gz",
                           "./usr/share/doc/periscope/ATTRIBUTION.md",
                           "./lib/systemd/system/periscope.service",
                           "./lib/udev/rules.d/60-periscope.rules",
                           "./usr/lib/modules-load.d/periscope.conf",
-                          "./usr/share/man/man1/periscope.1.gz",
-                          "./usr/share/man/man1/periscope-pack.1.gz",
-                          "./usr/share/man/man1/periscope-render.1.gz",
-                          "./usr/share/man/man1/periscope-contact.1.gz",
-                          "./usr/share/man/man1/periscope-fisheye.1.gz",
-                          "./usr/share/man/man1/periscope-patch.1.gz",
-                          "./usr/share/man/man1/periscope-shadow.1.gz",
                           "./usr/share/man/man5/periscope-board.5.gz",
                           conf};
     for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
@@ -268,9 +327,54 @@ static void test_file_list(void **state)
         if (!strchr(l, '\n'))
             break;
     }
-    /* the programs are this machine's and run */
-    assert_int_equal(run(NULL, 0, "'%s/usr/bin/periscope' --help >/dev/null 2>&1", root), 0);
-    assert_int_equal(run(NULL, 0, "'%s/usr/bin/periscope-pack' --help >/dev/null 2>&1", root), 0);
+}
+
+/* The programs: exactly those of the build's list, each with its manual page as packaging/man/ has it, and each runs. */
+static void test_programs(void **state)
+{
+    (void)state;
+    SKIP_IF_NO_PACKAGE();
+    static char list[OUT_MAX];
+    assert_int_equal(run(list, sizeof list, "dpkg-deb -c '%s'", deb), 0);
+    read_program_list();
+    for (size_t i = 0; i < n_programs; i++) {
+        char line[300];
+        snprintf(line, sizeof line, " ./usr/bin/%s\n", programs[i]);
+        if (!strstr(list, line))
+            fail_msg("%s (listed in programs.txt) is not in the package's /usr/bin", programs[i]);
+        snprintf(line, sizeof line, " ./usr/share/man/man1/%s.1.gz\n", programs[i]);
+        if (!strstr(list, line))
+            fail_msg("%s has no manual page in the package (/usr/share/man/man1/%s.1.gz)", programs[i], programs[i]);
+        if (run(NULL, 0, "gzip -dc '%s/usr/share/man/man1/%s.1.gz' | cmp -s - 'packaging/man/%s.1'", root, programs[i],
+                programs[i]) != 0)
+            fail_msg("the packaged page of %s is not packaging/man/%s.1 (the package is older than the page?)",
+                     programs[i], programs[i]);
+        /* the programs are this machine's and run */
+        if (run(NULL, 0, "'%s/usr/bin/%s' --help >/dev/null 2>&1", root, programs[i]) != 0)
+            fail_msg("the packaged %s --help failed", programs[i]);
+    }
+    /* and nothing else: every file in /usr/bin and man1 is a listed program's */
+    size_t bins = 0, pages = 0;
+    for (const char *l = list; *l; l += strcspn(l, "\n") + (l[strcspn(l, "\n")] != '\0')) {
+        const char *path = strstr(l, " ./");
+        size_t len = strcspn(l, "\n");
+        if (!path || path > l + len || l[0] == 'd')
+            continue;
+        path++;
+        size_t plen = (size_t)(l + len - path);
+        if (strncmp(path, "./usr/bin/", 10) == 0) {
+            if (!is_listed(path + 10, plen - 10))
+                fail_msg("the package has %.*s, which programs.txt does not list", (int)plen, path);
+            bins++;
+        } else if (strncmp(path, "./usr/share/man/man1/", 21) == 0) {
+            if (plen < 21 + 5 || strncmp(path + plen - 5, ".1.gz", 5) != 0 || !is_listed(path + 21, plen - 21 - 5))
+                fail_msg("the package has %.*s, the page of no program programs.txt lists", (int)plen, path);
+            pages++;
+        }
+    }
+    assert_int_equal(bins, n_programs);
+    assert_int_equal(pages, n_programs);
+    printf("test_deb: the package holds the %zu programs of programs.txt and their manual pages\n", n_programs);
 }
 
 static void test_conffile_and_board(void **state)
@@ -670,6 +774,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_control_fields),    cmocka_unit_test(test_file_list),
+        cmocka_unit_test(test_programs),
         cmocka_unit_test(test_conffile_and_board), cmocka_unit_test(test_unit),
         cmocka_unit_test(test_unit_exposure),     cmocka_unit_test(test_unit_exposure_rejects_unhardened_unit),
         cmocka_unit_test(test_unit_device_allow), cmocka_unit_test(test_udev_rules),

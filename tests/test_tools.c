@@ -620,15 +620,42 @@ static void test_exit_codes(void **state)
 
 /* ---- one command-line convention ---------------------------------------------------------------------------- */
 
-/* Every program, the device's and the tools': --help, --version, --opt=value
+#define MAX_PROGRAMS 64
+
+/* The programs Periscope ships: the build's list, $PSC_BIN_DIR/../programs.txt (the Makefile's PROGRAMS, written by
+ * make all), one name a line, into names (pointers into *text, which the caller frees). Returns how many. */
+static size_t program_list(char **text, const char *names[MAX_PROGRAMS])
+{
+    char path[600];
+    size_t len, n = 0;
+    snprintf(path, sizeof path, "%s/../programs.txt", tsup_bin_dir());
+    *text = (char *)tsup_read_bytes(path, &len);
+    if (!*text)
+        fail_msg("no program list %s: make all writes it", path);
+    for (char *line = strtok(*text, "\n"); line; line = strtok(NULL, "\n")) {
+        if (line[0] < 'a' || line[0] > 'z' || strspn(line, "abcdefghijklmnopqrstuvwxyz0123456789-") != strlen(line))
+            fail_msg("%s: '%s' is not a program name", path, line);
+        if (n == MAX_PROGRAMS)
+            fail_msg("%s: more than %d programs", path, MAX_PROGRAMS);
+        names[n++] = line;
+    }
+    int device = 0;
+    for (size_t i = 0; i < n; i++)
+        device |= strcmp(names[i], "periscope") == 0;
+    if (!device)
+        fail_msg("%s does not list the device program periscope", path);
+    return n;
+}
+
+/* Every program of the build's list, the device's and the tools': --help, --version, --opt=value
  * and --opt value alike, options after files, and one wording for mistakes. */
 static void test_command_line_convention(void **state)
 {
     (void)state;
     need_packs();
-    static const char *const programs[] = {"periscope", "periscope-pack", "periscope-render", "periscope-contact",
-                                           "periscope-fisheye", "periscope-patch", "periscope-shadow",
-                                           "periscope-proxy"};
+    char *list;
+    const char *programs[MAX_PROGRAMS];
+    size_t n_programs = program_list(&list, programs);
     char version[64], said[96];
     size_t vlen;
     char *v = (char *)tsup_read_bytes("VERSION", &vlen);
@@ -636,7 +663,7 @@ static void test_command_line_convention(void **state)
     snprintf(version, sizeof version, "%.*s", (int)strcspn(v, " \n"), v);
     free(v);
     snprintf(said, sizeof said, "(Periscope) %s\n", version);
-    for (size_t i = 0; i < sizeof programs / sizeof programs[0]; i++) {
+    for (size_t i = 0; i < n_programs; i++) {
         const char *help[] = {"--help", NULL}, *usage[] = {"usage:", NULL};
         const char *ver[] = {"--version", NULL}, *ver_said[] = {said, NULL};
         const char *bogus[] = {"--bogus-option", NULL}, *unknown[] = {"unknown option '--bogus-option'", NULL};
@@ -644,6 +671,9 @@ static void test_command_line_convention(void **state)
         expect_run(programs[i], ver, 0, ver_said);
         expect_run(programs[i], bogus, 2, unknown);
     }
+    printf("test_tools: %zu programs of %s/../programs.txt answer --help, --version and a wrong option\n", n_programs,
+           tsup_bin_dir());
+    free(list);
 
     /* a typo is not taken for the option it resembles */
     const char *typo[] = {"--board", "sim", "--scen", fx.pack[0], NULL};
