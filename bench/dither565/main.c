@@ -23,6 +23,9 @@
  * metric): RMS, the largest low-passed luma step between neighbours, the mean.
  */
 #include "banding_measure.h"
+#include "common/bench_callgrind.h"
+#include "common/bench_cli.h"
+#include "common/bench_time.h"
 #include "psc_io_file.h"
 #include "psc_io_image.h"
 #include "psc_io_pack_build.h"
@@ -36,8 +39,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#include <unistd.h>
 
 #define W 800u
 #define H 480u
@@ -215,19 +216,12 @@ static void run_banding(bench_t *b, FILE *j)
 
 /* ---- the timed table ---- */
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* best of PASSES passes of REPEAT rounds of the four views: ms per frame */
 static double time_path(bench_t *b, unsigned path)
 {
     double best = 1e30;
     for (unsigned pass = 0; pass < PASSES; pass++) {
-        double t0 = now_s();
+        double t0 = bench_now_s();
         for (unsigned r = 0; r < REPEAT; r++)
             for (unsigned i = 0; i < VIEWS; i++)
                 switch (path) {
@@ -238,7 +232,7 @@ static double time_path(bench_t *b, unsigned path)
                 case 4: pass_ordered(b); break;
                 default: pass_none(b); break;
                 }
-        double t = (now_s() - t0) / (REPEAT * VIEWS);
+        double t = (bench_now_s() - t0) / (REPEAT * VIEWS);
         best = t < best ? t : best;
     }
     return best * 1e3;
@@ -341,51 +335,18 @@ static int cg_child(void)
     return 0;
 }
 
-/* instructions under callgrind, toggled on fn; -1 on failure */
-static double callgrind_count(const char *self, const char *fn)
-{
-    char dir[] = "/tmp/periscope-dithercg-XXXXXX";
-    if (!mkdtemp(dir))
-        return -1;
-    char cmd[8192], out[128], line[256];
-    snprintf(out, sizeof out, "%s/cg.out", dir);
-    snprintf(cmd, sizeof cmd,
-             "valgrind --tool=callgrind --quiet --collect-atstart=no --toggle-collect=%s "
-             "--callgrind-out-file=%s '%s' --callgrind-child >/dev/null",
-             fn, out, self);
-    if (system(cmd) != 0)
-        return -1;
-    FILE *f = fopen(out, "r");
-    double ir = -1;
-    while (f && fgets(line, sizeof line, f)) {
-        double v;
-        if (sscanf(line, "totals: %lf", &v) == 1 || sscanf(line, "summary: %lf", &v) == 1)
-            ir = v;
-    }
-    if (f)
-        fclose(f);
-    remove(out);
-    rmdir(dir);
-    return ir;
-}
-
 static int run_callgrind(const char *self, const char *out_dir)
 {
-    if (system("valgrind --version >/dev/null 2>&1") != 0) {
-        fprintf(stderr, "dither565 bench: valgrind is not installed; run `make bench-callgrind`, which installs it\n");
+    if (bench_callgrind_require("dither565") != 0)
         return 1;
-    }
     static const char *const fns[] = {"cg_direct565", "cg_dither565", "cg_direct8888", "cg_dither8888", "cg_pass_ordered",
                                       "cg_pass_none"};
     static const char *const names[] = {"565 pack -> 565 (none)", "565 pack -> 8888 + dither",
                                         "8888 pack -> 565 (none)", "8888 pack -> 8888 + dither",
                                         "the pass alone, ordered", "the pass alone, none"};
     double ir[6];
-    for (unsigned i = 0; i < 6; i++)
-        if ((ir[i] = callgrind_count(self, fns[i])) <= 0) {
-            fprintf(stderr, "dither565 bench: the callgrind run (%s) failed\n", fns[i]);
-            return 1;
-        }
+    if (bench_callgrind_counts("dither565", self, fns, 6, ir) != 0)
+        return 1;
     printf("RGB565 output under callgrind at %ux%u, mip span 4, the same %u views: instructions per frame\n", W, H,
            VIEWS);
     char path[512];
@@ -408,24 +369,6 @@ static int run_callgrind(const char *self, const char *out_dir)
 
 int main(int argc, char **argv)
 {
-    const char *out = "bench/results";
-    bool callgrind = false;
-    for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--callgrind-child") == 0)
-            return cg_child();
-        if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
-            out = argv[++i];
-        } else if (strcmp(argv[i], "--callgrind") == 0) {
-            callgrind = true;
-        } else {
-            fprintf(stderr, "usage: build/bench/dither565 [--out DIR] [--callgrind]\n");
-            return 2;
-        }
-    }
-    char self[4096];
-    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
-    if (n <= 0)
-        return 1;
-    self[n] = '\0';
-    return callgrind ? run_callgrind(self, out) : run_table(out);
+    static const bench_cli_t cli = {"dither565", run_table, run_callgrind, cg_child};
+    return bench_cli_main(&cli, argc, argv);
 }

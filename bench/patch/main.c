@@ -14,6 +14,9 @@
  * RGB565). The frames step the action at 60 Hz, the camera turns 3 degrees
  * a frame, one core, best of PASSES passes.
  */
+#include "common/bench_callgrind.h"
+#include "common/bench_cli.h"
+#include "common/bench_time.h"
 #include "patch_load.h"
 #include "shadow_build.h"
 #include "shadow/psc_shadow_frame.h"
@@ -26,8 +29,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#include <unistd.h>
 
 #define W 800u
 #define H 480u
@@ -37,13 +38,6 @@
 #define WAVE_ACTION 1
 
 static const psc_patch_limits_t limits = {98304u, 131072u, PSC_PATCH_MAX_DEPTH};   /* the character scene's */
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 typedef struct {
     psc_io_patch_t pf;
@@ -149,20 +143,20 @@ static result_t run_animated(bench_t *b, double tol_px, bool shadows)
             psc_3d_config_t cfg;
             psc_patch_stats_t st;
             view(b, k, tol_px, &cam, &cfg);
-            double t0 = now_s();
+            double t0 = bench_now_s();
             psc_patch_pose(&b->p, WAVE_ACTION, k * 1000u / 60u);
             psc_patch_tangents(&b->p);
-            double t1 = now_s();
+            double t1 = bench_now_s();
             psc_patch_tessellate(&b->p, &cam, &st);
-            double t2 = now_s();
+            double t2 = bench_now_s();
             if (shadows) {
                 psc_shadow_update(&b->sh, &b->p);
                 psc_shadow_apply(&b->sh, &b->p, PSC_SHADOW_STRENGTH_Q16, NULL);
                 verts += b->sh.shaded;
             }
-            double t2s = now_s();
+            double t2s = bench_now_s();
             draw(b, b->p.batch, b->p.batch_count, &cam, &cfg);
-            double t3 = now_s();
+            double t3 = bench_now_s();
             tp += t1 - t0;
             tt += t2 - t1;
             ts += t2s - t2;
@@ -202,9 +196,9 @@ static result_t run_static(bench_t *b)
         double td = 0;
         for (unsigned k = 0; k < FRAMES; k++) {
             view(b, k, 0.5, &cam, &cfg);
-            double t0 = now_s();
+            double t0 = bench_now_s();
             draw(b, meshes, n, &cam, &cfg);
-            td += now_s() - t0;
+            td += bench_now_s() - t0;
         }
         if (td / FRAMES * 1e3 < best.draw)
             best.draw = td / FRAMES * 1e3;
@@ -301,48 +295,15 @@ static int cg_child(void)
     return 0;
 }
 
-/* instructions under callgrind, toggled on fn; -1 on failure */
-static double callgrind_count(const char *self, const char *fn)
-{
-    char dir[] = "/tmp/periscope-patchcg-XXXXXX";
-    if (!mkdtemp(dir))
-        return -1;
-    char cmd[8192], out[128], line[256];
-    snprintf(out, sizeof out, "%s/cg.out", dir);
-    snprintf(cmd, sizeof cmd,
-             "valgrind --tool=callgrind --quiet --collect-atstart=no --toggle-collect=%s "
-             "--callgrind-out-file=%s '%s' --callgrind-child >/dev/null",
-             fn, out, self);
-    if (system(cmd) != 0)
-        return -1;
-    FILE *f = fopen(out, "r");
-    double ir = -1;
-    while (f && fgets(line, sizeof line, f)) {
-        double v;
-        if (sscanf(line, "totals: %lf", &v) == 1 || sscanf(line, "summary: %lf", &v) == 1)
-            ir = v;
-    }
-    if (f)
-        fclose(f);
-    remove(out);
-    rmdir(dir);
-    return ir;
-}
-
 static int run_callgrind(const char *self, const char *out_dir)
 {
-    if (system("valgrind --version >/dev/null 2>&1") != 0) {
-        fprintf(stderr, "patch bench: valgrind is not installed; run `make bench-callgrind`, which installs it\n");
+    if (bench_callgrind_require("patch") != 0)
         return 1;
-    }
     static const char *const fns[] = {"cg_frames", "psc_patch_pose", "psc_patch_tangents", "psc_patch_tessellate",
                                       "psc_3d_render", "psc_shadow_apply"};
     double ir[6];
-    for (unsigned i = 0; i < 6; i++)
-        if ((ir[i] = callgrind_count(self, fns[i])) <= 0) {
-            fprintf(stderr, "patch bench: the callgrind run (%s) failed\n", fns[i]);
-            return 1;
-        }
+    if (bench_callgrind_counts("patch", self, fns, 6, ir) != 0)
+        return 1;
     printf("Hash patches under callgrind: Thom waving at %ux%u, 0.5 px, %u frames: instructions per frame\n"
            "total %.0f = pose %.0f + tangents %.0f + tessellate %.0f + self-shadowing %.0f + draw %.0f\n",
            W, H, CG_FRAMES, ir[0] / CG_FRAMES, ir[1] / CG_FRAMES, ir[2] / CG_FRAMES, ir[3] / CG_FRAMES,
@@ -362,24 +323,6 @@ static int run_callgrind(const char *self, const char *out_dir)
 
 int main(int argc, char **argv)
 {
-    const char *out = "bench/results";
-    bool callgrind = false;
-    for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--callgrind-child") == 0)
-            return cg_child();
-        if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
-            out = argv[++i];
-        } else if (strcmp(argv[i], "--callgrind") == 0) {
-            callgrind = true;
-        } else {
-            fprintf(stderr, "usage: build/bench/patch [--out DIR] [--callgrind]\n");
-            return 2;
-        }
-    }
-    char self[4096];
-    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
-    if (n <= 0)
-        return 1;
-    self[n] = '\0';
-    return callgrind ? run_callgrind(self, out) : run_table(out);
+    static const bench_cli_t cli = {"patch", run_table, run_callgrind, cg_child};
+    return bench_cli_main(&cli, argc, argv);
 }

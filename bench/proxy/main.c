@@ -14,6 +14,7 @@
  *
  *   build/bench/proxy --out bench/results     the table (`make bench`)
  */
+#include "common/bench_time.h"
 #include "gltf_load.h"
 #include "model.h"
 #include "proxy_bake.h"
@@ -26,20 +27,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #define W 800u
 #define H 480u
 #define FRAMES 60u
 #define PASSES 3u
 #define RINGS 12u
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 /* The assembly: a root node and RINGS ring nodes, each ring rigid on its node. */
 static int make_assembly(psc_gltf_t *g)
@@ -132,7 +125,7 @@ static double run(model_t *mo, psc_proxy_lod_t lod, int32_t dist_q16, uint32_t *
         goto done;
     psc_surface_t sf = {W, H, W * 2, PSC_PIX_RGB565, px};
     for (unsigned pass = 0; pass < PASSES; pass++) {
-        double t0 = now_s();
+        double t0 = bench_now_s();
         for (unsigned f = 0; f < FRAMES; f++) {
             psc_3d_orbit(lo, hi, (psc_bam_t)(f * 0x02222222u), (int32_t)0x0E38E38E, dist_q16, &cam, &cfg.near_q16,
                          &cfg.far_q16);
@@ -146,7 +139,7 @@ static double run(model_t *mo, psc_proxy_lod_t lod, int32_t dist_q16, uint32_t *
                 goto done;
             *triangles = st.triangles;
         }
-        double dt = (now_s() - t0) / FRAMES * 1e3;
+        double dt = (bench_now_s() - t0) / FRAMES * 1e3;
         best = dt < best ? dt : best;
     }
 done:

@@ -19,6 +19,8 @@
  * the viewer bench does.
  */
 #include "render3d.h"
+#include "common/bench_callgrind.h"
+#include "common/bench_self.h"
 #include "base/psc_pixel.h"
 #include "psc_io_image.h"
 #include "psc_io_png.h"
@@ -27,9 +29,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 #include <time.h>
-#include <unistd.h>
 
 #define FRAMES 36u
 #define ROUNDS 5u
@@ -58,15 +58,6 @@ static const row_spec_t rows[] = {
 
 static const uint16_t sizes[][2] = {{320, 240}, {800, 480}};
 #define NSIZES (sizeof sizes / sizeof sizes[0])
-
-static int self_path(char *buf, size_t len)
-{
-    ssize_t n = readlink("/proc/self/exe", buf, len - 1);
-    if (n <= 0)
-        return -1;
-    buf[n] = '\0';
-    return 0;
-}
 
 /* PSNR of b against a (RGB565 frames), 8-bit channels. */
 static double frame_psnr(const uint16_t *a, const uint16_t *b, size_t n)
@@ -250,39 +241,25 @@ static int cg_child(void)
 
 static int run_callgrind(const char *self, const char *out_dir)
 {
-    if (system("valgrind --version >/dev/null 2>&1") != 0) {
-        fprintf(stderr, "render3d bench: valgrind is not installed; run `make bench-callgrind`, which installs it\n");
+    if (bench_callgrind_require("render3d") != 0)
+        return 1;
+    /* the child prints the pixels it wrote: read back from a file of its stdout */
+    char *child[] = {(char *)self, "--callgrind-child", NULL};
+    FILE *p = tmpfile();
+    long long count = -1;
+    if (!p || bench_callgrind_count("psc_3d_render", child, p, &count) != 0) {
+        fprintf(stderr, "render3d bench: the callgrind run failed\n");
+        if (p)
+            fclose(p);
         return 1;
     }
-    char dir[] = "/tmp/periscope-r3dcg-XXXXXX";
-    if (!mkdtemp(dir))
-        return 1;
-    char cmd[2048], out[128];
-    snprintf(out, sizeof out, "%s/cg.out", dir);
-    snprintf(cmd, sizeof cmd,
-             "valgrind --tool=callgrind --quiet --collect-atstart=no --toggle-collect=psc_3d_render "
-             "--callgrind-out-file=%s '%s' --callgrind-child",
-             out, self);
-    FILE *p = popen(cmd, "r");
+    rewind(p);
     double written = 0;
     char line[256];
-    while (p && fgets(line, sizeof line, p))
+    while (fgets(line, sizeof line, p))
         sscanf(line, "written %lf", &written);
-    if (!p || pclose(p) != 0) {
-        fprintf(stderr, "render3d bench: the callgrind run failed\n");
-        return 1;
-    }
-    FILE *f = fopen(out, "r");
-    double ir = -1;
-    while (f && fgets(line, sizeof line, f)) {
-        double v;
-        if (sscanf(line, "totals: %lf", &v) == 1 || sscanf(line, "summary: %lf", &v) == 1)
-            ir = v;
-    }
-    if (f)
-        fclose(f);
-    remove(out);
-    rmdir(dir);
+    fclose(p);
+    double ir = (double)count;
     if (ir <= 0) {
         fprintf(stderr, "render3d bench: no instruction count in the callgrind output\n");
         return 1;
@@ -346,7 +323,7 @@ int main(int argc, char **argv)
         }
     }
     char self[1024];
-    if (self_path(self, sizeof self) != 0) {
+    if (bench_self_path(self, sizeof self) != 0) {
         fprintf(stderr, "render3d bench: cannot find its own executable\n");
         return 1;
     }

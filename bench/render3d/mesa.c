@@ -9,6 +9,7 @@
  * 16-bit depth, back faces culled, RGB565 colour buffer.
  */
 #include "render3d.h"
+#include "common/bench_time.h"
 #include "base/psc_fixed.h"
 
 #include <GL/osmesa.h>
@@ -17,15 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
 
 /* GL's modelview of our camera_from_object: GL looks down -Z, so z is mirrored. */
 static void gl_modelview(const psc_mat4_q16_t *m, GLfloat out[16])
@@ -121,7 +114,7 @@ int r3d_mesa_child(r3d_kind_t kind, uint16_t w, uint16_t h, unsigned frames, uns
     glTexCoordPointer(2, GL_FLOAT, 0, uv);
     double best = 1e30;
     for (unsigned p = 0; p < passes; p++) {
-        double t0 = now_ms();
+        double t0 = bench_now_ms();
         for (unsigned k = 0; k < frames; k++) {
             psc_3d_draw_t d;
             int32_t nq, fq;
@@ -139,7 +132,7 @@ int r3d_mesa_child(r3d_kind_t kind, uint16_t w, uint16_t h, unsigned frames, uns
             glDrawElements(GL_TRIANGLES, (GLsizei)(m->triangle_count * 3), GL_UNSIGNED_SHORT, m->index);
             glFinish();
         }
-        double ms = (now_ms() - t0) / frames;
+        double ms = (bench_now_ms() - t0) / frames;
         best = ms < best ? ms : best;
     }
     if (frame_path) {

@@ -5,6 +5,7 @@
  * from a mesh pack, and the timed Periscope runs.
  */
 #include "render3d.h"
+#include "common/bench_time.h"
 #include "mesh_pack.h"
 #include "model.h"
 #include "3d/psc_3d_orbit.h"
@@ -13,14 +14,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
 
 int r3d_scene_make(r3d_scene_t *s, r3d_kind_t kind)
 {
@@ -117,7 +110,7 @@ r3d_result_t r3d_run_periscope(const r3d_scene_t *s, uint16_t w, uint16_t h, con
     uint32_t bg = R3D_BACKGROUND;
     double best = 1e30, pixels = 0;
     for (unsigned p = 0; p < passes; p++) {
-        double t0 = now_ms();
+        double t0 = bench_now_ms();
         pixels = 0;
         for (unsigned k = 0; k < frames; k++) {
             psc_3d_stats_t st;
@@ -134,7 +127,7 @@ r3d_result_t r3d_run_periscope(const r3d_scene_t *s, uint16_t w, uint16_t h, con
             }
             pixels += (double)st.pixels;
         }
-        double ms = (now_ms() - t0) / frames;
+        double ms = (bench_now_ms() - t0) / frames;
         best = ms < best ? ms : best;
     }
     free(ws);

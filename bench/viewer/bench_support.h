@@ -117,6 +117,16 @@ int bv_report_json(const char *path, const bv_results_t *r, const bv_meta_t *m);
 /** A string as a JSON string literal (no control characters are expected). */
 void bv_json_string(FILE *f, const char *s);
 
+/** Room for a results path and ".tmp". */
+#define BV_JSON_TMP_LEN 4400
+/**
+ * Open path's temporary file tmp and write the JSON object's start, up to
+ * the machine: {"benchmark", "date", "machine": {...}}. NULL after perror.
+ */
+FILE *bv_json_begin(const char *path, const char *benchmark, const bv_meta_t *m, char tmp[BV_JSON_TMP_LEN]);
+/** Close f and rename tmp to path: 0, or -1 after perror. */
+int bv_json_end(FILE *f, const char *tmp, const char *path);
+
 /* ---- the timed sweep (speed.c) ---- */
 
 /** `make bench`: time every renderer, print the table, write out_dir/viewer.json. Exit status. */

@@ -13,19 +13,15 @@
  * each output file.
  */
 #include "bench_support.h"
+#include "common/bench_callgrind.h"
 #include "psc_io_angle.h"
 #include "psc_io_pack_build.h"
 #include "psc_io_load.h"
 #include "psc_io_file.h"
 
-#include <spawn.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
-
-extern char **environ;
 
 #define CG_VIEWS 3u
 #define CG_W 800u
@@ -83,9 +79,15 @@ static void cg_render(cg_ctx_t *c, psc_filter_t filter, uint8_t span_log2, psc_p
 #endif
 #define CG_MODES(X) CG_BASE_MODES(X) CG_MIP_MODES(X)
 
-/* noipa: callgrind must find each mode under its own name, neither inlined nor cloned. */
+/* noipa: callgrind must find each mode under its own name, neither inlined nor cloned.
+ * clang has no noipa: noinline there (cg_modes takes each one's address, so each keeps its symbol). */
+#if defined(__clang__)
+#define CG_NOIPA __attribute__((noinline))
+#else
+#define CG_NOIPA __attribute__((noipa))
+#endif
 #define CG_DEFINE(fname, filter, n, log2, fmtname, fmt)                                                    \
-    static __attribute__((noipa)) void cg_##fname##_n##n##_##fmtname(cg_ctx_t *c)                        \
+    static CG_NOIPA void cg_##fname##_n##n##_##fmtname(cg_ctx_t *c)                                       \
     {                                                                                                      \
         cg_render(c, filter, log2, fmt);                                                                   \
     }
@@ -157,45 +159,12 @@ int bv_callgrind_child(const char *pack_path, const char *mode)
 
 /* ---- the parent: one valgrind run per mode ------------------------------------------- */
 
-static int have_valgrind(char *version, size_t len)
-{
-    FILE *p = popen("valgrind --version 2>/dev/null", "r");
-    if (!p)
-        return 0;
-    if (!fgets(version, (int)len, p))
-        version[0] = '\0';
-    version[strcspn(version, "\n")] = '\0';
-    return pclose(p) == 0 && version[0] != '\0';
-}
-
 static pid_t spawn_mode(const char *self, const char *pack, const char *dir, const cg_mode_t *m)
 {
-    char toggle[128], outfile[4200];
-    snprintf(toggle, sizeof toggle, "--toggle-collect=%s", m->func);
-    snprintf(outfile, sizeof outfile, "--callgrind-out-file=%s/%s.out", dir, m->func);
-    char *argv[] = {"valgrind", "--tool=callgrind", "--quiet", "--collect-atstart=no", toggle, outfile,
-                    (char *)self, "--callgrind-child", (char *)pack, (char *)m->func, NULL};
-    pid_t pid;
-    if (posix_spawnp(&pid, "valgrind", NULL, NULL, argv, environ) != 0)
-        return -1;
-    return pid;
-}
-
-/* The event total of a callgrind output file (the "totals:" line, else "summary:"), or -1. */
-static long long read_total(const char *path)
-{
-    FILE *f = fopen(path, "r");
-    char line[512];
-    long long total = -1;
-    while (f && fgets(line, sizeof line, f)) {
-        if (strncmp(line, "totals:", 7) == 0)
-            total = atoll(line + 7);
-        else if (strncmp(line, "summary:", 8) == 0 && total < 0)
-            total = atoll(line + 8);
-    }
-    if (f)
-        fclose(f);
-    return total;
+    char outfile[4200];
+    snprintf(outfile, sizeof outfile, "%s/%s.out", dir, m->func);
+    char *argv[] = {(char *)self, "--callgrind-child", (char *)pack, (char *)m->func, NULL};
+    return bench_callgrind_spawn(m->func, outfile, argv, -1);
 }
 
 /* Run every mode, CG_PARALLEL at a time; counts[i] = instructions of mode i. */
@@ -216,14 +185,13 @@ static int run_modes(const char *self, const char *pack, const char *dir, long l
         }
         if (finished == started)
             break;
-        int status;
-        if (waitpid(pids[finished], &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        if (bench_callgrind_wait(pids[finished]) != 0) {
             fprintf(stderr, "viewer bench: callgrind run of %s failed\n", cg_modes[finished].func);
             rc = -1;
         }
         char path[4200];
         snprintf(path, sizeof path, "%s/%s.out", dir, cg_modes[finished].func);
-        counts[finished] = read_total(path);
+        counts[finished] = bench_callgrind_total(path);
         if (rc == 0 && counts[finished] < 0) {
             fprintf(stderr, "viewer bench: no totals in %s\n", path);
             rc = -1;
@@ -260,19 +228,12 @@ static void print_counts(const long long *counts, const bv_meta_t *meta, const c
 
 static int write_counts(const char *path, const long long *counts, const bv_meta_t *meta, const char *vg)
 {
-    char tmp[4400]; /* path and ".tmp" */
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f) {
-        perror(tmp);
+    char tmp[BV_JSON_TMP_LEN];
+    FILE *f = bv_json_begin(path, "viewer-callgrind", meta, tmp);
+    if (!f)
         return -1;
-    }
     double px = (double)CG_VIEWS * CG_W * CG_H;
-    fprintf(f, "{\n  \"benchmark\": \"viewer-callgrind\",\n  \"date\": \"%s\",\n  \"machine\": {\"arch\": ", meta->date);
-    bv_json_string(f, meta->machine);
-    fprintf(f, ", \"cpu\": ");
-    bv_json_string(f, meta->cpu);
-    fprintf(f, "},\n  \"valgrind\": ");
+    fprintf(f, ",\n  \"valgrind\": ");
     bv_json_string(f, vg);
     fprintf(f, ",\n  \"workload\": {\"map\": \"4096x2048\", \"map_format\": \"rgb565\", \"output\": \"%ux%u\", "
                "\"views\": %u, \"hfov\": %g, \"pixels\": %.0f},\n  \"modes\": [",
@@ -288,17 +249,13 @@ static int write_counts(const char *path, const long long *counts, const bv_meta
             fprintf(f, "null}");
     }
     fprintf(f, "\n  ]\n}\n");
-    if (fclose(f) != 0 || rename(tmp, path) != 0) {
-        perror(path);
-        return -1;
-    }
-    return 0;
+    return bv_json_end(f, tmp, path);
 }
 
 int bv_callgrind_main(const char *self, const char *out_dir)
 {
     char vg[64];
-    if (!have_valgrind(vg, sizeof vg)) {
+    if (bench_callgrind_version(vg, sizeof vg) != 0) {
         fprintf(stderr, "viewer bench: valgrind is not installed. Install it with\n"
                         "    sh scripts/install-deps.sh valgrind      (as root, or with sudo)\n"
                         "or run `make bench-callgrind`, which installs it first.\n");

@@ -15,6 +15,7 @@
  * never changes), on -filter_threads threads.
  */
 #include "bench_support.h"
+#include "common/bench_time.h"
 
 #include <fcntl.h>
 #include <math.h>
@@ -22,7 +23,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 extern char **environ;
@@ -30,13 +30,6 @@ extern char **environ;
 #define FRAMES_SHORT 3
 #define FRAMES_LONG 83
 #define TRIES 3
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 /* Run argv with stdin, stdout and stderr on /dev/null; its exit status, or -1. */
 static int run_quiet(char *const argv[])
@@ -90,10 +83,10 @@ static double run_frames(const char *map, const char *graph, int frames, int thr
     snprintf(nthreads, sizeof nthreads, "%d", threads);
     char *argv[] = {"ffmpeg", "-nostdin", "-v", "error", "-threads", "1", "-filter_threads", nthreads, "-i",
                     (char *)map, "-vf", (char *)graph, "-frames:v", nframes, "-f", "null", "-", NULL};
-    double t0 = now_s();
+    double t0 = bench_now_s();
     if (run_quiet(argv) != 0)
         return -1.0;
-    return now_s() - t0;
+    return bench_now_s() - t0;
 }
 
 double bv_ffmpeg_v360_ns(const char *map, const bv_view_t *v, int out_w, int out_h, bool nearest, int threads)

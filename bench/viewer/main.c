@@ -9,6 +9,7 @@
  * Run from the repository root (it reads assets/pannellum-examplepano.jpg).
  */
 #include "bench_support.h"
+#include "common/bench_self.h"
 #include "cli_parse.h"
 #include "psc_io_cli.h"
 
@@ -16,7 +17,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #define PROG "viewer bench"
 #define DEFAULT_REPS 3ul
@@ -30,16 +30,6 @@ static void usage(FILE *f)
                "  --quick       one map, output size and field of view (for trying changes)\n"
                "  --reps K      timed passes per row, at least (default %lu; short rows get more)\n",
             DEFAULT_REPS);
-}
-
-/* The running program, for the callgrind children. */
-static int self_path(char *buf, size_t len)
-{
-    ssize_t n = readlink("/proc/self/exe", buf, len - 1);
-    if (n <= 0)
-        return -1;
-    buf[n] = '\0';
-    return 0;
 }
 
 int main(int argc, char **argv)
@@ -74,7 +64,7 @@ int main(int argc, char **argv)
     }
     if (callgrind) {
         char self[4096];
-        if (self_path(self, sizeof self) != 0) {
+        if (bench_self_path(self, sizeof self) != 0) { /* the callgrind children run it again */
             fprintf(stderr, PROG ": cannot find this program's path (/proc/self/exe)\n");
             return 1;
         }

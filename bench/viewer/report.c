@@ -379,6 +379,32 @@ void bv_json_string(FILE *f, const char *s)
     fputc('"', f);
 }
 
+/* Written to path.tmp and renamed when complete: a failed run leaves no half-written results. */
+FILE *bv_json_begin(const char *path, const char *benchmark, const bv_meta_t *m, char tmp[BV_JSON_TMP_LEN])
+{
+    snprintf(tmp, BV_JSON_TMP_LEN, "%s.tmp", path);
+    FILE *f = fopen(tmp, "w");
+    if (!f) {
+        perror(tmp);
+        return NULL;
+    }
+    fprintf(f, "{\n  \"benchmark\": \"%s\",\n  \"date\": \"%s\",\n  \"machine\": {\"arch\": ", benchmark, m->date);
+    bv_json_string(f, m->machine);
+    fprintf(f, ", \"cpu\": ");
+    bv_json_string(f, m->cpu);
+    fprintf(f, "}");
+    return f;
+}
+
+int bv_json_end(FILE *f, const char *tmp, const char *path)
+{
+    if (fclose(f) != 0 || rename(tmp, path) != 0) {
+        perror(path);
+        return -1;
+    }
+    return 0;
+}
+
 /* Periscope's span, or null where it does not apply. */
 static void json_span(FILE *f, unsigned span)
 {
@@ -408,18 +434,11 @@ static void json_row(FILE *f, const bv_row_t *c)
 
 int bv_report_json(const char *path, const bv_results_t *r, const bv_meta_t *m)
 {
-    char tmp[4400]; /* path and ".tmp" */
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f) {
-        perror(tmp);
+    char tmp[BV_JSON_TMP_LEN];
+    FILE *f = bv_json_begin(path, "viewer", m, tmp);
+    if (!f)
         return -1;
-    }
-    fprintf(f, "{\n  \"benchmark\": \"viewer\",\n  \"date\": \"%s\",\n  \"machine\": {\"arch\": ", m->date);
-    bv_json_string(f, m->machine);
-    fprintf(f, ", \"cpu\": ");
-    bv_json_string(f, m->cpu);
-    fprintf(f, "},\n  \"opencv\": \"%s\",\n  \"views_per_sequence\": %u,\n  \"seconds\": %.1f,\n",
+    fprintf(f, ",\n  \"opencv\": \"%s\",\n  \"views_per_sequence\": %u,\n  \"seconds\": %.1f,\n",
             m->opencv, m->views_per_seq, m->seconds);
     fprintf(f, "  \"ratio_to_remap\": \"cv::remap time (same filter, prebuilt maps, same views, sizes and format "
                "class: rgb565~8UC3, xrgb8888~8UC4) / this row's time\",\n");
@@ -448,9 +467,5 @@ int bv_report_json(const char *path, const bv_results_t *r, const bv_meta_t *m)
         json_row(f, &r->rows[i]);
     }
     fprintf(f, "\n  ]\n}\n");
-    if (fclose(f) != 0 || rename(tmp, path) != 0) {
-        perror(path);
-        return -1;
-    }
-    return 0;
+    return bv_json_end(f, tmp, path);
 }

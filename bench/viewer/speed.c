@@ -15,13 +15,13 @@
  * after one warm-up frame; everything runs on one thread.
  */
 #include "bench_support.h"
+#include "common/bench_time.h"
 #include "psc_io_angle.h"
 #include "psc_io_bands.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 #define BV_NVIEWS 8u
@@ -70,13 +70,6 @@ static const render_mode_t moving_modes[] = {
 
 typedef int (*frame_fn)(void *ctx, unsigned k);
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -95,11 +88,11 @@ static int measure(frame_fn fn, void *ctx, unsigned n, unsigned reps, double *me
         return -1;
     unsigned want = reps;
     for (unsigned r = 0; r < want; r++) {
-        double t0 = now_s();
+        double t0 = bench_now_s();
         for (unsigned k = 0; k < n; k++)
             if (fn(ctx, k) != 0)
                 return -1;
-        t[r] = now_s() - t0;
+        t[r] = bench_now_s() - t0;
         if (r == 0 && t[0] < 0.03)
             want = 2 * reps + 1 < MAX_REPS ? 2 * reps + 1 : MAX_REPS;
     }
@@ -498,7 +491,7 @@ static int run_output_size(sweep_t *sw, const psc_image_t *img, const bv_image_t
                 sw->blocks_total, img->width, img->height, out.w, out.h, hfovs[h]);
         bool check = img->width == 4096 && out.w == 800 && hfovs[h] == 75.0;
         rc = run_block(b, check ? meta : NULL);
-        fprintf(stderr, "%.0f s elapsed\n", now_s() - sw->t_start);
+        fprintf(stderr, "%.0f s elapsed\n", bench_now_s() - sw->t_start);
     }
     for (unsigned f = 0; f < NFORMATS; f++) {
         if (b) {
@@ -548,7 +541,7 @@ static int run_map(sweep_t *sw, const psc_image_t *img, bv_results_t *res, bv_me
 
 int bv_speed_main(const char *out_dir, bool quick, unsigned reps)
 {
-    sweep_t sw = {quick, reps, now_s(), 0, quick ? 1u : 2u * NOUTS * NHFOVS};
+    sweep_t sw = {quick, reps, bench_now_s(), 0, quick ? 1u : 2u * NOUTS * NHFOVS};
     bv_meta_t meta = {0};
     bv_results_t res = {0};
     bv_meta_machine(&meta);
@@ -577,7 +570,7 @@ int bv_speed_main(const char *out_dir, bool quick, unsigned reps)
         free(res.rows);
         return 1;
     }
-    meta.seconds = now_s() - sw.t_start;
+    meta.seconds = bench_now_s() - sw.t_start;
     bv_results_ratios(&res);
     bv_report_print(stdout, &res, &meta);
     char path[4096];
