@@ -98,24 +98,24 @@ SIM_CAPTURE_SRC := $(if $(filter sim,$(HAL_BACKENDS)),hal/sim/sim_capture_png.c 
 HAL_SRC := $(sort $(wildcard hal/*.c) $(filter-out hal/sim/sim_capture_%.c,$(wildcard hal/sim/*.c)) \
 	$(SIM_CAPTURE_SRC) $(foreach b,$(filter-out sim,$(HAL_BACKENDS)),$(wildcard hal/$(b)/*.c)))
 IO_SRC := $(sort $(wildcard io/*.c))
-HOSTLIB_SRC := $(sort $(wildcard host_tools/lib/*.c))
+HOSTLIB_SRC := $(sort $(wildcard host_tools/lib/*/*.c))
 # Model import (glTF and the other formats libassimp reads) when this build's
 # pkg-config finds libassimp; without it (a cross build without the target's
 # libassimp) the tools say so when given a model to import.
 ifeq ($(shell $(PKG_CONFIG) --exists assimp 2>/dev/null && echo yes),yes)
-HOSTLIB_SRC := $(filter-out host_tools/lib/gltf_load_none.c,$(HOSTLIB_SRC))
+HOSTLIB_SRC := $(filter-out host_tools/lib/import/assimp_none.c,$(HOSTLIB_SRC))
 IMG_CFLAGS += $(shell $(PKG_CONFIG) --cflags assimp)
 IMG_LIBS += $(shell $(PKG_CONFIG) --libs assimp)
 else
-HOSTLIB_SRC := $(filter-out host_tools/lib/gltf_load.c,$(HOSTLIB_SRC))
+HOSTLIB_SRC := $(filter-out host_tools/lib/import/assimp.c,$(HOSTLIB_SRC))
 endif
 # Pose files (POSE.json) when pkg-config finds json-c; without it the tools say so.
 ifeq ($(shell $(PKG_CONFIG) --exists json-c 2>/dev/null && echo yes),yes)
-HOSTLIB_SRC := $(filter-out host_tools/lib/pose_file_load_none.c,$(HOSTLIB_SRC))
+HOSTLIB_SRC := $(filter-out host_tools/lib/import/pose_json_none.c,$(HOSTLIB_SRC))
 IMG_CFLAGS += $(shell $(PKG_CONFIG) --cflags json-c)
 IMG_LIBS += $(shell $(PKG_CONFIG) --libs json-c)
 else
-HOSTLIB_SRC := $(filter-out host_tools/lib/pose_file_load.c,$(HOSTLIB_SRC))
+HOSTLIB_SRC := $(filter-out host_tools/lib/import/pose_json.c,$(HOSTLIB_SRC))
 endif
 FW_SRC := $(sort $(wildcard firmware/*.c))
 FW_MAIN := firmware/main.c

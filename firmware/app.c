@@ -202,7 +202,7 @@ int psc_app_open(const psc_cli_options_t *opt, psc_app_t **out, char *err, size_
         env.hotspots = b->hotspots;
         env.hotspot_count = b->hotspot_count;
     } else if (b->hotspot_count != 0 && !app->quiet) {
-        psc_log(PSC_LOG_NOTICE, "periscope: note: %s replaces the scene list; the board's %u hotspot%s are not used",
+        psc_io_log(PSC_LOG_NOTICE, "periscope: note: %s replaces the scene list; the board's %u hotspot%s are not used",
                opt->scene != NULL ? "--scene" : "the files given", b->hotspot_count, b->hotspot_count == 1 ? "" : "s");
     }
     if (psc_scene_list_load(&app->scenes, opt->scene, &env, err, errlen) != 0)

@@ -66,7 +66,7 @@ static void loop_log_event(const psc_app_t *app, const psc_hal_input_event_t *ev
     if (psc_hal_input_get_device_name(app->dev.input, ev->device, name, sizeof name) != 0)
         snprintf(name, sizeof name, "device %u", (unsigned)ev->device);
     loop_format_time(when, sizeof when, t_us);
-    psc_log(PSC_LOG_NOTICE, "frame %5u  %s  input: %s %s", (unsigned)frame, when, name,
+    psc_io_log(PSC_LOG_NOTICE, "frame %5u  %s  input: %s %s", (unsigned)frame, when, name,
            ev->type == PSC_HAL_INPUT_DEVICE_ARRIVE ? "arrived" : "left");
 }
 
@@ -91,7 +91,7 @@ static bool loop_poll_input(psc_app_t *app, uint64_t now, uint64_t start, uint32
     /* a failing input source is shown on screen and retried every frame:
      * the kiosk keeps showing its scene rather than exiting */
     if (psc_device_status_input_failed(&app->dev.status, rc < 0) && rc < 0)
-        psc_log(PSC_LOG_ERR, "periscope: input (%s backend) failed: %s; retrying every frame", app->dev.input->backend,
+        psc_io_log(PSC_LOG_ERR, "periscope: input (%s backend) failed: %s; retrying every frame", app->dev.input->backend,
                 strerror(-rc));
     return !app->controls.quit;
 }
@@ -105,7 +105,7 @@ static void loop_log_quality(const psc_app_t *app, uint32_t frame, uint64_t t_us
     if (app->quiet)
         return;
     loop_format_time(when, sizeof when, t_us);
-    psc_log(PSC_LOG_INFO, "frame %5u  %s  quality: %s (%s, span %u) at %u.%03u view widths/s", (unsigned)frame, when,
+    psc_io_log(PSC_LOG_INFO, "frame %5u  %s  quality: %s (%s, span %u) at %u.%03u view widths/s", (unsigned)frame, when,
            fast ? "fast" : "calm", loop_filter_name(fast ? c->fast_filter : c->calm_filter),
            1u << (fast ? c->fast_span_log2 : c->calm_span_log2), (unsigned)(speed / 1000u),
            (unsigned)(speed % 1000u));
@@ -130,12 +130,12 @@ static int loop_handle_requests(psc_app_t *app, uint32_t frame, char *err, size_
         return 0;
     if (!app->quiet) {
         if (go.via != NULL)
-            psc_log(PSC_LOG_INFO, "frame %5u  hotspot (line %u%s) -> scene %u: %s", (unsigned)frame, go.via->line,
+            psc_io_log(PSC_LOG_INFO, "frame %5u  hotspot (line %u%s) -> scene %u: %s", (unsigned)frame, go.via->line,
                    tapped ? ", tapped" : "", go.scene, l->scene[go.scene].path);
         else if (go.back != NULL)
-            psc_log(PSC_LOG_INFO, "frame %5u  back -> scene %u: %s", (unsigned)frame, go.scene, l->scene[go.scene].path);
+            psc_io_log(PSC_LOG_INFO, "frame %5u  back -> scene %u: %s", (unsigned)frame, go.scene, l->scene[go.scene].path);
         else
-            psc_log(PSC_LOG_INFO, "frame %5u  scene %u: %s", (unsigned)frame, go.scene, l->scene[go.scene].path);
+            psc_io_log(PSC_LOG_INFO, "frame %5u  scene %u: %s", (unsigned)frame, go.scene, l->scene[go.scene].path);
     }
     if (go.scene != l->current)
         app->scene_switches++;
@@ -168,7 +168,7 @@ static void loop_report_devices(psc_app_t *app, uint32_t frame, const char *last
     if (strcmp(text, last) == 0)
         return;
     if (!app->quiet)   /* a device missing is a warning; all back, a notice */
-        psc_log(strcmp(text, "all devices present") == 0 ? PSC_LOG_NOTICE : PSC_LOG_WARNING, "frame %5u  devices: %s",
+        psc_io_log(strcmp(text, "all devices present") == 0 ? PSC_LOG_NOTICE : PSC_LOG_WARNING, "frame %5u  devices: %s",
                 (unsigned)frame, text);
     if (app->dev.watchdog != NULL)
         psc_hal_watchdog_set_status(app->dev.watchdog, text);
@@ -183,7 +183,7 @@ static void loop_log_status(psc_app_t *app, uint32_t frame, uint64_t now, const 
     char when[32];
 
     loop_format_time(when, sizeof when, up);
-    psc_log(PSC_LOG_NOTICE, "frame %5u  %s  status: scene %u of %u (%s), %llu.%02llu frames/s, %s quality, %u scene switches, "
+    psc_io_log(PSC_LOG_NOTICE, "frame %5u  %s  status: scene %u of %u (%s), %llu.%02llu frames/s, %s quality, %u scene switches, "
            "%u reloads (%u refused)%s, devices: %s", (unsigned)frame, when, l->current + 1u, l->count,
            l->scene[l->current].path, (unsigned long long)(fps_x100 / 100u), (unsigned long long)(fps_x100 % 100u),
            app->quality.fast ? "fast" : "calm", (unsigned)app->scene_switches, (unsigned)app->reloads,
@@ -214,12 +214,12 @@ static void loop_take_reloaded(psc_app_t *app, uint32_t frame)
         psc_scene_list_move(r->next, &app->scenes);
         psc_scene_list_move(&app->scenes, r->old);
         psc_scene_list_attach(&app->scenes);
-        psc_log(PSC_LOG_WARNING, "frame %5u  reload refused, the scenes before it kept: %s", (unsigned)frame, err);
+        psc_io_log(PSC_LOG_WARNING, "frame %5u  reload refused, the scenes before it kept: %s", (unsigned)frame, err);
         app->reload_failures++;
         if (psc_app_enter_scene(app, cur, err, sizeof err) != 0)
-            psc_log(PSC_LOG_ERR, "periscope: %s", err);
+            psc_io_log(PSC_LOG_ERR, "periscope: %s", err);
     } else {
-        psc_log(PSC_LOG_NOTICE, "frame %5u  reload: %u scene%s loaded again, scene %u on screen", (unsigned)frame,
+        psc_io_log(PSC_LOG_NOTICE, "frame %5u  reload: %u scene%s loaded again, scene %u on screen", (unsigned)frame,
                app->scenes.count, app->scenes.count == 1 ? "" : "s", app->scenes.current + 1u);
         app->reloads++;
     }
@@ -236,15 +236,15 @@ static void loop_reload(psc_app_t *app, uint32_t frame)
         loop_reload_requested = 0;
         if (psc_scene_reload_start(&app->reload, app->only_scene[0] ? app->only_scene : NULL, &app->scenes.env, err,
                                    sizeof err) != 0)
-            psc_log(PSC_LOG_WARNING, "frame %5u  reload not started: %s", (unsigned)frame, err);
+            psc_io_log(PSC_LOG_WARNING, "frame %5u  reload not started: %s", (unsigned)frame, err);
         else
-            psc_log(PSC_LOG_NOTICE, "frame %5u  reload: loading the scenes again beside the ones on screen", (unsigned)frame);
+            psc_io_log(PSC_LOG_NOTICE, "frame %5u  reload: loading the scenes again beside the ones on screen", (unsigned)frame);
         fflush(stdout);
     }
     if (!psc_scene_reload_finished(&app->reload))
         return;
     if (app->reload.rc != 0) {
-        psc_log(PSC_LOG_WARNING, "frame %5u  reload refused, the scenes before it kept: %s", (unsigned)frame, app->reload.err);
+        psc_io_log(PSC_LOG_WARNING, "frame %5u  reload refused, the scenes before it kept: %s", (unsigned)frame, app->reload.err);
         app->reload_failures++;
         psc_scene_reload_discard(&app->reload);
     } else {
@@ -265,12 +265,12 @@ static void loop_dump_frame(psc_app_t *app, uint32_t frame, const psc_surface_t 
         if (psc_hal_display_get_front_buffer(app->dev.display, &front) != 0)
             front = *drawn;   /* a display that cannot read back: the frame as drawn */
         if (psc_frame_dump_write(app->dumps[i].path, &front, why, sizeof why) != 0) {
-            psc_log(PSC_LOG_ERR, "periscope: %s", why);
+            psc_io_log(PSC_LOG_ERR, "periscope: %s", why);
             /* the kiosk keeps showing; the run ends non-zero when it ends */
             if (app->dump_error[0] == '\0')
                 snprintf(app->dump_error, sizeof app->dump_error, "%s", why);
         } else if (!app->quiet)
-            psc_log(PSC_LOG_INFO, "frame %5u  dumped %ux%u %s to %s", (unsigned)frame, (unsigned)front.width,
+            psc_io_log(PSC_LOG_INFO, "frame %5u  dumped %ux%u %s to %s", (unsigned)frame, (unsigned)front.width,
                    (unsigned)front.height, front.format == PSC_PIX_RGB565 ? "rgb565" : "xrgb8888",
                    app->dumps[i].path);
     }

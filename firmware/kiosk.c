@@ -90,11 +90,11 @@ void psc_kiosk_step_camera(psc_kiosk_t *k, psc_motion_t *m, const psc_motion_inp
     activity = activity || in->yaw != 0 || in->pitch != 0 || in->zoom != 0;
     if (activity) {
         if (psc_attract_input(&k->attract, now_us) && !k->quiet)
-            psc_log(PSC_LOG_INFO, "frame %5u  attract: off", (unsigned)frame);
+            psc_io_log(PSC_LOG_INFO, "frame %5u  attract: off", (unsigned)frame);
     } else if (!k->attract.active && psc_attract_update(&k->attract, now_us, m->yaw, m->pitch)) {
         k->attract_starts++;
         if (!k->quiet)
-            psc_log(PSC_LOG_INFO, "frame %5u  attract: on", (unsigned)frame);
+            psc_io_log(PSC_LOG_INFO, "frame %5u  attract: on", (unsigned)frame);
     }
     if (!k->attract.active) {
         psc_motion_step(m, in, dt_us);

@@ -20,24 +20,24 @@ static void main_report(const psc_app_stats_t *st, const char *out_dir)
     /* frames per second x 100, in integers: the firmware has no float */
     uint64_t fps_x100 = st->wall_time_us ? (uint64_t)st->frames * 100000000u / st->wall_time_us : 0;
 
-    psc_log(PSC_LOG_INFO, "periscope: %u frames rendered, %llu.%03llu s of board time, %llu.%03llu s wall clock, "
+    psc_io_log(PSC_LOG_INFO, "periscope: %u frames rendered, %llu.%03llu s of board time, %llu.%03llu s wall clock, "
            "%llu.%02llu frames/s",
            (unsigned)st->frames, (unsigned long long)(st->sim_time_us / 1000000u),
            (unsigned long long)(st->sim_time_us / 1000u % 1000u),
            (unsigned long long)(st->wall_time_us / 1000000u),
            (unsigned long long)(st->wall_time_us / 1000u % 1000u),
            (unsigned long long)(fps_x100 / 100u), (unsigned long long)(fps_x100 % 100u));
-    psc_log(PSC_LOG_INFO, "periscope: adaptive quality: %u frames fast, %u switches", (unsigned)st->fast_frames,
+    psc_io_log(PSC_LOG_INFO, "periscope: adaptive quality: %u frames fast, %u switches", (unsigned)st->fast_frames,
            (unsigned)st->quality_switches);
     if (st->watchdog_known)
-        psc_log(PSC_LOG_INFO, "periscope: watchdog: %u kicks, longest gap %llu ms%s", (unsigned)st->watchdog.kicks,
+        psc_io_log(PSC_LOG_INFO, "periscope: watchdog: %u kicks, longest gap %llu ms%s", (unsigned)st->watchdog.kicks,
                (unsigned long long)(st->watchdog.longest_gap_us / 1000u),
                st->watchdog.would_have_fired ? " (a real one would have fired)" : "");
     if (st->reloads != 0 || st->reload_failures != 0)
-        psc_log(PSC_LOG_INFO, "periscope: reloads (SIGHUP): %u taken, %u refused", (unsigned)st->reloads,
+        psc_io_log(PSC_LOG_INFO, "periscope: reloads (SIGHUP): %u taken, %u refused", (unsigned)st->reloads,
                (unsigned)st->reload_failures);
     if (out_dir[0] != '\0')
-        psc_log(PSC_LOG_INFO, "periscope: output directory: %s (every %u-th frame)", out_dir, (unsigned)st->capture_every);
+        psc_io_log(PSC_LOG_INFO, "periscope: output directory: %s (every %u-th frame)", out_dir, (unsigned)st->capture_every);
 }
 
 /* SIGTERM (systemd stopping the service) and SIGINT (Ctrl-C) end the frame
@@ -80,7 +80,7 @@ static int main_print_key(const psc_cli_options_t *opt)
     /* no --boards-dir: the first place that has the board (board_find.h) */
     if (boards_dir == NULL) {
         if (psc_board_find_default(opt->board, dir, sizeof dir, err, sizeof err) != 0) {
-            psc_log(PSC_LOG_ERR, "periscope: %s", err);
+            psc_io_log(PSC_LOG_ERR, "periscope: %s", err);
             return 2;
         }
         boards_dir = dir;
@@ -88,11 +88,11 @@ static int main_print_key(const psc_cli_options_t *opt)
     snprintf(path, sizeof path, "%s/%s/board.conf", boards_dir, opt->board);
     rc = psc_board_file_value(path, opt->print_key, value, sizeof value, err, sizeof err);
     if (rc < 0) {
-        psc_log(PSC_LOG_ERR, "periscope: %s", err);
+        psc_io_log(PSC_LOG_ERR, "periscope: %s", err);
         return 2;
     }
     if (rc == 0) {
-        psc_log(PSC_LOG_ERR, "periscope: %s sets no %s", path, opt->print_key);
+        psc_io_log(PSC_LOG_ERR, "periscope: %s sets no %s", path, opt->print_key);
         return 1;
     }
     printf("%s\n", value);
@@ -126,13 +126,13 @@ int main(int argc, char **argv)
         return main_print_key(&opt);
     main_catch_signals();
     if (psc_app_open(&opt, &app, err, sizeof err) != 0) {
-        psc_log(PSC_LOG_ERR, "periscope: %s", err);
+        psc_io_log(PSC_LOG_ERR, "periscope: %s", err);
         return 1;
     }
     rc = psc_app_run(app, &stats, err, sizeof err);
     main_report(&stats, psc_app_out_dir(app));
     if (rc != 0)
-        psc_log(PSC_LOG_ERR, "periscope: %s", err);
+        psc_io_log(PSC_LOG_ERR, "periscope: %s", err);
     psc_app_close(app);
     return rc == 0 ? 0 : 1;
 }

@@ -20,7 +20,7 @@ static void image_print_notes(const char *notes)
 {
     while (*notes != '\0') {
         size_t n = strcspn(notes, "\n");
-        psc_log(strncmp(notes, "warning:", 8) == 0 ? PSC_LOG_WARNING : PSC_LOG_INFO, "periscope: %.*s", (int)n,
+        psc_io_log(strncmp(notes, "warning:", 8) == 0 ? PSC_LOG_WARNING : PSC_LOG_INFO, "periscope: %.*s", (int)n,
                 notes);
         notes += n + (notes[n] == '\n');
     }
@@ -50,8 +50,8 @@ int psc_scene_image_load(const psc_scene_t *s, psc_io_pack_t *pf, char *err, siz
     if (rc != 0)
         return -1;
     if (res.cache_off && !atomic_flag_test_and_set(&image_said_no_cache))
-        psc_log(PSC_LOG_NOTICE, "periscope: note: no pack cache (%s): images are packed in memory on every start "
+        psc_io_log(PSC_LOG_NOTICE, "periscope: note: no pack cache (%s): images are packed in memory on every start "
                 "(PERISCOPE_CACHE_DIR names a writable directory)", res.cache_problem);
-    psc_log(PSC_LOG_INFO, "periscope: %s", res.line);
+    psc_io_log(PSC_LOG_INFO, "periscope: %s", res.line);
     return 0;
 }

@@ -31,7 +31,7 @@ int psc_panorama_load(psc_scene_t *s, psc_panorama_t *p, char *err, size_t errle
                                           : psc_io_pack_load(s->path, &p->file, err, errlen) != 0)
         return -1;
     if (p->file.pack.display_width != env->width || p->file.pack.display_height != env->height)
-        psc_log(PSC_LOG_NOTICE, "periscope: note: %s was packed for a %ux%u display, this one is %ux%u; "
+        psc_io_log(PSC_LOG_NOTICE, "periscope: note: %s was packed for a %ux%u display, this one is %ux%u; "
                         "it will render, with tables not tuned for this size",
                 s->path, (unsigned)p->file.pack.display_width, (unsigned)p->file.pack.display_height,
                 (unsigned)env->width, (unsigned)env->height);

@@ -7,10 +7,10 @@
  *
  * Exit status: 0 done, 1 the work failed, 2 bad arguments.
  */
-#include "cli_parse.h"
+#include "util/cli_values.h"
 #include "psc_io_cli.h"
 #include "psc_io_image.h"
-#include "image_scale.h"
+#include "util/image_scale.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -106,7 +106,7 @@ static int make_thumb(const char *path, uint32_t width, psc_image_t *thumb)
 {
     char err[512];
     psc_image_t img;
-    if (psc_image_load(path, &img, err, sizeof err) != 0) {
+    if (psc_io_image_load(path, &img, err, sizeof err) != 0) {
         fprintf(stderr, PROG ": %s\n", err);
         return -1;
     }
@@ -117,7 +117,7 @@ static int make_thumb(const char *path, uint32_t width, psc_image_t *thumb)
     if (rc != 0)
         fprintf(stderr, PROG ": %s: cannot make a %ux%llu thumbnail\n", path, (unsigned)width,
                 (unsigned long long)h);
-    psc_image_free(&img);
+    psc_io_image_free(&img);
     return rc;
 }
 
@@ -189,15 +189,15 @@ int main(int argc, char **argv)
             i++;
         char err[512];
         if (i == a.nframes && build_sheet(&a, thumbs, &sheet) == 0) {
-            if (psc_image_write_png(a.out, &sheet, err, sizeof err) != 0)
+            if (psc_io_image_write_png(a.out, &sheet, err, sizeof err) != 0)
                 fprintf(stderr, PROG ": %s\n", err);
             else
                 rc = 0;
         }
         for (int k = 0; k < a.nframes; k++)
-            psc_image_free(&thumbs[k]);
+            psc_io_image_free(&thumbs[k]);
     }
-    psc_image_free(&sheet);
+    psc_io_image_free(&sheet);
     free(thumbs);
     free(a.frames);
     return rc;

@@ -9,7 +9,7 @@
  *                     [--map WxH] -o table.pfish
  *
  * The lens model (equidistant, r = f * theta), the axes and the choice in the
- * overlap are described in host_tools/lib/fisheye_build.h.
+ * overlap are described in host_tools/lib/bake/fisheye.h.
  * Exit status: 0 done, 1 the work failed, 2 bad arguments.
  */
 #include <math.h>
@@ -17,9 +17,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli_parse.h"
+#include "util/cli_values.h"
 #include "psc_io_cli.h"
-#include "fisheye_build.h"
+#include "bake/fisheye.h"
 #include "psc_io_pack_build.h"
 #include "psc_io_file.h"
 
@@ -72,7 +72,7 @@ static const struct option fisheye_options[] = {
 int main(int argc, char **argv)
 {
     psc_io_cli_t c;
-    psc_fisheye_rig_t rig;
+    psc_bake_fisheye_rig_t rig;
     const char *out = NULL;
     uint16_t map_w = 0, map_h = 0;
     int have_frame = 0, have_lens[2] = {0, 0}, opt;
@@ -142,7 +142,7 @@ int main(int argc, char **argv)
     char err[512];
     uint8_t *table = NULL;
     size_t len = 0;
-    if (psc_fisheye_build(&rig, map_w, map_h, out, &table, &len, err, sizeof err) != 0 ||
+    if (psc_bake_fisheye(&rig, map_w, map_h, out, &table, &len, err, sizeof err) != 0 ||
         psc_io_write_atomic(out, table, len, err, sizeof err) != 0) {
         fprintf(stderr, PROG ": %s\n", err);
         free(table);

@@ -7,7 +7,7 @@
  * Exit status: 0 done, 1 the work failed, 2 bad arguments.
  */
 #include "psc_io_angle.h"
-#include "cli_parse.h"
+#include "util/cli_values.h"
 #include "psc_io_image.h"
 #include "psc_io_pack_build.h"
 #include "psc_io_pack_image.h"
@@ -151,7 +151,7 @@ static void print_size(FILE *f, double bytes)
 
 static double lon_deg(psc_bam_t a)
 {
-    double d = psc_deg_from_bam(a);
+    double d = psc_io_deg_from_bam(a);
     return d >= 180.0 ? d - 360.0 : d;
 }
 
@@ -163,9 +163,9 @@ static void print_summary(const char *out_path, const psc_pack_t *p, size_t len)
     fprintf(stderr, ")\n  map      %ux%u %s, %s projection, ", (unsigned)m->width, (unsigned)m->height,
             format_name(m->format), psc_projection_name(m->projection));
     print_size(stderr, (double)m->stride * m->height);
-    double lon0 = lon_deg(m->lon_min), span = m->lon_span ? psc_deg_from_bam(m->lon_span) : 360.0;
+    double lon0 = lon_deg(m->lon_min), span = m->lon_span ? psc_io_deg_from_bam(m->lon_span) : 360.0;
     fprintf(stderr, "\n  covers   longitude %.2f..%.2f, latitude %.2f..%.2f degrees\n", lon0, lon0 + span,
-            psc_deg_from_sbam(m->lat_top), psc_deg_from_sbam(m->lat_bottom));
+            psc_io_deg_from_sbam(m->lat_top), psc_io_deg_from_sbam(m->lat_bottom));
     if (p->level_count > 1) {
         double bytes = 0;
         for (unsigned k = 1; k < p->level_count; k++)
@@ -179,15 +179,15 @@ static void print_summary(const char *out_path, const psc_pack_t *p, size_t len)
         fprintf(stderr, "  palette  256 entries, 1.0 KiB\n");
     for (unsigned i = 0; i < p->lut_count; i++) {
         const psc_lut_t *t = &p->luts[i];
-        fprintf(stderr, "  LUT %u    up to %.2f degrees, %ux%u entries, ", i + 1, psc_deg_from_bam(t->hfov_max),
+        fprintf(stderr, "  LUT %u    up to %.2f degrees, %ux%u entries, ", i + 1, psc_io_deg_from_bam(t->hfov_max),
                 (unsigned)t->rows, (unsigned)t->cols);
         print_size(stderr, (double)(sizeof(psc_pack_lut_raw_t) + psc_lut_bytes(t->rows, t->cols)));
         fprintf(stderr, "\n");
     }
     fprintf(stderr, "  display  %ux%u, zoom %.1f..%.1f degrees, default view yaw %.1f pitch %.1f hfov %.1f\n",
-            (unsigned)p->display_width, (unsigned)p->display_height, psc_deg_from_bam(p->hfov_min),
-            psc_deg_from_bam(p->luts[p->lut_count - 1].hfov_max), psc_deg_from_bam(p->default_yaw),
-            psc_deg_from_sbam(p->default_pitch), psc_deg_from_bam(p->default_hfov));
+            (unsigned)p->display_width, (unsigned)p->display_height, psc_io_deg_from_bam(p->hfov_min),
+            psc_io_deg_from_bam(p->luts[p->lut_count - 1].hfov_max), psc_io_deg_from_bam(p->default_yaw),
+            psc_io_deg_from_sbam(p->default_pitch), psc_io_deg_from_bam(p->default_hfov));
 }
 
 /* ---- arguments --------------------------------------------------------------- */
@@ -211,7 +211,7 @@ static int take_degrees(const char *name, const char *value, double *deg)
 static int parse_lon_range(const char *v, args_t *a)
 {
     double lo, hi;
-    if (psc_cli_parse_pair(v, &lo, &hi) != 0 || psc_pack_options_set_lon_range(&a->opt, lo, hi) != 0)
+    if (psc_cli_parse_pair(v, &lo, &hi) != 0 || psc_io_pack_options_set_lon_range(&a->opt, lo, hi) != 0)
         return usage_error("--lon-range '%s': expected MIN:MAX in degrees with MIN < MAX and MAX - MIN <= 360", v);
     a->lon_given = true;
     return 0;
@@ -220,7 +220,7 @@ static int parse_lon_range(const char *v, args_t *a)
 static int parse_lat_range(const char *v, args_t *a)
 {
     double top, bottom;
-    if (psc_cli_parse_pair(v, &top, &bottom) != 0 || psc_pack_options_set_lat_range(&a->opt, top, bottom) != 0)
+    if (psc_cli_parse_pair(v, &top, &bottom) != 0 || psc_io_pack_options_set_lat_range(&a->opt, top, bottom) != 0)
         return usage_error("--lat-range '%s': expected TOP:BOTTOM in degrees with 90 >= TOP > BOTTOM >= -90", v);
     a->lat_given = true;
     return 0;
@@ -326,7 +326,7 @@ static int parse_args(int argc, char **argv, args_t *a)
 int main(int argc, char **argv)
 {
     args_t a = {.max_pixels = PSC_IMAGE_MAX_PIXELS};
-    psc_pack_options_default(&a.opt);
+    psc_io_pack_options_default(&a.opt);
     int rc = parse_args(argc, argv, &a);
     if (rc != 0)
         return rc;
@@ -343,7 +343,7 @@ int main(int argc, char **argv)
     char err[512];
     psc_image_t img;
     progress_show("loading image", 0, &prog);
-    if (psc_image_load_within(a.in, a.max_pixels, &img, err, sizeof err) != 0) {
+    if (psc_io_image_load_within(a.in, a.max_pixels, &img, err, sizeof err) != 0) {
         progress_end(&prog, false);
         fprintf(stderr, PROG ": %s\n", err);
         if (strstr(err, "more than the budget"))
@@ -356,8 +356,8 @@ int main(int argc, char **argv)
     print_notes(&prog, notes);
     uint8_t *pack = NULL;
     size_t len = 0;
-    rc = psc_pack_build(&img, &a.opt, &pack, &len, err, sizeof err);
-    psc_image_free(&img);
+    rc = psc_io_pack_build(&img, &a.opt, &pack, &len, err, sizeof err);
+    psc_io_image_free(&img);
     if (rc != 0) {
         progress_end(&prog, false);
         fprintf(stderr, PROG ": %s: %s\n", a.in, err);

@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "patch_load.h"
+#include "bake/patch_any.h"
 #include "psc_io_cli.h"
 #include "psc_io_file.h"
 
@@ -56,7 +56,7 @@ static const struct option patch_options[] = {
 
 int main(int argc, char **argv)
 {
-    psc_patch_load_opts_t o = {0};
+    psc_bake_patch_opts_t o = {0};
     const char *model = NULL;
     psc_io_cli_t c;
     char why[160], err[768];
@@ -77,16 +77,16 @@ int main(int argc, char **argv)
         if (strcmp(c.name, "-o") == 0) {
             o.write_pack = c.arg;
         } else if (strcmp(c.name, "--action") == 0) {
-            if (o.action_count >= PSC_PATCH_LOAD_MAX_ACTIONS)
-                return usage_error("at most %u actions", PSC_PATCH_LOAD_MAX_ACTIONS);
+            if (o.action_count >= PSC_BAKE_PATCH_MAX_ACTIONS)
+                return usage_error("at most %u actions", PSC_BAKE_PATCH_MAX_ACTIONS);
             o.actions[o.action_count++] = c.arg;
         } else if (strcmp(c.name, "--skin-from") == 0) {
             o.skin_from = c.arg;
         } else if (strcmp(c.name, "--deform") == 0) {
             o.deform = c.arg;
         } else if (strcmp(c.name, "--bvh") == 0) {
-            if (o.capture_count >= PSC_PATCH_LOAD_MAX_ACTIONS)
-                return usage_error("at most %u captures", PSC_PATCH_LOAD_MAX_ACTIONS);
+            if (o.capture_count >= PSC_BAKE_PATCH_MAX_ACTIONS)
+                return usage_error("at most %u captures", PSC_BAKE_PATCH_MAX_ACTIONS);
             o.captures[o.capture_count++] = c.arg;
         } else if (strcmp(c.name, "--bvh-map") == 0) {
             o.capture_map = c.arg;
@@ -108,7 +108,7 @@ int main(int argc, char **argv)
     if (o.action_count + o.capture_count)
         fprintf(stderr, PROG ": baking %u action%s on %s\n", o.action_count + o.capture_count,
                 o.action_count + o.capture_count == 1 ? "" : "s", model);
-    if (psc_patch_load_any(model, &o, &pf, err, sizeof err) != 0) {
+    if (psc_bake_patch_any(model, &o, &pf, err, sizeof err) != 0) {
         fprintf(stderr, PROG ": %s\n", err);
         return 1;
     }

@@ -2,7 +2,7 @@
 /*
  * periscope-proxy - bake an articulated or skinned model into a proxy pack
  * (image-based rendering with proxy surface animation, core/proxy/psc_proxy.h;
- * the preprocessing: host_tools/lib/proxy_bake.h):
+ * the preprocessing: host_tools/lib/bake/proxy.h):
  *
  *   periscope-proxy bake MODEL.{gltf,glb,obj} -o M.ppx [--views K] [--tex N]
  *
@@ -13,9 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli_parse.h"
-#include "gltf_load.h"
-#include "proxy_bake.h"
+#include "util/cli_values.h"
+#include "import/gltf_model.h"
+#include "bake/proxy.h"
 #include "psc_io_cli.h"
 #include "psc_io_file.h"
 
@@ -48,7 +48,7 @@ static const struct option proxy_options[] = {
 
 int main(int argc, char **argv)
 {
-    psc_proxy_bake_opts_t o = {PSC_PROXY_BAKE_VIEWS, PSC_PROXY_BAKE_TEX};
+    psc_bake_proxy_opts_t o = {PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX};
     const char *model = NULL, *out = NULL, *verb = NULL;
     psc_io_cli_t c;
     char why[160], err[768], note[512] = "", load_note[256] = "";
@@ -91,7 +91,7 @@ int main(int argc, char **argv)
         return usage_error("expected the command 'bake' (" PROG " bake MODEL -o M.ppx)");
     if (!model)
         return usage_error("no model given");
-    if (!psc_gltf_is_model(model) && !psc_gltf_is_obj(model))
+    if (!psc_gltf_is_file(model) && !psc_obj_is_file(model))
         return usage_error("%s: expected a .gltf, .glb or .obj model", model);
     if (!out)
         return usage_error("no output given (-o M.ppx)");
@@ -105,7 +105,7 @@ int main(int argc, char **argv)
     uint8_t *bytes = NULL;
     size_t len = 0;
     int rc = 1;
-    if (psc_proxy_bake(&g, &o, model, &bytes, &len, note, sizeof note, err, sizeof err) != 0 ||
+    if (psc_bake_proxy(&g, &o, model, &bytes, &len, note, sizeof note, err, sizeof err) != 0 ||
         psc_io_write_atomic(out, bytes, len, err, sizeof err) != 0) {
         fprintf(stderr, PROG ": %s\n", err);
     } else {

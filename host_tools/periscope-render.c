@@ -10,16 +10,16 @@
  * Exit status: 0 done, 1 the work failed, 2 bad arguments.
  */
 #include "psc_io_angle.h"
-#include "cli_parse.h"
+#include "util/cli_values.h"
 #include "psc_io_cli.h"
 #include "psc_io_image.h"
-#include "model_render.h"
+#include "render/model.h"
 #include "psc_io_pack_build.h"
 #include "psc_io_pack_image.h"
-#include "gltf_render.h"
-#include "proxy_render.h"
+#include "render/gltf.h"
+#include "render/proxy.h"
 #include "psc_io_bands.h"
-#include "patch_render.h"
+#include "render/patch.h"
 #include "psc_io_load.h"
 #include "psc_io_png.h"
 #include "psc_io_levels.h"
@@ -219,7 +219,7 @@ static void note_clamped(const psc_view_t *want, const psc_view_t *got)
     if (want->yaw == got->yaw && want->pitch == got->pitch && want->hfov == got->hfov)
         return;
     fprintf(stderr, PROG ": note: view brought inside the pack's limits: yaw %.3f, pitch %.3f, hfov %.3f degrees\n",
-            psc_deg_from_bam(got->yaw), psc_deg_from_sbam(got->pitch), psc_deg_from_bam(got->hfov));
+            psc_io_deg_from_bam(got->yaw), psc_io_deg_from_sbam(got->pitch), psc_io_deg_from_bam(got->hfov));
 }
 
 static int render_frames(psc_viewer_t *viewer, psc_io_bands_t *bands, const psc_view_t *view,
@@ -278,14 +278,14 @@ static int load_scene(const args_t *a, psc_io_pack_t *pf, char *err, size_t errl
 
 int main(int argc, char **argv)
 {
-    if (psc_proxy_render_wanted(argc, argv))
-        return psc_proxy_render_main(PROG, argc, argv);
-    if (psc_gltf_render_wanted(argc, argv))
-        return psc_gltf_render_main(PROG, argc, argv);
-    if (psc_patch_render_wanted(argc, argv))
-        return psc_patch_render_main(PROG, argc, argv);
-    if (psc_model_render_wanted(argc, argv))
-        return psc_model_render_main(PROG, argc, argv);
+    if (psc_render_proxy_wanted(argc, argv))
+        return psc_render_proxy_main(PROG, argc, argv);
+    if (psc_render_gltf_wanted(argc, argv))
+        return psc_render_gltf_main(PROG, argc, argv);
+    if (psc_render_patch_wanted(argc, argv))
+        return psc_render_patch_main(PROG, argc, argv);
+    if (psc_render_model_wanted(argc, argv))
+        return psc_render_model_main(PROG, argc, argv);
     args_t a = {.filter = PSC_FILTER_BILINEAR, .span_log2 = PSC_SPAN_LOG2_DEFAULT, .repeat = 1,
                 .format = PSC_PIX_RGB565};
     int rc = parse_args(argc, argv, &a);
@@ -322,9 +322,9 @@ int main(int argc, char **argv)
         fprintf(stderr, PROG ": --simd %s: this build or this processor does not have it\n", psc_simd_name(a.simd));
     } else {
         psc_view_t want = {
-            .yaw = a.have_yaw ? psc_bam_from_deg(a.yaw) : pack->default_yaw,
-            .pitch = a.have_pitch ? psc_sbam_from_deg(a.pitch) : pack->default_pitch,
-            .hfov = a.have_hfov ? psc_bam_from_deg(a.hfov) : pack->default_hfov,
+            .yaw = a.have_yaw ? psc_io_bam_from_deg(a.yaw) : pack->default_yaw,
+            .pitch = a.have_pitch ? psc_io_sbam_from_deg(a.pitch) : pack->default_pitch,
+            .hfov = a.have_hfov ? psc_io_bam_from_deg(a.hfov) : pack->default_hfov,
             .filter = a.filter,
             .span_log2 = a.span_log2,
         };

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * periscope-shadow - build the self-shadowing tables of a character (stage
- * one of the sphere-occluder self-shadowing, host_tools/lib/shadow_build.h):
+ * one of the sphere-occluder self-shadowing, host_tools/lib/bake/shadow.h):
  *
  *   periscope-shadow build MODEL.{mdl,bpt,ppk,gltf,glb,obj} -o M.pao [--levels L] [--spheres N] [--table-size N]
  *                    [--skin-from D.mdl]
@@ -15,11 +15,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli_parse.h"
-#include "patch_load.h"
+#include "util/cli_values.h"
+#include "bake/patch_any.h"
 #include "psc_io_cli.h"
 #include "psc_io_file.h"
-#include "shadow_build.h"
+#include "bake/shadow.h"
 
 #define PROG "periscope-shadow"
 
@@ -52,8 +52,8 @@ static const struct option shadow_options[] = {
 
 int main(int argc, char **argv)
 {
-    psc_shadow_build_opts_t o = {PSC_SHADOW_BUILD_LEVELS, PSC_SHADOW_BUILD_SPHERES, 32};
-    psc_patch_load_opts_t lo = {.quiet = true};
+    psc_bake_shadow_opts_t o = {PSC_BAKE_SHADOW_LEVELS, PSC_BAKE_SHADOW_SPHERES, 32};
+    psc_bake_patch_opts_t lo = {.quiet = true};
     const char *model = NULL, *out = NULL, *verb = NULL;
     psc_io_cli_t c;
     char why[160], err[768], note[512] = "";
@@ -106,18 +106,18 @@ int main(int argc, char **argv)
         return usage_error("no output given (-o M.pao)");
     psc_io_patch_t pf = {0};
     psc_gltf_t g = {0};
-    bool gltf = psc_gltf_is_model(model) || psc_gltf_is_obj(model);
+    bool gltf = psc_gltf_is_file(model) || psc_obj_is_file(model);
     char load_note[256] = "";
     if (gltf ? psc_gltf_load(model, &g, load_note, sizeof load_note, err, sizeof err) != 0
-             : psc_patch_load_any(model, &lo, &pf, err, sizeof err) != 0) {
+             : psc_bake_patch_any(model, &lo, &pf, err, sizeof err) != 0) {
         fprintf(stderr, PROG ": %s\n", err);
         return 1;
     }
     uint8_t *bytes = NULL;
     size_t len = 0;
     int rc = 1;
-    if ((gltf ? psc_shadow_build_gltf(&g, &o, model, &bytes, &len, note, sizeof note, err, sizeof err)
-              : psc_shadow_build(&pf.model, &o, model, &bytes, &len, note, sizeof note, err, sizeof err)) != 0 ||
+    if ((gltf ? psc_bake_shadow_gltf(&g, &o, model, &bytes, &len, note, sizeof note, err, sizeof err)
+              : psc_bake_shadow(&pf.model, &o, model, &bytes, &len, note, sizeof note, err, sizeof err)) != 0 ||
         psc_io_write_atomic(out, bytes, len, err, sizeof err) != 0)
         fprintf(stderr, PROG ": %s\n", err);
     else {

@@ -6,7 +6,7 @@
 
 #define UNITS_PER_TURN 4294967296.0
 
-psc_bam_t psc_bam_from_deg(double deg)
+psc_bam_t psc_io_bam_from_deg(double deg)
 {
     if (!isfinite(deg))
         return 0;
@@ -19,7 +19,7 @@ psc_bam_t psc_bam_from_deg(double deg)
     return (psc_bam_t)(uint64_t)fmod(units, UNITS_PER_TURN);
 }
 
-int32_t psc_sbam_from_deg(double deg)
+int32_t psc_io_sbam_from_deg(double deg)
 {
     if (!isfinite(deg))
         return 0;
@@ -35,12 +35,12 @@ int32_t psc_sbam_from_deg(double deg)
     return (int32_t)units;
 }
 
-double psc_deg_from_bam(psc_bam_t a)
+double psc_io_deg_from_bam(psc_bam_t a)
 {
     return a * (360.0 / UNITS_PER_TURN);
 }
 
-double psc_deg_from_sbam(int32_t a)
+double psc_io_deg_from_sbam(int32_t a)
 {
     return a * (360.0 / UNITS_PER_TURN);
 }

@@ -29,13 +29,13 @@ static int write_fail(char *err, size_t errlen, const char *name, const char *fm
     return -1;
 }
 
-void psc_container_layout_init(psc_container_layout_t *l, const psc_container_format_t *format)
+void psc_io_container_layout_init(psc_container_layout_t *l, const psc_container_format_t *format)
 {
     memset(l, 0, sizeof *l);
     l->format = format;
 }
 
-int psc_container_layout_add(psc_container_layout_t *l, uint32_t type, uint64_t size)
+int psc_io_container_layout_add(psc_container_layout_t *l, uint32_t type, uint64_t size)
 {
     if (l->count >= l->format->max_sections || l->count >= PSC_CONTAINER_WRITE_MAX_SECTIONS)
         return -1;
@@ -48,7 +48,7 @@ static uint64_t align_up(uint64_t v)
     return (v + PSC_CONTAINER_ALIGN - 1u) / PSC_CONTAINER_ALIGN * PSC_CONTAINER_ALIGN;
 }
 
-int psc_container_layout_alloc(psc_container_layout_t *l, uint8_t **file, const char *name, char *err,
+int psc_io_container_layout_alloc(psc_container_layout_t *l, uint8_t **file, const char *name, char *err,
                                size_t errlen)
 {
     const psc_container_format_t *f = l->format;
@@ -86,7 +86,7 @@ int psc_container_layout_alloc(psc_container_layout_t *l, uint8_t **file, const 
     return 0;
 }
 
-void psc_container_finish(const psc_container_layout_t *l, uint8_t *file)
+void psc_io_container_finish(const psc_container_layout_t *l, uint8_t *file)
 {
     /* the CRC field is still zero here, so the plain CRC of the file is the
      * one psc_container.h defines; core's own CRC (equal to zlib's crc32,
@@ -98,7 +98,7 @@ void psc_container_finish(const psc_container_layout_t *l, uint8_t *file)
     psc_put_le32(crc_at, psc_crc32(0, file, (size_t)l->file_size));
 }
 
-int psc_container_write(const psc_container_format_t *format, const psc_container_part_t *parts, unsigned n,
+int psc_io_container_write(const psc_container_format_t *format, const psc_container_part_t *parts, unsigned n,
                         uint8_t **out, size_t *out_len, const char *name, char *err, size_t errlen)
 {
     psc_container_layout_t l;
@@ -106,16 +106,16 @@ int psc_container_write(const psc_container_format_t *format, const psc_containe
 
     *out = NULL;
     *out_len = 0;
-    psc_container_layout_init(&l, format);
+    psc_io_container_layout_init(&l, format);
     for (unsigned i = 0; i < n; i++)
-        if (psc_container_layout_add(&l, parts[i].type, parts[i].size) < 0)
+        if (psc_io_container_layout_add(&l, parts[i].type, parts[i].size) < 0)
             return write_fail(err, errlen, name, "more than %u sections", (unsigned)format->max_sections);
-    if (psc_container_layout_alloc(&l, &file, name, err, errlen) != 0)
+    if (psc_io_container_layout_alloc(&l, &file, name, err, errlen) != 0)
         return -1;
     for (unsigned i = 0; i < n; i++)
         if (parts[i].size != 0)
             memcpy(file + l.slot[i].offset, parts[i].data, parts[i].size);
-    psc_container_finish(&l, file);
+    psc_io_container_finish(&l, file);
     *out = file;
     *out_len = (size_t)l.file_size;
     return 0;

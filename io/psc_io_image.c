@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-int psc_image_alloc(psc_image_t *img, uint32_t w, uint32_t h, uint64_t max_pixels, const char *path, char *err,
+int psc_io_image_alloc(psc_image_t *img, uint32_t w, uint32_t h, uint64_t max_pixels, const char *path, char *err,
                     size_t errlen)
 {
     img->width = img->height = 0;
@@ -37,12 +37,12 @@ int psc_image_alloc(psc_image_t *img, uint32_t w, uint32_t h, uint64_t max_pixel
 static const uint8_t jpeg_magic[3] = {0xFF, 0xD8, 0xFF};
 static const uint8_t png_magic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
 
-int psc_image_load(const char *path, psc_image_t *img, char *err, size_t errlen)
+int psc_io_image_load(const char *path, psc_image_t *img, char *err, size_t errlen)
 {
-    return psc_image_load_within(path, PSC_IMAGE_MAX_PIXELS, img, err, errlen);
+    return psc_io_image_load_within(path, PSC_IMAGE_MAX_PIXELS, img, err, errlen);
 }
 
-int psc_image_load_within(const char *path, uint64_t max_pixels, psc_image_t *img, char *err, size_t errlen)
+int psc_io_image_load_within(const char *path, uint64_t max_pixels, psc_image_t *img, char *err, size_t errlen)
 {
     if (!path || !img)
         return psc_io_errorf(err, errlen, path, "no file or no image to load into");
@@ -59,7 +59,7 @@ int psc_image_load_within(const char *path, uint64_t max_pixels, psc_image_t *im
     } else if (fseek(f, 0, SEEK_SET) != 0) {
         rc = psc_io_errorf(err, errlen, path, "cannot seek: %s", strerror(errno));
     } else if (got >= sizeof jpeg_magic && memcmp(head, jpeg_magic, sizeof jpeg_magic) == 0) {
-        rc = psc_jpeg_decode(f, path, max_pixels, img, err, errlen);
+        rc = psc_io_jpeg_decode(f, path, max_pixels, img, err, errlen);
     } else if (got >= sizeof png_magic && memcmp(head, png_magic, sizeof png_magic) == 0) {
         psc_surface_t dec;
         rc = psc_io_png_decode(f, path, PSC_MAX_MAP_DIM, max_pixels, &dec, err, errlen);
@@ -73,11 +73,11 @@ int psc_image_load_within(const char *path, uint64_t max_pixels, psc_image_t *im
     }
     fclose(f);
     if (rc != 0)
-        psc_image_free(img);
+        psc_io_image_free(img);
     return rc;
 }
 
-void psc_image_free(psc_image_t *img)
+void psc_io_image_free(psc_image_t *img)
 {
     if (!img)
         return;
@@ -86,7 +86,7 @@ void psc_image_free(psc_image_t *img)
     img->width = img->height = 0;
 }
 
-int psc_surface_to_image(const psc_surface_t *s, psc_image_t *img)
+int psc_io_surface_to_image(const psc_surface_t *s, psc_image_t *img)
 {
     if (!img)
         return -1;
@@ -94,7 +94,7 @@ int psc_surface_to_image(const psc_surface_t *s, psc_image_t *img)
     img->xrgb = NULL;
     if (!s || !psc_io_surface_is_valid(s))
         return -1;
-    if (psc_image_alloc(img, s->width, s->height, UINT64_MAX, NULL, NULL, 0) != 0)
+    if (psc_io_image_alloc(img, s->width, s->height, UINT64_MAX, NULL, NULL, 0) != 0)
         return -1;
     for (uint32_t y = 0; y < s->height; y++)
         for (uint32_t x = 0; x < s->width; x++)
@@ -102,7 +102,7 @@ int psc_surface_to_image(const psc_surface_t *s, psc_image_t *img)
     return 0;
 }
 
-int psc_image_write_png(const char *path, const psc_image_t *img, char *err, size_t errlen)
+int psc_io_image_write_png(const char *path, const psc_image_t *img, char *err, size_t errlen)
 {
     if (!path || !img || !img->xrgb || img->width == 0 || img->height == 0 || img->width > UINT16_MAX ||
         img->height > UINT16_MAX)

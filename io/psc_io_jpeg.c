@@ -90,7 +90,7 @@ static int jpeg_run(jpeg_job_t *job, FILE *f, const char *path, uint64_t max_pix
     if (!cmyk && cinfo->jpeg_color_space != JCS_GRAYSCALE && cinfo->jpeg_color_space != JCS_YCbCr &&
         cinfo->jpeg_color_space != JCS_RGB)
         return psc_io_errorf(err, errlen, path, "unsupported JPEG colour space %d", (int)cinfo->jpeg_color_space);
-    if (psc_image_alloc(img, cinfo->image_width, cinfo->image_height, max_pixels, path, err, errlen) != 0)
+    if (psc_io_image_alloc(img, cinfo->image_width, cinfo->image_height, max_pixels, path, err, errlen) != 0)
         return -1;
 
     cinfo->out_color_space = cmyk ? JCS_CMYK : JCS_RGB;
@@ -121,7 +121,7 @@ static int jpeg_run(jpeg_job_t *job, FILE *f, const char *path, uint64_t max_pix
     return 0;
 }
 
-int psc_jpeg_decode(FILE *f, const char *path, uint64_t max_pixels, psc_image_t *img, char *err, size_t errlen)
+int psc_io_jpeg_decode(FILE *f, const char *path, uint64_t max_pixels, psc_image_t *img, char *err, size_t errlen)
 {
     jpeg_job_t *job = calloc(1, sizeof *job);
     if (!job)

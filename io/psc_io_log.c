@@ -23,7 +23,7 @@ static bool log_fd_is_journal(int fd, const char *stream)
     return (unsigned long long)st.st_dev == dev && (unsigned long long)st.st_ino == ino;
 }
 
-void psc_log_detect(void)
+void psc_io_log_detect(void)
 {
     const char *stream = getenv("JOURNAL_STREAM");
 
@@ -32,14 +32,14 @@ void psc_log_detect(void)
     log_detected = true;
 }
 
-bool psc_log_to_journal(FILE *stream)
+bool psc_io_log_to_journal(FILE *stream)
 {
     if (!log_detected)
-        psc_log_detect();
+        psc_io_log_detect();
     return stream == stderr ? log_journal_err : stream == stdout ? log_journal_out : false;
 }
 
-void psc_log(psc_log_level_t level, const char *fmt, ...)
+void psc_io_log(psc_log_level_t level, const char *fmt, ...)
 {
     FILE *stream = level <= PSC_LOG_WARNING ? stderr : stdout;
     char line[PSC_LOG_LINE_MAX + 8];
@@ -47,7 +47,7 @@ void psc_log(psc_log_level_t level, const char *fmt, ...)
     va_list ap;
     int w;
 
-    if (psc_log_to_journal(stream))
+    if (psc_io_log_to_journal(stream))
         n = (size_t)snprintf(line, sizeof line, "<%d>", (int)level);
     va_start(ap, fmt);
     w = vsnprintf(line + n, PSC_LOG_LINE_MAX - n, fmt, ap);

@@ -34,15 +34,15 @@ typedef enum {
 } psc_log_level_t;
 
 /** Log one event at level (printf format, no trailing newline needed). */
-void psc_log(psc_log_level_t level, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+void psc_io_log(psc_log_level_t level, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 /**
  * Look again at JOURNAL_STREAM and the two streams (done once, on the first
  * line, by itself; tests that swap the streams call it).
  */
-void psc_log_detect(void);
+void psc_io_log_detect(void);
 
 /** True when lines on stream (stdout or stderr) get the journal's "<N>" prefix. */
-bool psc_log_to_journal(FILE *stream);
+bool psc_io_log_to_journal(FILE *stream);
 
 #endif

@@ -4,7 +4,7 @@
 
 #include <math.h>
 
-void psc_lut_exact_angles(double a, double u, double *lon, double *lat)
+void psc_io_lut_exact_angles(double a, double u, double *lon, double *lat)
 {
     double c = cos(a);
     *lon = atan2(u, c);
@@ -22,7 +22,7 @@ static uint32_t quarter_turn_q16(double rad)
     return (uint32_t)v;
 }
 
-int psc_lut_build(uint16_t rows, uint16_t cols, double hfov_max_deg, uint32_t *entries, psc_lut_t *lut)
+int psc_io_lut_build(uint16_t rows, uint16_t cols, double hfov_max_deg, uint32_t *entries, psc_lut_t *lut)
 {
     if (rows < 2 || cols < 2 || rows > PSC_MAX_LUT_DIM || cols > PSC_MAX_LUT_DIM ||
         !(hfov_max_deg > 0.0 && hfov_max_deg <= 170.0))
@@ -34,7 +34,7 @@ int psc_lut_build(uint16_t rows, uint16_t cols, double hfov_max_deg, uint32_t *e
         double a = (M_PI / 2.0) * i / (rows - 1);
         for (unsigned j = 0; j < cols; j++) {
             double u = u_max * j / (cols - 1), lon, lat;
-            psc_lut_exact_angles(a, u, &lon, &lat);
+            psc_io_lut_exact_angles(a, u, &lon, &lat);
             entries[(size_t)i * cols + j] = PSC_LUT_ENTRY(quarter_turn_q16(lon), quarter_turn_q16(lat));
         }
     }
@@ -46,7 +46,7 @@ int psc_lut_build(uint16_t rows, uint16_t cols, double hfov_max_deg, uint32_t *e
     return 0;
 }
 
-void psc_lut_default_size(uint16_t display_w, uint16_t display_h, double hfov_max_deg,
+void psc_io_lut_default_size(uint16_t display_w, uint16_t display_h, double hfov_max_deg,
                           uint16_t *rows, uint16_t *cols)
 {
     (void)display_h;

@@ -6,7 +6,7 @@
 
 #include <stdlib.h>
 
-uint16_t psc_rgb565_from_xrgb(uint32_t xrgb)
+uint16_t psc_io_rgb565_from_xrgb(uint32_t xrgb)
 {
     uint32_t r = (xrgb >> 16) & 255u, g = (xrgb >> 8) & 255u, b = xrgb & 255u;
     uint32_t r5 = (r * 31u + 127u) / 255u, g6 = (g * 63u + 127u) / 255u, b5 = (b * 31u + 127u) / 255u;
@@ -25,17 +25,17 @@ static int map_to_palette(const psc_image_t *img, const psc_palette_t *pal, uint
                           void *ctx)
 {
     psc_palette_mapper_t mapper = {0};
-    if (psc_palette_mapper_init(&mapper, pal) != 0)
+    if (psc_io_palette_mapper_init(&mapper, pal) != 0)
         return -1;
     for (uint32_t y = 0; y < img->height; y++) {
         report_rows(progress, ctx, "mapping to palette", y, img->height);
         const uint32_t *src = img->xrgb + (size_t)y * img->width;
         uint8_t *dst = pixels + (size_t)y * img->width;
         for (uint32_t x = 0; x < img->width; x++)
-            dst[x] = psc_palette_index(&mapper, src[x]);
+            dst[x] = psc_io_palette_index(&mapper, src[x]);
     }
     report_rows(progress, ctx, "mapping to palette", img->height, img->height);
-    psc_palette_mapper_free(&mapper);
+    psc_io_palette_mapper_free(&mapper);
     return 0;
 }
 
@@ -46,7 +46,7 @@ static int convert_pal8(const psc_image_t *img, uint8_t *pixels, uint32_t *palet
     int rc = -1;
     if (progress)
         progress("choosing palette", 0, ctx);
-    if (pal && psc_palette_build(img, pal) == 0) {
+    if (pal && psc_io_palette_build(img, pal) == 0) {
         if (progress)
             progress("choosing palette", 100, ctx);
         for (unsigned i = 0; i < PSC_PALETTE_SIZE; i++)
@@ -57,7 +57,7 @@ static int convert_pal8(const psc_image_t *img, uint8_t *pixels, uint32_t *palet
     return rc;
 }
 
-int psc_map_convert_to_palette(const psc_image_t *img, const uint32_t *palette, uint8_t *pixels)
+int psc_io_map_convert_to_palette(const psc_image_t *img, const uint32_t *palette, uint8_t *pixels)
 {
     psc_palette_t *pal = malloc(sizeof *pal);
     if (!pal)
@@ -71,7 +71,7 @@ int psc_map_convert_to_palette(const psc_image_t *img, const uint32_t *palette, 
     return rc;
 }
 
-int psc_map_convert(const psc_image_t *img, psc_pixfmt_t format, uint8_t *pixels, uint32_t *palette,
+int psc_io_map_convert(const psc_image_t *img, psc_pixfmt_t format, uint8_t *pixels, uint32_t *palette,
                     psc_progress_fn progress, void *progress_ctx)
 {
     if (format == PSC_PIX_PAL8)
@@ -85,7 +85,7 @@ int psc_map_convert(const psc_image_t *img, psc_pixfmt_t format, uint8_t *pixels
         uint8_t *dst = pixels + (size_t)y * img->width * bpp;
         for (uint32_t x = 0; x < img->width; x++) {
             if (format == PSC_PIX_RGB565)
-                psc_put_le16(dst + 2 * (size_t)x, psc_rgb565_from_xrgb(src[x]));
+                psc_put_le16(dst + 2 * (size_t)x, psc_io_rgb565_from_xrgb(src[x]));
             else
                 psc_put_le32(dst + 4 * (size_t)x, 0xFF000000u | src[x]); /* X written 0xFF */
         }

@@ -16,7 +16,7 @@
 typedef void (*psc_progress_fn)(const char *stage, unsigned percent, void *ctx);
 
 /** RGB565 of a 0xXXRRGGBB colour, each channel rounded to nearest (r5 = (r*31+127)/255). */
-uint16_t psc_rgb565_from_xrgb(uint32_t xrgb);
+uint16_t psc_io_rgb565_from_xrgb(uint32_t xrgb);
 
 /**
  * Convert img into pixels (width * height * psc_pixfmt_bytes(format) bytes).
@@ -24,13 +24,13 @@ uint16_t psc_rgb565_from_xrgb(uint32_t xrgb);
  * otherwise it may be NULL. progress may be NULL.
  * 0 on success; -1 for an unknown format or when out of memory.
  */
-int psc_map_convert(const psc_image_t *img, psc_pixfmt_t format, uint8_t *pixels, uint32_t *palette,
+int psc_io_map_convert(const psc_image_t *img, psc_pixfmt_t format, uint8_t *pixels, uint32_t *palette,
                     psc_progress_fn progress, void *progress_ctx);
 
 /**
  * Convert img to PAL8 pixels through a given 256-entry palette (the map
  * pyramid's levels share level 0's palette). 0, or -1 when out of memory.
  */
-int psc_map_convert_to_palette(const psc_image_t *img, const uint32_t *palette, uint8_t *pixels);
+int psc_io_map_convert_to_palette(const psc_image_t *img, const uint32_t *palette, uint8_t *pixels);
 
 #endif

@@ -35,7 +35,7 @@ static void halve_rows(const uint32_t *src, uint32_t sw, uint32_t h, bool wrap, 
     }
 }
 
-int psc_image_halve(const psc_image_t *in, bool wrap_columns, psc_image_t *out)
+int psc_io_image_halve(const psc_image_t *in, bool wrap_columns, psc_image_t *out)
 {
     if (!in || !out || in->width % 2 || in->height % 2 || in->width == 0 || in->height == 0)
         return -1;
@@ -68,7 +68,7 @@ int psc_image_halve(const psc_image_t *in, bool wrap_columns, psc_image_t *out)
     return 0;
 }
 
-unsigned psc_pyramid_levels(uint32_t w, uint32_t h, unsigned max_levels)
+unsigned psc_io_pyramid_levels(uint32_t w, uint32_t h, unsigned max_levels)
 {
     unsigned n = 1;
     while (n < max_levels && w % 2 == 0 && h % 2 == 0 && w / 2 >= PSC_PYRAMID_MIN_SIDE &&

@@ -20,9 +20,9 @@
  * filtered in the image's 8-bit values and rounded to nearest. 0, or -1 when
  * out of memory or in has odd sides.
  */
-int psc_image_halve(const psc_image_t *in, bool wrap_columns, psc_image_t *out);
+int psc_io_image_halve(const psc_image_t *in, bool wrap_columns, psc_image_t *out);
 
 /** How many levels (level 0 included, at most max_levels) a w x h map gets. */
-unsigned psc_pyramid_levels(uint32_t w, uint32_t h, unsigned max_levels);
+unsigned psc_io_pyramid_levels(uint32_t w, uint32_t h, unsigned max_levels);
 
 #endif

@@ -25,9 +25,9 @@
 
 #define PALETTE_BYTES (256u * 4u)
 #define MAX_BUILD_LUTS 2u
-#define LUT_HFOV_LIMIT_DEG 170.0 /* psc_lut_build's upper bound */
+#define LUT_HFOV_LIMIT_DEG 170.0 /* psc_io_lut_build's upper bound */
 
-void psc_pack_options_default(psc_pack_options_t *o)
+void psc_io_pack_options_default(psc_pack_options_t *o)
 {
     *o = (psc_pack_options_t){0};
     o->projection = PSC_PROJ_EQUIRECT;
@@ -42,7 +42,7 @@ void psc_pack_options_default(psc_pack_options_t *o)
     o->default_hfov_deg = 90.0;
 }
 
-int psc_pack_options_set_lon_range(psc_pack_options_t *o, double lo, double hi)
+int psc_io_pack_options_set_lon_range(psc_pack_options_t *o, double lo, double hi)
 {
     double span = hi - lo;
     /* lo + 360 - lo can come out a rounding error above 360 (a GPano full turn from another edge) */
@@ -50,8 +50,8 @@ int psc_pack_options_set_lon_range(psc_pack_options_t *o, double lo, double hi)
         span = 360.0;
     if (!(hi > lo) || !(span <= 360.0) || !isfinite(lo) || !isfinite(hi))
         return -1;
-    o->lon_min = psc_bam_from_deg(lo);
-    o->lon_span = psc_bam_from_deg(span); /* exactly 360 wraps to 0: the full turn */
+    o->lon_min = psc_io_bam_from_deg(lo);
+    o->lon_span = psc_io_bam_from_deg(span); /* exactly 360 wraps to 0: the full turn */
     /* lon_min and lon_span both 0 mean "the projection's default" (left edge
      * at -180), so a full turn starting at exactly 0 cannot be said; one unit
      * (8e-8 degrees) off is far below any map's pixel. */
@@ -63,12 +63,12 @@ int psc_pack_options_set_lon_range(psc_pack_options_t *o, double lo, double hi)
     return 0;
 }
 
-int psc_pack_options_set_lat_range(psc_pack_options_t *o, double top, double bottom)
+int psc_io_pack_options_set_lat_range(psc_pack_options_t *o, double top, double bottom)
 {
     if (!(top > bottom) || !(top <= 90.0) || !(bottom >= -90.0))
         return -1;
-    o->lat_top = psc_sbam_from_deg(top);
-    o->lat_bottom = psc_sbam_from_deg(bottom);
+    o->lat_top = psc_io_sbam_from_deg(top);
+    o->lat_bottom = psc_io_sbam_from_deg(bottom);
     o->default_pitch_deg = (top + bottom) / 2.0;
     return 0;
 }
@@ -148,7 +148,7 @@ static void fill_coverage(psc_envmap_t *m, const psc_pack_options_t *o)
 /* A longitude for messages, in [-180, 180). */
 static double lon_deg(psc_bam_t a)
 {
-    double d = psc_deg_from_bam(a);
+    double d = psc_io_deg_from_bam(a);
     return d >= 180.0 ? d - 360.0 : d;
 }
 
@@ -174,19 +174,19 @@ static int check_coverage(psc_envmap_t *map, const psc_image_t *img, char *err, 
     map->palette = NULL;
     if (s == PSC_OK)
         return 0;
-    double lon0 = lon_deg(map->lon_min), span = map->lon_span ? psc_deg_from_bam(map->lon_span) : 360.0;
+    double lon0 = lon_deg(map->lon_min), span = map->lon_span ? psc_io_deg_from_bam(map->lon_span) : 360.0;
     return build_fail(err, errlen,
                       "coverage longitude %.3f..%.3f, latitude %.3f..%.3f degrees is not valid for the %s "
                       "projection (%s): each axis must span at least 1 degree, latitudes lie in 90..-90 with "
                       "top above bottom%s",
-                      lon0, lon0 + span, psc_deg_from_sbam(map->lat_top), psc_deg_from_sbam(map->lat_bottom),
+                      lon0, lon0 + span, psc_io_deg_from_sbam(map->lat_top), psc_io_deg_from_sbam(map->lat_bottom),
                       psc_projection_name(map->projection), psc_status_str(s), coverage_rule(map->projection));
 }
 
 /* Pack sections never outnumber PSC_PACK_MAX_SECTIONS: scene, map, levels, palette, tables. */
 static psc_container_slot_t *layout_add(psc_container_layout_t *l, uint32_t type, uint64_t size)
 {
-    return &l->slot[psc_container_layout_add(l, type, size)];
+    return &l->slot[psc_io_container_layout_add(l, type, size)];
 }
 
 #define SCENE_FIELD(p, f) ((p) + offsetof(psc_pack_scene_raw_t, f))
@@ -196,8 +196,8 @@ static void write_scene(uint8_t *p, const psc_envmap_t *m, const psc_pack_option
 {
     /* Rounding to binary angles may put a limit a unit past the table that
      * serves it; keep the stored view limits inside the widest table. */
-    psc_bam_t hfov_min = psc_bam_from_deg(o->hfov_min_deg);
-    psc_bam_t hfov_default = psc_bam_from_deg(o->default_hfov_deg);
+    psc_bam_t hfov_min = psc_io_bam_from_deg(o->hfov_min_deg);
+    psc_bam_t hfov_default = psc_io_bam_from_deg(o->default_hfov_deg);
     if (hfov_min > hfov_widest)
         hfov_min = hfov_widest;
     if (hfov_default > hfov_widest)
@@ -214,8 +214,8 @@ static void write_scene(uint8_t *p, const psc_envmap_t *m, const psc_pack_option
     psc_put_le32(SCENE_FIELD(p, lat_bottom), (uint32_t)m->lat_bottom);
     psc_put_le32(SCENE_FIELD(p, hfov_min), hfov_min);
     psc_put_le32(SCENE_FIELD(p, hfov_switch), hfov_switch);
-    psc_put_le32(SCENE_FIELD(p, default_yaw), psc_bam_from_deg(o->default_yaw_deg));
-    psc_put_le32(SCENE_FIELD(p, default_pitch), (uint32_t)psc_sbam_from_deg(o->default_pitch_deg));
+    psc_put_le32(SCENE_FIELD(p, default_yaw), psc_io_bam_from_deg(o->default_yaw_deg));
+    psc_put_le32(SCENE_FIELD(p, default_pitch), (uint32_t)psc_io_sbam_from_deg(o->default_pitch_deg));
     psc_put_le32(SCENE_FIELD(p, default_hfov), hfov_default);
 }
 
@@ -251,7 +251,7 @@ static unsigned plan_luts(const psc_pack_options_t *opt, lut_plan_t *plan)
     plan[1].hfov_deg = opt->hfov_max_deg;
     plan[1].stage = "building wide LUT";
     for (unsigned i = 0; i < n; i++) {
-        psc_lut_default_size(opt->display_width, opt->display_height, plan[i].hfov_deg, &plan[i].rows,
+        psc_io_lut_default_size(opt->display_width, opt->display_height, plan[i].hfov_deg, &plan[i].rows,
                              &plan[i].cols);
         if (opt->lut_rows)
             plan[i].rows = opt->lut_rows;
@@ -272,7 +272,7 @@ static int build_luts(uint8_t *file, lut_plan_t *plan, unsigned count, const psc
         if (!entries)
             return build_fail(err, errlen, "out of memory for a %ux%u LUT", (unsigned)plan[i].rows,
                               (unsigned)plan[i].cols);
-        if (psc_lut_build(plan[i].rows, plan[i].cols, plan[i].hfov_deg, entries, &built[i]) != 0) {
+        if (psc_io_lut_build(plan[i].rows, plan[i].cols, plan[i].hfov_deg, entries, &built[i]) != 0) {
             free(entries);
             return build_fail(err, errlen, "cannot build a %ux%u LUT for %g degrees", (unsigned)plan[i].rows,
                               (unsigned)plan[i].cols, plan[i].hfov_deg);
@@ -301,7 +301,7 @@ static unsigned pyramid_level_count(const psc_envmap_t *map, const psc_pack_opti
     if (map->lon_span != 0 || !pyramid_projection || opt->map_levels == 1)
         return 1;
     unsigned max = opt->map_levels ? opt->map_levels : PSC_PACK_MAX_LEVELS;
-    return psc_pyramid_levels(map->width, map->height, max < PSC_PACK_MAX_LEVELS ? max : PSC_PACK_MAX_LEVELS);
+    return psc_io_pyramid_levels(map->width, map->height, max < PSC_PACK_MAX_LEVELS ? max : PSC_PACK_MAX_LEVELS);
 }
 
 /* Filter level k from level k-1 and store it in the map's format (PAL8 through level 0's palette). */
@@ -312,31 +312,31 @@ static int write_levels(uint8_t *file, const psc_image_t *img, const psc_envmap_
     int rc = 0;
     for (unsigned k = 1; k < nlevels && rc == 0; k++) {
         report(opt, "map levels", 100u * (k - 1) / nlevels);
-        if (psc_image_halve(&prev, true, &cur) != 0) {
+        if (psc_io_image_halve(&prev, true, &cur) != 0) {
             rc = -1;
             break;
         }
         uint8_t *dst = file + sec[k]->offset;
-        rc = palette ? psc_map_convert_to_palette(&cur, palette, dst)
-                     : psc_map_convert(&cur, map->format, dst, NULL, NULL, NULL);
+        rc = palette ? psc_io_map_convert_to_palette(&cur, palette, dst)
+                     : psc_io_map_convert(&cur, map->format, dst, NULL, NULL, NULL);
         if (prev.xrgb != img->xrgb)
-            psc_image_free(&prev);
+            psc_io_image_free(&prev);
         prev = cur;
     }
     if (prev.xrgb != img->xrgb)
-        psc_image_free(&prev);
+        psc_io_image_free(&prev);
     if (nlevels > 1)
         report(opt, "map levels", 100);
     return rc;
 }
 
-int psc_pack_build(const psc_image_t *img, const psc_pack_options_t *opt_in, uint8_t **out, size_t *out_len,
+int psc_io_pack_build(const psc_image_t *img, const psc_pack_options_t *opt_in, uint8_t **out, size_t *out_len,
                    char *err, size_t errlen)
 {
     psc_pack_options_t defaults;
     const psc_pack_options_t *opt = opt_in;
     if (!opt) {
-        psc_pack_options_default(&defaults);
+        psc_io_pack_options_default(&defaults);
         opt = &defaults;
     }
     if (!out || !out_len)
@@ -362,7 +362,7 @@ int psc_pack_build(const psc_image_t *img, const psc_pack_options_t *opt_in, uin
     unsigned nluts = plan_luts(opt, plan);
 
     psc_container_layout_t l;
-    psc_container_layout_init(&l, &psc_pack_format);
+    psc_io_container_layout_init(&l, &psc_pack_format);
     psc_container_slot_t *scene = layout_add(&l, PSC_SECTION_SCENE, sizeof(psc_pack_scene_raw_t));
     psc_container_slot_t *pixels = layout_add(&l, PSC_SECTION_MAP0, (uint64_t)map.stride * map.height);
     unsigned nlevels = pyramid_level_count(&map, opt);
@@ -375,11 +375,11 @@ int psc_pack_build(const psc_image_t *img, const psc_pack_options_t *opt_in, uin
         plan[i].section = layout_add(&l, PSC_SECTION_LUT,
                                      sizeof(psc_pack_lut_raw_t) + psc_lut_bytes(plan[i].rows, plan[i].cols));
     uint8_t *file;
-    if (psc_container_layout_alloc(&l, &file, NULL, err, errlen) != 0)
+    if (psc_io_container_layout_alloc(&l, &file, NULL, err, errlen) != 0)
         return -1;
     uint32_t pal[PALETTE_BYTES / 4u];
 
-    if (psc_map_convert(img, opt->format, file + pixels->offset, palette ? pal : NULL, opt->progress,
+    if (psc_io_map_convert(img, opt->format, file + pixels->offset, palette ? pal : NULL, opt->progress,
                         opt->progress_ctx) != 0) {
         free(file);
         return build_fail(err, errlen, "out of memory while converting the map");
@@ -402,7 +402,7 @@ int psc_pack_build(const psc_image_t *img, const psc_pack_options_t *opt_in, uin
      * "narrowest table whose hfov_max >= hfov" and the threshold agree. */
     write_scene(file + scene->offset, &map, opt, built[0].hfov_max, built[nluts - 1].hfov_max);
     report(opt, "checksum", 0);
-    psc_container_finish(&l, file);
+    psc_io_container_finish(&l, file);
     report(opt, "checksum", 100);
 
     *out = file;

@@ -74,9 +74,9 @@ void psc_io_pack_image_coverage(const char *path, uint32_t w, uint32_t h, bool l
     } else if (g.usable) {
         stated = true;
         bool lon = g.partial_lon && !lon_given, lat = g.partial_lat && !lat_given;
-        if (lon && psc_pack_options_set_lon_range(o, g.lon_min, g.lon_max) != 0)
+        if (lon && psc_io_pack_options_set_lon_range(o, g.lon_min, g.lon_max) != 0)
             lon = false;
-        if (lat && psc_pack_options_set_lat_range(o, g.lat_top, g.lat_bottom) != 0)
+        if (lat && psc_io_pack_options_set_lat_range(o, g.lat_top, g.lat_bottom) != 0)
             lat = false;
         if (lon || lat)
             pack_note(notes, noteslen, "%s: GPano XMP: a partial panorama, longitude %.3f..%.3f, latitude %.3f..%.3f "
@@ -230,15 +230,15 @@ static int pack_build_image(const char *path, const psc_io_pack_image_request_t 
     uint8_t *buf = NULL;
     size_t len = 0;
 
-    if (psc_image_load(path, &img, err, errlen) != 0)
+    if (psc_io_image_load(path, &img, err, errlen) != 0)
         return -1;
-    psc_pack_options_default(&o);
+    psc_io_pack_options_default(&o);
     o.display_width = rq->display_width;
     o.display_height = rq->display_height;
     o.format = rq->format;
     psc_io_pack_image_coverage(path, img.width, img.height, false, false, &o, notes, noteslen);
-    int rc = psc_pack_build(&img, &o, &buf, &len, why, sizeof why);
-    psc_image_free(&img);
+    int rc = psc_io_pack_build(&img, &o, &buf, &len, why, sizeof why);
+    psc_io_image_free(&img);
     if (rc != 0)
         return psc_io_errorf(err, errlen, path, "cannot pack it for a %ux%u display: %s",
                              (unsigned)rq->display_width, (unsigned)rq->display_height, why);

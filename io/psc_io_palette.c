@@ -257,7 +257,7 @@ static int median_cut(const psc_image_t *img, psc_palette_t *pal)
     return rc;
 }
 
-int psc_palette_build(const psc_image_t *img, psc_palette_t *pal)
+int psc_io_palette_build(const psc_image_t *img, psc_palette_t *pal)
 {
     for (unsigned i = 0; i < PSC_PALETTE_SIZE; i++)
         pal->colors[i] = UNUSED_COLOR;
@@ -294,7 +294,7 @@ static unsigned nearest_entry(const psc_palette_t *pal, int r, int g, int b)
 #define INVERSE_BITS 7u
 #define INVERSE_CELLS (1u << (3u * INVERSE_BITS))
 
-int psc_palette_mapper_init(psc_palette_mapper_t *m, const psc_palette_t *pal)
+int psc_io_palette_mapper_init(psc_palette_mapper_t *m, const psc_palette_t *pal)
 {
     m->pal = pal;
     m->inverse = malloc(INVERSE_CELLS * sizeof *m->inverse);
@@ -304,13 +304,13 @@ int psc_palette_mapper_init(psc_palette_mapper_t *m, const psc_palette_t *pal)
     return 0;
 }
 
-void psc_palette_mapper_free(psc_palette_mapper_t *m)
+void psc_io_palette_mapper_free(psc_palette_mapper_t *m)
 {
     free(m->inverse);
     m->inverse = NULL;
 }
 
-uint8_t psc_palette_index(psc_palette_mapper_t *m, uint32_t xrgb)
+uint8_t psc_io_palette_index(psc_palette_mapper_t *m, uint32_t xrgb)
 {
     uint32_t c = 0xFF000000u | xrgb;
     if (m->pal->exact) {

@@ -24,7 +24,7 @@ typedef struct {
  * Choose the palette: the image's own colours when it has at most 256,
  * otherwise up to 256 colours by median cut. 0, or -1 when out of memory.
  */
-int psc_palette_build(const psc_image_t *img, psc_palette_t *pal);
+int psc_io_palette_build(const psc_image_t *img, psc_palette_t *pal);
 
 /** Nearest-colour lookup for a palette (keeps a pointer to it). */
 typedef struct {
@@ -33,10 +33,10 @@ typedef struct {
 } psc_palette_mapper_t;
 
 /** Build the lookup. 0, or -1 when out of memory. */
-int psc_palette_mapper_init(psc_palette_mapper_t *m, const psc_palette_t *pal);
-void psc_palette_mapper_free(psc_palette_mapper_t *m);
+int psc_io_palette_mapper_init(psc_palette_mapper_t *m, const psc_palette_t *pal);
+void psc_io_palette_mapper_free(psc_palette_mapper_t *m);
 
 /** Palette index for a colour: exact for colours of an exact palette, else the entry nearest its cell. */
-uint8_t psc_palette_index(psc_palette_mapper_t *m, uint32_t xrgb);
+uint8_t psc_io_palette_index(psc_palette_mapper_t *m, uint32_t xrgb);
 
 #endif

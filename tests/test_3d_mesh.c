@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * test_3d_mesh.c - mesh packs (host_tools/lib/mesh_pack.c -> core psc_mesh_parse)
- * and the OBJ loader (host_tools/lib/obj_load.c).
+ * test_3d_mesh.c - mesh packs (host_tools/lib/bake/mesh_pack.c -> core psc_mesh_parse)
+ * and the OBJ loader (host_tools/lib/import/obj.c).
  *
  *  - Round trip: a generated model written as a pack parses back with every
  *    field as the documented quantisation makes it, texture included.
@@ -29,8 +29,8 @@
 #include <unistd.h>
 #include <zlib.h>
 
-#include "mesh_pack.h"
-#include "obj_load.h"
+#include "bake/mesh_pack.h"
+#include "import/obj.h"
 #include "scene_object.h"
 #include "3d/psc_3d_render.h"
 #include "psc_testsupport.h"
@@ -64,8 +64,8 @@ static psc_image_t small_image(uint32_t w, uint32_t h)
 static void build(const psc_model_t *m, const psc_image_t *tex, uint8_t **buf, size_t *len)
 {
     char err[512] = "";
-    if (psc_mesh_pack_build(m, tex, NULL, "test", buf, len, err, sizeof err) != 0)
-        fail_msg("psc_mesh_pack_build: %s", err);
+    if (psc_bake_mesh_pack(m, tex, NULL, "test", buf, len, err, sizeof err) != 0)
+        fail_msg("psc_bake_mesh_pack: %s", err);
 }
 
 static psc_status_t parse_copy(const uint8_t *p, size_t len, psc_mesh_t *out, psc_container_error_t *err)
@@ -126,7 +126,7 @@ static void test_roundtrip(void **state)
     assert_int_equal(longest, 2 * 32767);
     free(b);
     free(buf);
-    psc_image_free(&img);
+    psc_io_image_free(&img);
     psc_model_free(&m);
 }
 
@@ -152,7 +152,7 @@ static void test_truncated_every_length(void **state)
     }
     print_message("  truncated at each of %zu lengths: PSC_ERR_TRUNCATED with a message every time\n", len);
     free(buf);
-    psc_image_free(&img);
+    psc_io_image_free(&img);
     psc_model_free(&m);
 }
 
@@ -242,7 +242,7 @@ static void test_bad_packs(void **state)
     free(odd);
     free(b);
     free(buf);
-    psc_image_free(&img);
+    psc_io_image_free(&img);
     psc_model_free(&m);
 }
 
@@ -306,7 +306,7 @@ static void test_fuzz(void **state)
     tsup_3d_free(&t);
     tsup_surface_free(&s);
     free(buf);
-    psc_image_free(&img);
+    psc_io_image_free(&img);
     psc_model_free(&m);
 }
 
@@ -467,7 +467,7 @@ static void test_obj_errors(void **state)
     psc_model_sphere(&big, 1.0, 300, 250);
     uint8_t *out;
     size_t len;
-    assert_int_equal(psc_mesh_pack_build(&big, NULL, NULL, "big.obj", &out, &len, err, sizeof err), -1);
+    assert_int_equal(psc_bake_mesh_pack(&big, NULL, NULL, "big.obj", &out, &len, err, sizeof err), -1);
     assert_non_null(strstr(err, "big.obj: the model has"));
     psc_model_free(&big);
 }

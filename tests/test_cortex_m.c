@@ -135,7 +135,7 @@ static void test_cm7_qemu_bit_exact(void **state)
 
     psc_image_t host;
     char err[256];
-    if (psc_image_load(CM_OUT "/host-view.png", &host, err, sizeof err) != 0)
+    if (psc_io_image_load(CM_OUT "/host-view.png", &host, err, sizeof err) != 0)
         fail_msg("%s", err);
     assert_int_equal(host.width, CM_VIEW_WIDTH);
     assert_int_equal(host.height, CM_VIEW_HEIGHT);
@@ -156,7 +156,7 @@ static void test_cm7_qemu_bit_exact(void **state)
     else
         printf("test_cortex_m: the Cortex-M7 frame (%ux%u RGB565) equals the host's render exactly\n",
                CM_VIEW_WIDTH, CM_VIEW_HEIGHT);
-    psc_image_free(&host);
+    psc_io_image_free(&host);
     assert_int_equal(diff, 0);
 }
 

@@ -35,7 +35,7 @@
 #include "base/psc_pixel.h"
 #include "psc_io_levels.h"
 #include "psc_testsupport.h"
-#include "banding_measure.h"
+#include "measure/banding.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -371,16 +371,16 @@ static void test_rgb565_banding(void **state)
             psc_dither_row_rgb565(&t, PSC_DITHER_NONE, pic + y * SW, SW, 0, y, none + y * SW);
             psc_dither_row_rgb565(&t, PSC_DITHER_ORDERED, pic + y * SW, SW, 0, y, ordered + y * SW);
         }
-        psc_banding_t a, b;
-        assert_int_equal(psc_banding_measure(pic, none, SW, SH, &a), 0);
-        assert_int_equal(psc_banding_measure(pic, ordered, SW, SH, &b), 0);
-        double own = psc_banding_picture_step(pic, SW, SH);
+        psc_measure_banding_t a, b;
+        assert_int_equal(psc_measure_banding(pic, none, SW, SH, &a), 0);
+        assert_int_equal(psc_measure_banding(pic, ordered, SW, SH, &b), 0);
+        double own = psc_measure_banding_step(pic, SW, SH);
         print_message("  RGB565 banding, %s %ux%u (error against the 8-bit picture, Gaussian sigma %.1f px):\n"
                       "    low-passed RMS error: none %.3f, ordered %.3f (%.1fx lower)\n"
                       "    largest low-passed luma step: none %.3f, ordered %.3f (the picture's own %.3f)\n"
                       "    largest step of the low-passed luma error: none %.3f, ordered %.3f\n"
                       "    mean error R/G/B: none %+.3f %+.3f %+.3f, ordered %+.3f %+.3f %+.3f\n",
-                      kind == 0 ? "sky gradient" : "grey ramp", SW, SH, PSC_BANDING_SIGMA, a.rms, b.rms, a.rms / b.rms, a.step,
+                      kind == 0 ? "sky gradient" : "grey ramp", SW, SH, PSC_MEASURE_BANDING_SIGMA, a.rms, b.rms, a.rms / b.rms, a.step,
                       b.step, own, a.estep, b.estep, a.bias[0], a.bias[1], a.bias[2], b.bias[0], b.bias[1], b.bias[2]);
         assert_true(b.rms * 2.0 <= a.rms);
         assert_true(b.step * 2.0 <= a.step);

@@ -683,7 +683,7 @@ static void test_sim_board_end_to_end(void **state)
     char cap[600];
     assert_int_equal(psc_sim_capture_path(cap, sizeof(cap), psc_app_out_dir(app), 1), 0);
     psc_image_t img;
-    if (psc_image_load(cap, &img, err, sizeof(err)) != 0)
+    if (psc_io_image_load(cap, &img, err, sizeof(err)) != 0)
         fail_msg("%s", err);
     size_t white = 0;
     for (size_t i = 0; i < (size_t)img.width * img.height; i++) {
@@ -695,7 +695,7 @@ static void test_sim_board_end_to_end(void **state)
     printf("  display_levels = mono:halftone: a presented frame holds black and white only (%.0f%% white)\n",
            100.0 * (double)white / ((double)img.width * img.height));
     assert_true(white > 0 && white < (size_t)img.width * img.height);
-    psc_image_free(&img);
+    psc_io_image_free(&img);
     unlink(cap);
     psc_app_close(app);
 

@@ -425,13 +425,13 @@ static void make_pack_as(const char *path, psc_pixfmt_t fmt)
             tsup_synth_color(((x + 0.5) / 128 - 0.5) * 2 * TSUP_PI, (0.5 - (y + 0.5) / 64) * TSUP_PI, rgb);
             img.xrgb[y * 128 + x] = 0xFF000000u | ((uint32_t)rgb[0] << 16) | ((uint32_t)rgb[1] << 8) | (uint32_t)rgb[2];
         }
-    psc_pack_options_default(&o);
+    psc_io_pack_options_default(&o);
     o.format = fmt;
     o.display_width = 160;
     o.display_height = 120;
     o.lut_rows = 32;
     o.lut_cols = 128;
-    if (psc_pack_build(&img, &o, &buf, &len, err, sizeof err) != 0)
+    if (psc_io_pack_build(&img, &o, &buf, &len, err, sizeof err) != 0)
         fail_msg("pack: %s", err);
     assert_int_equal(tsup_write_bytes(path, buf, len), 0);
     free(buf);

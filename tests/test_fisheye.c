@@ -24,7 +24,7 @@
 #include "board_config.h"
 #include "camera_feed.h"
 #include "cli.h"
-#include "fisheye_build.h"
+#include "bake/fisheye.h"
 #include "psc_io_pack_build.h"
 #include "base/psc_crc32.h"
 #include "fisheye/psc_fisheye.h"
@@ -39,32 +39,32 @@
 /* ---- rigs ------------------------------------------------------------------------ */
 
 /* A 1024x512 dual-fisheye frame: two 190-degree circles side by side. */
-static psc_fisheye_rig_t ideal_rig(void)
+static psc_bake_fisheye_rig_t ideal_rig(void)
 {
-    psc_fisheye_rig_t r;
+    psc_bake_fisheye_rig_t r;
     memset(&r, 0, sizeof r);
     r.frame_width = 1024;
     r.frame_height = 512;
-    r.lens[0] = (psc_fisheye_lens_t){ 255.5, 255.5, 254.0, 190.0, 0, 0, 0 };
-    r.lens[1] = (psc_fisheye_lens_t){ 767.5, 255.5, 254.0, 190.0, 0, 0, 0 };
+    r.lens[0] = (psc_bake_fisheye_lens_t){ 255.5, 255.5, 254.0, 190.0, 0, 0, 0 };
+    r.lens[1] = (psc_bake_fisheye_lens_t){ 767.5, 255.5, 254.0, 190.0, 0, 0, 0 };
     return r;
 }
 
 /* The same with off-centre circles, wider lenses and mounting corrections. */
-static psc_fisheye_rig_t skewed_rig(void)
+static psc_bake_fisheye_rig_t skewed_rig(void)
 {
-    psc_fisheye_rig_t r = ideal_rig();
-    r.lens[0] = (psc_fisheye_lens_t){ 252.25, 258.0, 248.0, 196.0, 2.0, -1.5, 3.0 };
-    r.lens[1] = (psc_fisheye_lens_t){ 770.0, 253.5, 250.5, 194.0, -1.0, 2.0, -2.5 };
+    psc_bake_fisheye_rig_t r = ideal_rig();
+    r.lens[0] = (psc_bake_fisheye_lens_t){ 252.25, 258.0, 248.0, 196.0, 2.0, -1.5, 3.0 };
+    r.lens[1] = (psc_bake_fisheye_lens_t){ 770.0, 253.5, 250.5, 194.0, -1.0, 2.0, -2.5 };
     return r;
 }
 
 /* Build a table in a 64-byte aligned buffer and parse it. */
-static uint8_t *build_table(const psc_fisheye_rig_t *rig, uint16_t mw, uint16_t mh, size_t *len, psc_fisheye_t *t)
+static uint8_t *build_table(const psc_bake_fisheye_rig_t *rig, uint16_t mw, uint16_t mh, size_t *len, psc_fisheye_t *t)
 {
     char err[300];
     uint8_t *raw = NULL, *al = NULL;
-    if (psc_fisheye_build(rig, mw, mh, "test", &raw, len, err, sizeof err) != 0)
+    if (psc_bake_fisheye(rig, mw, mh, "test", &raw, len, err, sizeof err) != 0)
         fail_msg("build: %s", err);
     assert_int_equal(posix_memalign((void **)&al, 64, *len), 0);
     memcpy(al, raw, *len);
@@ -86,11 +86,11 @@ static void dir_of(double lon_deg, double lat_deg, double d[3])
 
 /* ---- the lens model's conventions --------------------------------------------------- */
 
-static void expect_project(const psc_fisheye_rig_t *rig, unsigned k, double lon, double lat, double x, double y)
+static void expect_project(const psc_bake_fisheye_rig_t *rig, unsigned k, double lon, double lat, double x, double y)
 {
     double d[3], px, py, th;
     dir_of(lon, lat, d);
-    psc_fisheye_project(rig, k, d, &px, &py, &th);
+    psc_bake_fisheye_project(rig, k, d, &px, &py, &th);
     if (fabs(px - x) > 1e-9 || fabs(py - y) > 1e-9)
         fail_msg("lens %u, lon %g lat %g: got (%.6f, %.6f), want (%.6f, %.6f)", k, lon, lat, px, py, x, y);
 }
@@ -98,7 +98,7 @@ static void expect_project(const psc_fisheye_rig_t *rig, unsigned k, double lon,
 static void test_lens_conventions(void **state)
 {
     (void)state;
-    psc_fisheye_rig_t rig = ideal_rig();
+    psc_bake_fisheye_rig_t rig = ideal_rig();
     double f = 254.0 / (95.0 * TSUP_DEG), q = f * TSUP_PI / 2.0; /* pixels at 90 degrees off-axis */
 
     /* ahead is the front circle's centre, behind the back one's */
@@ -113,10 +113,10 @@ static void test_lens_conventions(void **state)
     /* the rim is at fov/2 = 95 degrees */
     double d[3], x, y, th;
     dir_of(95.0, 0, d);
-    assert_true(psc_fisheye_project(&rig, 0, d, &x, &y, &th));
+    assert_true(psc_bake_fisheye_project(&rig, 0, d, &x, &y, &th));
     assert_true(fabs(x - (255.5 + 254.0)) < 1e-9);
     dir_of(95.5, 0, d);
-    assert_false(psc_fisheye_project(&rig, 0, d, &x, &y, &th));
+    assert_false(psc_bake_fisheye_project(&rig, 0, d, &x, &y, &th));
 
     /* corrections: yaw turns the axis toward the image's right, pitch toward
      * its up; roll turns the image's right toward its up */
@@ -130,22 +130,22 @@ static void test_lens_conventions(void **state)
     double a = 45.0 * TSUP_DEG, r = f * 30.0 * TSUP_DEG;
     /* a point 30 degrees along the lens's rolled right axis lies straight right in the image */
     double p[3] = { cos(a) * sin(30.0 * TSUP_DEG), sin(a) * sin(30.0 * TSUP_DEG), cos(30.0 * TSUP_DEG) };
-    psc_fisheye_project(&rig, 0, p, &x, &y, &th);
+    psc_bake_fisheye_project(&rig, 0, p, &x, &y, &th);
     assert_true(fabs(x - (255.5 + r)) < 1e-9 && fabs(y - 255.5) < 1e-9);
     rig.lens[1].yaw_deg = 5.0;   /* the back lens's right is -X: its axis turns toward lon 180 - 5 */
     expect_project(&rig, 1, -175, 0, 767.5, 255.5);
 
     /* unproject inverts project for every lens of the skewed rig */
-    psc_fisheye_rig_t sk = skewed_rig();
+    psc_bake_fisheye_rig_t sk = skewed_rig();
     tsup_rng_t rng;
     tsup_rng_seed(&rng, 7);
     for (unsigned i = 0; i < 2000; i++) {
         unsigned k = i & 1u;
         double lon = tsup_rng_range(&rng, -180, 180), lat = tsup_rng_range(&rng, -89, 89), back[3];
         dir_of(lon, lat, d);
-        if (!psc_fisheye_project(&sk, k, d, &x, &y, &th))
+        if (!psc_bake_fisheye_project(&sk, k, d, &x, &y, &th))
             continue;
-        assert_true(psc_fisheye_unproject(&sk, k, x, y, back));
+        assert_true(psc_bake_fisheye_unproject(&sk, k, x, y, back));
         for (unsigned c = 0; c < 3; c++)
             assert_true(fabs(back[c] - d[c]) < 1e-9);
     }
@@ -153,7 +153,7 @@ static void test_lens_conventions(void **state)
 
 /* ---- the table against the exact mapping ---------------------------------------------- */
 
-static void check_positions(const psc_fisheye_rig_t *rig, uint16_t mw, uint16_t mh, unsigned *unseen_out)
+static void check_positions(const psc_bake_fisheye_rig_t *rig, uint16_t mw, uint16_t mh, unsigned *unseen_out)
 {
     size_t len;
     psc_fisheye_t t;
@@ -168,7 +168,7 @@ static void check_positions(const psc_fisheye_rig_t *rig, uint16_t mw, uint16_t 
         for (unsigned i = 0; i < mw; i++) {
             const uint16_t *e = t.pos + 2 * ((size_t)j * mw + i);
             double x, y;
-            int k = psc_fisheye_source(rig, mw, mh, i, j, &x, &y);
+            int k = psc_bake_fisheye_source(rig, mw, mh, i, j, &x, &y);
             if (k < 0) {
                 assert_int_equal(e[0], PSC_FISHEYE_UNSEEN);
                 assert_int_equal(e[1], PSC_FISHEYE_UNSEEN);
@@ -180,9 +180,9 @@ static void check_positions(const psc_fisheye_rig_t *rig, uint16_t mw, uint16_t 
             max_err = fmax(max_err, fmax(ex, ey));
             /* the chosen lens is the one whose ray is nearer its axis */
             double d[3], px, py, th0, th1;
-            psc_fisheye_map_dir(mw, mh, i, j, d);
-            psc_fisheye_project(rig, 0, d, &px, &py, &th0);
-            psc_fisheye_project(rig, 1, d, &px, &py, &th1);
+            psc_bake_fisheye_map_dir(mw, mh, i, j, d);
+            psc_bake_fisheye_project(rig, 0, d, &px, &py, &th0);
+            psc_bake_fisheye_project(rig, 1, d, &px, &py, &th1);
             assert_int_equal(k, th0 <= th1 ? 0 : 1);
         }
     /* Q12.4 rounding: at most half of 1/16 pixel per coordinate */
@@ -199,7 +199,7 @@ static void test_positions_exact(void **state)
 {
     (void)state;
     unsigned unseen;
-    psc_fisheye_rig_t rig = ideal_rig();
+    psc_bake_fisheye_rig_t rig = ideal_rig();
     check_positions(&rig, 512, 256, &unseen);
     assert_int_equal(unseen, 0);             /* 190 degrees each: the whole sphere */
     rig = skewed_rig();
@@ -216,7 +216,7 @@ static void test_positions_exact(void **state)
 
 /* The frame the rig's camera would take of tsup_synth_color's scene: each
  * pixel the scene's colour in its ray's direction, black outside both circles. */
-static void *synth_frame(const psc_fisheye_rig_t *rig, psc_pixfmt_t fmt, psc_envmap_t *frame)
+static void *synth_frame(const psc_bake_fisheye_rig_t *rig, psc_pixfmt_t fmt, psc_envmap_t *frame)
 {
     unsigned w = rig->frame_width, h = rig->frame_height, bpp = psc_pixfmt_bytes(fmt);
     uint8_t *px = calloc((size_t)w * h, bpp);
@@ -224,7 +224,7 @@ static void *synth_frame(const psc_fisheye_rig_t *rig, psc_pixfmt_t fmt, psc_env
         for (unsigned x = 0; x < w; x++) {
             double rgb[3] = {0, 0, 0}, d[3];
             for (unsigned k = 0; k < 2; k++)
-                if (psc_fisheye_unproject(rig, k, x, y, d)) {
+                if (psc_bake_fisheye_unproject(rig, k, x, y, d)) {
                     tsup_synth_color(atan2(d[0], d[2]), asin(fmax(-1.0, fmin(1.0, d[1]))), rgb);
                     break;
                 }
@@ -245,7 +245,7 @@ static void *synth_frame(const psc_fisheye_rig_t *rig, psc_pixfmt_t fmt, psc_env
 }
 
 /* PSNR of the remapped map against the scene at the map pixels' centres. */
-static double remap_psnr(const psc_fisheye_rig_t *rig, uint16_t mw, uint16_t mh, psc_pixfmt_t fmt)
+static double remap_psnr(const psc_bake_fisheye_rig_t *rig, uint16_t mw, uint16_t mh, psc_pixfmt_t fmt)
 {
     size_t len;
     psc_fisheye_t t;
@@ -284,7 +284,7 @@ static double remap_psnr(const psc_fisheye_rig_t *rig, uint16_t mw, uint16_t mh,
 static void test_remap_psnr(void **state)
 {
     (void)state;
-    psc_fisheye_rig_t rigs[2] = { ideal_rig(), skewed_rig() };
+    psc_bake_fisheye_rig_t rigs[2] = { ideal_rig(), skewed_rig() };
     const char *names[2] = { "ideal", "skewed" };
     for (unsigned r = 0; r < 2; r++) {
         double p32 = remap_psnr(&rigs[r], 512, 256, PSC_PIX_XRGB8888);
@@ -366,13 +366,13 @@ static void test_remap_exact(void **state)
 
 /* ---- the parser -------------------------------------------------------------------------- */
 
-static psc_fisheye_rig_t small_rig(void)
+static psc_bake_fisheye_rig_t small_rig(void)
 {
-    psc_fisheye_rig_t r = ideal_rig();
+    psc_bake_fisheye_rig_t r = ideal_rig();
     r.frame_width = 64;
     r.frame_height = 32;
-    r.lens[0] = (psc_fisheye_lens_t){ 15.5, 15.5, 15.5, 190.0, 0, 0, 0 };
-    r.lens[1] = (psc_fisheye_lens_t){ 47.5, 15.5, 15.5, 190.0, 0, 0, 0 };
+    r.lens[0] = (psc_bake_fisheye_lens_t){ 15.5, 15.5, 15.5, 190.0, 0, 0, 0 };
+    r.lens[1] = (psc_bake_fisheye_lens_t){ 47.5, 15.5, 15.5, 190.0, 0, 0, 0 };
     return r;
 }
 
@@ -406,7 +406,7 @@ static void expect_bad(uint8_t *b, size_t len, psc_status_t want, const char *wh
 static void test_parse_truncated(void **state)
 {
     (void)state;
-    psc_fisheye_rig_t rig = small_rig();
+    psc_bake_fisheye_rig_t rig = small_rig();
     size_t len;
     uint8_t *b = build_table(&rig, 32, 16, &len, NULL);
     for (size_t n = 0; n < len; n++) {
@@ -425,7 +425,7 @@ static void test_parse_truncated(void **state)
 static void test_parse_corrupt(void **state)
 {
     (void)state;
-    psc_fisheye_rig_t rig = small_rig();
+    psc_bake_fisheye_rig_t rig = small_rig();
     size_t len;
     uint8_t *orig = build_table(&rig, 32, 16, &len, NULL);
     uint8_t *b = NULL;
@@ -519,7 +519,7 @@ static void test_parse_corrupt(void **state)
 static void test_parse_fuzz(void **state)
 {
     (void)state;
-    psc_fisheye_rig_t rig = small_rig();
+    psc_bake_fisheye_rig_t rig = small_rig();
     size_t len;
     uint8_t *orig = build_table(&rig, 32, 16, &len, NULL);
     uint8_t *b = NULL;
@@ -589,10 +589,10 @@ static void test_file_and_tool(void **state)
              bin ? bin : "build/bin", path);
     assert_int_equal(system(cmd), 0);
     assert_int_equal(psc_io_fisheye_load(path, &ff, err, sizeof err), 0);
-    psc_fisheye_rig_t rig = skewed_rig();
+    psc_bake_fisheye_rig_t rig = skewed_rig();
     uint8_t *want = NULL;
     size_t len;
-    assert_int_equal(psc_fisheye_build(&rig, 600, 300, "x", &want, &len, err, sizeof err), 0);
+    assert_int_equal(psc_bake_fisheye(&rig, 600, 300, "x", &want, &len, err, sizeof err), 0);
     assert_int_equal(ff.len, len);
     assert_memory_equal(ff.buf, want, len);
     free(want);
@@ -628,11 +628,11 @@ static void feed_case(psc_pixfmt_t fmt, uint16_t table_w, int want_rc)
                                    .frame_rate_mhz = 15000 };
     assert_int_equal(psc_hal_camera_open("sim", &cc, &cam, err, sizeof err), 0);
     assert_int_equal(psc_hal_camera_start(cam), 0);
-    psc_fisheye_rig_t rig = small_rig();
+    psc_bake_fisheye_rig_t rig = small_rig();
     rig.frame_width = table_w;
     rig.frame_height = 64;
-    rig.lens[0] = (psc_fisheye_lens_t){ 31.5, 31.5, 31.5, 190.0, 0, 0, 0 };
-    rig.lens[1] = (psc_fisheye_lens_t){ 95.5, 31.5, 31.5, 190.0, 0, 0, 0 };
+    rig.lens[0] = (psc_bake_fisheye_lens_t){ 31.5, 31.5, 31.5, 190.0, 0, 0, 0 };
+    rig.lens[1] = (psc_bake_fisheye_lens_t){ 95.5, 31.5, 31.5, 190.0, 0, 0, 0 };
     size_t len;
     psc_fisheye_t t;
     uint8_t *tb = build_table(&rig, 96, 48, &len, &t);
@@ -691,12 +691,12 @@ static void make_pack(const char *path)
     char err[300];
     for (uint32_t i = 0; i < 128 * 64; i++)
         img.xrgb[i] = 0xFF204060u;
-    psc_pack_options_default(&o);
+    psc_io_pack_options_default(&o);
     o.display_width = 160;
     o.display_height = 120;
     o.lut_rows = 32;
     o.lut_cols = 128;
-    if (psc_pack_build(&img, &o, &buf, &len, err, sizeof err) != 0)
+    if (psc_io_pack_build(&img, &o, &buf, &len, err, sizeof err) != 0)
         fail_msg("pack: %s", err);
     free(img.xrgb);
     assert_int_equal(psc_io_write_atomic(path, buf, len, err, sizeof err), 0);
@@ -751,14 +751,14 @@ static void test_firmware_fisheye_scene(void **state)
     make_pack(pack);
     assert_int_equal(psc_io_pack_load(pack, &pf, err, sizeof err), 0);
     /* the sim camera's 256x128 frames read as a dual-fisheye frame */
-    psc_fisheye_rig_t rig = small_rig();
+    psc_bake_fisheye_rig_t rig = small_rig();
     rig.frame_width = 256;
     rig.frame_height = 128;
-    rig.lens[0] = (psc_fisheye_lens_t){ 63.5, 63.5, 63.0, 190.0, 0, 0, 0 };
-    rig.lens[1] = (psc_fisheye_lens_t){ 191.5, 63.5, 63.0, 190.0, 0, 0, 0 };
+    rig.lens[0] = (psc_bake_fisheye_lens_t){ 63.5, 63.5, 63.0, 190.0, 0, 0, 0 };
+    rig.lens[1] = (psc_bake_fisheye_lens_t){ 191.5, 63.5, 63.0, 190.0, 0, 0, 0 };
     uint8_t *tb;
     size_t len;
-    assert_int_equal(psc_fisheye_build(&rig, 192, 96, "t", &tb, &len, err, sizeof err), 0);
+    assert_int_equal(psc_bake_fisheye(&rig, 192, 96, "t", &tb, &len, err, sizeof err), 0);
     snprintf(table, sizeof table, "%s/fish.pfish", root);
     assert_int_equal(tsup_write_bytes(table, tb, len), 0);
     free(tb);

@@ -4,7 +4,7 @@
  * writing of images and surfaces.
  *
  *  - PNG write -> load is exact for random images of many shapes;
- *  - psc_io_png_write / psc_surface_to_image expand every one of the
+ *  - psc_io_png_write / psc_io_surface_to_image expand every one of the
  *    65536 RGB565 values by bit replication, and copy XRGB8888 surfaces with
  *    any stride (padding and the X byte ignored);
  *  - JPEGs written here with libjpeg (colour 4:4:4 q95, greyscale, progressive
@@ -62,7 +62,7 @@ static int load_checked(const char *path, psc_image_t *img, char *err)
     img->width = 0xDEADu;
     img->height = 0xBEEFu;
     img->xrgb = NULL;
-    int rc = psc_image_load(path, img, err, ERRLEN);
+    int rc = psc_io_image_load(path, img, err, ERRLEN);
     if (rc != 0) {
         assert_int_equal(rc, -1);
         if (!tsup_msg_starts_with_path(err, path))
@@ -97,7 +97,7 @@ static void expect_refused(const char *path, const char *mention)
     psc_image_t img;
     char err[ERRLEN];
     if (load_checked(path, &img, err) == 0) {
-        psc_image_free(&img);
+        psc_io_image_free(&img);
         fail_msg("%s was loaded, expected a refusal", path);
     }
     if (mention && !strstr(err, mention))
@@ -117,8 +117,8 @@ static psc_image_t random_image(tsup_rng_t *rng, uint32_t w, uint32_t h)
 static void write_png_ok(const char *path, const psc_image_t *img)
 {
     char err[ERRLEN];
-    if (psc_image_write_png(path, img, err, sizeof err) != 0)
-        fail_msg("psc_image_write_png %s: %s", path, err);
+    if (psc_io_image_write_png(path, img, err, sizeof err) != 0)
+        fail_msg("psc_io_image_write_png %s: %s", path, err);
 }
 
 static void assert_same_rgb(const psc_image_t *want, const psc_image_t *got, const char *what)
@@ -152,7 +152,7 @@ static void test_png_roundtrip(void **state)
         char what[64];
         snprintf(what, sizeof what, "round trip %ux%u", (unsigned)img.width, (unsigned)img.height);
         assert_same_rgb(&img, &back, what);
-        psc_image_free(&back);
+        psc_io_image_free(&back);
         free(img.xrgb);
     }
     unlink(path);
@@ -195,7 +195,7 @@ static void test_surface_rgb565_every_value(void **state)
         fail_msg("psc_io_png_write: %s", err);
     psc_image_t png = load_ok(path);
     psc_image_t mem;
-    assert_int_equal(psc_surface_to_image(&s, &mem), 0);
+    assert_int_equal(psc_io_surface_to_image(&s, &mem), 0);
     assert_int_equal(png.width, W);
     assert_int_equal(png.height, H);
     assert_int_equal(mem.width, W);
@@ -206,11 +206,11 @@ static void test_surface_rgb565_every_value(void **state)
             fail_msg("PNG of RGB565 0x%04X is 0x%08X, expected 0x%08X", (unsigned)v, (unsigned)png.xrgb[v],
                      (unsigned)want);
         if (mem.xrgb[v] != want)
-            fail_msg("psc_surface_to_image of RGB565 0x%04X is 0x%08X, expected 0x%08X", (unsigned)v,
+            fail_msg("psc_io_surface_to_image of RGB565 0x%04X is 0x%08X, expected 0x%08X", (unsigned)v,
                      (unsigned)mem.xrgb[v], (unsigned)want);
     }
-    psc_image_free(&png);
-    psc_image_free(&mem);
+    psc_io_image_free(&png);
+    psc_io_image_free(&mem);
     free(buf);
     unlink(path);
 }
@@ -241,13 +241,13 @@ static void test_surface_xrgb8888(void **state)
     if (psc_io_png_write(path, &s, err, sizeof err) != 0)
         fail_msg("psc_io_png_write: %s", err);
     psc_image_t png = load_ok(path), mem;
-    assert_int_equal(psc_surface_to_image(&s, &mem), 0);
+    assert_int_equal(psc_io_surface_to_image(&s, &mem), 0);
     assert_int_equal(png.width, W);
     assert_int_equal(png.height, H);
     assert_memory_equal(png.xrgb, want, W * H * sizeof *want);
     assert_memory_equal(mem.xrgb, want, W * H * sizeof *want);
-    psc_image_free(&png);
-    psc_image_free(&mem);
+    psc_io_image_free(&png);
+    psc_io_image_free(&mem);
     unlink(path);
 
     /* Invalid surfaces are refused with the path named, and nothing is written. */
@@ -264,7 +264,7 @@ static void test_surface_xrgb8888(void **state)
         assert_false(tsup_file_exists(path));
         mem.width = 1;
         mem.xrgb = want;
-        assert_int_equal(psc_surface_to_image(&bad[i], &mem), -1);
+        assert_int_equal(psc_io_surface_to_image(&bad[i], &mem), -1);
         assert_null(mem.xrgb);
         assert_int_equal(mem.width, 0);
     }
@@ -280,7 +280,7 @@ static void test_write_errors(void **state)
     snprintf(path, sizeof path, "%s/out.png", dir);
     uint32_t px[4] = {0xFF102030u, 0xFF405060u, 0xFF708090u, 0xFFA0B0C0u};
     psc_image_t img = {2, 2, px};
-    assert_int_equal(psc_image_write_png(path, &img, err, sizeof err), -1);
+    assert_int_equal(psc_io_image_write_png(path, &img, err, sizeof err), -1);
     if (!tsup_msg_starts_with_path(err, path))
         fail_msg("write into a missing directory: \"%s\"", err);
     printf("  write error: \"%s\"\n", err);
@@ -288,17 +288,17 @@ static void test_write_errors(void **state)
 
     tmp_path(path, sizeof path, "never.png");
     psc_image_t empty = {0, 0, NULL};
-    assert_int_equal(psc_image_write_png(path, &empty, err, sizeof err), -1);
+    assert_int_equal(psc_io_image_write_png(path, &empty, err, sizeof err), -1);
     assert_true(tsup_msg_starts_with_path(err, path));
     psc_image_t nopix = {2, 2, NULL};
-    assert_int_equal(psc_image_write_png(path, &nopix, err, sizeof err), -1);
+    assert_int_equal(psc_io_image_write_png(path, &nopix, err, sizeof err), -1);
     assert_true(tsup_msg_starts_with_path(err, path));
     assert_false(tsup_file_exists(path));
     /* No error buffer at all, or a tiny one: still refused, never overrun. */
-    assert_int_equal(psc_image_write_png(path, &empty, NULL, 0), -1);
+    assert_int_equal(psc_io_image_write_png(path, &empty, NULL, 0), -1);
     char tiny[6];
     memset(tiny, 'x', sizeof tiny);
-    assert_int_equal(psc_image_write_png(path, &empty, tiny, 5), -1);
+    assert_int_equal(psc_io_image_write_png(path, &empty, tiny, 5), -1);
     assert_true(strlen(tiny) <= 4);
     assert_int_equal(tiny[5], 'x');
 }
@@ -435,7 +435,7 @@ static void test_jpeg_load(void **state)
                e.max_err, cases[k].max_err, e.mean_err, cases[k].mean_err);
         assert_true(e.max_err <= cases[k].max_err);
         assert_true(e.mean_err <= cases[k].mean_err);
-        psc_image_free(&img);
+        psc_io_image_free(&img);
     }
     unlink(path);
     free(rgb);
@@ -567,7 +567,7 @@ static void check_png_kind(const png_spec_t *sp, tsup_rng_t *rng, const char *pa
         if (img.xrgb[i] != want[i])
             fail_msg("PNG %s: pixel (%zu, %zu) is 0x%08X, expected 0x%08X", sp->name, i % sp->w, i / sp->w,
                      (unsigned)img.xrgb[i], (unsigned)want[i]);
-    psc_image_free(&img);
+    psc_io_image_free(&img);
     for (uint32_t y = 0; y < sp->h; y++)
         free(rows[y]);
     free(rows);
@@ -623,7 +623,7 @@ static void test_png_kinds(void **state)
             fail_msg("16-bit grey %u loads as 0x%08X, expected grey %u", (unsigned)v, (unsigned)img.xrgb[v],
                      (unsigned)g);
     }
-    psc_image_free(&img);
+    psc_io_image_free(&img);
     for (uint32_t y = 0; y < 256; y++)
         free(rows[y]);
     free(rows);
@@ -652,7 +652,7 @@ static void truncate_every_length(const char *src, const char *dst, const char *
         psc_image_t img;
         char err[ERRLEN];
         if (load_checked(dst, &img, err) == 0) {
-            psc_image_free(&img);
+            psc_io_image_free(&img);
             fail_msg("%s cut to %zu of %zu bytes was loaded", what, n, len);
         }
         refused++;
@@ -664,7 +664,7 @@ static void truncate_every_length(const char *src, const char *dst, const char *
     /* And the whole file still loads. */
     assert_int_equal(tsup_write_bytes(dst, b, len), 0);
     psc_image_t img = load_ok(dst);
-    psc_image_free(&img);
+    psc_io_image_free(&img);
     free(b);
     unlink(dst);
 }
@@ -821,7 +821,7 @@ static void fuzz_format(const char *fmt, seed_t *seeds, unsigned nseeds, int is_
         char err[ERRLEN];
         if (load_checked(path, &img, err) == 0) {
             loaded++;
-            psc_image_free(&img);
+            psc_io_image_free(&img);
         } else {
             refused++;
             snprintf(sample[refused % 3], ERRLEN, "%s", err);
@@ -960,7 +960,7 @@ static void test_pixel_budget(void **state)
     /* what a decompression bomb looks like from its header (the 818 KB PNG of issue 16) */
     tmp_path(path, sizeof path, "bomb.png");
     write_png_header_only(path, 16384, 16384, 256);
-    assert_int_equal(psc_image_load(path, &img, err, sizeof err), -1);
+    assert_int_equal(psc_io_image_load(path, &img, err, sizeof err), -1);
     printf("  a tiny PNG declaring 16384x16384: \"%s\"\n", err);
     assert_true(tsup_msg_starts_with_path(err, path));
     assert_non_null(strstr(err, "16384x16384 (268435456 pixels), more than the budget of 134217728 pixels"));
@@ -970,7 +970,7 @@ static void test_pixel_budget(void **state)
     assert_non_null(strstr(err, "more than the budget"));
     /* just inside the budget the header passes, and the missing rows are what fails */
     write_png_header_only(path, 16384, 8192, 256);
-    assert_int_equal(psc_image_load(path, &img, err, sizeof err), -1);
+    assert_int_equal(psc_io_image_load(path, &img, err, sizeof err), -1);
     assert_null(strstr(err, "budget"));
     assert_non_null(strstr(err, "truncated"));
 
@@ -983,17 +983,17 @@ static void test_pixel_budget(void **state)
     static const jpeg_spec_t spec = {JCS_RGB, 3, 90, 1, 0, 0};
     tmp_path(path, sizeof path, "budget.jpg");
     write_jpeg(path, rgb, W, H, &spec);
-    assert_int_equal(psc_image_load_within(path, W * H - 1, &img, err, sizeof err), -1);
+    assert_int_equal(psc_io_image_load_within(path, W * H - 1, &img, err, sizeof err), -1);
     assert_non_null(strstr(err, "96x64 (6144 pixels), more than the budget of 6143 pixels"));
-    assert_int_equal(psc_image_load_within(path, W * H, &img, err, sizeof err), 0);
-    psc_image_free(&img);
+    assert_int_equal(psc_io_image_load_within(path, W * H, &img, err, sizeof err), 0);
+    psc_io_image_free(&img);
     /* the same JPEG declaring 16384x16384 */
     size_t jlen;
     uint8_t *jpg = tsup_read_bytes(path, &jlen);
     assert_non_null(jpg);
     jpeg_set_size(jpg, jlen, 16384, 16384);
     assert_int_equal(tsup_write_bytes(path, jpg, jlen), 0);
-    assert_int_equal(psc_image_load(path, &img, err, sizeof err), -1);
+    assert_int_equal(psc_io_image_load(path, &img, err, sizeof err), -1);
     printf("  a %zu-byte JPEG declaring 16384x16384: \"%s\"\n", jlen, err);
     assert_non_null(strstr(err, "16384x16384 (268435456 pixels), more than the budget"));
     free(jpg);
@@ -1055,7 +1055,7 @@ static void test_not_images(void **state)
     psc_image_t img = load_ok(path);
     assert_int_equal(img.width, PSC_MAX_MAP_DIM);
     assert_int_equal(img.xrgb[PSC_MAX_MAP_DIM - 1], 0xFFC8C8C8u);
-    psc_image_free(&img);
+    psc_io_image_free(&img);
     free(row);
     /* A header within the limits (16384 x 2048, 128 MiB of pixels) over a few bytes of data: refused,
      * nothing kept. */
@@ -1066,14 +1066,14 @@ static void test_not_images(void **state)
     /* No error buffer, or a tiny one: refused all the same, never overrun. */
     tmp_path(path, sizeof path, "does-not-exist.jpg");
     psc_image_t none;
-    assert_int_equal(psc_image_load(path, &none, NULL, 0), -1);
+    assert_int_equal(psc_io_image_load(path, &none, NULL, 0), -1);
     assert_null(none.xrgb);
     char tiny[8];
     memset(tiny, 'x', sizeof tiny);
-    assert_int_equal(psc_image_load(path, &none, tiny, 6), -1);
+    assert_int_equal(psc_io_image_load(path, &none, tiny, 6), -1);
     assert_true(strlen(tiny) <= 5);
     assert_int_equal(tiny[7], 'x');
-    assert_int_equal(psc_image_load(NULL, &none, tiny, 6), -1);
+    assert_int_equal(psc_io_image_load(NULL, &none, tiny, 6), -1);
 }
 
 int main(void)

@@ -65,7 +65,7 @@ static char *capture(bool journal, void (*body)(void))
     else
         setenv("JOURNAL_STREAM", "1:1", 1);   /* some other stream */
     close(fd);
-    psc_log_detect();
+    psc_io_log_detect();
     body();
     fflush(stdout);
     dup2(saved_out, 1);
@@ -73,7 +73,7 @@ static char *capture(bool journal, void (*body)(void))
     close(saved_out);
     close(saved_err);
     unsetenv("JOURNAL_STREAM");
-    psc_log_detect();
+    psc_io_log_detect();
     char *text = slurp(tmp_path);
     unlink(tmp_path);
     return text;
@@ -81,11 +81,11 @@ static char *capture(bool journal, void (*body)(void))
 
 static void log_some(void)
 {
-    psc_log(PSC_LOG_ERR, "periscope: %s: bad magic", "x.pano");
-    psc_log(PSC_LOG_WARNING, "v4l2 camera /dev/video0: lost (%s); retrying every %u ms", "No such device", 1000u);
-    psc_log(PSC_LOG_NOTICE, "drm display card0: 1280x720\n");
-    psc_log(PSC_LOG_INFO, "frame %5u  scene %u: %s", 12u, 1u, "a.pano");
-    psc_log(PSC_LOG_ERR, "two lines\nmade one");
+    psc_io_log(PSC_LOG_ERR, "periscope: %s: bad magic", "x.pano");
+    psc_io_log(PSC_LOG_WARNING, "v4l2 camera /dev/video0: lost (%s); retrying every %u ms", "No such device", 1000u);
+    psc_io_log(PSC_LOG_NOTICE, "drm display card0: 1280x720\n");
+    psc_io_log(PSC_LOG_INFO, "frame %5u  scene %u: %s", 12u, 1u, "a.pano");
+    psc_io_log(PSC_LOG_ERR, "two lines\nmade one");
 }
 
 static void test_prefix_only_for_the_journal(void **state)
@@ -107,10 +107,10 @@ static void test_prefix_only_for_the_journal(void **state)
     free(plain);
     /* malformed JOURNAL_STREAM values are nobody's stream */
     setenv("JOURNAL_STREAM", "12:x", 1);
-    psc_log_detect();
-    assert_false(psc_log_to_journal(stderr));
+    psc_io_log_detect();
+    assert_false(psc_io_log_to_journal(stderr));
     unsetenv("JOURNAL_STREAM");
-    psc_log_detect();
+    psc_io_log_detect();
 }
 
 static void log_long(void)
@@ -118,7 +118,7 @@ static void log_long(void)
     char big[3000];
     memset(big, 'a', sizeof big - 1);
     big[sizeof big - 1] = '\0';
-    psc_log(PSC_LOG_ERR, "%s", big);
+    psc_io_log(PSC_LOG_ERR, "%s", big);
 }
 
 static void test_long_lines_are_cut_saying_so(void **state)

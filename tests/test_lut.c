@@ -28,7 +28,7 @@ typedef struct {
 
 static const lut_case_t cases[] = {
     {65, 33, 60.0},   /* small narrow table */
-    {256, 107, 120.0}, /* psc_lut_default_size for a 640-wide display */
+    {256, 107, 120.0}, /* psc_io_lut_default_size for a 640-wide display */
     {2, 2, 170.0},    /* the smallest table at the widest field */
     {181, 64, 90.0},
 };
@@ -54,7 +54,7 @@ static void test_octant_reflections_reproduce_full_table(void **state)
         uint32_t *entries = malloc(psc_lut_bytes(c->rows, c->cols));
         assert_non_null(entries);
         psc_lut_t lut;
-        assert_int_equal(psc_lut_build(c->rows, c->cols, c->hfov_deg, entries, &lut), 0);
+        assert_int_equal(psc_io_lut_build(c->rows, c->cols, c->hfov_deg, entries, &lut), 0);
         double u_max = lut.u_max_q24 / 16777216.0;
         int R = c->rows - 1, C = c->cols - 1;
         double max_lon = 0.0, max_lat = 0.0;
@@ -63,7 +63,7 @@ static void test_octant_reflections_reproduce_full_table(void **state)
             double a = (TSUP_PI / 2.0) * k / R;
             for (int m = -C; m <= C; m++) {
                 double u = u_max * m / C, lon_x, lat_x;
-                psc_lut_exact_angles(a, u, &lon_x, &lat_x);
+                psc_io_lut_exact_angles(a, u, &lon_x, &lat_x);
                 /* The documented reflections, from the stored octant. */
                 int ak = abs(k);
                 int over_pole = ak > R;
@@ -114,7 +114,7 @@ static void test_saturation_and_shape(void **state)
     uint32_t *e = malloc(psc_lut_bytes(ROWS, COLS));
     assert_non_null(e);
     psc_lut_t lut;
-    assert_int_equal(psc_lut_build(ROWS, COLS, 120.0, e, &lut), 0);
+    assert_int_equal(psc_io_lut_build(ROWS, COLS, 120.0, e, &lut), 0);
     /* a = 0, u = 0: straight ahead. */
     assert_int_equal(e[0], 0u);
     /* a = 90 deg: lat is 90 at u = 0 and saturates to 0xFFFF (not 0x10000 wrapping to 0). */
@@ -158,7 +158,7 @@ static void test_build_metadata_and_check(void **state)
     psc_lut_t lut;
     const double hfovs[] = {1.0, 30.0, 60.0, 90.0, 120.0, 150.0, 170.0};
     for (size_t i = 0; i < sizeof(hfovs) / sizeof(hfovs[0]); i++) {
-        assert_int_equal(psc_lut_build(ROWS, COLS, hfovs[i], e, &lut), 0);
+        assert_int_equal(psc_io_lut_build(ROWS, COLS, hfovs[i], e, &lut), 0);
         assert_int_equal(lut.rows, ROWS);
         assert_int_equal(lut.cols, COLS);
         assert_ptr_equal(lut.entries, e);
@@ -169,16 +169,16 @@ static void test_build_metadata_and_check(void **state)
         assert_true(fabs(reach_deg - hfovs[i]) < 1e-5);
         assert_int_equal(psc_lut_check(&lut), PSC_OK);
     }
-    /* psc_lut_build refuses what the format cannot hold. */
-    assert_int_not_equal(psc_lut_build(1, COLS, 90.0, e, &lut), 0);
-    assert_int_not_equal(psc_lut_build(ROWS, 1, 90.0, e, &lut), 0);
-    assert_int_not_equal(psc_lut_build(PSC_MAX_LUT_DIM + 1, 2, 90.0, e, &lut), 0);
-    assert_int_not_equal(psc_lut_build(ROWS, COLS, 0.0, e, &lut), 0);
-    assert_int_not_equal(psc_lut_build(ROWS, COLS, 170.5, e, &lut), 0);
-    assert_int_not_equal(psc_lut_build(ROWS, COLS, NAN, e, &lut), 0);
+    /* psc_io_lut_build refuses what the format cannot hold. */
+    assert_int_not_equal(psc_io_lut_build(1, COLS, 90.0, e, &lut), 0);
+    assert_int_not_equal(psc_io_lut_build(ROWS, 1, 90.0, e, &lut), 0);
+    assert_int_not_equal(psc_io_lut_build(PSC_MAX_LUT_DIM + 1, 2, 90.0, e, &lut), 0);
+    assert_int_not_equal(psc_io_lut_build(ROWS, COLS, 0.0, e, &lut), 0);
+    assert_int_not_equal(psc_io_lut_build(ROWS, COLS, 170.5, e, &lut), 0);
+    assert_int_not_equal(psc_io_lut_build(ROWS, COLS, NAN, e, &lut), 0);
 
     /* psc_lut_check: dimensions and u_max, not contents. */
-    assert_int_equal(psc_lut_build(ROWS, COLS, 90.0, e, &lut), 0);
+    assert_int_equal(psc_io_lut_build(ROWS, COLS, 90.0, e, &lut), 0);
     psc_lut_t bad = lut;
     bad.entries = NULL;
     assert_int_not_equal(psc_lut_check(&bad), PSC_OK);

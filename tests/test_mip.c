@@ -2,7 +2,7 @@
 /*
  * test_mip.c - the map pyramid and PSC_FILTER_MIP.
  *
- *  - psc_image_halve is the [1 3 3 1]/8 binomial filter, wrapping columns;
+ *  - psc_io_image_halve is the [1 3 3 1]/8 binomial filter, wrapping columns;
  *  - a pack keeps exact halvings as levels, and the parser refuses broken ones;
  *  - zoomed in (level of detail below 0) mip is bit-exact bilinear;
  *  - zoomed out on the bundled 4096x2048 sample at hfov 120, measured against
@@ -41,7 +41,7 @@ static void test_halve_is_binomial(void **state)
     for (unsigned i = 0; i < 160; i++)
         in.xrgb[i] = 0xFF000000u | (tsup_rng_u32(&rng) & 0xFFFFFFu);
     for (int wrap = 0; wrap <= 1; wrap++) {
-        assert_int_equal(psc_image_halve(&in, wrap, &out), 0);
+        assert_int_equal(psc_io_image_halve(&in, wrap, &out), 0);
         assert_int_equal(out.width, 8);
         assert_int_equal(out.height, 5);
         static const double w[4] = {1, 3, 3, 1};
@@ -61,14 +61,14 @@ static void test_halve_is_binomial(void **state)
                     /* the two passes keep exact sums: rounding once, at the end */
                     assert_int_equal(got, want);
                 }
-        psc_image_free(&out);
+        psc_io_image_free(&out);
     }
     in.width = 15;
-    assert_int_equal(psc_image_halve(&in, true, &out), -1); /* odd sides have no exact half */
+    assert_int_equal(psc_io_image_halve(&in, true, &out), -1); /* odd sides have no exact half */
     free(in.xrgb);
-    assert_int_equal(psc_pyramid_levels(4096, 2048, 12), 9); /* down to 16x8 */
-    assert_int_equal(psc_pyramid_levels(4096, 2048, 3), 3);
-    assert_int_equal(psc_pyramid_levels(1000, 500, 12), 3); /* 500 -> 250 -> 125 (odd) */
+    assert_int_equal(psc_io_pyramid_levels(4096, 2048, 12), 9); /* down to 16x8 */
+    assert_int_equal(psc_io_pyramid_levels(4096, 2048, 3), 3);
+    assert_int_equal(psc_io_pyramid_levels(1000, 500, 12), 3); /* 500 -> 250 -> 125 (odd) */
 }
 
 /* The bundled sample packed with XRGB8888 pixels (no RGB565 rounding in the comparison). */
@@ -83,17 +83,17 @@ static int load_sample(sample_t *s, unsigned levels)
 {
     char err[256];
     memset(s, 0, sizeof *s);
-    if (psc_image_load(SAMPLE, &s->img, err, sizeof err) != 0) {
+    if (psc_io_image_load(SAMPLE, &s->img, err, sizeof err) != 0) {
         fprintf(stderr, "%s\n", err);
         return -1;
     }
     psc_pack_options_t o;
-    psc_pack_options_default(&o);
+    psc_io_pack_options_default(&o);
     o.format = PSC_PIX_XRGB8888;
     o.display_width = OUT_W;
     o.display_height = OUT_H;
     o.map_levels = levels;
-    if (psc_pack_build(&s->img, &o, &s->pack_bytes, &s->pack_len, err, sizeof err) != 0) {
+    if (psc_io_pack_build(&s->img, &o, &s->pack_bytes, &s->pack_len, err, sizeof err) != 0) {
         fprintf(stderr, "%s\n", err);
         return -1;
     }
@@ -103,7 +103,7 @@ static int load_sample(sample_t *s, unsigned levels)
 
 static void free_sample(sample_t *s)
 {
-    psc_image_free(&s->img);
+    psc_io_image_free(&s->img);
     free(s->pack_bytes);
 }
 
@@ -120,11 +120,11 @@ static void test_pack_levels(void **state)
     }
     /* level 1 is the filtered level 0 image */
     psc_image_t half;
-    assert_int_equal(psc_image_halve(&s.img, true, &half), 0);
+    assert_int_equal(psc_io_image_halve(&s.img, true, &half), 0);
     const uint32_t *l1 = p->levels[1].pixels;
     for (size_t i = 0; i < (size_t)half.width * half.height; i += 997)
         assert_int_equal(l1[i] & 0xFFFFFFu, half.xrgb[i] & 0xFFFFFFu);
-    psc_image_free(&half);
+    psc_io_image_free(&half);
 
     /* a level whose section is renamed to leave a gap is refused */
     uint8_t *copy = malloc(s.pack_len);

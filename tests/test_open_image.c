@@ -445,10 +445,10 @@ static char *pack_of(const char *path, const char *extra1, const char *extra2, p
 
 static void expect_coverage(const psc_pack_t *p, double lon0, double lon1, double top, double bottom)
 {
-    assert_int_equal(p->map.lon_min, psc_bam_from_deg(lon0));
-    assert_int_equal(p->map.lon_span, psc_bam_from_deg(lon1 - lon0));
-    assert_int_equal(p->map.lat_top, psc_sbam_from_deg(top));
-    assert_int_equal(p->map.lat_bottom, psc_sbam_from_deg(bottom));
+    assert_int_equal(p->map.lon_min, psc_io_bam_from_deg(lon0));
+    assert_int_equal(p->map.lon_span, psc_io_bam_from_deg(lon1 - lon0));
+    assert_int_equal(p->map.lat_top, psc_io_sbam_from_deg(top));
+    assert_int_equal(p->map.lat_bottom, psc_io_sbam_from_deg(bottom));
 }
 
 static void test_gpano_xmp(void **state)
@@ -480,7 +480,7 @@ static void test_gpano_xmp(void **state)
     expect_in(out, "GPano XMP");
     free(out);
     expect_coverage(&pf.pack, -60.0, 20.0, 45.0, -45.0);
-    assert_int_equal(pf.pack.default_yaw, psc_bam_from_deg(-20.0));
+    assert_int_equal(pf.pack.default_yaw, psc_io_bam_from_deg(-20.0));
     psc_io_pack_free(&pf);
 
     /* a PNG, elements: the full turn, latitudes 60..-30 (from row 64 of 384, 192 high) */
@@ -490,11 +490,11 @@ static void test_gpano_xmp(void **state)
     assert_true(g.usable && !g.partial_lon && g.partial_lat && !g.has_heading);
     out = pack_of(png, "--quiet", NULL, &pf);
     free(out);
-    assert_int_equal(pf.pack.map.lon_min, psc_bam_from_deg(-180.0));   /* the default full turn, as without XMP */
+    assert_int_equal(pf.pack.map.lon_min, psc_io_bam_from_deg(-180.0));   /* the default full turn, as without XMP */
     assert_int_equal(pf.pack.map.lon_span, 0);
-    assert_int_equal(pf.pack.map.lat_top, psc_sbam_from_deg(60.0));
-    assert_int_equal(pf.pack.map.lat_bottom, psc_sbam_from_deg(-30.0));
-    assert_int_equal(pf.pack.default_pitch, psc_sbam_from_deg(15.0));
+    assert_int_equal(pf.pack.map.lat_top, psc_io_sbam_from_deg(60.0));
+    assert_int_equal(pf.pack.map.lat_bottom, psc_io_sbam_from_deg(-30.0));
+    assert_int_equal(pf.pack.default_pitch, psc_io_sbam_from_deg(15.0));
     psc_io_pack_free(&pf);
 
     /* the device reads the same XMP: its cache file is periscope-pack's pack */
@@ -517,7 +517,7 @@ static void test_gpano_xmp(void **state)
     expect_in(out, "warning: ");
     expect_in(out, "its GPano XMP is ignored: GPano:ProjectionType is 'cylindrical'");
     free(out);
-    assert_int_equal(pf.pack.map.lon_min, psc_bam_from_deg(-180.0));
+    assert_int_equal(pf.pack.map.lon_min, psc_io_bam_from_deg(-180.0));
     assert_int_equal(pf.pack.map.lon_span, 0);
     psc_io_pack_free(&pf);
     unlink(jpg);
@@ -569,8 +569,8 @@ static void test_ratio_warning(void **state)
     out = show(twoone, dump);
     expect_not_in(out, "not 2:1");
     free(out);
-    psc_image_free(&w);
-    psc_image_free(&t);
+    psc_io_image_free(&w);
+    psc_io_image_free(&t);
     unlink(wide);
     unlink(twoone);
     unlink(xmpfile);
@@ -624,7 +624,7 @@ static int teardown(void **state)
         remove_tree(fx.cache);
         unlink(fx.jpg);
         unlink(fx.png);
-        psc_image_free(&fx.img);
+        psc_io_image_free(&fx.img);
     }
     return 0;
 }

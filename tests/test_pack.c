@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * test_pack.c - scene packs: psc_pack_build (host) -> psc_pack_parse (core).
+ * test_pack.c - scene packs: psc_io_pack_build (host) -> psc_pack_parse (core).
  *
  * Valid packs round-trip field by field; every malformed pack is refused with
  * the status its defect calls for and a message; a deterministic fuzz loop
@@ -61,7 +61,7 @@ static psc_image_t synth_image(uint32_t w, uint32_t h)
 
 static void small_options(psc_pack_options_t *o, psc_pixfmt_t fmt)
 {
-    psc_pack_options_default(o);
+    psc_io_pack_options_default(o);
     o->format = fmt;
     o->display_width = 64;
     o->display_height = 48;
@@ -95,10 +95,10 @@ static pack_t build_pack(const psc_pack_options_t *o)
     psc_image_t img = synth_image(IMG_W, IMG_H);
     pack_t p = {NULL, 0};
     char err[256] = "";
-    int rc = psc_pack_build(&img, o, &p.buf, &p.len, err, sizeof(err));
+    int rc = psc_io_pack_build(&img, o, &p.buf, &p.len, err, sizeof(err));
     free(img.xrgb);
     if (rc != 0)
-        fail_msg("psc_pack_build: %s", err);
+        fail_msg("psc_io_pack_build: %s", err);
     return p;
 }
 
@@ -172,8 +172,8 @@ static pack_t assemble(const part_t *parts, unsigned n, uint16_t minor)
     fmt.max_sections = PSC_CONTAINER_WRITE_MAX_SECTIONS;
     for (unsigned i = 0; i < n; i++)
         cp[i] = (psc_container_part_t){parts[i].type, parts[i].data, parts[i].size};
-    if (psc_container_write(&fmt, cp, n, &p.buf, &p.len, "assembled pack", err, sizeof err) != 0)
-        fail_msg("psc_container_write: %s", err);
+    if (psc_io_container_write(&fmt, cp, n, &p.buf, &p.len, "assembled pack", err, sizeof err) != 0)
+        fail_msg("psc_io_container_write: %s", err);
     return p;
 }
 
@@ -272,13 +272,13 @@ static void check_roundtrip(psc_pixfmt_t fmt, psc_projection_t proj, int partial
         assert_ptr_equal(p.map.palette, b + tsup_rd32(section_entry(b, (unsigned)pi) + PSC_CONTAINER_ENTRY_START_OFFSET));
     }
 
-    /* Tables: two (narrow up to the switch, wide up to the maximum), entries as psc_lut_build makes them. */
+    /* Tables: two (narrow up to the switch, wide up to the maximum), entries as psc_io_lut_build makes them. */
     assert_int_equal(p.lut_count, 2);
     const double hf[2] = {60.0, 120.0};
     for (unsigned i = 0; i < 2; i++) {
         uint32_t *want = malloc(psc_lut_bytes(LUT_ROWS, LUT_COLS));
         psc_lut_t wl;
-        assert_int_equal(psc_lut_build(LUT_ROWS, LUT_COLS, hf[i], want, &wl), 0);
+        assert_int_equal(psc_io_lut_build(LUT_ROWS, LUT_COLS, hf[i], want, &wl), 0);
         assert_int_equal(p.luts[i].rows, LUT_ROWS);
         assert_int_equal(p.luts[i].cols, LUT_COLS);
         assert_int_equal(p.luts[i].u_max_q24, wl.u_max_q24);
@@ -591,7 +591,7 @@ static void test_bad_sections(void **state)
     for (unsigned i = 0; i < 5; i++) {
         uint32_t e[4];
         psc_lut_t l;
-        assert_int_equal(psc_lut_build(2, 2, 20.0 + 20.0 * i, e, &l), 0);
+        assert_int_equal(psc_io_lut_build(2, 2, 20.0 + 20.0 * i, e, &l), 0);
         memset(luts[i], 0, sizeof(luts[i]));
         tsup_wr16(luts[i], 2);
         tsup_wr16(luts[i] + 2, 2);

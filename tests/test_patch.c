@@ -32,15 +32,15 @@
 #include "tsup_3d.h"
 #include "tsup_patch.h"
 
-#include "am_action.h"
+#include "import/am_action.h"
 #include "psc_io_angle.h"
-#include "am_model.h"
-#include "am_rig.h"
-#include "bpt_load.h"
-#include "bvh_load.h"
-#include "patch_build.h"
-#include "patch_load.h"
-#include "patch_measure.h"
+#include "import/am_model.h"
+#include "anim/am_rig.h"
+#include "import/bpt.h"
+#include "import/bvh.h"
+#include "import/patch_source.h"
+#include "bake/patch_any.h"
+#include "measure/patch.h"
 #include "psc_io_file.h"
 #include "base/psc_crc32.h"
 #include "3d/psc_3d_orbit.h"
@@ -79,7 +79,7 @@ static void camera(const psc_patch_model_t *m, double yaw, double pitch, double 
 {
     psc_vec3_q16_t lo = {m->lo_q16[0], m->lo_q16[1], m->lo_q16[2]}, hi = {m->hi_q16[0], m->hi_q16[1], m->hi_q16[2]};
     *cam = (psc_patch_camera_t){0};
-    assert_int_equal(psc_3d_orbit(lo, hi, tsup_bam_from_deg(yaw), psc_sbam_from_deg(pitch),
+    assert_int_equal(psc_3d_orbit(lo, hi, tsup_bam_from_deg(yaw), psc_io_sbam_from_deg(pitch),
                                   (int32_t)lround(dist * 65536.0), &cam->camera_from_object, near_q16, far_q16),
                      PSC_OK);
     cam->focal_px_q16 = (int32_t)lround(w / 2.0 / tan(hfov * M_PI / 360.0) * 65536.0);
@@ -96,23 +96,23 @@ static void frame(psc_patch_t *p, int action, uint32_t ms, const psc_patch_camer
     assert_int_equal(psc_patch_tessellate(p, cam, st), PSC_OK);
 }
 
-static void load(const char *path, const psc_patch_load_opts_t *o, psc_io_patch_t *pf)
+static void load(const char *path, const psc_bake_patch_opts_t *o, psc_io_patch_t *pf)
 {
     char err[768];
-    if (psc_patch_load_any(path, o, pf, err, sizeof err) != 0)
+    if (psc_bake_patch_any(path, o, pf, err, sizeof err) != 0)
         fail_msg("%s", err);
 }
 
 /* Thom with his skin from Thom2 and both actions (0: ResoluteWalk, 1: Wave). */
 static void load_thom(psc_io_patch_t *pf)
 {
-    psc_patch_load_opts_t o = {.actions = {WALK, WAVE}, .action_count = 2, .skin_from = THOM2, .quiet = true};
+    psc_bake_patch_opts_t o = {.actions = {WALK, WAVE}, .action_count = 2, .skin_from = THOM2, .quiet = true};
     load(THOM, &o, pf);
 }
 
 static void load_plain(const char *path, psc_io_patch_t *pf)
 {
-    psc_patch_load_opts_t o = {.quiet = true};
+    psc_bake_patch_opts_t o = {.quiet = true};
     load(path, &o, pf);
 }
 
@@ -402,7 +402,7 @@ static void pack_src(const psc_patch_src_t *s, uint8_t **buf, psc_patch_model_t 
 {
     size_t len;
     char err[512];
-    if (psc_patch_pack_build(s, "random", buf, &len, err, sizeof err) != 0)
+    if (psc_bake_patch_pack(s, "random", buf, &len, err, sizeof err) != 0)
         fail_msg("%s", err);
     psc_container_error_t e = {0};
     assert_int_equal(psc_patch_parse(*buf, len, m, &e), PSC_OK);
@@ -430,7 +430,7 @@ static void test_cracks_random(void **state)
                    tsup_rng_range(&r, 30, 90), 640, tol, 0, false, &cam, &nr, &fr);
             psc_patch_stats_t st;
             frame(&t.p, -1, 0, &cam, &st);
-            long cracks = psc_patch_measure_cracks(&t.p);
+            long cracks = psc_measure_cracks(&t.p);
             if (cracks != 0)
                 fail_msg("random mesh %u view %u (tolerance %.3f px): %ld crack edges", n, v, tol, cracks);
             cases++;
@@ -458,7 +458,7 @@ static void test_crack_counter_fires(void **state)
     camera(&pf.model, 30, 10, 2.5, 50, 800, 0.5, 0, false, &cam, &nr, &fr);
     psc_patch_stats_t st;
     frame(&t.p, -1, 0, &cam, &st);
-    assert_int_equal(psc_patch_measure_cracks(&t.p), 0);
+    assert_int_equal(psc_measure_cracks(&t.p), 0);
     /* a patch's first corner, then the middle vertex of a chain of its (an edge vertex another patch has a copy
      * of, not one of the patch's inner vertices) */
     uint32_t fi = 0, e = 0;
@@ -473,7 +473,7 @@ static void test_crack_counter_fires(void **state)
     const psc_patch_vtx_t *vt;
     const uint16_t *ix;
     uint32_t vn, tn;
-    psc_patch_face_output(&t.p, fi, &vt, &vn, &ix, &tn);
+    psc_measure_face_output(&t.p, fi, &vt, &vn, &ix, &tn);
     assert_true(vn > 4 && tn > 0);
     const psc_patch_vtx_t *chain = t.p.vtx_pool + t.p.edge_vtx[e];
     const int32_t *targets[2] = {chain[0].p, chain[1u << (t.p.edge_depth[e] - 1u)].p};
@@ -484,12 +484,12 @@ static void test_crack_counter_fires(void **state)
                 v = (psc_patch_vtx_t *)&vt[i];
         assert_non_null(v);
         v->p[1] += 1;
-        long cracks = psc_patch_measure_cracks(&t.p);
+        long cracks = psc_measure_cracks(&t.p);
         print_message("  the sphere's patch %u: %s moved by one unit: %ld crack edges\n", (unsigned)fi,
                       k ? "the middle vertex of an edge" : "a corner", cracks);
         assert_true(cracks >= 2);   /* both pieces of the patch that meet there, at least */
         v->p[1] -= 1;
-        assert_int_equal(psc_patch_measure_cracks(&t.p), 0);
+        assert_int_equal(psc_measure_cracks(&t.p), 0);
     }
     tess_free(&t);
     psc_io_patch_free(&pf);
@@ -525,7 +525,7 @@ static void test_cracks_thom(void **state)
         camera(m, poses[k].yaw, 10, 2.5, 50, 800, poses[k].tol, 0, false, &cam, &nr, &fr);
         psc_patch_stats_t st;
         frame(&t.p, poses[k].action, poses[k].ms, &cam, &st);
-        long cracks = psc_patch_measure_cracks(&t.p);
+        long cracks = psc_measure_cracks(&t.p);
         print_message("  action %d at %u ms, %.2f px: %u triangles, %ld crack edges\n", poses[k].action,
                       (unsigned)poses[k].ms, poses[k].tol, (unsigned)st.triangles, cracks);
         assert_int_equal(cracks, 0);
@@ -895,7 +895,7 @@ static void test_action_by_bone_name(void **state)
     psc_patch_src_t s;
     psc_patch_skin_opts_t skin = {0};
     assert_int_equal(psc_patch_from_am(&am, &skin, THOM, &s, NULL, 0, err, sizeof err), 0);
-    assert_int_equal(psc_am_action_bake(&act, &am, &s, note, sizeof note, err, sizeof err), 0);
+    assert_int_equal(psc_anim_sample_am_action(&act, &am, &s, note, sizeof note, err, sizeof err), 0);
     print_message("  note: %s\n", note);
     assert_non_null(strstr(note, "'Tail'"));
     assert_int_equal(s.action_count, 1);
@@ -1003,7 +1003,7 @@ static void test_bpt_teapot(void **state)
         int32_t nr, fr;
         camera(&m, v * 90.0 + 20, 30 - 20.0 * v, 2.5, 50, 640, 0.5, 0, false, &cam, &nr, &fr);
         frame(&t.p, -1, 0, &cam, NULL);
-        assert_int_equal(psc_patch_measure_cracks(&t.p), 0);
+        assert_int_equal(psc_measure_cracks(&t.p), 0);
     }
     /* truncated: a message with the line */
     for (size_t cut = 1; cut < n; cut += n / 37) {
@@ -1068,7 +1068,7 @@ static void test_mdl_fuzz(void **state)
         if (psc_patch_from_am(&am, NULL, "fuzz.mdl", &s, NULL, 0, err, sizeof err) == 0) {
             uint8_t *out;
             size_t olen;
-            if (psc_patch_pack_build(&s, "fuzz.mdl", &out, &olen, err, sizeof err) == 0) {
+            if (psc_bake_patch_pack(&s, "fuzz.mdl", &out, &olen, err, sizeof err) == 0) {
                 free(out);
                 built++;
             } else {
@@ -1115,7 +1115,7 @@ static void test_act_fuzz(void **state)
             continue;
         }
         if (s.action_count < 4) {   /* bake a few: each adds an action */
-            assert_int_equal(psc_am_action_bake(&act, &am, &s, NULL, 0, err, sizeof err), 0);
+            assert_int_equal(psc_anim_sample_am_action(&act, &am, &s, NULL, 0, err, sizeof err), 0);
             baked++;
         }
         psc_am_action_free(&act);
@@ -1141,7 +1141,7 @@ static void test_pack_fuzz(void **state)
 {
     (void)state;
     psc_io_patch_t pf;
-    psc_patch_load_opts_t o = {.actions = {WAVE}, .action_count = 1, .skin_from = THOM2, .quiet = true};
+    psc_bake_patch_opts_t o = {.actions = {WAVE}, .action_count = 1, .skin_from = THOM2, .quiet = true};
     load(THOM, &o, &pf);
     tsup_rng_t r;
     tsup_rng_seed(&r, 53);
@@ -1223,7 +1223,7 @@ static void test_bvh(void **state)
     psc_patch_src_t s;
     psc_patch_skin_opts_t skin = {NULL, &donor};
     assert_int_equal(psc_patch_from_am(&am, &skin, THOM, &s, NULL, 0, err, sizeof err), 0);
-    if (psc_bvh_bake(&b, NULL, "walk", &s, note, sizeof note, err, sizeof err) != 0)
+    if (psc_anim_retarget_bvh(&b, NULL, "walk", &s, note, sizeof note, err, sizeof err) != 0)
         fail_msg("%s", err);
     print_message("  note: %s\n", note);
     assert_non_null(strstr(note, "4 of the model's 52 bones"));
@@ -1261,9 +1261,9 @@ static void test_bvh(void **state)
     assert_true(right > 0 && left_turned > 0);
     assert_true(d0[2] > 65536 / 20 && abs(d0[0]) < 100 && abs(d0[1]) < 100);
     /* a map that names nothing the model has is refused */
-    assert_int_equal(psc_bvh_bake(&b, "Hips = Tail\n", "walk", &s, NULL, 0, err, sizeof err), -1);
+    assert_int_equal(psc_anim_retarget_bvh(&b, "Hips = Tail\n", "walk", &s, NULL, 0, err, sizeof err), -1);
     assert_non_null(strstr(err, "no joint maps"));
-    assert_int_equal(psc_bvh_bake(&b, "Hips Tail\n", "walk", &s, NULL, 0, err, sizeof err), -1);
+    assert_int_equal(psc_anim_retarget_bvh(&b, "Hips Tail\n", "walk", &s, NULL, 0, err, sizeof err), -1);
     assert_non_null(strstr(err, "map line 1"));
     /* mutated and truncated captures: a message with the line, or a capture */
     tsup_rng_t r;

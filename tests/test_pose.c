@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * test_pose.c - poses given by hand (POSE.json, host_tools/lib/pose_file.h):
+ * test_pose.c - poses given by hand (POSE.json, host_tools/lib/import/pose_file.h):
  *  - reading: the time, nodes by name and by number, rotate and translate;
  *    bad files refused with a message naming the file and the problem;
  *    mutated files refused with a message or read;
@@ -17,10 +17,10 @@
 #include <setjmp.h>
 #include <cmocka.h>
 
-#include "gltf_load.h"
-#include "patch_load.h"
-#include "patch_pose.h"
-#include "pose_file.h"
+#include "import/gltf_model.h"
+#include "bake/patch_any.h"
+#include "anim/patch_pose.h"
+#include "import/pose_file.h"
 #include "tsup_files.h"
 
 #include <math.h>
@@ -212,9 +212,9 @@ static void test_patch_bone(void **state)
     (void)state;
     psc_io_patch_t pf;
     char err[768];
-    psc_patch_load_opts_t o = {.actions = {TSUP_THOM_DIR "Wave.act"}, .action_count = 1,
+    psc_bake_patch_opts_t o = {.actions = {TSUP_THOM_DIR "Wave.act"}, .action_count = 1,
                                .skin_from = TSUP_THOM_DIR "Thom2.mdl", .quiet = true};
-    if (psc_patch_load_any(TSUP_THOM_DIR "Thom.mdl", &o, &pf, err, sizeof err) != 0)
+    if (psc_bake_patch_any(TSUP_THOM_DIR "Thom.mdl", &o, &pf, err, sizeof err) != 0)
         fail_msg("%s", err);
     const psc_patch_model_t *m = &pf.model;
     psc_patch_limits_t lim = {PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES, 1u << 20, 4};
@@ -243,10 +243,10 @@ static void test_patch_bone(void **state)
     snprintf(text, sizeof text, "{\"time\": 0.7, \"nodes\": {\"%u\": {\"rotate\": [1, 0, 0, 30]}}}", (unsigned)bone);
     char *path = write_temp(text);
     psc_pose_file_t pose;
-    if (psc_pose_file_load(path, &pose, err, sizeof err) != 0 || psc_patch_pose_check(m, &pose, path, err, sizeof err) != 0)
+    if (psc_pose_file_load(path, &pose, err, sizeof err) != 0 || psc_anim_patch_pose_check(m, &pose, path, err, sizeof err) != 0)
         fail_msg("%s", err);
     psc_patch_pose_begin(&b, 0, (uint32_t)lround(pose.time * 1000));
-    psc_patch_pose_adjust(&b, &pose);
+    psc_anim_patch_pose(&b, &pose);
     psc_patch_pose_finish(&b);
     /* a bone is in the turned chain when the turned bone is it or one of its ancestors */
     unsigned moved = 0, still = 0, wrong = 0;
@@ -275,7 +275,7 @@ static void test_patch_bone(void **state)
     path = write_temp("{\"nodes\": {\"Thigh\": {\"rotate\": [1, 0, 0, 5]}}}");
     psc_pose_file_free(&pose);
     assert_int_equal(psc_pose_file_load(path, &pose, err, sizeof err), 0);
-    assert_int_equal(psc_patch_pose_check(m, &pose, path, err, sizeof err), -1);
+    assert_int_equal(psc_anim_patch_pose_check(m, &pose, path, err, sizeof err), -1);
     assert_non_null(strstr(err, "given by number"));
     remove(path);
     psc_pose_file_free(&pose);

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * test_proxy_render.c - the proxy animator drawn (core/proxy/psc_proxy.h)
- * and its preprocessing (host_tools/lib/proxy_bake.h):
+ * and its preprocessing (host_tools/lib/bake/proxy.h):
  *  - PSC_SHADE_VIEWS against a double-precision reference of its rule
  *    (three textures, weights, empty texels, coverage of one half) over
  *    random triangles, weights and textures;
@@ -30,10 +30,10 @@
 #include "base/psc_crc32.h"
 #include "base/psc_pixel.h"
 #include "3d/psc_3d_orbit.h"
-#include "gltf_load.h"
+#include "import/gltf_model.h"
 #include "proxy/psc_proxy.h"
-#include "proxy_bake.h"
-#include "proxy_render.h"
+#include "bake/proxy.h"
+#include "render/proxy.h"
 #include "psc_testsupport.h"
 #include "tsup_3d.h"
 #include "tsup_files.h"
@@ -167,9 +167,9 @@ static void bake(fixture_t *f, const char *file, unsigned views, unsigned tex)
     psc_gltf_t g;
     char note[256], err[512];
     assert_int_equal(psc_gltf_load(file, &g, note, sizeof note, err, sizeof err), 0);
-    psc_proxy_bake_opts_t o = {views, tex};
+    psc_bake_proxy_opts_t o = {views, tex};
     uint8_t *bytes;
-    assert_int_equal(psc_proxy_bake(&g, &o, file, &bytes, &f->len, note, sizeof note, err, sizeof err), 0);
+    assert_int_equal(psc_bake_proxy(&g, &o, file, &bytes, &f->len, note, sizeof note, err, sizeof err), 0);
     print_message("  %s: %s\n", file, note);
     psc_gltf_free(&g);
     assert_int_equal(posix_memalign((void **)&f->pack, 64, f->len), 0);
@@ -264,7 +264,7 @@ static quality_t measure(fixture_t *f, const shot_t *s, const char *name)
             memcpy(pre[j], id, sizeof id);
             memcpy(post[j], j > 2 && j % 3 == 0 ? rz : id, sizeof id);
         }
-        assert_int_equal(psc_proxy_pose_adjusted(&f->m, s->t, (const double(*)[12])pre, (const double(*)[12])post, skin),
+        assert_int_equal(psc_render_proxy_pose(&f->m, s->t, (const double(*)[12])pre, (const double(*)[12])post, skin),
                          0);
         free(pre), free(post);
     } else {
@@ -294,7 +294,7 @@ static void test_truck_quality(void **state)
 {
     (void)state;
     fixture_t f = {0};
-    bake(&f, GLTF_DIR "CesiumMilkTruck.gltf", PSC_PROXY_BAKE_VIEWS, PSC_PROXY_BAKE_TEX);
+    bake(&f, GLTF_DIR "CesiumMilkTruck.gltf", PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX);
     static const shot_t shots[] = {
         {15, 10, 3, -1, 0, 0}, {50, 25, 3, -1, 0, 0}, {100, -15, 3, -1, 0, 0}, {200, 35, 3, -1, 0, 0},
         {300, 5, 3, -1, 0, 0},
@@ -322,7 +322,7 @@ static void test_bar_quality(void **state)
 {
     (void)state;
     fixture_t f = {0};
-    bake(&f, GLTF_DIR "animation_with_skeleton.gltf", PSC_PROXY_BAKE_VIEWS, PSC_PROXY_BAKE_TEX);
+    bake(&f, GLTF_DIR "animation_with_skeleton.gltf", PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX);
     static const shot_t shots[] = {
         {20, 15, 2.2, 0.11, 0, 0}, {75, 30, 2.2, 0.37, 0, 0}, {140, -10, 2.2, 0.62, 0, 0}, {250, 20, 2.2, -1, 0, 0},
         {35, 25, 2.2, 0.2, 45, 0},
@@ -354,7 +354,7 @@ static void test_joints_attached(void **state)
         memcpy(pre[j], id, sizeof id);
         memcpy(post[j], j % 3 == 0 ? rz : id, sizeof id);
     }
-    assert_int_equal(psc_proxy_pose_adjusted(m, 0.4, (const double(*)[12])pre, (const double(*)[12])post, skin), 0);
+    assert_int_equal(psc_render_proxy_pose(m, 0.4, (const double(*)[12])pre, (const double(*)[12])post, skin), 0);
     psc_mat4_identity(&cam);
     cam.m[2][3] = 4 * PSC_Q16_ONE;
     /* the parts' posed vertices, by their rest positions */
@@ -609,10 +609,10 @@ static void test_model_fuzz(void **state)
             refused++;
             continue;
         }
-        psc_proxy_bake_opts_t o = {9, 8};
+        psc_bake_proxy_opts_t o = {9, 8};
         uint8_t *pack = NULL;
         size_t plen = 0;
-        if (psc_proxy_bake(&g, &o, path, &pack, &plen, note, sizeof note, err, sizeof err) == 0) {
+        if (psc_bake_proxy(&g, &o, path, &pack, &plen, note, sizeof note, err, sizeof err) == 0) {
             void *al;
             assert_int_equal(posix_memalign(&al, 64, plen), 0);
             memcpy(al, pack, plen);

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * test_shadow.c - self-shadowing from sphere-occluder tables (core/shadow/,
- * host_tools/lib/shadow_build.c):
+ * host_tools/lib/bake/shadow.c):
  *  - the accessibility map against its closed form (a sphere wholly above
  *    the horizon occludes cos(omega) sin^2(alpha) of the cosine-weighted
  *    hemisphere), monotone in both coordinates; the composite arc map:
@@ -28,12 +28,12 @@
 #include "tsup_raycast.h"
 #include "tsup_teapot.h"
 
-#include "bpt_load.h"
-#include "gltf_load.h"
-#include "patch_build.h"
-#include "patch_load.h"
-#include "patch_measure.h"
-#include "shadow_build.h"
+#include "import/bpt.h"
+#include "import/gltf_model.h"
+#include "import/patch_source.h"
+#include "bake/patch_any.h"
+#include "measure/patch.h"
+#include "bake/shadow.h"
 #include "shadow/psc_shadow_frame.h"
 #include "base/psc_crc32.h"
 #include "3d/psc_3d_orbit.h"
@@ -57,7 +57,7 @@ static void test_access_closed_form(void **state)
         for (unsigned j = 1; j <= 20; j++) {
             double omega = M_PI / 2 * i / 20, theta = 2 * M_PI * j / 20, alpha = acos(1 - theta / (2 * M_PI));
             double area, angle;
-            psc_shadow_access_cell(omega, theta, 64, &area, &angle);
+            psc_bake_shadow_access_cell(omega, theta, 64, &area, &angle);
             if (omega + alpha <= M_PI / 2) {   /* wholly above the horizon */
                 double want = cos(omega) * sin(alpha) * sin(alpha);
                 worst = fmax(worst, fabs(area - want));
@@ -72,7 +72,7 @@ static void test_access_closed_form(void **state)
         double prev = -1;
         for (unsigned j = 0; j <= 12; j++) {
             double area, angle;
-            psc_shadow_access_cell(M_PI * i / 12, 2 * M_PI * j / 12, 32, &area, &angle);
+            psc_bake_shadow_access_cell(M_PI * i / 12, 2 * M_PI * j / 12, 32, &area, &angle);
             assert_true(area >= prev - 1e-3);
             prev = area;
         }
@@ -81,7 +81,7 @@ static void test_access_closed_form(void **state)
         double prev = 2;
         for (unsigned i = 0; i <= 12; i++) {
             double area, angle;
-            psc_shadow_access_cell(M_PI * i / 12, 2 * M_PI * j / 12, 32, &area, &angle);
+            psc_bake_shadow_access_cell(M_PI * i / 12, 2 * M_PI * j / 12, 32, &area, &angle);
             assert_true(area <= prev + 1e-3);
             prev = area;
         }
@@ -94,13 +94,13 @@ static void test_composite_map(void **state)
     for (unsigned a = 1; a <= 8; a++) {
         double t = 2 * M_PI * a / 16, t3, phi;
         /* coincident caps are one cap */
-        psc_shadow_composite_cell(t, t, 0.0, 48, &t3, &phi);
+        psc_bake_shadow_composite_cell(t, t, 0.0, 48, &t3, &phi);
         assert_true(fabs(t3 - t) <= 0.01 * t + 1e-9);
         assert_true(fabs(phi) <= 1e-6);
         /* caps that do not meet add */
         double alpha = acos(1 - t / (2 * M_PI));
         if (2 * alpha < M_PI * 0.9) {
-            psc_shadow_composite_cell(t, t, 2 * alpha + 0.05, 48, &t3, &phi);
+            psc_bake_shadow_composite_cell(t, t, 2 * alpha + 0.05, 48, &t3, &phi);
             assert_true(fabs(t3 - fmin(2 * t, 2 * M_PI)) <= 1e-6);
             /* two equal caps: the union's centre halfway */
             assert_true(fabs(phi - (alpha + 0.025)) <= 0.02);
@@ -108,8 +108,8 @@ static void test_composite_map(void **state)
         /* symmetric in its two caps' areas */
         for (unsigned b = 1; b <= 8; b++) {
             double u = 2 * M_PI * b / 16, x, y, p1, p2;
-            psc_shadow_composite_cell(t, u, 0.4, 48, &x, &p1);
-            psc_shadow_composite_cell(u, t, 0.4, 48, &y, &p2);
+            psc_bake_shadow_composite_cell(t, u, 0.4, 48, &x, &p1);
+            psc_bake_shadow_composite_cell(u, t, 0.4, 48, &y, &p2);
             assert_true(fabs(x - y) <= 0.02 * fmax(x, y) + 1e-9);
         }
     }
@@ -131,7 +131,7 @@ static void fixture(shadow_fixture_t *f, const psc_shadow_sphere_t *sph, size_t 
     uint16_t level_first[PSC_SHADOW_MAX_LEVELS] = {0};
     size_t len;
     char err[256];
-    if (psc_shadow_write(sph, n, 1, level_first, 0, 32, "fixture", &f->buf, &len, err, sizeof err) != 0)
+    if (psc_bake_shadow_write(sph, n, 1, level_first, 0, 32, "fixture", &f->buf, &len, err, sizeof err) != 0)
         fail_msg("%s", err);
     psc_container_error_t e = {0};
     assert_int_equal(psc_shadow_parse(f->buf, len, &f->m, &e), PSC_OK);
@@ -420,10 +420,10 @@ static void shade_and_compare(const char *label, const psc_patch_model_t *m, con
 static void build_pack(const psc_patch_model_t *m, unsigned levels, unsigned spheres, uint8_t **buf,
                        psc_shadow_model_t *out)
 {
-    psc_shadow_build_opts_t o = {levels, spheres, 32};
+    psc_bake_shadow_opts_t o = {levels, spheres, 32};
     size_t len;
     char err[512], note[256] = "";
-    if (psc_shadow_build(m, &o, "test", buf, &len, note, sizeof note, err, sizeof err) != 0)
+    if (psc_bake_shadow(m, &o, "test", buf, &len, note, sizeof note, err, sizeof err) != 0)
         fail_msg("%s", err);
     psc_container_error_t e = {0};
     assert_int_equal(psc_shadow_parse(*buf, len, out, &e), PSC_OK);
@@ -434,14 +434,14 @@ static void test_against_raycast(void **state)
     (void)state;
     psc_io_patch_t pf;
     char err[768];
-    psc_patch_load_opts_t o = {.actions = {"assets/thom/ResoluteWalk.act", "assets/thom/Wave.act"}, .action_count = 2,
+    psc_bake_patch_opts_t o = {.actions = {"assets/thom/ResoluteWalk.act", "assets/thom/Wave.act"}, .action_count = 2,
                                .skin_from = "assets/thom/Thom2.mdl", .quiet = true};
-    if (psc_patch_load_any(THOM, &o, &pf, err, sizeof err) != 0)
+    if (psc_bake_patch_any(THOM, &o, &pf, err, sizeof err) != 0)
         fail_msg("%s", err);
     uint8_t *b3, *b1;
     psc_shadow_model_t tree, single;
-    build_pack(&pf.model, PSC_SHADOW_BUILD_LEVELS, PSC_SHADOW_BUILD_SPHERES, &b3, &tree);
-    build_pack(&pf.model, 1, PSC_SHADOW_BUILD_SPHERES, &b1, &single);
+    build_pack(&pf.model, PSC_BAKE_SHADOW_LEVELS, PSC_BAKE_SHADOW_SPHERES, &b3, &tree);
+    build_pack(&pf.model, 1, PSC_BAKE_SHADOW_SPHERES, &b1, &single);
     /* the goal: 0.85; left out: his arm passes through his shirt as it comes down (the model's own; 3.1 % waving) */
     shade_and_compare("Thom at rest", &pf.model, &tree, &single, -1, 0, 0.85, 0.06, 0.02);
     shade_and_compare("Thom walking, 0.5 s", &pf.model, &tree, &single, 0, 500, 0.85, 0.06, 0.02);
@@ -457,13 +457,13 @@ static void test_against_raycast(void **state)
     if (psc_bpt_parse("teapot.bpt", text, len, &src, err, sizeof err) != 0)
         fail_msg("%s", err);
     uint8_t *pack;
-    if (psc_patch_pack_build(&src, "teapot.bpt", &pack, &plen, err, sizeof err) != 0)
+    if (psc_bake_patch_pack(&src, "teapot.bpt", &pack, &plen, err, sizeof err) != 0)
         fail_msg("%s", err);
     psc_patch_model_t tm;
     psc_container_error_t e = {0};
     assert_int_equal(psc_patch_parse(pack, plen, &tm, &e), PSC_OK);
-    build_pack(&tm, PSC_SHADOW_BUILD_LEVELS, PSC_SHADOW_BUILD_SPHERES, &b3, &tree);
-    build_pack(&tm, 1, PSC_SHADOW_BUILD_SPHERES, &b1, &single);
+    build_pack(&tm, PSC_BAKE_SHADOW_LEVELS, PSC_BAKE_SHADOW_SPHERES, &b3, &tree);
+    build_pack(&tm, 1, PSC_BAKE_SHADOW_SPHERES, &b1, &single);
     /* left out: 14.7 % - the spout's and the handle's ends run inside the body, the Utah teapot's own */
     shade_and_compare("the teapot", &tm, &tree, &single, -1, 0, 0.75, 0.08, 0.15);   /* a thin shell: spheres fit it worse */
     free(b3);
@@ -585,9 +585,9 @@ static void gltf_case(const char *file, const gltf_pose_t *poses, unsigned npose
         fail_msg("%s", err);
     uint8_t *b = NULL, *b1 = NULL;
     size_t len = 0, len1 = 0;
-    psc_shadow_build_opts_t o = {0, 0, 0}, one = {1, 8, 0};
-    if (psc_shadow_build_gltf(&g, &o, file, &b, &len, note, sizeof note, err, sizeof err) != 0 ||
-        psc_shadow_build_gltf(&g, &one, file, &b1, &len1, note, sizeof note, err, sizeof err) != 0)
+    psc_bake_shadow_opts_t o = {0, 0, 0}, one = {1, 8, 0};
+    if (psc_bake_shadow_gltf(&g, &o, file, &b, &len, note, sizeof note, err, sizeof err) != 0 ||
+        psc_bake_shadow_gltf(&g, &one, file, &b1, &len1, note, sizeof note, err, sizeof err) != 0)
         fail_msg("%s", err);
     psc_shadow_model_t sm, sm1;
     psc_container_error_t e = {0};
@@ -703,13 +703,13 @@ static void test_armpits_darken(void **state)
     (void)state;
     psc_io_patch_t pf;
     char err[768];
-    psc_patch_load_opts_t o = {.actions = {"assets/thom/Wave.act"}, .action_count = 1,
+    psc_bake_patch_opts_t o = {.actions = {"assets/thom/Wave.act"}, .action_count = 1,
                                .skin_from = "assets/thom/Thom2.mdl", .quiet = true};
-    if (psc_patch_load_any(THOM, &o, &pf, err, sizeof err) != 0)
+    if (psc_bake_patch_any(THOM, &o, &pf, err, sizeof err) != 0)
         fail_msg("%s", err);
     uint8_t *buf;
     psc_shadow_model_t sm;
-    build_pack(&pf.model, PSC_SHADOW_BUILD_LEVELS, PSC_SHADOW_BUILD_SPHERES, &buf, &sm);
+    build_pack(&pf.model, PSC_BAKE_SHADOW_LEVELS, PSC_BAKE_SHADOW_SPHERES, &buf, &sm);
     double mean[2];
     for (unsigned pose = 0; pose < 2; pose++) {
         tsup_tess_t t;
@@ -749,7 +749,7 @@ static void test_pack_fuzz(void **state)
     uint8_t *buf;
     size_t len;
     char err[256];
-    assert_int_equal(psc_shadow_write(sph, 3, 1, level_first, 0, 8, "fuzz.pao", &buf, &len, err, sizeof err), 0);
+    assert_int_equal(psc_bake_shadow_write(sph, 3, 1, level_first, 0, 8, "fuzz.pao", &buf, &len, err, sizeof err), 0);
     tsup_rng_t r;
     tsup_rng_seed(&r, 71);
     unsigned parsed = 0, refused = 0;

@@ -180,16 +180,16 @@ static void mip_pack(psc_pixfmt_t fmt, tsup_rng_t *r, uint8_t **buf, size_t *len
     for (unsigned i = 0; i < 1024u * 512u; i++) /* smooth bands plus noise: every level differs */
         img.xrgb[i] = 0xFF000000u | ((i * 7u) & 0xFF0000u) | ((i / 1024u * 3u) & 255u) << 8 | (tsup_rng_u32(r) & 255u);
     psc_pack_options_t opt;
-    psc_pack_options_default(&opt);
+    psc_io_pack_options_default(&opt);
     opt.format = fmt;
     opt.display_width = 88;
     opt.display_height = 40;
     char err[256];
-    assert_int_equal(psc_pack_build(&img, &opt, buf, len, err, sizeof err), 0);
+    assert_int_equal(psc_io_pack_build(&img, &opt, buf, len, err, sizeof err), 0);
     psc_container_error_t perr = {0};
     assert_int_equal(psc_pack_parse(*buf, *len, p, &perr), PSC_OK);
     assert_true(p->level_count > 3);
-    psc_image_free(&img);
+    psc_io_image_free(&img);
 }
 
 static void test_mip_paths_equal_scalar(void **state)

@@ -197,9 +197,9 @@ static void test_window_sees_library_allocations(void **state)
     psc_image_t img = {.width = 8, .height = 4};
     img.xrgb = calloc(8 * 4, sizeof *img.xrgb);
     assert_non_null(img.xrgb);
-    if (psc_image_write_png(path, &img, err, sizeof err) != 0)
+    if (psc_io_image_write_png(path, &img, err, sizeof err) != 0)
         fail_msg("%s", err);
-    psc_image_free(&img);
+    psc_io_image_free(&img);
 
     tsup_faults_start(0, 0);
     char *volatile copy = strdup("probe");
@@ -216,10 +216,10 @@ static void test_window_sees_library_allocations(void **state)
     png_destroy_read_struct(&png, &info, NULL);
     tsup_faults_stats_t before_decode = tsup_faults_now();
     psc_image_t back;
-    int rc = psc_image_load(path, &back, err, sizeof err);
+    int rc = psc_io_image_load(path, &back, err, sizeof err);
     tsup_faults_stats_t after_decode = tsup_faults_now();
     if (rc == 0)
-        psc_image_free(&back);
+        psc_io_image_free(&back);
     tsup_faults_stats_t end = tsup_faults_stop();
     remove(path);
     printf("  counted: strdup %llu, fopen %llu, libpng's read structures %llu, a PNG decoded %llu allocations; "

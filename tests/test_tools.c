@@ -132,7 +132,7 @@ static void need_packs(void)
     tsup_map_free(&m);
     tmp_path(fx.png, sizeof fx.png, "scene.png");
     char err[512];
-    if (psc_image_write_png(fx.png, &fx.img, err, sizeof err) != 0)
+    if (psc_io_image_write_png(fx.png, &fx.img, err, sizeof err) != 0)
         fail_msg("%s", err);
     for (int f = 0; f < 3; f++) {
         char name[64];
@@ -265,9 +265,9 @@ static psc_image_t render_in_process(const char *pack_path, const view_case_t *v
     assert_int_equal(psc_viewer_init(&v, &p->map, p->luts, p->lut_count, w, h, ws, ws_size), PSC_OK);
     assert_int_equal(psc_viewer_set_levels(&v, p->levels, p->level_count), PSC_OK);
     psc_view_t view = {
-        .yaw = vc->have_yaw ? psc_bam_from_deg(vc->yaw) : p->default_yaw,
-        .pitch = vc->have_pitch ? psc_sbam_from_deg(vc->pitch) : p->default_pitch,
-        .hfov = vc->have_hfov ? psc_bam_from_deg(vc->hfov) : p->default_hfov,
+        .yaw = vc->have_yaw ? psc_io_bam_from_deg(vc->yaw) : p->default_yaw,
+        .pitch = vc->have_pitch ? psc_io_sbam_from_deg(vc->pitch) : p->default_pitch,
+        .hfov = vc->have_hfov ? psc_io_bam_from_deg(vc->hfov) : p->default_hfov,
         .filter = vc->filter,
         .span_log2 = vc->span_log2,
     };
@@ -275,7 +275,7 @@ static psc_image_t render_in_process(const char *pack_path, const view_case_t *v
     assert_int_equal(psc_viewer_render(&v, &view, &out), PSC_OK);
     *used = view;
     psc_image_t img;
-    assert_int_equal(psc_surface_to_image(&out, &img), 0);
+    assert_int_equal(psc_io_surface_to_image(&out, &img), 0);
     free(out.pixels);
     free(ws);
     psc_io_pack_free(&pf);
@@ -312,7 +312,7 @@ static void test_render_matches_device_path(void **state)
                 bl.filter = PSC_FILTER_BILINEAR;
                 psc_image_t b = render_in_process(fx.pack[f], &bl, &used);
                 assert_true(memcmp(b.xrgb, want.xrgb, (size_t)b.width * b.height * 4) != 0);
-                psc_image_free(&b);
+                psc_io_image_free(&b);
             }
             /* A view brought inside the pack's limits is reported; one that was not, is not. */
             int clamped = vc->have_hfov && (vc->hfov < 20.0 || vc->hfov > 120.0);
@@ -321,7 +321,7 @@ static void test_render_matches_device_path(void **state)
 
             psc_image_t got;
             char err[512];
-            if (psc_image_load(png, &got, err, sizeof err) != 0)
+            if (psc_io_image_load(png, &got, err, sizeof err) != 0)
                 fail_msg("%s", err);
             char what[160];
             snprintf(what, sizeof what, "periscope-render %s, %s pack", vc->name, pack_format_names[f]);
@@ -347,8 +347,8 @@ static void test_render_matches_device_path(void **state)
                         fail_msg("%s: the centre is %06X, expected the marker colour %06X", what,
                                  (unsigned)(px & 0xFFFFFF), (unsigned)mc);
             }
-            psc_image_free(&got);
-            psc_image_free(&want);
+            psc_io_image_free(&got);
+            psc_io_image_free(&want);
         }
     printf("  %zu views x 3 packs: periscope-render is bit-exact with the in-process device path\n",
            sizeof views / sizeof views[0]);
@@ -361,7 +361,7 @@ static void test_render_matches_device_path(void **state)
     free(pr.output);
     psc_image_t plain;
     char err[512];
-    if (psc_image_load(png, &plain, err, sizeof err) != 0)
+    if (psc_io_image_load(png, &plain, err, sizeof err) != 0)
         fail_msg("%s", err);
     for (size_t t = 0; t < sizeof targets / sizeof targets[0]; t++) {
         const char *args[] = {fx.pack[0], "-o", png, "--dither", targets[t], NULL};
@@ -370,7 +370,7 @@ static void test_render_matches_device_path(void **state)
             fail_msg("periscope-render --dither %s exited with %d:\n%s", targets[t], r.status, r.output);
         free(r.output);
         psc_image_t got;
-        if (psc_image_load(png, &got, err, sizeof err) != 0)
+        if (psc_io_image_load(png, &got, err, sizeof err) != 0)
             fail_msg("%s", err);
         double a = 0.0, b = 0.0;
         for (size_t i = 0; i < (size_t)got.width * got.height; i++) {
@@ -385,9 +385,9 @@ static void test_render_matches_device_path(void **state)
         if (fabs(a - b) > 0.02 * b)
             fail_msg("--dither %s: mean luma %.1f against %.1f undithered", targets[t], a / (double)(got.width * got.height),
                      b / (double)(got.width * got.height));
-        psc_image_free(&got);
+        psc_io_image_free(&got);
     }
-    psc_image_free(&plain);
+    psc_io_image_free(&plain);
     const char *bad[] = {fx.pack[0], "-o", png, "--dither", "mono:fancy", NULL};
     tsup_tool_run_t br = run_tool("periscope-render", bad);
     assert_int_equal(br.status, 2);
@@ -752,12 +752,12 @@ static void check_patch_look(const char *ppk, const char *plain, const char *out
     expect_run("periscope-render", mono, 0, NULL);
     psc_image_t got;
     char err[512];
-    if (psc_image_load(out, &got, err, sizeof err) != 0)
+    if (psc_io_image_load(out, &got, err, sizeof err) != 0)
         fail_msg("%s", err);
     for (size_t i = 0; i < (size_t)got.width * got.height; i++)
         if ((got.xrgb[i] & 0xFFFFFFu) != 0 && (got.xrgb[i] & 0xFFFFFFu) != 0xFFFFFFu)
             fail_msg("--dither mono:halftone: pixel %zu is %06X", i, (unsigned)got.xrgb[i]);
-    psc_image_free(&got);
+    psc_io_image_free(&got);
     const char *bad_aa[] = {VIEW, "--aa", "msaa", "-o", out, NULL}, *bad_aa_said[] = {"--aa 'msaa'", NULL};
     expect_run("periscope-render", bad_aa, 2, bad_aa_said);
     const char *bad_shade[] = {VIEW, "--shade", "toon", "-o", out, NULL}, *bad_shade_said[] = {"--shade 'toon'", NULL};
@@ -997,7 +997,7 @@ static void test_contact(void **state)
     const char *a2[] = {"-o", sheet, "--thumb-width", "80", "--columns", "2", f[0], f[1], NULL};
     expect_run("periscope-contact", a2, 0, NULL);
     psc_image_t s;
-    if (psc_image_load(sheet, &s, err, sizeof err) != 0)
+    if (psc_io_image_load(sheet, &s, err, sizeof err) != 0)
         fail_msg("%s", err);
     assert_int_equal(s.width, 172);
     assert_int_equal(s.height, 68);
@@ -1007,7 +1007,7 @@ static void test_contact(void **state)
     assert_int_equal(s.xrgb[(size_t)66 * s.width + 100], 0xFF202020u);
     for (int i = 0; i < 2; i++) {
         psc_image_t fr;
-        if (psc_image_load(f[i], &fr, err, sizeof err) != 0)
+        if (psc_io_image_load(f[i], &fr, err, sizeof err) != 0)
             fail_msg("%s", err);
         assert_int_equal(fr.width, DISP_W);
         assert_int_equal(fr.height, DISP_H);
@@ -1026,27 +1026,27 @@ static void test_contact(void **state)
                     fail_msg("sheet thumbnail %d pixel (%u, %u) is %08X, expected %08X", i, (unsigned)x,
                              (unsigned)y, (unsigned)got, (unsigned)want);
             }
-        psc_image_free(&fr);
+        psc_io_image_free(&fr);
     }
-    psc_image_free(&s);
+    psc_io_image_free(&s);
 
     /* Three frames in two columns make two rows: 172 x (4 + 60 + 4 + 60 + 4). */
     const char *a3[] = {"-o", sheet, "--thumb-width", "80", "--columns", "2", f[0], f[1], f[2], NULL};
     expect_run("periscope-contact", a3, 0, NULL);
-    if (psc_image_load(sheet, &s, err, sizeof err) != 0)
+    if (psc_io_image_load(sheet, &s, err, sizeof err) != 0)
         fail_msg("%s", err);
     assert_int_equal(s.width, 172);
     assert_int_equal(s.height, 132);
-    psc_image_free(&s);
+    psc_io_image_free(&s);
 
     /* The defaults: 320 px thumbnails, up to 4 columns: 4 + 2 x 324 = 652 by 4 + 240 + 4 = 248. */
     const char *ad[] = {"-o", sheet, f[0], f[1], NULL};
     expect_run("periscope-contact", ad, 0, NULL);
-    if (psc_image_load(sheet, &s, err, sizeof err) != 0)
+    if (psc_io_image_load(sheet, &s, err, sizeof err) != 0)
         fail_msg("%s", err);
     assert_int_equal(s.width, 652);
     assert_int_equal(s.height, 248);
-    psc_image_free(&s);
+    psc_io_image_free(&s);
 
     unlink(sheet);
     for (int i = 0; i < 3; i++)

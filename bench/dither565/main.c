@@ -22,7 +22,7 @@
  * the error low-passed by a Gaussian of sigma 1.5 px (tests/test_dither.c's
  * metric): RMS, the largest low-passed luma step between neighbours, the mean.
  */
-#include "banding_measure.h"
+#include "measure/banding.h"
 #include "common/bench_callgrind.h"
 #include "common/bench_cli.h"
 #include "common/bench_time.h"
@@ -81,13 +81,13 @@ static int pack_make(const psc_image_t *img, psc_pixfmt_t fmt, pack_t *p)
 {
     psc_pack_options_t opt;
     char err[512];
-    psc_pack_options_default(&opt);
+    psc_io_pack_options_default(&opt);
     opt.format = fmt;
     opt.display_width = W;
     opt.display_height = H;
     *p = (pack_t){0};
-    if (psc_pack_build(img, &opt, &p->buf, &p->len, err, sizeof err) != 0) {
-        fprintf(stderr, "dither565 bench: psc_pack_build: %s\n", err);
+    if (psc_io_pack_build(img, &opt, &p->buf, &p->len, err, sizeof err) != 0) {
+        fprintf(stderr, "dither565 bench: psc_io_pack_build: %s\n", err);
         return -1;
     }
     psc_container_error_t perr = {0};
@@ -107,7 +107,7 @@ static int setup(bench_t *b)
     psc_image_t img;
     char err[512];
     memset(b, 0, sizeof *b);
-    if (psc_image_load(SAMPLE, &img, err, sizeof err) != 0) {
+    if (psc_io_image_load(SAMPLE, &img, err, sizeof err) != 0) {
         fprintf(stderr, "dither565 bench: %s (run from the repository root)\n", err);
         return -1;
     }
@@ -164,7 +164,7 @@ __attribute__((noinline)) static void pass_none(bench_t *b)
     pass_dither(b, PSC_DITHER_NONE);
 }
 
-/* ---- banding: host_tools/lib/banding_measure.h, test_dither's metric ---- */
+/* ---- banding: host_tools/lib/measure/banding.h, test_dither's metric ---- */
 
 static void run_banding(bench_t *b, FILE *j)
 {
@@ -195,12 +195,12 @@ static void run_banding(bench_t *b, FILE *j)
     printf("\nBanding on the sample's sky (yaw 200, pitch 50, hfov 90, %ux%u, mip): each RGB565 frame against the\n"
            "8-bit frame of the XRGB8888 pack, error low-passed by a Gaussian of sigma %.1f px (8-bit units)\n"
            "(max step: of the low-passed luma, the picture's own %.3f; error step: of the low-passed luma error)\n"
-           "%-28s %8s %9s %11s %22s\n", W, H, PSC_BANDING_SIGMA, psc_banding_picture_step(ref, W, H), "path", "RMS", "max step", "error step",
+           "%-28s %8s %9s %11s %22s\n", W, H, PSC_MEASURE_BANDING_SIGMA, psc_measure_banding_step(ref, W, H), "path", "RMS", "max step", "error step",
            "mean error R/G/B");
     fprintf(j, "  \"banding\": {\n");
     for (unsigned k = 0; k < 4; k++) {
-        psc_banding_t r;
-        if (psc_banding_measure(ref, shown[k], W, H, &r) != 0) {
+        psc_measure_banding_t r;
+        if (psc_measure_banding(ref, shown[k], W, H, &r) != 0) {
             fprintf(stderr, "dither565 bench: out of memory\n");
             exit(1);
         }

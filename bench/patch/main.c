@@ -17,8 +17,8 @@
 #include "common/bench_callgrind.h"
 #include "common/bench_cli.h"
 #include "common/bench_time.h"
-#include "patch_load.h"
-#include "shadow_build.h"
+#include "bake/patch_any.h"
+#include "bake/shadow.h"
 #include "shadow/psc_shadow_frame.h"
 #include "3d/psc_3d_orbit.h"
 #include "3d/psc_3d_render.h"
@@ -52,11 +52,11 @@ typedef struct {
 
 static int setup(bench_t *b)
 {
-    psc_patch_load_opts_t o = {.actions = {"assets/thom/ResoluteWalk.act", "assets/thom/Wave.act"},
+    psc_bake_patch_opts_t o = {.actions = {"assets/thom/ResoluteWalk.act", "assets/thom/Wave.act"},
                                .action_count = 2, .skin_from = "assets/thom/Thom2.mdl", .quiet = true};
     char err[768];
     memset(b, 0, sizeof *b);
-    if (psc_patch_load_any("assets/thom/Thom.mdl", &o, &b->pf, err, sizeof err) != 0) {
+    if (psc_bake_patch_any("assets/thom/Thom.mdl", &o, &b->pf, err, sizeof err) != 0) {
         fprintf(stderr, "patch bench: %s (run from the repository)\n", err);
         return -1;
     }
@@ -69,11 +69,11 @@ static int setup(bench_t *b)
         fprintf(stderr, "patch bench: out of memory\n");
         return -1;
     }
-    psc_shadow_build_opts_t so = {PSC_SHADOW_BUILD_LEVELS, PSC_SHADOW_BUILD_SPHERES, 32};
+    psc_bake_shadow_opts_t so = {PSC_BAKE_SHADOW_LEVELS, PSC_BAKE_SHADOW_SPHERES, 32};
     size_t len;
     char note[256] = "";
     psc_container_error_t e = {0};
-    if (psc_shadow_build(&b->pf.model, &so, "Thom.mdl", &b->pao, &len, note, sizeof note, err, sizeof err) != 0 ||
+    if (psc_bake_shadow(&b->pf.model, &so, "Thom.mdl", &b->pao, &len, note, sizeof note, err, sizeof err) != 0 ||
         psc_shadow_parse(b->pao, len, &b->sm, &e) != PSC_OK ||
         posix_memalign(&b->sh_ws, 64, psc_shadow_workspace_size(&b->sm, &b->pf.model)) != 0 ||
         psc_shadow_init(&b->sh, &b->sm, &b->pf.model, b->sh_ws, psc_shadow_workspace_size(&b->sm, &b->pf.model)) != PSC_OK) {

@@ -15,9 +15,9 @@
  *   build/bench/proxy --out bench/results     the table (`make bench`)
  */
 #include "common/bench_time.h"
-#include "gltf_load.h"
-#include "model.h"
-#include "proxy_bake.h"
+#include "import/gltf_model.h"
+#include "import/model.h"
+#include "bake/proxy.h"
 #include "3d/psc_3d_orbit.h"
 #include "3d/psc_3d_render.h"
 #include "base/psc_fixed.h"
@@ -89,10 +89,10 @@ typedef struct {
 
 static int bake(model_t *mo, const psc_gltf_t *g)
 {
-    psc_proxy_bake_opts_t o = {PSC_PROXY_BAKE_VIEWS, PSC_PROXY_BAKE_TEX};
+    psc_bake_proxy_opts_t o = {PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX};
     char err[512];
     uint8_t *bytes;
-    if (psc_proxy_bake(g, &o, mo->name, &bytes, &mo->len, mo->note, sizeof mo->note, err, sizeof err) != 0) {
+    if (psc_bake_proxy(g, &o, mo->name, &bytes, &mo->len, mo->note, sizeof mo->note, err, sizeof err) != 0) {
         fprintf(stderr, "proxy bench: %s\n", err);
         return -1;
     }

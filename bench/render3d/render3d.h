@@ -12,7 +12,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include "3d/psc_3d_render.h"
-#include "model.h"
+#include "import/model.h"
 
 #define R3D_TEAPOT_STEPS 13u    /* 32 patches x 13 x 13 x 2 = 10816 triangles */
 #define R3D_TEXTURE_SIDE 256u

@@ -6,8 +6,8 @@
  */
 #include "render3d.h"
 #include "common/bench_time.h"
-#include "mesh_pack.h"
-#include "model.h"
+#include "bake/mesh_pack.h"
+#include "import/model.h"
 #include "3d/psc_3d_orbit.h"
 #include "psc_io_load.h"
 
@@ -39,8 +39,8 @@ int r3d_scene_make(r3d_scene_t *s, r3d_kind_t kind)
     uint8_t *bytes = NULL;
     size_t len = 0;
     char err[512];
-    int rc = psc_mesh_pack_build(&m, s->textured ? &tex : NULL, NULL, s->name, &bytes, &len, err, sizeof err);
-    psc_image_free(&tex);
+    int rc = psc_bake_mesh_pack(&m, s->textured ? &tex : NULL, NULL, s->name, &bytes, &len, err, sizeof err);
+    psc_io_image_free(&tex);
     psc_model_free(&m);
     if (rc != 0) {
         fprintf(stderr, "render3d bench: %s\n", err);

@@ -6,7 +6,7 @@
  * side is there as he turns), as one model with his colours and normals.
  */
 #include "render3d.h"
-#include "patch_load.h"
+#include "bake/patch_any.h"
 #include "3d/psc_3d_orbit.h"
 #include "patch/psc_patch_frame.h"
 
@@ -63,11 +63,11 @@ static int batches_to_model(const psc_patch_t *p, psc_model_t *out)
 
 int r3d_thom_model(psc_model_t *out)
 {
-    psc_patch_load_opts_t o = {.actions = {THOM_DIR "/Wave.act"}, .action_count = 1,
+    psc_bake_patch_opts_t o = {.actions = {THOM_DIR "/Wave.act"}, .action_count = 1,
                                .skin_from = THOM_DIR "/Thom2.mdl", .quiet = true};
     psc_io_patch_t pf;
     char err[512];
-    if (psc_patch_load_any(THOM_DIR "/Thom.mdl", &o, &pf, err, sizeof err) != 0) {
+    if (psc_bake_patch_any(THOM_DIR "/Thom.mdl", &o, &pf, err, sizeof err) != 0) {
         fprintf(stderr, "render3d bench: %s\n", err);
         return -1;
     }

@@ -36,7 +36,7 @@ int bv_image_bgr(const psc_image_t *img, bv_image_t *out);
 /** img's own pixels seen as BGRA (0xAARRGGBB little-endian is B, G, R, A in memory). */
 bv_image_t bv_image_bgra(const psc_image_t *img);
 
-/** A pack built in memory by psc_pack_build and parsed by the device's parser. */
+/** A pack built in memory by psc_io_pack_build and parsed by the device's parser. */
 typedef struct {
     uint8_t *buf;
     size_t len;

@@ -112,8 +112,8 @@ static void cg_views(cg_ctx_t *c, psc_bam_t hfov_min)
 {
     static const double yaw[CG_VIEWS] = {5.0, 125.0, 245.0}, pitch[CG_VIEWS] = {0.0, 25.0, -25.0};
     for (unsigned k = 0; k < CG_VIEWS; k++) {
-        psc_view_t v = {.yaw = psc_bam_from_deg(yaw[k]), .pitch = psc_sbam_from_deg(pitch[k]),
-                        .hfov = psc_bam_from_deg(CG_HFOV)};
+        psc_view_t v = {.yaw = psc_io_bam_from_deg(yaw[k]), .pitch = psc_io_sbam_from_deg(pitch[k]),
+                        .hfov = psc_io_bam_from_deg(CG_HFOV)};
         psc_viewer_clamp(&c->viewer, &v, hfov_min);
         c->views[k] = v;
     }
@@ -275,7 +275,7 @@ int bv_callgrind_main(const char *self, const char *out_dir)
     snprintf(pack_path, sizeof pack_path, "%s/sample.pano", dir);
     fprintf(stderr, "viewer bench: packing the sample for %ux%u (RGB565)\n", CG_W, CG_H);
     if (bv_load_sample(BV_SAMPLE, &img) == 0 && bv_pack_make(&img, PSC_PIX_RGB565, CG_W, CG_H, &pack) == 0) {
-        psc_image_free(&img);
+        psc_io_image_free(&img);
         if (psc_io_write_atomic(pack_path, pack.buf, pack.len, err, sizeof err) != 0)
             fprintf(stderr, "viewer bench: %s\n", err);
         else if (run_modes(self, pack_path, dir, counts) == 0)
@@ -283,7 +283,7 @@ int bv_callgrind_main(const char *self, const char *out_dir)
     }
     unlink(pack_path);
     rmdir(dir);
-    psc_image_free(&img);
+    psc_io_image_free(&img);
     bv_pack_free(&pack);
     if (rc != 0)
         return rc;

@@ -10,7 +10,7 @@
  */
 #include "bench_support.h"
 #include "common/bench_self.h"
-#include "cli_parse.h"
+#include "util/cli_values.h"
 #include "psc_io_cli.h"
 
 #include <errno.h>

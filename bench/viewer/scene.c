@@ -14,7 +14,7 @@
 int bv_load_sample(const char *path, psc_image_t *img)
 {
     char err[512];
-    if (psc_image_load(path, img, err, sizeof err) != 0) {
+    if (psc_io_image_load(path, img, err, sizeof err) != 0) {
         fprintf(stderr, "viewer bench: %s (run from the repository root)\n", err);
         return -1;
     }
@@ -84,14 +84,14 @@ bv_image_t bv_image_bgra(const psc_image_t *img)
 int bv_pack_make(const psc_image_t *img, psc_pixfmt_t fmt, uint16_t display_w, uint16_t display_h, bv_pack_t *p)
 {
     psc_pack_options_t opt;
-    psc_pack_options_default(&opt);
+    psc_io_pack_options_default(&opt);
     opt.format = fmt;
     opt.display_width = display_w;
     opt.display_height = display_h;
     char err[512];
     *p = (bv_pack_t){0};
-    if (psc_pack_build(img, &opt, &p->buf, &p->len, err, sizeof err) != 0) {
-        fprintf(stderr, "viewer bench: psc_pack_build: %s\n", err);
+    if (psc_io_pack_build(img, &opt, &p->buf, &p->len, err, sizeof err) != 0) {
+        fprintf(stderr, "viewer bench: psc_io_pack_build: %s\n", err);
         return -1;
     }
     /* on the memory the device's loader gives a pack (psc_io_read_aligned) */

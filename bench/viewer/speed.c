@@ -200,13 +200,13 @@ static void make_views(block_t *b)
                 pitch = k % 2 == 0 ? 0.0 : k % 4 == 1 ? 25.0 : -25.0;
             else
                 pitch = 60.0 * sin(2.0 * M_PI * (k + 0.5) / BV_NVIEWS);
-            psc_view_t v = {.yaw = psc_bam_from_deg(yaw), .pitch = psc_sbam_from_deg(pitch),
-                            .hfov = psc_bam_from_deg(b->hfov), .filter = PSC_FILTER_BILINEAR,
+            psc_view_t v = {.yaw = psc_io_bam_from_deg(yaw), .pitch = psc_io_sbam_from_deg(pitch),
+                            .hfov = psc_io_bam_from_deg(b->hfov), .filter = PSC_FILTER_BILINEAR,
                             .span_log2 = PSC_SPAN_LOG2_DEFAULT};
             psc_viewer_clamp(b->viewer[0], &v, b->pack[0]->pack.hfov_min);
             b->pviews[s][k] = v;
-            b->fviews[s][k] = (bv_view_t){psc_deg_from_bam(v.yaw), psc_deg_from_sbam(v.pitch),
-                                          psc_deg_from_bam(v.hfov)};
+            b->fviews[s][k] = (bv_view_t){psc_io_deg_from_bam(v.yaw), psc_io_deg_from_sbam(v.pitch),
+                                          psc_io_deg_from_bam(v.hfov)};
         }
     }
 }
@@ -560,12 +560,12 @@ int bv_speed_main(const char *out_dir, bool quick, unsigned reps)
         fprintf(stderr, "viewer bench: upscaling the sample to %ux%u\n", 2 * sample.width, 2 * sample.height);
         rc = bv_upscale2x(&sample, &big);
         /* The sample is no longer needed: keep the peak memory down. */
-        psc_image_free(&sample);
+        psc_io_image_free(&sample);
         if (rc == 0)
             rc = run_map(&sw, &big, &res, &meta);
     }
-    psc_image_free(&sample);
-    psc_image_free(&big);
+    psc_io_image_free(&sample);
+    psc_io_image_free(&big);
     if (rc != 0) {
         free(res.rows);
         return 1;

@@ -137,7 +137,7 @@ static int wait_for_flip(drm_display_t *s)
             continue;
         if (rc == 0) {
             if (!s->flip_timeout_reported)
-                psc_log(PSC_LOG_WARNING, "drm display %s: no page-flip event within %u ms; carrying on", s->device,
+                psc_io_log(PSC_LOG_WARNING, "drm display %s: no page-flip event within %u ms; carrying on", s->device,
                         (unsigned)s->flip_timeout_ms);
             s->flip_timeout_reported = true;
             s->flip_pending = false;
@@ -185,7 +185,7 @@ static int drm_present(psc_hal_display_t *d)
         }
         if (errno != EINVAL && errno != ENOSYS && errno != EOPNOTSUPP)
             return errno == ENODEV ? -ENODEV : -EIO;
-        psc_log(PSC_LOG_WARNING, "drm display %s: page flips not supported (%s); showing frames by modeset, which may tear",
+        psc_io_log(PSC_LOG_WARNING, "drm display %s: page flips not supported (%s); showing frames by modeset, which may tear",
                 s->device, strerror(errno));
         s->flip_unsupported = true;
     }
@@ -305,7 +305,7 @@ static int create_buffers(drm_display_t *s, psc_pixfmt_t fmt, uint8_t count, cha
         }
         if (rc == 0) {
             if (k == 1)
-                psc_log(PSC_LOG_NOTICE, "drm display %s: %s scan-out refused, using %s", s->device,
+                psc_io_log(PSC_LOG_NOTICE, "drm display %s: %s scan-out refused, using %s", s->device,
                         fmt == PSC_PIX_RGB565 ? "RGB565" : "XRGB8888", bpp == 16 ? "RGB565" : "XRGB8888");
             s->mode.format = order[k];
             s->mode.stride = s->buffers[0].pitch;
@@ -554,7 +554,7 @@ int psc_drm_display_open(const psc_hal_display_config_t *cfg, psc_hal_display_t 
     s->modeset_done = true;
     s->front = 0;
     s->dpms_prop = find_dpms(s->fd, s->connector_id);
-    psc_log(PSC_LOG_NOTICE, "drm display %s: %ux%u@%u.%03u Hz %s, pitch %u, %u buffer%s", s->device,
+    psc_io_log(PSC_LOG_NOTICE, "drm display %s: %ux%u@%u.%03u Hz %s, pitch %u, %u buffer%s", s->device,
             (unsigned)s->mode.width, (unsigned)s->mode.height, (unsigned)(s->mode.refresh_mhz / 1000u),
             (unsigned)(s->mode.refresh_mhz % 1000u), s->mode.format == PSC_PIX_RGB565 ? "RGB565" : "XRGB8888",
             (unsigned)s->mode.stride, (unsigned)s->count, s->count == 1 ? "" : "s, page flips");

@@ -112,7 +112,7 @@ static void evdev_log(const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
-    psc_log(PSC_LOG_NOTICE, "periscope: evdev input: %s", line);
+    psc_io_log(PSC_LOG_NOTICE, "periscope: evdev input: %s", line);
 }
 
 static void evdev_push_device(evdev_input_t *s, uint8_t slot, psc_hal_input_type_t type)

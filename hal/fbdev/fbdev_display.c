@@ -233,7 +233,7 @@ static void fbdev_request_mode(fbdev_display_t *f, const psc_hal_display_config_
             return;
         }
     }
-    psc_log(PSC_LOG_NOTICE, "fbdev display %s: the driver keeps its mode (%ux%u, %u bpp): FBIOPUT_VSCREENINFO: %s",
+    psc_io_log(PSC_LOG_NOTICE, "fbdev display %s: the driver keeps its mode (%ux%u, %u bpp): FBIOPUT_VSCREENINFO: %s",
             f->device, (unsigned)f->orig.xres, (unsigned)f->orig.yres, (unsigned)f->orig.bits_per_pixel,
             strerror(errno));
 }
@@ -352,7 +352,7 @@ int psc_fbdev_display_open(const psc_hal_display_config_t *cfg, psc_hal_display_
             goto fail;
         }
     }
-    psc_log(PSC_LOG_NOTICE, "fbdev display %s (%.16s): %ux%u %s%s, stride %u, %s", f->device, fix.id,
+    psc_io_log(PSC_LOG_NOTICE, "fbdev display %s (%.16s): %ux%u %s%s, stride %u, %s", f->device, fix.id,
             (unsigned)f->var.xres, (unsigned)f->var.yres, f->plan.format == PSC_PIX_RGB565 ? "RGB565" : "XRGB8888",
             f->plan.swap_rb ? " (red and blue swapped on screen)" : "", (unsigned)f->plan.stride,
             f->plan.buffering == PSC_FBDEV_PAN ? (f->plan.pages == 3 ? "3 pages, pan-display" : "2 pages, pan-display")

@@ -104,7 +104,7 @@ static void gpio_try_open(gpio_input_t *s, uint64_t now)
     if (rc != 0) {
         s->lines = NULL;
         if (strcmp(err, s->last_error) != 0) {   /* say it once, and again only if it changes */
-            psc_log(PSC_LOG_WARNING, "periscope: gpio input: %s; looking again every %llu ms", err,
+            psc_io_log(PSC_LOG_WARNING, "periscope: gpio input: %s; looking again every %llu ms", err,
                     (unsigned long long)(s->rescan_us / 1000u));
             snprintf(s->last_error, sizeof s->last_error, "%s", err);
         }
@@ -126,7 +126,7 @@ static void gpio_try_open(gpio_input_t *s, uint64_t now)
 
 static void gpio_lost(gpio_input_t *s, uint64_t now)
 {
-    psc_log(PSC_LOG_WARNING, "periscope: gpio input: lost the lines (%s went away); looking for them every %llu ms",
+    psc_io_log(PSC_LOG_WARNING, "periscope: gpio input: lost the lines (%s went away); looking for them every %llu ms",
             s->device_name, (unsigned long long)(s->rescan_us / 1000u));
     psc_gpio_lines_close(s->lines);
     s->lines = NULL;

@@ -205,12 +205,12 @@ static void controller_added(sdl_input_t *s, int device_index, uint64_t now)
         if (!s->slots[i].used)
             slot = i;
     if (slot == 0) {
-        psc_log(PSC_LOG_WARNING, "sdl input: more than %u game controllers; ignoring another", SDL_INPUT_SLOTS - 1u);
+        psc_io_log(PSC_LOG_WARNING, "sdl input: more than %u game controllers; ignoring another", SDL_INPUT_SLOTS - 1u);
         return;
     }
     gc = SDL_GameControllerOpen(device_index);
     if (gc == NULL) {
-        psc_log(PSC_LOG_WARNING, "sdl input: cannot open game controller %d: %s", device_index, SDL_GetError());
+        psc_io_log(PSC_LOG_WARNING, "sdl input: cannot open game controller %d: %s", device_index, SDL_GetError());
         return;
     }
     memset(&s->slots[slot], 0, sizeof s->slots[slot]);

@@ -111,13 +111,13 @@ static int sim_display_present(psc_hal_display_t *d)
         return 0;
     psc_hal_buffer_ring_surface(&s->ring, s->ring.front, &shown);
     if (psc_sim_capture_path(s->path, sizeof s->path, s->capture_dir, frame) != 0) {
-        psc_log(PSC_LOG_ERR, "sim display: capture path for frame %u is too long", (unsigned)frame);
+        psc_io_log(PSC_LOG_ERR, "sim display: capture path for frame %u is too long", (unsigned)frame);
         return -EIO;
     }
     if (psc_sim_capture_write(s->path, &shown, err, sizeof err) != 0) {
         /* present has no error buffer: the generic interface keeps runtime
          * errors to an errno, so the host-only sim says why on stderr. */
-        psc_log(PSC_LOG_ERR, "sim display: frame %u not captured: %s", (unsigned)frame, err);
+        psc_io_log(PSC_LOG_ERR, "sim display: frame %u not captured: %s", (unsigned)frame, err);
         return -EIO;
     }
     return 0;
@@ -144,9 +144,9 @@ static void sim_display_write_contact_sheet(const sim_display_t *s)
         return;
     if (psc_sim_contact_sheet_write(s->capture_dir, s->presents, s->capture_every, s->contact_sheet, &thumbs, err,
                                     sizeof err) != 0)
-        psc_log(PSC_LOG_ERR, "sim display: contact sheet: %s", err);
+        psc_io_log(PSC_LOG_ERR, "sim display: contact sheet: %s", err);
     else
-        psc_log(PSC_LOG_INFO, "sim display: contact sheet: %s (%u frames)", s->contact_sheet, (unsigned)thumbs);
+        psc_io_log(PSC_LOG_INFO, "sim display: contact sheet: %s (%u frames)", s->contact_sheet, (unsigned)thumbs);
 }
 
 static void sim_display_close(psc_hal_display_t *d)

@@ -147,7 +147,7 @@ static void usb_log(const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
-    psc_log(PSC_LOG_NOTICE, "periscope: usb input: %s", line);
+    psc_io_log(PSC_LOG_NOTICE, "periscope: usb input: %s", line);
 }
 
 static void usb_queue_device_event(usb_input_t *s, usb_pad_t *p, psc_hal_input_type_t type)

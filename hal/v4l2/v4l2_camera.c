@@ -287,7 +287,7 @@ static void device_report_open(const v4l2_camera_t *c)
     char name[5];
 
     psc_v4l2_fourcc_name(c->fourcc, name);
-    psc_log(PSC_LOG_NOTICE, "v4l2 camera %s: %s %ux%u -> map %ux%u", c->device, name, (unsigned)c->resample.src_width,
+    psc_io_log(PSC_LOG_NOTICE, "v4l2 camera %s: %s %ux%u -> map %ux%u", c->device, name, (unsigned)c->resample.src_width,
             (unsigned)c->resample.src_height, (unsigned)c->width, (unsigned)c->height);
 }
 
@@ -298,7 +298,7 @@ static void device_lost(v4l2_camera_t *c, uint64_t now, const char *why)
     snprintf(c->reason, sizeof c->reason, "%s", why);
     c->next_retry_us = now + (uint64_t)c->reopen_ms * 1000u;
     if (!c->lost_reported)
-        psc_log(PSC_LOG_WARNING, "v4l2 camera %s: lost (%s); retrying every %u ms", c->device, why, (unsigned)c->reopen_ms);
+        psc_io_log(PSC_LOG_WARNING, "v4l2 camera %s: lost (%s); retrying every %u ms", c->device, why, (unsigned)c->reopen_ms);
     c->lost_reported = true;
 }
 
@@ -313,11 +313,11 @@ static int device_retry(v4l2_camera_t *c, uint64_t now)
         c->next_retry_us = now + (uint64_t)c->reopen_ms * 1000u;
         if (strcmp(why, c->reason) != 0) {   /* report a new reason once, not every retry */
             snprintf(c->reason, sizeof c->reason, "%s", why);
-            psc_log(PSC_LOG_WARNING, "v4l2 camera %s: still absent: %s", c->device, why);
+            psc_io_log(PSC_LOG_WARNING, "v4l2 camera %s: still absent: %s", c->device, why);
         }
         return -ENODEV;
     }
-    psc_log(PSC_LOG_NOTICE, "v4l2 camera %s: back", c->device);
+    psc_io_log(PSC_LOG_NOTICE, "v4l2 camera %s: back", c->device);
     device_report_open(c);
     c->lost_reported = false;
     c->reason[0] = '\0';
@@ -605,7 +605,7 @@ static int v4l2_camera_open(const psc_hal_camera_config_t *cfg, psc_hal_camera_t
     } else if (rc == -ENODEV && !required) {
         /* absent at start-up: run without it, keep trying (a kiosk must not
          * refuse to start because a USB camera is unplugged) */
-        psc_log(PSC_LOG_WARNING, "v4l2 camera: %s; starting without it, retrying every %u ms", why,
+        psc_io_log(PSC_LOG_WARNING, "v4l2 camera: %s; starting without it, retrying every %u ms", why,
                 (unsigned)c->reopen_ms);
         snprintf(c->reason, sizeof c->reason, "%s", why);
         c->lost_reported = true;

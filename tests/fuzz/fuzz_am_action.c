@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * fuzz_am_action.c - Animation:Master actions (.act text,
- * host_tools/lib/am_action.h) through psc_am_action_parse. A refusal must be
+ * host_tools/lib/import/am_action.h) through psc_am_action_parse. A refusal must be
  * "NAME:LINE: problem" naming the file; a parsed action has at most
  * PSC_AM_SWITCH_MAX switches, every curve's keys in increasing time and a
  * rotation or translation axis, and evaluates to finite values inside and
@@ -9,8 +9,8 @@
  */
 #include <math.h>
 
-#include "am_action.h"
-#include "am_model.h"
+#include "import/am_action.h"
+#include "import/am_model.h"
 #include "fuzz_support.h"
 
 #define NAME "fuzz/action.act"

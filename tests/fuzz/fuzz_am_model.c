@@ -1,18 +1,18 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * fuzz_am_model.c - Animation:Master models (.mdl text,
- * host_tools/lib/am_model.h) as periscope-patch reads them: psc_am_model_parse,
+ * host_tools/lib/import/am_model.h) as periscope-patch reads them: psc_am_model_parse,
  * then for a model that parses the patch character built from it
- * (psc_patch_from_am) and its patch pack (psc_patch_pack_build), which must
+ * (psc_patch_from_am) and its patch pack (psc_bake_patch_pack), which must
  * parse with core's psc_patch_parse. Every refusal along the way must name
  * the file; everything is freed.
  */
 #include <stdlib.h>
 
-#include "am_model.h"
+#include "import/am_model.h"
 #include "fuzz_support.h"
 #include "patch/psc_patch.h"
-#include "patch_build.h"
+#include "import/patch_source.h"
 
 #define NAME "fuzz/model.mdl"
 

@@ -1,16 +1,16 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * fuzz_bpt.c - Newell's Bezier patch files (.bpt, host_tools/lib/bpt_load.h)
+ * fuzz_bpt.c - Newell's Bezier patch files (.bpt, host_tools/lib/import/bpt.h)
  * as periscope-patch reads them: psc_bpt_parse, then for a file that parses
- * its patch pack (psc_patch_pack_build), which must parse with core's
+ * its patch pack (psc_bake_patch_pack), which must parse with core's
  * psc_patch_parse. Every refusal must name the file; everything is freed.
  */
 #include <stdlib.h>
 
-#include "bpt_load.h"
+#include "import/bpt.h"
 #include "fuzz_support.h"
 #include "patch/psc_patch.h"
-#include "patch_build.h"
+#include "import/patch_source.h"
 
 #define NAME "fuzz/model.bpt"
 

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * fuzz_bvh.c - BVH motion captures (host_tools/lib/bvh_load.h) through
+ * fuzz_bvh.c - BVH motion captures (host_tools/lib/import/bvh.h) through
  * psc_bvh_parse. A refusal must name the file; a parsed capture has joints
  * whose parents come before them, channel ranges inside a frame's values,
  * and poses its first and last frames to finite rotations and positions; it
@@ -9,7 +9,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "bvh_load.h"
+#include "import/bvh.h"
 #include "fuzz_support.h"
 
 #define NAME "fuzz/capture.bvh"

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * fuzz_jpeg.c - JPEG files through the host tools' decoder (psc_jpeg_decode,
+ * fuzz_jpeg.c - JPEG files through the host tools' decoder (psc_io_jpeg_decode,
  * libjpeg), read from memory (fmemopen) as from a file, with a budget of
  * 4 M pixels (refused from the header) so the fuzzer spends its time on the
  * decoder, not on allocating. A refusal must name the file; a decoded image
@@ -25,14 +25,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     char err[512] = "";
 
     FUZZ_REQUIRE(f != NULL);
-    if (psc_jpeg_decode(f, NAME, MAX_PIXELS, &img, err, sizeof err) == 0) {
+    if (psc_io_jpeg_decode(f, NAME, MAX_PIXELS, &img, err, sizeof err) == 0) {
         FUZZ_REQUIRE(img.width >= 1 && img.height >= 1 && (uint64_t)img.width * img.height <= MAX_PIXELS);
         for (size_t i = 0; i < (size_t)img.width * img.height; i++)
             FUZZ_REQUIRE((img.xrgb[i] >> 24) == 0xFFu);
     } else {
         fuzz_require_message_names(err, NAME);
     }
-    psc_image_free(&img);
+    psc_io_image_free(&img);
     fclose(f);
     free(copy);
     return 0;

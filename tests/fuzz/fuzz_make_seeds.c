@@ -16,8 +16,8 @@
 #include <jpeglib.h>
 
 #include "psc_io_image.h"
-#include "mesh_pack.h"
-#include "model.h"
+#include "bake/mesh_pack.h"
+#include "import/model.h"
 
 typedef struct {
     const char *name;
@@ -93,7 +93,7 @@ static int write_mesh(const char *dir, const char *name, const psc_model_t *m, c
     uint8_t *pack = NULL;
     size_t len = 0;
     char err[512];
-    if (psc_mesh_pack_build(m, tex, NULL, name, &pack, &len, err, sizeof err) != 0) {
+    if (psc_bake_mesh_pack(m, tex, NULL, name, &pack, &len, err, sizeof err) != 0) {
         fprintf(stderr, "%s\n", err);
         return -1;
     }

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * fuzz_obj.c - Wavefront OBJ text (host_tools/lib/obj_load.h) through
+ * fuzz_obj.c - Wavefront OBJ text (host_tools/lib/import/obj.h) through
  * psc_obj_parse, as the host tools read a model. The file is named in a
  * directory that does not exist, so a relative mtllib opens nothing. A
  * refusal must be "NAME:LINE: problem" (or "NAME: problem") naming the file;
@@ -11,8 +11,8 @@
 #include <stdlib.h>
 
 #include "fuzz_support.h"
-#include "model.h"
-#include "obj_load.h"
+#include "import/model.h"
+#include "import/obj.h"
 
 #define NAME "/nonexistent-fuzz-dir/model.obj"
 

@@ -11,7 +11,7 @@
 #include "base/psc_container.h"
 #include "base/psc_crc32.h"
 #include "patch/psc_patch.h"
-#include "patch_build.h"
+#include "import/patch_source.h"
 
 void fuzz_fail(const char *file, int line, const char *what)
 {
@@ -72,7 +72,7 @@ void fuzz_require_patch_pack(const psc_patch_src_t *src, const char *name)
     size_t len = 0;
     char err[512] = "";
 
-    if (psc_patch_pack_build(src, name, &pack, &len, err, sizeof err) == 0) {
+    if (psc_bake_patch_pack(src, name, &pack, &len, err, sizeof err) == 0) {
         uint8_t *aligned = fuzz_aligned_copy(pack, len);
         psc_patch_model_t parsed;
         FUZZ_REQUIRE(psc_patch_parse(aligned, len, &parsed, NULL) == PSC_OK);

@@ -12,7 +12,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "patch_build.h"
+#include "import/patch_source.h"
 
 /** The one entry point every harness defines (libFuzzer's). */
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

@@ -27,9 +27,9 @@ static void check_gpano(const char *text, size_t len)
         FUZZ_REQUIRE(g.lon_max > g.lon_min && g.lon_max - g.lon_min <= 360.0 + 1e-9);   /* a rounding error at most */
         FUZZ_REQUIRE(g.lat_top <= 90.0 && g.lat_bottom >= -90.0 && g.lat_top > g.lat_bottom);
         psc_pack_options_t o;
-        psc_pack_options_default(&o);
-        FUZZ_REQUIRE(psc_pack_options_set_lon_range(&o, g.lon_min, g.lon_max) == 0);
-        FUZZ_REQUIRE(psc_pack_options_set_lat_range(&o, g.lat_top, g.lat_bottom) == 0);
+        psc_io_pack_options_default(&o);
+        FUZZ_REQUIRE(psc_io_pack_options_set_lon_range(&o, g.lon_min, g.lon_max) == 0);
+        FUZZ_REQUIRE(psc_io_pack_options_set_lat_range(&o, g.lat_top, g.lat_bottom) == 0);
     } else if (g.present) {
         FUZZ_REQUIRE(g.why[0] != '\0');
     } else {

@@ -6,7 +6,7 @@
  *   mkscene IN.{jpg,png} OUT.png WIDTH HEIGHT
  */
 #include "psc_io_image.h"
-#include "image_scale.h"
+#include "util/image_scale.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -25,18 +25,18 @@ int main(int argc, char **argv)
         fprintf(stderr, "mkscene: size %sx%s: expected 2..4096\n", argv[3], argv[4]);
         return 2;
     }
-    if (psc_image_load(argv[1], &in, err, sizeof err) != 0) {
+    if (psc_io_image_load(argv[1], &in, err, sizeof err) != 0) {
         fprintf(stderr, "mkscene: %s\n", err);
         return 1;
     }
     int rc = psc_image_box_resize(&in, (uint32_t)w, (uint32_t)h, &out);
-    psc_image_free(&in);
+    psc_io_image_free(&in);
     if (rc != 0) {
         fprintf(stderr, "mkscene: cannot scale %s to %lux%lu\n", argv[1], w, h);
         return 1;
     }
-    rc = psc_image_write_png(argv[2], &out, err, sizeof err);
-    psc_image_free(&out);
+    rc = psc_io_image_write_png(argv[2], &out, err, sizeof err);
+    psc_io_image_free(&out);
     if (rc != 0) {
         fprintf(stderr, "mkscene: %s\n", err);
         return 1;

@@ -183,8 +183,8 @@ typedef struct {
 } tsup_luts_t;
 
 /**
- * Build n tables (increasing hfov_max_deg[]) with psc_lut_build; rows/cols 0
- * take psc_lut_default_size(disp_w, disp_h, ...). 0 on success.
+ * Build n tables (increasing hfov_max_deg[]) with psc_io_lut_build; rows/cols 0
+ * take psc_io_lut_default_size(disp_w, disp_h, ...). 0 on success.
  */
 int tsup_luts_build(tsup_luts_t *l, uint16_t disp_w, uint16_t disp_h, const double *hfov_max_deg,
                     unsigned n, uint16_t rows, uint16_t cols);

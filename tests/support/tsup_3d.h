@@ -2,7 +2,7 @@
 /*
  * tsup_3d.h - test helpers for the 3D pipeline (host only: double, heap).
  *
- *  - Generated geometry comes from host_tools/lib/model.h (psc_model_t).
+ *  - Generated geometry comes from host_tools/lib/import/model.h (psc_model_t).
  *  - Conversion to a psc_mesh_t the tests own (Q16.16 or normalised Q1.15
  *    positions); the reference renderer reads back the quantised values, so
  *    a comparison measures the rasterizer, not the quantisation.
@@ -20,7 +20,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include "3d/psc_3d_render.h"
-#include "model.h"
+#include "import/model.h"
 
 /** The generated shapes the 3D tests draw. */
 typedef enum { TSUP_CUBE, TSUP_SPHERE, TSUP_TORUS, TSUP_TEAPOT } tsup_shape_t;

@@ -20,14 +20,14 @@ int tsup_luts_build(tsup_luts_t *l, uint16_t disp_w, uint16_t disp_h, const doub
         uint16_t r = rows, c = cols;
         if (r == 0 || c == 0) {
             uint16_t dr, dc;
-            psc_lut_default_size(disp_w, disp_h, hfov_max_deg[k], &dr, &dc);
+            psc_io_lut_default_size(disp_w, disp_h, hfov_max_deg[k], &dr, &dc);
             if (r == 0)
                 r = dr;
             if (c == 0)
                 c = dc;
         }
         l->entries[k] = malloc(psc_lut_bytes(r, c));
-        if (!l->entries[k] || psc_lut_build(r, c, hfov_max_deg[k], l->entries[k], &l->luts[k]) != 0) {
+        if (!l->entries[k] || psc_io_lut_build(r, c, hfov_max_deg[k], l->entries[k], &l->luts[k]) != 0) {
             l->count = k + 1;
             tsup_luts_free(l);
             return -1;

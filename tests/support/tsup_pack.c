@@ -22,14 +22,14 @@ int tsup_write_synth_pack(const char *path, uint32_t map_w, uint32_t map_h, uint
                 0xFF000000u | ((uint32_t)rgb[0] << 16) | ((uint32_t)rgb[1] << 8) | (uint32_t)rgb[2];
         }
     psc_pack_options_t o;
-    psc_pack_options_default(&o);
+    psc_io_pack_options_default(&o);
     o.display_width = disp_w;
     o.display_height = disp_h;
     o.lut_rows = lut_rows;
     o.lut_cols = lut_cols;
     uint8_t *buf;
     size_t len;
-    int rc = psc_pack_build(&img, &o, &buf, &len, err, errlen);
+    int rc = psc_io_pack_build(&img, &o, &buf, &len, err, errlen);
     free(img.xrgb);
     if (rc != 0)
         return -1;

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* tsup_patch.c - the double-precision reference for patch tessellation (tsup_patch.h). */
 #include "tsup_patch.h"
-#include "patch_measure.h"
+#include "measure/patch.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -186,7 +186,7 @@ double tsup_patch_ref_chord(const psc_patch_t *p, const tsup_patch_ref_t *r)
 {
     double worst = 0.0;
     for (uint32_t f = 0; f < p->m->face_count; f++) {
-        double d = psc_patch_measure_points(p, f, (const double(*)[3])(r->pos + r->face_first[f]),
+        double d = psc_measure_chord_points(p, f, (const double(*)[3])(r->pos + r->face_first[f]),
                                             r->face_first[f + 1] - r->face_first[f]);
         worst = d > worst ? d : worst;
     }

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* tsup_teapot.c - the teapot as .bpt text (tsup_teapot.h). */
 #include "tsup_teapot.h"
-#include "teapot_patches.h"
+#include "import/teapot_patches.h"
 
 #include <stdio.h>
 #include <stdlib.h>

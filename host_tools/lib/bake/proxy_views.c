@@ -1,0 +1,226 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * proxy_views.c - a proxy's view textures and texture-coordinate sets
+ * (proxy_bake.h): its own geometry drawn by the device's rasterizer from
+ * each direction of the grid, orthographic, and its vertices projected the
+ * same way.
+ */
+#include "bake/proxy.h"
+#include "base/psc_pixel.h"
+#include "proxy/psc_proxy_view.h"
+#include "raster/psc_raster.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The orthographic view along d: right x up = d as the pipeline's camera space (x right, y up, z forward). */
+typedef struct {
+    double right[3], up[3], fwd[3], centre[3], rho;
+    unsigned tex;
+} ortho_t;
+
+static void cross(const double a[3], const double b[3], double o[3])
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static void normalize(double v[3])
+{
+    double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (unsigned a = 0; a < 3; a++)
+        v[a] = n > 0 ? v[a] / n : 0;
+}
+
+static void ortho_for(const psc_proxy_shape_t *s, unsigned side, unsigned k, unsigned tex, ortho_t *o)
+{
+    int32_t d_q16[3];
+    psc_proxy_view_dir(side, k, d_q16);
+    for (unsigned a = 0; a < 3; a++)
+        o->fwd[a] = d_q16[a] / 65536.0;
+    normalize(o->fwd);
+    double upref[3] = {0, 1, 0};
+    if (fabs(o->fwd[1]) > 0.99) {
+        upref[1] = 0;
+        upref[2] = 1;
+    }
+    cross(upref, o->fwd, o->right);
+    normalize(o->right);
+    cross(o->fwd, o->right, o->up);
+    memcpy(o->centre, s->centre, sizeof o->centre);
+    o->rho = s->radius * 1.02;
+    o->tex = tex;
+}
+
+/* (u, v) in [0, 1] (u right, v down) and depth in [0, 1] of point p. */
+static void project(const ortho_t *o, const double p[3], double *u, double *v, double *z)
+{
+    double d[3] = {p[0] - o->centre[0], p[1] - o->centre[1], p[2] - o->centre[2]};
+    double x = d[0] * o->right[0] + d[1] * o->right[1] + d[2] * o->right[2];
+    double y = d[0] * o->up[0] + d[1] * o->up[1] + d[2] * o->up[2];
+    double w = d[0] * o->fwd[0] + d[1] * o->fwd[1] + d[2] * o->fwd[2];
+    *u = 0.5 + x / (2 * o->rho);
+    *v = 0.5 - y / (2 * o->rho);
+    *z = 0.5 + w / (2 * o->rho);
+}
+
+/* Draw shape s's own triangles into the view: its lit colours, or as an occluder the empty texel, pushed back by 1 %
+ * of the depth range so that the shape's own surface wins where they touch. */
+static void draw_shape(const psc_proxy_shape_t *s, const ortho_t *o, const psc_raster_target_t *t, bool occluder)
+{
+    unsigned n = o->tex;
+    psc_raster_state_t st = {0};
+    st.shade = occluder ? PSC_SHADE_FLAT : PSC_SHADE_GOURAUD;
+    st.depth_test = true;
+    double bias = occluder ? 0.01 : 0.0;
+    for (uint32_t k = 0; k < s->src_triangles; k++) {
+        psc_raster_vertex_t rv[3];
+        for (unsigned i = 0; i < 3; i++) {
+            uint32_t vi = s->src_index[3 * k + i];
+            double u, v, z;
+            project(o, s->src_pos[vi], &u, &v, &z);
+            uint32_t c = occluder ? 0u : s->src_color[vi] & 0xFFFFFFu;
+            if (!occluder && psc_xrgb_to_rgb565(c) == PSC_VIEW_TEXEL_EMPTY)
+                c = 0x000400u;   /* content black stays distinct from "empty" (RGB565 0x0020) */
+            double zc = fmin(fmax(z + bias, 0.0), 1.0);
+            rv[i] = (psc_raster_vertex_t){.x_q4 = (int32_t)lround(u * n * 16.0),
+                                          .y_q4 = (int32_t)lround(v * n * 16.0),
+                                          .depth_q32 = (uint32_t)llround(zc * 4294967295.0),
+                                          .q_q28 = PSC_RASTER_Q_ONE,
+                                          .color = c};
+        }
+        /* the full render culls back faces; so does the view (front: clockwise on the raster, as the pipeline) */
+        int64_t area = ((int64_t)rv[1].x_q4 - rv[0].x_q4) * ((int64_t)rv[2].y_q4 - rv[0].y_q4) -
+                       ((int64_t)rv[2].x_q4 - rv[0].x_q4) * ((int64_t)rv[1].y_q4 - rv[0].y_q4);
+        if (area <= 0)
+            continue;
+        psc_raster_triangle(t, &st, &rv[0], &rv[1], &rv[2]);
+    }
+}
+
+/* Whether shape b can hide anything in view o: its bounding sphere over the view's square and not all behind it. */
+static bool may_occlude(const psc_proxy_shape_t *b, const ortho_t *o)
+{
+    double u, v, z;
+    project(o, b->centre, &u, &v, &z);
+    double rr = b->radius / (2 * o->rho);
+    return u + rr > 0 && u - rr < 1 && v + rr > 0 && v - rr < 1 && z - rr < 1;
+}
+
+/* Views are drawn at SS x SS samples a texel: a texel is non-empty when a quarter of its samples are (so a feature
+ * thinner than a texel, a rod or an antenna, keeps a line of texels), its colour their mean. */
+#define SS 4u
+
+static void downsample(const uint16_t *hi, unsigned n, uint16_t *out)
+{
+    for (unsigned y = 0; y < n; y++)
+        for (unsigned x = 0; x < n; x++) {
+            unsigned count = 0, acc[3] = {0, 0, 0};
+            for (unsigned j = 0; j < SS; j++)
+                for (unsigned i = 0; i < SS; i++) {
+                    uint16_t c = hi[(size_t)(y * SS + j) * n * SS + x * SS + i];
+                    if (c == PSC_VIEW_TEXEL_EMPTY)
+                        continue;
+                    uint32_t xr = psc_rgb565_to_xrgb(c);
+                    acc[0] += xr >> 16 & 255u, acc[1] += xr >> 8 & 255u, acc[2] += xr & 255u;
+                    count++;
+                }
+            uint16_t t = PSC_VIEW_TEXEL_EMPTY;
+            if (count * 4u >= SS * SS) {
+                uint32_t c = (acc[0] + count / 2) / count << 16 | (acc[1] + count / 2) / count << 8 |
+                             (acc[2] + count / 2) / count;
+                t = psc_xrgb_to_rgb565(c);
+                if (t == PSC_VIEW_TEXEL_EMPTY)
+                    t = 0x0020u;
+            }
+            out[(size_t)y * n + x] = t;
+        }
+}
+
+/* The view into hi (SS n x SS n samples), then into texels (n x n). */
+static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *others, unsigned n_others,
+                        const ortho_t *view, uint16_t *texels, uint16_t *hi, uint32_t *depth)
+{
+    ortho_t so = *view;
+    const ortho_t *o = &so;
+    unsigned n = so.tex *= SS;
+    psc_surface_t sf = {(uint16_t)n, (uint16_t)n, n * 2u, PSC_PIX_RGB565, hi};
+    memset(hi, 0, (size_t)n * n * 2u);   /* PSC_VIEW_TEXEL_EMPTY */
+    for (size_t i = 0; i < (size_t)n * n; i++)
+        depth[i] = 0xFFFFFFFFu;
+    psc_raster_target_t t = {&sf, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL};
+    /* the rest of the model at rest hides what it hides (the seed's obstruction, taken out of the texture) */
+    for (unsigned k = 0; k < n_others; k++)
+        if (&others[k] != s && may_occlude(&others[k], o))
+            draw_shape(&others[k], o, &t, true);
+    draw_shape(s, o, &t, false);
+    downsample(hi, view->tex, texels);
+}
+
+/* The supersampled depth and colour of one view of tex^2 texels. 0, or -1 out of memory. */
+static int samples_alloc(unsigned tex, uint32_t **depth, uint16_t **hi)
+{
+    *depth = malloc((size_t)tex * tex * SS * SS * sizeof **depth);
+    *hi = malloc((size_t)tex * tex * SS * SS * sizeof **hi);
+    if (*depth && *hi)
+        return 0;
+    free(*depth), free(*hi);
+    return -1;
+}
+
+int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *others, unsigned n_others,
+                           unsigned side, unsigned tex, uint16_t *texels, uint16_t *uv)
+{
+    uint32_t *depth;
+    uint16_t *hi;
+    if (samples_alloc(tex, &depth, &hi) != 0)
+        return -1;
+    for (unsigned k = 0; k < side * side; k++) {
+        ortho_t o;
+        ortho_for(s, side, k, tex, &o);
+        render_view(s, others, n_others, &o, texels + (size_t)k * tex * tex, hi, depth);
+        uint16_t *kuv = uv + (size_t)k * s->prx_vertices * 2u;
+        for (uint32_t i = 0; i < s->prx_vertices; i++) {
+            double u, v, z;
+            project(&o, s->prx_pos[i], &u, &v, &z);
+            kuv[2 * i] = (uint16_t)lround(fmin(fmax(u, 0.0), 1.0) * 65535.0);
+            kuv[2 * i + 1] = (uint16_t)lround(fmin(fmax(v, 0.0), 1.0) * 65535.0);
+        }
+    }
+    free(depth), free(hi);
+    return 0;
+}
+
+int psc_bake_proxy_billboard(const psc_proxy_shape_t *shapes, unsigned n, const double centre[3], double radius,
+                               unsigned side, unsigned tex, uint16_t *texels, int32_t *axes_q16)
+{
+    uint32_t *depth;
+    uint16_t *hi;
+    if (samples_alloc(tex, &depth, &hi) != 0)
+        return -1;
+    psc_proxy_shape_t whole = {0};
+    memcpy(whole.centre, centre, sizeof whole.centre);
+    whole.radius = radius;
+    for (unsigned k = 0; k < side * side; k++) {
+        ortho_t o, so;
+        ortho_for(&whole, side, k, tex, &o);
+        so = o;
+        unsigned hn = so.tex *= SS;
+        psc_surface_t sf = {(uint16_t)hn, (uint16_t)hn, hn * 2u, PSC_PIX_RGB565, hi};
+        memset(hi, 0, (size_t)hn * hn * 2u);
+        for (size_t i = 0; i < (size_t)hn * hn; i++)
+            depth[i] = 0xFFFFFFFFu;
+        psc_raster_target_t tg = {&sf, depth, hn * 4u, 32, 0, 0, (uint16_t)hn, (uint16_t)hn, NULL};
+        for (unsigned s = 0; s < n; s++)
+            draw_shape(&shapes[s], &so, &tg, false);
+        downsample(hi, tex, texels + (size_t)k * tex * tex);
+        for (unsigned a = 0; a < 3; a++) {
+            axes_q16[6 * k + a] = (int32_t)lround(o.right[a] * 65536.0);
+            axes_q16[6 * k + 3 + a] = (int32_t)lround(o.up[a] * 65536.0);
+        }
+    }
+    free(depth), free(hi);
+    return 0;
+}

@@ -1,0 +1,233 @@
+/* SPDX-License-Identifier: MIT */
+/* gltf_pose.c - what of an articulated or skinned model (gltf_load.h) needs no importer: its poses (keys
+ * sampled, skin matrices, the mesh deformed), freeing it, knowing its files. */
+#include "import/gltf_model.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+/* ---- 3x4 affine matrices, row-major: [r00 r01 r02 t0; r10 r11 r12 t1; r20 r21 r22 t2] ---------------------- */
+
+void psc_gltf_mat_from_trs(const psc_gltf_trs_t *p, double m[12])
+{
+    double x = p->r[0], y = p->r[1], z = p->r[2], w = p->r[3];
+    double n = sqrt(x * x + y * y + z * z + w * w);
+    if (n > 0) {
+        x /= n, y /= n, z /= n, w /= n;
+    }
+    double r[9] = {1 - 2 * (y * y + z * z), 2 * (x * y - z * w),     2 * (x * z + y * w),
+                   2 * (x * y + z * w),     1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
+                   2 * (x * z - y * w),     2 * (y * z + x * w),     1 - 2 * (x * x + y * y)};
+    for (unsigned i = 0; i < 3; i++) {
+        for (unsigned j = 0; j < 3; j++)
+            m[4 * i + j] = r[3 * i + j] * p->s[j];
+        m[4 * i + 3] = p->t[i];
+    }
+}
+
+void psc_gltf_mat_mul(const double a[12], const double b[12], double out[12])
+{
+    double r[12];
+    for (unsigned i = 0; i < 3; i++)
+        for (unsigned j = 0; j < 4; j++)
+            r[4 * i + j] = a[4 * i] * b[j] + a[4 * i + 1] * b[4 + j] + a[4 * i + 2] * b[8 + j] + (j == 3 ? a[4 * i + 3] : 0);
+    memcpy(out, r, sizeof r);
+}
+
+void psc_gltf_mat_inverse(const double a[12], double out[12])
+{
+    double c00 = a[5] * a[10] - a[6] * a[9], c01 = a[6] * a[8] - a[4] * a[10], c02 = a[4] * a[9] - a[5] * a[8];
+    double det = a[0] * c00 + a[1] * c01 + a[2] * c02;
+    double inv = fabs(det) > 1e-300 ? 1.0 / det : 0.0;
+    double r[9] = {c00 * inv, (a[2] * a[9] - a[1] * a[10]) * inv, (a[1] * a[6] - a[2] * a[5]) * inv,
+                   c01 * inv, (a[0] * a[10] - a[2] * a[8]) * inv, (a[2] * a[4] - a[0] * a[6]) * inv,
+                   c02 * inv, (a[1] * a[8] - a[0] * a[9]) * inv,  (a[0] * a[5] - a[1] * a[4]) * inv};
+    for (unsigned i = 0; i < 3; i++) {
+        for (unsigned j = 0; j < 3; j++)
+            out[4 * i + j] = r[3 * i + j];
+        out[4 * i + 3] = -(r[3 * i] * a[3] + r[3 * i + 1] * a[7] + r[3 * i + 2] * a[11]);
+    }
+}
+
+void psc_gltf_mat_point(const double m[12], const double p[3], double out[3])
+{
+    for (unsigned i = 0; i < 3; i++)
+        out[i] = m[4 * i] * p[0] + m[4 * i + 1] * p[1] + m[4 * i + 2] * p[2] + m[4 * i + 3];
+}
+
+void psc_gltf_mat_dir(const double m[12], const double p[3], double out[3])
+{
+    for (unsigned i = 0; i < 3; i++)
+        out[i] = m[4 * i] * p[0] + m[4 * i + 1] * p[1] + m[4 * i + 2] * p[2];
+}
+
+/* World transforms of the joints for the local transforms (parents come before children). */
+void psc_gltf_worlds(const psc_gltf_t *g, const psc_gltf_trs_t *local, const psc_gltf_adjust_t *adjust,
+                     double (*world)[12])
+{
+    for (uint32_t j = 0; j < g->joint_count; j++) {
+        double m[12];
+        psc_gltf_mat_from_trs(&local[j], m);
+        if (adjust) {
+            psc_gltf_mat_mul(adjust[j].pre, m, m);
+            psc_gltf_mat_mul(m, adjust[j].post, m);
+        }
+        if (g->joints[j].parent < 0)
+            memcpy(world[j], m, sizeof m);
+        else
+            psc_gltf_mat_mul(world[g->joints[j].parent], m, world[j]);
+    }
+}
+
+/* ---- posing ------------------------------------------------------------------------------------------------ */
+
+/* The keys' value at t: linear between the two about it (held before the first and after the last); rotations
+ * by spherical interpolation (the shorter way). */
+static void sample(const psc_gltf_key_t *k, uint32_t n, double t, unsigned dims, bool rotation, double *out)
+{
+    if (n == 0)
+        return;
+    uint32_t i = 0;
+    while (i + 1u < n && k[i + 1u].time <= t)
+        i++;
+    if (i + 1u >= n || t <= k[i].time) {
+        memcpy(out, k[i].v, dims * sizeof *out);
+        return;
+    }
+    double f = (t - k[i].time) / (k[i + 1u].time - k[i].time);
+    const double *a = k[i].v, *b = k[i + 1u].v;
+    if (!rotation) {
+        for (unsigned d = 0; d < dims; d++)
+            out[d] = a[d] + (b[d] - a[d]) * f;
+        return;
+    }
+    double dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3], sign = dot < 0 ? -1.0 : 1.0;
+    dot = fabs(dot);
+    double wa = 1 - f, wb = f;
+    if (dot < 0.9995) {
+        double th = acos(dot), s = sin(th);
+        wa = sin((1 - f) * th) / s;
+        wb = sin(f * th) / s;
+    }
+    double l = 0;
+    for (unsigned d = 0; d < 4; d++) {
+        out[d] = wa * a[d] + wb * sign * b[d];
+        l += out[d] * out[d];
+    }
+    for (unsigned d = 0; d < 4; d++)
+        out[d] /= sqrt(l);
+}
+
+void psc_gltf_pose(const psc_gltf_t *g, double t, psc_gltf_trs_t *local)
+{
+    for (uint32_t j = 0; j < g->joint_count; j++)
+        local[j] = g->joints[j].rest;
+    if (t < 0 || g->duration <= 0)
+        return;
+    t = fmod(t, g->duration);
+    for (uint32_t c = 0; c < g->channel_count; c++) {
+        const psc_gltf_channel_t *ch = &g->channels[c];
+        psc_gltf_trs_t *l = &local[ch->joint];
+        sample(ch->t, ch->nt, t, 3, false, l->t);
+        sample(ch->r, ch->nr, t, 4, true, l->r);
+        sample(ch->s, ch->ns, t, 3, false, l->s);
+    }
+}
+
+void psc_gltf_skin(const psc_gltf_t *g, const psc_gltf_trs_t *local, const psc_gltf_adjust_t *adjust,
+                   double (*skin)[12])
+{
+    double (*posed)[12] = malloc(g->joint_count * sizeof *posed), (*rest)[12] = malloc(g->joint_count * sizeof *rest);
+    psc_gltf_trs_t *r = calloc(g->joint_count ? g->joint_count : 1u, sizeof *r);
+    if (!posed || !rest || !r) {
+        free(posed);
+        free(rest);
+        free(r);
+        for (uint32_t j = 0; j < g->joint_count; j++)   /* out of memory: the rest pose */
+            for (unsigned k = 0; k < 12; k++)
+                skin[j][k] = (k % 5 == 0) ? 1.0 : 0.0;
+        return;
+    }
+    for (uint32_t j = 0; j < g->joint_count; j++)
+        r[j] = g->joints[j].rest;
+    psc_gltf_worlds(g, local, adjust, posed);
+    psc_gltf_worlds(g, r, NULL, rest);
+    for (uint32_t j = 0; j < g->joint_count; j++) {
+        double inv[12];
+        psc_gltf_mat_inverse(rest[j], inv);
+        psc_gltf_mat_mul(posed[j], inv, skin[j]);
+    }
+    free(posed);
+    free(rest);
+    free(r);
+}
+
+void psc_gltf_deform(const psc_gltf_t *g, const double (*skin)[12], double *pos, double *normal)
+{
+    for (uint32_t i = 0; i < g->mesh.vertex_count; i++) {
+        double p[3] = {0, 0, 0}, n[3] = {0, 0, 0};
+        for (unsigned k = 0; k < PSC_GLTF_WEIGHTS && g->weight[i][k] > 0; k++) {
+            double q[3], qn[3];
+            psc_gltf_mat_point(skin[g->joint[i][k]], &g->mesh.pos[3 * i], q);
+            psc_gltf_mat_dir(skin[g->joint[i][k]], &g->mesh.normal[3 * i], qn);
+            for (unsigned a = 0; a < 3; a++) {
+                p[a] += g->weight[i][k] * q[a];
+                n[a] += g->weight[i][k] * qn[a];
+            }
+        }
+        double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (unsigned a = 0; a < 3; a++) {
+            pos[3 * i + a] = p[a];
+            normal[3 * i + a] = l > 0 ? n[a] / l : g->mesh.normal[3 * i + a];
+        }
+    }
+}
+
+bool psc_obj_is_file(const char *path)
+{
+    size_t n = strlen(path);
+    return n > 4 && strcasecmp(path + n - 4, ".obj") == 0;
+}
+
+bool psc_gltf_is_file(const char *path)
+{
+    size_t n = strlen(path);
+    return (n > 5 && strcasecmp(path + n - 5, ".gltf") == 0) || (n > 4 && strcasecmp(path + n - 4, ".glb") == 0);
+}
+
+void psc_gltf_free(psc_gltf_t *g)
+{
+    psc_model_free(&g->mesh);
+    free(g->joint);
+    free(g->weight);
+    free(g->joints);
+    for (uint32_t c = 0; c < g->channel_count; c++) {
+        free(g->channels[c].t);
+        free(g->channels[c].r);
+        free(g->channels[c].s);
+    }
+    free(g->channels);
+    memset(g, 0, sizeof *g);
+}
+
+void psc_gltf_frame(const psc_gltf_t *g, double centre[3], double *r)
+{
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, d2 = 0;
+    if (g->mesh.vertex_count)
+        psc_model_bounds(&g->mesh, lo, hi);
+    for (unsigned a = 0; a < 3; a++) {
+        centre[a] = (lo[a] + hi[a]) / 2;
+        d2 += (hi[a] - lo[a]) * (hi[a] - lo[a]);
+    }
+    *r = d2 > 0 ? sqrt(d2) / 2 : 1.0;
+}
+
+int32_t psc_gltf_joint_named(const psc_gltf_t *g, const char *name)
+{
+    for (uint32_t j = 0; j < g->joint_count; j++)
+        if (strcmp(g->joints[j].name, name) == 0)
+            return (int32_t)j;
+    return -1;
+}

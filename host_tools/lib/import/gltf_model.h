@@ -1,0 +1,105 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * gltf_load.h - an articulated or skinned model on the host (double
+ * precision), read by Open Asset Import Library (Debian's libassimp: glTF 2,
+ * and the other formats it reads), and posed.
+ *
+ * Every node of the file's hierarchy is a joint. A rigid mesh hangs from
+ * its node (its vertices weigh 1 on it); a skinned mesh's vertices weigh on
+ * the nodes its bones name (the four heaviest, normalised). The mesh is kept
+ * at rest, in model space (the hierarchy's rest transforms applied; glTF
+ * coordinates as written, no axis flip); a pose is the joints' skin
+ * matrices, posed world x rest world^-1, so a vertex goes where the weighted
+ * sum of its joints' matrices takes it - as a patch character's points do.
+ */
+#ifndef PSC_IMPORT_GLTF_MODEL_H
+#define PSC_IMPORT_GLTF_MODEL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "import/model.h"
+
+#define PSC_GLTF_WEIGHTS 4u
+#define PSC_GLTF_MAX_JOINTS 1024u
+#define PSC_GLTF_MAX_VERTICES (1u << 20)
+
+typedef struct {
+    double t[3], r[4], s[3];     /* translation, rotation (x, y, z, w), scale */
+} psc_gltf_trs_t;
+
+typedef struct {
+    double time;                 /* seconds */
+    double v[4];
+} psc_gltf_key_t;
+
+typedef struct {
+    uint32_t joint;
+    psc_gltf_key_t *t, *r, *s;   /* keys, by time */
+    uint32_t nt, nr, ns;
+} psc_gltf_channel_t;
+
+typedef struct {
+    char name[128];
+    int32_t parent;              /* -1 for the root */
+    psc_gltf_trs_t rest;         /* the node's own transform at rest */
+} psc_gltf_joint_t;
+
+typedef struct {
+    psc_model_t mesh;            /* at rest, model space; normals unit; colours the materials' base colours */
+    uint16_t (*joint)[PSC_GLTF_WEIGHTS];   /* per vertex */
+    double (*weight)[PSC_GLTF_WEIGHTS];    /* per vertex, summing to 1, heaviest first */
+    psc_gltf_joint_t *joints;
+    uint32_t joint_count;
+    psc_gltf_channel_t *channels;   /* the first animation's */
+    uint32_t channel_count;
+    double duration;             /* seconds (0: no animation) */
+    bool skinned;                /* some vertex weighs on more than one joint */
+} psc_gltf_t;
+
+/** Read path (name for messages). 0, or -1 with err naming the file and the problem. note receives remarks. */
+int psc_gltf_load(const char *path, psc_gltf_t *out, char *note, size_t notelen, char *err, size_t errlen);
+void psc_gltf_free(psc_gltf_t *g);
+
+/** Whether path names a file the importer is for here (.gltf, .glb). */
+bool psc_gltf_is_file(const char *path);
+
+/** Whether path names an OBJ file (which the importer also reads: for its groups' self-shadowing). */
+bool psc_obj_is_file(const char *path);
+
+/** The joints' local transforms at time t (seconds, looping over the duration; t < 0: the rest pose). local:
+ *  joint_count TRS. */
+void psc_gltf_pose(const psc_gltf_t *g, double t, psc_gltf_trs_t *local);
+
+/** A joint's pose adjusted by hand (pose_file.h): local' = pre x local x post (row-major 3x4 each). */
+typedef struct {
+    double pre[12], post[12];
+} psc_gltf_adjust_t;
+
+/** The skin matrices (row-major 3x4: rotation-scale and translation) for the local transforms, each adjusted by
+ *  adjust[joint] (NULL: none): posed world x rest world^-1. skin: joint_count x 12 doubles. */
+void psc_gltf_skin(const psc_gltf_t *g, const psc_gltf_trs_t *local, const psc_gltf_adjust_t *adjust,
+                   double (*skin)[12]);
+
+/** The rest mesh's vertices moved by skin: pos and normal (unit) each 3 per vertex. */
+void psc_gltf_deform(const psc_gltf_t *g, const double (*skin)[12], double *pos, double *normal);
+
+/** The joint named name, or -1. */
+int32_t psc_gltf_joint_named(const psc_gltf_t *g, const char *name);
+
+/** The frame the product draws and shades a model in: the rest pose's bounding-box centre and R, half its
+ *  diagonal (a position p is (p - centre) / R in units of R). */
+void psc_gltf_frame(const psc_gltf_t *g, double centre[3], double *r);
+
+/* 3x4 affine matrices, row-major (rotation-scale and translation), shared by the loader and the poses. */
+void psc_gltf_mat_from_trs(const psc_gltf_trs_t *p, double m[12]);
+void psc_gltf_mat_mul(const double a[12], const double b[12], double out[12]);
+void psc_gltf_mat_inverse(const double a[12], double out[12]);
+void psc_gltf_mat_point(const double m[12], const double p[3], double out[3]);
+void psc_gltf_mat_dir(const double m[12], const double p[3], double out[3]);
+/** World transforms of the joints for the local transforms, adjusted (NULL: not); parents come before children. */
+void psc_gltf_worlds(const psc_gltf_t *g, const psc_gltf_trs_t *local, const psc_gltf_adjust_t *adjust,
+                     double (*world)[12]);
+
+#endif

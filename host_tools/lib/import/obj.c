@@ -1,0 +1,544 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * obj_load.c - Wavefront OBJ reader (obj_load.h).
+ */
+#include "import/obj.h"
+#include "psc_io_file.h"
+#include "psc_io_error.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define OBJ_MAX_FILE (512u << 20)
+#define OBJ_MAX_ELEMENTS (1u << 26)
+
+typedef struct {
+    double *v;
+    size_t n, cap; /* in doubles */
+} dvec_t;
+
+typedef struct {
+    uint32_t *v;
+    size_t n, cap;
+} uvec_t;
+
+/* The array v of n elements with room for one more (doubling from 256), or NULL when out of memory (v kept). */
+static void *reserve_one(void *v, size_t n, size_t *cap, size_t elem)
+{
+    if (n < *cap)
+        return v;
+    size_t c = *cap ? *cap * 2 : 256;
+    void *p = realloc(v, c * elem);
+    if (p)
+        *cap = c;
+    return p;
+}
+
+static int dpush(dvec_t *a, double x)
+{
+    double *v = reserve_one(a->v, a->n, &a->cap, sizeof *a->v);
+    if (!v)
+        return -1;
+    a->v = v;
+    a->v[a->n++] = x;
+    return 0;
+}
+
+static int upush(uvec_t *a, uint32_t x)
+{
+    uint32_t *v = reserve_one(a->v, a->n, &a->cap, sizeof *a->v);
+    if (!v)
+        return -1;
+    a->v = v;
+    a->v[a->n++] = x;
+    return 0;
+}
+
+#define NONE UINT32_MAX
+
+/* Distinct corners (position, texture, normal) -> vertex numbers, open addressing. */
+typedef struct {
+    uint32_t *keys;   /* 3 per slot */
+    uint32_t *vals;
+    size_t cap, n;
+} corner_map_t;
+
+static size_t corner_hash(const uint32_t k[3], size_t cap)
+{
+    uint64_t h = (uint64_t)k[0] * 0x9E3779B97F4A7C15u ^ (uint64_t)k[1] * 0xC2B2AE3D27D4EB4Fu ^
+                 (uint64_t)k[2] * 0x165667B19E3779F9u;
+    h ^= h >> 29;
+    return (size_t)h & (cap - 1);
+}
+
+static int corner_grow(corner_map_t *m)
+{
+    size_t cap = m->cap ? m->cap * 2 : 1024;
+    uint32_t *keys = malloc(cap * 3 * sizeof *keys), *vals = malloc(cap * sizeof *vals);
+    if (!keys || !vals) {
+        free(keys);
+        free(vals);
+        return -1;
+    }
+    for (size_t i = 0; i < cap; i++)
+        vals[i] = NONE;
+    for (size_t i = 0; i < m->cap; i++)
+        if (m->vals[i] != NONE) {
+            size_t s = corner_hash(&m->keys[3 * i], cap);
+            while (vals[s] != NONE)
+                s = (s + 1) & (cap - 1);
+            memcpy(&keys[3 * s], &m->keys[3 * i], 3 * sizeof *keys);
+            vals[s] = m->vals[i];
+        }
+    free(m->keys);
+    free(m->vals);
+    m->keys = keys;
+    m->vals = vals;
+    m->cap = cap;
+    return 0;
+}
+
+/* The vertex number of a corner; *fresh set when it is new. -1 when out of memory. */
+static int corner_find(corner_map_t *m, const uint32_t k[3], uint32_t *out, bool *fresh)
+{
+    if ((m->n + 1) * 2 > m->cap && corner_grow(m) != 0)
+        return -1;
+    size_t s = corner_hash(k, m->cap);
+    while (m->vals[s] != NONE) {
+        if (memcmp(&m->keys[3 * s], k, 3 * sizeof *k) == 0) {
+            *out = m->vals[s];
+            *fresh = false;
+            return 0;
+        }
+        s = (s + 1) & (m->cap - 1);
+    }
+    memcpy(&m->keys[3 * s], k, 3 * sizeof *k);
+    m->vals[s] = (uint32_t)m->n;
+    *out = (uint32_t)m->n++;
+    *fresh = true;
+    return 0;
+}
+
+typedef struct {
+    const char *name;
+    unsigned line;
+    char *err;
+    size_t errlen;
+    dvec_t pos, tex, nrm;
+    uvec_t corners;      /* 3 per vertex: position, texture (NONE), normal (NONE) */
+    uvec_t tris;
+    corner_map_t map;
+    bool any_tex, missing_normal;
+    char mtllib[512];
+    char usemtl[256];
+} obj_t;
+
+static int obj_fail(obj_t *o, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+static int obj_fail(obj_t *o, const char *fmt, ...)
+{
+    char msg[384];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    char where[600];
+    snprintf(where, sizeof where, "%s:%u", o->name, o->line);
+    return psc_io_errorf(o->err, o->errlen, where, "%s", msg);
+}
+
+static const char *skip_ws(const char *p, const char *end)
+{
+    while (p < end && (*p == ' ' || *p == '\t'))
+        p++;
+    return p;
+}
+
+/* The next whitespace-separated token of the line: [*s, *e). false at the end. */
+static bool next_token(const char **p, const char *end, const char **s, const char **e)
+{
+    const char *q = skip_ws(*p, end);
+    if (q >= end)
+        return false;
+    *s = q;
+    while (q < end && *q != ' ' && *q != '\t')
+        q++;
+    *e = q;
+    *p = q;
+    return true;
+}
+
+#define OBJ_MAX_COORDINATE 1e15
+
+static int parse_number(obj_t *o, const char *s, const char *e, const char *what, double *out)
+{
+    char buf[64];
+    size_t n = (size_t)(e - s);
+    if (n == 0 || n >= sizeof buf)
+        return obj_fail(o, "%s: expected a number, got '%.*s'", what, (int)(n > 40 ? 40 : n), s);
+    memcpy(buf, s, n);
+    buf[n] = '\0';
+    char *end;
+    errno = 0;
+    double v = strtod(buf, &end);
+    if (*end != '\0' || errno == ERANGE || !isfinite(v))
+        return obj_fail(o, "%s: expected a number, got '%s'", what, buf);
+    /* beyond this the normals' products overflow to infinity (found by fuzzing: 1e308) */
+    if (fabs(v) > OBJ_MAX_COORDINATE)
+        return obj_fail(o, "%s: %s is out of range (at most 1e15 in size)", what, buf);
+    *out = v;
+    return 0;
+}
+
+/* "v x y z [w]", "vt u [v [w]]", "vn x y z": want numbers required, up to max accepted. */
+static int parse_numbers(obj_t *o, const char *p, const char *end, const char *what, unsigned want, unsigned max,
+                         double *out)
+{
+    unsigned k = 0;
+    const char *s, *e;
+    while (next_token(&p, end, &s, &e)) {
+        if (k == max)
+            return obj_fail(o, "'%s' has more than %u numbers", what, max);
+        if (parse_number(o, s, e, what, &out[k]) != 0)
+            return -1;
+        k++;
+    }
+    if (k < want)
+        return obj_fail(o, "'%s' needs %u numbers, got %u", what, want, k);
+    for (unsigned i = k; i < max; i++)
+        out[i] = 0;
+    return 0;
+}
+
+/* An OBJ index (1-based, or negative from the end) into count elements. */
+static int resolve(obj_t *o, const char *s, const char *e, size_t count, const char *kind, uint32_t *out)
+{
+    char buf[32];
+    size_t n = (size_t)(e - s);
+    if (n == 0 || n >= sizeof buf)
+        return obj_fail(o, "face: bad %s index '%.*s'", kind, (int)(n > 20 ? 20 : n), s);
+    memcpy(buf, s, n);
+    buf[n] = '\0';
+    char *end;
+    errno = 0;
+    long v = strtol(buf, &end, 10);
+    if (*end != '\0' || errno == ERANGE)
+        return obj_fail(o, "face: bad %s index '%s'", kind, buf);
+    if (v == 0)
+        return obj_fail(o, "face: %s index 0 (OBJ indices start at 1)", kind);
+    long idx = v > 0 ? v - 1 : (long)count + v;
+    if (idx < 0 || (size_t)idx >= count)
+        return obj_fail(o, "face: %s index %ld is out of range (%zu defined so far)", kind, v, count);
+    *out = (uint32_t)idx;
+    return 0;
+}
+
+static int parse_face(obj_t *o, const char *p, const char *end)
+{
+    uint32_t first = NONE, prev = NONE;
+    unsigned k = 0;
+    const char *s, *e;
+    while (next_token(&p, end, &s, &e)) {
+        /* v, v/vt, v//vn, v/vt/vn */
+        const char *sl1 = memchr(s, '/', (size_t)(e - s)), *sl2 = NULL;
+        if (sl1)
+            sl2 = memchr(sl1 + 1, '/', (size_t)(e - sl1 - 1));
+        uint32_t key[3] = {NONE, NONE, NONE};
+        if (resolve(o, s, sl1 ? sl1 : e, o->pos.n / 3, "vertex", &key[0]) != 0)
+            return -1;
+        if (sl1) {
+            const char *ts = sl1 + 1, *te = sl2 ? sl2 : e;
+            if (te > ts) {
+                if (resolve(o, ts, te, o->tex.n / 2, "texture coordinate", &key[1]) != 0)
+                    return -1;
+                o->any_tex = true;
+            } else if (!sl2) {
+                return obj_fail(o, "face: empty texture index in '%.*s'", (int)(e - s), s);
+            }
+            if (sl2 && resolve(o, sl2 + 1, e, o->nrm.n / 3, "normal", &key[2]) != 0)
+                return -1;
+        }
+        if (key[2] == NONE)
+            o->missing_normal = true;
+        uint32_t vtx;
+        bool fresh;
+        if (corner_find(&o->map, key, &vtx, &fresh) != 0)
+            return obj_fail(o, "out of memory");
+        if (fresh && (upush(&o->corners, key[0]) || upush(&o->corners, key[1]) || upush(&o->corners, key[2])))
+            return obj_fail(o, "out of memory");
+        if (k == 0) {
+            first = vtx;
+        } else if (k >= 2) {
+            if (upush(&o->tris, first) || upush(&o->tris, prev) || upush(&o->tris, vtx))
+                return obj_fail(o, "out of memory");
+            if (o->tris.n / 3 > OBJ_MAX_ELEMENTS)
+                return obj_fail(o, "more than %u triangles", OBJ_MAX_ELEMENTS);
+        }
+        prev = vtx;
+        k++;
+    }
+    if (k < 3)
+        return obj_fail(o, "face with %u corner%s: a face needs at least 3", k, k == 1 ? "" : "s");
+    return 0;
+}
+
+static void copy_token(char *dst, size_t cap, const char *p, const char *end)
+{
+    /* The rest of the line, trimmed: file names may hold spaces. */
+    p = skip_ws(p, end);
+    while (end > p && (end[-1] == ' ' || end[-1] == '\t'))
+        end--;
+    size_t n = (size_t)(end - p);
+    if (n >= cap)
+        n = cap - 1;
+    memcpy(dst, p, n);
+    dst[n] = '\0';
+}
+
+static int parse_line(obj_t *o, const char *p, const char *end)
+{
+    const char *s, *e;
+    if (!next_token(&p, end, &s, &e) || *s == '#')
+        return 0;
+    size_t n = (size_t)(e - s);
+    double num[4];
+    if (n == 1 && *s == 'v') {
+        if (parse_numbers(o, p, end, "v", 3, 4, num) != 0)
+            return -1;
+        if (o->pos.n / 3 >= OBJ_MAX_ELEMENTS)
+            return obj_fail(o, "more than %u vertices", OBJ_MAX_ELEMENTS);
+        if (dpush(&o->pos, num[0]) || dpush(&o->pos, num[1]) || dpush(&o->pos, num[2]))
+            return obj_fail(o, "out of memory");
+    } else if (n == 2 && s[0] == 'v' && s[1] == 't') {
+        if (parse_numbers(o, p, end, "vt", 1, 3, num) != 0)
+            return -1;
+        if (dpush(&o->tex, num[0]) || dpush(&o->tex, 1.0 - num[1]))
+            return obj_fail(o, "out of memory");
+    } else if (n == 2 && s[0] == 'v' && s[1] == 'n') {
+        if (parse_numbers(o, p, end, "vn", 3, 3, num) != 0)
+            return -1;
+        if (dpush(&o->nrm, num[0]) || dpush(&o->nrm, num[1]) || dpush(&o->nrm, num[2]))
+            return obj_fail(o, "out of memory");
+    } else if (n == 1 && *s == 'f') {
+        return parse_face(o, p, end);
+    } else if (n == 6 && memcmp(s, "mtllib", 6) == 0) {
+        if (o->mtllib[0] == '\0')
+            copy_token(o->mtllib, sizeof o->mtllib, p, end);
+    } else if (n == 6 && memcmp(s, "usemtl", 6) == 0) {
+        if (o->usemtl[0] == '\0')
+            copy_token(o->usemtl, sizeof o->usemtl, p, end);
+    }
+    return 0; /* o, g, s, l, p, vp, ...: nothing to draw */
+}
+
+/* dir of path (with the slash) + file (a relative name that stays_beside allowed). */
+static char *path_beside(const char *path, const char *file)
+{
+    const char *slash = strrchr(path, '/');
+    size_t dl = slash ? (size_t)(slash - path + 1) : 0;
+    char *out = malloc(dl + strlen(file) + 1);
+    if (!out)
+        return NULL;
+    memcpy(out, path, dl);
+    strcpy(out + dl, file);
+    return out;
+}
+
+/*
+ * A name an OBJ or MTL file gives for another file (its material library, a
+ * texture) is followed only inside the model's own folder: relative, with no
+ * ".." part (either slash counts: Windows exporters write backslashes). A
+ * model from elsewhere must not make a tool read /etc/passwd or ../../secret.
+ */
+static bool stays_beside(const char *name)
+{
+    if (name[0] == '/' || name[0] == '\\' || (name[0] && name[1] == ':'))
+        return false;
+    for (const char *p = name; *p;) {
+        size_t n = strcspn(p, "/\\");
+        if (n == 2 && p[0] == '.' && p[1] == '.')
+            return false;
+        p += n;
+        if (*p)
+            p++;
+    }
+    return true;
+}
+
+#define OBJ_MAX_MTL_FILE ((uint64_t)16 << 20)
+
+/* The texture of the first used material (else the first map_Kd) in the material library. */
+static void read_material(obj_t *o, psc_model_t *m, char *note, size_t notelen)
+{
+    char why[600];
+    if (!stays_beside(o->mtllib)) {
+        if (note && notelen)
+            snprintf(note, notelen, "%s: material library '%s' is outside the model's folder: not read (no texture "
+                     "from it; copy it beside the model)", o->name, o->mtllib);
+        return;
+    }
+    char *mtl = path_beside(o->name, o->mtllib);
+    FILE *f = mtl ? psc_io_fopen_regular(mtl, OBJ_MAX_MTL_FILE, why, sizeof why) : NULL;
+    if (!f) {
+        if (note && notelen)
+            snprintf(note, notelen, "%s: cannot read material library: %s (no texture from it)", o->name,
+                     mtl ? why : "out of memory");
+        free(mtl);
+        return;
+    }
+    char line[1024], cur[256] = "", first_map[512] = "", used_map[512] = "";
+    while (fgets(line, sizeof line, f)) {
+        size_t n = strcspn(line, "\r\n");
+        line[n] = '\0';
+        const char *p = line, *end = line + n, *s, *e;
+        if (!next_token(&p, end, &s, &e))
+            continue;
+        if ((size_t)(e - s) == 6 && memcmp(s, "newmtl", 6) == 0) {
+            copy_token(cur, sizeof cur, p, end);
+        } else if ((size_t)(e - s) == 6 && memcmp(s, "map_Kd", 6) == 0) {
+            /* Options (-s, -o ...) come first; the file name is the last token. */
+            const char *last = NULL, *ts, *te;
+            while (next_token(&p, end, &ts, &te))
+                last = ts;
+            if (!last)
+                continue;
+            char name[512];
+            copy_token(name, sizeof name, last, end);
+            if (!first_map[0])
+                snprintf(first_map, sizeof first_map, "%s", name);
+            if (!used_map[0] && o->usemtl[0] && strcmp(cur, o->usemtl) == 0)
+                snprintf(used_map, sizeof used_map, "%s", name);
+        }
+    }
+    fclose(f);
+    const char *pick = used_map[0] ? used_map : first_map;
+    if (pick[0] && !stays_beside(pick)) {
+        if (note && notelen)
+            snprintf(note, notelen, "%s: texture '%s' is outside the model's folder: not read (copy it beside the "
+                     "model)", mtl, pick);
+    } else if (pick[0]) {
+        m->texture_path = path_beside(mtl, pick);
+    }
+    free(mtl);
+}
+
+/* Area-weighted smooth normals per position, for every vertex. */
+static int smooth_normals(obj_t *o, psc_model_t *m)
+{
+    size_t np = o->pos.n / 3;
+    double *acc = calloc(np * 3 + 1, sizeof *acc);
+    if (!acc)
+        return -1;
+    for (uint32_t t = 0; t < m->triangle_count; t++) {
+        uint32_t p[3];
+        for (int k = 0; k < 3; k++)
+            p[k] = o->corners.v[3 * m->index[3 * t + k]];
+        const double *a = &o->pos.v[3 * p[0]], *b = &o->pos.v[3 * p[1]], *c = &o->pos.v[3 * p[2]];
+        double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+        for (int k = 0; k < 3; k++)
+            for (int j = 0; j < 3; j++)
+                acc[3 * p[k] + j] += n[j];
+    }
+    for (uint32_t v = 0; v < m->vertex_count; v++) {
+        const double *n = &acc[3 * o->corners.v[3 * v]];
+        double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (int j = 0; j < 3; j++)
+            m->normal[3 * v + j] = len > 0 ? n[j] / len : 0;
+    }
+    free(acc);
+    return 0;
+}
+
+int psc_obj_parse(const char *name, const char *text, size_t len, psc_model_t *m, char *note, size_t notelen,
+                  char *err, size_t errlen)
+{
+    memset(m, 0, sizeof *m);
+    if (note && notelen)
+        note[0] = '\0';
+    obj_t o;
+    memset(&o, 0, sizeof o);
+    o.name = name ? name : "(obj)";
+    o.err = err;
+    o.errlen = errlen;
+    int rc = -1;
+    const char *p = text, *end = text + len;
+    while (p < end) {
+        o.line++;
+        const char *eol = memchr(p, '\n', (size_t)(end - p));
+        const char *le = eol ? eol : end;
+        if (le > p && le[-1] == '\r')
+            le--;
+        if (memchr(p, '\0', (size_t)(le - p))) {
+            obj_fail(&o, "NUL byte: this is not a text OBJ file");
+            goto done;
+        }
+        if (parse_line(&o, p, le) != 0)
+            goto done;
+        p = eol ? eol + 1 : end;
+    }
+    o.line = 0;
+    if (o.tris.n == 0) {
+        psc_io_errorf(err, errlen, o.name, "no faces: nothing to draw");
+        goto done;
+    }
+    size_t nv = o.corners.n / 3;
+    m->vertex_count = (uint32_t)nv;
+    m->triangle_count = (uint32_t)(o.tris.n / 3);
+    m->pos = malloc(nv * 3 * sizeof(double));
+    m->normal = malloc(nv * 3 * sizeof(double));
+    m->uv = o.any_tex ? calloc(nv * 2, sizeof(double)) : NULL;
+    if (!m->pos || !m->normal || (o.any_tex && !m->uv)) {
+        psc_io_errorf(err, errlen, o.name, "out of memory");
+        goto done;
+    }
+    for (size_t v = 0; v < nv; v++) {
+        const uint32_t *c = &o.corners.v[3 * v];
+        memcpy(&m->pos[3 * v], &o.pos.v[3 * c[0]], 3 * sizeof(double));
+        if (m->uv && c[1] != NONE)
+            memcpy(&m->uv[2 * v], &o.tex.v[2 * c[1]], 2 * sizeof(double));
+        if (c[2] != NONE) {
+            const double *n = &o.nrm.v[3 * c[2]];
+            double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            for (int j = 0; j < 3; j++)
+                m->normal[3 * v + j] = l > 0 ? n[j] / l : 0;
+        }
+    }
+    m->index = o.tris.v;
+    o.tris.v = NULL;
+    if (o.missing_normal && smooth_normals(&o, m) != 0) {
+        psc_io_errorf(err, errlen, o.name, "out of memory");
+        goto done;
+    }
+    if (o.mtllib[0])
+        read_material(&o, m, note, notelen);
+    rc = 0;
+done:
+    if (rc != 0)
+        psc_model_free(m);
+    free(o.pos.v);
+    free(o.tex.v);
+    free(o.nrm.v);
+    free(o.corners.v);
+    free(o.tris.v);
+    free(o.map.keys);
+    free(o.map.vals);
+    return rc;
+}
+
+int psc_obj_load(const char *path, psc_model_t *m, char *note, size_t notelen, char *err, size_t errlen)
+{
+    memset(m, 0, sizeof *m);
+    void *text;
+    size_t got;
+    if (psc_io_read_aligned(path, OBJ_MAX_FILE, &text, &got, err, errlen) != 0)
+        return -1;
+    int rc = psc_obj_parse(path, text, got, m, note, notelen, err, errlen);
+    free(text);
+    return rc;
+}

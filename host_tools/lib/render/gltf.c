@@ -1,0 +1,378 @@
+/* SPDX-License-Identifier: MIT */
+/* gltf_render.c - periscope-render's glTF mode (gltf_render.h). */
+#include "render/gltf.h"
+#include "import/gltf_model.h"
+#include "psc_io_cli.h"
+#include "psc_io_error.h"
+#include "psc_io_file.h"
+#include "psc_io_load.h"
+#include "psc_io_angle.h"
+#include "util/cli_values.h"
+#include "import/pose_file.h"
+#include "render/target.h"
+#include "render/view.h"
+#include "util/text_out.h"
+#include "3d/psc_3d_render.h"
+#include "shadow/psc_shadow_frame.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define BACKGROUND 0x30343Cu   /* (48, 52, 60) */
+
+typedef struct {
+    const char *model, *out, *shadow, *dump_ao, *pose_file;
+    psc_render_view_t view;
+    double time;
+} gltf_args_t;
+
+bool psc_render_gltf_wanted(int argc, char **argv)
+{
+    bool obj = false, shadow = false;
+    for (int i = 1; i < argc; i++) {
+        if (argv[i][0] != '-' && psc_gltf_is_file(argv[i]))
+            return true;
+        obj |= argv[i][0] != '-' && psc_obj_is_file(argv[i]);
+        shadow |= strcmp(argv[i], "--shadow") == 0 || strncmp(argv[i], "--shadow=", 9) == 0;
+    }
+    return obj && shadow;   /* an OBJ self-shadowed: read as the importer reads it, its groups the parts */
+}
+
+static void usage(const char *prog, FILE *f)
+{
+    fprintf(f,
+            "usage: %s MODEL.{gltf,glb} -o view.png [options]\n"
+            "\n"
+            "Pose an articulated or skinned model and draw it with the device's 3D pipeline.\n"
+            "\n"
+            "  --orbit Y,P,D       camera at D x R from the rest pose's box centre (R: half its\n"
+            "                      diagonal), turned up by P then right by Y degrees (default 30,20,2.5)\n"
+            "  --hfov F            horizontal field of view in degrees (default 50)\n"
+            "  --size WxH          output size (default 640x480)\n"
+            "  --pose P            rest (default), t=T (T seconds into the first animation) or POSE.json:\n"
+            "                      {\"time\": T, \"nodes\": {\"NAME or INDEX\": {\"rotate\": [ax, ay, az, deg],\n"
+            "                      \"translate\": [x, y, z]}}}, local' = T local R on top of the animation\n"
+            "  --shadow M.pao      self-shadowing from the model's sphere-occluder tables\n"
+            "                      (periscope-shadow build MODEL)\n"
+            "  --dump-ao AO.csv    with --shadow: x,y,z,nx,ny,nz,occlusion of every vertex\n"
+            "                      (model coordinates; occlusion 0..1 of the cosine-weighted hemisphere)\n"
+            "  --cull back|none    back-face culling (default back)\n"
+            "  --format F          output surface: rgb565 (default) or xrgb8888\n"
+            PSC_RENDER_VIEW_LOOK_HELP
+            "  --repeat K          pose, shade and draw K times, and report the time per frame\n"
+            "  -o view.png         output PNG\n"
+            "  --version           the program's version\n"
+            "  --help              this text\n",
+            prog);
+}
+
+static const struct option gltf_options[] = {
+    {"orbit", required_argument, NULL, 1},  {"hfov", required_argument, NULL, 1},
+    {"size", required_argument, NULL, 1},   {"pose", required_argument, NULL, 1},
+    {"shadow", required_argument, NULL, 1}, {"dump-ao", required_argument, NULL, 1},
+    {"cull", required_argument, NULL, 1},   {"format", required_argument, NULL, 1},
+    {"repeat", required_argument, NULL, 1}, PSC_RENDER_VIEW_LOOK_OPTIONS, PSC_IO_CLI_COMMON_OPTIONS,
+};
+
+static int parse_args(const char *prog, int argc, char **argv, gltf_args_t *a)
+{
+    psc_io_cli_t c;
+    int opt;
+
+    psc_io_cli_begin(&c, argc, argv, "ho:", gltf_options);
+    while ((opt = psc_io_cli_next_option(&c, prog, " (glTF mode)", usage)) > 0) {
+        const char *name = c.name, *v = c.arg;
+        int view = psc_render_view_option(prog, name, v, &a->view);
+        if (view >= 0) {
+            if (view != 0)
+                return view;
+        } else if (strcmp(name, "-o") == 0) {
+            a->out = v;
+        } else if (strcmp(name, "--pose") == 0) {
+            int rc = psc_pose_option(prog, v, &a->pose_file, &a->time);
+            if (rc != 0)
+                return rc;
+        } else if (strcmp(name, "--shadow") == 0) {
+            a->shadow = v;
+        } else if (strcmp(name, "--dump-ao") == 0) {
+            a->dump_ao = v;
+        }
+    }
+    if (opt < 0)
+        return -opt;   /* the mistake, said */
+    for (int i = psc_io_cli_rest(&c); i < argc; i++) {
+        if (a->model)
+            return psc_io_cli_usage_error(prog, "more than one model given (%s)", argv[i]);
+        a->model = argv[i];
+    }
+    if (!a->model)
+        return psc_io_cli_usage_error(prog, "no model given");
+    if (!a->out)
+        return psc_io_cli_usage_error(prog, "no output given (-o view.png)");
+    if (a->dump_ao && !a->shadow)
+        return psc_io_cli_usage_error(prog, "--dump-ao needs --shadow M.pao");
+    return 0;
+}
+
+/* The posed mesh the device draws: positions in units of R (Q16.16), normals Q1.14, colours. */
+typedef struct {
+    double c[3], r;              /* the rest frame */
+    double *pos, *nrm;           /* posed, model space */
+    double (*skin)[12];
+    psc_gltf_trs_t *local;
+    psc_mat4_q16_t *skin_q16;    /* in units of R, for the self-shadowing */
+    int32_t *pos_q16;
+    int16_t *nrm_q14;
+    uint32_t *color;
+    uint16_t *index;
+    uint32_t *ao;
+    psc_mesh_t mesh;
+} posed_t;
+
+static int32_t q16(double v)
+{
+    double s = v * 65536.0;
+    return s >= 2147483647.0 ? INT32_MAX : s <= -2147483648.0 ? INT32_MIN : (int32_t)lround(s);
+}
+
+static int posed_new(posed_t *p, const psc_gltf_t *g, const char *name, char *err, size_t errlen)
+{
+    uint32_t nv = g->mesh.vertex_count, nj = g->joint_count ? g->joint_count : 1u;
+    memset(p, 0, sizeof *p);
+    if (nv > 65535u)
+        return psc_io_errorf(err, errlen, name, "%u vertices: the device's meshes hold at most 65 535", nv);
+    p->pos = malloc(nv * 3u * sizeof *p->pos);
+    p->nrm = malloc(nv * 3u * sizeof *p->nrm);
+    p->skin = malloc(nj * sizeof *p->skin);
+    p->local = malloc(nj * sizeof *p->local);
+    p->skin_q16 = malloc(nj * sizeof *p->skin_q16);
+    p->pos_q16 = malloc(nv * 3u * sizeof *p->pos_q16);
+    p->nrm_q14 = malloc(nv * 3u * sizeof *p->nrm_q14);
+    p->color = malloc(nv * sizeof *p->color);
+    p->index = malloc(g->mesh.triangle_count * 3u * sizeof *p->index);
+    p->ao = malloc(nv * sizeof *p->ao);
+    if (!p->pos || !p->nrm || !p->skin || !p->local || !p->skin_q16 || !p->pos_q16 || !p->nrm_q14 || !p->color ||
+        !p->index || !p->ao)
+        return psc_io_errorf(err, errlen, name, "out of memory");
+    psc_gltf_frame(g, p->c, &p->r);
+    for (uint32_t i = 0; i < 3u * g->mesh.triangle_count; i++)
+        p->index[i] = (uint16_t)g->mesh.index[i];
+    p->mesh = (psc_mesh_t){.vertex_count = nv, .triangle_count = g->mesh.triangle_count, .position_q16 = p->pos_q16,
+                           .normal_q14 = p->nrm_q14, .color = p->color, .index = p->index};
+    return 0;
+}
+
+static void posed_free(posed_t *p)
+{
+    free(p->pos);
+    free(p->nrm);
+    free(p->skin);
+    free(p->local);
+    free(p->skin_q16);
+    free(p->pos_q16);
+    free(p->nrm_q14);
+    free(p->color);
+    free(p->index);
+    free(p->ao);
+}
+
+/* Pose at time t (< 0: rest), adjusted (NULL: not): the mesh in the device's formats, and the skin in units of R. */
+static void pose(posed_t *p, const psc_gltf_t *g, double t, const psc_gltf_adjust_t *adjust)
+{
+    psc_gltf_pose(g, t, p->local);
+    psc_gltf_skin(g, p->local, adjust, p->skin);
+    psc_gltf_deform(g, (const double(*)[12])p->skin, p->pos, p->nrm);
+    for (uint32_t i = 0; i < g->mesh.vertex_count; i++)
+        for (unsigned a = 0; a < 3; a++) {
+            p->pos_q16[3 * i + a] = q16((p->pos[3 * i + a] - p->c[a]) / p->r);
+            p->nrm_q14[3 * i + a] = (int16_t)lround(p->nrm[3 * i + a] * 16383.0);
+        }
+    memcpy(p->color, g->mesh.color, g->mesh.vertex_count * sizeof *p->color);
+    /* S'(x) = (S(x R + c) - c) / R: the same linear part, the translation (S_lin c + S_t - c) / R */
+    for (uint32_t j = 0; j < g->joint_count; j++) {
+        const double *s = p->skin[j];
+        psc_mat4_q16_t *m = &p->skin_q16[j];
+        memset(m, 0, sizeof *m);
+        for (unsigned r = 0; r < 3; r++) {
+            for (unsigned k = 0; k < 3; k++)
+                m->m[r][k] = q16(s[4 * r + k]);
+            double tr = s[4 * r] * p->c[0] + s[4 * r + 1] * p->c[1] + s[4 * r + 2] * p->c[2] + s[4 * r + 3] - p->c[r];
+            m->m[r][3] = q16(tr / p->r);
+        }
+        m->m[3][3] = 65536;
+    }
+}
+
+/* The default lighting, after the self-shadowing has darkened the colours and bent the normals. */
+static void light(posed_t *p)
+{
+    static const double l0[3] = {0.4, 0.8, 0.45};
+    double ln = sqrt(l0[0] * l0[0] + l0[1] * l0[1] + l0[2] * l0[2]);
+    for (uint32_t i = 0; i < p->mesh.vertex_count; i++) {
+        double d = 0;
+        for (unsigned a = 0; a < 3; a++)
+            d += p->nrm_q14[3 * i + a] / 16384.0 * l0[a] / ln;
+        double f = 0.45 + 0.55 * (d > 0 ? d : 0);
+        uint32_t c = p->color[i], out = 0;
+        for (unsigned sh = 0; sh < 24; sh += 8)
+            out |= (uint32_t)lround(fmin(255.0, ((c >> sh) & 0xFFu) * f)) << sh;
+        p->color[i] = out;
+    }
+}
+
+static int write_ao(const posed_t *p, const char *path, char *err, size_t errlen)
+{
+    psc_text_out_t out;
+    if (psc_text_out_begin(&out, path, err, errlen) != 0)
+        return -1;
+    FILE *f = out.f;
+    fprintf(f, "x,y,z,nx,ny,nz,occlusion\n");
+    for (uint32_t i = 0; i < p->mesh.vertex_count; i++)
+        fprintf(f, "%.5f,%.5f,%.5f,%.4f,%.4f,%.4f,%.4f\n", p->pos[3 * i], p->pos[3 * i + 1], p->pos[3 * i + 2],
+                p->nrm[3 * i], p->nrm[3 * i + 1], p->nrm[3 * i + 2], p->ao[i] / 65536.0);
+    return psc_text_out_finish(&out, path, err, errlen);
+}
+
+/* --pose POSE.json: its time into a->time, its nodes as the joints' adjustments (*adjust, joint_count of them). */
+static int pose_from_file(gltf_args_t *a, const psc_gltf_t *g, psc_gltf_adjust_t **adjust, char *err, size_t errlen)
+{
+    psc_pose_file_t pf;
+    if (psc_pose_file_load(a->pose_file, &pf, err, errlen) != 0)
+        return -1;
+    *adjust = malloc((g->joint_count ? g->joint_count : 1u) * sizeof **adjust);
+    if (*adjust == NULL) {
+        psc_pose_file_free(&pf);
+        return psc_io_errorf(err, errlen, a->pose_file, "out of memory");
+    }
+    static const psc_gltf_adjust_t none = {{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}};
+    for (uint32_t j = 0; j < g->joint_count; j++)
+        (*adjust)[j] = none;
+    int rc = 0;
+    for (unsigned k = 0; k < pf.count && rc == 0; k++) {
+        const psc_pose_node_t *n = &pf.nodes[k];
+        int32_t j = psc_gltf_joint_named(g, n->name);
+        if (j < 0 && n->index >= 0 && n->index < (long)g->joint_count)
+            j = (int32_t)n->index;
+        if (j < 0)
+            rc = psc_io_errorf(err, errlen, a->pose_file, "node '%s' is neither a node of %s nor a number below %u",
+                               n->name, a->model, (unsigned)g->joint_count);
+        else
+            psc_pose_node_matrices(n, (*adjust)[j].pre, (*adjust)[j].post);
+    }
+    a->time = pf.time;
+    psc_pose_file_free(&pf);
+    return rc;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+int psc_render_gltf_main(const char *prog, int argc, char **argv)
+{
+    gltf_args_t a = {.view = psc_render_view_defaults(30, 20, 2.5, 50), .time = -1.0};
+    int rc = parse_args(prog, argc, argv, &a);
+    if (rc != 0)
+        return rc;
+    const psc_render_view_t *vw = &a.view;
+    char err[768], note[256] = "";
+    psc_gltf_t g;
+    if (psc_gltf_load(a.model, &g, note, sizeof note, err, sizeof err) != 0) {
+        fprintf(stderr, "%s: %s\n", prog, err);
+        return 1;
+    }
+    rc = 1;
+    posed_t p;
+    psc_io_shadow_t sf = {0};
+    psc_shadow_t sh;
+    void *sh_ws = NULL;
+    psc_render_target_t rt = {0};
+    psc_gltf_adjust_t *adjust = NULL;
+    if (posed_new(&p, &g, a.model, err, sizeof err) != 0 ||
+        (a.pose_file && pose_from_file(&a, &g, &adjust, err, sizeof err) != 0)) {
+        fprintf(stderr, "%s: %s\n", prog, err);
+        goto done;
+    }
+    if (a.shadow) {
+        if (psc_io_shadow_load(a.shadow, &sf, err, sizeof err) != 0) {
+            fprintf(stderr, "%s: %s\n", prog, err);
+            goto done;
+        }
+        size_t n = psc_shadow_workspace_size(&sf.model, NULL);
+        if (posix_memalign(&sh_ws, 64, n ? n : 8) != 0 ||
+            psc_shadow_init_mesh(&sh, &sf.model, g.joint_count, sh_ws, n) != PSC_OK) {
+            fprintf(stderr, "%s: %s: made for another model (%u joints, %s has %u)\n", prog, a.shadow,
+                    (unsigned)sf.model.bone_count, a.model, (unsigned)g.joint_count);
+            goto done;
+        }
+    }
+    /* the camera: on the rest pose's box, in units of R */
+    pose(&p, &g, -1.0, NULL);
+    psc_vec3_q16_t lo = {INT32_MAX, INT32_MAX, INT32_MAX}, hi = {INT32_MIN, INT32_MIN, INT32_MIN};
+    for (uint32_t i = 0; i < p.mesh.vertex_count; i++) {
+        const int32_t *v = &p.pos_q16[3 * i];
+        lo = (psc_vec3_q16_t){v[0] < lo.x ? v[0] : lo.x, v[1] < lo.y ? v[1] : lo.y, v[2] < lo.z ? v[2] : lo.z};
+        hi = (psc_vec3_q16_t){v[0] > hi.x ? v[0] : hi.x, v[1] > hi.y ? v[1] : hi.y, v[2] > hi.z ? v[2] : hi.z};
+    }
+    psc_3d_draw_t d;
+    psc_3d_draw_defaults(&d, &p.mesh);
+    d.cull_back = vw->cull;
+    psc_3d_config_t cfg = {vw->width, vw->height, 0, 0, 32, psc_io_bam_from_deg(vw->hfov), 0, 0, p.mesh.vertex_count};
+    if (psc_render_view_orbit(vw, lo, hi, &d.camera_from_object, &cfg.near_q16, &cfg.far_q16) != PSC_OK) {
+        fprintf(stderr, "%s: %s: the orbit view does not fit the fixed-point range\n", prog, a.model);
+        goto done;
+    }
+    if (psc_render_view_shade(vw, &d, 1, a.model, err, sizeof err) != 0 ||
+        psc_render_target_open_view(&rt, &cfg, vw, false, a.model, err, sizeof err) != 0) {
+        fprintf(stderr, "%s: %s\n", prog, err);
+        goto done;
+    }
+    if (d.shade == PSC_SHADE_PHONG) { /* the light of light() below, per pixel instead of baked into the colours */
+        d.light_dir = psc_vec3_normalize(psc_mat4_apply_dir(&d.camera_from_object, (psc_vec3_q16_t){26214, 52429, 29491}));
+        d.ambient_q8 = 115;
+    }
+    psc_3d_stats_t st = {0};
+    double t_shade = 0;
+    for (unsigned long k = 0; k < vw->repeat; k++) {
+        pose(&p, &g, a.time, adjust);
+        double t0 = now_s();
+        if (a.shadow) {
+            psc_shadow_update_bones(&sh, p.skin_q16, g.joint_count);
+            psc_shadow_apply_mesh(&sh, p.pos_q16, p.nrm_q14, p.color, p.mesh.vertex_count, PSC_SHADOW_STRENGTH_Q16,
+                                  p.ao);
+        }
+        t_shade += now_s() - t0;
+        if (d.shade != PSC_SHADE_PHONG)
+            light(&p);
+        uint32_t bg = BACKGROUND;
+        psc_status_t s = psc_3d_render(&rt.r, &d, 1, &bg, &rt.out, &st);
+        if (s != PSC_OK) {
+            fprintf(stderr, "%s: %s: drawing failed: %s\n", prog, a.model, psc_status_str(s));
+            goto done;
+        }
+    }
+    if (vw->repeat > 1)
+        fprintf(stderr, "%s: %lu frames of %ux%u: self-shadowing %.3f ms per frame (%u vertices)\n", prog, vw->repeat,
+                (unsigned)vw->width, (unsigned)vw->height, t_shade / vw->repeat * 1e3, (unsigned)p.mesh.vertex_count);
+    psc_render_target_note(&rt, &st, prog, a.model);
+    if (psc_render_target_write(&rt, a.out, NULL, err, sizeof err) != 0 ||
+        (a.dump_ao && write_ao(&p, a.dump_ao, err, sizeof err) != 0)) {
+        fprintf(stderr, "%s: %s\n", prog, err);
+        goto done;
+    }
+    rc = 0;
+done:
+    free(adjust);
+    psc_render_target_close(&rt);
+    free(sh_ws);
+    psc_io_shadow_free(&sf);
+    posed_free(&p);
+    psc_gltf_free(&g);
+    return rc;
+}
