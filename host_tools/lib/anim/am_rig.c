@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* am_rig.c - an A:M rig played by an action, and the action baked into channels (am_rig.h). */
 #include "anim/am_rig.h"
+#include "util/hmath.h"
 #include "util/note_text.h"
 #include "anim/sample.h"
 #include "psc_io_error.h"
@@ -17,14 +18,9 @@
 
 /* ---- vectors ---------------------------------------------------------------------------------------------- */
 
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 static double norm3(double v[3])
 {
-    double n = sqrt(dot3(v, v));
+    double n = sqrt(psc_hmath_dot3(v, v));
     if (n > 0.0)
         for (unsigned k = 0; k < 3; k++)
             v[k] /= n;
@@ -216,20 +212,20 @@ static void reach(const psc_am_rig_t *r, size_t b, const double goal[3], psc_am_
         hk[k] = knee[k] - hip[k];
         u[k] = goal[k] - hip[k];
     }
-    double a = sqrt(dot3(hk, hk)), c = r->am->bones[b].length, d = norm3(u);
+    double a = sqrt(psc_hmath_dot3(hk, hk)), c = r->am->bones[b].length, d = norm3(u);
     if (a <= 0.0 || c <= 0.0 || d <= 0.0)
         return;
     double lo = fabs(a - c) * 1.0001, hi = (a + c) * 0.9999;
     d = d < lo ? lo : d > hi ? hi : d;
     /* the bend side: the knee's offset from the hip-goal line (or the tip's, when straight) */
-    double s = dot3(hk, u);
+    double s = psc_hmath_dot3(hk, u);
     for (unsigned k = 0; k < 3; k++)
         v[k] = hk[k] - s * u[k];
     if (norm3(v) < 1e-9 * a) {
         double e[3];
         for (unsigned k = 0; k < 3; k++)
             e[k] = tip[k] - knee[k];
-        s = dot3(e, u);
+        s = psc_hmath_dot3(e, u);
         for (unsigned k = 0; k < 3; k++)
             v[k] = -(e[k] - s * u[k]);
         if (norm3(v) < 1e-12)

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* proxy_bake.c - parts, joints, proxies, animation and the proxy pack (proxy_bake.h). */
 #include "bake/proxy.h"
+#include "util/hmath.h"
 #include "psc_io_container_write.h"
 #include "psc_io_error.h"
 #include "proxy/psc_proxy.h"
@@ -23,12 +24,6 @@ uint32_t psc_bake_proxy_light(uint32_t base, const double n[3])
     for (unsigned sh = 0; sh < 24; sh += 8)
         out |= (uint32_t)lround(fmin(255.0, ((base >> sh) & 0xFFu) * f)) << sh;
     return out;
-}
-
-static int32_t q16(double v)
-{
-    double s = v * 65536.0;
-    return s >= 2147483647.0 ? INT32_MAX : s <= -2147483648.0 ? INT32_MIN : (int32_t)lround(s);
 }
 
 /* A growing array of bytes. */
@@ -175,7 +170,7 @@ static int form_group(const psc_gltf_t *g, const group_t *gr, const double c[3],
         const double *n = g->mesh.normal ? &g->mesh.normal[3u * v] : up;
         for (unsigned a = 0; a < 3; a++) {
             s.src_pos[i][a] = (g->mesh.pos[3u * v + a] - c[a]) / r;
-            vp[3u * i + a] = q16(s.src_pos[i][a]);
+            vp[3u * i + a] = psc_hmath_q16(s.src_pos[i][a]);
         }
         s.src_color[i] = vc[i] = psc_bake_proxy_light(g->mesh.color ? g->mesh.color[v] : 0xC0C0C0u, n);
         vs[i] = skin_of(g, v, rigid, gr->joint);
@@ -221,7 +216,7 @@ static int form_group(const psc_gltf_t *g, const group_t *gr, const double c[3],
         goto oom;
     for (uint32_t i = 0; i < s.prx_vertices; i++) {
         for (unsigned a = 0; a < 3; a++)
-            pp[3u * i + a] = q16(s.prx_pos[i][a]);
+            pp[3u * i + a] = psc_hmath_q16(s.prx_pos[i][a]);
         /* a part's proxy vertex moves as the nearest vertex of the part; a joint's is its vertex */
         uint32_t near = i;
         if (gr->kind == PSC_PROXY_KIND_PART) {
@@ -249,8 +244,8 @@ static int form_group(const psc_gltf_t *g, const group_t *gr, const double c[3],
                                  .proxy_vertex_count = s.prx_vertices,
                                  .first_proxy_triangle = pk->ptriangles,
                                  .proxy_triangle_count = s.prx_triangles,
-                                 .centre_q16 = {q16(s.centre[0]), q16(s.centre[1]), q16(s.centre[2])},
-                                 .radius_q16 = q16(s.radius)};
+                                 .centre_q16 = {psc_hmath_q16(s.centre[0]), psc_hmath_q16(s.centre[1]), psc_hmath_q16(s.centre[2])},
+                                 .radius_q16 = psc_hmath_q16(s.radius)};
     pk->vertices += nv;
     pk->triangles += gr->n;
     pk->pvertices += s.prx_vertices;
@@ -315,18 +310,13 @@ oom:
 
 /* ---- splitting loose parts --------------------------------------------------------------------- */
 
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 /* Squared distance from p to triangle (a, b, c): the closest point by the triangle's Voronoi regions. */
 static double tri_dist2(const double p[3], const double a[3], const double b[3], const double c[3])
 {
     double ab[3], ac[3], ap[3], q[3];
     for (unsigned k = 0; k < 3; k++)
         ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k];
-    double d1 = dot3(ab, ap), d2 = dot3(ac, ap), d00 = dot3(ab, ab), d01 = dot3(ab, ac), d11 = dot3(ac, ac);
+    double d1 = psc_hmath_dot3(ab, ap), d2 = psc_hmath_dot3(ac, ap), d00 = psc_hmath_dot3(ab, ab), d01 = psc_hmath_dot3(ab, ac), d11 = psc_hmath_dot3(ac, ac);
     double den = d00 * d11 - d01 * d01, v, w;
     if (den <= 1e-30) {
         v = w = 0;
@@ -341,7 +331,7 @@ static double tri_dist2(const double p[3], const double a[3], const double b[3],
             double d[3], f[3];
             for (unsigned k = 0; k < 3; k++)
                 d[k] = e1[e][k] - e0[e][k], f[k] = p[k] - e0[e][k];
-            double dd = dot3(d, d), t = dd > 0 ? fmin(1, fmax(0, dot3(f, d) / dd)) : 0, g2 = 0;
+            double dd = psc_hmath_dot3(d, d), t = dd > 0 ? fmin(1, fmax(0, psc_hmath_dot3(f, d) / dd)) : 0, g2 = 0;
             for (unsigned k = 0; k < 3; k++)
                 g2 += (f[k] - t * d[k]) * (f[k] - t * d[k]);
             best = fmin(best, g2);
@@ -350,7 +340,7 @@ static double tri_dist2(const double p[3], const double a[3], const double b[3],
     }
     for (unsigned k = 0; k < 3; k++)
         q[k] = a[k] + v * ab[k] + w * ac[k] - p[k];
-    return dot3(q, q);
+    return psc_hmath_dot3(q, q);
 }
 
 /* How far the envelope of triangles tri[0..n) of g would stand off them: the mean distance from its vertices to
@@ -390,7 +380,7 @@ static double looseness(const psc_gltf_t *g, const uint32_t *tri, uint32_t n, co
         for (unsigned k = 0; k < 3; k++)
             e1[k] = b[k] - a[k], e2[k] = cc[k] - a[k], m[k] = (a[k] + b[k] + cc[k]) / 3;
         x[0] = e1[1] * e2[2] - e1[2] * e2[1], x[1] = e1[2] * e2[0] - e1[0] * e2[2], x[2] = e1[0] * e2[1] - e1[1] * e2[0];
-        double ar = sqrt(dot3(x, x)) / 2, best = INFINITY;
+        double ar = sqrt(psc_hmath_dot3(x, x)) / 2, best = INFINITY;
         for (uint32_t k = 0; k < n; k++)
             best = fmin(best, tri_dist2(m, s.src_pos[s.src_index[3u * k]], s.src_pos[s.src_index[3u * k + 1]],
                                         s.src_pos[s.src_index[3u * k + 2]]));
@@ -478,10 +468,10 @@ static void mat_to_r(const double s[12], const double c[3], double r, bool point
 {
     for (unsigned row = 0; row < 3; row++) {
         for (unsigned k = 0; k < 3; k++)
-            out[4 * row + k] = q16(s[4 * row + k]);
+            out[4 * row + k] = psc_hmath_q16(s[4 * row + k]);
         double t = point_map ? s[4 * row] * c[0] + s[4 * row + 1] * c[1] + s[4 * row + 2] * c[2] + s[4 * row + 3] - c[row]
                              : s[4 * row + 3] - c[row];
-        out[4 * row + 3] = q16(t / r);
+        out[4 * row + 3] = psc_hmath_q16(t / r);
     }
 }
 
@@ -575,7 +565,7 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     double bb_c[3] = {0, 0, 0}, bb_r = 0;
     for (uint32_t k = 0; k < nshapes; k++)
         for (uint32_t i = 0; i < shapes[k].src_vertices; i++)
-            bb_r = fmax(bb_r, sqrt(dot3(shapes[k].src_pos[i], shapes[k].src_pos[i])));
+            bb_r = fmax(bb_r, sqrt(psc_hmath_dot3(shapes[k].src_pos[i], shapes[k].src_pos[i])));
     unsigned bbs = PSC_BAKE_PROXY_BB_SIDE, bbt = PSC_BAKE_PROXY_BB_TEX;
     bb_axes = malloc(bbs * bbs * 6u * sizeof *bb_axes);
     bb_tex = malloc((size_t)bbs * bbs * bbt * bbt * sizeof *bb_tex);
@@ -624,7 +614,7 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     info.model_r_um = r * 1e6 < 4e9 ? (uint32_t)lround(r * 1e6) : UINT32_MAX;
     info.bb_side = (uint16_t)bbs;
     info.bb_tex = (uint16_t)bbt;
-    info.bb_radius_q16 = q16(bb_r);
+    info.bb_radius_q16 = psc_hmath_q16(bb_r);
     psc_container_part_t parts[] = {
         {PSC_SECTION_PROXY_INFO, &info, sizeof info},
         {PSC_SECTION_PROXY_JOINTS, joints, g->joint_count * sizeof *joints},

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* patch_measure.c - cracks and chord error of a patch tessellation (patch_measure.h). */
 #include "measure/patch.h"
+#include "util/hmath.h"
 #include "util/text_out.h"
 #include "psc_io_error.h"
 #include "psc_io_file.h"
@@ -131,11 +132,6 @@ static void to_d(const int32_t *q, double out[3])
         out[k] = q[k] / 65536.0;
 }
 
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 /* Distance from x to the triangle abc (Ericson's closest-point regions). */
 static double point_triangle(const double x[3], const double a[3], const double b[3], const double c[3])
 {
@@ -145,7 +141,7 @@ static double point_triangle(const double x[3], const double a[3], const double 
         ac[k] = c[k] - a[k];
         ax[k] = x[k] - a[k];
     }
-    double d1 = dot3(ab, ax), d2 = dot3(ac, ax);
+    double d1 = psc_hmath_dot3(ab, ax), d2 = psc_hmath_dot3(ac, ax);
     if (d1 <= 0 && d2 <= 0) {
         memcpy(q, a, sizeof q);
         goto out;
@@ -155,7 +151,7 @@ static double point_triangle(const double x[3], const double a[3], const double 
         bx[k] = x[k] - b[k];
         cx[k] = x[k] - c[k];
     }
-    double d3 = dot3(ab, bx), d4 = dot3(ac, bx);
+    double d3 = psc_hmath_dot3(ab, bx), d4 = psc_hmath_dot3(ac, bx);
     if (d3 >= 0 && d4 <= d3) {
         memcpy(q, b, sizeof q);
         goto out;
@@ -167,7 +163,7 @@ static double point_triangle(const double x[3], const double a[3], const double 
             q[k] = a[k] + v * ab[k];
         goto out;
     }
-    double d5 = dot3(ab, cx), d6 = dot3(ac, cx);
+    double d5 = psc_hmath_dot3(ab, cx), d6 = psc_hmath_dot3(ac, cx);
     if (d6 >= 0 && d5 <= d6) {
         memcpy(q, c, sizeof q);
         goto out;
@@ -192,7 +188,7 @@ static double point_triangle(const double x[3], const double a[3], const double 
 out:
     for (unsigned k = 0; k < 3; k++)
         q[k] -= x[k];
-    return sqrt(dot3(q, q));
+    return sqrt(psc_hmath_dot3(q, q));
 }
 
 double psc_measure_chord_points(const psc_patch_t *p, uint32_t f, const double (*pts)[3], size_t n)

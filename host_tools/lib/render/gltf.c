@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* gltf_render.c - periscope-render's glTF mode (gltf_render.h). */
 #include "render/gltf.h"
+#include "util/hmath.h"
 #include "import/gltf_model.h"
 #include "psc_io_cli.h"
 #include "psc_io_error.h"
@@ -132,12 +133,6 @@ typedef struct {
     psc_mesh_t mesh;
 } posed_t;
 
-static int32_t q16(double v)
-{
-    double s = v * 65536.0;
-    return s >= 2147483647.0 ? INT32_MAX : s <= -2147483648.0 ? INT32_MIN : (int32_t)lround(s);
-}
-
 static int posed_new(posed_t *p, const psc_gltf_t *g, const char *name, char *err, size_t errlen)
 {
     uint32_t nv = g->mesh.vertex_count, nj = g->joint_count ? g->joint_count : 1u;
@@ -187,7 +182,7 @@ static void pose(posed_t *p, const psc_gltf_t *g, double t, const psc_gltf_adjus
     psc_gltf_deform(g, (const double(*)[12])p->skin, p->pos, p->nrm);
     for (uint32_t i = 0; i < g->mesh.vertex_count; i++)
         for (unsigned a = 0; a < 3; a++) {
-            p->pos_q16[3 * i + a] = q16((p->pos[3 * i + a] - p->c[a]) / p->r);
+            p->pos_q16[3 * i + a] = psc_hmath_q16((p->pos[3 * i + a] - p->c[a]) / p->r);
             p->nrm_q14[3 * i + a] = (int16_t)lround(p->nrm[3 * i + a] * 16383.0);
         }
     memcpy(p->color, g->mesh.color, g->mesh.vertex_count * sizeof *p->color);
@@ -198,9 +193,9 @@ static void pose(posed_t *p, const psc_gltf_t *g, double t, const psc_gltf_adjus
         memset(m, 0, sizeof *m);
         for (unsigned r = 0; r < 3; r++) {
             for (unsigned k = 0; k < 3; k++)
-                m->m[r][k] = q16(s[4 * r + k]);
+                m->m[r][k] = psc_hmath_q16(s[4 * r + k]);
             double tr = s[4 * r] * p->c[0] + s[4 * r + 1] * p->c[1] + s[4 * r + 2] * p->c[2] + s[4 * r + 3] - p->c[r];
-            m->m[r][3] = q16(tr / p->r);
+            m->m[r][3] = psc_hmath_q16(tr / p->r);
         }
         m->m[3][3] = 65536;
     }
