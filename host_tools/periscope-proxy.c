@@ -15,6 +15,7 @@
 
 #include "util/cli_values.h"
 #include "import/gltf_model.h"
+#include "import/obj.h"
 #include "bake/proxy.h"
 #include "psc_io_cli.h"
 #include "psc_io_file.h"

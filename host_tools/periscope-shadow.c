@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "import/obj.h"
 #include "util/cli_values.h"
 #include "bake/patch_any.h"
 #include "psc_io_cli.h"

@@ -30,6 +30,7 @@
 #include <zlib.h>
 
 #include "bake/mesh_pack.h"
+#include "import/gltf_model.h"
 #include "import/obj.h"
 #include "scene_object.h"
 #include "3d/psc_3d_render.h"
@@ -426,6 +427,66 @@ static void test_obj_material(void **state)
     unlink(obj);
 }
 
+/* The groups as parts (the articulated model's rigid parts): a group named twice is one part, a corner two groups
+ * share is a vertex of each (as are corners of faces with different materials), a group with no face is no part,
+ * and each vertex takes its material's Kd; an OBJ file
+ * through psc_gltf_load is a root joint and a joint a group, each vertex on its group's joint alone. */
+static void test_obj_parts(void **state)
+{
+    (void)state;
+    const char *dir = getenv("PSC_TEST_TMPDIR");
+    char obj[512], mtl[512], err[256], note[600] = "";
+    snprintf(obj, sizeof obj, "%s/3d_parts_%d.obj", dir && *dir ? dir : "/tmp", (int)getpid());
+    snprintf(mtl, sizeof mtl, "%s/3d_parts_%d.mtl", dir && *dir ? dir : "/tmp", (int)getpid());
+    FILE *f = fopen(mtl, "w");
+    assert_non_null(f);
+    fprintf(f, "newmtl red\nKd 1 0 0\nnewmtl plain\n");
+    fclose(f);
+    f = fopen(obj, "w");
+    assert_non_null(f);
+    fprintf(f, "mtllib %s\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\ng empty\ng left\nusemtl red\nf 1 2 3\n"
+               "g right\nusemtl plain\nf 2 4 3\ng left\nf 3 2 1\n", strrchr(mtl, '/') + 1);
+    fclose(f);
+    psc_model_t m;
+    psc_obj_parts_t parts;
+    if (psc_obj_load_parts(obj, &m, &parts, note, sizeof note, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_int_equal(parts.count, 2);
+    assert_string_equal(parts.name[0], "left");
+    assert_string_equal(parts.name[1], "right");
+    assert_int_equal(m.triangle_count, 3);
+    /* corners 2 and 3 are in both groups; the last face, back in "left", uses "plain": its corners are new too */
+    assert_int_equal(m.vertex_count, 9);
+    for (uint32_t t = 0; t < m.triangle_count; t++)
+        for (unsigned k = 1; k < 3; k++)
+            assert_int_equal(parts.vertex_part[m.index[3 * t + k]], parts.vertex_part[m.index[3 * t]]);
+    assert_non_null(m.color);
+    for (uint32_t t = 0; t < m.triangle_count; t++)
+        for (unsigned k = 0; k < 3; k++)
+            assert_int_equal(m.color[m.index[3 * t + k]], t == 0 ? 0xFF0000u : PSC_OBJ_DEFAULT_COLOR);
+    assert_int_equal(parts.vertex_part[m.index[6]], 0);   /* the last face is left's */
+    psc_obj_parts_free(&parts);
+    psc_model_free(&m);
+    /* without parts asked, as before: groups and materials ignored, corners shared */
+    assert_int_equal(psc_obj_load(obj, &m, note, sizeof note, err, sizeof err), 0);
+    assert_int_equal(m.vertex_count, 4);
+    assert_null(m.color);
+    psc_model_free(&m);
+    psc_gltf_t g;
+    if (psc_gltf_load(obj, &g, note, sizeof note, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_int_equal(g.joint_count, 3);
+    assert_int_equal(g.joints[0].parent, -1);
+    assert_string_equal(g.joints[1].name, "left");
+    assert_int_equal(g.joints[2].parent, 0);
+    assert_false(g.skinned);
+    for (uint32_t v = 0; v < g.mesh.vertex_count; v++)
+        assert_true(g.joint[v][0] >= 1 && g.weight[v][0] == 1.0 && g.weight[v][1] == 0.0);
+    psc_gltf_free(&g);
+    unlink(obj);
+    unlink(mtl);
+}
+
 static void test_obj_errors(void **state)
 {
     (void)state;
@@ -553,6 +614,7 @@ int main(void)
         cmocka_unit_test(test_fuzz),
         cmocka_unit_test(test_obj_reads),
         cmocka_unit_test(test_obj_material),
+        cmocka_unit_test(test_obj_parts),
         cmocka_unit_test(test_obj_errors),
         cmocka_unit_test(test_obj_fuzz),
         cmocka_unit_test(test_object_scene),

@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * fuzz_obj.c - Wavefront OBJ text (host_tools/lib/import/obj.h) through
- * psc_obj_parse, as the host tools read a model. The file is named in a
+ * psc_obj_parse, as the host tools read a model, and again with its groups
+ * as parts (psc_obj_parse_parts: every vertex on a part that exists, a
+ * triangle's corners on one part, a colour a vertex). The file is named in a
  * directory that does not exist, so a relative mtllib opens nothing. A
  * refusal must be "NAME:LINE: problem" (or "NAME: problem") naming the file;
  * a parsed model has triangles, every index below the vertex count, and
@@ -33,5 +35,21 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         fuzz_require_message_names(err, NAME);
     }
     psc_model_free(&m);
+
+    psc_obj_parts_t parts;
+    if (psc_obj_parse_parts(NAME, (const char *)data, size, &m, &parts, note, sizeof note, err, sizeof err) == 0) {
+        FUZZ_REQUIRE(parts.count > 0 && parts.count <= PSC_OBJ_MAX_PARTS && m.color != NULL);
+        for (uint32_t v = 0; v < m.vertex_count; v++)
+            FUZZ_REQUIRE(parts.vertex_part[v] < parts.count);
+        for (size_t t = 0; t < m.triangle_count; t++)
+            for (unsigned k = 0; k < 3; k++) {
+                FUZZ_REQUIRE(m.index[3 * t + k] < m.vertex_count);
+                FUZZ_REQUIRE(parts.vertex_part[m.index[3 * t + k]] == parts.vertex_part[m.index[3 * t]]);
+            }
+        psc_obj_parts_free(&parts);
+        psc_model_free(&m);
+    } else {
+        fuzz_require_message_names(err, NAME);
+    }
     return 0;
 }

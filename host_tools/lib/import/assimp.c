@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* gltf_load.c - articulated and skinned models read through libassimp (gltf_load.h); gltf_pose.c poses them. */
+/* assimp.c - articulated and skinned models read through libassimp (gltf_model.h: glTF, glb and the other
+ * formats it reads; OBJ is read by obj.c); gltf_model.c poses them. */
 #include "import/gltf_model.h"
 #include "psc_io_error.h"
 #include "util/note_text.h"
@@ -81,83 +82,6 @@ static void add_weight(uint16_t *joint, double *weight, uint32_t j, double w)
     }
     weight[at] = w;
     joint[at] = (uint16_t)j;
-}
-
-/* ---- meshes turned inside out ------------------------------------------------------------------------------ */
-
-static const double *weld_pos;
-
-static int cmp_weld(const void *a, const void *b)
-{
-    const double *p = &weld_pos[3 * *(const uint32_t *)a], *q = &weld_pos[3 * *(const uint32_t *)b];
-    for (unsigned k = 0; k < 3; k++)
-        if (p[k] != q[k])
-            return p[k] < q[k] ? -1 : 1;
-    return 0;
-}
-
-static int cmp_edge(const void *a, const void *b)
-{
-    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
-
-/* Whether triangles [t0, t1) of m close a volume: every edge (between welded positions) borne by exactly two. */
-static bool watertight(const psc_model_t *m, uint32_t v0, uint32_t v1, uint32_t t0, uint32_t t1)
-{
-    uint32_t nv = v1 - v0, ne = 3u * (t1 - t0);
-    uint32_t *order = malloc((nv ? nv : 1u) * sizeof *order), *weld = malloc((nv ? nv : 1u) * sizeof *weld);
-    uint64_t *edge = malloc((ne ? ne : 1u) * sizeof *edge);
-    bool closed = order && weld && edge && ne > 0;
-    if (closed) {
-        for (uint32_t i = 0; i < nv; i++)
-            order[i] = v0 + i;
-        weld_pos = m->pos;
-        qsort(order, nv, sizeof *order, cmp_weld);
-        for (uint32_t i = 0, id = 0; i < nv; i++) {
-            if (i > 0 && cmp_weld(&order[i - 1], &order[i]) != 0)
-                id++;
-            weld[order[i] - v0] = id;
-        }
-        for (uint32_t t = t0, k = 0; t < t1; t++)
-            for (unsigned e = 0; e < 3; e++, k++) {
-                uint64_t a = weld[m->index[3 * t + e] - v0], b = weld[m->index[3 * t + (e + 1u) % 3u] - v0];
-                edge[k] = a < b ? a << 32 | b : b << 32 | a;
-            }
-        qsort(edge, ne, sizeof *edge, cmp_edge);
-        for (uint32_t k = 0; k < ne && closed;) {
-            uint32_t run = 1;
-            while (k + run < ne && edge[k + run] == edge[k])
-                run++;
-            closed = run == 2;
-            k += run;
-        }
-    }
-    free(order);
-    free(weld);
-    free(edge);
-    return closed;
-}
-
-/* A closed mesh whose faces point inwards (its signed volume negative) turned outward: winding and normals. */
-static bool turn_outward(psc_model_t *m, uint32_t v0, uint32_t v1, uint32_t t0, uint32_t t1)
-{
-    double vol = 0;
-    for (uint32_t t = t0; t < t1; t++) {
-        const double *p = &m->pos[3 * m->index[3 * t]], *q = &m->pos[3 * m->index[3 * t + 1]],
-                     *r = &m->pos[3 * m->index[3 * t + 2]];
-        vol += p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0]) + p[2] * (q[0] * r[1] - q[1] * r[0]);
-    }
-    if (vol >= 0 || !watertight(m, v0, v1, t0, t1))
-        return false;
-    for (uint32_t t = t0; t < t1; t++) {
-        uint32_t x = m->index[3 * t + 1];
-        m->index[3 * t + 1] = m->index[3 * t + 2];
-        m->index[3 * t + 2] = x;
-    }
-    for (uint32_t i = 3u * v0; i < 3u * v1; i++)
-        m->normal[i] = -m->normal[i];
-    return true;
 }
 
 /* Append the vertices and triangles of mesh mi hung from joint j. */
@@ -278,7 +202,7 @@ static int add_mesh(build_t *b, const struct aiScene *sc, unsigned mi, uint32_t 
         m->triangle_count++;
     }
     m->vertex_count += nv;
-    if (turn_outward(m, v0, v0 + nv, t0, m->triangle_count))
+    if (psc_gltf_turn_outward(m, v0, v0 + nv, t0, m->triangle_count))
         b->turned++;
     return 0;
 }
@@ -324,7 +248,7 @@ static int add_channels(psc_gltf_t *g, const struct aiScene *sc, const char *pat
     return 0;
 }
 
-int psc_gltf_load(const char *path, psc_gltf_t *out, char *note, size_t notelen, char *err, size_t errlen)
+int psc_assimp_load(const char *path, psc_gltf_t *out, char *note, size_t notelen, char *err, size_t errlen)
 {
     memset(out, 0, sizeof *out);
     const struct aiScene *sc = aiImportFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |

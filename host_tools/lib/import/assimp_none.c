@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: MIT */
-/* gltf_load_none.c - the model importer of a build without libassimp (gltf_load.h): it says so. */
+/* assimp_none.c - the model importer of a build without libassimp (gltf_model.h): it says so (OBJ files are
+ * still read, by obj.c). */
 #include "import/gltf_model.h"
 #include "psc_io_error.h"
 
 #include <string.h>
 
-int psc_gltf_load(const char *path, psc_gltf_t *out, char *note, size_t notelen, char *err, size_t errlen)
+int psc_assimp_load(const char *path, psc_gltf_t *out, char *note, size_t notelen, char *err, size_t errlen)
 {
     (void)note;
     (void)notelen;

@@ -1,9 +1,14 @@
 /* SPDX-License-Identifier: MIT */
-/* gltf_pose.c - what of an articulated or skinned model (gltf_load.h) needs no importer: its poses (keys
- * sampled, skin matrices, the mesh deformed), freeing it, knowing its files. */
+/* gltf_model.c - what of an articulated or skinned model (gltf_model.h) needs no library: which reader a file
+ * goes to (libassimp, or obj.c for OBJ), the OBJ file's groups as rigid parts, meshes turned outward, its poses
+ * (keys sampled, skin matrices, the mesh deformed), freeing it. */
 #include "import/gltf_model.h"
+#include "import/obj.h"
+#include "psc_io_error.h"
+#include "util/note_text.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -185,12 +190,6 @@ void psc_gltf_deform(const psc_gltf_t *g, const double (*skin)[12], double *pos,
     }
 }
 
-bool psc_obj_is_file(const char *path)
-{
-    size_t n = strlen(path);
-    return n > 4 && strcasecmp(path + n - 4, ".obj") == 0;
-}
-
 bool psc_gltf_is_file(const char *path)
 {
     size_t n = strlen(path);
@@ -230,4 +229,193 @@ int32_t psc_gltf_joint_named(const psc_gltf_t *g, const char *name)
         if (strcmp(g->joints[j].name, name) == 0)
             return (int32_t)j;
     return -1;
+}
+
+/* ---- meshes turned inside out ------------------------------------------------------------------------------ */
+
+static const double *weld_pos;
+
+static int cmp_weld(const void *a, const void *b)
+{
+    const double *p = &weld_pos[3 * *(const uint32_t *)a], *q = &weld_pos[3 * *(const uint32_t *)b];
+    for (unsigned k = 0; k < 3; k++)
+        if (p[k] != q[k])
+            return p[k] < q[k] ? -1 : 1;
+    return 0;
+}
+
+static int cmp_edge(const void *a, const void *b)
+{
+    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Whether triangles [t0, t1) of m close a volume: every edge (between welded positions) borne by exactly two. */
+static bool watertight(const psc_model_t *m, uint32_t v0, uint32_t v1, uint32_t t0, uint32_t t1)
+{
+    uint32_t nv = v1 - v0, ne = 3u * (t1 - t0);
+    uint32_t *order = malloc((nv ? nv : 1u) * sizeof *order), *weld = malloc((nv ? nv : 1u) * sizeof *weld);
+    uint64_t *edge = malloc((ne ? ne : 1u) * sizeof *edge);
+    bool closed = order && weld && edge && ne > 0;
+    if (closed) {
+        for (uint32_t i = 0; i < nv; i++)
+            order[i] = v0 + i;
+        weld_pos = m->pos;
+        qsort(order, nv, sizeof *order, cmp_weld);
+        for (uint32_t i = 0, id = 0; i < nv; i++) {
+            if (i > 0 && cmp_weld(&order[i - 1], &order[i]) != 0)
+                id++;
+            weld[order[i] - v0] = id;
+        }
+        for (uint32_t t = t0, k = 0; t < t1; t++)
+            for (unsigned e = 0; e < 3; e++, k++) {
+                uint64_t a = weld[m->index[3 * t + e] - v0], b = weld[m->index[3 * t + (e + 1u) % 3u] - v0];
+                edge[k] = a < b ? a << 32 | b : b << 32 | a;
+            }
+        qsort(edge, ne, sizeof *edge, cmp_edge);
+        for (uint32_t k = 0; k < ne && closed;) {
+            uint32_t run = 1;
+            while (k + run < ne && edge[k + run] == edge[k])
+                run++;
+            closed = run == 2;
+            k += run;
+        }
+    }
+    free(order);
+    free(weld);
+    free(edge);
+    return closed;
+}
+
+bool psc_gltf_turn_outward(psc_model_t *m, uint32_t v0, uint32_t v1, uint32_t t0, uint32_t t1)
+{
+    double vol = 0;
+    for (uint32_t t = t0; t < t1; t++) {
+        const double *p = &m->pos[3 * m->index[3 * t]], *q = &m->pos[3 * m->index[3 * t + 1]],
+                     *r = &m->pos[3 * m->index[3 * t + 2]];
+        vol += p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0]) + p[2] * (q[0] * r[1] - q[1] * r[0]);
+    }
+    if (vol >= 0 || !watertight(m, v0, v1, t0, t1))
+        return false;
+    for (uint32_t t = t0; t < t1; t++) {
+        uint32_t x = m->index[3 * t + 1];
+        m->index[3 * t + 1] = m->index[3 * t + 2];
+        m->index[3 * t + 2] = x;
+    }
+    for (uint32_t i = 3u * v0; i < 3u * v1; i++)
+        m->normal[i] = -m->normal[i];
+    return true;
+}
+
+/* ---- OBJ: its groups as rigid parts ------------------------------------------------------------------------ */
+
+/* The OBJ file's vertices and triangles regrouped part by part (stable), so that each part's are contiguous. */
+static int order_by_part(psc_model_t *m, const psc_obj_parts_t *parts, uint32_t *vfirst, uint32_t *tfirst)
+{
+    uint32_t nv = m->vertex_count, nt = m->triangle_count, np = parts->count;
+    uint32_t *vnew = malloc((nv ? nv : 1u) * sizeof *vnew), *fill = calloc(np + 1u, sizeof *fill);
+    uint32_t *index = malloc((size_t)(nt ? nt : 1u) * 3 * sizeof *index);
+    double *pos = malloc((size_t)(nv ? nv : 1u) * 3 * sizeof *pos), *nrm = malloc((size_t)(nv ? nv : 1u) * 3 * sizeof *nrm);
+    double *uv = m->uv ? malloc((size_t)(nv ? nv : 1u) * 2 * sizeof *uv) : NULL;
+    uint32_t *col = malloc((nv ? nv : 1u) * sizeof *col);
+    int rc = -1;
+    if (!vnew || !fill || !index || !pos || !nrm || (m->uv && !uv) || !col)
+        goto done;
+    for (uint32_t p = 0; p <= np; p++)
+        vfirst[p] = tfirst[p] = 0;
+    for (uint32_t v = 0; v < nv; v++)
+        vfirst[parts->vertex_part[v] + 1u]++;
+    for (uint32_t t = 0; t < nt; t++)
+        tfirst[parts->vertex_part[m->index[3 * t]] + 1u]++;   /* a face's corners are all its part's */
+    for (uint32_t p = 0; p < np; p++) {
+        vfirst[p + 1u] += vfirst[p];
+        tfirst[p + 1u] += tfirst[p];
+    }
+    for (uint32_t v = 0; v < nv; v++) {
+        uint32_t p = parts->vertex_part[v], to = vfirst[p] + fill[p]++;
+        vnew[v] = to;
+        memcpy(&pos[3 * to], &m->pos[3 * v], 3 * sizeof *pos);
+        memcpy(&nrm[3 * to], &m->normal[3 * v], 3 * sizeof *nrm);
+        if (uv)
+            memcpy(&uv[2 * to], &m->uv[2 * v], 2 * sizeof *uv);
+        col[to] = m->color[v];
+    }
+    memset(fill, 0, (np + 1u) * sizeof *fill);
+    for (uint32_t t = 0; t < nt; t++) {
+        uint32_t p = parts->vertex_part[m->index[3 * t]], to = tfirst[p] + fill[p]++;
+        for (unsigned k = 0; k < 3; k++)
+            index[3 * to + k] = vnew[m->index[3 * t + k]];
+    }
+    free(m->pos), free(m->normal), free(m->uv), free(m->color), free(m->index);
+    m->pos = pos, m->normal = nrm, m->uv = uv, m->color = col, m->index = index;
+    pos = nrm = uv = NULL;
+    col = index = NULL;
+    rc = 0;
+done:
+    free(vnew), free(fill), free(index), free(pos), free(nrm), free(uv), free(col);
+    return rc;
+}
+
+/* An OBJ file as an articulated model: a root joint named after the file, and under it a joint a group, each
+ * group's vertices weighing 1 on its own; closed groups that face inwards turned outward. */
+static int load_obj(const char *path, psc_gltf_t *out, char *note, size_t notelen, char *err, size_t errlen)
+{
+    psc_obj_parts_t parts;
+    char objnote[600] = "";
+    if (psc_obj_load_parts(path, &out->mesh, &parts, objnote, sizeof objnote, err, errlen) != 0)
+        return -1;
+    if (objnote[0])
+        psc_note_add(note, notelen, "%s", objnote);
+    int rc = -1;
+    uint32_t np = parts.count, nv = out->mesh.vertex_count, turned = 0;
+    uint32_t *vfirst = malloc((np + 1u) * sizeof *vfirst), *tfirst = malloc((np + 1u) * sizeof *tfirst);
+    if (np + 1u > PSC_GLTF_MAX_JOINTS) {
+        psc_io_errorf(err, errlen, path, "more than %u groups", PSC_GLTF_MAX_JOINTS - 1u);
+        goto done;
+    }
+    if (nv > PSC_GLTF_MAX_VERTICES) {
+        psc_io_errorf(err, errlen, path, "more than %u vertices", PSC_GLTF_MAX_VERTICES);
+        goto done;
+    }
+    out->joints = calloc(np + 1u, sizeof *out->joints);
+    out->joint = calloc(nv ? nv : 1u, sizeof *out->joint);
+    out->weight = calloc(nv ? nv : 1u, sizeof *out->weight);
+    if (!vfirst || !tfirst || !out->joints || !out->joint || !out->weight ||
+        order_by_part(&out->mesh, &parts, vfirst, tfirst) != 0) {
+        psc_io_errorf(err, errlen, path, "out of memory");
+        goto done;
+    }
+    const psc_gltf_trs_t rest = {{0, 0, 0}, {0, 0, 0, 1}, {1, 1, 1}};
+    const char *base = strrchr(path, '/');
+    out->joints[0] = (psc_gltf_joint_t){.parent = -1, .rest = rest};
+    snprintf(out->joints[0].name, sizeof out->joints[0].name, "%s", base ? base + 1 : path);
+    for (uint32_t p = 0; p < np; p++) {
+        out->joints[p + 1u] = (psc_gltf_joint_t){.parent = 0, .rest = rest};
+        snprintf(out->joints[p + 1u].name, sizeof out->joints[0].name, "%s", parts.name[p]);
+        for (uint32_t v = vfirst[p]; v < vfirst[p + 1u]; v++) {
+            out->joint[v][0] = (uint16_t)(p + 1u);
+            out->weight[v][0] = 1.0;
+        }
+        turned += psc_gltf_turn_outward(&out->mesh, vfirst[p], vfirst[p + 1u], tfirst[p], tfirst[p + 1u]);
+    }
+    out->joint_count = np + 1u;
+    psc_note_add(note, notelen, "%u vertices, %u triangles, %u nodes, rigid parts, no animation", nv,
+                 out->mesh.triangle_count, out->joint_count);
+    if (turned)
+        psc_note_add(note, notelen, "%u closed mesh%s faced inwards: turned outward", turned, turned > 1 ? "es" : "");
+    rc = 0;
+done:
+    free(vfirst);
+    free(tfirst);
+    psc_obj_parts_free(&parts);
+    if (rc != 0)
+        psc_gltf_free(out);
+    return rc;
+}
+
+int psc_gltf_load(const char *path, psc_gltf_t *out, char *note, size_t notelen, char *err, size_t errlen)
+{
+    memset(out, 0, sizeof *out);
+    return psc_obj_is_file(path) ? load_obj(path, out, note, notelen, err, errlen)
+                                 : psc_assimp_load(path, out, note, notelen, err, errlen);
 }

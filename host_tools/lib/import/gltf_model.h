@@ -1,8 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * gltf_load.h - an articulated or skinned model on the host (double
- * precision), read by Open Asset Import Library (Debian's libassimp: glTF 2,
- * and the other formats it reads), and posed.
+ * gltf_model.h - an articulated or skinned model on the host (double
+ * precision) in glTF's terms (nodes, skins, keyed TRS channels), whatever
+ * file it came from: read by Open Asset Import Library (Debian's libassimp:
+ * glTF 2, and the other formats it reads) or, for OBJ, by the host tools'
+ * OBJ reader (its groups rigid parts), and posed.
  *
  * Every node of the file's hierarchy is a joint. A rigid mesh hangs from
  * its node (its vertices weigh 1 on it); a skinned mesh's vertices weigh on
@@ -58,15 +60,27 @@ typedef struct {
     bool skinned;                /* some vertex weighs on more than one joint */
 } psc_gltf_t;
 
-/** Read path (name for messages). 0, or -1 with err naming the file and the problem. note receives remarks. */
+/**
+ * Read path (name for messages): an OBJ file through the host tools' OBJ
+ * reader (import/obj.h: each group a rigid part under a root joint), any
+ * other through libassimp (import/assimp.c). 0, or -1 with err naming the
+ * file and the problem. note receives remarks.
+ */
 int psc_gltf_load(const char *path, psc_gltf_t *out, char *note, size_t notelen, char *err, size_t errlen);
 void psc_gltf_free(psc_gltf_t *g);
 
-/** Whether path names a file the importer is for here (.gltf, .glb). */
+/** libassimp's reading of path (psc_gltf_load's for every file but OBJ); in a build without it, an error. */
+int psc_assimp_load(const char *path, psc_gltf_t *out, char *note, size_t notelen, char *err, size_t errlen);
+
+/** Whether path names a glTF file (.gltf, .glb). (OBJ files: psc_obj_is_file, import/obj.h.) */
 bool psc_gltf_is_file(const char *path);
 
-/** Whether path names an OBJ file (which the importer also reads: for its groups' self-shadowing). */
-bool psc_obj_is_file(const char *path);
+/**
+ * Triangles [t0, t1) over vertices [v0, v1) of m that close a volume facing
+ * inwards (a negative signed volume) turned outward, winding and normals; true
+ * if they were. (Exporters write some closed meshes inside out.)
+ */
+bool psc_gltf_turn_outward(psc_model_t *m, uint32_t v0, uint32_t v1, uint32_t t0, uint32_t t1);
 
 /** The joints' local transforms at time t (seconds, looping over the duration; t < 0: the rest pose). local:
  *  joint_count TRS. */

@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * obj_load.c - Wavefront OBJ reader (obj_load.h).
+ * obj.c - Wavefront OBJ reader (obj.h): the one the host tools have, for
+ * meshes (periscope-render's model mode, mesh packs) and, with its groups as
+ * rigid parts, for the articulated model (gltf_model.h).
  */
 #include "import/obj.h"
 #include "psc_io_file.h"
@@ -13,6 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #define OBJ_MAX_FILE (512u << 20)
 #define OBJ_MAX_ELEMENTS (1u << 26)
@@ -61,17 +64,19 @@ static int upush(uvec_t *a, uint32_t x)
 
 #define NONE UINT32_MAX
 
-/* Distinct corners (position, texture, normal) -> vertex numbers, open addressing. */
+/* Distinct corners (position, texture, normal, part and material when asked) -> vertex numbers, open addressing. */
+#define KEY 5
 typedef struct {
-    uint32_t *keys;   /* 3 per slot */
+    uint32_t *keys;   /* KEY per slot */
     uint32_t *vals;
     size_t cap, n;
 } corner_map_t;
 
-static size_t corner_hash(const uint32_t k[3], size_t cap)
+static size_t corner_hash(const uint32_t k[KEY], size_t cap)
 {
     uint64_t h = (uint64_t)k[0] * 0x9E3779B97F4A7C15u ^ (uint64_t)k[1] * 0xC2B2AE3D27D4EB4Fu ^
-                 (uint64_t)k[2] * 0x165667B19E3779F9u;
+                 (uint64_t)k[2] * 0x165667B19E3779F9u ^ (uint64_t)k[3] * 0x27D4EB2F165667C5u ^
+                 (uint64_t)k[4] * 0x94D049BB133111EBu;
     h ^= h >> 29;
     return (size_t)h & (cap - 1);
 }
@@ -79,7 +84,7 @@ static size_t corner_hash(const uint32_t k[3], size_t cap)
 static int corner_grow(corner_map_t *m)
 {
     size_t cap = m->cap ? m->cap * 2 : 1024;
-    uint32_t *keys = malloc(cap * 3 * sizeof *keys), *vals = malloc(cap * sizeof *vals);
+    uint32_t *keys = malloc(cap * KEY * sizeof *keys), *vals = malloc(cap * sizeof *vals);
     if (!keys || !vals) {
         free(keys);
         free(vals);
@@ -89,10 +94,10 @@ static int corner_grow(corner_map_t *m)
         vals[i] = NONE;
     for (size_t i = 0; i < m->cap; i++)
         if (m->vals[i] != NONE) {
-            size_t s = corner_hash(&m->keys[3 * i], cap);
+            size_t s = corner_hash(&m->keys[KEY * i], cap);
             while (vals[s] != NONE)
                 s = (s + 1) & (cap - 1);
-            memcpy(&keys[3 * s], &m->keys[3 * i], 3 * sizeof *keys);
+            memcpy(&keys[KEY * s], &m->keys[KEY * i], KEY * sizeof *keys);
             vals[s] = m->vals[i];
         }
     free(m->keys);
@@ -104,20 +109,20 @@ static int corner_grow(corner_map_t *m)
 }
 
 /* The vertex number of a corner; *fresh set when it is new. -1 when out of memory. */
-static int corner_find(corner_map_t *m, const uint32_t k[3], uint32_t *out, bool *fresh)
+static int corner_find(corner_map_t *m, const uint32_t k[KEY], uint32_t *out, bool *fresh)
 {
     if ((m->n + 1) * 2 > m->cap && corner_grow(m) != 0)
         return -1;
     size_t s = corner_hash(k, m->cap);
     while (m->vals[s] != NONE) {
-        if (memcmp(&m->keys[3 * s], k, 3 * sizeof *k) == 0) {
+        if (memcmp(&m->keys[KEY * s], k, KEY * sizeof *k) == 0) {
             *out = m->vals[s];
             *fresh = false;
             return 0;
         }
         s = (s + 1) & (m->cap - 1);
     }
-    memcpy(&m->keys[3 * s], k, 3 * sizeof *k);
+    memcpy(&m->keys[KEY * s], k, KEY * sizeof *k);
     m->vals[s] = (uint32_t)m->n;
     *out = (uint32_t)m->n++;
     *fresh = true;
@@ -135,7 +140,13 @@ typedef struct {
     corner_map_t map;
     bool any_tex, missing_normal;
     char mtllib[512];
-    char usemtl[256];
+    char usemtl[256];    /* the first material used */
+    /* groups and materials, kept apart when the caller asks for parts (psc_obj_parse_parts) */
+    bool want_parts;
+    uint32_t part, mat;  /* the current ones */
+    char (*part_name)[PSC_OBJ_NAME_MAX], (*mat_name)[PSC_OBJ_NAME_MAX];
+    size_t parts, part_cap, mats, mat_cap;
+    uvec_t vertex_part, vertex_mat;   /* per vertex */
 } obj_t;
 
 static int obj_fail(obj_t *o, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -248,7 +259,7 @@ static int parse_face(obj_t *o, const char *p, const char *end)
         const char *sl1 = memchr(s, '/', (size_t)(e - s)), *sl2 = NULL;
         if (sl1)
             sl2 = memchr(sl1 + 1, '/', (size_t)(e - sl1 - 1));
-        uint32_t key[3] = {NONE, NONE, NONE};
+        uint32_t key[KEY] = {NONE, NONE, NONE, o->part, o->mat};
         if (resolve(o, s, sl1 ? sl1 : e, o->pos.n / 3, "vertex", &key[0]) != 0)
             return -1;
         if (sl1) {
@@ -269,7 +280,8 @@ static int parse_face(obj_t *o, const char *p, const char *end)
         bool fresh;
         if (corner_find(&o->map, key, &vtx, &fresh) != 0)
             return obj_fail(o, "out of memory");
-        if (fresh && (upush(&o->corners, key[0]) || upush(&o->corners, key[1]) || upush(&o->corners, key[2])))
+        if (fresh && (upush(&o->corners, key[0]) || upush(&o->corners, key[1]) || upush(&o->corners, key[2]) ||
+                      (o->want_parts && (upush(&o->vertex_part, o->part) || upush(&o->vertex_mat, o->mat)))))
             return obj_fail(o, "out of memory");
         if (k == 0) {
             first = vtx;
@@ -298,6 +310,22 @@ static void copy_token(char *dst, size_t cap, const char *p, const char *end)
         n = cap - 1;
     memcpy(dst, p, n);
     dst[n] = '\0';
+}
+
+/* The index of name in the list (added when new); NONE when out of memory or past the limit. */
+static uint32_t name_index(char (**list)[PSC_OBJ_NAME_MAX], size_t *n, size_t *cap, const char *name)
+{
+    for (size_t i = 0; i < *n; i++)
+        if (strcmp((*list)[i], name) == 0)
+            return (uint32_t)i;
+    if (*n >= PSC_OBJ_MAX_PARTS)
+        return NONE;
+    char (*v)[PSC_OBJ_NAME_MAX] = reserve_one(*list, *n, cap, sizeof **list);
+    if (!v)
+        return NONE;
+    *list = v;
+    snprintf(v[*n], PSC_OBJ_NAME_MAX, "%s", name);
+    return (uint32_t)(*n)++;
 }
 
 static int parse_line(obj_t *o, const char *p, const char *end)
@@ -332,8 +360,22 @@ static int parse_line(obj_t *o, const char *p, const char *end)
     } else if (n == 6 && memcmp(s, "usemtl", 6) == 0) {
         if (o->usemtl[0] == '\0')
             copy_token(o->usemtl, sizeof o->usemtl, p, end);
+        if (o->want_parts) {
+            char name[PSC_OBJ_NAME_MAX];
+            copy_token(name, sizeof name, p, end);
+            if ((o->mat = name_index(&o->mat_name, &o->mats, &o->mat_cap, name)) == NONE)
+                return obj_fail(o, "more than %u materials, or out of memory", PSC_OBJ_MAX_PARTS);
+        }
+    } else if (n == 1 && (*s == 'g' || *s == 'o') && o->want_parts) {
+        /* a group or object: a part of its own (the first name of a "g a b" line) */
+        const char *ns, *ne;
+        char name[PSC_OBJ_NAME_MAX] = "default";
+        if (next_token(&p, end, &ns, &ne))
+            snprintf(name, sizeof name, "%.*s", (int)(ne - ns), ns);
+        if ((o->part = name_index(&o->part_name, &o->parts, &o->part_cap, name)) == NONE)
+            return obj_fail(o, "more than %u groups, or out of memory", PSC_OBJ_MAX_PARTS);
     }
-    return 0; /* o, g, s, l, p, vp, ...: nothing to draw */
+    return 0; /* s, l, p, vp, ... (and o, g without parts asked): nothing to draw */
 }
 
 /* dir of path (with the slash) + file (a relative name that stays_beside allowed). */
@@ -392,6 +434,10 @@ static void read_material(obj_t *o, psc_model_t *m, char *note, size_t notelen)
         return;
     }
     char line[1024], cur[256] = "", first_map[512] = "", used_map[512] = "";
+    double *kd = NULL;   /* 3 per material of o (parts asked): its diffuse colour, -1 where none is given */
+    if (o->want_parts && o->mats > 0 && (kd = malloc(o->mats * 3 * sizeof *kd)) != NULL)
+        for (size_t i = 0; i < 3 * o->mats; i++)
+            kd[i] = -1.0;
     while (fgets(line, sizeof line, f)) {
         size_t n = strcspn(line, "\r\n");
         line[n] = '\0';
@@ -400,6 +446,12 @@ static void read_material(obj_t *o, psc_model_t *m, char *note, size_t notelen)
             continue;
         if ((size_t)(e - s) == 6 && memcmp(s, "newmtl", 6) == 0) {
             copy_token(cur, sizeof cur, p, end);
+        } else if ((size_t)(e - s) == 2 && memcmp(s, "Kd", 2) == 0 && kd) {
+            double c[3];
+            for (size_t i = 0; i < o->mats; i++)
+                if (strcmp(o->mat_name[i], cur) == 0 && sscanf(p, "%lf %lf %lf", &c[0], &c[1], &c[2]) == 3)
+                    for (unsigned k = 0; k < 3; k++)
+                        kd[3 * i + k] = isfinite(c[k]) ? fmin(fmax(c[k], 0.0), 1.0) : -1.0;
         } else if ((size_t)(e - s) == 6 && memcmp(s, "map_Kd", 6) == 0) {
             /* Options (-s, -o ...) come first; the file name is the last token. */
             const char *last = NULL, *ts, *te;
@@ -416,6 +468,17 @@ static void read_material(obj_t *o, psc_model_t *m, char *note, size_t notelen)
         }
     }
     fclose(f);
+    if (kd && m->color)
+        for (uint32_t v = 0; v < m->vertex_count; v++) {
+            uint32_t mi = o->vertex_mat.v[v];
+            if (mi == NONE || kd[3 * mi] < 0)
+                continue;
+            uint32_t rgb = 0;
+            for (unsigned k = 0; k < 3; k++)
+                rgb = rgb << 8 | (uint32_t)lround(kd[3 * mi + k] * 255.0);
+            m->color[v] = rgb;
+        }
+    free(kd);
     const char *pick = used_map[0] ? used_map : first_map;
     if (pick[0] && !stays_beside(pick)) {
         if (note && notelen)
@@ -455,10 +518,38 @@ static int smooth_normals(obj_t *o, psc_model_t *m)
     return 0;
 }
 
-int psc_obj_parse(const char *name, const char *text, size_t len, psc_model_t *m, char *note, size_t notelen,
-                  char *err, size_t errlen)
+/* The parts that own a face, renumbered in the order they were named, into parts. 0, or -1 out of memory. */
+static int keep_parts(const obj_t *o, psc_obj_parts_t *parts)
+{
+    uint32_t *renum = malloc(o->parts * sizeof *renum), nv = (uint32_t)(o->corners.n / 3), used = 0;
+    parts->vertex_part = malloc((nv ? nv : 1u) * sizeof *parts->vertex_part);
+    parts->name = malloc(o->parts * sizeof *parts->name);
+    if (!renum || !parts->vertex_part || !parts->name) {
+        free(renum);
+        return -1;
+    }
+    for (size_t i = 0; i < o->parts; i++)
+        renum[i] = NONE;
+    for (uint32_t v = 0; v < nv; v++)
+        renum[o->vertex_part.v[v]] = 0;   /* owns a vertex, so a face */
+    for (size_t i = 0; i < o->parts; i++)
+        if (renum[i] != NONE) {
+            memcpy(parts->name[used], o->part_name[i], sizeof parts->name[0]);
+            renum[i] = used++;
+        }
+    for (uint32_t v = 0; v < nv; v++)
+        parts->vertex_part[v] = renum[o->vertex_part.v[v]];
+    parts->count = used;
+    free(renum);
+    return 0;
+}
+
+int psc_obj_parse_parts(const char *name, const char *text, size_t len, psc_model_t *m, psc_obj_parts_t *parts,
+                        char *note, size_t notelen, char *err, size_t errlen)
 {
     memset(m, 0, sizeof *m);
+    if (parts)
+        memset(parts, 0, sizeof *parts);
     if (note && notelen)
         note[0] = '\0';
     obj_t o;
@@ -466,6 +557,12 @@ int psc_obj_parse(const char *name, const char *text, size_t len, psc_model_t *m
     o.name = name ? name : "(obj)";
     o.err = err;
     o.errlen = errlen;
+    o.want_parts = parts != NULL;
+    o.mat = NONE;
+    if (o.want_parts && (o.part = name_index(&o.part_name, &o.parts, &o.part_cap, "default")) == NONE) {
+        psc_io_errorf(err, errlen, o.name, "out of memory");
+        return -1;
+    }
     int rc = -1;
     const char *p = text, *end = text + len;
     while (p < end) {
@@ -493,12 +590,15 @@ int psc_obj_parse(const char *name, const char *text, size_t len, psc_model_t *m
     m->pos = malloc(nv * 3 * sizeof(double));
     m->normal = malloc(nv * 3 * sizeof(double));
     m->uv = o.any_tex ? calloc(nv * 2, sizeof(double)) : NULL;
-    if (!m->pos || !m->normal || (o.any_tex && !m->uv)) {
+    m->color = o.want_parts ? malloc(nv * sizeof *m->color) : NULL;
+    if (!m->pos || !m->normal || (o.any_tex && !m->uv) || (o.want_parts && !m->color)) {
         psc_io_errorf(err, errlen, o.name, "out of memory");
         goto done;
     }
     for (size_t v = 0; v < nv; v++) {
         const uint32_t *c = &o.corners.v[3 * v];
+        if (m->color)
+            m->color[v] = PSC_OBJ_DEFAULT_COLOR;
         memcpy(&m->pos[3 * v], &o.pos.v[3 * c[0]], 3 * sizeof(double));
         if (m->uv && c[1] != NONE)
             memcpy(&m->uv[2 * v], &o.tex.v[2 * c[1]], 2 * sizeof(double));
@@ -517,10 +617,21 @@ int psc_obj_parse(const char *name, const char *text, size_t len, psc_model_t *m
     }
     if (o.mtllib[0])
         read_material(&o, m, note, notelen);
+    if (parts && keep_parts(&o, parts) != 0) {
+        psc_io_errorf(err, errlen, o.name, "out of memory");
+        goto done;
+    }
     rc = 0;
 done:
-    if (rc != 0)
+    if (rc != 0) {
         psc_model_free(m);
+        if (parts)
+            psc_obj_parts_free(parts);
+    }
+    free(o.part_name);
+    free(o.mat_name);
+    free(o.vertex_part.v);
+    free(o.vertex_mat.v);
     free(o.pos.v);
     free(o.tex.v);
     free(o.nrm.v);
@@ -531,14 +642,41 @@ done:
     return rc;
 }
 
-int psc_obj_load(const char *path, psc_model_t *m, char *note, size_t notelen, char *err, size_t errlen)
+int psc_obj_parse(const char *name, const char *text, size_t len, psc_model_t *m, char *note, size_t notelen,
+                  char *err, size_t errlen)
+{
+    return psc_obj_parse_parts(name, text, len, m, NULL, note, notelen, err, errlen);
+}
+
+int psc_obj_load_parts(const char *path, psc_model_t *m, psc_obj_parts_t *parts, char *note, size_t notelen, char *err,
+                       size_t errlen)
 {
     memset(m, 0, sizeof *m);
+    if (parts)
+        memset(parts, 0, sizeof *parts);
     void *text;
     size_t got;
     if (psc_io_read_aligned(path, OBJ_MAX_FILE, &text, &got, err, errlen) != 0)
         return -1;
-    int rc = psc_obj_parse(path, text, got, m, note, notelen, err, errlen);
+    int rc = psc_obj_parse_parts(path, text, got, m, parts, note, notelen, err, errlen);
     free(text);
     return rc;
+}
+
+int psc_obj_load(const char *path, psc_model_t *m, char *note, size_t notelen, char *err, size_t errlen)
+{
+    return psc_obj_load_parts(path, m, NULL, note, notelen, err, errlen);
+}
+
+void psc_obj_parts_free(psc_obj_parts_t *p)
+{
+    free(p->name);
+    free(p->vertex_part);
+    memset(p, 0, sizeof *p);
+}
+
+bool psc_obj_is_file(const char *path)
+{
+    size_t n = strlen(path);
+    return n > 4 && strcasecmp(path + n - 4, ".obj") == 0;
 }

@@ -3,6 +3,7 @@
 #include "render/gltf.h"
 #include "util/hmath.h"
 #include "import/gltf_model.h"
+#include "import/obj.h"
 #include "psc_io_cli.h"
 #include "psc_io_error.h"
 #include "psc_io_file.h"
