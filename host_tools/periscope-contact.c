@@ -25,8 +25,9 @@
 #define MAX_THUMB_WIDTH 4096ul
 #define MAX_SHEET_PIXELS (1ull << 28) /* 1 GiB of pixels: beyond it something is wrong */
 
-static void print_usage(FILE *f)
+static void print_usage(const char *prog, FILE *f)
 {
+    (void)prog;   /* the same as PROG */
     fprintf(f,
             "usage: " PROG " -o sheet.png [--columns C] [--thumb-width W] FRAME.png...\n"
             "\n"
@@ -59,7 +60,6 @@ static const struct option contact_options[] = {
 static int parse_args(int argc, char **argv, args_t *a)
 {
     psc_io_cli_t c;
-    char why[160];
     int opt;
 
     a->frames = calloc((size_t)argc, sizeof *a->frames);
@@ -68,15 +68,9 @@ static int parse_args(int argc, char **argv, args_t *a)
         return 1;
     }
     psc_io_cli_begin(&c, argc, argv, "ho:", contact_options);
-    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
+    while ((opt = psc_io_cli_next_option(&c, PROG, "", print_usage)) > 0) {
         const char *v = c.arg;
         switch (opt) {
-        case PSC_IO_CLI_HELP:
-            print_usage(stdout);
-            exit(0);
-        case PSC_IO_CLI_VERSION:
-            psc_io_cli_print_version(PROG);
-            exit(0);
         case 'o':
             a->out = v;
             break;
@@ -88,10 +82,10 @@ static int parse_args(int argc, char **argv, args_t *a)
             if (psc_cli_parse_uint(v, 8, MAX_THUMB_WIDTH, &a->thumb_width) != 0)
                 return usage_error("--thumb-width: expected pixels, 8..%lu", MAX_THUMB_WIDTH);
             break;
-        default:
-            return usage_error("%s", why);
         }
     }
+    if (opt < 0)
+        return -opt;   /* the mistake, said */
     for (int i = psc_io_cli_rest(&c); i < argc; i++)
         a->frames[a->nframes++] = argv[i];
     if (!a->out)

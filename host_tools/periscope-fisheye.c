@@ -26,8 +26,9 @@
 #define PROG "periscope-fisheye"
 #define DEFAULT_FOV 190.0
 
-static void print_usage(FILE *f)
+static void print_usage(const char *prog, FILE *f)
 {
+    (void)prog;   /* the same as PROG */
     fprintf(f,
             "usage: " PROG " --frame WxH --front CX:CY:R[:FOV] --back CX:CY:R[:FOV]\n"
             "       [--front-rot YAW:PITCH:ROLL] [--back-rot YAW:PITCH:ROLL] [--map WxH] -o table.pfish\n"
@@ -76,21 +77,14 @@ int main(int argc, char **argv)
     const char *out = NULL;
     uint16_t map_w = 0, map_h = 0;
     int have_frame = 0, have_lens[2] = {0, 0}, opt;
-    char why[160];
 
     memset(&rig, 0, sizeof rig);
     psc_io_cli_begin(&c, argc, argv, "ho:", fisheye_options);
-    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
+    while ((opt = psc_io_cli_next_option(&c, PROG, "", print_usage)) > 0) {
         const char *v = c.arg;
         unsigned k = opt == 'B' || opt == 'r';   /* the back lens */
         double n[4] = {0, 0, 0, DEFAULT_FOV};
         switch (opt) {
-        case PSC_IO_CLI_HELP:
-            print_usage(stdout);
-            return 0;
-        case PSC_IO_CLI_VERSION:
-            psc_io_cli_print_version(PROG);
-            return 0;
         case 'o':
             out = v;
             break;
@@ -121,10 +115,10 @@ int main(int argc, char **argv)
             rig.lens[k].pitch_deg = n[1];
             rig.lens[k].roll_deg = n[2];
             break;
-        default:
-            return usage_error("%s", why);
         }
     }
+    if (opt < 0)
+        return -opt;   /* the mistake, said */
     if (psc_io_cli_rest(&c) < argc)
         return usage_error("unexpected argument '%s'", argv[psc_io_cli_rest(&c)]);
     if (!out)

@@ -24,8 +24,9 @@
 
 #define PROG "periscope-pack"
 
-static void print_usage(FILE *f)
+static void print_usage(const char *prog, FILE *f)
 {
+    (void)prog;   /* the same as PROG */
     fprintf(f,
             "usage: " PROG " IN.{jpg,png} -o OUT.pano --display WxH [options]\n"
             "\n"
@@ -239,22 +240,11 @@ static const struct option pack_options[] = {
 static int parse_args(int argc, char **argv, args_t *a)
 {
     psc_io_cli_t c;
-    char why[160];
     int opt;
 
     psc_io_cli_begin(&c, argc, argv, "ho:", pack_options);
-    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
+    while ((opt = psc_io_cli_next_option(&c, PROG, "", print_usage)) > 0) {
         const char *name = c.name, *v = c.arg;
-        if (opt < 0)
-            return usage_error("%s", why);
-        if (opt == PSC_IO_CLI_HELP) {
-            print_usage(stdout);
-            exit(0);
-        }
-        if (opt == PSC_IO_CLI_VERSION) {
-            psc_io_cli_print_version(PROG);
-            exit(0);
-        }
         if (opt == 'q') {
             a->quiet = true;
             continue;
@@ -302,13 +292,11 @@ static int parse_args(int argc, char **argv, args_t *a)
         if (rc != 0)
             return rc;
     }
-    for (int i = psc_io_cli_rest(&c); i < argc; i++) {
-        if (a->in)
-            return usage_error("more than one input image given (%s)", argv[i]);
-        a->in = argv[i];
-    }
-    if (!a->in)
-        return usage_error("%s", "no input image given");
+    if (opt < 0)
+        return -opt;   /* the mistake, said */
+    int rc = psc_io_cli_one_file(&c, PROG, "input image", &a->in);
+    if (rc != 0)
+        return rc;
     if (!a->out)
         return usage_error("%s", "no output given (-o OUT.pano)");
     if (!a->have_display)

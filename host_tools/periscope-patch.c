@@ -19,8 +19,9 @@
 
 #define PROG "periscope-patch"
 
-static void print_usage(FILE *f)
+static void print_usage(const char *prog, FILE *f)
 {
+    (void)prog;   /* the same as PROG */
     fprintf(f,
             "usage: " PROG " MODEL.{mdl,bpt} [--action A.act]... [--skin-from D.mdl] [--deform B1,B2,..] -o OUT.ppk\n"
             "\n"
@@ -59,21 +60,11 @@ int main(int argc, char **argv)
     psc_bake_patch_opts_t o = {0};
     const char *model = NULL;
     psc_io_cli_t c;
-    char why[160], err[768];
+    char err[768];
     int opt;
 
     psc_io_cli_begin(&c, argc, argv, "ho:", patch_options);
-    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
-        if (opt < 0)
-            return usage_error("%s", why);
-        if (opt == PSC_IO_CLI_HELP) {
-            print_usage(stdout);
-            return 0;
-        }
-        if (opt == PSC_IO_CLI_VERSION) {
-            psc_io_cli_print_version(PROG);
-            return 0;
-        }
+    while ((opt = psc_io_cli_next_option(&c, PROG, "", print_usage)) > 0) {
         if (strcmp(c.name, "-o") == 0) {
             o.write_pack = c.arg;
         } else if (strcmp(c.name, "--action") == 0) {
@@ -92,13 +83,11 @@ int main(int argc, char **argv)
             o.capture_map = c.arg;
         }
     }
-    for (int i = psc_io_cli_rest(&c); i < argc; i++) {
-        if (model)
-            return usage_error("more than one model given (%s)", argv[i]);
-        model = argv[i];
-    }
-    if (!model)
-        return usage_error("no model given");
+    if (opt < 0)
+        return -opt;   /* the mistake, said */
+    int rc = psc_io_cli_one_file(&c, PROG, "model", &model);
+    if (rc != 0)
+        return rc;
     if (!o.write_pack)
         return usage_error("no output given (-o OUT.ppk)");
     if (psc_io_file_has_magic(model, PSC_PATCH_MAGIC, PSC_CONTAINER_MAGIC_SIZE))

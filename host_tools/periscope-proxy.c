@@ -22,8 +22,9 @@
 
 #define PROG "periscope-proxy"
 
-static void print_usage(FILE *f)
+static void print_usage(const char *prog, FILE *f)
 {
+    (void)prog;   /* the same as PROG */
     fprintf(f,
             "usage: " PROG " bake MODEL.{gltf,glb,obj} -o M.ppx [--views K] [--tex N]\n"
             "\n"
@@ -52,22 +53,12 @@ int main(int argc, char **argv)
     psc_bake_proxy_opts_t o = {PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX};
     const char *model = NULL, *out = NULL, *verb = NULL;
     psc_io_cli_t c;
-    char why[160], err[768], note[512] = "", load_note[256] = "";
+    char err[768], note[512] = "", load_note[256] = "";
     int opt;
 
     psc_io_cli_begin(&c, argc, argv, "ho:", proxy_options);
-    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
+    while ((opt = psc_io_cli_next_option(&c, PROG, "", print_usage)) > 0) {
         unsigned long v;
-        if (opt < 0)
-            return usage_error("%s", why);
-        if (opt == PSC_IO_CLI_HELP) {
-            print_usage(stdout);
-            return 0;
-        }
-        if (opt == PSC_IO_CLI_VERSION) {
-            psc_io_cli_print_version(PROG);
-            return 0;
-        }
         if (strcmp(c.name, "-o") == 0) {
             out = c.arg;
         } else if (strcmp(c.name, "--views") == 0) {
@@ -80,6 +71,8 @@ int main(int argc, char **argv)
             o.tex = (unsigned)v;
         }
     }
+    if (opt < 0)
+        return -opt;   /* the mistake, said */
     for (int i = psc_io_cli_rest(&c); i < argc; i++) {
         if (!verb)
             verb = argv[i];

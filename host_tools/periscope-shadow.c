@@ -24,8 +24,9 @@
 
 #define PROG "periscope-shadow"
 
-static void print_usage(FILE *f)
+static void print_usage(const char *prog, FILE *f)
 {
+    (void)prog;   /* the same as PROG */
     fprintf(f,
             "usage: " PROG " build MODEL.{mdl,bpt,ppk,gltf,glb,obj} -o M.pao [--levels L] [--spheres N] [--table-size N]\n"
             "       [--skin-from D.mdl]\n"
@@ -57,22 +58,12 @@ int main(int argc, char **argv)
     psc_bake_patch_opts_t lo = {.quiet = true};
     const char *model = NULL, *out = NULL, *verb = NULL;
     psc_io_cli_t c;
-    char why[160], err[768], note[512] = "";
+    char err[768], note[512] = "";
     int opt;
 
     psc_io_cli_begin(&c, argc, argv, "ho:", shadow_options);
-    while ((opt = psc_io_cli_next(&c, why, sizeof why)) != 0) {
+    while ((opt = psc_io_cli_next_option(&c, PROG, "", print_usage)) > 0) {
         unsigned long v;
-        if (opt < 0)
-            return usage_error("%s", why);
-        if (opt == PSC_IO_CLI_HELP) {
-            print_usage(stdout);
-            return 0;
-        }
-        if (opt == PSC_IO_CLI_VERSION) {
-            psc_io_cli_print_version(PROG);
-            return 0;
-        }
         if (strcmp(c.name, "-o") == 0) {
             out = c.arg;
         } else if (strcmp(c.name, "--levels") == 0) {
@@ -91,6 +82,8 @@ int main(int argc, char **argv)
             lo.skin_from = c.arg;
         }
     }
+    if (opt < 0)
+        return -opt;   /* the mistake, said */
     for (int i = psc_io_cli_rest(&c); i < argc; i++) {
         if (!verb)
             verb = argv[i];

@@ -80,6 +80,19 @@ int psc_io_cli_rest(const psc_io_cli_t *c)
     return optind;
 }
 
+int psc_io_cli_one_file(const psc_io_cli_t *c, const char *prog, const char *what, const char **file)
+{
+    *file = NULL;
+    for (int i = psc_io_cli_rest(c); i < c->argc; i++) {
+        if (*file)
+            return psc_io_cli_usage_error(prog, "more than one %s given (%s)", what, c->argv[i]);
+        *file = c->argv[i];
+    }
+    if (!*file)
+        return psc_io_cli_usage_error(prog, "no %s given", what);
+    return 0;
+}
+
 void psc_io_cli_print_version(const char *prog)
 {
     printf("%s (Periscope) %s\n", prog, PSC_VERSION);
@@ -101,7 +114,7 @@ int psc_io_cli_next_option(psc_io_cli_t *c, const char *prog, const char *mode, 
         psc_io_cli_print_version(prog);
         exit(0);
     }
-    return 1;
+    return opt;
 }
 
 int psc_io_cli_usage_error(const char *prog, const char *fmt, ...)

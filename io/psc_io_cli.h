@@ -57,13 +57,24 @@ int psc_io_cli_next(psc_io_cli_t *c, char *err, size_t errlen);
  * psc_io_cli_next with what every program does the same way: --help prints
  * usage(prog, stdout) and exits 0, --version prints the version and exits 0,
  * a mistake prints "prog: <why><mode>" (mode e.g. " (proxy mode)", or "")
- * and returns -PSC_IO_CLI_EXIT_USAGE. Otherwise 1 (an option in c->name and
- * c->arg), or 0 when the options are over.
+ * and returns -PSC_IO_CLI_EXIT_USAGE. Otherwise the option's val (> 0: a
+ * table's vals are never 0; its spelling in c->name, its value in c->arg), or
+ * 0 when the options are over. Every program's option loop is this one:
+ *     while ((opt = psc_io_cli_next_option(&c, PROG, "", usage)) > 0) { ... }
+ *     if (opt < 0)
+ *         return -opt;
  */
 int psc_io_cli_next_option(psc_io_cli_t *c, const char *prog, const char *mode, void (*usage)(const char *, FILE *));
 
 /** The index of the first argument that is not an option (after psc_io_cli_next returned 0). */
 int psc_io_cli_rest(const psc_io_cli_t *c);
+
+/**
+ * The one file argument after the options (what names it in the mistakes:
+ * "more than one model given (b.obj)", "no model given") into *file. 0, or
+ * PSC_IO_CLI_EXIT_USAGE with the mistake said.
+ */
+int psc_io_cli_one_file(const psc_io_cli_t *c, const char *prog, const char *what, const char **file);
 
 /** "prog (Periscope) VERSION" on stdout, for --version. */
 void psc_io_cli_print_version(const char *prog);

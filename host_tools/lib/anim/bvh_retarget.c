@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* bvh_retarget.c - motion capture retargeted onto a character's skeleton by bone name (bvh_load.h). */
+/* bvh_retarget.c - motion capture retargeted onto a character's skeleton by bone name (bvh.h). */
 #include "import/bvh.h"
 #include "util/note_text.h"
 #include "anim/sample.h"

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* patch_bake.c - sampled bone poses baked into a character's channels (patch_bake.h). */
+/* sample.c - sampled bone poses baked into a character's channels (sample.h). */
 #include "anim/sample.h"
 #include "util/note_text.h"
 #include "psc_io_error.h"

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * patch_bake.h - motion sampled on the host (a rig played by an action, or
+ * sample.h - motion sampled on the host (a rig played by an action, or
  * motion capture retargeted) baked into a patch character's channels: for
  * every bone that moves, its rotation and translation relative to its rest
  * pose, one key per sample, in the device's bone convention

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* fisheye_build.c - the dual-fisheye lens model and its table file (fisheye_build.h). */
+/* fisheye.c - the dual-fisheye lens model and its table file (fisheye.h). */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>

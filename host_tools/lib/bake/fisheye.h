@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * fisheye_build.h - the dual-fisheye lens model in double precision, and the
+ * fisheye.h - the dual-fisheye lens model in double precision, and the
  * table file (core/fisheye/psc_fisheye.h) built from it.
  *
  * Lens model: equidistant fisheye, r = f * theta, where theta is the angle

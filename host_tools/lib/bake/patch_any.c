@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
-/* patch_load.c - a patch character from a model, a patch file or a pack (patch_load.h). */
+/* patch_any.c - a patch character from a model, a patch file or a pack (patch_any.h). */
 #include "bake/patch_any.h"
+#include "util/path.h"
 #include "import/am_action.h"
 #include "import/am_model.h"
 #include "anim/am_rig.h"
@@ -15,15 +16,10 @@
 #include <string.h>
 #include <strings.h>
 
-static bool ends_with(const char *s, const char *ext)
-{
-    size_t n = strlen(s), e = strlen(ext);
-    return n > e && strcasecmp(s + n - e, ext) == 0;
-}
 
 bool psc_bake_patch_wanted(const char *path)
 {
-    return ends_with(path, ".mdl") || ends_with(path, ".bpt") ||
+    return psc_path_has_suffix(path, ".mdl") || psc_path_has_suffix(path, ".bpt") ||
            psc_io_file_has_magic(path, PSC_PATCH_MAGIC, PSC_CONTAINER_MAGIC_SIZE);
 }
 
@@ -125,9 +121,9 @@ int psc_bake_patch_any(const char *path, const psc_bake_patch_opts_t *opts, psc_
             return psc_io_errorf(err, errlen, path, "a patch pack carries its actions and skin already");
         return psc_io_patch_load(path, pf, err, errlen);
     }
-    if ((o->action_count || o->capture_count) && !ends_with(path, ".mdl"))
+    if ((o->action_count || o->capture_count) && !psc_path_has_suffix(path, ".mdl"))
         return psc_io_errorf(err, errlen, path, "actions (.act, .bvh) apply to Animation:Master models only");
-    if (ends_with(path, ".bpt"))
+    if (psc_path_has_suffix(path, ".bpt"))
         rc = psc_bpt_load(path, &src, err, errlen);
     else
         rc = from_am(path, o, &src, err, errlen);

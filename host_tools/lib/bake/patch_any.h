@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * patch_load.h - a patch character from whatever file the author has: an
+ * patch_any.h - a patch character from whatever file the author has: an
  * Animation:Master model (.mdl, with .act actions, .bvh motion capture and a
  * donor model for its skin), a Newell Bezier patch file (.bpt), or a patch pack (.ppk); built
  * into a pack in memory when it is not one, so what the host tools show is

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * patch_pack.c - the patch pack written from a host character
- * (psc_bake_patch_pack, patch_build.h): positions in units of R centred on
+ * (psc_bake_patch_pack, patch_source.h): positions in units of R centred on
  * the rest box, bones relative to their parents, quaternions Q2.30, key
  * times in milliseconds. Every conversion rounds to nearest.
  */

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* proxy_bake.c - parts, joints, proxies, animation and the proxy pack (proxy_bake.h). */
+/* proxy.c - parts, joints, proxies, animation and the proxy pack (proxy.h). */
 #include "bake/proxy.h"
 #include "util/hmath.h"
 #include "psc_io_container_write.h"

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * proxy_bake.h - the proxy animator's preprocessing (core/proxy/psc_proxy.h):
- * an articulated or skinned model (gltf_load.h) divided into parts and
+ * proxy.h - the proxy animator's preprocessing (core/proxy/psc_proxy.h):
+ * an articulated or skinned model (gltf_model.h) divided into parts and
  * joints, a proxy surface formed for each, view textures rendered for each
  * by the device's own rasterizer, and the whole written as a proxy pack.
  *

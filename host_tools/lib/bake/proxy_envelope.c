@@ -1,13 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * proxy_envelope.c - a part's proxy surface (proxy_bake.h): a discrete
+ * proxy_envelope.c - a part's proxy surface (proxy.h): a discrete
  * oriented polytope, the intersection of the half-spaces {x : d.x <= h(d) +
  * margin} over a fixed set of directions d (h the part's support: its
  * farthest vertex along d). It contains the part by construction, is as
  * tight as a convex shape can be along those directions, and has at most
  * one face per direction. A box-like part gets its six faces; a round one a
  * faceted ball standing off it by under 1/cos(half the directions' spacing).
- * Concave parts are first halved by proxy_bake.c until their polytope fits.
+ * Concave parts are first halved by proxy.c until their polytope fits.
  *
  * Built by clipping a box by each plane in turn: every face polygon clipped
  * (Sutherland-Hodgman), and the points where the plane cut them joined into

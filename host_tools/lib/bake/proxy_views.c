@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * proxy_views.c - a proxy's view textures and texture-coordinate sets
- * (proxy_bake.h): its own geometry drawn by the device's rasterizer from
+ * (proxy.h): its own geometry drawn by the device's rasterizer from
  * each direction of the grid, orthographic, and its vertices projected the
  * same way.
  */

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* shadow_build.c - the sphere tree, its skin and the two maps of the self-shadowing (shadow_build.h). */
+/* shadow.c - the sphere tree, its skin and the two maps of the self-shadowing (shadow.h). */
 #include "bake/shadow.h"
 #include "psc_io_container_write.h"
 #include "util/note_text.h"

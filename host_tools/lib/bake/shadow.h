@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * shadow_build.h - stage one of the self-shadowing (the seed's
+ * shadow.h - stage one of the self-shadowing (the seed's
  * pre-processing module 71), on the host in double precision: the sphere
  * tree of a patch character, the spheres' skin, the accessibility map, the
  * composite arc map, written as a shadow pack (core/shadow/psc_shadow.h).

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* bpt_load.c - Newell Bezier patch files as Hash patches (bpt_load.h). */
+/* bpt.c - Newell Bezier patch files as Hash patches (bpt.h). */
 #include "import/bpt.h"
 #include "util/grow.h"
 #include "psc_io_error.h"

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * bpt_load.h - Newell's Bezier patch files (.bpt, the Utah teapot's format)
+ * bpt.h - Newell's Bezier patch files (.bpt, the Utah teapot's format)
  * as Hash patches: the number of patches, then for each "3 3" (the degrees)
  * and its 16 control points, row by row. Each patch keeps its 12 boundary
  * points: four cubic boundary curves with their handles fixed as given

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* bvh_load.c - BioVision Hierarchy motion capture (bvh_load.h): the parser and the skeleton's pose. */
+/* bvh.c - BioVision Hierarchy motion capture (bvh.h): the parser and the skeleton's pose. */
 #include "import/bvh.h"
 #include "util/grow.h"
 #include "psc_io_error.h"

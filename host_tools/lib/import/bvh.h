@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * bvh_load.h - motion capture in the BioVision Hierarchy format (.bvh), and
+ * bvh.h - motion capture in the BioVision Hierarchy format (.bvh), and
  * its retargeting onto a patch character's skeleton by bone name.
  *
  * The file: HIERARCHY with one ROOT and nested JOINTs ({ OFFSET x y z,

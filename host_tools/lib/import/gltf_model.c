@@ -3,6 +3,7 @@
  * goes to (libassimp, or obj.c for OBJ), the OBJ file's groups as rigid parts, meshes turned outward, its poses
  * (keys sampled, skin matrices, the mesh deformed), freeing it. */
 #include "import/gltf_model.h"
+#include "util/path.h"
 #include "import/obj.h"
 #include "psc_io_error.h"
 #include "util/note_text.h"
@@ -192,8 +193,7 @@ void psc_gltf_deform(const psc_gltf_t *g, const double (*skin)[12], double *pos,
 
 bool psc_gltf_is_file(const char *path)
 {
-    size_t n = strlen(path);
-    return (n > 5 && strcasecmp(path + n - 5, ".gltf") == 0) || (n > 4 && strcasecmp(path + n - 4, ".glb") == 0);
+    return psc_path_has_suffix(path, ".gltf") || psc_path_has_suffix(path, ".glb");
 }
 
 void psc_gltf_free(psc_gltf_t *g)

@@ -5,6 +5,7 @@
  * rigid parts, for the articulated model (gltf_model.h).
  */
 #include "import/obj.h"
+#include "util/path.h"
 #include "psc_io_file.h"
 #include "psc_io_error.h"
 
@@ -677,6 +678,5 @@ void psc_obj_parts_free(psc_obj_parts_t *p)
 
 bool psc_obj_is_file(const char *path)
 {
-    size_t n = strlen(path);
-    return n > 4 && strcasecmp(path + n - 4, ".obj") == 0;
+    return psc_path_has_suffix(path, ".obj");
 }

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* patch_build.c - Hash patch characters from A:M models, and their packs (patch_build.h). */
+/* patch_source.c - Hash patch characters from A:M models, and their packs (patch_source.h). */
 #include "import/patch_source.h"
 #include "util/grow.h"
 #include "util/note_text.h"

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * patch_build.h - a Hash patch character on the host (floating point, the
+ * patch_source.h - a Hash patch character on the host (floating point, the
  * source's units), made from an Animation:Master model or a Newell Bezier
  * patch file, and the patch pack (core/patch/psc_patch.h) written from it.
  * The device's own structs are used for the topology, so there is one

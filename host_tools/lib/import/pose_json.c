@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* pose_file_load.c - POSE.json read with json-c (pose_file.h). */
+/* pose_json.c - POSE.json read with json-c (pose_file.h). */
 #include "import/pose_file.h"
 #include "psc_io_error.h"
 #include "psc_io_file.h"

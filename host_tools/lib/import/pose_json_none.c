@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* pose_file_load_none.c - the pose-file reader of a build without libjson-c (pose_file.h): it says so. */
+/* pose_json_none.c - the pose-file reader of a build without libjson-c (pose_file.h): it says so. */
 #include "import/pose_file.h"
 #include "psc_io_error.h"
 

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* banding_measure.c - the banding figure of an RGB565 frame (banding_measure.h). */
+/* banding.c - the banding figure of an RGB565 frame (banding.h). */
 #include <math.h>
 #include <stdlib.h>
 

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * banding_measure.h - how much banding an RGB565 frame shows for an 8-bit
+ * banding.h - how much banding an RGB565 frame shows for an 8-bit
  * picture, measured on the host in double precision (test_dither and
  * bench/dither565): the error of what the display shows (RGB565 expanded by
  * bit replication) against the picture, per channel, low-passed by a

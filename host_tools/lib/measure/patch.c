@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* patch_measure.c - cracks and chord error of a patch tessellation (patch_measure.h). */
+/* patch.c - cracks and chord error of a patch tessellation (patch.h). */
 #include "measure/patch.h"
 #include "util/hmath.h"
 #include "util/text_out.h"

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * patch_measure.h - what a patch tessellation is worth, measured on the
+ * patch.h - what a patch tessellation is worth, measured on the
  * host in double precision (periscope-render --stats and the tests):
  *  - cracks: every edge of the output triangles (by exact vertex positions)
  *    must be used by two triangles, unless it lies on the model's open border

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* gltf_render.c - periscope-render's glTF mode (gltf_render.h). */
+/* gltf.c - periscope-render's glTF mode (gltf.h). */
 #include "render/gltf.h"
 #include "util/hmath.h"
 #include "import/gltf_model.h"
@@ -12,6 +12,7 @@
 #include "util/cli_values.h"
 #include "import/pose_file.h"
 #include "render/target.h"
+#include "render/cli.h"
 #include "render/view.h"
 #include "util/text_out.h"
 #include "3d/psc_3d_render.h"
@@ -72,48 +73,32 @@ static void usage(const char *prog, FILE *f)
 }
 
 static const struct option gltf_options[] = {
-    {"orbit", required_argument, NULL, 1},  {"hfov", required_argument, NULL, 1},
-    {"size", required_argument, NULL, 1},   {"pose", required_argument, NULL, 1},
-    {"shadow", required_argument, NULL, 1}, {"dump-ao", required_argument, NULL, 1},
-    {"cull", required_argument, NULL, 1},   {"format", required_argument, NULL, 1},
-    {"repeat", required_argument, NULL, 1}, PSC_RENDER_VIEW_LOOK_OPTIONS, PSC_IO_CLI_COMMON_OPTIONS,
+    {"pose", required_argument, NULL, 1}, {"shadow", required_argument, NULL, 1},
+    {"dump-ao", required_argument, NULL, 1},
+    {NULL, 0, NULL, 0},
 };
+
+static int gltf_option(const char *prog, const char *name, const char *v, void *args)
+{
+    gltf_args_t *a = args;
+    if (strcmp(name, "--pose") == 0) {
+        int rc = psc_pose_option(prog, v, &a->pose_file, &a->time);
+        if (rc != 0)
+            return rc;
+    } else if (strcmp(name, "--shadow") == 0) {
+        a->shadow = v;
+    } else if (strcmp(name, "--dump-ao") == 0) {
+        a->dump_ao = v;
+    }
+    return 0;
+}
 
 static int parse_args(const char *prog, int argc, char **argv, gltf_args_t *a)
 {
-    psc_io_cli_t c;
-    int opt;
-
-    psc_io_cli_begin(&c, argc, argv, "ho:", gltf_options);
-    while ((opt = psc_io_cli_next_option(&c, prog, " (glTF mode)", usage)) > 0) {
-        const char *name = c.name, *v = c.arg;
-        int view = psc_render_view_option(prog, name, v, &a->view);
-        if (view >= 0) {
-            if (view != 0)
-                return view;
-        } else if (strcmp(name, "-o") == 0) {
-            a->out = v;
-        } else if (strcmp(name, "--pose") == 0) {
-            int rc = psc_pose_option(prog, v, &a->pose_file, &a->time);
-            if (rc != 0)
-                return rc;
-        } else if (strcmp(name, "--shadow") == 0) {
-            a->shadow = v;
-        } else if (strcmp(name, "--dump-ao") == 0) {
-            a->dump_ao = v;
-        }
-    }
-    if (opt < 0)
-        return -opt;   /* the mistake, said */
-    for (int i = psc_io_cli_rest(&c); i < argc; i++) {
-        if (a->model)
-            return psc_io_cli_usage_error(prog, "more than one model given (%s)", argv[i]);
-        a->model = argv[i];
-    }
-    if (!a->model)
-        return psc_io_cli_usage_error(prog, "no model given");
-    if (!a->out)
-        return psc_io_cli_usage_error(prog, "no output given (-o view.png)");
+    static const psc_render_cli_t cli = {" (glTF mode)", "model", usage, gltf_options, gltf_option};
+    int rc = psc_render_cli_parse(&cli, prog, argc, argv, &a->view, &a->model, &a->out, a);
+    if (rc != 0)
+        return rc;
     if (a->dump_ao && !a->shadow)
         return psc_io_cli_usage_error(prog, "--dump-ao needs --shadow M.pao");
     return 0;

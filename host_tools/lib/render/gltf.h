@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * gltf_render.h - periscope-render's glTF mode: an articulated or skinned
- * model (gltf_load.h) posed, optionally self-shadowed by the device's own
+ * gltf.h - periscope-render's glTF mode: an articulated or skinned
+ * model (gltf_model.h) posed, optionally self-shadowed by the device's own
  * integer run time (core/shadow), and drawn by the device's 3D pipeline.
  *
  *   periscope-render MODEL.{gltf,glb} -o view.png [--orbit Y,P,D] [--hfov F] [--size WxH]

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * model_render.c - periscope-render's model mode (model_render.h).
+ * model.c - periscope-render's model mode (model.h).
  */
 #include "render/model.h"
 #include "psc_io_cli.h"
@@ -10,6 +10,7 @@
 #include "psc_io_angle.h"
 #include "util/cli_values.h"
 #include "render/target.h"
+#include "render/cli.h"
 #include "render/view.h"
 #include "psc_io_image.h"
 #include "bake/mesh_pack.h"
@@ -33,11 +34,6 @@ typedef struct {
     unsigned long depth_bits;
 } model_args_t;
 
-static bool ends_with_obj(const char *s)
-{
-    size_t n = strlen(s);
-    return n > 4 && strcasecmp(s + n - 4, ".obj") == 0;
-}
 
 bool psc_render_model_wanted(int argc, char **argv)
 {
@@ -47,7 +43,7 @@ bool psc_render_model_wanted(int argc, char **argv)
                 return true;
             continue;
         }
-        if (ends_with_obj(argv[i]) || psc_io_file_has_magic(argv[i], PSC_MESH_MAGIC, PSC_CONTAINER_MAGIC_SIZE))
+        if (psc_obj_is_file(argv[i]) || psc_io_file_has_magic(argv[i], PSC_MESH_MAGIC, PSC_CONTAINER_MAGIC_SIZE))
             return true;
     }
     return false;
@@ -83,61 +79,40 @@ static void usage(const char *prog, FILE *f)
 }
 
 static const struct option model_options[] = {
-    {"orbit", required_argument, NULL, 1},   {"hfov", required_argument, NULL, 1},
-    {"size", required_argument, NULL, 1},    {"texture", required_argument, NULL, 1},
-    {"cull", required_argument, NULL, 1},    {"tiles", required_argument, NULL, 1},
-    {"depth", required_argument, NULL, 1},   {"depth-bits", required_argument, NULL, 1},
-    PSC_RENDER_VIEW_LOOK_OPTIONS,            {"filter", required_argument, NULL, 1},
-    {"format", required_argument, NULL, 1},  {"repeat", required_argument, NULL, 1},
-    {"write-pack", required_argument, NULL, 1},
-    PSC_IO_CLI_COMMON_OPTIONS,
+    {"texture", required_argument, NULL, 1}, {"tiles", required_argument, NULL, 1},
+    {"depth", required_argument, NULL, 1}, {"depth-bits", required_argument, NULL, 1},
+    {"filter", required_argument, NULL, 1}, {"write-pack", required_argument, NULL, 1},
+    {NULL, 0, NULL, 0},
 };
+
+static int model_option(const char *prog, const char *name, const char *v, void *args)
+{
+    model_args_t *a = args;
+    if (strcmp(name, "--texture") == 0) {
+        a->texture = v;
+    } else if (strcmp(name, "--tiles") == 0) {
+        if (psc_cli_parse_uint(v, 0, PSC_MAX_OUT_DIM, &a->tile) != 0)
+            return psc_io_cli_usage_error(prog, "--tiles '%s': expected a tile side of 0..%u pixels", v,
+                                       (unsigned)PSC_MAX_OUT_DIM);
+    } else if (strcmp(name, "--depth") == 0) {
+        a->depth = v;
+    } else if (strcmp(name, "--depth-bits") == 0) {
+        if (psc_cli_parse_uint(v, 16, 32, &a->depth_bits) != 0 || (a->depth_bits != 16 && a->depth_bits != 32))
+            return psc_io_cli_usage_error(prog, "--depth-bits '%s': expected 16 or 32", v);
+    } else if (strcmp(name, "--filter") == 0) {
+        if (strcmp(v, "nearest") != 0 && strcmp(v, "bilinear") != 0)
+            return psc_io_cli_usage_error(prog, "--filter '%s': expected nearest or bilinear", v);
+        a->filter = strcmp(v, "nearest") == 0 ? PSC_TEX_NEAREST : PSC_TEX_BILINEAR;
+    } else if (strcmp(name, "--write-pack") == 0) {
+        a->write_pack = v;
+    }
+    return 0;
+}
 
 static int parse_args(const char *prog, int argc, char **argv, model_args_t *a)
 {
-    psc_io_cli_t c;
-    int opt;
-
-    psc_io_cli_begin(&c, argc, argv, "ho:", model_options);
-    while ((opt = psc_io_cli_next_option(&c, prog, " (model mode)", usage)) > 0) {
-        const char *name = c.name, *v = c.arg;
-        int view = psc_render_view_option(prog, name, v, &a->view);
-        if (view >= 0) {
-            if (view != 0)
-                return view;
-        } else if (strcmp(name, "-o") == 0) {
-            a->out = v;
-        } else if (strcmp(name, "--texture") == 0) {
-            a->texture = v;
-        } else if (strcmp(name, "--tiles") == 0) {
-            if (psc_cli_parse_uint(v, 0, PSC_MAX_OUT_DIM, &a->tile) != 0)
-                return psc_io_cli_usage_error(prog, "--tiles '%s': expected a tile side of 0..%u pixels", v,
-                                           (unsigned)PSC_MAX_OUT_DIM);
-        } else if (strcmp(name, "--depth") == 0) {
-            a->depth = v;
-        } else if (strcmp(name, "--depth-bits") == 0) {
-            if (psc_cli_parse_uint(v, 16, 32, &a->depth_bits) != 0 || (a->depth_bits != 16 && a->depth_bits != 32))
-                return psc_io_cli_usage_error(prog, "--depth-bits '%s': expected 16 or 32", v);
-        } else if (strcmp(name, "--filter") == 0) {
-            if (strcmp(v, "nearest") != 0 && strcmp(v, "bilinear") != 0)
-                return psc_io_cli_usage_error(prog, "--filter '%s': expected nearest or bilinear", v);
-            a->filter = strcmp(v, "nearest") == 0 ? PSC_TEX_NEAREST : PSC_TEX_BILINEAR;
-        } else if (strcmp(name, "--write-pack") == 0) {
-            a->write_pack = v;
-        }
-    }
-    if (opt < 0)
-        return -opt;   /* the mistake, said */
-    for (int i = psc_io_cli_rest(&c); i < argc; i++) {
-        if (a->model)
-            return psc_io_cli_usage_error(prog, "more than one model given (%s)", argv[i]);
-        a->model = argv[i];
-    }
-    if (!a->model)
-        return psc_io_cli_usage_error(prog, "no model given");
-    if (!a->out)
-        return psc_io_cli_usage_error(prog, "no output given (-o view.png)");
-    return 0;
+    static const psc_render_cli_t cli = {" (model mode)", "model", usage, model_options, model_option};
+    return psc_render_cli_parse(&cli, prog, argc, argv, &a->view, &a->model, &a->out, a);
 }
 
 /* The model as a parsed mesh pack in an aligned buffer (from an OBJ: built in memory). */

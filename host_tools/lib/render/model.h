@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * model_render.h - periscope-render's model mode: one view of an OBJ file or
+ * model.h - periscope-render's model mode: one view of an OBJ file or
  * a mesh pack through the device's 3D pipeline (core/3d/psc_3d_render.h).
  *
  *   periscope-render MODEL.{obj,pmesh} --orbit YAW,PITCH,DIST --hfov F --size WxH

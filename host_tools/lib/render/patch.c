@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* patch_render.c - periscope-render's patch mode (patch_render.h). */
+/* patch.c - periscope-render's patch mode (patch.h). */
 #include "render/patch.h"
 #include "util/cli_values.h"
 #include "bake/patch_any.h"
@@ -9,6 +9,7 @@
 #include "psc_io_file.h"
 #include "anim/patch_pose.h"
 #include "render/target.h"
+#include "render/cli.h"
 #include "render/view.h"
 #include "util/text_out.h"
 #include "3d/psc_3d_render.h"
@@ -85,30 +86,22 @@ static void usage(const char *prog, FILE *f)
 }
 
 static const struct option patch_options[] = {
-    {"orbit", required_argument, NULL, 1},     {"hfov", required_argument, NULL, 1},
-    {"size", required_argument, NULL, 1},      {"flatness", required_argument, NULL, 1},
-    {"tol-px", required_argument, NULL, 1},    {"action", required_argument, NULL, 1},
-    {"play", required_argument, NULL, 1},      {"time", required_argument, NULL, 1},
-    {"pose", required_argument, NULL, 1},
+    {"flatness", required_argument, NULL, 1}, {"tol-px", required_argument, NULL, 1},
+    {"action", required_argument, NULL, 1}, {"play", required_argument, NULL, 1},
+    {"time", required_argument, NULL, 1}, {"pose", required_argument, NULL, 1},
     {"skin-from", required_argument, NULL, 1}, {"deform", required_argument, NULL, 1},
-    {"bvh", required_argument, NULL, 1},       {"bvh-map", required_argument, NULL, 1},
-    {"cull", required_argument, NULL, 1},      {"tiles", required_argument, NULL, 1},
-    {"depth", required_argument, NULL, 1},     {"format", required_argument, NULL, 1},
-    {"stats", no_argument, NULL, 1},           {"dump-obj", required_argument, NULL, 1},
-    {"write-pack", required_argument, NULL, 1}, {"repeat", required_argument, NULL, 1},
-    {"shadow", required_argument, NULL, 1},    {"dump-ao", required_argument, NULL, 1},
-    PSC_RENDER_VIEW_LOOK_OPTIONS,
-    PSC_IO_CLI_COMMON_OPTIONS,
+    {"bvh", required_argument, NULL, 1}, {"bvh-map", required_argument, NULL, 1},
+    {"tiles", required_argument, NULL, 1}, {"depth", required_argument, NULL, 1},
+    {"stats", no_argument, NULL, 1}, {"dump-obj", required_argument, NULL, 1},
+    {"write-pack", required_argument, NULL, 1}, {"shadow", required_argument, NULL, 1},
+    {"dump-ao", required_argument, NULL, 1},
+    {NULL, 0, NULL, 0},
 };
 
-static int parse_value(const char *prog, patch_args_t *a, const char *name, const char *v)
+static int patch_option(const char *prog, const char *name, const char *v, void *args)
 {
-    int view = psc_render_view_option(prog, name, v, &a->view);
-    if (view >= 0)
-        return view;
-    if (strcmp(name, "-o") == 0) {
-        a->out = v;
-    } else if (strcmp(name, "--flatness") == 0) {
+    patch_args_t *a = args;
+    if (strcmp(name, "--flatness") == 0) {
         if (psc_cli_parse_double(v, &a->flatness) != 0 || !(a->flatness >= 1e-4 && a->flatness <= 1.0))
             return psc_io_cli_usage_error(prog, "--flatness '%s': expected a fraction of R in 0.0001..1", v);
     } else if (strcmp(name, "--tol-px") == 0) {
@@ -167,26 +160,10 @@ static int parse_value(const char *prog, patch_args_t *a, const char *name, cons
 
 static int parse_args(const char *prog, int argc, char **argv, patch_args_t *a)
 {
-    psc_io_cli_t c;
-    int opt;
-
-    psc_io_cli_begin(&c, argc, argv, "ho:", patch_options);
-    while ((opt = psc_io_cli_next_option(&c, prog, " (patch mode)", usage)) > 0) {
-        int rc = parse_value(prog, a, c.name, c.arg);
-        if (rc != 0)
-            return rc;
-    }
-    if (opt < 0)
-        return -opt;   /* the mistake, said */
-    for (int i = psc_io_cli_rest(&c); i < argc; i++) {
-        if (a->model)
-            return psc_io_cli_usage_error(prog, "more than one model given (%s)", argv[i]);
-        a->model = argv[i];
-    }
-    if (!a->model)
-        return psc_io_cli_usage_error(prog, "no model given");
-    if (!a->out)
-        return psc_io_cli_usage_error(prog, "no output given (-o view.png)");
+    static const psc_render_cli_t cli = {" (patch mode)", "model", usage, patch_options, patch_option};
+    int rc = psc_render_cli_parse(&cli, prog, argc, argv, &a->view, &a->model, &a->out, a);
+    if (rc != 0)
+        return rc;
     if (a->dump_ao && !a->shadow)
         return psc_io_cli_usage_error(prog, "--dump-ao needs --shadow M.pao");
     if (a->flatness > 0.0 && a->tol_px > 0.0)

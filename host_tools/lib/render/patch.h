@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * patch_render.h - periscope-render's patch mode: one view of a Hash patch
+ * patch.h - periscope-render's patch mode: one view of a Hash patch
  * character (an A:M model, a Newell .bpt file or a patch pack) posed by an
  * action at a time, tessellated by core's psc_patch_tessellate and drawn by
  * the device's 3D pipeline.

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
-/* proxy_render.c - periscope-render's proxy-pack mode (proxy_render.h). */
+/* proxy.c - periscope-render's proxy-pack mode (proxy.h). */
 #include "render/proxy.h"
+#include "util/path.h"
 #include "psc_io_angle.h"
 #include "util/cli_values.h"
 #include "render/depth_pgm.h"
@@ -10,6 +11,7 @@
 #include "psc_io_error.h"
 #include "psc_io_load.h"
 #include "render/target.h"
+#include "render/cli.h"
 #include "render/view.h"
 
 #include <math.h>
@@ -30,11 +32,9 @@ typedef struct {
 
 bool psc_render_proxy_wanted(int argc, char **argv)
 {
-    for (int i = 1; i < argc; i++) {
-        size_t n = strlen(argv[i]);
-        if (argv[i][0] != '-' && n > 4 && strcmp(argv[i] + n - 4, ".ppx") == 0)
+    for (int i = 1; i < argc; i++)
+        if (argv[i][0] != '-' && psc_path_has_suffix(argv[i], ".ppx"))
             return true;
-    }
     return false;
 }
 
@@ -69,65 +69,45 @@ static void usage(const char *prog, FILE *f)
 }
 
 static const struct option proxy_options[] = {
-    {"orbit", required_argument, NULL, 1}, {"hfov", required_argument, NULL, 1},
-    {"size", required_argument, NULL, 1},  {"pose", required_argument, NULL, 1},
-    {"full", no_argument, NULL, 1},        {"depth", required_argument, NULL, 1},
-    {"lod", required_argument, NULL, 1},
-    {"ids", required_argument, NULL, 1},   {"tiles", required_argument, NULL, 1},
-    {"cull", required_argument, NULL, 1},  {"format", required_argument, NULL, 1},
-    {"repeat", required_argument, NULL, 1}, PSC_RENDER_VIEW_LOOK_OPTIONS, PSC_IO_CLI_COMMON_OPTIONS,
+    {"pose", required_argument, NULL, 1}, {"full", no_argument, NULL, 1},
+    {"depth", required_argument, NULL, 1}, {"lod", required_argument, NULL, 1},
+    {"ids", required_argument, NULL, 1}, {"tiles", required_argument, NULL, 1},
+    {NULL, 0, NULL, 0},
 };
+
+static int proxy_option(const char *prog, const char *name, const char *v, void *args)
+{
+    proxy_args_t *a = args;
+    if (strcmp(name, "--full") == 0) {
+        a->lod = PSC_PROXY_LOD_FULL;
+    } else if (strcmp(name, "--lod") == 0) {
+        a->lod = strcmp(v, "proxies") == 0     ? PSC_PROXY_LOD_PROXIES
+                 : strcmp(v, "full") == 0      ? PSC_PROXY_LOD_FULL
+                 : strcmp(v, "billboard") == 0 ? PSC_PROXY_LOD_BILLBOARD
+                 : strcmp(v, "auto") == 0      ? -1
+                                               : -2;
+        if (a->lod == -2)
+            return psc_io_cli_usage_error(prog, "--lod '%s': expected proxies, full, billboard or auto", v);
+    } else if (strcmp(name, "--depth") == 0) {
+        a->depth = v;
+    } else if (strcmp(name, "--ids") == 0) {
+        a->ids = v;
+    } else if (strcmp(name, "--tiles") == 0) {
+        if (psc_cli_parse_uint(v, 0, PSC_MAX_OUT_DIM, &a->tile) != 0)
+            return psc_io_cli_usage_error(prog, "--tiles '%s': expected a tile side of 0..%u pixels", v,
+                                          (unsigned)PSC_MAX_OUT_DIM);
+    } else if (strcmp(name, "--pose") == 0) {
+        int rc = psc_pose_option(prog, v, &a->pose_file, &a->time);
+        if (rc != 0)
+            return rc;
+    }
+    return 0;
+}
 
 static int parse_args(const char *prog, int argc, char **argv, proxy_args_t *a)
 {
-    psc_io_cli_t c;
-    int opt;
-
-    psc_io_cli_begin(&c, argc, argv, "ho:", proxy_options);
-    while ((opt = psc_io_cli_next_option(&c, prog, " (proxy mode)", usage)) > 0) {
-        const char *name = c.name, *v = c.arg;
-        int view = psc_render_view_option(prog, name, v, &a->view);
-        if (view >= 0) {
-            if (view != 0)
-                return view;
-        } else if (strcmp(name, "-o") == 0) {
-            a->out = v;
-        } else if (strcmp(name, "--full") == 0) {
-            a->lod = PSC_PROXY_LOD_FULL;
-        } else if (strcmp(name, "--lod") == 0) {
-            a->lod = strcmp(v, "proxies") == 0     ? PSC_PROXY_LOD_PROXIES
-                     : strcmp(v, "full") == 0      ? PSC_PROXY_LOD_FULL
-                     : strcmp(v, "billboard") == 0 ? PSC_PROXY_LOD_BILLBOARD
-                     : strcmp(v, "auto") == 0      ? -1
-                                                   : -2;
-            if (a->lod == -2)
-                return psc_io_cli_usage_error(prog, "--lod '%s': expected proxies, full, billboard or auto", v);
-        } else if (strcmp(name, "--depth") == 0) {
-            a->depth = v;
-        } else if (strcmp(name, "--ids") == 0) {
-            a->ids = v;
-        } else if (strcmp(name, "--tiles") == 0) {
-            if (psc_cli_parse_uint(v, 0, PSC_MAX_OUT_DIM, &a->tile) != 0)
-                return psc_io_cli_usage_error(prog, "--tiles '%s': expected a tile side of 0..%u pixels", v,
-                                              (unsigned)PSC_MAX_OUT_DIM);
-        } else if (strcmp(name, "--pose") == 0) {
-            int rc = psc_pose_option(prog, v, &a->pose_file, &a->time);
-            if (rc != 0)
-                return rc;
-        }
-    }
-    if (opt < 0)
-        return -opt;   /* the mistake, said */
-    for (int i = psc_io_cli_rest(&c); i < argc; i++) {
-        if (a->pack)
-            return psc_io_cli_usage_error(prog, "more than one pack given (%s)", argv[i]);
-        a->pack = argv[i];
-    }
-    if (!a->pack)
-        return psc_io_cli_usage_error(prog, "no proxy pack given");
-    if (!a->out)
-        return psc_io_cli_usage_error(prog, "no output given (-o view.png)");
-    return 0;
+    static const psc_render_cli_t cli = {" (proxy mode)", "proxy pack", usage, proxy_options, proxy_option};
+    return psc_render_cli_parse(&cli, prog, argc, argv, &a->view, &a->pack, &a->out, a);
 }
 
 /* ---- poses ------------------------------------------------------------------------ */

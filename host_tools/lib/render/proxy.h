@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * proxy_render.h - periscope-render's proxy-pack mode: a model baked by
+ * proxy.h - periscope-render's proxy-pack mode: a model baked by
  * periscope-proxy, posed, and drawn by the device's own run time
  * (core/proxy) as proxies with view textures, or as its full mesh.
  *

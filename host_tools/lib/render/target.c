@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* render_target.c - the surface and renderer of periscope-render's 3D modes (render_target.h). */
+/* target.c - the surface and renderer of periscope-render's 3D modes (target.h). */
 #include "render/target.h"
 #include "render/depth_pgm.h"
 #include "psc_io_error.h"

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * render_target.h - what periscope-render's 3D modes draw into: the output
+ * target.h - what periscope-render's 3D modes draw into: the output
  * surface, the 3D pipeline's workspace and renderer, the A-buffer --aa asks
  * for and the depth buffer --depth asks for; then the PNG (dithered when
  * --dither asks) and the PGM written.

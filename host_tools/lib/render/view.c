@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* render_view.c - the view options of periscope-render's 3D modes (render_view.h). */
+/* view.c - the view options of periscope-render's 3D modes (view.h). */
 #include "render/view.h"
 #include "util/cli_values.h"
 #include "psc_io_cli.h"

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * render_view.h - the view options periscope-render's 3D modes (models,
+ * view.h - the view options periscope-render's 3D modes (models,
  * patch characters, glTF models, proxy packs) share: --orbit, --hfov,
  * --size, --cull, --format and --repeat, and how the frame looks: --shade,
  * --specular, --shininess, --aa and --dither; each read and checked in one

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* cli_parse.c - strict command-line value parsers (see cli_parse.h). */
+/* cli_values.c - strict command-line value parsers (see cli_values.h). */
 #include "util/cli_values.h"
 
 #include <errno.h>

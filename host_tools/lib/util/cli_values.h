@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * cli_parse.h - strict parsing of command-line values for the host tools
+ * cli_values.h - strict parsing of command-line values for the host tools
  * (the options themselves: io/psc_io_cli.h).
  * Every parser accepts the whole string or nothing: "12abc" is an error, not 12.
  * They return 0 on success and -1 on a malformed or out-of-range value, and

@@ -1,0 +1,329 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * pano.c - periscope-render's panorama mode (pano.h): one view of a scene
+ * pack, or of a JPEG or PNG packed as the device packs one, through core's
+ * psc_viewer_render on threads (io/psc_io_bands.h), the code path the device
+ * runs.
+ */
+#include "render/pano.h"
+#include "render/modes.h"
+#include "util/cli_values.h"
+#include "psc_io_angle.h"
+#include "psc_io_bands.h"
+#include "psc_io_cli.h"
+#include "psc_io_image.h"
+#include "psc_io_levels.h"
+#include "psc_io_load.h"
+#include "psc_io_pack_build.h"
+#include "psc_io_pack_image.h"
+#include "psc_io_png.h"
+#include "viewer/psc_viewer.h"
+
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static const char *pano_prog = "periscope-render";   /* the program's name, for its messages */
+
+#define MAX_REPEAT 100000ul
+#define usage_error(...) psc_io_cli_usage_error(pano_prog, __VA_ARGS__)
+
+static void print_usage(const char *prog, FILE *f)
+{
+    psc_render_modes_usage(prog, f);
+    fprintf(f,
+            "\n"
+            "Render a perspective view of a scene pack with the device's renderer.\n"
+            "\n"
+            "  --yaw Y             degrees, > 0 turns right (default: the pack's default view)\n"
+            "  --pitch P           degrees, -90..90, > 0 looks up (default: the pack's)\n"
+            "  --hfov F            horizontal field of view in degrees (default: the pack's);\n"
+            "                      brought inside the pack's zoom range if needed\n"
+            "  --filter F          nearest, bilinear (default) or mip (the map pyramid, trilinear)\n"
+            "  --span N            read the LUT every N pixels: 1, 2, 4 (default), 8 or 16\n"
+            "  --repeat K          render K times and report the time per frame (default 1)\n"
+            "  --threads N         render on N threads, bands of rows each (default: the processors online);\n"
+            "                      the bytes are the same for any N\n"
+            "  --simd S            code path: auto (default: the fastest this CPU has), scalar, vector\n"
+            "                      (SSE2/NEON) or avx2; the bytes are the same for each\n"
+            "  --size WxH          output size (default: the pack's display size)\n"
+            "  --dither T[:M]      show the frame as a display with few levels does: T mono (1 bit),\n"
+            "                      grey4 (16 greys) or pal8 (the 6x7x6 colour cube); M ordered (8x8 Bayer,\n"
+            "                      default), halftone (4x4 clustered dot) or none (nearest level)\n"
+            "  --format F          output surface: rgb565 (default) or xrgb8888\n"
+            "  -o view.png         output PNG\n"
+            "  --version           the program's version\n"
+            "  --help              this text\n"
+            "Options take their value as --opt VALUE or --opt=VALUE, before or after the pack.\n");
+}
+
+
+typedef struct {
+    const char *pack, *out;
+    bool have_yaw, have_pitch, have_hfov, have_size;
+    double yaw, pitch, hfov;
+    psc_filter_t filter;
+    uint8_t span_log2;
+    unsigned long repeat, threads;
+    uint16_t width, height;
+    psc_pixfmt_t format;
+    psc_simd_t simd;
+    psc_io_levels_t levels;   /* --dither */
+} args_t;
+
+static int span_to_log2(const char *v, uint8_t *log2)
+{
+    unsigned long n;
+    if (psc_cli_parse_uint(v, 1, 16, &n) != 0 || (n & (n - 1)) != 0)
+        return -1;
+    uint8_t l = 0;
+    while ((1ul << l) < n)
+        l++;
+    *log2 = l;
+    return 0;
+}
+
+static int parse_value(args_t *a, const char *name, const char *v)
+{
+    if (strcmp(name, "-o") == 0) {
+        a->out = v;
+    } else if (strcmp(name, "--yaw") == 0) {
+        if (psc_cli_parse_double(v, &a->yaw) != 0)
+            return usage_error("--yaw '%s': expected degrees", v);
+        a->have_yaw = true;
+    } else if (strcmp(name, "--pitch") == 0) {
+        if (psc_cli_parse_double(v, &a->pitch) != 0 || a->pitch < -90.0 || a->pitch > 90.0)
+            return usage_error("--pitch '%s': expected degrees in -90..90", v);
+        a->have_pitch = true;
+    } else if (strcmp(name, "--hfov") == 0) {
+        if (psc_cli_parse_double(v, &a->hfov) != 0 || !(a->hfov > 0.0 && a->hfov < 180.0))
+            return usage_error("--hfov '%s': expected degrees between 0 and 180", v);
+        a->have_hfov = true;
+    } else if (strcmp(name, "--filter") == 0) {
+        if (strcmp(v, "nearest") == 0)
+            a->filter = PSC_FILTER_NEAREST;
+        else if (strcmp(v, "bilinear") == 0)
+            a->filter = PSC_FILTER_BILINEAR;
+        else if (strcmp(v, "mip") == 0)
+            a->filter = PSC_FILTER_MIP;
+        else
+            return usage_error("--filter '%s': expected nearest, bilinear or mip", v);
+    } else if (strcmp(name, "--span") == 0) {
+        if (span_to_log2(v, &a->span_log2) != 0 || a->span_log2 > PSC_SPAN_LOG2_MAX)
+            return usage_error("--span '%s': expected 1, 2, 4, 8 or 16", v);
+    } else if (strcmp(name, "--repeat") == 0) {
+        if (psc_cli_parse_uint(v, 1, MAX_REPEAT, &a->repeat) != 0)
+            return usage_error("--repeat '%s': expected a count of 1..%lu", v, MAX_REPEAT);
+    } else if (strcmp(name, "--threads") == 0) {
+        if (psc_cli_parse_uint(v, 1, PSC_IO_BANDS_MAX_THREADS, &a->threads) != 0)
+            return usage_error("--threads '%s': expected 1..%u", v, PSC_IO_BANDS_MAX_THREADS);
+    } else if (strcmp(name, "--simd") == 0) {
+        psc_simd_t k;
+        for (k = PSC_SIMD_AUTO; k <= PSC_SIMD_AVX2 && strcmp(v, psc_simd_name(k)) != 0; k++)
+            ;
+        if (k > PSC_SIMD_AVX2)
+            return usage_error("--simd '%s': expected auto, scalar, vector or avx2", v);
+        a->simd = k;
+    } else if (strcmp(name, "--dither") == 0) {
+        if (psc_io_levels_parse(v, &a->levels) != 0)
+            return usage_error("--dither '%s': expected mono, grey4 or pal8, optionally :ordered, :halftone or :none", v);
+    } else if (strcmp(name, "--size") == 0) {
+        if (psc_cli_parse_size(v, PSC_MAX_OUT_DIM, &a->width, &a->height) != 0)
+            return usage_error("--size '%s': expected WxH, each 1..%u", v, (unsigned)PSC_MAX_OUT_DIM);
+        a->have_size = true;
+    } else if (strcmp(name, "--format") == 0) {
+        if (strcmp(v, "rgb565") == 0)
+            a->format = PSC_PIX_RGB565;
+        else if (strcmp(v, "xrgb8888") == 0)
+            a->format = PSC_PIX_XRGB8888;
+        else
+            return usage_error("--format '%s': expected rgb565 or xrgb8888", v);
+    }
+    return 0;
+}
+
+static const struct option render_options[] = {
+    {"yaw", required_argument, NULL, 1},    {"pitch", required_argument, NULL, 1},
+    {"hfov", required_argument, NULL, 1},   {"filter", required_argument, NULL, 1},
+    {"span", required_argument, NULL, 1},   {"repeat", required_argument, NULL, 1},
+    {"size", required_argument, NULL, 1},   {"format", required_argument, NULL, 1},
+    {"threads", required_argument, NULL, 1}, {"simd", required_argument, NULL, 1}, {"dither", required_argument, NULL, 1},
+    PSC_IO_CLI_COMMON_OPTIONS,
+};
+
+static int parse_args(int argc, char **argv, args_t *a)
+{
+    psc_io_cli_t c;
+    int opt;
+
+    psc_io_cli_begin(&c, argc, argv, "ho:", render_options);
+    while ((opt = psc_io_cli_next_option(&c, pano_prog, "", print_usage)) > 0) {
+        int rc = parse_value(a, c.name, c.arg);
+        if (rc != 0)
+            return rc;
+    }
+    if (opt < 0)
+        return -opt;   /* the mistake, said */
+    int rc = psc_io_cli_one_file(&c, pano_prog, "pack", &a->pack);
+    if (rc != 0)
+        return rc;
+    if (!a->out)
+        return usage_error("no output given (-o view.png)");
+    return 0;
+}
+
+static double seconds_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* Aligned, zeroed memory for the workspace and the frame. */
+static void *alloc_aligned(size_t size)
+{
+    void *p = NULL;
+    if (size == 0 || posix_memalign(&p, 64, size) != 0)
+        return NULL;
+    memset(p, 0, size);
+    return p;
+}
+
+static void note_clamped(const psc_view_t *want, const psc_view_t *got)
+{
+    if (want->yaw == got->yaw && want->pitch == got->pitch && want->hfov == got->hfov)
+        return;
+    fprintf(stderr, "%s" ": note: view brought inside the pack's limits: yaw %.3f, pitch %.3f, hfov %.3f degrees\n", pano_prog,
+            psc_io_deg_from_bam(got->yaw), psc_io_deg_from_sbam(got->pitch), psc_io_deg_from_bam(got->hfov));
+}
+
+static int render_frames(psc_viewer_t *viewer, psc_io_bands_t *bands, const psc_view_t *view,
+                         const psc_surface_t *out, unsigned long repeat)
+{
+    double best = 0.0, total = 0.0;
+    for (unsigned long k = 0; k < repeat; k++) {
+        double t0 = seconds_now();
+        psc_status_t s = psc_io_bands_render(bands, viewer, view, out);
+        double dt = seconds_now() - t0;
+        if (s != PSC_OK) {
+            fprintf(stderr, "%s" ": rendering failed: %s\n", pano_prog, psc_status_str(s));
+            return -1;
+        }
+        total += dt;
+        if (k == 0 || dt < best)
+            best = dt;
+    }
+    if (repeat > 1) {
+        double mean = total / (double)repeat, mpix = (double)out->width * out->height / 1e6;
+        fprintf(stderr, "%s" ": %lu frames of %ux%u on %u thread%s (%s): %.3f ms per frame (best %.3f ms), %.1f Mpixel/s\n", pano_prog,
+                repeat, (unsigned)out->width, (unsigned)out->height, psc_io_bands_threads(bands),
+                psc_io_bands_threads(bands) == 1 ? "" : "s", psc_simd_name(psc_viewer_simd(viewer)), mean * 1e3, best * 1e3, mpix / mean);
+    }
+    return 0;
+}
+
+/*
+ * The pack, or a JPEG or PNG packed as the device packs one given directly
+ * (io/psc_io_pack_image.h): for the output size (default 640x480) and
+ * format, through the same cache.
+ */
+static int load_scene(const args_t *a, psc_io_pack_t *pf, char *err, size_t errlen)
+{
+    if (!psc_io_image_sniff(a->pack))
+        return psc_io_pack_load(a->pack, pf, err, errlen);
+    psc_io_pack_image_request_t rq = {
+        .display_width = a->have_size ? a->width : 640,
+        .display_height = a->have_size ? a->height : 480,
+        .format = a->format,
+    };
+    psc_io_pack_image_result_t res;
+    char notes[1024] = "";
+    int rc = psc_io_pack_image_load(a->pack, &rq, pf, &res, notes, sizeof notes, err, errlen);
+    for (const char *n = notes; *n != '\0';) {
+        size_t k = strcspn(n, "\n");
+        fprintf(stderr, "%s" ": %.*s\n", pano_prog, (int)k, n);
+        n += k + (n[k] == '\n');
+    }
+    if (rc == 0 && res.cache_off)
+        fprintf(stderr, "%s" ": note: no pack cache: %s\n", pano_prog, res.cache_problem);
+    if (rc == 0)
+        fprintf(stderr, "%s" ": %s\n", pano_prog, res.line);
+    return rc;
+}
+
+bool psc_render_pano_wanted(int argc, char **argv)
+{
+    (void)argc;
+    (void)argv;
+    return true;   /* the mode of every file the others do not take */
+}
+
+int psc_render_pano_main(const char *prog, int argc, char **argv)
+{
+    pano_prog = prog;
+    args_t a = {.filter = PSC_FILTER_BILINEAR, .span_log2 = PSC_SPAN_LOG2_DEFAULT, .repeat = 1,
+                .format = PSC_PIX_RGB565};
+    int rc = parse_args(argc, argv, &a);
+    if (rc != 0)
+        return rc;
+
+    char err[512];
+    psc_io_pack_t pf;
+    if (a.levels.on)
+        a.format = PSC_PIX_XRGB8888; /* dithered from the full colours */
+    if (load_scene(&a, &pf, err, sizeof err) != 0) {
+        fprintf(stderr, "%s" ": %s\n", pano_prog, err);
+        return 1;
+    }
+    const psc_pack_t *pack = &pf.pack;
+    uint16_t w = a.have_size ? a.width : pack->display_width;
+    uint16_t h = a.have_size ? a.height : pack->display_height;
+    size_t ws_size = psc_viewer_workspace_size(w, h, &pack->map);
+    uint32_t bpp = psc_pixfmt_bytes(a.format);
+    psc_surface_t out = {.width = w, .height = h, .stride = (uint32_t)w * bpp, .format = a.format};
+    void *ws = alloc_aligned(ws_size);
+    out.pixels = alloc_aligned((size_t)out.stride * h);
+    rc = 1;
+    psc_viewer_t viewer;
+    psc_status_t s;
+    if (!ws || !out.pixels) {
+        fprintf(stderr, "%s" ": out of memory for a %ux%u view\n", pano_prog, (unsigned)w, (unsigned)h);
+    } else if ((s = psc_viewer_init(&viewer, &pack->map, pack->luts, pack->lut_count, w, h, ws, ws_size)) !=
+                   PSC_OK ||
+               (s = psc_viewer_set_levels(&viewer, pack->levels, pack->level_count)) != PSC_OK) {
+        fprintf(stderr, "%s" ": %s: cannot set up a %ux%u viewer: %s\n", pano_prog, a.pack, (unsigned)w, (unsigned)h,
+                psc_status_str(s));
+    } else if (psc_viewer_set_simd(&viewer, a.simd) != PSC_OK) {
+        fprintf(stderr, "%s" ": --simd %s: this build or this processor does not have it\n", pano_prog, psc_simd_name(a.simd));
+    } else {
+        psc_view_t want = {
+            .yaw = a.have_yaw ? psc_io_bam_from_deg(a.yaw) : pack->default_yaw,
+            .pitch = a.have_pitch ? psc_io_sbam_from_deg(a.pitch) : pack->default_pitch,
+            .hfov = a.have_hfov ? psc_io_bam_from_deg(a.hfov) : pack->default_hfov,
+            .filter = a.filter,
+            .span_log2 = a.span_log2,
+        };
+        psc_view_t view = want;
+        psc_viewer_clamp(&viewer, &view, pack->hfov_min);
+        note_clamped(&want, &view);
+        psc_io_bands_t *bands =
+            psc_io_bands_start(a.threads ? (unsigned)a.threads : psc_io_online_cpus(), w, err, sizeof err);
+        if (!bands) {
+            fprintf(stderr, "%s" ": %s\n", pano_prog, err);
+        } else if (render_frames(&viewer, bands, &view, &out, a.repeat) == 0) {
+            psc_io_levels_apply(&a.levels, &out);
+            if (psc_io_png_write(a.out, &out, err, sizeof err) != 0)
+                fprintf(stderr, "%s" ": %s\n", pano_prog, err);
+            else
+                rc = 0;
+        }
+        psc_io_bands_stop(bands);
+    }
+    free(out.pixels);
+    free(ws);
+    psc_io_pack_free(&pf);
+    return rc;
+}
