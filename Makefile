@@ -117,7 +117,7 @@ IMG_LIBS += $(shell $(PKG_CONFIG) --libs json-c)
 else
 HOSTLIB_SRC := $(filter-out host_tools/lib/import/pose_json.c,$(HOSTLIB_SRC))
 endif
-FW_SRC := $(sort $(wildcard firmware/*.c))
+FW_SRC := $(sort $(wildcard firmware/*.c firmware/scene/*.c))
 FW_MAIN := firmware/main.c
 TOOL_MAINS := $(sort $(wildcard host_tools/periscope-*.c))
 TESTSUP_SRC := $(sort $(wildcard tests/support/*.c))

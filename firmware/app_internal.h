@@ -15,9 +15,9 @@
 #include "kiosk.h"
 #include "motion.h"
 #include "quality.h"
-#include "scene_list.h"
-#include "scene_fade.h"
-#include "scene_reload.h"
+#include "scene/scene_list.h"
+#include "scene/scene_fade.h"
+#include "scene/scene_reload.h"
 #include "dither/psc_dither.h"
 
 struct psc_app {

@@ -2,7 +2,7 @@
 /*
  * psc_io_pack_image.h - a JPEG or PNG panorama as a scene pack, the way
  * periscope-pack builds one (psc_io_pack_build.h) and the device program
- * shows one given directly (firmware/scene_image.c), so that both make the
+ * shows one given directly (firmware/scene/scene_image.c), so that both make the
  * same bytes: periscope-pack's default options for the display's size and
  * pixel format, and the coverage the image's GPano XMP states.
  *

@@ -32,7 +32,7 @@
 #include "bake/mesh_pack.h"
 #include "import/gltf_model.h"
 #include "import/obj.h"
-#include "scene_object.h"
+#include "scene/scene_object.h"
 #include "3d/psc_3d_render.h"
 #include "psc_testsupport.h"
 #include "tsup_3d.h"

@@ -45,7 +45,7 @@
 #include "base/psc_crc32.h"
 #include "3d/psc_3d_orbit.h"
 #include "3d/psc_3d_render.h"
-#include "scene_character.h"
+#include "scene/scene_character.h"
 
 #include <math.h>
 #include <stdio.h>

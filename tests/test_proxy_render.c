@@ -37,7 +37,7 @@
 #include "psc_testsupport.h"
 #include "tsup_3d.h"
 #include "tsup_files.h"
-#include "scene_proxy.h"
+#include "scene/scene_proxy.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -12,7 +12,7 @@
 
 #include "fuzz_support.h"
 #include "psc_io_load.h"
-#include "scene_object.h"
+#include "scene/scene_object.h"
 
 #define NAME "fuzz.pmesh"
 enum { OUT_W = 32, OUT_H = 24 };

@@ -13,8 +13,8 @@
 
 #include "fuzz_support.h"
 #include "psc_io_load.h"
-#include "scene_character.h"
-#include "scene_object.h"
+#include "scene/scene_character.h"
+#include "scene/scene_object.h"
 
 #define NAME "fuzz.ppk"
 enum { OUT_W = 32, OUT_H = 24 };

@@ -19,7 +19,7 @@
 
 #include "proxy/psc_proxy.h"
 #include "viewer/psc_viewer.h"
-#include "scene_3d.h"
+#include "scene/scene_3d.h"
 
 #define PSC_PROXY_SCENE_ORBIT_DIST_Q16 (3 * PSC_Q16_ONE)   /* 3 R */
 #define PSC_PROXY_SCENE_FULL_PERCENT 50u                    /* of the display's height */

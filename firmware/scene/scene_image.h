@@ -14,7 +14,7 @@
 #include <stddef.h>
 
 #include "psc_io_load.h"
-#include "scene.h"
+#include "scene/scene.h"
 
 /** True when s->path is a JPEG or PNG image (by its magic bytes). */
 bool psc_scene_image_is_image(const char *path);

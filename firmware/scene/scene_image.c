@@ -5,7 +5,7 @@
 
 #include "psc_io_log.h"
 #include "psc_io_pack_image.h"
-#include "scene_image.h"
+#include "scene/scene_image.h"
 
 /* set once the program has said that it packs without a cache */
 static atomic_flag image_said_no_cache = ATOMIC_FLAG_INIT;

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* scene_3d.c - tiles and the A-buffer of the 3D scenes (scene_3d.h). */
-#include "scene_3d.h"
+#include "scene/scene_3d.h"
 
 static size_t align8(size_t v)
 {

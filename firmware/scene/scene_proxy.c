@@ -7,9 +7,9 @@
 #include "base/psc_fixed.h"
 #include "psc_hal.h"
 #include "psc_io_load.h"
-#include "scene.h"
-#include "scene_object.h"
-#include "scene_proxy.h"
+#include "scene/scene.h"
+#include "scene/scene_object.h"
+#include "scene/scene_proxy.h"
 
 #define WS_ALIGN 64u
 

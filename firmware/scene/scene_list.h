@@ -8,7 +8,7 @@
 #ifndef PSC_SCENE_LIST_H
 #define PSC_SCENE_LIST_H
 
-#include "scene.h"
+#include "scene/scene.h"
 
 typedef struct {
     psc_scene_t scene[PSC_BOARD_MAX_SCENES];

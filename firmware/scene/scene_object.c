@@ -6,8 +6,8 @@
 #include "3d/psc_3d_render.h"
 #include "psc_hal.h"
 #include "psc_io_load.h"
-#include "scene.h"
-#include "scene_object.h"
+#include "scene/scene.h"
+#include "scene/scene_object.h"
 
 typedef struct {
     psc_io_mesh_t file;        /* the mesh pack, loaded whole; the mesh points into it */

@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "psc_hal.h"
-#include "scene_reload.h"
+#include "scene/scene_reload.h"
 
 enum { RELOAD_IDLE, RELOAD_LOADING, RELOAD_DONE };
 

@@ -9,9 +9,9 @@
 #include "psc_hal.h"
 #include "psc_io_file.h"
 #include "psc_io_load.h"
-#include "scene.h"
-#include "scene_character.h"
-#include "scene_object.h"
+#include "scene/scene.h"
+#include "scene/scene_character.h"
+#include "scene/scene_object.h"
 
 #define WS_ALIGN 64u
 

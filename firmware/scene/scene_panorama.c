@@ -9,9 +9,9 @@
 
 #include "psc_hal.h"
 #include "psc_io_load.h"
-#include "scene.h"
-#include "scene_image.h"
-#include "scene_panorama.h"
+#include "scene/scene.h"
+#include "scene/scene_image.h"
+#include "scene/scene_panorama.h"
 #include "psc_io_log.h"
 
 /* A bam angle as degrees with 2 decimals ("20.00"), for messages. */

@@ -8,7 +8,7 @@
 #define PSC_SCENE_PANORAMA_H
 
 #include "psc_io_load.h"
-#include "scene.h"
+#include "scene/scene.h"
 
 typedef struct {
     psc_io_pack_t file;        /* the pack, loaded whole; the viewer points into it */

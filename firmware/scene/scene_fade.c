@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "psc_hal.h"
-#include "scene_fade.h"
+#include "scene/scene_fade.h"
 
 int psc_scene_fade_init(psc_scene_fade_t *f, uint32_t duration_ms, uint16_t width, uint16_t height,
                         psc_pixfmt_t format, char *err, size_t errlen)

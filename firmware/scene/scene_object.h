@@ -16,7 +16,7 @@
 #include <stddef.h>
 #include "mesh/psc_mesh.h"
 #include "viewer/psc_viewer.h"
-#include "scene_3d.h"
+#include "scene/scene_3d.h"
 
 #define PSC_OBJECT_ORBIT_DIST_Q16 (5 * PSC_Q16_ONE / 2)   /* 2.5 R */
 #define PSC_OBJECT_DEFAULT_YAW PSC_BAM_FROM_MDEG(30000)

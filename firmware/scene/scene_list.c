@@ -5,7 +5,7 @@
 
 #include "psc_hal.h"
 #include "psc_io_file.h"
-#include "scene_list.h"
+#include "scene/scene_list.h"
 
 #define SCENE_WS_ALIGN 64u
 

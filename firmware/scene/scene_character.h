@@ -25,7 +25,7 @@
 #include "patch/psc_patch_frame.h"
 #include "shadow/psc_shadow_frame.h"
 #include "viewer/psc_viewer.h"
-#include "scene_3d.h"
+#include "scene/scene_3d.h"
 
 #define PSC_CHARACTER_TOL_PX_Q16 (PSC_Q16_ONE / 2)   /* half a pixel */
 #define PSC_CHARACTER_MAX_VERTICES 98304u

@@ -15,7 +15,7 @@
 #include <stdatomic.h>
 #include <stdbool.h>
 
-#include "scene_list.h"
+#include "scene/scene_list.h"
 
 typedef struct {
     pthread_t thread;

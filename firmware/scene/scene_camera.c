@@ -12,8 +12,8 @@
 
 #include "psc_hal.h"
 #include "psc_io_load.h"
-#include "scene.h"
-#include "scene_panorama.h"
+#include "scene/scene.h"
+#include "scene/scene_panorama.h"
 
 #define CAMERA_MAP_ALIGN 64u
 
