@@ -143,7 +143,7 @@ TESTS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_MAINS))
 # Objects reached through pattern rules would count as intermediate files and be
 # deleted after each link; keep them so a second build compiles nothing.
 .SECONDARY:
-.PHONY: all deps run test check check-system check-self-contained soak check-memcheck vm-test check-core-nofloat \
+.PHONY: all deps run test check check-system check-self-contained check-architecture soak check-memcheck vm-test check-core-nofloat \
 	check-layers check-clang check-sanitize install clean bench bench-callgrind FORCE
 .DEFAULT_GOAL := all
 
@@ -282,8 +282,8 @@ QUICK_TESTS := $(filter-out $(SYSTEM_TESTS),$(TESTS))
 
 test: deps
 	$(Q)$(MAKE) $(PAR) --no-print-directory all $(QUICK_TESTS) $(SAMPLE_PACK) $(SAMPLE_CHARACTER) fuzz-replay-build
-	$(Q)$(MAKE) --no-print-directory check-self-contained check-core-nofloat check-layers check-man-board \
-		check-fuzz-corpus
+	$(Q)$(MAKE) --no-print-directory check-self-contained check-core-nofloat check-layers check-architecture \
+		check-man-board check-fuzz-corpus
 	$(Q)sh tests/run_all.sh $(BUILD) $(QUICK_TESTS)
 
 check: deps
@@ -378,6 +378,13 @@ check-layers: $(FIRMWARE) $(HOST_LIB)
 		comm -12 - $(BUILD)/hosttools.syms >$(BUILD)/firmware-hosttools.syms
 	$(Q)if [ -s $(BUILD)/firmware-hosttools.syms ]; then \
 		echo "check-layers: $(FIRMWARE) contains host-tool code:"; cat $(BUILD)/firmware-hosttools.syms; exit 1; fi
+
+# docs/architecture.md names every program, scene kind and operation, render mode, host-library folder and
+# header (scripts/check-architecture; its self-test proves it refuses a page missing one of each).
+check-architecture:
+	@echo "  CHECK   docs/architecture.md names every program, scene kind, render mode and host-library part"
+	$(Q)sh scripts/check-architecture
+	$(Q)sh scripts/check-architecture --self-test >/dev/null
 
 # Everything (tests included) must also build warning-free with clang.
 check-clang:
