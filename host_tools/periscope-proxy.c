@@ -51,7 +51,7 @@ static const struct option proxy_options[] = {
 int main(int argc, char **argv)
 {
     psc_bake_proxy_opts_t o = {PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX};
-    const char *model = NULL, *out = NULL, *verb = NULL;
+    const char *model = NULL, *out = NULL;
     psc_io_cli_t c;
     char err[768], note[512] = "", load_note[256] = "";
     int opt;
@@ -73,18 +73,9 @@ int main(int argc, char **argv)
     }
     if (opt < 0)
         return -opt;   /* the mistake, said */
-    for (int i = psc_io_cli_rest(&c); i < argc; i++) {
-        if (!verb)
-            verb = argv[i];
-        else if (!model)
-            model = argv[i];
-        else
-            return usage_error("more than one model given (%s)", argv[i]);
-    }
-    if (!verb || strcmp(verb, "bake") != 0)
-        return usage_error("expected the command 'bake' (" PROG " bake MODEL -o M.ppx)");
-    if (!model)
-        return usage_error("no model given");
+    int rc = psc_io_cli_command_file(&c, PROG, "bake", PROG " bake MODEL -o M.ppx", "model", &model);
+    if (rc != 0)
+        return rc;
     if (!psc_gltf_is_file(model) && !psc_obj_is_file(model))
         return usage_error("%s: expected a .gltf, .glb or .obj model", model);
     if (!out)
@@ -98,7 +89,7 @@ int main(int argc, char **argv)
         fprintf(stderr, PROG ": %s: %s\n", model, load_note);
     uint8_t *bytes = NULL;
     size_t len = 0;
-    int rc = 1;
+    rc = 1;
     if (psc_bake_proxy(&g, &o, model, &bytes, &len, note, sizeof note, err, sizeof err) != 0 ||
         psc_io_write_atomic(out, bytes, len, err, sizeof err) != 0) {
         fprintf(stderr, PROG ": %s\n", err);

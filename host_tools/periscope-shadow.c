@@ -56,7 +56,7 @@ int main(int argc, char **argv)
 {
     psc_bake_shadow_opts_t o = {PSC_BAKE_SHADOW_LEVELS, PSC_BAKE_SHADOW_SPHERES, 32};
     psc_bake_patch_opts_t lo = {.quiet = true};
-    const char *model = NULL, *out = NULL, *verb = NULL;
+    const char *model = NULL, *out = NULL;
     psc_io_cli_t c;
     char err[768], note[512] = "";
     int opt;
@@ -84,18 +84,9 @@ int main(int argc, char **argv)
     }
     if (opt < 0)
         return -opt;   /* the mistake, said */
-    for (int i = psc_io_cli_rest(&c); i < argc; i++) {
-        if (!verb)
-            verb = argv[i];
-        else if (!model)
-            model = argv[i];
-        else
-            return usage_error("more than one model given (%s)", argv[i]);
-    }
-    if (!verb || strcmp(verb, "build") != 0)
-        return usage_error("expected the command 'build' (" PROG " build MODEL -o M.pao)");
-    if (!model)
-        return usage_error("no model given");
+    int rc = psc_io_cli_command_file(&c, PROG, "build", PROG " build MODEL -o M.pao", "model", &model);
+    if (rc != 0)
+        return rc;
     if (!out)
         return usage_error("no output given (-o M.pao)");
     psc_io_patch_t pf = {0};
@@ -109,7 +100,7 @@ int main(int argc, char **argv)
     }
     uint8_t *bytes = NULL;
     size_t len = 0;
-    int rc = 1;
+    rc = 1;
     if ((gltf ? psc_bake_shadow_gltf(&g, &o, model, &bytes, &len, note, sizeof note, err, sizeof err)
               : psc_bake_shadow(&pf.model, &o, model, &bytes, &len, note, sizeof note, err, sizeof err)) != 0 ||
         psc_io_write_atomic(out, bytes, len, err, sizeof err) != 0)

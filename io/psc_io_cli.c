@@ -93,6 +93,23 @@ int psc_io_cli_one_file(const psc_io_cli_t *c, const char *prog, const char *wha
     return 0;
 }
 
+int psc_io_cli_command_file(const psc_io_cli_t *c, const char *prog, const char *command, const char *synopsis,
+                            const char *what, const char **file)
+{
+    int first = psc_io_cli_rest(c);
+    *file = NULL;
+    if (first >= c->argc || strcmp(c->argv[first], command) != 0)
+        return psc_io_cli_usage_error(prog, "expected the command '%s' (%s)", command, synopsis);
+    for (int i = first + 1; i < c->argc; i++) {
+        if (*file)
+            return psc_io_cli_usage_error(prog, "more than one %s given (%s)", what, c->argv[i]);
+        *file = c->argv[i];
+    }
+    if (!*file)
+        return psc_io_cli_usage_error(prog, "no %s given", what);
+    return 0;
+}
+
 void psc_io_cli_print_version(const char *prog)
 {
     printf("%s (Periscope) %s\n", prog, PSC_VERSION);

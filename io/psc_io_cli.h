@@ -76,6 +76,15 @@ int psc_io_cli_rest(const psc_io_cli_t *c);
  */
 int psc_io_cli_one_file(const psc_io_cli_t *c, const char *prog, const char *what, const char **file);
 
+/**
+ * "COMMAND FILE" after the options (periscope-shadow build MODEL): the
+ * command must be command (else "expected the command 'build' (synopsis)"),
+ * then the one file into *file, as psc_io_cli_one_file. 0, or
+ * PSC_IO_CLI_EXIT_USAGE with the mistake said.
+ */
+int psc_io_cli_command_file(const psc_io_cli_t *c, const char *prog, const char *command, const char *synopsis,
+                            const char *what, const char **file);
+
 /** "prog (Periscope) VERSION" on stdout, for --version. */
 void psc_io_cli_print_version(const char *prog);
 

@@ -5,6 +5,23 @@
 
 #include <string.h>
 
+bool psc_render_cli_has_file(int argc, char **argv, bool (*is)(const char *path))
+{
+    for (int i = 1; i < argc; i++)
+        if (argv[i][0] != '-' && is(argv[i]))
+            return true;
+    return false;
+}
+
+bool psc_render_cli_has_option(int argc, char **argv, const char *name)
+{
+    size_t n = strlen(name);
+    for (int i = 1; i < argc; i++)
+        if (strncmp(argv[i], name, n) == 0 && (argv[i][n] == '\0' || argv[i][n] == '='))
+            return true;
+    return false;
+}
+
 int psc_render_cli_parse(const psc_render_cli_t *cli, const char *prog, int argc, char **argv, psc_render_view_t *view,
                          const char **model, const char **out, void *args)
 {

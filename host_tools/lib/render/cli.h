@@ -10,6 +10,7 @@
 #define PSC_RENDER_CLI_H
 
 #include <getopt.h>
+#include <stdbool.h>
 #include <stdio.h>
 
 #include "render/view.h"
@@ -33,6 +34,12 @@ typedef struct {
      * mistake it has said (psc_io_cli_usage_error) */
     int (*option)(const char *prog, const char *name, const char *v, void *args);
 } psc_render_cli_t;
+
+/** Whether an argument of argv that is not an option is a file is() takes (a mode's wanted()). */
+bool psc_render_cli_has_file(int argc, char **argv, bool (*is)(const char *path));
+
+/** Whether argv has the option name ("--orbit", as --orbit V or --orbit=V). */
+bool psc_render_cli_has_option(int argc, char **argv, const char *name);
 
 /**
  * Read argv: the view's options into *view, the mode's into args, -o into

@@ -34,14 +34,9 @@ typedef struct {
 
 bool psc_render_gltf_wanted(int argc, char **argv)
 {
-    bool obj = false, shadow = false;
-    for (int i = 1; i < argc; i++) {
-        if (argv[i][0] != '-' && psc_gltf_is_file(argv[i]))
-            return true;
-        obj |= argv[i][0] != '-' && psc_obj_is_file(argv[i]);
-        shadow |= strcmp(argv[i], "--shadow") == 0 || strncmp(argv[i], "--shadow=", 9) == 0;
-    }
-    return obj && shadow;   /* an OBJ self-shadowed: read as the importer reads it, its groups the parts */
+    /* an OBJ self-shadowed: read as the articulated model, its groups the parts */
+    return psc_render_cli_has_file(argc, argv, psc_gltf_is_file) ||
+           (psc_render_cli_has_file(argc, argv, psc_obj_is_file) && psc_render_cli_has_option(argc, argv, "--shadow"));
 }
 
 static void usage(const char *prog, FILE *f)
@@ -248,13 +243,6 @@ static int pose_from_file(gltf_args_t *a, const psc_gltf_t *g, psc_gltf_adjust_t
     return rc;
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 int psc_render_gltf_main(const char *prog, int argc, char **argv)
 {
     gltf_args_t a = {.view = psc_render_view_defaults(30, 20, 2.5, 50), .time = -1.0};
@@ -322,13 +310,13 @@ int psc_render_gltf_main(const char *prog, int argc, char **argv)
     double t_shade = 0;
     for (unsigned long k = 0; k < vw->repeat; k++) {
         pose(&p, &g, a.time, adjust);
-        double t0 = now_s();
+        double t0 = psc_render_seconds();
         if (a.shadow) {
             psc_shadow_update_bones(&sh, p.skin_q16, g.joint_count);
             psc_shadow_apply_mesh(&sh, p.pos_q16, p.nrm_q14, p.color, p.mesh.vertex_count, PSC_SHADOW_STRENGTH_Q16,
                                   p.ao);
         }
-        t_shade += now_s() - t0;
+        t_shade += psc_render_seconds() - t0;
         if (d.shade != PSC_SHADE_PHONG)
             light(&p);
         uint32_t bg = BACKGROUND;

@@ -35,18 +35,14 @@ typedef struct {
 } model_args_t;
 
 
+static bool is_mesh_file(const char *path)
+{
+    return psc_obj_is_file(path) || psc_io_file_has_magic(path, PSC_MESH_MAGIC, PSC_CONTAINER_MAGIC_SIZE);
+}
+
 bool psc_render_model_wanted(int argc, char **argv)
 {
-    for (int i = 1; i < argc; i++) {
-        if (argv[i][0] == '-') {
-            if (strcmp(argv[i], "--orbit") == 0 || strncmp(argv[i], "--orbit=", 8) == 0)
-                return true;
-            continue;
-        }
-        if (psc_obj_is_file(argv[i]) || psc_io_file_has_magic(argv[i], PSC_MESH_MAGIC, PSC_CONTAINER_MAGIC_SIZE))
-            return true;
-    }
-    return false;
+    return psc_render_cli_has_option(argc, argv, "--orbit") || psc_render_cli_has_file(argc, argv, is_mesh_file);
 }
 
 static void usage(const char *prog, FILE *f)
@@ -193,13 +189,6 @@ static int override_texture(const model_args_t *a, psc_io_mesh_t *mf, psc_io_mes
     return 0;
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 int psc_render_model_main(const char *prog, int argc, char **argv)
 {
     model_args_t a = {.view = psc_render_view_defaults(30, 20, 2.5, 60), .filter = PSC_TEX_BILINEAR,
@@ -249,9 +238,9 @@ int psc_render_model_main(const char *prog, int argc, char **argv)
     psc_3d_stats_t st;
     double best = 1e30, total = 0;
     for (unsigned long k = 0; k < vw->repeat; k++) {
-        double t0 = now_s();
+        double t0 = psc_render_seconds();
         s = psc_3d_render(&rt.r, &d, 1, &bg, &rt.out, &st);
-        double dt = now_s() - t0;
+        double dt = psc_render_seconds() - t0;
         total += dt;
         best = dt < best ? dt : best;
         if (s != PSC_OK) {

@@ -7,6 +7,7 @@
  */
 #include "render/pano.h"
 #include "render/modes.h"
+#include "render/target.h"
 #include "util/cli_values.h"
 #include "psc_io_angle.h"
 #include "psc_io_bands.h"
@@ -175,13 +176,6 @@ static int parse_args(int argc, char **argv, args_t *a)
     return 0;
 }
 
-static double seconds_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 /* Aligned, zeroed memory for the workspace and the frame. */
 static void *alloc_aligned(size_t size)
 {
@@ -205,9 +199,9 @@ static int render_frames(psc_viewer_t *viewer, psc_io_bands_t *bands, const psc_
 {
     double best = 0.0, total = 0.0;
     for (unsigned long k = 0; k < repeat; k++) {
-        double t0 = seconds_now();
+        double t0 = psc_render_seconds();
         psc_status_t s = psc_io_bands_render(bands, viewer, view, out);
-        double dt = seconds_now() - t0;
+        double dt = psc_render_seconds() - t0;
         if (s != PSC_OK) {
             fprintf(stderr, "%s" ": rendering failed: %s\n", pano_prog, psc_status_str(s));
             return -1;

@@ -35,10 +35,7 @@ typedef struct {
 
 bool psc_render_patch_wanted(int argc, char **argv)
 {
-    for (int i = 1; i < argc; i++)
-        if (argv[i][0] != '-' && psc_bake_patch_wanted(argv[i]))
-            return true;
-    return false;
+    return psc_render_cli_has_file(argc, argv, psc_bake_patch_wanted);
 }
 
 static void usage(const char *prog, FILE *f)
@@ -199,13 +196,6 @@ static int find_action(const psc_patch_model_t *m, const char *name)
     return -2;
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 /* --dump-ao: every vertex of the frame with its occlusion, in the model's own units. */
 static int write_ao(const psc_patch_t *p, const uint32_t *occlusion, const psc_patch_model_t *m, const char *path,
                     char *err, size_t errlen)
@@ -356,7 +346,7 @@ int psc_render_patch_main(const char *prog, int argc, char **argv)
         goto done;
     }
     for (unsigned long k = 0; k < vw->repeat; k++) {
-        double t0 = now_s();
+        double t0 = psc_render_seconds();
         /* a repeated run plays the action from the given time on, a frame at 60 Hz */
         uint32_t at = ms + (uint32_t)(k * 1000ul / 60ul);
         if ((s = frame(&t.p, action, at, a.pose_file ? &pose : NULL, &cam, &st)) != PSC_OK) {
@@ -367,7 +357,7 @@ int psc_render_patch_main(const char *prog, int argc, char **argv)
             psc_shadow_update(&sh, &t.p);
             psc_shadow_apply(&sh, &t.p, PSC_SHADOW_STRENGTH_Q16, ao);
         }
-        double t1 = now_s();
+        double t1 = psc_render_seconds();
         psc_3d_draw_t d[PSC_PATCH_MAX_BATCHES];
         unsigned n = psc_patch_draws(&t.p, &cam, d);
         if (psc_render_view_shade(vw, d, n, a.model, err, sizeof err) != 0) {
@@ -380,7 +370,7 @@ int psc_render_patch_main(const char *prog, int argc, char **argv)
             goto done;
         }
         t_tess += t1 - t0;
-        t_draw += now_s() - t1;
+        t_draw += psc_render_seconds() - t1;
     }
     if (vw->repeat > 1)
         fprintf(stderr, "%s: %lu frames of %ux%u: pose+tessellate %.3f ms, draw %.3f ms per frame (%u patches, "

@@ -30,12 +30,14 @@ typedef struct {
     unsigned long tile;
 } proxy_args_t;
 
+static bool is_proxy_pack(const char *path)
+{
+    return psc_path_has_suffix(path, ".ppx");
+}
+
 bool psc_render_proxy_wanted(int argc, char **argv)
 {
-    for (int i = 1; i < argc; i++)
-        if (argv[i][0] != '-' && psc_path_has_suffix(argv[i], ".ppx"))
-            return true;
-    return false;
+    return psc_render_cli_has_file(argc, argv, is_proxy_pack);
 }
 
 static void usage(const char *prog, FILE *f)
@@ -215,13 +217,6 @@ static int pose_from_file(proxy_args_t *a, const psc_proxy_model_t *m, double (*
     return rc;
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 /* One frame: the pack's draws for this pose into target rt. */
 static psc_status_t draw(psc_proxy_t *px, psc_render_target_t *rt, const psc_mat4_q16_t *skin,
                          const psc_mat4_q16_t *cam, psc_proxy_lod_t lod, bool ids, const psc_render_view_t *vw,
@@ -298,13 +293,13 @@ int psc_render_proxy_main(const char *prog, int argc, char **argv)
     double total = 0, best = 1e30;
     psc_3d_stats_t st = {0};
     for (unsigned long k = 0; k < vw->repeat; k++) {
-        double t0 = now_s();
+        double t0 = psc_render_seconds();
         if (psc_render_proxy_pose(m, a.time, (const double(*)[12])pre, (const double(*)[12])post, skin) != 0) {
             fprintf(stderr, "%s: %s: out of memory\n", prog, a.pack);
             goto done;
         }
         psc_status_t s = draw(&px, &rt, skin, &cam, lod, false, vw, &st);
-        double dt = now_s() - t0;
+        double dt = psc_render_seconds() - t0;
         total += dt;
         best = dt < best ? dt : best;
         if (s != PSC_OK) {

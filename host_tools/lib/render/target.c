@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 int psc_render_target_open(psc_render_target_t *t, const psc_3d_config_t *cfg, psc_pixfmt_t fmt, bool depth,
                            const char *name, char *err, size_t errlen)
@@ -81,4 +82,11 @@ void psc_render_target_close(psc_render_target_t *t)
     free(t->depth);
     free(t->out.pixels);
     memset(t, 0, sizeof *t);
+}
+
+double psc_render_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }

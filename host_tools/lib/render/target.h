@@ -45,4 +45,7 @@ int psc_render_target_write(const psc_render_target_t *t, const char *png, const
 
 void psc_render_target_close(psc_render_target_t *t);
 
+/** The monotonic clock in seconds, for --repeat's figures (the time per frame the modes report). */
+double psc_render_seconds(void);
+
 #endif
