@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "devices.h"
+#include "psc_io_log.h"
 #include "psc_hal.h"
 
 #define DEVICES_MAX_OPTIONS (PSC_BOARD_MAX_OPTIONS + 4u)
@@ -111,7 +112,11 @@ void psc_devices_poll_camera(psc_devices_t *d)
 
     if (d->camera == NULL)
         return;
+    bool had = d->feed.had_frames;
     rc = psc_camera_feed_poll(&d->feed);
+    if (!had && d->feed.had_frames)   /* until now the camera scene showed its pack's own map */
+        psc_io_log(PSC_LOG_NOTICE, "camera: first frame, %ux%u", (unsigned)d->feed.map.width,
+                   (unsigned)d->feed.map.height);
     psc_device_status_camera(&d->status, rc, d->feed.had_frames);
 }
 
