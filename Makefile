@@ -287,12 +287,12 @@ test: deps
 	$(Q)sh tests/run_all.sh $(BUILD) $(QUICK_TESTS)
 
 check: deps
-	$(Q)$(MAKE) --no-print-directory test
-	$(Q)$(MAKE) --no-print-directory check-clang
-	$(Q)$(MAKE) --no-print-directory check-sanitize
-	$(Q)$(MAKE) --no-print-directory check-sanitize SAN_CC=clang
-	$(Q)$(MAKE) --no-print-directory check-memcheck
-	$(Q)$(MAKE) --no-print-directory check-system
+	$(Q)sh scripts/timed "make test" $(MAKE) --no-print-directory test
+	$(Q)sh scripts/timed "clang build" $(MAKE) --no-print-directory check-clang
+	$(Q)sh scripts/timed "sanitizers (gcc)" $(MAKE) --no-print-directory check-sanitize
+	$(Q)sh scripts/timed "sanitizers (clang)" $(MAKE) --no-print-directory check-sanitize SAN_CC=clang
+	$(Q)sh scripts/timed "valgrind" $(MAKE) --no-print-directory check-memcheck
+	$(Q)sh scripts/timed "system tests" $(MAKE) --no-print-directory check-system
 
 .PHONY: system-test-prep
 system-test-prep:
@@ -301,7 +301,7 @@ system-test-prep:
 # native and cross packages, the boot images: mk/cross.mk, mk/deb.mk, mk/image-boot.mk), then they run side by side.
 check-system: deps
 	$(Q)$(MAKE) $(PAR) --no-print-directory all $(SYSTEM_TESTS)
-	$(Q)$(MAKE) --no-print-directory system-test-prep
+	$(Q)sh scripts/timed "system tests' builds, packages and images" $(MAKE) --no-print-directory system-test-prep
 	$(Q)sh tests/run_all.sh $(BUILD) $(SYSTEM_TESTS)
 
 # A clone with nothing beside it: no file reaches outside the repository, every test data file has its origin

@@ -80,6 +80,7 @@ start_order() {
     done | sort -k1,1nr -s | cut -d' ' -f2-
 }
 
+run_start=$(date +%s)
 for t in "$@"; do
     rm -f "$logs/$(basename "$t").rc"
 done
@@ -158,6 +159,9 @@ done
 [ -z "$runner" ] || wait "$runner"
 
 echo "===="
+echo "run_all: $# programs in $(($(date +%s) - run_start)) s, $jobs at once; the longest: $(for t in "$@"; do
+    n=$(basename "$t"); echo "$(cat "$logs/$n.time" 2>/dev/null || echo 0) $n"; done | sort -rn | head -n 3 |
+    awk '{ printf "%s%s %s s", (NR > 1 ? ", " : ""), $2, $1 }')"
 echo "test programs: $prog_pass passed, $prog_fail failed${failed_progs:+ (}${failed_progs# }${failed_progs:+)}"
 if [ $((prog_pass + prog_fail)) -eq 0 ]; then
     echo "run_all: no test programs were given"
