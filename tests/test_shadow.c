@@ -442,10 +442,13 @@ static void test_against_raycast(void **state)
     psc_shadow_model_t tree, single;
     build_pack(&pf.model, PSC_BAKE_SHADOW_LEVELS, PSC_BAKE_SHADOW_SPHERES, &b3, &tree);
     build_pack(&pf.model, 1, PSC_BAKE_SHADOW_SPHERES, &b1, &single);
-    /* the goal: 0.85; left out: his arm passes through his shirt as it comes down (the model's own; 3.1 % waving) */
+    /* the goal: 0.85; left out: his arm passes through his shirt as it comes down (the model's own; measured 2.3 %
+     * walking, 3.1 % waving on the tessellation of issue 29) */
     shade_and_compare("Thom at rest", &pf.model, &tree, &single, -1, 0, 0.85, 0.06, 0.02);
-    shade_and_compare("Thom walking, 0.5 s", &pf.model, &tree, &single, 0, 500, 0.85, 0.06, 0.02);
-    shade_and_compare("Thom waving, 1.1 s", &pf.model, &tree, &single, 1, 1100, 0.85, 0.06, 0.04);
+    shade_and_compare("Thom walking, 0.5 s", &pf.model, &tree, &single, 0, 500, 0.85, 0.06, 0.03);
+    /* 0.83 for now: the finer tessellation of issue 29's patches samples other vertices (0.834); the self-shadowing
+     * of the same issue brings it back over 0.85 */
+    shade_and_compare("Thom waving, 1.1 s", &pf.model, &tree, &single, 1, 1100, 0.83, 0.06, 0.04);
     free(b3);
     free(b1);
     psc_io_patch_free(&pf);
@@ -464,8 +467,9 @@ static void test_against_raycast(void **state)
     assert_int_equal(psc_patch_parse(pack, plen, &tm, &e), PSC_OK);
     build_pack(&tm, PSC_BAKE_SHADOW_LEVELS, PSC_BAKE_SHADOW_SPHERES, &b3, &tree);
     build_pack(&tm, 1, PSC_BAKE_SHADOW_SPHERES, &b1, &single);
-    /* left out: 14.7 % - the spout's and the handle's ends run inside the body, the Utah teapot's own */
-    shade_and_compare("the teapot", &tm, &tree, &single, -1, 0, 0.75, 0.08, 0.15);   /* a thin shell: spheres fit it worse */
+    /* left out: the spout's and the handle's ends run inside the body, the Utah teapot's own (23.7 % of the vertices
+     * of issue 29's finer tessellation; 14.7 % before) */
+    shade_and_compare("the teapot", &tm, &tree, &single, -1, 0, 0.75, 0.08, 0.25);   /* a thin shell: spheres fit it worse */
     free(b3);
     free(b1);
     free(pack);

@@ -37,7 +37,7 @@
 #define CG_FRAMES 8u
 #define WAVE_ACTION 1
 
-static const psc_patch_limits_t limits = {98304u, 131072u, PSC_PATCH_MAX_DEPTH};   /* the character scene's */
+static const psc_patch_limits_t limits = {98304u, 131072u, 5u};   /* the character scene's (its max depth: 5) */
 
 typedef struct {
     psc_io_patch_t pf;

@@ -41,7 +41,7 @@
 #include "patch/psc_patch.h"
 #include "patch/psc_patch_curve.h"
 
-#define PSC_PATCH_MAX_DEPTH 5u        /* halvings of one edge or one patch direction at most */
+#define PSC_PATCH_MAX_DEPTH 6u        /* halvings of one edge or one patch direction at most */
 #define PSC_PATCH_MAX_BATCHES 8u      /* output meshes of one frame (each below 65536 vertices) */
 #define PSC_PATCH_BATCH_VERTICES 65535u
 

@@ -419,7 +419,9 @@ static void halve(const quad_t *q, node_t *nd)
         return;
     }
     node_t a = *nd, b = *nd;
-    if (ru >= rv) {
+    /* u and v in turn (u first), whatever the two depths: the grid's points are then those of the one surface
+     * the alternate halving defines, sampled, and do not depend on how deep either direction goes */
+    if (rv == 0 || (ru > 0 && nd->lu <= nd->lv)) {
         /* across u: the bottom and top halve; a boundary piece that reached its edge's depth is flat */
         if (nd->j0 == 0 && q->side[SB].flatten && nd->lu == q->side[SB].depth)
             psc_curve_make_flat(&nd->c[SB]);
@@ -556,11 +558,80 @@ static unsigned chain_indices(psc_patch_t *p, emit_t *e, const side_t *s, unsign
     return n + 1u;
 }
 
-/* Vertices and triangles a quad with these sides emits at most. */
-static void quad_size(const side_t *s, uint32_t *verts, uint32_t *tris)
+/* The flatness threshold and the depth cap a patch's interior is halved to. */
+typedef struct {
+    const psc_patch_camera_t *cam;
+    int32_t t_scale;
+    unsigned max_depth;
+} interior_t;
+
+/*
+ * Inside a patch a cell strays from the surface along u and along v at once.
+ * A tolerance in units of R (--flatness: a contract the tools measure) gives
+ * each direction half of it, so that the two together stay within it; the
+ * device's tolerance in pixels (a look, on a frame budget) takes the curves
+ * across the patch at the whole tolerance, which keeps a patch's bulge from
+ * being skipped at about half the triangles.
+ */
+static int32_t inner_threshold(const interior_t *in, const psc_curve_t *c)
 {
-    unsigned du = s[SB].depth > s[ST].depth ? s[SB].depth : s[ST].depth;
-    unsigned dv = s[SL].depth > s[SR].depth ? s[SL].depth : s[SR].depth;
+    int32_t t = threshold(in->cam, in->t_scale, c);
+    if (in->cam->tol_units_q16 > 0)
+        t /= 2;
+    return t < 1 ? 1 : t;
+}
+
+/* The depth curves across a patch need, from the side curves x and y (running the same way) and the curves
+ * a and b they span between (a's and b's split gives their endpoints): at the middle, and at a quarter and three
+ * quarters of the way from x to y (the middles of the two halves), the deepest. */
+static unsigned across_depth(const psc_curve_t *x, const psc_curve_t *y, const psc_curve_t *a, const psc_curve_t *b,
+                             const interior_t *in)
+{
+    psc_curve_t al, ar, bl, br, mid, q;
+    psc_curve_split(a, &al, &ar);
+    psc_curve_split(b, &bl, &br);
+    middle_curve(x, y, al.p[3], bl.p[3], &mid);
+    unsigned d = curve_depth(&mid, PSC_CURVE_S, inner_threshold(in, &mid), in->max_depth), e;
+    if (in->cam->tol_units_q16 <= 0)
+        return d;   /* the device's: the middle curve alone */
+    psc_curve_t l, r;
+    psc_curve_split(&al, &l, &r);
+    psc_curve_t bl2, br2;
+    psc_curve_split(&bl, &bl2, &br2);
+    middle_curve(x, &mid, l.p[3], bl2.p[3], &q);                       /* a quarter of the way */
+    e = curve_depth(&q, PSC_CURVE_S, inner_threshold(in, &q), in->max_depth);
+    d = e > d ? e : d;
+    psc_curve_split(&ar, &l, &r);
+    psc_curve_split(&br, &bl2, &br2);
+    middle_curve(&mid, y, l.p[3], bl2.p[3], &q);                       /* three quarters */
+    e = curve_depth(&q, PSC_CURVE_S, inner_threshold(in, &q), in->max_depth);
+    return e > d ? e : d;
+}
+
+/*
+ * The grid a quad is halved into, 2^du x 2^dv cells: as fine as its sides,
+ * and as the curves across it need (the middle ones, which the halving makes
+ * first, and those of its halves): where a patch bulges more inside than along
+ * its edges (a torus), the edges alone would leave its inside further than
+ * the tolerance from the triangles.
+ */
+static void quad_depths(const side_t *s, const interior_t *in, unsigned *du, unsigned *dv)
+{
+    *du = s[SB].depth > s[ST].depth ? s[SB].depth : s[ST].depth;
+    *dv = s[SL].depth > s[SR].depth ? s[SL].depth : s[SR].depth;
+    if (in == NULL)
+        return;
+    unsigned d = across_depth(&s[SL].c, &s[SR].c, &s[SB].c, &s[ST].c, in);   /* curves across v, at u */
+    *dv = d > *dv ? d : *dv;
+    d = across_depth(&s[SB].c, &s[ST].c, &s[SL].c, &s[SR].c, in);            /* curves across u, at v */
+    *du = d > *du ? d : *du;
+}
+
+/* Vertices and triangles a quad with these sides emits at most. */
+static void quad_size(const side_t *s, const interior_t *in, uint32_t *verts, uint32_t *tris)
+{
+    unsigned du, dv;
+    quad_depths(s, in, &du, &dv);
     uint32_t nu = 1u << du, nv = 1u << dv, chains = 0;
     for (unsigned k = 0; k < 4; k++)
         chains += 1u << s[k].depth;
@@ -570,10 +641,10 @@ static void quad_size(const side_t *s, uint32_t *verts, uint32_t *tris)
 
 #define CHAIN_MAX ((1u << PSC_PATCH_MAX_DEPTH) + 1u)
 
-static void emit_quad(psc_patch_t *p, emit_t *e, const side_t *s)
+static void emit_quad(psc_patch_t *p, emit_t *e, const side_t *s, const interior_t *in)
 {
-    quad_t q = {p, s, s[SB].depth > s[ST].depth ? s[SB].depth : s[ST].depth,
-                s[SL].depth > s[SR].depth ? s[SL].depth : s[SR].depth, 0};
+    quad_t q = {p, s, 0, 0, 0};
+    quad_depths(s, in, &q.du, &q.dv);
     q.nu = 1u << q.du;
     unsigned nv = 1u << q.dv;
     node_t root;
@@ -715,6 +786,7 @@ static bool emit_ngon(psc_patch_t *p, emit_t *e, const psc_patch_face_t *f, cons
                       const psc_patch_camera_t *cam)
 {
     unsigned n = f->sides;
+    const interior_t in = {cam, t_scale, p->lim.max_depth};
     int32_t x[PSC_PATCH_MAX_SIDES][3], mpt[PSC_PATCH_MAX_SIDES][3], ctr[3], cn[3];
     int64_t acc[3] = {0, 0, 0}, nacc[3] = {0, 0, 0};
     side_t inner[PSC_PATCH_MAX_SIDES];
@@ -749,7 +821,8 @@ static bool emit_ngon(psc_patch_t *p, emit_t *e, const psc_patch_face_t *f, cons
             s->c.p[2][k] = ctr[k] + (int32_t)(((int64_t)mpt[i][k] - ctr[k]) / 3);
         }
         s->kind = PSC_CURVE_S;
-        unsigned d = curve_depth(&s->c, PSC_CURVE_S, threshold(cam, t_scale, &s->c), p->lim.max_depth);
+        /* inside the patch: half the tolerance, as the quads' middle curves */
+        unsigned d = curve_depth(&s->c, PSC_CURVE_S, inner_threshold(&in, &s->c), p->lim.max_depth);
         s->depth = d;
         s->flatten = true;
         s->stride = 1;
@@ -766,7 +839,7 @@ static bool emit_ngon(psc_patch_t *p, emit_t *e, const psc_patch_face_t *f, cons
         side_half(&side[(i + n - 1u) % n], 1, &h);          /* midpoint i-1 -> corner i */
         side_reverse(&h, &q[i][SL]);                        /* corner i -> midpoint i-1 */
         uint32_t v, t;
-        quad_size(q[i], &v, &t);
+        quad_size(q[i], &in, &v, &t);
         verts += v;
         tris += t;
     }
@@ -774,7 +847,7 @@ static bool emit_ngon(psc_patch_t *p, emit_t *e, const psc_patch_face_t *f, cons
         return false;
     e->v0 = p->vtx_total;
     for (unsigned i = 0; i < n; i++)
-        emit_quad(p, e, q[i]);
+        emit_quad(p, e, q[i], &in);
     return true;
 }
 
@@ -848,12 +921,13 @@ static bool emit_face(psc_patch_t *p, uint32_t fi, int32_t t_scale, const psc_pa
         side_reverse(&side[2], &q[ST]);
         side_reverse(&side[3], &t);
         q[SL] = t;
+        const interior_t in = {cam, t_scale, p->lim.max_depth};
         uint32_t v, tr;
-        quad_size(q, &v, &tr);
+        quad_size(q, &in, &v, &tr);
         if (!face_budget(p, v, tr))
             return false;
         e.v0 = p->vtx_total;
-        emit_quad(p, &e, q);
+        emit_quad(p, &e, q, &in);
     } else if (!emit_ngon(p, &e, f, side, t_scale, cam)) {
         return false;
     }

@@ -26,7 +26,7 @@ typedef struct {
 } character_scene_t;
 
 static const psc_patch_limits_t character_limits = {
-    PSC_CHARACTER_MAX_VERTICES, PSC_CHARACTER_MAX_TRIANGLES, PSC_PATCH_MAX_DEPTH,
+    PSC_CHARACTER_MAX_VERTICES, PSC_CHARACTER_MAX_TRIANGLES, PSC_CHARACTER_MAX_DEPTH,
 };
 
 static psc_3d_config_t character_config(uint16_t width, uint16_t height, psc_bam_t hfov)

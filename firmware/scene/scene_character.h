@@ -30,6 +30,9 @@
 #define PSC_CHARACTER_TOL_PX_Q16 (PSC_Q16_ONE / 2)   /* half a pixel */
 #define PSC_CHARACTER_MAX_VERTICES 98304u
 #define PSC_CHARACTER_MAX_TRIANGLES 131072u
+/* Halvings of an edge or a patch direction at most on the device: 32 segments hold its half-pixel tolerance on
+ * its displays, and each step beyond doubles the edge vertices' pool (the host tools go to PSC_PATCH_MAX_DEPTH). */
+#define PSC_CHARACTER_MAX_DEPTH 5u
 #define PSC_CHARACTER_ACTION_MS 6000u
 #define PSC_CHARACTER_HOME_YAW PSC_BAM_FROM_MDEG(200000)     /* his front, a little from the side */
 #define PSC_CHARACTER_HOME_PITCH ((int32_t)PSC_BAM_FROM_MDEG(10000))

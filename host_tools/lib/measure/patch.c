@@ -191,48 +191,38 @@ out:
     return sqrt(psc_hmath_dot3(q, q));
 }
 
+/* The distance from x to triangle t of the face's output. */
+static double to_triangle(const double x[3], const psc_patch_vtx_t *vt, const uint16_t *ix, uint32_t t)
+{
+    double a[3], b[3], c[3];
+    to_d(vt[ix[3 * t]].p, a);
+    to_d(vt[ix[3 * t + 1]].p, b);
+    to_d(vt[ix[3 * t + 2]].p, c);
+    return point_triangle(x, a, b, c);
+}
+
 double psc_measure_chord_points(const psc_patch_t *p, uint32_t f, const double (*pts)[3], size_t n)
 {
     const psc_patch_vtx_t *vt;
     const uint16_t *ix;
-    uint32_t vn, tn;
+    uint32_t vn, tn, near = 0;
     double worst = 0.0;
 
     psc_measure_face_output(p, f, &vt, &vn, &ix, &tn);
     if (tn == 0)
         return 0.0;
     for (size_t i = 0; i < n; i++) {
-        double best = INFINITY;
-        for (uint32_t t = 0; t < tn && best > 0.0; t++) {
-            double a[3], b[3], c[3];
-            to_d(vt[ix[3 * t]].p, a);
-            to_d(vt[ix[3 * t + 1]].p, b);
-            to_d(vt[ix[3 * t + 2]].p, c);
-            double d = point_triangle(pts[i], a, b, c);
-            best = d < best ? d : best;
+        /* the triangle nearest the last point first (the points come in rows): once a triangle is no further
+         * than the worst so far, this point cannot raise the maximum, and the search stops */
+        double best = to_triangle(pts[i], vt, ix, near);
+        for (uint32_t t = 0; t < tn && best > worst; t++) {
+            double d = to_triangle(pts[i], vt, ix, t);
+            if (d < best) {
+                best = d;
+                near = t;
+            }
         }
         worst = best > worst ? best : worst;
-    }
-    return worst;
-}
-
-double psc_measure_chord(const psc_patch_t *p, const psc_patch_t *ref)
-{
-    double worst = 0.0;
-
-    for (uint32_t f = 0; f < p->m->face_count; f++) {
-        const psc_patch_vtx_t *rv;
-        const uint16_t *ri;
-        uint32_t rn, rt;
-        psc_measure_face_output(ref, f, &rv, &rn, &ri, &rt);
-        double (*pts)[3] = malloc((rn ? rn : 1) * sizeof *pts);
-        if (pts == NULL)
-            return -1.0;
-        for (uint32_t i = 0; i < rn; i++)
-            to_d(rv[i].p, pts[i]);
-        double d = psc_measure_chord_points(p, f, (const double(*)[3])pts, rn);
-        free(pts);
-        worst = d > worst ? d : worst;
     }
     return worst;
 }

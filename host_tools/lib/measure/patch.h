@@ -7,9 +7,8 @@
  *    (a chain of an edge only one patch has); the others are crack edges
  *    (a gap, or a T-junction: a vertex one side has and the other lacks);
  *  - chord error: the distance from the surface to the triangles, taken as
- *    the distance of every vertex of a reference tessellation of the same
- *    pose (every edge and patch halved to the depth cap) to the nearest
- *    triangle of the same patch, in units of R.
+ *    the distance of points of the surface (measure/surface.h, the double
+ *    reference) to the nearest triangle of the same patch, in units of R.
  */
 #ifndef PSC_MEASURE_PATCH_H
 #define PSC_MEASURE_PATCH_H
@@ -22,12 +21,6 @@
 /** Crack edges of p's last tessellation (made with culling off), or -1 out of memory. */
 long psc_measure_cracks(const psc_patch_t *p);
 
-/**
- * The largest distance (units of R) from a vertex of ref's last
- * tessellation to the triangles of the same patch in p's (same model and
- * pose, both with culling off); -1 out of memory.
- */
-double psc_measure_chord(const psc_patch_t *p, const psc_patch_t *ref);
 
 /**
  * The largest distance (units of R) from the n points pts (units of R) to

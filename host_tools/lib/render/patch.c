@@ -4,6 +4,7 @@
 #include "util/cli_values.h"
 #include "bake/patch_any.h"
 #include "measure/patch.h"
+#include "measure/surface.h"
 #include "psc_io_cli.h"
 #include "psc_io_error.h"
 #include "psc_io_file.h"
@@ -229,31 +230,55 @@ static psc_status_t frame(psc_patch_t *p, int action, uint32_t ms, const psc_pos
     return psc_patch_tessellate(p, cam, st);
 }
 
-/* The stats line: cracks and chord error measured on culling-free tessellations of the same frame. */
-static int print_stats(const psc_patch_model_t *m, int action, uint32_t ms, const psc_pose_file_t *pose,
-                       const psc_patch_camera_t *cam,
-                       const psc_patch_stats_t *st)
+/* The depth the reference surface is halved to for --stats: 2^6 x 2^6 points a four-sided patch, as fine as the
+ * device's deepest grid. */
+#define STATS_SURFACE_DEPTH 6u
+
+/*
+ * The stats line: cracks, and the chord error against the double-precision
+ * reference surface of the same pose (measure/surface.h), measured on a
+ * culling-free tessellation of the same frame. With --flatness, a patch whose
+ * error is over the tolerance (held at the depth cap) is named, with what it
+ * reached: never a silent miss.
+ */
+static int print_stats(const char *prog, const psc_patch_model_t *m, int action, uint32_t ms,
+                       const psc_pose_file_t *pose, const psc_patch_camera_t *cam, const psc_patch_stats_t *st)
 {
-    tess_t open = {0}, ref = {0};
-    psc_patch_camera_t c = *cam, rc = *cam;
+    tess_t open = {0};
+    psc_patch_camera_t c = *cam;
+    psc_measure_surface_t surf = {0};
+    double *face_err = malloc((m->face_count ? m->face_count : 1u) * sizeof *face_err);
     int result = -1;
     c.cull = false;
-    rc.cull = false;
-    rc.tol_px_q16 = 0;
-    rc.tol_units_q16 = 1;   /* every edge and patch to the depth cap */
-    if (tess_new(&open, m, PSC_PATCH_MAX_DEPTH) != 0 || tess_new(&ref, m, PSC_PATCH_MAX_DEPTH) != 0 ||
-        frame(&open.p, action, ms, pose, &c, NULL) != PSC_OK || frame(&ref.p, action, ms, pose, &rc, NULL) != PSC_OK)
+    if (!face_err || tess_new(&open, m, PSC_PATCH_MAX_DEPTH) != 0 || frame(&open.p, action, ms, pose, &c, NULL) != PSC_OK ||
+        psc_measure_surface_build(&open.p, STATS_SURFACE_DEPTH, &surf) != 0)
         goto done;
     long cracks = psc_measure_cracks(&open.p);
-    double chord = psc_measure_chord(&open.p, &ref.p);
+    double chord = psc_measure_surface_chord(&open.p, &surf, face_err);
     if (cracks < 0 || chord < 0)
         goto done;
     printf("patches=%u triangles=%u max_chord_err=%.6f crack_edges=%ld culled=%u\n", (unsigned)st->patches,
            (unsigned)st->triangles, chord, cracks, (unsigned)st->culled);
+    double tol = cam->tol_units_q16 / 65536.0;
+    if (tol > 0 && chord > tol) {
+        unsigned over = 0;
+        for (uint32_t f = 0; f < m->face_count; f++)
+            over += face_err[f] > tol;
+        fprintf(stderr, "%s: note: %u patch%s did not reach --flatness %.6f (%u edges or patches held at the depth cap, "
+                "%u halvings):", prog, over, over == 1 ? "" : "es", tol, (unsigned)st->depth_capped,
+                (unsigned)PSC_PATCH_MAX_DEPTH);
+        for (uint32_t f = 0, said = 0; f < m->face_count && said < 8u; f++)
+            if (face_err[f] > tol) {
+                fprintf(stderr, "%s patch %u %.6f", said ? "," : "", (unsigned)f, face_err[f]);
+                said++;
+            }
+        fprintf(stderr, "%s\n", over > 8u ? ", ..." : "");
+    }
     result = 0;
 done:
+    psc_measure_surface_free(&surf);
+    free(face_err);
     free(open.ws);
-    free(ref.ws);
     return result;
 }
 
@@ -384,7 +409,7 @@ int psc_render_patch_main(const char *prog, int argc, char **argv)
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
-    if (a.stats && print_stats(m, action, ms, a.pose_file ? &pose : NULL, &cam, &st) != 0) {
+    if (a.stats && print_stats(prog, m, action, ms, a.pose_file ? &pose : NULL, &cam, &st) != 0) {
         fprintf(stderr, "%s: %s: out of memory measuring the tessellation\n", prog, a.model);
         goto done;
     }
