@@ -115,7 +115,7 @@ static void load_thom(psc_io_patch_t *pf)
 /* The Utah teapot (tests/support/tsup_teapot.h) as a patch pack in *buf, parsed into m. */
 static void load_teapot(uint8_t **buf, psc_patch_model_t *m)
 {
-    size_t n, len;
+    size_t n = 0, len = 0;
     char err[512];
     char *text = tsup_teapot_bpt(&n);
     psc_patch_src_t src;
