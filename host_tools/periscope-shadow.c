@@ -4,7 +4,7 @@
  * one of the sphere-occluder self-shadowing, host_tools/lib/bake/shadow.h):
  *
  *   periscope-shadow build MODEL.{mdl,bpt,ppk,gltf,glb,obj} -o M.pao [--levels L] [--spheres N] [--table-size N]
- *                    [--skin-from D.mdl]
+ *                    [--skin-from D.mdl] [--no-rest]
  *
  * A glTF model (through libassimp) gets tables for its joints, an OBJ file for its groups. The device's
  * character scene finds M.pao beside its .ppk (same name) and
@@ -29,15 +29,18 @@ static void print_usage(const char *prog, FILE *f)
     (void)prog;   /* the same as PROG */
     fprintf(f,
             "usage: " PROG " build MODEL.{mdl,bpt,ppk,gltf,glb,obj} -o M.pao [--levels L] [--spheres N] [--table-size N]\n"
-            "       [--skin-from D.mdl]\n"
+            "       [--skin-from D.mdl] [--no-rest]\n"
             "\n"
             "Precompute a character's or a glTF model's self-shadowing: the sphere tree fitted to its rest pose, the\n"
-            "spheres' skin, the accessibility map and the composite arc map, as a shadow pack.\n"
+            "spheres' skin, the accessibility map and the composite arc map, and each vertex's rest correction (the\n"
+            "ray-traced occlusion less the spheres', averaged over the rest pose and four times through each\n"
+            "action, with one gain on the spheres fitted over the same poses), as a shadow pack.\n"
             "\n"
             "  --levels L          levels of the sphere tree, 1..4 (default 4: 8, 32, 128, 512 spheres)\n"
             "  --spheres N         spheres on the finest level (default 512)\n"
             "  --table-size N      the accessibility map's side (default 32; the composite map's is half)\n"
             "  --skin-from D.mdl   for an A:M model that assigns no CP to a bone (as periscope-patch)\n"
+            "  --no-rest           no rest correction: the spheres alone (smaller pack, faster bake)\n"
             "  -o M.pao            the pack (written whole, or not at all)\n"
             "  --version, --help\n");
 }
@@ -49,12 +52,13 @@ static const struct option shadow_options[] = {
     {"spheres", required_argument, NULL, 1},
     {"table-size", required_argument, NULL, 1},
     {"skin-from", required_argument, NULL, 1},
+    {"no-rest", no_argument, NULL, 1},
     PSC_IO_CLI_COMMON_OPTIONS,
 };
 
 int main(int argc, char **argv)
 {
-    psc_bake_shadow_opts_t o = {PSC_BAKE_SHADOW_LEVELS, PSC_BAKE_SHADOW_SPHERES, 32};
+    psc_bake_shadow_opts_t o = {.levels = PSC_BAKE_SHADOW_LEVELS, .spheres = PSC_BAKE_SHADOW_SPHERES, .table = 32};
     psc_bake_patch_opts_t lo = {.quiet = true};
     const char *model = NULL, *out = NULL;
     psc_io_cli_t c;
@@ -80,6 +84,8 @@ int main(int argc, char **argv)
             o.table = (unsigned)v;
         } else if (strcmp(c.name, "--skin-from") == 0) {
             lo.skin_from = c.arg;
+        } else if (strcmp(c.name, "--no-rest") == 0) {
+            o.no_rest = true;
         }
     }
     if (opt < 0)

@@ -23,7 +23,15 @@
  *    seen from the vertex, the solid angle theta3 of the one sphere that
  *    stands for both (their union) and the angle Phi from the first sphere's
  *    direction to its centre, as cos and sin (Q1.14);
- *  - the arc-cosine table the run time indexes omega and delta with.
+ *  - the arc-cosine table the run time indexes omega and delta with;
+ *  - (an extension of the seed, version 1.1, optional) the rest correction:
+ *    for each of the character's points (a patch character) or the mesh's
+ *    vertices (a glTF or OBJ model), the ray-traced occlusion at rest less
+ *    what the spheres give there, added to the spheres' every frame. The
+ *    spheres stand for a body's surfaces, not for thin parts (legs, rims) nor
+ *    for a part's inside (where another part runs into it, the reference's
+ *    occlusion is 1): the correction carries what the rest pose knows, the
+ *    spheres how the pose changes it.
  * Stage two (core, every frame, psc_shadow_run.c; the real-time module 73):
  * update (721) moves the spheres with the skeleton; composition (725) finds
  * the nearest spheres per level for a point, looks the tables up, merges
@@ -36,7 +44,8 @@
  * "PSCSHAO\x1a"; sections "SINF" (psc_shadow_info_raw_t), "SSPH" (spheres),
  * "SACC" (omega x theta x 2 uint16), "SCMP" (theta1 x theta2 x delta x
  * {uint16 theta3, int16 cos, int16 sin, uint16 reserved}), "SACO" (acos
- * table: PSC_SHADOW_ACOS_SIZE uint16, omega / pi at cos = -1 .. 1).
+ * table: PSC_SHADOW_ACOS_SIZE uint16, omega / pi at cos = -1 .. 1), and the
+ * optional "SREF" (psc_shadow_rest_raw_t, then count int16, Q1.15).
  */
 #ifndef PSC_SHADOW_H
 #define PSC_SHADOW_H
@@ -46,7 +55,7 @@
 
 #define PSC_SHADOW_MAGIC "PSCSHAO\x1a"
 #define PSC_SHADOW_VERSION_MAJOR 1u
-#define PSC_SHADOW_VERSION_MINOR 0u
+#define PSC_SHADOW_VERSION_MINOR 1u   /* 1: the optional rest correction, SREF */
 #define PSC_SHADOW_MAX_SECTIONS 12u
 #define PSC_SHADOW_MAX_LEVELS 4u
 #define PSC_SHADOW_MAX_SPHERES 4096u
@@ -54,6 +63,9 @@
 #define PSC_SHADOW_NEAREST 4u          /* spheres of the finest level for a point (the seed's four) */
 #define PSC_SHADOW_NEAREST_COARSE 6u   /* of each level above: a sphere that stands for its children covers more */
 #define PSC_SHADOW_ACOS_SIZE 1025u
+#define PSC_SHADOW_MAX_REST (1u << 20)   /* points or vertices a rest correction covers */
+#define PSC_SHADOW_REST_GAIN_MIN_Q16 (65536u / 4u)
+#define PSC_SHADOW_REST_GAIN_MAX_Q16 (65536u * 4u)
 
 extern const psc_container_format_t psc_shadow_format;
 
@@ -62,6 +74,7 @@ extern const psc_container_format_t psc_shadow_format;
 #define PSC_SECTION_SHADOW_ACCESS PSC_FOURCC('S', 'A', 'C', 'C')
 #define PSC_SECTION_SHADOW_COMPOSITE PSC_FOURCC('S', 'C', 'M', 'P')
 #define PSC_SECTION_SHADOW_ACOS PSC_FOURCC('S', 'A', 'C', 'O')
+#define PSC_SECTION_SHADOW_REST PSC_FOURCC('S', 'R', 'E', 'F')
 
 /** "SINF", 32 bytes. */
 typedef struct {
@@ -97,7 +110,14 @@ typedef struct {
     uint16_t reserved;
 } psc_shadow_comp_t;
 
+/** "SREF"'s head, 8 bytes, then count int16 (Q1.15, -1..1): the rest correction. */
+typedef struct {
+    uint32_t count;               /* the character's points, or the mesh's vertices */
+    uint32_t gain_q16;            /* the spheres' occlusion times this, then the correction added; 1/4..4 */
+} psc_shadow_rest_raw_t;
+
 _Static_assert(sizeof(psc_shadow_info_raw_t) == 32, "SINF is 32 bytes");
+_Static_assert(sizeof(psc_shadow_rest_raw_t) == 8, "SREF's head is 8 bytes");
 _Static_assert(sizeof(psc_shadow_sphere_t) == 28, "a sphere is 28 bytes");
 _Static_assert(sizeof(psc_shadow_comp_t) == 8, "a composite entry is 8 bytes");
 
@@ -110,6 +130,9 @@ typedef struct {
     const uint16_t *access;          /* [omega][theta][2]: occluded area, occlusion angle */
     const psc_shadow_comp_t *comp;   /* [theta1][theta2][delta] */
     const uint16_t *acos_table;      /* PSC_SHADOW_ACOS_SIZE entries */
+    uint32_t rest_count;             /* the rest correction's entries, 0: none */
+    uint32_t rest_gain_q16;          /* its gain on the spheres' occlusion (Q16.16) */
+    const int16_t *rest_q15;         /* rest_count, Q1.15 */
 } psc_shadow_model_t;
 
 /**

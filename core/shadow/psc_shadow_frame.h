@@ -63,7 +63,7 @@ typedef struct {
 size_t psc_shadow_workspace_size(const psc_shadow_model_t *m, const psc_patch_model_t *pm);
 
 /** Start: ws of psc_shadow_workspace_size bytes; the spheres at rest. PSC_ERR_ARG when m was made for another
- *  skeleton (bone count) than pm's. */
+ *  skeleton (bone count) than pm's, or its rest correction for another point count. */
 psc_status_t psc_shadow_init(psc_shadow_t *s, const psc_shadow_model_t *m, const psc_patch_model_t *pm, void *ws,
                              size_t ws_size);
 
@@ -91,15 +91,18 @@ uint32_t psc_shadow_occlusion_bent(const psc_shadow_t *s, const int32_t pos[3], 
  * occlusion times strength_q16. The spheres are chosen and composed once a
  * patch, at its centre (overlapping ones merged into the one sphere that
  * stands for them); each vertex sees those from where it is, with its own
- * normal. occlusion (may be NULL): p->vtx_total entries, each vertex's
- * occlusion (Q0.16) as the frame shows it.
+ * normal. With the pack's rest correction (psc_shadow.h "SREF"), a point's
+ * occlusion is the spheres' times its gain plus the point's correction.
+ * occlusion (may be NULL): p->vtx_total entries, each vertex's occlusion
+ * (Q0.16) as the frame shows it.
  */
 void psc_shadow_apply(psc_shadow_t *s, psc_patch_t *p, int32_t strength_q16, uint32_t *occlusion);
 
 /**
  * The same for a posed triangle mesh of count vertices (positions Q16.16 in
- * units of R, normals Q1.14, XRGB colours): composed at every vertex;
- * colours darkened and normals bent in place.
+ * units of R, normals Q1.14, XRGB colours): composed at every vertex, the
+ * rest correction applied when the pack has one for count vertices; colours
+ * darkened and normals bent in place.
  */
 void psc_shadow_apply_mesh(psc_shadow_t *s, const int32_t *pos_q16, int16_t *nrm_q14, uint32_t *color,
                            uint32_t count, int32_t strength_q16, uint32_t *occlusion);

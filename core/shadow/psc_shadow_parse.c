@@ -9,11 +9,12 @@ const psc_container_format_t psc_shadow_format = {
     PSC_SHADOW_MAX_SECTIONS,
 };
 
-enum { S_INFO, S_SPHERES, S_ACCESS, S_COMP, S_ACOS, S_COUNT };
+enum { S_INFO, S_SPHERES, S_ACCESS, S_COMP, S_ACOS, S_REST, S_COUNT };
+#define S_REQUIRED S_REST   /* the sections before it; SREF (1.1) is optional */
 
 static const uint32_t section_type[S_COUNT] = {
     PSC_SECTION_SHADOW_INFO, PSC_SECTION_SHADOW_SPHERES, PSC_SECTION_SHADOW_ACCESS, PSC_SECTION_SHADOW_COMPOSITE,
-    PSC_SECTION_SHADOW_ACOS,
+    PSC_SECTION_SHADOW_ACOS, PSC_SECTION_SHADOW_REST,
 };
 
 static psc_status_t check_spheres(const psc_shadow_model_t *m, uint32_t base, psc_container_error_t *err)
@@ -54,7 +55,7 @@ psc_status_t psc_shadow_parse(const void *buf, size_t len, psc_shadow_model_t *o
     if ((st = psc_container_open(buf, len, &psc_shadow_format, &c, err)) != PSC_OK ||
         (st = psc_container_collect(&c, section_type, S_COUNT, f, present, err)) != PSC_OK)
         return st;
-    for (unsigned k = 0; k < S_COUNT; k++)
+    for (unsigned k = 0; k < S_REQUIRED; k++)
         if (!present[k])
             return fail(err, PSC_ERR_CORRUPT, "a required section (SINF, SSPH, SACC, SCMP, SACO) is missing",
                         c.header_size);
@@ -93,6 +94,21 @@ psc_status_t psc_shadow_parse(const void *buf, size_t len, psc_shadow_model_t *o
     m.acos_table = (const uint16_t *)(const void *)(c.base + f[S_ACOS].offset);
     if ((st = check_spheres(&m, f[S_SPHERES].offset, err)) != PSC_OK)
         return st;
+    if (present[S_REST]) {   /* the optional rest correction (1.1) */
+        const psc_section_t *r = &f[S_REST];
+        if (r->size < sizeof(psc_shadow_rest_raw_t))
+            return fail(err, PSC_ERR_CORRUPT, "SREF is shorter than its head", r->entry + 8);
+        const psc_shadow_rest_raw_t *rh = (const psc_shadow_rest_raw_t *)(const void *)(c.base + r->offset);
+        if (rh->count == 0 || rh->count > PSC_SHADOW_MAX_REST)
+            return fail(err, PSC_ERR_TOO_LARGE, "the rest correction's count is zero or beyond its limit", r->offset);
+        if (r->size != sizeof *rh + (uint64_t)rh->count * 2u)
+            return fail(err, PSC_ERR_CORRUPT, "SREF's size does not match its count", r->offset);
+        if (rh->gain_q16 < PSC_SHADOW_REST_GAIN_MIN_Q16 || rh->gain_q16 > PSC_SHADOW_REST_GAIN_MAX_Q16)
+            return fail(err, PSC_ERR_CORRUPT, "the rest correction's gain is outside 1/4..4", r->offset + 4);
+        m.rest_count = rh->count;
+        m.rest_gain_q16 = rh->gain_q16;
+        m.rest_q15 = (const int16_t *)(const void *)(c.base + r->offset + sizeof *rh);
+    }
     *out = m;
     return PSC_OK;
 }

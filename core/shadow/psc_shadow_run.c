@@ -168,6 +168,8 @@ psc_status_t psc_shadow_init(psc_shadow_t *s, const psc_shadow_model_t *m, const
 {
     if (s == NULL || m == NULL || pm == NULL || ws == NULL || ((uintptr_t)ws & 7u) || m->bone_count != pm->bone_count)
         return PSC_ERR_ARG;
+    if (m->rest_count != 0 && m->rest_count != pm->point_count)
+        return PSC_ERR_ARG;   /* a rest correction made for another character's points */
     psc_status_t st = init_common(s, m, pm, ws, ws_size);
     if (st != PSC_OK)
         return st;
@@ -515,6 +517,23 @@ static void spread_corners(const corners_t *k, const int32_t x[3], int32_t out[4
     }
 }
 
+/* The spheres' occlusion o (Q0.16) times the rest correction's gain, plus its offset (Q16, -1..1), in 0..1. */
+static uint32_t rest_apply(const psc_shadow_model_t *m, uint32_t o, int32_t offset)
+{
+    int64_t v = psc_shr_round64((int64_t)o * m->rest_gain_q16, 16) + offset;   /* at most 4 + 1 */
+    return v < 0 ? 0u : v > 65536 ? 65536u : (uint32_t)v;
+}
+
+/* Occlusion o of point or vertex i of count with the pack's rest correction, when the pack has one for that many
+ * (psc_shadow_init refuses a character whose point count differs; a mesh whose vertex count differs, say the same
+ * model imported with other options, gets the spheres alone). */
+static uint32_t rest_corrected(const psc_shadow_model_t *m, uint32_t i, uint32_t count, uint32_t o)
+{
+    if (m->rest_count != count || i >= count)
+        return o;
+    return rest_apply(m, o, 2 * (int32_t)m->rest_q15[i]);   /* Q1.15 to Q0.16 */
+}
+
 /* Corners, edges and corner occlusion of face f (composing at its corners the ones not composed this frame yet). */
 static void face_corners(psc_shadow_t *s, const psc_patch_t *p, const psc_patch_face_t *f, corners_t *k)
 {
@@ -525,7 +544,8 @@ static void face_corners(psc_shadow_t *s, const psc_patch_t *p, const psc_patch_
         psc_shadow_point_t *q = &s->point[pt];
         if (q->occ == PSC_SHADOW_UNSET) {
             int32_t bent[3];
-            q->occ = psc_shadow_occlusion_bent(s, p->pos[pt], p->nrm[pt], bent);
+            q->occ = rest_corrected(s->m, pt, p->m->point_count, psc_shadow_occlusion_bent(s, p->pos[pt], p->nrm[pt],
+                                                                                              bent));
             for (unsigned a = 0; a < 3; a++)
                 q->bend[a] = bent[a] - p->nrm[pt][a];
         }
@@ -583,7 +603,7 @@ void psc_shadow_apply_mesh(psc_shadow_t *s, const int32_t *pos_q16, int16_t *nrm
     s->occlusion_sum = 0;
     for (uint32_t i = 0; i < count; i++) {   /* the seed's way: composed at every vertex */
         int32_t n[3] = {nrm_q14[3 * i] * 4, nrm_q14[3 * i + 1] * 4, nrm_q14[3 * i + 2] * 4}, bent[3];
-        uint32_t o = psc_shadow_occlusion_bent(s, &pos_q16[3 * i], n, bent);
+        uint32_t o = rest_corrected(s->m, i, count, psc_shadow_occlusion_bent(s, &pos_q16[3 * i], n, bent));
         shade_vertex(s, o, bent, &color[i], &nrm_q14[3 * i], strength_q16);
         if (occlusion)
             occlusion[i] = o;

@@ -9,7 +9,9 @@
  * count, and be used as the shading uses it (psc_shadow_init_mesh, as for a
  * mesh with the pack's own bone count; the character scene's psc_shadow_init
  * differs only in taking the bone count from the patch pack): the spheres
- * posed (identity skins), occlusions at a few points within 0..1 (Q16).
+ * posed (identity skins), occlusions at a few points within 0..1 (Q16);
+ * a rest correction (SREF) within its count and gain limits, and applied to
+ * a mesh of as many vertices (when small) with every occlusion within 0..1.
  */
 #include <stdlib.h>
 
@@ -29,6 +31,32 @@ static void check_parsed(const psc_shadow_model_t *m)
         FUZZ_REQUIRE(m->level_first[l] < m->level_first[l + 1]);
     FUZZ_REQUIRE(m->access_omega <= PSC_SHADOW_MAX_TABLE && m->access_theta <= PSC_SHADOW_MAX_TABLE);
     FUZZ_REQUIRE(m->comp_theta <= PSC_SHADOW_MAX_TABLE && m->comp_delta <= PSC_SHADOW_MAX_TABLE);
+    if (m->rest_count) {
+        FUZZ_REQUIRE(m->rest_count <= PSC_SHADOW_MAX_REST && m->rest_q15 != NULL);
+        FUZZ_REQUIRE(m->rest_gain_q16 >= PSC_SHADOW_REST_GAIN_MIN_Q16 &&
+                     m->rest_gain_q16 <= PSC_SHADOW_REST_GAIN_MAX_Q16);
+    }
+}
+
+/* The rest correction at work: a mesh of the correction's vertex count (all on one spot with one normal), each
+ * vertex's occlusion within 0..1 whatever the correction and the gain. */
+static void use_rest(psc_shadow_t *s, uint32_t count, uint32_t pick)
+{
+    if (count == 0 || count > 4096u)
+        return;
+    int32_t *pos = calloc(3u * count, sizeof *pos);
+    int16_t *nrm = calloc(3u * count, sizeof *nrm);
+    uint32_t *col = calloc(count, sizeof *col), *occ = calloc(count, sizeof *occ);
+    FUZZ_REQUIRE(pos && nrm && col && occ);
+    for (uint32_t i = 0; i < count; i++) {
+        pos[3 * i] = (int32_t)(pick & 0xFFFFu) - 0x8000;
+        nrm[3 * i + 1] = 16384;
+        col[i] = 0xFFFFFFu;
+    }
+    psc_shadow_apply_mesh(s, pos, nrm, col, count, PSC_SHADOW_STRENGTH_Q16, occ);
+    for (uint32_t i = 0; i < count; i++)
+        FUZZ_REQUIRE(occ[i] <= 65536u);
+    free(pos), free(nrm), free(col), free(occ);
 }
 
 static void use_parsed(const psc_shadow_model_t *m, uint32_t pick)
@@ -52,6 +80,7 @@ static void use_parsed(const psc_shadow_model_t *m, uint32_t pick)
             FUZZ_REQUIRE(psc_shadow_occlusion_bent(&s, pos, normals[k], bent) <= 65536u);
             pick = pick * 2654435761u + 1u;
         }
+        use_rest(&s, m->rest_count, pick);
     }
     free(skin);
     free(ws);

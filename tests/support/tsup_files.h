@@ -14,6 +14,7 @@
  * SOURCES.md names origin and licence) and the sample character the product ships, assets/thom/. */
 #define TSUP_DATA_AM "tests/data/am/"
 #define TSUP_DATA_GLTF "tests/data/gltf/"
+#define TSUP_DATA_ASSIMP "tests/data/assimp/"
 #define TSUP_THOM_DIR "assets/thom/"
 
 /**

@@ -521,7 +521,21 @@ int psc_bake_shadow(const psc_patch_model_t *m, const psc_bake_shadow_opts_t *o,
         free((void *)mo.f);
         return psc_io_errorf(err, errlen, name, "cannot tessellate the rest pose for surface samples");
     }
-    return build_from_samples(s, ns, mo, m->bone_count, o, name, out, out_len, note, notelen, err, errlen);
+    if (build_from_samples(s, ns, mo, m->bone_count, o, name, out, out_len, note, notelen, err, errlen) != 0)
+        return -1;
+    if (o && o->no_rest)
+        return 0;
+    int rc = psc_bake_shadow_rest_patch(m, name, out, out_len, err, errlen);
+    if (rc < 0) {
+        free(*out);
+        *out = NULL;
+        return -1;
+    }
+    if (rc == 0)
+        psc_note_add(note, notelen, "a rest correction for its %u points", (unsigned)m->point_count);
+    else
+        psc_note_add(note, notelen, "no rest correction: its patches are large (the spheres composed at every vertex)");
+    return 0;
 }
 
 int psc_bake_shadow_gltf(const psc_gltf_t *g, const psc_bake_shadow_opts_t *o, const char *name, uint8_t **out,
@@ -572,5 +586,15 @@ int psc_bake_shadow_gltf(const psc_gltf_t *g, const psc_bake_shadow_opts_t *o, c
     free(skin);
     free(pos);
     free(nrm);
-    return build_from_samples(s, nv, mo, g->joint_count, o, name, out, out_len, note, notelen, err, errlen);
+    if (build_from_samples(s, nv, mo, g->joint_count, o, name, out, out_len, note, notelen, err, errlen) != 0)
+        return -1;
+    if (o && o->no_rest)
+        return 0;
+    if (psc_bake_shadow_rest_gltf(g, name, out, out_len, err, errlen) != 0) {
+        free(*out);
+        *out = NULL;
+        return -1;
+    }
+    psc_note_add(note, notelen, "a rest correction for its %u vertices", (unsigned)g->mesh.vertex_count);
+    return 0;
 }

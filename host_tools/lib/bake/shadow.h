@@ -25,6 +25,7 @@
 #ifndef PSC_BAKE_SHADOW_H
 #define PSC_BAKE_SHADOW_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -39,6 +40,7 @@ typedef struct {
     unsigned levels;             /* 1..PSC_SHADOW_MAX_LEVELS (0: PSC_BAKE_SHADOW_LEVELS) */
     unsigned spheres;            /* on the finest level (0: PSC_BAKE_SHADOW_SPHERES) */
     unsigned table;              /* accessibility map side (default 32); the composite map's is half */
+    bool no_rest;                /* true: no rest correction (the spheres alone, the seed's way) */
 } psc_bake_shadow_opts_t;
 
 /** Accessibility of one sphere at omega (radians, 0..pi) covering theta (0..2 pi): occluded area, angle. */
@@ -73,5 +75,23 @@ int psc_bake_shadow(const psc_patch_model_t *m, const psc_bake_shadow_opts_t *o,
  */
 int psc_bake_shadow_gltf(const psc_gltf_t *g, const psc_bake_shadow_opts_t *o, const char *name, uint8_t **out,
                           size_t *out_len, char *note, size_t notelen, char *err, size_t errlen);
+
+/**
+ * The rest correction (an extension of the seed, core/shadow/psc_shadow.h
+ * "SREF"), added to the pack *pack (rewritten, *pack_len updated): for each
+ * vertex of g (psc_bake_shadow_rest_gltf) or point of m
+ * (psc_bake_shadow_rest_patch), the ray-traced occlusion (measure/raycast.h:
+ * 256 rays, unbounded, about the smooth normal; m's poses tessellated to
+ * 0.005 R) less what the pack's spheres give there through core's own code,
+ * averaged over the rest pose and four times through each action (the rest
+ * pose weighing four), with the gain on the spheres fitted over the same
+ * poses (shadow_rest.c). 0; 1 when m's patches are too large for a
+ * correction at their corners (the pack as it was); or -1 with err (the pack
+ * as it was).
+ */
+int psc_bake_shadow_rest_gltf(const psc_gltf_t *g, const char *name, uint8_t **pack, size_t *pack_len, char *err,
+                              size_t errlen);
+int psc_bake_shadow_rest_patch(const psc_patch_model_t *m, const char *name, uint8_t **pack, size_t *pack_len,
+                               char *err, size_t errlen);
 
 #endif

@@ -6,6 +6,7 @@
 #include "util/path.h"
 #include "import/obj.h"
 #include "psc_io_error.h"
+#include "util/hmath.h"
 #include "util/note_text.h"
 
 #include <math.h>
@@ -209,6 +210,29 @@ void psc_gltf_free(psc_gltf_t *g)
     }
     free(g->channels);
     memset(g, 0, sizeof *g);
+}
+
+void psc_gltf_quantize(const psc_gltf_t *g, const double centre[3], double r, const double *pos, const double *nrm,
+                       const double (*skin)[12], int32_t *pos_q16, int16_t *nrm_q14, psc_mat4_q16_t *skin_q16)
+{
+    for (uint32_t i = 0; i < g->mesh.vertex_count; i++)
+        for (unsigned a = 0; a < 3; a++) {
+            pos_q16[3 * i + a] = psc_hmath_q16((pos[3 * i + a] - centre[a]) / r);
+            nrm_q14[3 * i + a] = (int16_t)lround(nrm[3 * i + a] * 16383.0);
+        }
+    for (uint32_t j = 0; j < g->joint_count && skin_q16; j++) {
+        const double *s = skin[j];
+        psc_mat4_q16_t *m = &skin_q16[j];
+        memset(m, 0, sizeof *m);
+        for (unsigned row = 0; row < 3; row++) {
+            for (unsigned k = 0; k < 3; k++)
+                m->m[row][k] = psc_hmath_q16(s[4 * row + k]);
+            double tr = s[4 * row] * centre[0] + s[4 * row + 1] * centre[1] + s[4 * row + 2] * centre[2] +
+                        s[4 * row + 3] - centre[row];
+            m->m[row][3] = psc_hmath_q16(tr / r);
+        }
+        m->m[3][3] = 65536;
+    }
 }
 
 void psc_gltf_frame(const psc_gltf_t *g, double centre[3], double *r)

@@ -22,6 +22,7 @@
 #include <stdint.h>
 
 #include "import/model.h"
+#include "3d/psc_3d_math.h"
 
 #define PSC_GLTF_WEIGHTS 4u
 #define PSC_GLTF_MAX_JOINTS 1024u
@@ -101,6 +102,17 @@ void psc_gltf_deform(const psc_gltf_t *g, const double (*skin)[12], double *pos,
 
 /** The joint named name, or -1. */
 int32_t psc_gltf_joint_named(const psc_gltf_t *g, const char *name);
+
+/**
+ * A posed mesh and skin in the device's formats, in the frame (centre, r)
+ * of psc_gltf_frame: positions (pos, 3 per vertex, model space) to Q16.16
+ * units of R, unit normals to Q1.14 (x 16383, rounded), the skin matrices
+ * (3x4 each) to Q16.16 in units of R (S'(x) = (S(x R + c) - c) / R: the
+ * same linear part, the translation (S_lin c + S_t - c) / R). What the glTF
+ * render mode draws and shades, and what the shadow baker corrects for.
+ */
+void psc_gltf_quantize(const psc_gltf_t *g, const double centre[3], double r, const double *pos, const double *nrm,
+                       const double (*skin)[12], int32_t *pos_q16, int16_t *nrm_q14, psc_mat4_q16_t *skin_q16);
 
 /** The frame the product draws and shades a model in: the rest pose's bounding-box centre and R, half its
  *  diagonal (a position p is (p - centre) / R in units of R). */

@@ -161,25 +161,8 @@ static void pose(posed_t *p, const psc_gltf_t *g, double t, const psc_gltf_adjus
     psc_gltf_pose(g, t, p->local);
     psc_gltf_skin(g, p->local, adjust, p->skin);
     psc_gltf_deform(g, (const double(*)[12])p->skin, p->pos, p->nrm);
-    for (uint32_t i = 0; i < g->mesh.vertex_count; i++)
-        for (unsigned a = 0; a < 3; a++) {
-            p->pos_q16[3 * i + a] = psc_hmath_q16((p->pos[3 * i + a] - p->c[a]) / p->r);
-            p->nrm_q14[3 * i + a] = (int16_t)lround(p->nrm[3 * i + a] * 16383.0);
-        }
+    psc_gltf_quantize(g, p->c, p->r, p->pos, p->nrm, (const double(*)[12])p->skin, p->pos_q16, p->nrm_q14, p->skin_q16);
     memcpy(p->color, g->mesh.color, g->mesh.vertex_count * sizeof *p->color);
-    /* S'(x) = (S(x R + c) - c) / R: the same linear part, the translation (S_lin c + S_t - c) / R */
-    for (uint32_t j = 0; j < g->joint_count; j++) {
-        const double *s = p->skin[j];
-        psc_mat4_q16_t *m = &p->skin_q16[j];
-        memset(m, 0, sizeof *m);
-        for (unsigned r = 0; r < 3; r++) {
-            for (unsigned k = 0; k < 3; k++)
-                m->m[r][k] = psc_hmath_q16(s[4 * r + k]);
-            double tr = s[4 * r] * p->c[0] + s[4 * r + 1] * p->c[1] + s[4 * r + 2] * p->c[2] + s[4 * r + 3] - p->c[r];
-            m->m[r][3] = psc_hmath_q16(tr / p->r);
-        }
-        m->m[3][3] = 65536;
-    }
 }
 
 /* The default lighting, after the self-shadowing has darkened the colours and bent the normals. */

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* tsup_raycast.c - ray-cast ambient occlusion, the tests' ground truth (tsup_raycast.h). */
-#include "tsup_raycast.h"
+/* raycast.c - ray-traced ambient occlusion (raycast.h). */
+#include "measure/raycast.h"
 
 #include <math.h>
 #include <stdbool.h>
@@ -12,14 +12,14 @@ typedef struct {
     uint32_t left, right;        /* children, or (leaf) first triangle and count with right | 1 << 31 */
 } node_t;
 
-struct tsup_bvh {
+struct psc_measure_bvh {
     double (*v)[3][3];           /* triangles' corners */
     uint32_t *order;
     node_t *node;
     size_t nodes;
 };
 
-static void bounds(const tsup_bvh_t *b, uint32_t first, uint32_t count, node_t *n)
+static void bounds(const psc_measure_bvh_t *b, uint32_t first, uint32_t count, node_t *n)
 {
     for (unsigned a = 0; a < 3; a++) {
         n->lo[a] = INFINITY;
@@ -33,7 +33,7 @@ static void bounds(const tsup_bvh_t *b, uint32_t first, uint32_t count, node_t *
             }
 }
 
-static const tsup_bvh_t *sort_bvh;
+static const psc_measure_bvh_t *sort_bvh;
 static unsigned sort_axis;
 
 static int by_axis(const void *x, const void *y)
@@ -43,7 +43,7 @@ static int by_axis(const void *x, const void *y)
     return ca < cb ? -1 : ca > cb;
 }
 
-static uint32_t build(tsup_bvh_t *b, uint32_t first, uint32_t count)
+static uint32_t build(psc_measure_bvh_t *b, uint32_t first, uint32_t count)
 {
     uint32_t me = (uint32_t)b->nodes++;
     node_t *n = &b->node[me];
@@ -67,17 +67,17 @@ static uint32_t build(tsup_bvh_t *b, uint32_t first, uint32_t count)
     return me;
 }
 
-tsup_bvh_t *tsup_bvh_new(const double (*pos)[3], size_t npos, const uint32_t (*tri)[3], size_t n)
+psc_measure_bvh_t *psc_measure_bvh_new(const double (*pos)[3], size_t npos, const uint32_t (*tri)[3], size_t n)
 {
     (void)npos;
-    tsup_bvh_t *b = calloc(1, sizeof *b);
+    psc_measure_bvh_t *b = calloc(1, sizeof *b);
     if (!b)
         return NULL;
     b->v = malloc((n ? n : 1) * sizeof *b->v);
     b->order = malloc((n ? n : 1) * sizeof *b->order);
     b->node = malloc((2 * n + 1) * sizeof *b->node);
     if (!b->v || !b->order || !b->node) {
-        tsup_bvh_free(b);
+        psc_measure_bvh_free(b);
         return NULL;
     }
     for (size_t i = 0; i < n; i++) {
@@ -90,7 +90,7 @@ tsup_bvh_t *tsup_bvh_new(const double (*pos)[3], size_t npos, const uint32_t (*t
     return b;
 }
 
-void tsup_bvh_free(tsup_bvh_t *b)
+void psc_measure_bvh_free(psc_measure_bvh_t *b)
 {
     if (!b)
         return;
@@ -146,7 +146,7 @@ static bool hit_tri(const double (*v)[3], const double o[3], const double d[3], 
     return t > 0 && t < tmax;
 }
 
-static bool occluded(const tsup_bvh_t *b, const double o[3], const double d[3], double tmax)
+static bool occluded(const psc_measure_bvh_t *b, const double o[3], const double d[3], double tmax)
 {
     double inv[3];
     uint32_t stack[128];
@@ -172,7 +172,7 @@ static bool occluded(const tsup_bvh_t *b, const double o[3], const double d[3], 
     return false;
 }
 
-double tsup_ao(const tsup_bvh_t *b, const double p[3], const double n[3], unsigned s, double eps, double max_dist)
+double psc_measure_ao(const psc_measure_bvh_t *b, const double p[3], const double n[3], unsigned s, double eps, double max_dist)
 {
     /* a frame round n */
     double t[3], u[3];
@@ -200,4 +200,57 @@ double tsup_ao(const tsup_bvh_t *b, const double p[3], const double n[3], unsign
         hits += occluded(b, o, d, max_dist);
     }
     return (double)hits / (s * s);
+}
+
+typedef struct {
+    double p[3];
+    uint32_t i;
+} placed_t;
+
+static int by_place(const void *x, const void *y)
+{
+    const placed_t *a = x, *b = y;
+    for (unsigned k = 0; k < 3; k++)
+        if (a->p[k] != b->p[k])
+            return a->p[k] < b->p[k] ? -1 : 1;
+    return 0;
+}
+
+int psc_measure_smooth_normals(const double (*pos)[3], uint32_t nv, const uint32_t *index, uint32_t nt, double (*out)[3])
+{
+    placed_t *pl = malloc((nv ? nv : 1u) * sizeof *pl);
+    if (pl == NULL)
+        return -1;
+    memset(out, 0, nv * sizeof *out);
+    for (uint32_t t = 0; t < nt; t++) {
+        const uint32_t *ix = &index[3 * t];
+        double e1[3], e2[3];
+        for (unsigned k = 0; k < 3; k++) {
+            e1[k] = pos[ix[1]][k] - pos[ix[0]][k];
+            e2[k] = pos[ix[2]][k] - pos[ix[0]][k];
+        }
+        double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+        for (unsigned v = 0; v < 3; v++)
+            for (unsigned k = 0; k < 3; k++)
+                out[ix[v]][k] += n[k];
+    }
+    for (uint32_t i = 0; i < nv; i++) {
+        memcpy(pl[i].p, pos[i], sizeof pl[i].p);
+        pl[i].i = i;
+    }
+    qsort(pl, nv, sizeof *pl, by_place);
+    for (uint32_t i = 0; i < nv;) {
+        uint32_t j = i;
+        double acc[3] = {0, 0, 0};
+        for (; j < nv && by_place(&pl[j], &pl[i]) == 0; j++)
+            for (unsigned k = 0; k < 3; k++)
+                acc[k] += out[pl[j].i][k];
+        double l = sqrt(acc[0] * acc[0] + acc[1] * acc[1] + acc[2] * acc[2]);
+        for (uint32_t q = i; q < j; q++)
+            for (unsigned k = 0; k < 3; k++)
+                out[pl[q].i][k] = l > 0 ? acc[k] / l : 0.0;
+        i = j;
+    }
+    free(pl);
+    return 0;
 }
