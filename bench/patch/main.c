@@ -29,6 +29,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define W 800u
 #define H 480u
@@ -45,20 +46,20 @@ typedef struct {
     void *ws, *ws3d, *pixels;
     size_t ws_size, ws3d_size;
     uint8_t *pao, *pao_plain;    /* the character's shadow pack, built here; and one without the rest correction */
+    size_t pao_len;
     psc_shadow_model_t sm, sm_plain;
     psc_shadow_t sh, sh_plain;
     void *sh_ws, *sh_plain_ws;
 } bench_t;
 
 /* Shadow pack *pao for b's character (opts so) parsed into *sm, its run time *sh started in *ws. */
-static int shadow_setup(bench_t *b, const psc_bake_shadow_opts_t *so, uint8_t **pao, psc_shadow_model_t *sm,
-                        psc_shadow_t *sh, void **ws)
+static int shadow_setup(bench_t *b, const psc_bake_shadow_opts_t *so, uint8_t **pao, size_t *len,
+                        psc_shadow_model_t *sm, psc_shadow_t *sh, void **ws)
 {
-    size_t len;
     char note[256] = "", err[768] = "";
     psc_container_error_t e = {0};
-    if (psc_bake_shadow(&b->pf.model, so, "Thom.mdl", pao, &len, note, sizeof note, err, sizeof err) != 0 ||
-        psc_shadow_parse(*pao, len, sm, &e) != PSC_OK ||
+    if (psc_bake_shadow(&b->pf.model, so, "Thom.mdl", pao, len, note, sizeof note, err, sizeof err) != 0 ||
+        psc_shadow_parse(*pao, *len, sm, &e) != PSC_OK ||
         posix_memalign(ws, 64, psc_shadow_workspace_size(sm, &b->pf.model)) != 0 ||
         psc_shadow_init(sh, sm, &b->pf.model, *ws, psc_shadow_workspace_size(sm, &b->pf.model)) != PSC_OK) {
         fprintf(stderr, "patch bench: the shadow pack: %s\n", err);
@@ -67,7 +68,12 @@ static int shadow_setup(bench_t *b, const psc_bake_shadow_opts_t *so, uint8_t **
     return 0;
 }
 
-static int setup(bench_t *b)
+/* The callgrind child takes the parent's shadow pack from this file (baking it again under valgrind, rays and
+ * all, would take minutes a run). */
+#define CG_PAO_ENV "PERISCOPE_BENCH_PAO"
+
+/* b's character, frame buffers and shadow packs; plain: the pack without the rest correction too. */
+static int setup(bench_t *b, bool plain)
 {
     psc_bake_patch_opts_t o = {.actions = {"assets/thom/ResoluteWalk.act", "assets/thom/Wave.act"},
                                .action_count = 2, .skin_from = "assets/thom/Thom2.mdl", .quiet = true};
@@ -87,10 +93,30 @@ static int setup(bench_t *b)
         return -1;
     }
     psc_bake_shadow_opts_t so = {.levels = PSC_BAKE_SHADOW_LEVELS, .spheres = PSC_BAKE_SHADOW_SPHERES, .table = 32};
-    psc_bake_shadow_opts_t plain = so;
-    plain.no_rest = true;
-    return shadow_setup(b, &so, &b->pao, &b->sm, &b->sh, &b->sh_ws) != 0 ||
-                   shadow_setup(b, &plain, &b->pao_plain, &b->sm_plain, &b->sh_plain, &b->sh_plain_ws) != 0
+    psc_bake_shadow_opts_t po = so;
+    po.no_rest = true;
+    const char *given = getenv(CG_PAO_ENV);
+    size_t plain_len;
+    if (given != NULL) {
+        psc_container_error_t e = {0};
+        FILE *f = fopen(given, "rb");
+        long n = f && fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+        int ok = n > 0 && fseek(f, 0, SEEK_SET) == 0 && posix_memalign((void **)&b->pao, 64, (size_t)n) == 0 &&
+                 fread(b->pao, 1, (size_t)n, f) == (size_t)n;
+        if (f)
+            fclose(f);
+        b->pao_len = ok ? (size_t)n : 0;
+        if (!ok || psc_shadow_parse(b->pao, b->pao_len, &b->sm, &e) != PSC_OK ||
+            posix_memalign(&b->sh_ws, 64, psc_shadow_workspace_size(&b->sm, &b->pf.model)) != 0 ||
+            psc_shadow_init(&b->sh, &b->sm, &b->pf.model, b->sh_ws, psc_shadow_workspace_size(&b->sm, &b->pf.model)) !=
+                PSC_OK) {
+            fprintf(stderr, "patch bench: %s: not this character's shadow pack\n", given);
+            return -1;
+        }
+    } else if (shadow_setup(b, &so, &b->pao, &b->pao_len, &b->sm, &b->sh, &b->sh_ws) != 0) {
+        return -1;
+    }
+    return plain && shadow_setup(b, &po, &b->pao_plain, &plain_len, &b->sm_plain, &b->sh_plain, &b->sh_plain_ws) != 0
                ? -1
                : 0;
 }
@@ -225,7 +251,7 @@ static result_t run_static(bench_t *b)
 static int run_table(const char *out_dir)
 {
     bench_t b;
-    if (setup(&b) != 0)
+    if (setup(&b, true) != 0)
         return 1;
     static const double tols[] = {0.25, 0.5, 1.0};
     result_t r[3], s, sh, shp;
@@ -305,7 +331,7 @@ __attribute__((noinline)) static void cg_frames(bench_t *b)
 static int cg_child(void)
 {
     bench_t b;
-    if (setup(&b) != 0)
+    if (setup(&b, false) != 0)
         return 1;
     cg_frames(&b);
     printf("vertices %.0f\n", cg_vertices);
@@ -320,7 +346,27 @@ static int run_callgrind(const char *self, const char *out_dir)
     static const char *const fns[] = {"cg_frames", "psc_patch_pose", "psc_patch_tangents", "psc_patch_tessellate",
                                       "psc_3d_render", "psc_shadow_apply"};
     double ir[6];
-    if (bench_callgrind_counts("patch", self, fns, 6, ir) != 0)
+    /* the shadow pack baked here, once, natively; the children read it */
+    bench_t b;
+    char pao_path[] = "/tmp/periscope-bench-XXXXXX";
+    int fd = -1;
+    if (setup(&b, false) != 0)
+        return 1;
+    FILE *f = (fd = mkstemp(pao_path)) >= 0 ? fdopen(fd, "wb") : NULL;
+    int wrote = f && fwrite(b.pao, 1, b.pao_len, f) == b.pao_len;
+    if (f ? fclose(f) != 0 : (fd >= 0 && close(fd) != 0))
+        wrote = 0;
+    teardown(&b);
+    if (!wrote || setenv(CG_PAO_ENV, pao_path, 1) != 0) {
+        fprintf(stderr, "patch bench: cannot write %s\n", pao_path);
+        if (fd >= 0)
+            unlink(pao_path);
+        return 1;
+    }
+    int rc = bench_callgrind_counts("patch", self, fns, 6, ir);
+    unlink(pao_path);
+    unsetenv(CG_PAO_ENV);
+    if (rc != 0)
         return 1;
     printf("Hash patches under callgrind: Thom waving at %ux%u, 0.5 px, %u frames: instructions per frame\n"
            "total %.0f = pose %.0f + tangents %.0f + tessellate %.0f + self-shadowing %.0f + draw %.0f\n",
