@@ -109,13 +109,13 @@ IMG_LIBS += $(shell $(PKG_CONFIG) --libs assimp)
 else
 HOSTLIB_SRC := $(filter-out host_tools/lib/import/assimp.c,$(HOSTLIB_SRC))
 endif
-# Pose files (POSE.json) when pkg-config finds json-c; without it the tools say so.
+# Pose files (POSE.json) and glTF files' node numbers when pkg-config finds json-c; without it the tools say so.
 ifeq ($(shell $(PKG_CONFIG) --exists json-c 2>/dev/null && echo yes),yes)
-HOSTLIB_SRC := $(filter-out host_tools/lib/import/pose_json_none.c,$(HOSTLIB_SRC))
+HOSTLIB_SRC := $(filter-out host_tools/lib/import/pose_json_none.c host_tools/lib/import/gltf_numbers_none.c,$(HOSTLIB_SRC))
 IMG_CFLAGS += $(shell $(PKG_CONFIG) --cflags json-c)
 IMG_LIBS += $(shell $(PKG_CONFIG) --libs json-c)
 else
-HOSTLIB_SRC := $(filter-out host_tools/lib/import/pose_json.c,$(HOSTLIB_SRC))
+HOSTLIB_SRC := $(filter-out host_tools/lib/import/pose_json.c host_tools/lib/import/gltf_numbers.c,$(HOSTLIB_SRC))
 endif
 FW_SRC := $(sort $(wildcard firmware/*.c firmware/scene/*.c))
 FW_MAIN := firmware/main.c

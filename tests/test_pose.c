@@ -22,6 +22,12 @@
 #include "anim/patch_pose.h"
 #include "import/pose_file.h"
 #include "tsup_files.h"
+#include "bake/proxy.h"
+#include "proxy/psc_proxy.h"
+#include "base/psc_crc32.h"
+#include "psc_testsupport.h"
+
+#include <json-c/json.h>
 
 #include <math.h>
 #include <stdio.h>
@@ -285,12 +291,166 @@ static void test_patch_bone(void **state)
     psc_io_patch_free(&pf);
 }
 
+/* ---- glTF node numbers ---------------------------------------------------------------------------------- */
+
+#define BAR TSUP_DATA_GLTF "animation_with_skeleton.gltf"
+
+/* Old node index i as it is after the nodes array is reversed (n nodes). */
+static void renumber(struct json_object *o, const char *key, int n)
+{
+    struct json_object *v;
+    if (!json_object_object_get_ex(o, key, &v))
+        return;
+    if (json_object_is_type(v, json_type_int)) {
+        json_object_set_int(v, n - 1 - json_object_get_int(v));
+    } else if (json_object_is_type(v, json_type_array)) {
+        for (size_t i = 0; i < json_object_array_length(v); i++) {
+            struct json_object *e = json_object_array_get_idx(v, i);
+            json_object_set_int(e, n - 1 - json_object_get_int(e));
+        }
+    }
+}
+
+/* Each array entry of root[key] (an array of objects): field renumbered, or field's object's sub renumbered. */
+static void renumber_each(struct json_object *root, const char *key, const char *field, const char *sub, int n)
+{
+    struct json_object *arr;
+    if (!json_object_object_get_ex(root, key, &arr))
+        return;
+    for (size_t i = 0; i < json_object_array_length(arr); i++) {
+        struct json_object *e = json_object_array_get_idx(arr, i), *inner;
+        if (sub == NULL)
+            renumber(e, field, n);
+        else if (json_object_object_get_ex(e, field, &inner))
+            for (size_t k = 0; k < json_object_array_length(inner); k++) {
+                struct json_object *c = json_object_array_get_idx(inner, k), *target;
+                if (json_object_object_get_ex(c, "target", &target))
+                    renumber(target, sub, n);
+            }
+    }
+}
+
+/* The skinned bar with its nodes array reversed (so its numbers differ from the importer's depth-first order) and
+ * node unnamed (an old index, -1: none) left without a name, as a .gltf, or a .glb of one JSON chunk: its path. */
+static const char *reversed_bar(int unnamed, bool glb)
+{
+    struct json_object *root = json_object_from_file(BAR), *nodes;
+    assert_non_null(root);
+    assert_true(json_object_object_get_ex(root, "nodes", &nodes));
+    int n = (int)json_object_array_length(nodes);
+    struct json_object *rev = json_object_new_array();
+    for (int i = n - 1; i >= 0; i--) {
+        struct json_object *nd = json_object_get(json_object_array_get_idx(nodes, (size_t)i));
+        renumber(nd, "children", n);
+        if (i == unnamed)
+            json_object_object_del(nd, "name");
+        json_object_array_add(rev, nd);
+    }
+    json_object_object_add(root, "nodes", rev);
+    renumber_each(root, "skins", "joints", NULL, n);
+    renumber_each(root, "skins", "skeleton", NULL, n);
+    renumber_each(root, "scenes", "nodes", NULL, n);
+    renumber_each(root, "animations", "channels", "node", n);
+    static char path[2][64];
+    snprintf(path[glb], sizeof path[glb], glb ? "/tmp/periscope-bar-XXXXXX.glb" : "/tmp/periscope-bar-XXXXXX.gltf");
+    int fd = mkstemps(path[glb], glb ? 4 : 5);
+    assert_true(fd >= 0);
+    const char *text = json_object_to_json_string_ext(root, JSON_C_TO_STRING_PLAIN);
+    size_t len = strlen(text), padded = (len + 3u) & ~(size_t)3u;
+    if (glb) {   /* header, then the JSON chunk padded with spaces to 4 bytes */
+        uint32_t h[5] = {0x46546C67u, 2u, (uint32_t)(12u + 8u + padded), (uint32_t)padded, 0x4E4F534Au};
+        assert_true(write(fd, h, sizeof h) == (ssize_t)sizeof h);
+    }
+    assert_true(write(fd, text, len) == (ssize_t)len);
+    if (glb)
+        assert_true(write(fd, "   ", padded - len) == (ssize_t)(padded - len));
+    close(fd);
+    json_object_put(root);
+    return path[glb];
+}
+
+/* A pose file's number is the glTF file's node index (as every glTF tool numbers them), not the importer's order:
+ * on a bar whose nodes array runs backwards, 12 is Bone.003 (node 8 before), an unnamed node is the importer's
+ * "nodes[N]" and keeps its number, a number past the array names nothing; a .glb's JSON chunk the same; an OBJ's
+ * numbers stay the importer's order. */
+static void test_gltf_numbers(void **state)
+{
+    (void)state;
+    const char *model = reversed_bar(6, false);
+    psc_gltf_t g;
+    char note[256] = "", err[512] = "";
+    if (psc_gltf_load(model, &g, note, sizeof note, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    for (int glb = 0; glb < 2; glb++) {
+        if (glb) {   /* (libassimp reads a .glb's buffers from its binary chunk alone: this one, its buffer a data:
+                      * URI, is read for its numbers only, onto the joints of the .gltf) */
+            const char *bin = reversed_bar(6, true);
+            assert_int_equal(psc_gltf_node_numbers(bin, &g, err, sizeof err), 0);
+            remove(bin);
+        }
+        int32_t bone3 = psc_gltf_joint_named(&g, "Bone.003"), unnamed = psc_gltf_joint_named(&g, "nodes[14]");
+        assert_true(bone3 >= 0 && unnamed >= 0);   /* Bone.001, unnamed, old node 6 */
+        assert_int_equal(g.joints[bone3].node, 12);
+        assert_int_equal(g.joints[unnamed].node, 14);
+        assert_int_equal(psc_gltf_joint_for_key(&g, "12", 12), bone3);
+        assert_int_equal(psc_gltf_joint_for_key(&g, "14", 14), unnamed);
+        assert_int_equal(psc_gltf_joint_for_key(&g, "Bone.003", -1), bone3);
+        assert_int_equal(psc_gltf_joint_for_key(&g, "21", 21), -1);   /* 21 nodes: 0..20 */
+        assert_int_not_equal(bone3, 12);   /* the importer's depth-first order is not the file's */
+        for (uint32_t j = 0; j < g.joint_count; j++)   /* every joint found its node, once */
+            for (uint32_t k = 0; k < j; k++)
+                assert_true(g.joints[j].node >= 0 && g.joints[j].node != g.joints[k].node);
+    }
+    /* a proxy pack keeps them (XNOD), each joint's; a pack whose XNOD does not fit is refused */
+    psc_bake_proxy_opts_t po = {.views = 4, .tex = 16};
+    uint8_t *pack = NULL;
+    size_t len = 0;
+    if (psc_bake_proxy(&g, &po, model, &pack, &len, note, sizeof note, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    psc_proxy_model_t pm;
+    psc_container_error_t e = {0};
+    assert_int_equal(psc_proxy_parse(pack, len, &pm, &e), PSC_OK);
+    assert_non_null(pm.node);
+    assert_int_equal(pm.joint_count, g.joint_count);
+    for (uint32_t j = 0; j < pm.joint_count; j++)
+        assert_int_equal(pm.node[j], g.joints[j].node);
+    uint8_t *bad;
+    assert_int_equal(posix_memalign((void **)&bad, 64, len), 0);
+    memcpy(bad, pack, len);
+    size_t at = (size_t)((const uint8_t *)pm.node - pack);
+    tsup_wr32(bad + at, (uint32_t)-2);   /* a node number below -1 */
+    tsup_wr32(bad + PSC_CONTAINER_CRC_OFFSET, 0);
+    tsup_wr32(bad + PSC_CONTAINER_CRC_OFFSET, psc_crc32(0, bad, len));
+    assert_int_equal(psc_proxy_parse(bad, len, &pm, &e), PSC_ERR_CORRUPT);
+    assert_non_null(strstr(e.what, "node number"));
+    free(bad);
+    free(pack);
+    remove(model);
+    psc_gltf_free(&g);
+
+    /* a file that is not glTF: the numbers are the joints' own */
+    psc_gltf_t o;
+    char obj[] = "/tmp/periscope-pose-XXXXXX.obj";
+    int fd = mkstemps(obj, 4);
+    static const char text[] = "o a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no b\nv 0 0 1\nv 1 0 1\nv 0 1 1\nf 4 5 6\n";
+    assert_true(fd >= 0 && write(fd, text, sizeof text - 1u) == (ssize_t)(sizeof text - 1u));
+    close(fd);
+    if (psc_gltf_load(obj, &o, note, sizeof note, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_int_equal(o.joints[1].node, -1);
+    assert_int_equal(psc_gltf_joint_for_key(&o, "1", 1), 1);
+    assert_int_equal(psc_gltf_joint_for_key(&o, "9", 9), -1);
+    psc_gltf_free(&o);
+    remove(obj);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_read),
         cmocka_unit_test(test_fuzz),
         cmocka_unit_test(test_gltf_node),
+        cmocka_unit_test(test_gltf_numbers),
         cmocka_unit_test(test_patch_bone),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

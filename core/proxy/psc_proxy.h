@@ -53,6 +53,9 @@
  *           proxy vertex
  *   "XPUV"  per part, per view, its proxy vertices' (u, v) uint16 pairs
  *   "XTEX"  part_count x view_count textures of tex_size^2 RGB565 texels
+ *   "XNOD"  optional (1.1): joint_count int32, each joint's index in the
+ *           glTF file's "nodes" array (-1: none), what a pose file's
+ *           numbers mean
  *   "XBBB"  optional, the billboard (the far level of detail: the whole
  *           model at rest in a few small views): per view its image axes,
  *           right and up (3 int32 each, Q16.16 unit vectors)
@@ -67,7 +70,7 @@
 
 #define PSC_PROXY_MAGIC "PSCPRXY\x1a"
 #define PSC_PROXY_VERSION_MAJOR 1u
-#define PSC_PROXY_VERSION_MINOR 0u
+#define PSC_PROXY_VERSION_MINOR 1u   /* 1: the optional XNOD */
 #define PSC_PROXY_MAX_SECTIONS 16u
 #define PSC_PROXY_MAX_JOINTS 1024u
 #define PSC_PROXY_MAX_PARTS 4096u
@@ -99,6 +102,8 @@ extern const psc_container_format_t psc_proxy_format;
 #define PSC_SECTION_PROXY_TEXTURES PSC_FOURCC('X', 'T', 'E', 'X')
 #define PSC_SECTION_PROXY_BB_BASES PSC_FOURCC('X', 'B', 'B', 'B')
 #define PSC_SECTION_PROXY_BB_TEXTURES PSC_FOURCC('X', 'B', 'B', 'T')
+#define PSC_SECTION_PROXY_NODES PSC_FOURCC('X', 'N', 'O', 'D')
+#define PSC_PROXY_MAX_NODE (1 << 24)   /* a glTF file's node index, at most */
 
 /** "XINF", 64 bytes. */
 typedef struct {
@@ -169,6 +174,7 @@ typedef struct {
     int32_t bb_centre_q16[3], bb_radius_q16;
     const int32_t *bb_axes_q16;                        /* per view: right[3], up[3] */
     const uint16_t *bb_texels;
+    const int32_t *node;                               /* joint_count: its glTF file's node index (-1 none), or NULL */
 } psc_proxy_model_t;
 
 /**

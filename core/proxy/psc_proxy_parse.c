@@ -12,14 +12,14 @@ const psc_container_format_t psc_proxy_format = {
 
 enum {
     S_INFO, S_JOINTS, S_ANIM, S_PARTS, S_VPOS, S_VCOL, S_VSKIN, S_IDX, S_PPOS, S_PSKIN, S_PIDX, S_PUV, S_TEX, S_BBB, S_BBT,
-    S_COUNT
+    S_NODES, S_COUNT
 };
 
 static const uint32_t section_type[S_COUNT] = {
     PSC_SECTION_PROXY_INFO,  PSC_SECTION_PROXY_JOINTS, PSC_SECTION_PROXY_ANIM,   PSC_SECTION_PROXY_PARTS,
     PSC_SECTION_PROXY_VPOS,  PSC_SECTION_PROXY_VCOLOR, PSC_SECTION_PROXY_VSKIN,  PSC_SECTION_PROXY_INDEX,
     PSC_SECTION_PROXY_PPOS,  PSC_SECTION_PROXY_PSKIN,  PSC_SECTION_PROXY_PINDEX, PSC_SECTION_PROXY_PUV,
-    PSC_SECTION_PROXY_TEXTURES, PSC_SECTION_PROXY_BB_BASES, PSC_SECTION_PROXY_BB_TEXTURES,
+    PSC_SECTION_PROXY_TEXTURES, PSC_SECTION_PROXY_BB_BASES, PSC_SECTION_PROXY_BB_TEXTURES, PSC_SECTION_PROXY_NODES,
 };
 
 static bool pos_ok(const int32_t *p, uint64_t n)
@@ -94,7 +94,7 @@ psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out
         (st = psc_container_collect(&c, section_type, S_COUNT, f, present, err)) != PSC_OK)
         return st;
     for (unsigned k = 0; k < S_COUNT; k++)
-        if (!present[k] && k != S_ANIM && k != S_BBB && k != S_BBT)
+        if (!present[k] && k != S_ANIM && k != S_BBB && k != S_BBT && k != S_NODES)
             return fail(err, PSC_ERR_CORRUPT, "a required section is missing (all of XINF..XTEX but XANM)",
                         c.header_size);
     if (f[S_INFO].size != sizeof(psc_proxy_info_raw_t))
@@ -171,6 +171,14 @@ psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out
         for (uint32_t i = 0; i < 6u * m.bb_view_count; i++)
             if (m.bb_axes_q16[i] > 65536 || m.bb_axes_q16[i] < -65536)
                 return fail(err, PSC_ERR_CORRUPT, "a billboard view's axis is not a unit vector", f[S_BBB].offset);
+    }
+    if (present[S_NODES]) {   /* (1.1) the joints' glTF node numbers */
+        if (f[S_NODES].size != (uint64_t)m.joint_count * 4u)
+            return fail(err, PSC_ERR_CORRUPT, "XNOD's size does not match the joint count", f[S_NODES].entry + 8);
+        m.node = AT(S_NODES, int32_t);
+        for (uint32_t j = 0; j < m.joint_count; j++)
+            if (m.node[j] < -1 || m.node[j] > PSC_PROXY_MAX_NODE)
+                return fail(err, PSC_ERR_CORRUPT, "a joint's glTF node number is out of range", f[S_NODES].offset + 4u * j);
     }
 #undef AT
     for (uint32_t j = 0; j < m.joint_count; j++) {

@@ -25,6 +25,8 @@ static void check_parsed(const psc_proxy_model_t *m)
     FUZZ_REQUIRE(m->vertex_count <= PSC_PROXY_MAX_VERTICES && m->triangle_count <= PSC_PROXY_MAX_TRIANGLES);
     FUZZ_REQUIRE(m->proxy_vertex_count <= PSC_PROXY_MAX_PROXY_VERTICES);
     FUZZ_REQUIRE(m->proxy_triangle_count <= PSC_PROXY_MAX_PROXY_TRIANGLES);
+    for (uint32_t j = 0; m->node && j < m->joint_count; j++)
+        FUZZ_REQUIRE(m->node[j] >= -1 && m->node[j] <= PSC_PROXY_MAX_NODE);
     FUZZ_REQUIRE(m->frame_count <= PSC_PROXY_MAX_FRAMES);
 }
 

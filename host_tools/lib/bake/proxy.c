@@ -497,11 +497,12 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     pack_t pk = {0};
     int32_t *map = malloc(g->mesh.vertex_count * sizeof *map);
     psc_proxy_joint_raw_t *joints = calloc(g->joint_count, sizeof *joints);
+    int32_t *nodes = malloc((g->joint_count ? g->joint_count : 1u) * sizeof *nodes);
     int32_t *anim = NULL;
     psc_gltf_trs_t *local = malloc(g->joint_count * sizeof *local);
     double(*m12)[12] = malloc(g->joint_count * sizeof *m12);
     int rc = -1;
-    if (!map || !joints || !local || !m12 || classify(g, &gr, &ng) != 0) {
+    if (!map || !joints || !nodes || !local || !m12 || classify(g, &gr, &ng) != 0) {
         psc_io_errorf(err, errlen, name, "out of memory");
         goto done;
     }
@@ -631,8 +632,14 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
         {PSC_SECTION_PROXY_TEXTURES, pk.tex.p, pk.tex.n},
         {PSC_SECTION_PROXY_BB_BASES, bb_axes, (size_t)bbs * bbs * 24u},
         {PSC_SECTION_PROXY_BB_TEXTURES, bb_tex, (size_t)bbs * bbs * bbt * bbt * 2u},
+        {PSC_SECTION_PROXY_NODES, nodes, g->joint_count * sizeof *nodes},   /* last: left out when unknown */
     };
     unsigned nparts = sizeof parts / sizeof parts[0];
+    bool numbered = false;
+    for (uint32_t j = 0; j < g->joint_count && nodes; j++)
+        numbered |= (nodes[j] = g->joints[j].node) >= 0;
+    if (!numbered)   /* not a glTF file: a pose file's numbers are the joints' order */
+        nparts--;
     if (frames == 0) {   /* no animation: no XANM */
         memmove(&parts[2], &parts[3], (nparts - 3u) * sizeof parts[0]);
         nparts--;
@@ -656,6 +663,6 @@ done:
         free(gr[k].tri);
     free(gr);
     pack_free(&pk);
-    free(map), free(joints), free(anim), free(local), free(m12), free(bb_axes), free(bb_tex);
+    free(map), free(joints), free(nodes), free(anim), free(local), free(m12), free(bb_axes), free(bb_tex);
     return rc;
 }

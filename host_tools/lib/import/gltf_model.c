@@ -440,6 +440,25 @@ done:
 int psc_gltf_load(const char *path, psc_gltf_t *out, char *note, size_t notelen, char *err, size_t errlen)
 {
     memset(out, 0, sizeof *out);
-    return psc_obj_is_file(path) ? load_obj(path, out, note, notelen, err, errlen)
-                                 : psc_assimp_load(path, out, note, notelen, err, errlen);
+    int rc = psc_obj_is_file(path) ? load_obj(path, out, note, notelen, err, errlen)
+                                   : psc_assimp_load(path, out, note, notelen, err, errlen);
+    if (rc == 0 && psc_gltf_node_numbers(path, out, err, errlen) != 0) {
+        psc_gltf_free(out);
+        return -1;
+    }
+    return rc;
+}
+
+int32_t psc_gltf_joint_for_key(const psc_gltf_t *g, const char *name, long number)
+{
+    int32_t j = psc_gltf_joint_named(g, name);
+    if (j >= 0 || number < 0)
+        return j;
+    bool numbered = false;
+    for (uint32_t q = 0; q < g->joint_count; q++) {
+        if (g->joints[q].node == number)
+            return (int32_t)q;
+        numbered |= g->joints[q].node >= 0;
+    }
+    return !numbered && number < (long)g->joint_count ? (int32_t)number : -1;
 }

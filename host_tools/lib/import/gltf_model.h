@@ -47,6 +47,7 @@ typedef struct {
     char name[128];
     int32_t parent;              /* -1 for the root */
     psc_gltf_trs_t rest;         /* the node's own transform at rest */
+    int32_t node;                /* its index in a glTF file's "nodes" array; -1: not a glTF file, or the importer's */
 } psc_gltf_joint_t;
 
 typedef struct {
@@ -99,6 +100,19 @@ void psc_gltf_skin(const psc_gltf_t *g, const psc_gltf_trs_t *local, const psc_g
 
 /** The rest mesh's vertices moved by skin: pos and normal (unit) each 3 per vertex. */
 void psc_gltf_deform(const psc_gltf_t *g, const double (*skin)[12], double *pos, double *normal);
+
+/**
+ * Each joint's index in glTF file path's "nodes" array (.gltf, .glb), by
+ * name (libassimp names an unnamed node "nodes[N]"; the file's first unused
+ * node of the name), -1 for a joint the file has no node for; every joint -1
+ * for other files, or a build without libjson-c. psc_gltf_load calls it.
+ * 0, or -1 with err naming the file.
+ */
+int psc_gltf_node_numbers(const char *path, psc_gltf_t *g, char *err, size_t errlen);
+
+/** The joint a pose file's key names: by name, else a number (>= 0): the glTF file's node of that index when
+ *  the joints know theirs, else the joint of that index. -1: none. */
+int32_t psc_gltf_joint_for_key(const psc_gltf_t *g, const char *name, long number);
 
 /** The joint named name, or -1. */
 int32_t psc_gltf_joint_named(const psc_gltf_t *g, const char *name);

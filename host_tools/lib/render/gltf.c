@@ -212,12 +212,10 @@ static int pose_from_file(gltf_args_t *a, const psc_gltf_t *g, psc_gltf_adjust_t
     int rc = 0;
     for (unsigned k = 0; k < pf.count && rc == 0; k++) {
         const psc_pose_node_t *n = &pf.nodes[k];
-        int32_t j = psc_gltf_joint_named(g, n->name);
-        if (j < 0 && n->index >= 0 && n->index < (long)g->joint_count)
-            j = (int32_t)n->index;
+        int32_t j = psc_gltf_joint_for_key(g, n->name, n->index);
         if (j < 0)
-            rc = psc_io_errorf(err, errlen, a->pose_file, "node '%s' is neither a node of %s nor a number below %u",
-                               n->name, a->model, (unsigned)g->joint_count);
+            rc = psc_io_errorf(err, errlen, a->pose_file, "node '%s' is neither a node's name nor its number in %s",
+                               n->name, a->model);
         else
             psc_pose_node_matrices(n, (*adjust)[j].pre, (*adjust)[j].post);
     }

@@ -204,11 +204,15 @@ static int pose_from_file(proxy_args_t *a, const psc_proxy_model_t *m, double (*
         for (uint32_t q = 0; q < m->joint_count && j < 0; q++)
             if (strcmp(m->joints[q].name, n->name) == 0)
                 j = (int32_t)q;
-        if (j < 0 && n->index >= 0 && n->index < (long)m->joint_count)
+        /* a number: the glTF file's node of that index when the pack knows its joints' (XNOD), else the joint's */
+        for (uint32_t q = 0; q < m->joint_count && j < 0 && n->index >= 0 && m->node; q++)
+            if (m->node[q] == n->index)
+                j = (int32_t)q;
+        if (j < 0 && !m->node && n->index >= 0 && n->index < (long)m->joint_count)
             j = (int32_t)n->index;
         if (j < 0)
-            rc = psc_io_errorf(err, errlen, a->pose_file, "node '%s' is neither a node of %s nor a number below %u",
-                               n->name, a->pack, (unsigned)m->joint_count);
+            rc = psc_io_errorf(err, errlen, a->pose_file, "node '%s' is neither a node's name nor its number in %s",
+                               n->name, a->pack);
         else
             psc_pose_node_matrices(n, (*pre)[j], (*post)[j]);
     }
