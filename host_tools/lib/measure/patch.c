@@ -211,11 +211,36 @@ double psc_measure_chord_points(const psc_patch_t *p, uint32_t f, const double (
     psc_measure_face_output(p, f, &vt, &vn, &ix, &tn);
     if (tn == 0)
         return 0.0;
+    /* each triangle's bounding sphere (centroid, farthest corner): |x - c| - r bounds the distance from below, so
+     * most triangles are passed over without the exact test */
+    double (*sphere)[4] = malloc(tn * sizeof *sphere);
+    for (uint32_t t = 0; sphere && t < tn; t++) {
+        double v[3][3];
+        for (unsigned k = 0; k < 3; k++)
+            to_d(vt[ix[3 * t + k]].p, v[k]);
+        double r2 = 0;
+        for (unsigned a = 0; a < 3; a++)
+            sphere[t][a] = (v[0][a] + v[1][a] + v[2][a]) / 3;
+        for (unsigned k = 0; k < 3; k++) {
+            double d2 = 0;
+            for (unsigned a = 0; a < 3; a++)
+                d2 += (v[k][a] - sphere[t][a]) * (v[k][a] - sphere[t][a]);
+            r2 = fmax(r2, d2);
+        }
+        sphere[t][3] = sqrt(r2);
+    }
     for (size_t i = 0; i < n; i++) {
         /* the triangle nearest the last point first (the points come in rows): once a triangle is no further
          * than the worst so far, this point cannot raise the maximum, and the search stops */
         double best = to_triangle(pts[i], vt, ix, near);
         for (uint32_t t = 0; t < tn && best > worst; t++) {
+            if (sphere) {
+                double d2 = 0, reach = best + sphere[t][3];
+                for (unsigned a = 0; a < 3; a++)
+                    d2 += (pts[i][a] - sphere[t][a]) * (pts[i][a] - sphere[t][a]);
+                if (d2 >= reach * reach)
+                    continue;
+            }
             double d = to_triangle(pts[i], vt, ix, t);
             if (d < best) {
                 best = d;
@@ -224,6 +249,7 @@ double psc_measure_chord_points(const psc_patch_t *p, uint32_t f, const double (
         }
         worst = best > worst ? best : worst;
     }
+    free(sphere);
     return worst;
 }
 
