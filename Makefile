@@ -117,6 +117,16 @@ IMG_LIBS += $(shell $(PKG_CONFIG) --libs json-c)
 else
 HOSTLIB_SRC := $(filter-out host_tools/lib/import/pose_json.c host_tools/lib/import/gltf_numbers.c,$(HOSTLIB_SRC))
 endif
+# Proxies simplified (periscope-proxy) when this build's compiler links libmeshoptimizer (it ships no .pc, so
+# a test program says); without it the proxies are the model's own triangles and the tool says so.
+HAVE_MESHOPT := $(shell printf '\043include <meshoptimizer.h>\nint main(void) { return (int)meshopt_simplifyScale(0, 0, 12); }\n' | \
+	$(CC) $(CPPFLAGS) -x c - -o /dev/null -lmeshoptimizer >/dev/null 2>&1 && echo yes)
+ifeq ($(HAVE_MESHOPT),yes)
+HOSTLIB_SRC := $(filter-out host_tools/lib/bake/simplify_none.c,$(HOSTLIB_SRC))
+IMG_LIBS += -lmeshoptimizer
+else
+HOSTLIB_SRC := $(filter-out host_tools/lib/bake/simplify.c,$(HOSTLIB_SRC))
+endif
 FW_SRC := $(sort $(wildcard firmware/*.c firmware/scene/*.c))
 FW_MAIN := firmware/main.c
 TOOL_MAINS := $(sort $(wildcard host_tools/periscope-*.c))

@@ -15,7 +15,6 @@
 
 #include "util/cli_values.h"
 #include "import/gltf_model.h"
-#include "import/obj.h"
 #include "bake/proxy.h"
 #include "psc_io_cli.h"
 #include "psc_io_file.h"
@@ -36,6 +35,8 @@ static void print_usage(const char *prog, FILE *f)
             "  --views K           at least K view directions: the smallest odd grid side whose square reaches\n"
             "                      K (default 49: 7 x 7, octahedral)\n"
             "  --tex N             texels per side of each view texture, a power of two 8..512 (default 64)\n"
+            "  --simplify F        the proxies: the model simplified as far as an error of 1 %% of R allows, and\n"
+            "                      further (up to 4 %%) to at most this share of its triangles (default 0.25)\n"
             "  -o M.ppx            the pack (written whole, or not at all)\n"
             "  --version, --help\n");
 }
@@ -45,12 +46,13 @@ static void print_usage(const char *prog, FILE *f)
 static const struct option proxy_options[] = {
     {"views", required_argument, NULL, 1},
     {"tex", required_argument, NULL, 1},
+    {"simplify", required_argument, NULL, 1},
     PSC_IO_CLI_COMMON_OPTIONS,
 };
 
 int main(int argc, char **argv)
 {
-    psc_bake_proxy_opts_t o = {PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX};
+    psc_bake_proxy_opts_t o = {PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX, PSC_BAKE_PROXY_SIMPLIFY};
     const char *model = NULL, *out = NULL;
     psc_io_cli_t c;
     char err[768], note[512] = "", load_note[256] = "";
@@ -69,6 +71,9 @@ int main(int argc, char **argv)
             if (psc_cli_parse_uint(c.arg, 8, 512, &v) != 0 || (v & (v - 1u)) != 0)
                 return usage_error("--tex '%s': expected a power of two 8..512", c.arg);
             o.tex = (unsigned)v;
+        } else if (strcmp(c.name, "--simplify") == 0) {
+            if (psc_cli_parse_double(c.arg, &o.simplify) != 0 || !(o.simplify >= 0.001 && o.simplify <= 1.0))
+                return usage_error("--simplify '%s': expected a share of the triangles, 0.001..1", c.arg);
         }
     }
     if (opt < 0)
@@ -76,8 +81,6 @@ int main(int argc, char **argv)
     int rc = psc_io_cli_command_file(&c, PROG, "bake", PROG " bake MODEL -o M.ppx", "model", &model);
     if (rc != 0)
         return rc;
-    if (!psc_gltf_is_file(model) && !psc_obj_is_file(model))
-        return usage_error("%s: expected a .gltf, .glb or .obj model", model);
     if (!out)
         return usage_error("no output given (-o M.ppx)");
     psc_gltf_t g = {0};

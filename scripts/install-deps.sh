@@ -7,7 +7,7 @@
 set -eu
 
 PACKAGES="gcc clang make pkg-config libjpeg62-turbo-dev libpng-dev zlib1g-dev libcmocka-dev
-          libusb-1.0-0-dev libdrm-dev libsdl2-dev libgpiod-dev libevdev-dev dpkg-dev libassimp-dev libjson-c-dev
+          libusb-1.0-0-dev libdrm-dev libsdl2-dev libgpiod-dev libevdev-dev dpkg-dev libassimp-dev libjson-c-dev libmeshoptimizer-dev
           libclang-rt-14-dev systemd valgrind groff-base
           xvfb openbox xdotool x11-apps x11-utils"
 [ $# -gt 0 ] && PACKAGES="$PACKAGES $*"

@@ -5,13 +5,14 @@
  *  - PSC_SHADE_VIEWS against a double-precision reference of its rule
  *    (three textures, weights, empty texels, coverage of one half) over
  *    random triangles, weights and textures;
- *  - the bundled truck (rigid) and skinned bar baked, and drawn as proxies
- *    against the product's own full-mesh render of the same pack at views
- *    and poses that were never baked (between grid directions, between the
- *    animation's samples, and a bar bent far beyond its animation): the
- *    silhouettes' IoU, the PSNR over their union, and the front part where
- *    both show one;
- *  - joint triangles attached to the parts they join under extreme poses;
+ *  - the bundled truck (rigid), skinned bar and a held-out skinned human
+ *    baked, and drawn as proxies against the product's own full-mesh render
+ *    of the same pack at views and poses that were never baked (between grid
+ *    directions, between the animation's samples, and a bar bent far beyond
+ *    its animation): the silhouettes' IoU, the PSNR over their union, and
+ *    the front part (by bone) where both show one; the human's proxies at
+ *    most a quarter of its triangles;
+ *  - joint strips attached to the parts they join under extreme poses;
  *  - the billboard (the far level) against the full mesh, far away;
  *  - the level of detail switched by the model's size on the screen with
  *    10 % hysteresis, and the device's animated object scene zooming out;
@@ -167,7 +168,7 @@ static void bake(fixture_t *f, const char *file, unsigned views, unsigned tex)
     psc_gltf_t g;
     char note[256], err[512];
     assert_int_equal(psc_gltf_load(file, &g, note, sizeof note, err, sizeof err), 0);
-    psc_bake_proxy_opts_t o = {views, tex};
+    psc_bake_proxy_opts_t o = {views, tex, 0};
     uint8_t *bytes;
     assert_int_equal(psc_bake_proxy(&g, &o, file, &bytes, &f->len, note, sizeof note, err, sizeof err), 0);
     print_message("  %s: %s\n", file, note);
@@ -220,7 +221,27 @@ typedef struct {
     double hole;      /* share of the full silhouette the proxies leave uncovered */
 } quality_t;
 
-static quality_t compare(const uint32_t *a, const uint32_t *ia, const uint32_t *b, const uint32_t *ib)
+/* Whether part ids pa and pb (part index + 1) follow the same joint or joints at most two steps apart in the
+ * skeleton: the parts and joint strips cut from the simplified mesh end where its triangles end, not where the
+ * model's do, so a pixel near a border may show the neighbour's proxy over the model's own part. */
+static bool same_bone(const psc_proxy_model_t *m, uint32_t pa, uint32_t pb)
+{
+    if (pa == pb)
+        return true;
+    if (pa == 0 || pb == 0 || pa > m->part_count || pb > m->part_count)
+        return false;
+    int32_t ja = m->parts[pa - 1].joint, jb = m->parts[pb - 1].joint;
+    for (int up = 0; up <= 2 && ja >= 0; up++, ja = m->joints[ja].parent) {
+        int32_t j = jb;
+        for (int k = 0; k + up <= 2 && j >= 0; k++, j = m->joints[j].parent)
+            if (j == ja)
+                return true;
+    }
+    return false;
+}
+
+static quality_t compare(const psc_proxy_model_t *m, const uint32_t *a, const uint32_t *ia, const uint32_t *b,
+                         const uint32_t *ib)
 {
     unsigned inter = 0, uni = 0, both = 0, same = 0, full = 0, holes = 0;
     double se = 0;
@@ -237,7 +258,7 @@ static quality_t compare(const uint32_t *a, const uint32_t *ia, const uint32_t *
             }
         if (pa && pb) {
             both++;
-            same += (ia[i] & 0xFFFFu) == (ib[i] & 0xFFFFu);
+            same += same_bone(m, ia[i] & 0xFFFFu, ib[i] & 0xFFFFu);
         }
     }
     double mse = uni ? se / (3.0 * uni) : 0;
@@ -276,7 +297,24 @@ static quality_t measure(fixture_t *f, const shot_t *s, const char *name)
     if (s->lod == PSC_PROXY_LOD_BILLBOARD)   /* one id for the whole: compare silhouettes, not parts */
         for (unsigned i = 0; i < W * H; i++)
             ib[i] = ib[i] & 0xFFFFu ? 1u : 0u, ia[i] = ia[i] & 0xFFFFu ? 1u : 0u;
-    quality_t q = compare(a, ia, b, ib);
+    quality_t q = compare(&f->m, a, ia, b, ib);
+    if (getenv("PSC_PROXY_SAVE")) {   /* the frames, to look at: proxies over the full mesh */
+        char path[96];
+        static int shot;
+        psc_surface_t sa = {W, H, W * 4, PSC_PIX_XRGB8888, a}, sb = {W, H, W * 4, PSC_PIX_XRGB8888, b};
+        snprintf(path, sizeof path, "proxy-%s-%d-proxies.png", name, shot);
+        tsup_save_png(&sa, path);
+        snprintf(path, sizeof path, "proxy-%s-%d-full.png", name, shot);
+        tsup_save_png(&sb, path);
+        static uint32_t diff[W * H];   /* both grey, the proxies' alone red, the full mesh's alone blue */
+        for (unsigned i = 0; i < W * H; i++) {
+            bool pa = (ia[i] & 0xFFFFu) != 0, pb = (ib[i] & 0xFFFFu) != 0;
+            diff[i] = pa && pb ? 0x808080u : pa ? 0xFF0000u : pb ? 0x0000FFu : 0u;
+        }
+        psc_surface_t sd = {W, H, W * 4, PSC_PIX_XRGB8888, diff};
+        snprintf(path, sizeof path, "proxy-%s-%d-diff.png", name, shot++);
+        tsup_save_png(&sd, path);
+    }
     char pose[32];
     if (s->bend)
         snprintf(pose, sizeof pose, "t=%.2f+%d", s->t, s->bend);
@@ -303,12 +341,13 @@ static void test_truck_quality(void **state)
     for (unsigned k = 0; k < sizeof shots / sizeof shots[0]; k++) {
         quality_t q = measure(&f, &shots[k], "truck");
         iou += q.iou / 5, psnr += q.psnr / 5, ids += q.ids / 5;
-        /* the floor of what these proxies and 7 x 7 views give (measured IoU 0.90..0.95, 13.4..22.8 dB) */
-        assert_true(q.iou >= 0.88);
-        assert_true(q.psnr >= 12.0);
-        assert_true(q.ids >= 0.97);
+        /* the floor of what these proxies and 7 x 7 views give (measured IoU 0.983..0.988, 18.8..28.3 dB) */
+        assert_true(q.iou >= 0.97);
+        assert_true(q.psnr >= 17.0);
+        assert_true(q.ids >= 0.99);
     }
     print_message("  truck mean: IoU %.3f, PSNR %.1f dB, front part %.3f\n", iou, psnr, ids);
+    assert_true(iou >= 0.98);   /* measured 0.985 */
     /* the billboard, far: its rest-pose views on a quad facing the camera */
     static const shot_t far[] = {{40, 15, 12, -1, 0, PSC_PROXY_LOD_BILLBOARD}, {230, -10, 12, -1, 0, PSC_PROXY_LOD_BILLBOARD}};
     for (unsigned k = 0; k < 2; k++) {
@@ -329,17 +368,44 @@ static void test_bar_quality(void **state)
     };
     for (unsigned k = 0; k < sizeof shots / sizeof shots[0]; k++) {
         quality_t q = measure(&f, &shots[k], "bar");
-        /* the floor of what they give (IoU measured 0.74..0.89, holes 0.04..0.19, front part 0.955..0.98) */
-        assert_true(q.iou >= 0.70);
-        assert_true(q.hole <= 0.22);
-        assert_true(q.ids >= 0.95);
+        /* the floor of what they give (IoU measured 0.79..0.90, holes 0.035..0.10, front part 0.99..0.997): the bar
+         * is 32 times longer than thick, 8 pixels across here, and a pixel's shift at its edges costs 0.1 of IoU */
+        assert_true(q.iou >= 0.75);
+        assert_true(q.hole <= 0.12);
+        assert_true(q.ids >= 0.98);
     }
     fixture_free(&f);
 }
 
-/* Joint triangles stay attached to both parts they join, however far the pose bends them: every joint vertex that
- * sits on a part's vertex at rest sits on it posed (the joint strip is the mesh's own triangles, skinned by the same
- * weights, 0.05 % of R off them), at the animation's time and bent 90 degrees at every third joint. */
+/* A held-out skinned human (tests/data/assimp: 5 126 triangles, 58 nodes; nobody tuned the proxies on it) at
+ * poses and views never baked. */
+static void test_human_quality(void **state)
+{
+    (void)state;
+    fixture_t f = {0};
+    bake(&f, TSUP_DATA_ASSIMP "BCN_Epileptic.X", 64, PSC_BAKE_PROXY_TEX);
+    assert_true(f.m.proxy_triangle_count * 4u <= f.m.triangle_count);   /* at most a quarter */
+    static const shot_t shots[] = {
+        {20, 10, 2.5, 0.2, 0, 0}, {95, 25, 2.5, 0.8, 0, 0}, {170, -10, 2.5, 1.6, 0, 0}, {260, 15, 2.5, 2.5, 0, 0},
+        {330, 40, 2.5, -1, 0, 0},
+    };
+    double iou = 0, psnr = 0;
+    for (unsigned k = 0; k < sizeof shots / sizeof shots[0]; k++) {
+        quality_t q = measure(&f, &shots[k], "human");
+        iou += q.iou / 5, psnr += q.psnr / 5;
+        assert_true(q.iou >= 0.93);   /* measured 0.945..0.958 */
+        assert_true(q.psnr >= 30.0);  /* measured 30.6..38.2 dB */
+        assert_true(q.ids >= 0.98);
+    }
+    print_message("  human mean: IoU %.3f, PSNR %.1f dB\n", iou, psnr);
+    assert_true(iou >= 0.945);        /* measured 0.951 */
+    assert_true(psnr >= 32.0);        /* measured 33.0 dB */
+    fixture_free(&f);
+}
+
+/* Joint strips stay attached to both parts they join, however far the pose bends them: every joint proxy corner
+ * that sits on a part proxy's vertex at rest sits on it posed (both are cut from one simplified mesh and skinned by
+ * its vertices' weights), at the animation's time and bent 90 degrees at every third joint. */
 static void test_joints_attached(void **state)
 {
     (void)state;
@@ -357,51 +423,48 @@ static void test_joints_attached(void **state)
     assert_int_equal(psc_render_proxy_pose(m, 0.4, (const double(*)[12])pre, (const double(*)[12])post, skin), 0);
     psc_mat4_identity(&cam);
     cam.m[2][3] = 4 * PSC_Q16_ONE;
-    /* the parts' posed vertices, by their rest positions */
+    /* the parts' proxies as drawn: their posed vertices, by their rest positions */
     const psc_3d_draw_t *d;
     unsigned nd;
-    assert_int_equal(psc_proxy_frame(&f.px, skin, &cam, PSC_PROXY_LOD_FULL, false, &d, &nd), PSC_OK);
+    assert_int_equal(psc_proxy_frame(&f.px, skin, &cam, PSC_PROXY_LOD_PROXIES, false, &d, &nd), PSC_OK);
     uint32_t nv = 0;
     for (uint32_t i = 0; i < m->part_count; i++)
-        nv += m->parts[i].kind == PSC_PROXY_KIND_PART ? m->parts[i].vertex_count : 0;
-    int32_t(*rest)[3] = malloc(nv * sizeof *rest), (*posed)[3] = malloc(nv * sizeof *posed);
+        nv += m->parts[i].kind == PSC_PROXY_KIND_PART ? m->parts[i].proxy_vertex_count : 0;
+    int32_t(*rest)[3] = malloc((nv + 1u) * sizeof *rest), (*posed)[3] = malloc((nv + 1u) * sizeof *posed);
     assert_true(rest && posed);
     uint32_t at = 0;
-    for (uint32_t i = 0, k = 0; i < m->part_count; i++) {
+    unsigned k = 0;
+    for (uint32_t i = 0; i < m->part_count; i++) {
         const psc_proxy_part_raw_t *pr = &m->parts[i];
-        if (pr->triangle_count == 0)
+        if (pr->kind != PSC_PROXY_KIND_PART || pr->proxy_triangle_count == 0)
             continue;
         const psc_mesh_t *mesh = d[k++].mesh;
-        if (pr->kind != PSC_PROXY_KIND_PART)
-            continue;
         assert_false(pr->flags & PSC_PROXY_RIGID);   /* the bar's parts all bend */
-        for (uint32_t v = 0; v < pr->vertex_count; v++, at++)
+        for (uint32_t v = 0; v < pr->proxy_vertex_count; v++, at++)
             for (unsigned a = 0; a < 3; a++) {
-                rest[at][a] = m->position_q16[3u * (pr->first_vertex + v) + a];
+                rest[at][a] = m->proxy_position_q16[3u * (pr->first_proxy_vertex + v) + a];
                 posed[at][a] = mesh->position_q16[3u * v + a];
             }
     }
-    /* the joint triangles as drawn */
-    assert_int_equal(psc_proxy_frame(&f.px, skin, &cam, PSC_PROXY_LOD_PROXIES, false, &d, &nd), PSC_OK);
-    unsigned k = 0, attached = 0;
+    /* the joint triangles as drawn (after the parts, as the pack orders them) */
+    unsigned attached = 0;
     double worst = 0;
-    for (uint32_t i = 0; i < m->part_count; i++)
-        k += m->parts[i].kind == PSC_PROXY_KIND_PART;
     for (uint32_t i = 0; i < m->part_count; i++) {
         const psc_proxy_part_raw_t *pr = &m->parts[i];
         if (pr->kind != PSC_PROXY_KIND_JOINT)
             continue;
         for (uint32_t t = 0; t < pr->proxy_triangle_count; t++, k++) {
+            assert_true(k < nd);
             const psc_mesh_t *mesh = d[k].mesh;
             assert_int_equal(mesh->vertex_count, 3);
             for (unsigned c = 0; c < 3; c++) {
                 uint32_t pv = pr->first_proxy_vertex + m->proxy_index[3u * (pr->first_proxy_triangle + t) + c];
                 const int32_t *r = &m->proxy_position_q16[3u * pv];
-                for (uint32_t q = 0; q < nv; q++) {
+                for (uint32_t q = 0; q < at; q++) {
                     int64_t d2 = 0;
                     for (unsigned a = 0; a < 3; a++)
                         d2 += ((int64_t)r[a] - rest[q][a]) * ((int64_t)r[a] - rest[q][a]);
-                    if (d2 > (int64_t)66 * 66)   /* within 0.001 R at rest: the same vertex, pushed off */
+                    if (d2 > (int64_t)66 * 66)   /* within 0.001 R at rest: the same vertex of the simplified mesh */
                         continue;
                     double e2 = 0;
                     for (unsigned a = 0; a < 3; a++) {
@@ -414,9 +477,9 @@ static void test_joints_attached(void **state)
             }
         }
     }
-    print_message("  bent 90 degrees at every third joint: %u joint corners on a part's vertex, %.5f R apart at most\n",
-                  attached, worst);
-    assert_true(attached > 100);
+    print_message("  bent 90 degrees at every third joint: %u joint corners on a part's proxy vertex, %.5f R apart at "
+                  "most\n", attached, worst);
+    assert_true(attached > 20);
     assert_true(worst < 0.001);   /* the push (0.0005 R) turned with the surface, and rounding */
     free(rest), free(posed), free(skin), free(pre), free(post);
     fixture_free(&f);
@@ -507,6 +570,15 @@ static void render_lod(fixture_t *f, const psc_mat4_q16_t *skin, int lod, bool t
     const psc_3d_draw_t *d;
     unsigned nd;
     assert_int_equal(psc_proxy_frame(&f->px, skin, &cam, (psc_proxy_lod_t)lod, ids, &d, &nd), PSC_OK);
+    static psc_3d_draw_t by_draw[8192];
+    if (ids) {   /* each draw its own colour: a joint's triangles are draws of their own, with views of their own */
+        assert_true(nd <= 8192);
+        for (unsigned k = 0; k < nd; k++) {
+            by_draw[k] = d[k];
+            by_draw[k].color = k + 1u;
+        }
+        d = by_draw;
+    }
     psc_surface_t sf = {W, H, W * 2, PSC_PIX_RGB565, px};
     uint32_t bg = BG;
     psc_3d_stats_t st;
@@ -533,7 +605,7 @@ static bool near_change(const uint16_t *px, int x, int y)
 
 /* Tiles change nothing: proxies, full mesh and billboard in 32 x 32 tiles give the full-buffer frame's bytes, with
  * the A-buffer too (its view textures' coverage turned into samples, alpha to coverage). The A-buffer changes the
- * frame near edges: within 2 pixels of where the part (or background) a pixel shows changes, by the part ids drawn
+ * frame near edges: within 2 pixels of where the draw (or background) a pixel shows changes, by the draws' ids
  * without it; beyond, by two RGB565 steps at most (inside a part, where two of its triangles meet, their texels
  * averaged). */
 static void test_tiles_exact(void **state)
@@ -563,6 +635,11 @@ static void test_tiles_exact(void **state)
                 int p = plain[y * (int)W + x], q = aa[y * (int)W + x];
                 bool faint = abs((p >> 11) - (q >> 11)) <= 2 && abs((p >> 5 & 63) - (q >> 5 & 63)) <= 2 &&
                              abs((p & 31) - (q & 31)) <= 2;
+                if (!faint && !near_change(ids, x, y) && getenv("PSC_PROXY_SAVE")) {
+                    psc_surface_t s1 = {W, H, W * 2, PSC_PIX_RGB565, plain}, s2 = {W, H, W * 2, PSC_PIX_RGB565, aa},
+                                  s3 = {W, H, W * 2, PSC_PIX_RGB565, ids};
+                    tsup_save_png(&s1, "tiles-plain.png"), tsup_save_png(&s2, "tiles-aa.png"), tsup_save_png(&s3, "tiles-ids.png");
+                }
                 if (!faint && !near_change(ids, x, y))
                     fail_msg("level %d: the A-buffer changed pixel (%d, %d) from %04X to %04X, away from the edges",
                              lod, x, y, (unsigned)p, (unsigned)q);
@@ -609,7 +686,7 @@ static void test_model_fuzz(void **state)
             refused++;
             continue;
         }
-        psc_bake_proxy_opts_t o = {9, 8};
+        psc_bake_proxy_opts_t o = {9, 8, 0};
         uint8_t *pack = NULL;
         size_t plen = 0;
         if (psc_bake_proxy(&g, &o, path, &pack, &plen, note, sizeof note, err, sizeof err) == 0) {
@@ -712,6 +789,7 @@ int main(void)
         cmocka_unit_test(test_views_rule),
         cmocka_unit_test(test_truck_quality),
         cmocka_unit_test(test_bar_quality),
+        cmocka_unit_test(test_human_quality),
         cmocka_unit_test(test_joints_attached),
         cmocka_unit_test(test_lod_hysteresis),
         cmocka_unit_test(test_scene_draw),

@@ -89,7 +89,7 @@ typedef struct {
 
 static int bake(model_t *mo, const psc_gltf_t *g)
 {
-    psc_bake_proxy_opts_t o = {PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX};
+    psc_bake_proxy_opts_t o = {PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX, PSC_BAKE_PROXY_SIMPLIFY};
     char err[512];
     uint8_t *bytes;
     if (psc_bake_proxy(g, &o, mo->name, &bytes, &mo->len, mo->note, sizeof mo->note, err, sizeof err) != 0) {

@@ -9,13 +9,16 @@
  *  - parts: pieces that move without changing shape (the triangles whose
  *    vertices all follow one joint most); joints: the triangles between
  *    parts, whose skin weights are split - they stretch;
- *  - a proxy surface per part (a closed envelope of few triangles around it,
- *    the seed's proxy former) and per joint (its triangles, pushed outward);
- *  - view textures per proxy: the proxy's own geometry alone (so nothing of
- *    the rest of the model obstructs it) rendered at the rest pose from each
- *    direction of the octahedral grid (psc_proxy_view.h), orthographically,
- *    lighting baked in, with a texture-coordinate set per direction: each
- *    proxy vertex projected into that view;
+ *  - the proxies: the model simplified as a whole (a quarter of its
+ *    triangles at most), cut along the parts' and joints' borders, so a
+ *    part's proxy and a joint's strip share their border vertices; each
+ *    proxy vertex a model vertex with its skin weights (a part may have
+ *    none: simplifying gave its surface to its neighbours');
+ *  - view textures per proxy: its piece of the model and its neighbours'
+ *    rendered at the rest pose from each direction of the octahedral grid
+ *    (psc_proxy_view.h), orthographically, lighting baked in, kept where the
+ *    surface lies on the proxy, with a texture-coordinate set per
+ *    direction: each proxy vertex projected into that view;
  *  - the skeleton, its animation sampled at a fixed rate as skin matrices,
  *    and the full mesh with rest-pose lighting (the near level of detail and
  *    the comparison).
@@ -135,9 +138,9 @@ typedef struct {
     uint8_t flags;                 /* PSC_PROXY_RIGID */
     uint32_t first_vertex, vertex_count;           /* full-mesh piece */
     uint32_t first_triangle, triangle_count;
-    uint32_t first_proxy_vertex, proxy_vertex_count;
+    uint32_t first_proxy_vertex, proxy_vertex_count;   /* both 0: no proxy (drawn by its neighbours') */
     uint32_t first_proxy_triangle, proxy_triangle_count;
-    int32_t centre_q16[3];         /* of the proxy's bounding sphere, at rest */
+    int32_t centre_q16[3];         /* of the proxy's bounding sphere, at rest (no proxy: its piece's) */
     int32_t radius_q16;
     uint32_t reserved;
 } psc_proxy_part_raw_t;

@@ -366,6 +366,8 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
             }
             continue;
         }
+        if (pr->proxy_triangle_count == 0)   /* simplifying gave its surface to its neighbours' proxies */
+            continue;
         const int32_t *rest = m->proxy_position_q16 + 3u * (size_t)pr->first_proxy_vertex;
         const int32_t *pos = rest;
         if (!rigid(pr)) {

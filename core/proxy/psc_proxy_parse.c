@@ -70,8 +70,9 @@ static psc_status_t check_parts(const psc_proxy_model_t *m, uint32_t at, psc_con
             !range_ok(p->first_proxy_triangle, p->proxy_triangle_count, m->proxy_triangle_count))
             return fail(err, PSC_ERR_CORRUPT, "a part's vertices or triangles lie beyond the mesh's", at);
         if (p->vertex_count > PSC_PROXY_PIECE_MAX_VERTICES || p->proxy_vertex_count > PSC_PROXY_PIECE_MAX_VERTICES ||
-            p->proxy_triangle_count == 0)
-            return fail(err, PSC_ERR_CORRUPT, "a part has no proxy or more than 65 535 vertices", at);
+            (p->proxy_triangle_count == 0) != (p->proxy_vertex_count == 0))
+            return fail(err, PSC_ERR_CORRUPT, "a part has more than 65 535 vertices, or a proxy of vertices and no "
+                        "triangles or the other way", at);
         if (!index_ok(m->index, p->first_triangle, p->triangle_count, p->vertex_count) ||
             !index_ok(m->proxy_index, p->first_proxy_triangle, p->proxy_triangle_count, p->proxy_vertex_count))
             return fail(err, PSC_ERR_CORRUPT, "a part's triangle names a vertex it does not have", at);

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* proxy.c - parts, joints, proxies, animation and the proxy pack (proxy.h). */
 #include "bake/proxy.h"
+#include "bake/simplify.h"
 #include "util/hmath.h"
 #include "psc_io_container_write.h"
 #include "psc_io_error.h"
@@ -12,7 +13,7 @@
 #include <string.h>
 
 #define RIGID_WEIGHT 0.999
-#define JOINT_PUSH 0.0005        /* a joint proxy stands this far (units of R) outside its triangles */
+#define PUSH 0.0005              /* a proxy stands this far (units of R) beyond the simplification's error outside */
 
 uint32_t psc_bake_proxy_light(uint32_t base, const double n[3])
 {
@@ -49,24 +50,35 @@ static void *buf_add(buf_t *b, size_t bytes)
     return at;
 }
 
-/* A part (one joint) or a joint (two): its triangles of the model. */
+/* A growing list of triangle numbers. */
+typedef struct {
+    uint32_t *t, n, cap;
+} tris_t;
+
+static int tris_add(tris_t *l, uint32_t t)
+{
+    if (l->n == l->cap) {
+        uint32_t cap = l->cap ? 2 * l->cap : 64;
+        uint32_t *q = realloc(l->t, cap * sizeof *q);
+        if (!q)
+            return -1;
+        l->t = q, l->cap = cap;
+    }
+    l->t[l->n++] = t;
+    return 0;
+}
+
+/* A part (one joint) or a joint (two): its triangles of the model (src) and of the simplified model (prx). */
 typedef struct {
     uint8_t kind;
     uint16_t joint, joint_b;
-    uint32_t *tri, n, cap;
+    tris_t src, prx;
 } group_t;
 
-static int group_add(group_t *g, uint32_t t)
+static void group_free(group_t *g)
 {
-    if (g->n == g->cap) {
-        uint32_t cap = g->cap ? 2 * g->cap : 64;
-        uint32_t *q = realloc(g->tri, cap * sizeof *q);
-        if (!q)
-            return -1;
-        g->tri = q, g->cap = cap;
-    }
-    g->tri[g->n++] = t;
-    return 0;
+    free(g->src.t), free(g->prx.t);
+    g->src = g->prx = (tris_t){0};
 }
 
 /* The skin of model vertex i in the pack's format (weights Q0.15 summing to 32768). */
@@ -122,114 +134,343 @@ static void shape_free(psc_proxy_shape_t *s)
     memset(s, 0, sizeof *s);
 }
 
-/* One group: its piece of the full mesh and its proxy appended to the pack; its shape kept in *shape for the views. */
-static int form_group(const psc_gltf_t *g, const group_t *gr, const double c[3], double r, int32_t *map, pack_t *pk,
-                      psc_proxy_shape_t *shape, const char *name, char *err, size_t errlen)
+/* ---- grouping ---------------------------------------------------------------------------------- */
+
+/* The group of a triangle with vertices v: a part when all three follow one joint most, else the joint between the
+ * first two joints they follow. */
+static void tri_key(const psc_gltf_t *g, const uint32_t *v, uint8_t *kind, uint16_t *x, uint16_t *y)
+{
+    uint16_t a = dominant(g, v[0]), b = dominant(g, v[1]), c = dominant(g, v[2]);
+    if (a == b && b == c) {
+        *kind = PSC_PROXY_KIND_PART;
+        *x = *y = a;
+        return;
+    }
+    *kind = PSC_PROXY_KIND_JOINT;
+    *x = a, *y = a != b ? b : c;
+    if (*x > *y) {
+        uint16_t t = *x;
+        *x = *y, *y = t;
+    }
+}
+
+/* The group with that key (parts are groups 0..nj-1, by joint), added when new; NULL out of memory. */
+static group_t *group_for(group_t **gr, uint32_t *n, uint32_t *cap, uint32_t nj, uint8_t kind, uint16_t x, uint16_t y)
+{
+    if (kind == PSC_PROXY_KIND_PART)
+        return &(*gr)[x];
+    for (uint32_t k = nj; k < *n; k++)
+        if ((*gr)[k].joint == x && (*gr)[k].joint_b == y)
+            return &(*gr)[k];
+    if (*n == *cap) {
+        group_t *q = realloc(*gr, 2u * *cap * sizeof *q);
+        if (!q)
+            return NULL;
+        *gr = q, *cap *= 2u;
+    }
+    (*gr)[*n] = (group_t){PSC_PROXY_KIND_JOINT, x, y, {0}, {0}};
+    return &(*gr)[(*n)++];
+}
+
+/* The model's triangles into parts by joint, then joints by the pair of parts they join; tri_group[t] receives
+ * triangle t's group. */
+static int classify(const psc_gltf_t *g, uint32_t *tri_group, group_t **groups, uint32_t *ngroups)
+{
+    uint32_t nj = g->joint_count, cap = nj + 16u, n = nj;
+    group_t *gr = calloc(cap, sizeof *gr);
+    if (!gr)
+        return -1;
+    for (uint32_t j = 0; j < nj; j++)
+        gr[j] = (group_t){PSC_PROXY_KIND_PART, (uint16_t)j, (uint16_t)j, {0}, {0}};
+    for (uint32_t t = 0; t < g->mesh.triangle_count; t++) {
+        uint8_t kind;
+        uint16_t x, y;
+        tri_key(g, &g->mesh.index[3u * t], &kind, &x, &y);
+        group_t *to = group_for(&gr, &n, &cap, nj, kind, x, y);
+        if (!to || tris_add(&to->src, t) != 0)
+            goto oom;
+        tri_group[t] = (uint32_t)(to - gr);
+    }
+    *groups = gr;
+    *ngroups = n;
+    return 0;
+oom:
+    for (uint32_t k = 0; k < n; k++)
+        group_free(&gr[k]);
+    free(gr);
+    return -1;
+}
+
+/* ---- neighbours ---------------------------------------------------------------------------------- */
+
+static int by_pair(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* near[a * n + b]: groups a and b touch (share a vertex of the model or of the simplified model). NULL out of
+ * memory. */
+static uint8_t *neighbours(const psc_gltf_t *g, const uint32_t *tri_group, const uint32_t *sidx, const uint32_t *sreg,
+                           uint32_t snt, uint32_t n)
+{
+    size_t nc = 3u * ((size_t)g->mesh.triangle_count + snt), k = 0;
+    uint64_t *c = malloc((nc + 1u) * sizeof *c);
+    uint8_t *near = calloc((size_t)n * n + 1u, 1);
+    if (!c || !near) {
+        free(c), free(near);
+        return NULL;
+    }
+    /* (vertex, group) for every corner; the simplified model's vertices after the model's */
+    for (uint32_t t = 0; t < g->mesh.triangle_count; t++)
+        for (unsigned i = 0; i < 3; i++)
+            c[k++] = (uint64_t)g->mesh.index[3u * t + i] << 32 | tri_group[t];
+    for (uint32_t t = 0; t < snt; t++)
+        for (unsigned i = 0; i < 3; i++)
+            c[k++] = (uint64_t)(g->mesh.vertex_count + sidx[3u * t + i]) << 32 | sreg[t];
+    qsort(c, nc, sizeof *c, by_pair);
+    for (size_t a = 0; a < nc;) {
+        size_t b = a;
+        while (b < nc && c[b] >> 32 == c[a] >> 32)
+            b++;
+        for (size_t i = a; i < b; i++)
+            for (size_t j = i + 1; j < b; j++) {
+                uint32_t x = (uint32_t)c[i], y = (uint32_t)c[j];
+                near[(size_t)x * n + y] = near[(size_t)y * n + x] = 1;
+            }
+        a = b;
+    }
+    free(c);
+    return near;
+}
+
+/* ---- holding the surface ------------------------------------------------------------------------ */
+
+/* The point of triangle (a, b, c) nearest p, into q (by the triangle's regions: inside, else the nearest edge). */
+static void nearest_on_triangle(const double p[3], const double a[3], const double b[3], const double c[3], double q[3])
+{
+    double ab[3], ac[3], ap[3];
+    for (unsigned k = 0; k < 3; k++)
+        ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k];
+    double d00 = psc_hmath_dot3(ab, ab), d01 = psc_hmath_dot3(ab, ac), d11 = psc_hmath_dot3(ac, ac);
+    double d1 = psc_hmath_dot3(ab, ap), d2 = psc_hmath_dot3(ac, ap), den = d00 * d11 - d01 * d01;
+    double v = den > 1e-30 ? (d11 * d1 - d01 * d2) / den : -1, w = den > 1e-30 ? (d00 * d2 - d01 * d1) / den : -1;
+    if (v >= 0 && w >= 0 && v + w <= 1) {
+        for (unsigned k = 0; k < 3; k++)
+            q[k] = a[k] + v * ab[k] + w * ac[k];
+        return;
+    }
+    const double *e0[3] = {a, b, c}, *e1[3] = {b, c, a};
+    double best = INFINITY;
+    for (unsigned e = 0; e < 3; e++) {
+        double d[3], f[3], x[3], g2 = 0;
+        for (unsigned k = 0; k < 3; k++)
+            d[k] = e1[e][k] - e0[e][k], f[k] = p[k] - e0[e][k];
+        double dd = psc_hmath_dot3(d, d), t = dd > 0 ? fmin(1, fmax(0, psc_hmath_dot3(f, d) / dd)) : 0;
+        for (unsigned k = 0; k < 3; k++) {
+            x[k] = e0[e][k] + t * d[k];
+            g2 += (p[k] - x[k]) * (p[k] - x[k]);
+        }
+        if (g2 < best) {
+            best = g2;
+            memcpy(q, x, sizeof x);
+        }
+    }
+}
+
+/* How far each proxy vertex must move out along its normal for its proxy to hold its group's surface: a simplified
+ * surface cuts inside where the model bulges (a tube's section becomes a polygon inside its circle), and the
+ * silhouette would lose what lies outside it. For each model vertex, its group's nearest proxy triangle; where the
+ * vertex lies outside it by d (along the triangle's normal), the triangle's corners need d, up to limit. bulge[v]
+ * per model vertex (the simplified mesh's vertices are the model's), units of the model; seen: one per vertex. */
+static void bulges(const psc_gltf_t *g, const group_t *gr, uint32_t ng, const uint32_t *sidx, double limit,
+                   uint32_t *seen, double *bulge)
+{
+    const double *pos = g->mesh.pos;
+    for (uint32_t k = 0; k < ng; k++) {
+        const group_t *q = &gr[k];
+        for (uint32_t s = 0; s < q->src.n && q->prx.n > 0; s++)
+            for (unsigned i = 0; i < 3; i++) {
+                uint32_t u = g->mesh.index[3u * q->src.t[s] + i];
+                if (seen[u] == k + 1u)
+                    continue;
+                seen[u] = k + 1u;
+                const double *p = &pos[3u * u];
+                double best = INFINITY, out = 0;
+                uint32_t bt = 0;
+                for (uint32_t t = 0; t < q->prx.n; t++) {
+                    const uint32_t *v = &sidx[3u * q->prx.t[t]];
+                    double x[3], d2 = 0;
+                    nearest_on_triangle(p, &pos[3u * v[0]], &pos[3u * v[1]], &pos[3u * v[2]], x);
+                    for (unsigned a = 0; a < 3; a++)
+                        d2 += (p[a] - x[a]) * (p[a] - x[a]);
+                    if (d2 < best) {
+                        const double *a0 = &pos[3u * v[0]], *a1 = &pos[3u * v[1]], *a2 = &pos[3u * v[2]];
+                        double e1[3], e2[3], n[3];
+                        for (unsigned a = 0; a < 3; a++)
+                            e1[a] = a1[a] - a0[a], e2[a] = a2[a] - a0[a];
+                        n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+                        n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+                        n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+                        double nl = sqrt(psc_hmath_dot3(n, n)), off[3] = {p[0] - x[0], p[1] - x[1], p[2] - x[2]};
+                        best = d2;
+                        bt = t;
+                        out = nl > 0 ? psc_hmath_dot3(off, n) / nl : 0;
+                    }
+                }
+                if (out <= 0)
+                    continue;
+                const uint32_t *v = &sidx[3u * q->prx.t[bt]];
+                for (unsigned c = 0; c < 3; c++)
+                    bulge[v[c]] = fmin(limit, fmax(bulge[v[c]], out));
+            }
+    }
+}
+
+/* ---- forming a group ---------------------------------------------------------------------------- */
+
+/* The vertices of triangles tris of index buffer idx, numbered in order of first use: verts[0..*nv) the model's,
+ * local[3 k + i] triangle k's. map: -1 for every vertex on entry, and so again on return. 0, or -1 out of memory. */
+static int gather(const uint32_t *idx, const tris_t *tris, int32_t *map, uint32_t **verts, uint32_t *nv,
+                  uint32_t **local)
+{
+    uint32_t n = 0, *v = malloc((3u * tris->n + 1u) * sizeof *v), *l = malloc((3u * tris->n + 1u) * sizeof *l);
+    if (!v || !l) {
+        free(v), free(l);
+        return -1;
+    }
+    for (uint32_t k = 0; k < tris->n; k++)
+        for (unsigned i = 0; i < 3; i++) {
+            uint32_t x = idx[3u * tris->t[k] + i];
+            if (map[x] < 0) {
+                map[x] = (int32_t)n;
+                v[n++] = x;
+            }
+            l[3u * k + i] = (uint32_t)map[x];
+        }
+    for (uint32_t i = 0; i < n; i++)
+        map[v[i]] = -1;
+    *verts = v, *nv = n, *local = l;
+    return 0;
+}
+
+/* Model vertex v in units of R from the centre, and its colour lit at rest. */
+static void vertex_at(const psc_gltf_t *g, uint32_t v, const double c[3], double r, double out[3], uint32_t *color)
+{
+    static const double up[3] = {0, 1, 0};
+    for (unsigned a = 0; a < 3; a++)
+        out[a] = (g->mesh.pos[3u * v + a] - c[a]) / r;
+    if (color)
+        *color = psc_bake_proxy_light(g->mesh.color ? g->mesh.color[v] : 0xC0C0C0u,
+                                      g->mesh.normal ? &g->mesh.normal[3u * v] : up);
+}
+
+/* One group: its piece of the full mesh (its own triangles) and its proxy (its triangles of the simplified model,
+ * pushed out along the normals by PUSH and bulge[] (bulges()) and skinned as the model's vertices they are; none where simplifying
+ * gave them all to its neighbours) appended to the pack; its shape, drawn from view_src, kept in *shape for the views. */
+static int form_group(const psc_gltf_t *g, const group_t *gr, const uint32_t *prx_idx, const double *bulge, double reach,
+                      const double c[3],
+                      double r, int32_t *map, pack_t *pk, psc_proxy_shape_t *shape, const char *name, char *err,
+                      size_t errlen)
 {
     psc_proxy_shape_t s = {0};
-    uint32_t nv = 0, *verts = malloc(3u * gr->n * sizeof *verts);
-    s.src_index = malloc(3u * gr->n * sizeof *s.src_index);
-    if (!verts || !s.src_index)
+    uint32_t *pv = NULL, *pl = NULL, *xv = NULL, *xl = NULL, npv = 0, nxv = 0;
+    const tris_t *ptris = &gr->prx;
+    if (gather(g->mesh.index, &gr->src, map, &pv, &npv, &pl) != 0 || gather(prx_idx, ptris, map, &xv, &nxv, &xl) != 0)
         goto oom;
-    for (uint32_t k = 0; k < gr->n; k++)
-        for (unsigned i = 0; i < 3; i++) {
-            uint32_t v = g->mesh.index[3u * gr->tri[k] + i];
-            if (map[v] < 0) {
-                map[v] = (int32_t)nv;
-                verts[nv++] = v;
-            }
-            s.src_index[3u * k + i] = (uint32_t)map[v];
-        }
-    for (uint32_t i = 0; i < nv; i++)
-        map[verts[i]] = -1;
-    if (nv > PSC_PROXY_PIECE_MAX_VERTICES) {
-        free(verts);
+    if (npv > PSC_PROXY_PIECE_MAX_VERTICES || nxv > PSC_PROXY_PIECE_MAX_VERTICES) {
+        free(pv), free(pl), free(xv), free(xl);
         shape_free(&s);
         return psc_io_errorf(err, errlen, name, "node '%s' has %u vertices: a part holds at most 65 535",
-                             g->joints[gr->joint].name, nv);
+                             g->joints[gr->joint].name, npv > nxv ? npv : nxv);
     }
-    s.src_vertices = nv;
-    s.src_triangles = gr->n;
-    s.src_pos = malloc(nv * sizeof *s.src_pos);
-    s.src_color = malloc(nv * sizeof *s.src_color);
-    if (!s.src_pos || !s.src_color)
-        goto oom;
     bool rigid = gr->kind == PSC_PROXY_KIND_PART;
-    for (uint32_t i = 0; i < nv; i++)
-        rigid = rigid && vertex_rigid(g, verts[i], gr->joint);
+    for (uint32_t i = 0; i < npv; i++)
+        rigid = rigid && vertex_rigid(g, pv[i], gr->joint);
+    for (uint32_t i = 0; i < nxv; i++)
+        rigid = rigid && vertex_rigid(g, xv[i], gr->joint);
     /* the piece of the full mesh */
-    int32_t *vp = buf_add(&pk->vpos, nv * 12u);
-    uint32_t *vc = buf_add(&pk->vcol, nv * 4u);
-    psc_proxy_skin_raw_t *vs = buf_add(&pk->vskin, nv * 16u);
-    uint16_t *ix = buf_add(&pk->idx, gr->n * 6u);
-    if (!vp || !vc || !vs || !ix)
+    int32_t *vp = buf_add(&pk->vpos, npv * 12u);
+    uint32_t *vc = buf_add(&pk->vcol, npv * 4u);
+    psc_proxy_skin_raw_t *vs = buf_add(&pk->vskin, npv * 16u);
+    uint16_t *ix = buf_add(&pk->idx, gr->src.n * 6u);
+    if ((npv && (!vp || !vc || !vs)) || (gr->src.n && !ix))
         goto oom;
-    for (uint32_t i = 0; i < nv; i++) {
-        uint32_t v = verts[i];
-        static const double up[3] = {0, 1, 0};
-        const double *n = g->mesh.normal ? &g->mesh.normal[3u * v] : up;
-        for (unsigned a = 0; a < 3; a++) {
-            s.src_pos[i][a] = (g->mesh.pos[3u * v + a] - c[a]) / r;
-            vp[3u * i + a] = psc_hmath_q16(s.src_pos[i][a]);
-        }
-        s.src_color[i] = vc[i] = psc_bake_proxy_light(g->mesh.color ? g->mesh.color[v] : 0xC0C0C0u, n);
-        vs[i] = skin_of(g, v, rigid, gr->joint);
-    }
-    for (uint32_t k = 0; k < 3u * gr->n; k++)
-        ix[k] = (uint16_t)s.src_index[k];
-    /* the proxy */
-    if (gr->kind == PSC_PROXY_KIND_PART) {
-        if (psc_bake_proxy_envelope(&s) != 0)
-            goto oom;
-    } else {
-        s.prx_pos = malloc(nv * sizeof *s.prx_pos);
-        if (!s.prx_pos)
-            goto oom;
-        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-        for (uint32_t i = 0; i < nv; i++)
-            for (unsigned a = 0; a < 3; a++) {
-                double nn = g->mesh.normal ? g->mesh.normal[3u * verts[i] + a] : 0;
-                s.prx_pos[i][a] = s.src_pos[i][a] + JOINT_PUSH * nn;
-                lo[a] = fmin(lo[a], s.prx_pos[i][a]);
-                hi[a] = fmax(hi[a], s.prx_pos[i][a]);
-            }
-        s.prx_index = s.src_index;
-        s.prx_vertices = nv;
-        s.prx_triangles = gr->n;
-        s.radius = 0;
+    for (uint32_t i = 0; i < npv; i++) {
+        double q[3];
+        vertex_at(g, pv[i], c, r, q, &vc[i]);
         for (unsigned a = 0; a < 3; a++)
-            s.centre[a] = (lo[a] + hi[a]) / 2;
-        for (uint32_t i = 0; i < nv; i++) {
-            double d2 = 0;
-            for (unsigned a = 0; a < 3; a++)
-                d2 += (s.prx_pos[i][a] - s.centre[a]) * (s.prx_pos[i][a] - s.centre[a]);
-            s.radius = fmax(s.radius, sqrt(d2));
+            vp[3u * i + a] = psc_hmath_q16(q[a]);
+        vs[i] = skin_of(g, pv[i], rigid, gr->joint);
+    }
+    for (uint32_t k = 0; k < 3u * gr->src.n; k++)
+        ix[k] = (uint16_t)pl[k];
+    /* what its views show, and where */
+    s.src_vertices = npv;
+    s.src_triangles = gr->src.n;
+    s.src_pos = malloc((npv + 1u) * sizeof *s.src_pos);
+    s.src_color = malloc((npv + 1u) * sizeof *s.src_color);
+    s.src_index = malloc((3u * gr->src.n + 1u) * sizeof *s.src_index);
+    s.prx_pos = malloc((nxv + 1u) * sizeof *s.prx_pos);
+    if (!s.src_pos || !s.src_color || !s.src_index || !s.prx_pos)
+        goto oom;
+    memcpy(s.src_index, pl, 3u * gr->src.n * sizeof *pl);
+    double slo[3] = {INFINITY, INFINITY, INFINITY}, shi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t i = 0; i < npv; i++) {
+        vertex_at(g, pv[i], c, r, s.src_pos[i], &s.src_color[i]);
+        for (unsigned a = 0; a < 3; a++)
+            slo[a] = fmin(slo[a], s.src_pos[i][a]), shi[a] = fmax(shi[a], s.src_pos[i][a]);
+    }
+    for (unsigned a = 0; a < 3; a++)
+        s.src_centre[a] = npv ? (slo[a] + shi[a]) / 2 : 0;
+    for (uint32_t i = 0; i < npv; i++)
+        s.src_radius = fmax(s.src_radius, sqrt((s.src_pos[i][0] - s.src_centre[0]) * (s.src_pos[i][0] - s.src_centre[0]) +
+                                               (s.src_pos[i][1] - s.src_centre[1]) * (s.src_pos[i][1] - s.src_centre[1]) +
+                                               (s.src_pos[i][2] - s.src_centre[2]) * (s.src_pos[i][2] - s.src_centre[2])));
+    s.reach = reach;
+    /* the proxy, and the sphere its views are fitted to */
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t i = 0; i < nxv; i++) {
+        vertex_at(g, xv[i], c, r, s.prx_pos[i], NULL);
+        for (unsigned a = 0; a < 3; a++) {
+            s.prx_pos[i][a] += (PUSH + bulge[xv[i]] / r) * (g->mesh.normal ? g->mesh.normal[3u * xv[i] + a] : 0);
+            lo[a] = fmin(lo[a], s.prx_pos[i][a]);
+            hi[a] = fmax(hi[a], s.prx_pos[i][a]);
         }
     }
-    if (s.prx_vertices > PSC_PROXY_PIECE_MAX_VERTICES)
-        goto oom;
-    int32_t *pp = buf_add(&pk->ppos, s.prx_vertices * 12u);
-    psc_proxy_skin_raw_t *ps = buf_add(&pk->pskin, s.prx_vertices * 16u);
+    /* no proxy (simplifying gave its triangles to its neighbours'): the sphere of its piece, for the checks */
+    for (uint32_t i = 0; nxv == 0 && i < npv; i++) {
+        double q[3];
+        vertex_at(g, pv[i], c, r, q, NULL);
+        for (unsigned a = 0; a < 3; a++)
+            lo[a] = fmin(lo[a], q[a]), hi[a] = fmax(hi[a], q[a]);
+    }
+    s.prx_index = xl;
+    xl = NULL;
+    s.prx_vertices = nxv;
+    s.prx_triangles = ptris->n;
+    for (unsigned a = 0; a < 3; a++)
+        s.centre[a] = (lo[a] + hi[a]) / 2;
+    for (uint32_t i = 0; i < nxv; i++) {
+        double d2 = 0;
+        for (unsigned a = 0; a < 3; a++)
+            d2 += (s.prx_pos[i][a] - s.centre[a]) * (s.prx_pos[i][a] - s.centre[a]);
+        s.radius = fmax(s.radius, sqrt(d2));
+    }
+    if (nxv == 0)
+        s.radius = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                        (hi[2] - lo[2]) * (hi[2] - lo[2])) / 2;
+    s.radius = fmax(s.radius, 1e-4);
+    int32_t *pp = buf_add(&pk->ppos, nxv * 12u);
+    psc_proxy_skin_raw_t *ps = buf_add(&pk->pskin, nxv * 16u);
     uint16_t *pi = buf_add(&pk->pidx, s.prx_triangles * 6u);
     psc_proxy_part_raw_t *pr = buf_add(&pk->parts, sizeof *pr);
     if (!pp || !ps || !pi || !pr)
         goto oom;
-    for (uint32_t i = 0; i < s.prx_vertices; i++) {
+    for (uint32_t i = 0; i < nxv; i++) {
         for (unsigned a = 0; a < 3; a++)
             pp[3u * i + a] = psc_hmath_q16(s.prx_pos[i][a]);
-        /* a part's proxy vertex moves as the nearest vertex of the part; a joint's is its vertex */
-        uint32_t near = i;
-        if (gr->kind == PSC_PROXY_KIND_PART) {
-            double best = INFINITY;
-            for (uint32_t k = 0; k < nv; k++) {
-                double d2 = 0;
-                for (unsigned a = 0; a < 3; a++)
-                    d2 += (s.src_pos[k][a] - s.prx_pos[i][a]) * (s.src_pos[k][a] - s.prx_pos[i][a]);
-                if (d2 < best)
-                    best = d2, near = k;
-            }
-        }
-        ps[i] = vs[near];
+        ps[i] = skin_of(g, xv[i], rigid, gr->joint);
     }
     for (uint32_t k = 0; k < 3u * s.prx_triangles; k++)
         pi[k] = (uint16_t)s.prx_index[k];
@@ -237,230 +478,27 @@ static int form_group(const psc_gltf_t *g, const group_t *gr, const double c[3],
                                  .kind = gr->kind,
                                  .flags = rigid ? PSC_PROXY_RIGID : 0,
                                  .first_vertex = pk->vertices,
-                                 .vertex_count = nv,
+                                 .vertex_count = npv,
                                  .first_triangle = pk->triangles,
-                                 .triangle_count = gr->n,
+                                 .triangle_count = gr->src.n,
                                  .first_proxy_vertex = pk->pvertices,
                                  .proxy_vertex_count = s.prx_vertices,
                                  .first_proxy_triangle = pk->ptriangles,
                                  .proxy_triangle_count = s.prx_triangles,
                                  .centre_q16 = {psc_hmath_q16(s.centre[0]), psc_hmath_q16(s.centre[1]), psc_hmath_q16(s.centre[2])},
                                  .radius_q16 = psc_hmath_q16(s.radius)};
-    pk->vertices += nv;
-    pk->triangles += gr->n;
+    pk->vertices += npv;
+    pk->triangles += gr->src.n;
     pk->pvertices += s.prx_vertices;
     pk->ptriangles += s.prx_triangles;
     pk->nparts++;
-    free(verts);
+    free(pv), free(pl), free(xv);
     *shape = s;
     return 0;
 oom:
-    free(verts);
+    free(pv), free(pl), free(xv), free(xl);
     shape_free(&s);
     return psc_io_errorf(err, errlen, name, "out of memory");
-}
-
-/* Parts by joint, then joints by the pair of parts they join. */
-static int classify(const psc_gltf_t *g, group_t **groups, uint32_t *ngroups)
-{
-    uint32_t nj = g->joint_count, cap = nj + 16u, n = nj;
-    group_t *gr = calloc(cap, sizeof *gr);
-    if (!gr)
-        return -1;
-    for (uint32_t j = 0; j < nj; j++)
-        gr[j] = (group_t){PSC_PROXY_KIND_PART, (uint16_t)j, (uint16_t)j, NULL, 0, 0};
-    for (uint32_t t = 0; t < g->mesh.triangle_count; t++) {
-        const uint32_t *v = &g->mesh.index[3u * t];
-        uint16_t a = dominant(g, v[0]), b = dominant(g, v[1]), c = dominant(g, v[2]);
-        group_t *to = NULL;
-        if (a == b && b == c) {
-            to = &gr[a];
-        } else {
-            uint16_t x = a, y = a != b ? b : c;
-            if (x > y) {
-                uint16_t s = x;
-                x = y, y = s;
-            }
-            for (uint32_t k = nj; k < n && !to; k++)
-                if (gr[k].joint == x && gr[k].joint_b == y)
-                    to = &gr[k];
-            if (!to) {
-                if (n == cap) {
-                    group_t *q = realloc(gr, 2u * cap * sizeof *q);
-                    if (!q)
-                        goto oom;
-                    gr = q, cap *= 2u;
-                }
-                gr[n] = (group_t){PSC_PROXY_KIND_JOINT, x, y, NULL, 0, 0};
-                to = &gr[n++];
-            }
-        }
-        if (group_add(to, t) != 0)
-            goto oom;
-    }
-    *groups = gr;
-    *ngroups = n;
-    return 0;
-oom:
-    for (uint32_t k = 0; k < n; k++)
-        free(gr[k].tri);
-    free(gr);
-    return -1;
-}
-
-/* ---- splitting loose parts --------------------------------------------------------------------- */
-
-/* Squared distance from p to triangle (a, b, c): the closest point by the triangle's Voronoi regions. */
-static double tri_dist2(const double p[3], const double a[3], const double b[3], const double c[3])
-{
-    double ab[3], ac[3], ap[3], q[3];
-    for (unsigned k = 0; k < 3; k++)
-        ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k];
-    double d1 = psc_hmath_dot3(ab, ap), d2 = psc_hmath_dot3(ac, ap), d00 = psc_hmath_dot3(ab, ab), d01 = psc_hmath_dot3(ab, ac), d11 = psc_hmath_dot3(ac, ac);
-    double den = d00 * d11 - d01 * d01, v, w;
-    if (den <= 1e-30) {
-        v = w = 0;
-    } else {
-        v = (d11 * d1 - d01 * d2) / den;
-        w = (d00 * d2 - d01 * d1) / den;
-    }
-    if (v < 0 || w < 0 || v + w > 1) {   /* outside: the nearest of the three edges */
-        double best = INFINITY;
-        const double *e0[3] = {a, b, c}, *e1[3] = {b, c, a};
-        for (unsigned e = 0; e < 3; e++) {
-            double d[3], f[3];
-            for (unsigned k = 0; k < 3; k++)
-                d[k] = e1[e][k] - e0[e][k], f[k] = p[k] - e0[e][k];
-            double dd = psc_hmath_dot3(d, d), t = dd > 0 ? fmin(1, fmax(0, psc_hmath_dot3(f, d) / dd)) : 0, g2 = 0;
-            for (unsigned k = 0; k < 3; k++)
-                g2 += (f[k] - t * d[k]) * (f[k] - t * d[k]);
-            best = fmin(best, g2);
-        }
-        return best;
-    }
-    for (unsigned k = 0; k < 3; k++)
-        q[k] = a[k] + v * ab[k] + w * ac[k] - p[k];
-    return psc_hmath_dot3(q, q);
-}
-
-/* How far the envelope of triangles tri[0..n) of g would stand off them: the mean distance from its vertices to
- * their surface, in units of its radius (< 0: out of memory). */
-static double looseness(const psc_gltf_t *g, const uint32_t *tri, uint32_t n, const double c[3], double r, int32_t *map)
-{
-    psc_proxy_shape_t s = {0};
-    uint32_t nv = 0, *verts = malloc(3u * n * sizeof *verts);
-    s.src_index = malloc(3u * n * sizeof *s.src_index);
-    s.src_pos = malloc(3u * n * sizeof *s.src_pos);
-    double loose = -1;
-    if (!verts || !s.src_index || !s.src_pos)
-        goto done;
-    for (uint32_t k = 0; k < n; k++)
-        for (unsigned i = 0; i < 3; i++) {
-            uint32_t v = g->mesh.index[3u * tri[k] + i];
-            if (map[v] < 0) {
-                map[v] = (int32_t)nv;
-                for (unsigned a = 0; a < 3; a++)
-                    s.src_pos[nv][a] = (g->mesh.pos[3u * v + a] - c[a]) / r;
-                verts[nv++] = v;
-            }
-            s.src_index[3u * k + i] = (uint32_t)map[v];
-        }
-    for (uint32_t i = 0; i < nv; i++)
-        map[verts[i]] = -1;
-    s.src_vertices = nv;
-    s.src_triangles = n;
-    if (psc_bake_proxy_envelope(&s) != 0)
-        goto done;
-    /* over the proxy's faces, area-weighted: the distance from each face's centre to the part */
-    double sum = 0, area = 0;
-    for (uint32_t i = 0; i < s.prx_triangles; i++) {
-        const double *a = s.prx_pos[s.prx_index[3u * i]], *b = s.prx_pos[s.prx_index[3u * i + 1]],
-                     *cc = s.prx_pos[s.prx_index[3u * i + 2]];
-        double e1[3], e2[3], x[3], m[3];
-        for (unsigned k = 0; k < 3; k++)
-            e1[k] = b[k] - a[k], e2[k] = cc[k] - a[k], m[k] = (a[k] + b[k] + cc[k]) / 3;
-        x[0] = e1[1] * e2[2] - e1[2] * e2[1], x[1] = e1[2] * e2[0] - e1[0] * e2[2], x[2] = e1[0] * e2[1] - e1[1] * e2[0];
-        double ar = sqrt(psc_hmath_dot3(x, x)) / 2, best = INFINITY;
-        for (uint32_t k = 0; k < n; k++)
-            best = fmin(best, tri_dist2(m, s.src_pos[s.src_index[3u * k]], s.src_pos[s.src_index[3u * k + 1]],
-                                        s.src_pos[s.src_index[3u * k + 2]]));
-        sum += ar * sqrt(best);
-        area += ar;
-    }
-    loose = s.radius > 0 && area > 0 ? sum / area / s.radius : 0;
-done:
-    free(verts);
-    shape_free(&s);
-    return loose;
-}
-
-static const double *sort_key;
-
-static int by_key(const void *a, const void *b)
-{
-    double ka = sort_key[*(const uint32_t *)a], kb = sort_key[*(const uint32_t *)b];
-    return ka < kb ? -1 : ka > kb;
-}
-
-/* Append group gr to out, halved (by the median of its triangles' centres along its box's longest axis) while its
- * envelope stands off it by more than LOOSE of its radius, down to MAX_SPLIT levels: a smaller, less concave piece
- * gets a closer proxy, and a closer proxy a truer picture from between the views. */
-#define LOOSE 0.10
-#define MAX_SPLIT 3
-static int split_part(const psc_gltf_t *g, group_t *gr, unsigned depth, const double c[3], double r, int32_t *map,
-                      group_t **out, uint32_t *n, uint32_t *cap)
-{
-    double loose = depth < MAX_SPLIT && gr->n >= 64 ? looseness(g, gr->tri, gr->n, c, r, map) : 0;
-    if (getenv("PSC_PROXY_DEBUG"))
-        fprintf(stderr, "part joint %u depth %u: %u triangles, looseness %.3f\n", gr->joint, depth, gr->n, loose);
-    if (loose < 0)
-        return -1;
-    if (loose <= LOOSE) {
-        if (*n == *cap) {
-            group_t *q = realloc(*out, 2u * *cap * sizeof *q);
-            if (!q)
-                return -1;
-            *out = q, *cap *= 2u;
-        }
-        (*out)[(*n)++] = *gr;
-        gr->tri = NULL;
-        return 0;
-    }
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    double *key = malloc(g->mesh.triangle_count ? gr->n * 3u * sizeof *key : 8);
-    uint32_t *order = malloc(gr->n * sizeof *order);
-    if (!key || !order) {
-        free(key), free(order);
-        return -1;
-    }
-    for (uint32_t k = 0; k < gr->n; k++)
-        for (unsigned a = 0; a < 3; a++) {
-            const uint32_t *v = &g->mesh.index[3u * gr->tri[k]];
-            double m = (g->mesh.pos[3u * v[0] + a] + g->mesh.pos[3u * v[1] + a] + g->mesh.pos[3u * v[2] + a]) / 3;
-            key[3u * k + a] = m;
-            lo[a] = fmin(lo[a], m), hi[a] = fmax(hi[a], m);
-        }
-    unsigned ax = hi[0] - lo[0] >= hi[1] - lo[1] && hi[0] - lo[0] >= hi[2] - lo[2] ? 0 : hi[1] - lo[1] >= hi[2] - lo[2] ? 1 : 2;
-    double *k1 = malloc(gr->n * sizeof *k1);
-    if (!k1) {
-        free(key), free(order);
-        return -1;
-    }
-    for (uint32_t k = 0; k < gr->n; k++) {
-        order[k] = k;
-        k1[k] = key[3u * k + ax];
-    }
-    sort_key = k1;
-    qsort(order, gr->n, sizeof *order, by_key);
-    group_t half[2] = {{gr->kind, gr->joint, gr->joint_b, NULL, 0, 0}, {gr->kind, gr->joint, gr->joint_b, NULL, 0, 0}};
-    int rc = 0;
-    for (uint32_t k = 0; k < gr->n && rc == 0; k++)
-        rc = group_add(&half[k >= gr->n / 2], gr->tri[order[k]]);
-    free(key), free(order), free(k1);
-    for (unsigned h = 0; h < 2 && rc == 0; h++)
-        rc = split_part(g, &half[h], depth + 1u, c, r, map, out, n, cap);
-    free(half[0].tri), free(half[1].tri);
-    return rc;
 }
 
 /* A 3x4 model-space matrix in units of R from the centre: S'(x) = (S(x R + c) - c) / R. */
@@ -502,62 +540,82 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     psc_gltf_trs_t *local = malloc(g->joint_count * sizeof *local);
     double(*m12)[12] = malloc(g->joint_count * sizeof *m12);
     int rc = -1;
-    if (!map || !joints || !nodes || !local || !m12 || classify(g, &gr, &ng) != 0) {
+    uint32_t *sidx = NULL, snt = 0, *tri_group = malloc((g->mesh.triangle_count + 1u) * sizeof *tri_group), *sreg = NULL;
+    double serr = 0;
+    uint32_t *shape_group = NULL, *seen = NULL;
+    double *bulge = NULL;
+    uint8_t *near = NULL;
+    const psc_proxy_shape_t **near_shapes = NULL;
+    double frac = o->simplify > 0 ? o->simplify : PSC_BAKE_PROXY_SIMPLIFY;
+    uint32_t cap = (uint32_t)fmax(1.0, floor(g->mesh.triangle_count * frac));
+    /* the model into parts and joints; the proxies, the model simplified with no collapse across their borders as
+     * far as an error of PSC_BAKE_PROXY_MAX_ERROR allows, and further (to 4 times that) if that leaves more than the
+     * share asked for */
+    if (!map || !joints || !nodes || !local || !m12 || !tri_group || classify(g, tri_group, &gr, &ng) != 0) {
         psc_io_errorf(err, errlen, name, "out of memory");
         goto done;
     }
-    for (uint32_t i = 0; i < g->mesh.vertex_count; i++)
-        map[i] = -1;
-    {   /* loose parts halved; joints as they are */
-        uint32_t cap = ng + 16u, n2 = 0;
-        group_t *g2 = malloc(cap * sizeof *g2);
-        if (!g2) {
+    for (unsigned pass = 0; pass < 2 && (pass == 0 || snt > cap); pass++) {
+        free(sidx), free(sreg);
+        sidx = sreg = NULL;
+        if (psc_bake_simplify((const double(*)[3])g->mesh.pos, g->mesh.vertex_count, g->mesh.index,
+                              g->mesh.triangle_count, tri_group, pass ? cap : 0, PSC_BAKE_PROXY_MAX_ERROR * r * (pass ? 4 : 1),
+                              &sidx, &snt, &sreg, &serr) != 0) {
             psc_io_errorf(err, errlen, name, "out of memory");
             goto done;
         }
-        for (uint32_t k = 0; k < ng; k++) {
-            int rc2 = 0;
-            if (gr[k].n == 0)
-                continue;
-            if (gr[k].kind == PSC_PROXY_KIND_PART) {
-                rc2 = split_part(g, &gr[k], 0, c, r, map, &g2, &n2, &cap);
-            } else if (n2 == cap) {
-                group_t *q = realloc(g2, 2u * cap * sizeof *q);
-                if (q)
-                    g2 = q, cap *= 2u;
-                rc2 = q ? 0 : -1;
-            }
-            if (rc2 == 0 && gr[k].kind != PSC_PROXY_KIND_PART) {
-                g2[n2++] = gr[k];
-                gr[k].tri = NULL;
-            }
-            if (rc2 != 0) {
-                for (uint32_t q = 0; q < n2; q++)
-                    free(g2[q].tri);
-                free(g2);
-                psc_io_errorf(err, errlen, name, "out of memory");
-                goto done;
-            }
-        }
-        for (uint32_t k = 0; k < ng; k++)
-            free(gr[k].tri);
-        free(gr);
-        gr = g2;
-        ng = n2;
     }
+    for (uint32_t t = 0; t < snt; t++)
+        if (tris_add(&gr[sreg[t]].prx, t) != 0) {
+            psc_io_errorf(err, errlen, name, "out of memory");
+            goto done;
+        }
+    if (getenv("PSC_PROXY_DEBUG"))
+        fprintf(stderr, "simplified: %u of %u triangles (at most %u), error %.5f R\n", snt, g->mesh.triangle_count, cap,
+                serr / r);
+    for (uint32_t i = 0; i < g->mesh.vertex_count; i++)
+        map[i] = -1;
     shapes = calloc(ng, sizeof *shapes);
     if (!shapes) {
         psc_io_errorf(err, errlen, name, "out of memory");
         goto done;
     }
+    /* the proxies pushed out by the simplification's error, so that they hold the surface (a tube's simplified
+     * section is a polygon inside its circle); a texel shows the surface within reach of the proxy's front */
+    double reach = 4.0 * serr / r + 4.0 * PUSH + 0.002;
+    bulge = calloc(g->mesh.vertex_count + 1u, sizeof *bulge);
+    seen = calloc(g->mesh.vertex_count + 1u, sizeof *seen);
+    if (!bulge || !seen) {
+        psc_io_errorf(err, errlen, name, "out of memory");
+        goto done;
+    }
+    bulges(g, gr, ng, sidx, 2.0 * serr, seen, bulge);
+    shape_group = malloc((ng + 1u) * sizeof *shape_group);
+    if (!shape_group) {
+        psc_io_errorf(err, errlen, name, "out of memory");
+        goto done;
+    }
     for (uint32_t k = 0; k < ng; k++)
-        if (gr[k].n > 0 && form_group(g, &gr[k], c, r, map, &pk, &shapes[nshapes++], name, err, errlen) != 0)
-            goto done;
-    /* the view textures, each part's seen with the rest of the model at rest in front of it */
+        if (gr[k].src.n + gr[k].prx.n > 0) {
+            shape_group[nshapes] = k;
+            if (form_group(g, &gr[k], sidx, bulge, reach, c, r, map, &pk, &shapes[nshapes++], name, err, errlen) != 0)
+                goto done;
+        }
+    /* the view textures: each proxy's surface seen with its neighbours' (where it reaches over its border), not with
+     * the rest of the model (at rest an arm hides the side of the chest a raised arm shows) */
+    if (!(near = neighbours(g, tri_group, sidx, sreg, snt, ng)) ||
+        !(near_shapes = malloc((nshapes + 1u) * sizeof *near_shapes))) {
+        psc_io_errorf(err, errlen, name, "out of memory");
+        goto done;
+    }
     for (uint32_t k = 0; k < nshapes; k++) {
+        unsigned nn = 0;
+        for (uint32_t q = 0; q < nshapes; q++)
+            if (q == k || near[(size_t)shape_group[k] * ng + shape_group[q]])
+                near_shapes[nn++] = &shapes[q];
         uint16_t *uv = buf_add(&pk.puv, (size_t)shapes[k].prx_vertices * side * side * 4u);
         uint16_t *tx = buf_add(&pk.tex, (size_t)side * side * o->tex * o->tex * 2u);
-        if (!uv || !tx || psc_bake_proxy_views(&shapes[k], shapes, nshapes, side, o->tex, tx, uv) != 0) {
+        if (!uv || !tx || psc_bake_proxy_views(&shapes[k], near_shapes, nn, side, o->tex, tx, uv) != 0) {
             psc_io_errorf(err, errlen, name, "out of memory");
             goto done;
         }
@@ -650,18 +708,20 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     for (uint32_t k = 0; k < pk.nparts; k++)
         nparts_only += ((const psc_proxy_part_raw_t *)(const void *)pk.parts.p)[k].kind == PSC_PROXY_KIND_PART;
     snprintf(note, notelen,
-             "%u parts and %u joints, %u proxy triangles for %u; %u views of %ux%u (%.1f MB of RGB565 textures); "
+             "%u parts and %u joints, %u proxy triangles for %u%s; %u views of %ux%u (%.1f MB of RGB565 textures); "
              "%u animation samples",
-             nparts_only, pk.nparts - nparts_only, pk.ptriangles, pk.triangles, side * side, o->tex, o->tex,
-             pk.tex.n / 1048576.0, frames);
+             nparts_only, pk.nparts - nparts_only, pk.ptriangles, pk.triangles,
+             psc_bake_simplify_available() ? "" : " (built without libmeshoptimizer: not simplified)", side * side,
+             o->tex, o->tex, pk.tex.n / 1048576.0, frames);
     rc = 0;
 done:
     for (uint32_t k = 0; k < nshapes; k++)
         shape_free(&shapes[k]);
     free(shapes);
     for (uint32_t k = 0; k < ng; k++)
-        free(gr[k].tri);
+        group_free(&gr[k]);
     free(gr);
+    free(sidx), free(sreg), free(tri_group), free(shape_group), free(near), free(near_shapes), free(bulge), free(seen);
     pack_free(&pk);
     free(map), free(joints), free(nodes), free(anim), free(local), free(m12), free(bb_axes), free(bb_tex);
     return rc;

@@ -7,28 +7,29 @@
  *
  *  - Parts: the triangles whose three vertices follow the same joint most
  *    (rigid when every vertex follows it alone); joints: the triangles
- *    between parts, grouped by the two parts they join.
- *  - A part's proxy (proxy_envelope.c): a discrete oriented polytope - the
- *    part's support planes along the 49 directions of the view grid and the
- *    box axes, pushed out by 1 % of its size - which contains it by
- *    construction and is as tight as a convex shape can be (a box-like part
- *    gets its six faces). A part whose polytope stands off it by more than
- *    10 % of its radius (area-weighted, from each face's centre to the part)
- *    is halved along its longest axis, up to three times: a wheel pair
- *    becomes two wheels, a ring four arcs. Chosen over the seed's voxel
- *    isosurface (shrunk, then pruned) for its few, exact faces and over a
- *    simplified mesh because it never cuts into the part; the price is the
- *    halving of concave parts (more textures).
- *    A joint's proxy: its own triangles pushed out along the vertex normals
- *    by 0.05 % of R, skinned as they are (they stretch): it lies on the
- *    surface, so its views need no parallax.
+ *    between parts, grouped by the two parts they join (the blend zone).
+ *  - Proxies (simplify.h): the model simplified as a whole by edge
+ *    collapses, no collapse crossing from one part or joint into another, as
+ *    far as an error of 1 % of R allows and further (up to 4 %) to at most a
+ *    quarter of its triangles; each part's and joint's proxy is its piece of
+ *    the result. The pieces share their border vertices, so they meet
+ *    without cracks however the pose bends them, and a joint's proxy is a
+ *    simplified strip. Each proxy vertex is the model's own vertex (its skin
+ *    weights), pushed out along its normal by 0.05 % of R and by as much as
+ *    its piece's surface bulges outside the simplified one (bulges()), so
+ *    the proxy holds the silhouette. Chosen over the seed's shrunk voxel
+ *    isosurface and over convex envelopes: a simplified surface has fewer
+ *    triangles for the same closeness, never stands off concave parts, and
+ *    needs no parallax where it lies on the surface.
  *  - View textures (proxy_views.c): for each proxy and each direction of the
- *    octahedral grid, the proxy's own geometry, orthographic, lit at rest,
- *    fitted to the proxy's bounding sphere; the proxy's vertices projected
- *    the same way give the direction's texture coordinates. Where another
- *    part lies in front at rest the texels stay empty: a proxy stands off its
- *    part, so depth between proxies is only roughly right, and this keeps a
- *    wheel in its wheel well visible through the body's proxy.
+ *    octahedral grid, the proxy's piece and its neighbours' (the pieces it
+ *    touches) drawn orthographically, lit at rest, fitted to the proxy's
+ *    bounding sphere, kept where their surface lies within reach of the
+ *    proxy's front (4 times the simplification's error): the surface under
+ *    the proxy wherever it spans, nothing of another part in front of it,
+ *    and the rest of the model not drawn at all (at rest an arm hides the
+ *    side of the chest that a raised arm shows). The proxy's vertices
+ *    projected the same way give the direction's texture coordinates.
  */
 #ifndef PSC_BAKE_PROXY_H
 #define PSC_BAKE_PROXY_H
@@ -44,9 +45,13 @@
 #define PSC_BAKE_PROXY_BB_SIDE 5u    /* the billboard: 5 x 5 views ... */
 #define PSC_BAKE_PROXY_BB_TEX 32u    /* ... of 32 x 32 texels (50 KB) */
 
+#define PSC_BAKE_PROXY_MAX_ERROR 0.01 /* proxies: the model simplified as far as this error allows (units of R) ... */
+#define PSC_BAKE_PROXY_SIMPLIFY 0.25  /* ... and further, up to 4 times the error, to at most this share of it */
+
 typedef struct {
     unsigned views;                  /* at least this many: the grid side is the smallest odd one that gives them */
     unsigned tex;                    /* texels per side of a view texture, a power of two */
+    double simplify;                 /* the largest share of the model's triangles the proxies keep (0: the default) */
 } psc_bake_proxy_opts_t;
 
 /* The default lighting of proxy and full renders alike: base x (0.45 + 0.55 max(0, n.L)), L = normalize(0.4, 0.8,
@@ -61,28 +66,27 @@ uint32_t psc_bake_proxy_light(uint32_t base, const double n[3]);
 int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const char *name, uint8_t **out, size_t *len,
                    char *note, size_t notelen, char *err, size_t errlen);
 
-/* ---- the pieces, shared by proxy_bake.c, proxy_envelope.c and proxy_views.c ---- */
+/* ---- the pieces, shared by proxy.c and proxy_views.c ---------------------------- */
 
 /** One proxy's geometry while baking: what it is drawn from and the proxy itself, in units of R. */
 typedef struct {
-    double (*src_pos)[3];            /* the part's own triangles: vertices ... */
+    double (*src_pos)[3];            /* the part's piece of the model: vertices ... */
     uint32_t *src_color;             /* ... lit at rest ... */
     uint32_t *src_index;             /* ... and triangles (3 each) */
     uint32_t src_vertices, src_triangles;
-    double (*prx_pos)[3];            /* the proxy */
+    double (*prx_pos)[3];            /* the proxy (its piece of the simplified model) */
     uint32_t *prx_index;
     uint32_t prx_vertices, prx_triangles;
     double centre[3], radius;        /* the proxy's bounding sphere */
+    double src_centre[3], src_radius;  /* the sphere of its own triangles */
+    double reach;                    /* the model's surface within this of the proxy is the proxy's (units of R) */
 } psc_proxy_shape_t;
 
-/** The envelope of a part (its src_*): prx_* filled (malloc'd). 0, or -1 out of memory. */
-int psc_bake_proxy_envelope(psc_proxy_shape_t *s);
-
 /** Render shape s's view textures (view_count x tex^2 RGB565) and its proxy's coordinates (view_count x prx_vertices
- *  x 2) for a grid of side x side views; where another of the model's shapes (others[0..n_others), s among them)
- *  lies in front at rest, the texels stay empty. 0, or -1 out of memory. */
-int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *others, unsigned n_others,
-                           unsigned side, unsigned tex, uint16_t *texels, uint16_t *uv);
+ *  x 2) for a grid of side x side views: the shapes near[0..n_near) (s and its neighbours) at rest, where their
+ *  surface lies within s->reach of s's proxy; elsewhere the texels stay empty. 0, or -1 out of memory. */
+int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *const *near, unsigned n_near,
+                         unsigned side, unsigned tex, uint16_t *texels, uint16_t *uv);
 
 /** The billboard (the far level of detail): every shape drawn, at rest, into side x side views of tex^2 fitted to
  *  the sphere (centre, radius); axes_q16 receives each view's right and up (Q16.16). 0, or -1 out of memory. */

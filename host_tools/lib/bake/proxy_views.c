@@ -66,32 +66,30 @@ static void project(const ortho_t *o, const double p[3], double *u, double *v, d
     *z = 0.5 + w / (2 * o->rho);
 }
 
-/* Draw shape s's own triangles into the view: its lit colours, or as an occluder the empty texel, pushed back by 1 %
- * of the depth range so that the shape's own surface wins where they touch. */
-static void draw_shape(const psc_proxy_shape_t *s, const ortho_t *o, const psc_raster_target_t *t, bool occluder)
+/* Draw triangles idx[0..3 n) over pos (colours col, or flat black for depth alone) into the view, front faces only
+ * (the full render culls back faces: front is clockwise on the raster, as the pipeline's). */
+static void draw_tris(const double (*pos)[3], const uint32_t *col, const uint32_t *idx, uint32_t n, const ortho_t *o,
+                      const psc_raster_target_t *t)
 {
-    unsigned n = o->tex;
+    unsigned side = o->tex;
     psc_raster_state_t st = {0};
-    st.shade = occluder ? PSC_SHADE_FLAT : PSC_SHADE_GOURAUD;
+    st.shade = col ? PSC_SHADE_GOURAUD : PSC_SHADE_FLAT;
     st.depth_test = true;
-    double bias = occluder ? 0.01 : 0.0;
-    for (uint32_t k = 0; k < s->src_triangles; k++) {
+    for (uint32_t k = 0; k < n; k++) {
         psc_raster_vertex_t rv[3];
         for (unsigned i = 0; i < 3; i++) {
-            uint32_t vi = s->src_index[3 * k + i];
+            uint32_t vi = idx[3 * k + i];
             double u, v, z;
-            project(o, s->src_pos[vi], &u, &v, &z);
-            uint32_t c = occluder ? 0u : s->src_color[vi] & 0xFFFFFFu;
-            if (!occluder && psc_xrgb_to_rgb565(c) == PSC_VIEW_TEXEL_EMPTY)
+            project(o, pos[vi], &u, &v, &z);
+            uint32_t c = col ? col[vi] & 0xFFFFFFu : 0u;
+            if (col && psc_xrgb_to_rgb565(c) == PSC_VIEW_TEXEL_EMPTY)
                 c = 0x000400u;   /* content black stays distinct from "empty" (RGB565 0x0020) */
-            double zc = fmin(fmax(z + bias, 0.0), 1.0);
-            rv[i] = (psc_raster_vertex_t){.x_q4 = (int32_t)lround(u * n * 16.0),
-                                          .y_q4 = (int32_t)lround(v * n * 16.0),
-                                          .depth_q32 = (uint32_t)llround(zc * 4294967295.0),
+            rv[i] = (psc_raster_vertex_t){.x_q4 = (int32_t)lround(u * side * 16.0),
+                                          .y_q4 = (int32_t)lround(v * side * 16.0),
+                                          .depth_q32 = (uint32_t)llround(fmin(fmax(z, 0.0), 1.0) * 4294967295.0),
                                           .q_q28 = PSC_RASTER_Q_ONE,
                                           .color = c};
         }
-        /* the full render culls back faces; so does the view (front: clockwise on the raster, as the pipeline) */
         int64_t area = ((int64_t)rv[1].x_q4 - rv[0].x_q4) * ((int64_t)rv[2].y_q4 - rv[0].y_q4) -
                        ((int64_t)rv[2].x_q4 - rv[0].x_q4) * ((int64_t)rv[1].y_q4 - rv[0].y_q4);
         if (area <= 0)
@@ -100,12 +98,17 @@ static void draw_shape(const psc_proxy_shape_t *s, const ortho_t *o, const psc_r
     }
 }
 
-/* Whether shape b can hide anything in view o: its bounding sphere over the view's square and not all behind it. */
-static bool may_occlude(const psc_proxy_shape_t *b, const ortho_t *o)
+static void draw_shape(const psc_proxy_shape_t *s, const ortho_t *o, const psc_raster_target_t *t)
+{
+    draw_tris((const double(*)[3])s->src_pos, s->src_color, s->src_index, s->src_triangles, o, t);
+}
+
+/* Whether shape b can show in view o: its bounding sphere over the view's square and not all behind it. */
+static bool may_show(const psc_proxy_shape_t *b, const ortho_t *o)
 {
     double u, v, z;
-    project(o, b->centre, &u, &v, &z);
-    double rr = b->radius / (2 * o->rho);
+    project(o, b->src_centre, &u, &v, &z);
+    double rr = b->src_radius / (2 * o->rho);
     return u + rr > 0 && u - rr < 1 && v + rr > 0 && v - rr < 1 && z - rr < 1;
 }
 
@@ -139,38 +142,48 @@ static void downsample(const uint16_t *hi, unsigned n, uint16_t *out)
         }
 }
 
-/* The view into hi (SS n x SS n samples), then into texels (n x n). */
-static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *others, unsigned n_others,
-                        const ortho_t *view, uint16_t *texels, uint16_t *hi, uint32_t *depth)
+/* The view into hi (SS n x SS n samples), then into texels (n x n): the shapes given (s and its neighbours) at rest,
+ * kept where their surface lies within s's reach of its proxy's front (the proxy carries what is on it: wherever
+ * the simplified proxy spans, the surface under it, and nothing of a part in front of it). */
+static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *const *all, unsigned n_all, const ortho_t *view,
+                        uint16_t *texels, uint16_t *hi, uint32_t *depth, uint16_t *scratch, uint32_t *pdepth)
 {
     ortho_t so = *view;
     const ortho_t *o = &so;
     unsigned n = so.tex *= SS;
     psc_surface_t sf = {(uint16_t)n, (uint16_t)n, n * 2u, PSC_PIX_RGB565, hi};
+    psc_surface_t ps = {(uint16_t)n, (uint16_t)n, n * 2u, PSC_PIX_RGB565, scratch};
     memset(hi, 0, (size_t)n * n * 2u);   /* PSC_VIEW_TEXEL_EMPTY */
     for (size_t i = 0; i < (size_t)n * n; i++)
-        depth[i] = 0xFFFFFFFFu;
+        depth[i] = pdepth[i] = 0xFFFFFFFFu;
     psc_raster_target_t t = {&sf, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL};
-    /* the rest of the model at rest hides what it hides (the seed's obstruction, taken out of the texture) */
-    for (unsigned k = 0; k < n_others; k++)
-        if (&others[k] != s && may_occlude(&others[k], o))
-            draw_shape(&others[k], o, &t, true);
-    draw_shape(s, o, &t, false);
+    psc_raster_target_t pt = {&ps, pdepth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL};
+    for (unsigned k = 0; k < n_all; k++)
+        if (may_show(all[k], o))
+            draw_shape(all[k], o, &t);
+    draw_tris((const double(*)[3])s->prx_pos, NULL, s->prx_index, s->prx_triangles, o, &pt);
+    uint64_t reach = (uint64_t)llround(fmin(s->reach / (2 * o->rho), 1.0) * 4294967295.0);
+    for (size_t i = 0; i < (size_t)n * n; i++) {
+        uint64_t d = depth[i], pd = pdepth[i];
+        if (pd == 0xFFFFFFFFu || (d > pd ? d - pd : pd - d) > reach)
+            hi[i] = PSC_VIEW_TEXEL_EMPTY;
+    }
     downsample(hi, view->tex, texels);
 }
 
 /* The supersampled depth and colour of one view of tex^2 texels. 0, or -1 out of memory. */
 static int samples_alloc(unsigned tex, uint32_t **depth, uint16_t **hi)
 {
-    *depth = malloc((size_t)tex * tex * SS * SS * sizeof **depth);
-    *hi = malloc((size_t)tex * tex * SS * SS * sizeof **hi);
+    /* two of each: the model's and the proxy's */
+    *depth = malloc((size_t)tex * tex * SS * SS * 2u * sizeof **depth);
+    *hi = malloc((size_t)tex * tex * SS * SS * 2u * sizeof **hi);
     if (*depth && *hi)
         return 0;
     free(*depth), free(*hi);
     return -1;
 }
 
-int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *others, unsigned n_others,
+int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *const *near, unsigned n_near,
                            unsigned side, unsigned tex, uint16_t *texels, uint16_t *uv)
 {
     uint32_t *depth;
@@ -180,7 +193,8 @@ int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *ot
     for (unsigned k = 0; k < side * side; k++) {
         ortho_t o;
         ortho_for(s, side, k, tex, &o);
-        render_view(s, others, n_others, &o, texels + (size_t)k * tex * tex, hi, depth);
+        render_view(s, near, n_near, &o, texels + (size_t)k * tex * tex, hi, depth, hi + (size_t)tex * tex * SS * SS,
+                    depth + (size_t)tex * tex * SS * SS);
         uint16_t *kuv = uv + (size_t)k * s->prx_vertices * 2u;
         for (uint32_t i = 0; i < s->prx_vertices; i++) {
             double u, v, z;
@@ -214,7 +228,7 @@ int psc_bake_proxy_billboard(const psc_proxy_shape_t *shapes, unsigned n, const 
             depth[i] = 0xFFFFFFFFu;
         psc_raster_target_t tg = {&sf, depth, hn * 4u, 32, 0, 0, (uint16_t)hn, (uint16_t)hn, NULL};
         for (unsigned s = 0; s < n; s++)
-            draw_shape(&shapes[s], &so, &tg, false);
+            draw_shape(&shapes[s], &so, &tg);
         downsample(hi, tex, texels + (size_t)k * tex * tex);
         for (unsigned a = 0; a < 3; a++) {
             axes_q16[6 * k + a] = (int32_t)lround(o.right[a] * 65536.0);
