@@ -25,7 +25,7 @@ static void print_usage(const char *prog, FILE *f)
 {
     (void)prog;   /* the same as PROG */
     fprintf(f,
-            "usage: " PROG " bake MODEL.{gltf,glb,obj} -o M.ppx [--views K] [--tex N]\n"
+            "usage: " PROG " bake MODEL -o M.ppx [--views K] [--tex-mb M] [--tex N] [--simplify F]\n"
             "\n"
             "Divide a model into parts (pieces that move without changing shape) and joints (the triangles\n"
             "between them), form a proxy surface for each, render each proxy's view textures from a grid of\n"
@@ -34,7 +34,9 @@ static void print_usage(const char *prog, FILE *f)
             "\n"
             "  --views K           at least K view directions: the smallest odd grid side whose square reaches\n"
             "                      K (default 49: 7 x 7, octahedral)\n"
-            "  --tex N             texels per side of each view texture, a power of two 8..512 (default 64)\n"
+            "  --tex-mb M          the view textures' budget, mip levels included (default 12): one texel\n"
+            "                      density for every proxy, the highest that fits, at most 256 texels per R\n"
+            "  --tex N             the largest view texture's side, a power of two 8..512 (default 256)\n"
             "  --simplify F        the proxies: the model simplified as far as an error of 1 %% of R allows, and\n"
             "                      further (up to 4 %%) to at most this share of its triangles (default 0.25)\n"
             "  -o M.ppx            the pack (written whole, or not at all)\n"
@@ -47,12 +49,13 @@ static const struct option proxy_options[] = {
     {"views", required_argument, NULL, 1},
     {"tex", required_argument, NULL, 1},
     {"simplify", required_argument, NULL, 1},
+    {"tex-mb", required_argument, NULL, 1},
     PSC_IO_CLI_COMMON_OPTIONS,
 };
 
 int main(int argc, char **argv)
 {
-    psc_bake_proxy_opts_t o = {PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX, PSC_BAKE_PROXY_SIMPLIFY};
+    psc_bake_proxy_opts_t o = {PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX, PSC_BAKE_PROXY_SIMPLIFY, PSC_BAKE_PROXY_TEX_MB};
     const char *model = NULL, *out = NULL;
     psc_io_cli_t c;
     char err[768], note[512] = "", load_note[256] = "";
@@ -71,6 +74,9 @@ int main(int argc, char **argv)
             if (psc_cli_parse_uint(c.arg, 8, 512, &v) != 0 || (v & (v - 1u)) != 0)
                 return usage_error("--tex '%s': expected a power of two 8..512", c.arg);
             o.tex = (unsigned)v;
+        } else if (strcmp(c.name, "--tex-mb") == 0) {
+            if (psc_cli_parse_double(c.arg, &o.tex_mb) != 0 || !(o.tex_mb >= 0.01 && o.tex_mb <= 4096))
+                return usage_error("--tex-mb '%s': expected a size in MB, 0.01..4096", c.arg);
         } else if (strcmp(c.name, "--simplify") == 0) {
             if (psc_cli_parse_double(c.arg, &o.simplify) != 0 || !(o.simplify >= 0.001 && o.simplify <= 1.0))
                 return usage_error("--simplify '%s': expected a share of the triangles, 0.001..1", c.arg);

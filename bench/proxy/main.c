@@ -9,8 +9,13 @@
  *  - a rigid assembly of 12 rings of 9 216 triangles each (110 592 in all),
  *    every ring its own node, built here;
  *  - the bundled skinned bar (tests/data/gltf), its animation
- *    playing.
- * Each is baked here with periscope-proxy's defaults (7 x 7 views of 64^2).
+ *    playing;
+ *  - a held-out skinned human (tests/data/assimp/BCN_Epileptic.X, 5 126
+ *    triangles), baked with 64 views (9 x 9), its animation playing.
+ * Each at 800x480 near and at the middle distance, and at 320x240 at the
+ * middle distance (the model a third of the view).
+ * Each is baked here with periscope-proxy's defaults (7 x 7 views, 12 MB of
+ * view textures with their mips, one texel density).
  *
  *   build/bench/proxy --out bench/results     the table (`make bench`)
  */
@@ -87,9 +92,9 @@ typedef struct {
     char note[512];
 } model_t;
 
-static int bake(model_t *mo, const psc_gltf_t *g)
+static int bake(model_t *mo, const psc_gltf_t *g, unsigned views)
 {
-    psc_bake_proxy_opts_t o = {PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX, PSC_BAKE_PROXY_SIMPLIFY};
+    psc_bake_proxy_opts_t o = {views, PSC_BAKE_PROXY_TEX, PSC_BAKE_PROXY_SIMPLIFY, PSC_BAKE_PROXY_TEX_MB};
     char err[512];
     uint8_t *bytes;
     if (psc_bake_proxy(g, &o, mo->name, &bytes, &mo->len, mo->note, sizeof mo->note, err, sizeof err) != 0) {
@@ -104,13 +109,13 @@ static int bake(model_t *mo, const psc_gltf_t *g)
     return psc_proxy_parse(mo->pack, mo->len, &mo->m, &e) == PSC_OK ? 0 : -1;
 }
 
-/* Best time of PASSES passes of FRAMES frames (ms per frame), proxies or full. */
-static double run(model_t *mo, psc_proxy_lod_t lod, int32_t dist_q16, uint32_t *triangles)
+/* Best time of PASSES passes of FRAMES frames (ms per frame) at w x h, proxies or full. */
+static double run(model_t *mo, psc_proxy_lod_t lod, unsigned w, unsigned h, int32_t dist_q16, uint32_t *triangles)
 {
     const psc_proxy_model_t *m = &mo->m;
     psc_vec3_q16_t lo, hi;
     psc_proxy_rest_bounds(m, &lo, &hi);
-    psc_3d_config_t cfg = {W, H, 0, 0, 16, 0x238E38E4u, 0, 0, psc_proxy_max_vertices(m)};
+    psc_3d_config_t cfg = {(uint16_t)w, (uint16_t)h, 0, 0, 16, 0x238E38E4u, 0, 0, psc_proxy_max_vertices(m)};
     psc_mat4_q16_t cam;
     psc_3d_orbit(lo, hi, 0, (int32_t)0x0E38E38E, dist_q16, &cam, &cfg.near_q16, &cfg.far_q16);
     size_t n3 = psc_3d_workspace_size(&cfg), np = psc_proxy_workspace_size(m);
@@ -120,10 +125,11 @@ static double run(model_t *mo, psc_proxy_lod_t lod, int32_t dist_q16, uint32_t *
     psc_proxy_t p;
     double best = 1e30;
     if (!skin || posix_memalign(&ws3d, 64, n3) != 0 || posix_memalign(&wsp, 64, np ? np : 8) != 0 ||
-        posix_memalign(&px, 64, (size_t)W * H * 2) != 0 || psc_3d_init(&r, &cfg, ws3d, n3) != PSC_OK ||
+        posix_memalign(&px, 64, (size_t)w * h * 2) != 0 || psc_3d_init(&r, &cfg, ws3d, n3) != PSC_OK ||
         psc_proxy_init(&p, m, wsp, np) != PSC_OK)
         goto done;
-    psc_surface_t sf = {W, H, W * 2, PSC_PIX_RGB565, px};
+    psc_surface_t sf = {(uint16_t)w, (uint16_t)h, w * 2u, PSC_PIX_RGB565, px};
+    psc_proxy_set_focal(&p, psc_proxy_focal_px_q16(w, cfg.hfov));
     for (unsigned pass = 0; pass < PASSES; pass++) {
         double t0 = bench_now_s();
         for (unsigned f = 0; f < FRAMES; f++) {
@@ -161,44 +167,56 @@ int main(int argc, char **argv)
             return 2;
         }
     }
-    psc_gltf_t asm_g, bar_g;
+    psc_gltf_t g[3];
     char note[256], err[512];
-    model_t models[2] = {{.name = "assembly, 12 rigid rings"}, {.name = "bar, skinned, playing", .t_step = 1.0 / 60}};
-    if (make_assembly(&asm_g) != 0 || bake(&models[0], &asm_g) != 0)
-        return 1;
-    if (psc_gltf_load("tests/data/gltf/animation_with_skeleton.gltf", &bar_g, note, sizeof note, err,
-                      sizeof err) != 0) {
-        fprintf(stderr, "proxy bench: %s (run from the repository's root)\n", err);
-        return 1;
+    model_t models[3] = {{.name = "assembly, 12 rigid rings"},
+                         {.name = "bar, skinned, playing", .t_step = 1.0 / 60},
+                         {.name = "human, skinned, playing", .t_step = 1.0 / 60}};
+    static const char *const files[3] = {NULL, "tests/data/gltf/animation_with_skeleton.gltf",
+                                         "tests/data/assimp/BCN_Epileptic.X"};
+    for (unsigned k = 0; k < 3; k++) {
+        int rc = k == 0 ? make_assembly(&g[0]) : psc_gltf_load(files[k], &g[k], note, sizeof note, err, sizeof err);
+        if (rc != 0) {
+            fprintf(stderr, "proxy bench: %s (run from the repository's root)\n", k ? err : "out of memory");
+            return 1;
+        }
+        if (bake(&models[k], &g[k], k == 2 ? 64u : PSC_BAKE_PROXY_VIEWS) != 0)
+            return 1;
     }
-    if (bake(&models[1], &bar_g) != 0)
-        return 1;
     char path[4096];
     snprintf(path, sizeof path, "%s/proxy.txt", out);
     FILE *j = fopen(path, "w");
-    printf("proxy animator against the full mesh, %ux%u RGB565, one core, best of %u passes of %u frames\n", W, H,
-           PASSES, FRAMES);
-    printf("%-26s %9s %9s %7s %10s %9s %10s %10s %7s\n", "model", "triangles", "drawn", "views", "textures",
+    printf("proxy animator against the full mesh, RGB565, one core, best of %u passes of %u frames\n", PASSES, FRAMES);
+    printf("%-26s %9s %9s %7s %10s %8s %9s %10s %10s %7s\n", "model", "triangles", "drawn", "views", "textures", "size",
            "distance", "full ms", "proxy ms", "ratio");
-    /* near (the model fills the view: the full mesh's level) and middle distance (a third of it: the proxies') */
-    static const double dist[2] = {2.5, 7.0};
-    for (unsigned k = 0; k < 4; k++) {
-        model_t *mo = &models[k / 2];
+    /* 800 x 480 near (the model fills the view: the full mesh's level) and at a middle distance (a third of it: the
+     * proxies'), and 320 x 240 at the middle distance */
+    static const struct {
+        unsigned w, h;
+        double dist;
+    } shots[3] = {{W, H, 2.5}, {W, H, 7.0}, {320, 240, 7.0}};
+    for (unsigned k = 0; k < 9; k++) {
+        model_t *mo = &models[k / 3];
         uint32_t tf = 0, tp = 0;
-        int32_t dq = (int32_t)lround(dist[k % 2] * 65536);
-        double full = run(mo, PSC_PROXY_LOD_FULL, dq, &tf), prx = run(mo, PSC_PROXY_LOD_PROXIES, dq, &tp);
-        double tex_mb = (double)mo->m.part_count * mo->m.view_count * mo->m.tex_size * mo->m.tex_size * 2 / 1048576.0;
-        char line[256];
-        snprintf(line, sizeof line, "%-26s %9u %9u %7u %7.1f MB %7.1f R %10.3f %10.3f %6.2fx\n", mo->name, tf, tp,
-                 mo->m.view_count, tex_mb, dist[k % 2], full, prx, full / prx);
+        unsigned w = shots[k % 3].w, h = shots[k % 3].h;
+        int32_t dq = (int32_t)lround(shots[k % 3].dist * 65536);
+        double full = run(mo, PSC_PROXY_LOD_FULL, w, h, dq, &tf), prx = run(mo, PSC_PROXY_LOD_PROXIES, w, h, dq, &tp);
+        double tex_mb = 0;
+        for (uint32_t i = 0; i < mo->m.part_count; i++)
+            tex_mb += (double)psc_proxy_part_tex(&mo->m, i).chain * mo->m.view_count * 2 / 1048576.0;
+        char line[256], size[16];
+        snprintf(size, sizeof size, "%ux%u", w, h);
+        snprintf(line, sizeof line, "%-26s %9u %9u %7u %7.1f MB %8s %7.1f R %10.3f %10.3f %6.2fx\n", mo->name, tf, tp,
+                 mo->m.view_count, tex_mb, size, shots[k % 3].dist, full, prx, full / prx);
         fputs(line, stdout);
         if (j)
             fputs(line, j);
     }
     if (j)
         fclose(j);
-    free(models[0].pack), free(models[1].pack);
-    psc_gltf_free(&asm_g);
-    psc_gltf_free(&bar_g);
+    for (unsigned k = 0; k < 3; k++) {
+        free(models[k].pack);
+        psc_gltf_free(&g[k]);
+    }
     return 0;
 }

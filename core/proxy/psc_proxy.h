@@ -27,9 +27,12 @@
  *    drawn from is Dr = Ds M1^-1 M2^-1 (psc_proxy_view_for_part); its three
  *    nearest views are blended with barycentric weights, the silhouette the
  *    blend's (PSC_SHADE_VIEWS, psc_raster.h);
- *  - each joint triangle is skinned and gets its own M3, the rotation that
- *    takes its rest frame to its posed one, hence its own direction and views
- *    (the seed's per-triangle joint rendering): joints stretch with the parts;
+ *  - each joint strip is skinned and drawn as one surface with its own M3,
+ *    the rotation of its bones' skin matrices weighted as its vertices weigh
+ *    on them, hence its own direction and views: joints stretch with the
+ *    parts (the seed gives each joint triangle its own M3; a strip of the
+ *    simplified mesh is a ring of a few triangles, and one draw a strip, not
+ *    one a triangle, is what makes a skinned character cheaper as proxies);
  *  - everything goes through the 3D pipeline: one z-buffer, tiles, culling,
  *    RGB565 or XRGB8888.
  *
@@ -55,7 +58,13 @@
  *   "XPIX"  proxy_triangle_count x 3 uint16, relative to the part's first
  *           proxy vertex
  *   "XPUV"  per part, per view, its proxy vertices' (u, v) uint16 pairs
- *   "XTEX"  part_count x view_count textures of tex_size^2 RGB565 texels
+ *   "XTEX"  the view textures, RGB565, one run of texels per part in part
+ *           order (the atlas: every proxy's texels in one section, none
+ *           shared): per view, its mip chain, level l of side tex >> l.
+ *           A pack with PSC_PROXY_ATLAS (1.2) gives each part its own side
+ *           and level count (in proportion to its size: one texel density
+ *           for the whole model; none for a part without a proxy); an older
+ *           one, tex_size^2 texels a view, one level, for every part
  *   "XNOD"  optional (1.1): joint_count int32, each joint's index in the
  *           glTF file's "nodes" array (-1: none), what a pose file's
  *           numbers mean
@@ -73,7 +82,7 @@
 
 #define PSC_PROXY_MAGIC "PSCPRXY\x1a"
 #define PSC_PROXY_VERSION_MAJOR 1u
-#define PSC_PROXY_VERSION_MINOR 1u   /* 1: the optional XNOD */
+#define PSC_PROXY_VERSION_MINOR 2u   /* 1: the optional XNOD; 2: per-part texture sizes and mips (PSC_PROXY_ATLAS) */
 #define PSC_PROXY_MAX_SECTIONS 16u
 #define PSC_PROXY_MAX_JOINTS 1024u
 #define PSC_PROXY_MAX_PARTS 4096u
@@ -84,6 +93,8 @@
 #define PSC_PROXY_MAX_FRAMES 65536u
 #define PSC_PROXY_PIECE_MAX_VERTICES 65535u   /* a part's full mesh and its proxy: uint16 indices */
 #define PSC_PROXY_TEX_MIN 8u
+#define PSC_PROXY_TEX_LEVEL_MIN 4u            /* a mip chain ends at 4 x 4 texels or before */
+#define PSC_PROXY_ATLAS 1u                    /* XINF flags: per-part texture sizes and mip levels (1.2) */
 #define PSC_PROXY_TEX_MAX 512u
 #define PSC_PROXY_POS_MAX_Q16 (64 * 65536)    /* |position| <= 64 R */
 #define PSC_PROXY_NO_JOINT 0xFFFFu
@@ -114,11 +125,12 @@ typedef struct {
     uint32_t vertex_count, triangle_count;             /* the full mesh */
     uint32_t proxy_vertex_count, proxy_triangle_count;
     uint32_t frame_count, frame_period_us;             /* the animation's samples and their spacing */
-    uint16_t view_side, tex_size;                      /* view_side^2 views of tex_size^2 texels each */
+    uint16_t view_side, tex_size;                      /* view_side^2 views; the largest view texture's side */
     uint32_t model_r_um;                               /* R in the model's units x 10^6 (information) */
     uint16_t bb_side, bb_tex;                          /* the billboard's views: bb_side^2 of bb_tex^2 (0: none) */
     int32_t bb_centre_q16[3], bb_radius_q16;           /* the sphere its views are fitted to */
-    uint8_t reserved[4];
+    uint8_t flags;                                     /* PSC_PROXY_ATLAS (1.2; 0 before) */
+    uint8_t reserved[3];
 } psc_proxy_info_raw_t;
 
 /** "XJNT" entry, 96 bytes: a node of the model's hierarchy. */
@@ -142,7 +154,10 @@ typedef struct {
     uint32_t first_proxy_triangle, proxy_triangle_count;
     int32_t centre_q16[3];         /* of the proxy's bounding sphere, at rest (no proxy: its piece's) */
     int32_t radius_q16;
-    uint32_t reserved;
+    uint16_t tex_size;             /* (PSC_PROXY_ATLAS) its view textures' side: 0 without a proxy, else a power of
+                                    * two PSC_PROXY_TEX_LEVEL_MIN..PSC_PROXY_TEX_MAX */
+    uint8_t tex_levels;            /* (PSC_PROXY_ATLAS) mip levels, 1.., the last at least 4 texels a side */
+    uint8_t reserved;
 } psc_proxy_part_raw_t;
 
 /** "XVSK" / "XPSK" entry, 16 bytes: up to four joints and their weights (unused: weight 0). */
@@ -173,6 +188,7 @@ typedef struct {
     const uint16_t *proxy_index;
     const uint16_t *proxy_uv;
     const uint16_t *texels;
+    bool atlas;                                        /* per-part sizes and levels (1.2), else tex_size and 1 */
     uint32_t bb_side, bb_view_count, bb_tex;           /* 0: no billboard */
     int32_t bb_centre_q16[3], bb_radius_q16;
     const int32_t *bb_axes_q16;                        /* per view: right[3], up[3] */
@@ -188,6 +204,13 @@ typedef struct {
  * read outside buf.
  */
 psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out, psc_container_error_t *err);
+
+/** Part i's view textures: their side (0: none), mip levels, and texels per view (the whole chain). */
+typedef struct {
+    uint32_t side, levels, chain;
+} psc_proxy_tex_t;
+
+psc_proxy_tex_t psc_proxy_part_tex(const psc_proxy_model_t *m, uint32_t i);
 
 /** The box of the full mesh at rest (what the orbit camera is centred on, for every pose). */
 void psc_proxy_rest_bounds(const psc_proxy_model_t *m, psc_vec3_q16_t *lo, psc_vec3_q16_t *hi);
@@ -215,16 +238,15 @@ typedef struct {
     const psc_proxy_model_t *m;
     int32_t *posed_q16;            /* skinned full-mesh positions (non-rigid pieces) */
     int32_t *proxy_posed_q16;      /* skinned proxy positions (non-rigid parts, joints) */
-    psc_mesh_t *meshes;            /* per part, then per joint triangle */
-    int32_t *tri_pos_q16;          /* joint triangles: 9 per triangle */
-    uint16_t *tri_uv;              /* joint triangles: 3 views x 3 vertices x 2 */
+    psc_mesh_t *meshes;            /* per part (and joint strip) */
     psc_texture_t *textures;       /* 3 per draw */
     psc_3d_draw_t *draws;
-    uint32_t joint_triangles, max_draws;
+    uint32_t max_draws;
     psc_tex_filter_t filter;       /* of the view textures: nearest (psc_proxy_init's; the bench's 1.7x over bilinear) */
     int32_t bb_pos_q16[12];        /* the billboard's corners this frame */
     uint16_t bb_uv[3][8];          /* and their coordinates in its three views */
     psc_proxy_lod_t lod;           /* psc_proxy_lod_pick's last choice */
+    int32_t focal_px_q16;          /* psc_proxy_lod_pick's focal length, for the mip levels (0: level 0 always) */
     int32_t full_px, billboard_px; /* its thresholds: the model's projected radius in pixels (init: 200, 40) */
 } psc_proxy_t;
 
@@ -243,9 +265,17 @@ psc_status_t psc_proxy_init(psc_proxy_t *p, const psc_proxy_model_t *m, void *ws
  * model's projected radius exceeds full_px, billboard below billboard_px,
  * proxies between; each threshold is crossed back only 10 % beyond it
  * (hysteresis), so a model at a threshold does not flicker. Without a
- * billboard the far level is the proxies.
+ * billboard the far level is the proxies. The focal length is kept for
+ * psc_proxy_frame's choice of mip levels.
  */
 psc_proxy_lod_t psc_proxy_lod_pick(psc_proxy_t *p, const psc_mat4_q16_t *camera_from_object, int32_t focal_px_q16);
+
+/** The focal length in pixels (Q16.16) of a camera `width` pixels wide with horizontal field of view hfov:
+ *  (width / 2) / tan(hfov / 2); 0 for a field outside (0, 180) degrees. */
+int32_t psc_proxy_focal_px_q16(uint32_t width, psc_bam_t hfov);
+
+/** The camera's focal length for psc_proxy_frame's mip levels (psc_proxy_lod_pick sets it too; 0: level 0). */
+void psc_proxy_set_focal(psc_proxy_t *p, int32_t focal_px_q16);
 
 /**
  * This frame's draws for the model posed by skin (joint_count matrices)

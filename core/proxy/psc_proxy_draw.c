@@ -8,7 +8,6 @@
 #include "proxy/psc_proxy_view.h"
 #include "base/psc_fixed.h"
 
-static const uint16_t tri012[3] = {0, 1, 2};
 static const uint16_t quad[6] = {0, 1, 2, 0, 2, 3};
 
 static bool rigid(const psc_proxy_part_raw_t *p)
@@ -18,22 +17,20 @@ static bool rigid(const psc_proxy_part_raw_t *p)
 
 /* Sizes of the workspace's pieces. */
 typedef struct {
-    uint64_t posed, proxy_posed, joint_triangles, draws;
+    uint64_t posed, proxy_posed, draws;
 } counts_t;
 
 static counts_t count(const psc_proxy_model_t *m)
 {
-    counts_t c = {0, 0, 0, 0};
+    counts_t c = {0, 0, 0};
     for (uint32_t i = 0; i < m->part_count; i++) {
         const psc_proxy_part_raw_t *p = &m->parts[i];
         if (!rigid(p)) {
             c.posed += p->vertex_count;
             c.proxy_posed += p->proxy_vertex_count;
         }
-        if (p->kind == PSC_PROXY_KIND_JOINT)
-            c.joint_triangles += p->proxy_triangle_count;
     }
-    c.draws = m->part_count + c.joint_triangles;
+    c.draws = m->part_count;
     return c;
 }
 
@@ -48,8 +45,7 @@ size_t psc_proxy_workspace_size(const psc_proxy_model_t *m)
         return 0;
     counts_t c = count(m);
     return align8((size_t)c.posed * 12u) + align8((size_t)c.proxy_posed * 12u) +
-           align8((size_t)c.draws * sizeof(psc_mesh_t)) + align8((size_t)c.joint_triangles * 36u) +
-           align8((size_t)c.joint_triangles * 36u) + align8((size_t)c.draws * 3u * sizeof(psc_texture_t)) +
+           align8((size_t)c.draws * sizeof(psc_mesh_t)) + align8((size_t)c.draws * 3u * sizeof(psc_texture_t)) +
            align8((size_t)c.draws * sizeof(psc_3d_draw_t));
 }
 
@@ -59,7 +55,7 @@ uint32_t psc_proxy_max_vertices(const psc_proxy_model_t *m)
     for (uint32_t i = 0; i < m->part_count; i++) {
         const psc_proxy_part_raw_t *p = &m->parts[i];
         full += p->vertex_count;
-        proxies += p->kind == PSC_PROXY_KIND_JOINT ? 3u * (uint64_t)p->proxy_triangle_count : p->proxy_vertex_count;
+        proxies += p->proxy_vertex_count;
     }
     uint64_t n = full > proxies ? full : proxies;
     return n > UINT32_MAX ? UINT32_MAX : (uint32_t)n;
@@ -81,14 +77,9 @@ psc_status_t psc_proxy_init(psc_proxy_t *p, const psc_proxy_model_t *m, void *ws
     w += align8((size_t)c.proxy_posed * 12u);
     p->meshes = (psc_mesh_t *)(void *)w;
     w += align8((size_t)c.draws * sizeof(psc_mesh_t));
-    p->tri_pos_q16 = (int32_t *)(void *)w;
-    w += align8((size_t)c.joint_triangles * 36u);
-    p->tri_uv = (uint16_t *)(void *)w;
-    w += align8((size_t)c.joint_triangles * 36u);
     p->textures = (psc_texture_t *)(void *)w;
     w += align8((size_t)c.draws * 3u * sizeof(psc_texture_t));
     p->draws = (psc_3d_draw_t *)(void *)w;
-    p->joint_triangles = (uint32_t)c.joint_triangles;
     p->filter = PSC_TEX_NEAREST;
     p->lod = PSC_PROXY_LOD_PROXIES;
     p->full_px = 200;
@@ -151,43 +142,41 @@ static void unit_q16(const int64_t v[3], int32_t out[3])
         out[a] = len ? (int32_t)psc_div_round64(s[a] * 65536, len) : 0;
 }
 
-/* The orthonormal frame (columns e1, e2, n; Q16.16) of triangle a, b, c. */
-static void tri_frame(const int32_t *a, const int32_t *b, const int32_t *c, int32_t f[3][3])
+/* M3 of a joint strip: the rotation its bones' skin matrices make, weighted as its vertices weigh on them (their
+ * linear parts summed, then made orthonormal: the first column's direction, the third at right angles to it and the
+ * second's). Q16.16 x Q0.15 summed in int64: at most 65 535 x 4 terms of 2^20 x 2^15. */
+static void strip_m3(const psc_mat4_q16_t *skin, const psc_proxy_skin_raw_t *sk, uint32_t n, psc_mat4_q16_t *m3)
 {
-    int64_t e[3], d[3], n[3], e2[3];
-    for (unsigned k = 0; k < 3; k++) {
-        e[k] = (int64_t)b[k] - a[k];
-        d[k] = (int64_t)c[k] - a[k];
-    }
-    n[0] = e[1] * d[2] - e[2] * d[1];
-    n[1] = e[2] * d[0] - e[0] * d[2];
-    n[2] = e[0] * d[1] - e[1] * d[0];
-    int32_t u[3], w[3];
-    unit_q16(e, u);
-    unit_q16(n, w);
-    e2[0] = (int64_t)w[1] * u[2] - (int64_t)w[2] * u[1];
-    e2[1] = (int64_t)w[2] * u[0] - (int64_t)w[0] * u[2];
-    e2[2] = (int64_t)w[0] * u[1] - (int64_t)w[1] * u[0];
-    int32_t v[3];
-    unit_q16(e2, v);
-    for (unsigned r = 0; r < 3; r++) {
-        f[r][0] = u[r];
-        f[r][1] = v[r];
-        f[r][2] = w[r];
-    }
-}
-
-/* M3 of a joint triangle: the rotation F_posed F_rest^T taking its rest frame to its posed one. */
-static void joint_m3(const int32_t *rest[3], const int32_t *posed[3], psc_mat4_q16_t *m3)
-{
-    int32_t fr[3][3], fp[3][3];
-    tri_frame(rest[0], rest[1], rest[2], fr);
-    tri_frame(posed[0], posed[1], posed[2], fp);
+    int64_t acc[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    for (uint32_t i = 0; i < n; i++)
+        for (unsigned k = 0; k < 4; k++) {
+            if (sk[i].weight_q15[k] == 0)
+                continue;
+            const psc_mat4_q16_t *s = &skin[sk[i].joint[k]];
+            for (unsigned r = 0; r < 3; r++)
+                for (unsigned c = 0; c < 3; c++)
+                    acc[r][c] += (int64_t)s->m[r][c] * sk[i].weight_q15[k];
+        }
+    int64_t c0[3] = {acc[0][0], acc[1][0], acc[2][0]}, c1[3] = {acc[0][1], acc[1][1], acc[2][1]}, x[3];
+    int32_t u[3], w[3], v[3];
     psc_mat4_identity(m3);
-    for (unsigned r = 0; r < 3; r++)
-        for (unsigned c = 0; c < 3; c++)
-            m3->m[r][c] = (int32_t)psc_shr_round64(
-                (int64_t)fp[r][0] * fr[c][0] + (int64_t)fp[r][1] * fr[c][1] + (int64_t)fp[r][2] * fr[c][2], 16);
+    unit_q16(c0, u);
+    if (u[0] == 0 && u[1] == 0 && u[2] == 0)
+        return;   /* no weight at all: the rest */
+    int64_t n1[3] = {c1[0] >> 16, c1[1] >> 16, c1[2] >> 16};   /* the cross product in range */
+    x[0] = u[1] * n1[2] - u[2] * n1[1];
+    x[1] = u[2] * n1[0] - u[0] * n1[2];
+    x[2] = u[0] * n1[1] - u[1] * n1[0];
+    unit_q16(x, w);
+    x[0] = (int64_t)w[1] * u[2] - (int64_t)w[2] * u[1];
+    x[1] = (int64_t)w[2] * u[0] - (int64_t)w[0] * u[2];
+    x[2] = (int64_t)w[0] * u[1] - (int64_t)w[1] * u[0];
+    unit_q16(x, v);
+    for (unsigned r = 0; r < 3; r++) {
+        m3->m[r][0] = u[r];
+        m3->m[r][1] = v[r];
+        m3->m[r][2] = w[r];
+    }
 }
 
 /* ---- views ------------------------------------------------------------------------- */
@@ -217,22 +206,53 @@ static void weights_q8(const psc_proxy_pick_t *pick, uint16_t w[3])
     w[0] = (uint16_t)w0, w[1] = (uint16_t)w1, w[2] = (uint16_t)(256 - w0 - w1);
 }
 
-/* Point draw d at the picked views of part `part`: textures, coordinates uv[k], weights in Q0.8 summing to 256. */
-static void set_views(const psc_proxy_model_t *m, psc_3d_draw_t *d, psc_texture_t *tex, uint32_t part,
+/* A part's view textures this frame: the first texel of its run, its sizes, and the mip level drawn. */
+typedef struct {
+    const uint16_t *texels;
+    psc_proxy_tex_t t;
+    uint32_t level;
+} part_tex_t;
+
+/* Point draw d at the picked views of a part: textures (its level's), coordinates uv[k], weights in Q0.8 summing to
+ * 256. */
+static void set_views(psc_3d_draw_t *d, psc_texture_t *tex, const part_tex_t *pt,
                       const psc_proxy_pick_t *pick, const uint16_t *const uv[3], psc_tex_filter_t filter)
 {
     uint16_t w[3];
     weights_q8(pick, w);
-    size_t texels = (size_t)m->tex_size * m->tex_size;
+    size_t before = 0;   /* the levels before the one drawn */
+    for (uint32_t l = 0; l < pt->level; l++)
+        before += (size_t)(pt->t.side >> l) * (pt->t.side >> l);
+    uint32_t side = pt->t.side >> pt->level;
     d->shade = PSC_SHADE_VIEWS;
     d->filter = filter;
     for (unsigned k = 0; k < 3; k++) {
-        const uint16_t *px = m->texels + ((size_t)part * m->view_count + pick->view[k]) * texels;
-        psc_texture_init(&tex[k], (uint16_t)m->tex_size, (uint16_t)m->tex_size, PSC_PIX_RGB565, m->tex_size * 2u, px);
+        const uint16_t *px = pt->texels + (size_t)pick->view[k] * pt->t.chain + before;
+        psc_texture_init(&tex[k], (uint16_t)side, (uint16_t)side, PSC_PIX_RGB565, side * 2u, px);
         d->view_tex[k] = &tex[k];
         d->view_w_q8[k] = w[k];
         d->view_uv_q16[k] = uv[k];
     }
+}
+
+/* The mip level for a part of radius r_q16 (units of R) whose centre lies z_q16 deep in front of a camera of focal
+ * length focal_px_q16: floor(log2(texels per pixel)), its views fitted to 2 x 1.02 r; 0 when any is unknown. */
+static uint32_t mip_level(const psc_proxy_tex_t *t, int64_t z_q16, int32_t r_q16, int32_t focal_px_q16)
+{
+    if (t->levels <= 1 || z_q16 <= 0 || r_q16 <= 0 || focal_px_q16 <= 0)
+        return 0;
+    /* texels per pixel = side z / (focal 2.04 r): compared as side z 100 against focal 204 r (int64: at most
+     * 2^9 x 2^22 x 100 and 2^31 x 204 x 2^22 / 2^16) */
+    int64_t num = (int64_t)t->side * (z_q16 < (INT64_C(1) << 22) ? z_q16 : (INT64_C(1) << 22)) * 100;
+    int64_t den = ((int64_t)focal_px_q16 * 204 * r_q16) >> 16;
+    uint32_t level = 0;
+    if (den <= 0)
+        return 0;
+    while (level + 1u < t->levels && num >= 2 * den) {
+        den *= 2;
+        level++;
+    }
+    return level;
 }
 
 static const uint16_t *part_uv(const psc_proxy_model_t *m, const psc_proxy_part_raw_t *pr, uint32_t view)
@@ -253,6 +273,23 @@ static void draw_base(psc_3d_draw_t *d, const psc_mesh_t *mesh, const psc_mat4_q
     }
 }
 
+int32_t psc_proxy_focal_px_q16(uint32_t width, psc_bam_t hfov)
+{
+    int32_t s30, c30;
+    if (hfov == 0 || hfov >= 0x80000000u || width > 65535u)
+        return 0;
+    psc_sincos(hfov / 2u, &s30, &c30);
+    if (s30 <= 0)
+        return 0;
+    int64_t f = psc_div_round64((int64_t)width * 32768 * c30, s30);
+    return f > INT32_MAX ? INT32_MAX : (int32_t)f;
+}
+
+void psc_proxy_set_focal(psc_proxy_t *p, int32_t focal_px_q16)
+{
+    p->focal_px_q16 = focal_px_q16 > 0 ? focal_px_q16 : 0;
+}
+
 psc_proxy_lod_t psc_proxy_lod_pick(psc_proxy_t *p, const psc_mat4_q16_t *cam, int32_t focal_px_q16)
 {
     /* the model's radius is 1.0 (units of R); its centre's depth is the camera translation's z */
@@ -271,6 +308,7 @@ psc_proxy_lod_t psc_proxy_lod_pick(psc_proxy_t *p, const psc_mat4_q16_t *cam, in
             l = PSC_PROXY_LOD_BILLBOARD;
     }
     p->lod = l;
+    p->focal_px_q16 = focal_px_q16;
     return l;
 }
 
@@ -332,7 +370,7 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
         return PSC_ERR_ARG;
     const psc_proxy_model_t *m = p->m;
     unsigned nd = 0;
-    uint32_t posed_at = 0, pposed_at = 0, tri_at = 0;
+    uint32_t posed_at = 0, pposed_at = 0;
     if (lod == PSC_PROXY_LOD_BILLBOARD && m->bb_side != 0) {
         *draws = p->draws;
         *n = billboard(p, cam, ids);
@@ -340,11 +378,14 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
     }
     if (lod == PSC_PROXY_LOD_BILLBOARD)
         lod = PSC_PROXY_LOD_PROXIES;
+    const uint16_t *texels = m->texels;   /* part i's run of the atlas */
     for (uint32_t i = 0; i < m->part_count; i++) {
         const psc_proxy_part_raw_t *pr = &m->parts[i];
         const psc_mat4_q16_t *js = &skin[pr->joint];
         psc_mat4_q16_t cam_part;
         psc_mat4_mul(&cam_part, cam, js);
+        part_tex_t pt = {texels, psc_proxy_part_tex(m, i), 0};
+        texels += (size_t)pt.t.chain * m->view_count;
         if (lod == PSC_PROXY_LOD_FULL) {
             if (pr->triangle_count == 0)
                 continue;
@@ -377,6 +418,15 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
             pposed_at += pr->proxy_vertex_count;
         }
         const uint16_t *idx = m->proxy_index + 3u * (size_t)pr->first_proxy_triangle;
+        {   /* the mip level, by the depth of its posed centre */
+            int64_t c[3], e[3];
+            int32_t cc[3];
+            apply(js, pr->centre_q16, c);
+            for (unsigned a = 0; a < 3; a++)
+                cc[a] = (int32_t)c[a];
+            apply(cam, cc, e);
+            pt.level = mip_level(&pt.t, e[2], pr->radius_q16, p->focal_px_q16);
+        }
         if (pr->kind == PSC_PROXY_KIND_PART) {
             psc_mesh_t *mesh = &p->meshes[nd];
             *mesh = (psc_mesh_t){.vertex_count = pr->proxy_vertex_count, .triangle_count = pr->proxy_triangle_count,
@@ -393,44 +443,32 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
             pick_views(m->view_side, cc, cam, js, &pick);
             const uint16_t *const uv[3] = {part_uv(m, pr, pick.view[0]), part_uv(m, pr, pick.view[1]),
                                            part_uv(m, pr, pick.view[2])};
-            set_views(m, d, &p->textures[3u * nd], i, &pick, uv, p->filter);
+            set_views(d, &p->textures[3u * nd], &pt, &pick, uv, p->filter);
             nd++;
             continue;
         }
-        /* a joint: every triangle its own draw, M3 and views */
-        for (uint32_t t = 0; t < pr->proxy_triangle_count; t++, tri_at++) {
-            const int32_t *r3[3], *p3[3];
-            int32_t *tp = p->tri_pos_q16 + 9u * (size_t)tri_at;
-            for (unsigned k = 0; k < 3; k++) {
-                r3[k] = rest + 3u * idx[3u * t + k];
-                p3[k] = pos + 3u * idx[3u * t + k];
-                for (unsigned a = 0; a < 3; a++)
-                    tp[3u * k + a] = p3[k][a];
-            }
-            psc_mat4_q16_t m3;
-            joint_m3(r3, p3, &m3);
-            int32_t cc[3];
+        /* a joint strip: one draw, its M3 the rotation of its bones (the seed gives each joint triangle its own;
+         * a strip cut from the simplified mesh is a ring of a few triangles between two parts) */
+        psc_mat4_q16_t m3;
+        strip_m3(skin, m->proxy_skin + pr->first_proxy_vertex, pr->proxy_vertex_count, &m3);
+        int64_t sum[3] = {0, 0, 0};
+        int32_t cc[3];
+        for (uint32_t v = 0; v < pr->proxy_vertex_count; v++)
             for (unsigned a = 0; a < 3; a++)
-                cc[a] = (int32_t)(((int64_t)p3[0][a] + p3[1][a] + p3[2][a]) / 3);
-            psc_proxy_pick_t pick;
-            pick_views(m->view_side, cc, cam, &m3, &pick);
-            uint16_t *tuv = p->tri_uv + 18u * (size_t)tri_at;
-            const uint16_t *uv[3];
-            for (unsigned k = 0; k < 3; k++) {
-                const uint16_t *src = part_uv(m, pr, pick.view[k]);
-                for (unsigned v = 0; v < 3; v++) {
-                    tuv[6u * k + 2u * v] = src[2u * idx[3u * t + v]];
-                    tuv[6u * k + 2u * v + 1u] = src[2u * idx[3u * t + v] + 1u];
-                }
-                uv[k] = tuv + 6u * k;
-            }
-            psc_mesh_t *mesh = &p->meshes[nd];
-            *mesh = (psc_mesh_t){.vertex_count = 3, .triangle_count = 1, .position_q16 = tp, .index = tri012};
-            psc_3d_draw_t *d = &p->draws[nd];
-            draw_base(d, mesh, cam, ids, i);
-            set_views(m, d, &p->textures[3u * nd], i, &pick, uv, p->filter);
-            nd++;
-        }
+                sum[a] += pos[3u * v + a];
+        for (unsigned a = 0; a < 3; a++)
+            cc[a] = (int32_t)(sum[a] / (int64_t)pr->proxy_vertex_count);
+        psc_proxy_pick_t pick;
+        pick_views(m->view_side, cc, cam, &m3, &pick);
+        const uint16_t *const uv[3] = {part_uv(m, pr, pick.view[0]), part_uv(m, pr, pick.view[1]),
+                                       part_uv(m, pr, pick.view[2])};
+        psc_mesh_t *mesh = &p->meshes[nd];
+        *mesh = (psc_mesh_t){.vertex_count = pr->proxy_vertex_count, .triangle_count = pr->proxy_triangle_count,
+                             .position_q16 = pos, .index = idx};
+        psc_3d_draw_t *d = &p->draws[nd];
+        draw_base(d, mesh, cam, ids, i);
+        set_views(d, &p->textures[3u * nd], &pt, &pick, uv, p->filter);
+        nd++;
     }
     *draws = p->draws;
     *n = nd;

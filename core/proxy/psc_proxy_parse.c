@@ -82,6 +82,39 @@ static psc_status_t check_parts(const psc_proxy_model_t *m, uint32_t at, psc_con
     return PSC_OK;
 }
 
+psc_proxy_tex_t psc_proxy_part_tex(const psc_proxy_model_t *m, uint32_t i)
+{
+    psc_proxy_tex_t t = {m->tex_size, 1, m->tex_size * m->tex_size};
+    if (!m->atlas)
+        return t;
+    t.side = m->parts[i].tex_size;
+    t.levels = m->parts[i].tex_levels;
+    t.chain = 0;
+    for (uint32_t l = 0; l < t.levels; l++)
+        t.chain += (t.side >> l) * (t.side >> l);
+    return t;
+}
+
+/* (1.2) Each part's texture side and levels within their limits (none exactly where there is no proxy), and the
+ * parts' texels, one run after another, exactly XTEX's bytes. */
+static psc_status_t check_atlas(const psc_proxy_model_t *m, uint32_t at, uint64_t tex_bytes, psc_container_error_t *err)
+{
+    uint64_t texels = 0;
+    for (uint32_t i = 0; i < m->part_count && m->atlas; i++, at += (uint32_t)sizeof(psc_proxy_part_raw_t)) {
+        const psc_proxy_part_raw_t *p = &m->parts[i];
+        uint32_t side = p->tex_size, levels = p->tex_levels;
+        bool none = p->proxy_triangle_count == 0;
+        if (none ? side != 0 || levels != 0
+                 : side < PSC_PROXY_TEX_LEVEL_MIN || side > m->tex_size || (side & (side - 1u)) != 0 || levels == 0 ||
+                       (side >> (levels - 1u)) < PSC_PROXY_TEX_LEVEL_MIN)
+            return fail(err, PSC_ERR_CORRUPT, "a part's view textures have a side or mip levels out of range", at + 48);
+        texels += (uint64_t)psc_proxy_part_tex(m, i).chain * m->view_count;
+    }
+    if (m->atlas && texels * 2u != tex_bytes)
+        return fail(err, PSC_ERR_CORRUPT, "XTEX's size is not its parts' view textures'", at);
+    return PSC_OK;
+}
+
 psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out, psc_container_error_t *err)
 {
     psc_container_t c;
@@ -120,13 +153,19 @@ psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out
         m.proxy_triangle_count > PSC_PROXY_MAX_PROXY_TRIANGLES || m.frame_count > PSC_PROXY_MAX_FRAMES ||
         (m.frame_count > 0 && (m.frame_period_us == 0 || m.frame_period_us > 10000000u)))
         return fail(err, PSC_ERR_TOO_LARGE, "a count is zero or beyond its limit", f[S_INFO].offset);
+    if ((info->flags & ~PSC_PROXY_ATLAS) != 0)
+        return fail(err, PSC_ERR_UNSUPPORTED, "XINF names a feature this build does not know (a newer pack?)",
+                    f[S_INFO].offset + 60);
+    m.atlas = (info->flags & PSC_PROXY_ATLAS) != 0;
     if (m.view_side < PSC_PROXY_VIEW_SIDE_MIN || m.view_side > PSC_PROXY_VIEW_SIDE_MAX ||
-        m.tex_size < PSC_PROXY_TEX_MIN || m.tex_size > PSC_PROXY_TEX_MAX || (m.tex_size & (m.tex_size - 1u)) != 0)
+        m.tex_size < (m.atlas ? PSC_PROXY_TEX_LEVEL_MIN : PSC_PROXY_TEX_MIN) || m.tex_size > PSC_PROXY_TEX_MAX ||
+        (m.tex_size & (m.tex_size - 1u)) != 0)
         return fail(err, PSC_ERR_TOO_LARGE, "the view grid or texture size is outside its limits",
                     f[S_INFO].offset + 32);
     m.view_count = m.view_side * m.view_side;
     uint64_t uv_size = (uint64_t)m.proxy_vertex_count * m.view_count * 4u;
-    uint64_t tex_size = (uint64_t)m.part_count * m.view_count * m.tex_size * m.tex_size * 2u;
+    /* an atlas's size is the sum of its parts' (checked with them, below) */
+    uint64_t tex_size = m.atlas ? f[S_TEX].size : (uint64_t)m.part_count * m.view_count * m.tex_size * m.tex_size * 2u;
     uint64_t anim_size = (uint64_t)m.frame_count * m.joint_count * 48u;
     if (f[S_JOINTS].size != (uint64_t)m.joint_count * sizeof(psc_proxy_joint_raw_t) ||
         (present[S_ANIM] ? f[S_ANIM].size : 0u) != anim_size ||
@@ -202,7 +241,8 @@ psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out
     if (!skin_ok(m.skin, m.vertex_count, m.joint_count) || !skin_ok(m.proxy_skin, m.proxy_vertex_count, m.joint_count))
         return fail(err, PSC_ERR_CORRUPT, "a skin weight names a missing joint, or the weights do not sum to 1",
                     f[S_VSKIN].offset);
-    if ((st = check_parts(&m, f[S_PARTS].offset, err)) != PSC_OK)
+    if ((st = check_parts(&m, f[S_PARTS].offset, err)) != PSC_OK ||
+        (st = check_atlas(&m, f[S_PARTS].offset, f[S_TEX].size, err)) != PSC_OK)
         return st;
     *out = m;
     return PSC_OK;

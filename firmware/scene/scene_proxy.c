@@ -78,13 +78,10 @@ psc_status_t psc_scene_proxy_draw(const psc_proxy_model_t *m, uint64_t t_us, con
     if ((s = psc_3d_orbit(st->lo, st->hi, view->yaw, view->pitch, PSC_PROXY_SCENE_ORBIT_DIST_Q16, &cam, &c.near_q16,
                           &c.far_q16)) != PSC_OK)
         return s;
-    /* focal length in pixels: (width / 2) / tan(hfov / 2) */
-    int32_t s30, c30;
-    psc_sincos(view->hfov / 2u, &s30, &c30);
-    if (s30 <= 0)
+    int32_t focal = psc_proxy_focal_px_q16(out->width, view->hfov);
+    if (focal <= 0)
         return PSC_ERR_ARG;
-    psc_proxy_lod_t lod =
-        psc_proxy_lod_pick(&st->p, &cam, (int32_t)psc_div_round64((int64_t)out->width * 32768 * c30, s30));
+    psc_proxy_lod_t lod = psc_proxy_lod_pick(&st->p, &cam, focal);
     psc_proxy_pose_at(m, (int64_t)(t_us & INT64_MAX), skin);
     psc_3d_t r;
     size_t used = head + skin_bytes + prx;

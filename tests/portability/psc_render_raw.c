@@ -306,6 +306,7 @@ static int render_proxy(const void *buf, size_t len, FILE *out, char **specs, in
     }
     psc_vec3_q16_t lo, hi;
     psc_proxy_rest_bounds(&m, &lo, &hi);
+    psc_proxy_set_focal(&p, psc_proxy_focal_px_q16(PATCH_W, cfg.hfov));   /* the mip levels too */
     rc = 0;
     for (int i = 0; i < count && rc == 0; i++) {
         char fmt[16];

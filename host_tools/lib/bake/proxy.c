@@ -501,6 +501,97 @@ oom:
     return psc_io_errorf(err, errlen, name, "out of memory");
 }
 
+/* ---- texel density -------------------------------------------------------------------------------- */
+
+/* How many texels a proxy's view textures want across at `density` texels per R: its views span 2.04 radius. */
+static double tex_want(const psc_proxy_shape_t *s, double density)
+{
+    return s->prx_triangles ? 2.04 * s->radius * density : 0;
+}
+
+/* The largest power of two at most `want`, PSC_PROXY_TEX_MIN..max_side; 0 without a proxy. */
+static unsigned tex_floor(double want, unsigned max_side)
+{
+    if (want <= 0)
+        return 0;
+    unsigned side = PSC_PROXY_TEX_MIN;
+    while (side < max_side && want >= 2.0 * side)
+        side *= 2u;
+    return side;
+}
+
+/* A side's mip levels (down to PSC_PROXY_TEX_LEVEL_MIN) and the texels of its chain. */
+static unsigned tex_levels(unsigned side, size_t *chain)
+{
+    unsigned levels = 0;
+    *chain = 0;
+    for (unsigned s = side; s >= PSC_PROXY_TEX_LEVEL_MIN; s /= 2u) {
+        *chain += (size_t)s * s;
+        levels++;
+    }
+    return levels;
+}
+
+static double tex_cost(unsigned side, unsigned views)
+{
+    size_t chain;
+    tex_levels(side, &chain);
+    return 2.0 * views * chain;
+}
+
+static const double *want_key;
+
+static int by_want(const void *a, const void *b)
+{
+    double x = want_key[*(const uint32_t *)a], y = want_key[*(const uint32_t *)b];
+    return x > y ? -1 : x < y;
+}
+
+/* One texel density for the whole model, each proxy's texels in proportion to its size: the highest (at most
+ * PSC_BAKE_PROXY_DENSITY) whose sides, rounded down to powers of two, fit the budget; then the proxies furthest
+ * below it doubled, most wanting first, while the budget allows (a side is a power of two, so densities step by 2:
+ * this spends what the rounding left). sides: n entries. Returns the density. */
+static double pick_sides(const psc_proxy_shape_t *shapes, uint32_t n, unsigned views, double budget, unsigned max_side,
+                         unsigned *sides)
+{
+    double lo = 1, hi = PSC_BAKE_PROXY_DENSITY, bytes = 0;
+    for (int i = 0; i < 48; i++) {
+        double d = i == 0 ? hi : sqrt(lo * hi), b = 0;
+        for (uint32_t k = 0; k < n; k++)
+            b += tex_cost(tex_floor(tex_want(&shapes[k], d), max_side), views);
+        if (b <= budget)
+            lo = d;
+        else
+            hi = d;
+        if (i == 0 && b <= budget)
+            break;
+    }
+    double *ratio = malloc((n + 1u) * sizeof *ratio);
+    uint32_t *order = malloc((n + 1u) * sizeof *order);
+    for (uint32_t k = 0; k < n; k++) {
+        sides[k] = tex_floor(tex_want(&shapes[k], lo), max_side);
+        bytes += tex_cost(sides[k], views);
+        if (ratio && order) {
+            ratio[k] = sides[k] ? tex_want(&shapes[k], lo) / sides[k] : 0;
+            order[k] = k;
+        }
+    }
+    if (ratio && order) {
+        want_key = ratio;
+        qsort(order, n, sizeof *order, by_want);
+        for (uint32_t i = 0; i < n; i++) {
+            uint32_t k = order[i];
+            double more = tex_cost(2u * sides[k], views) - tex_cost(sides[k], views);
+            if (sides[k] && 2u * sides[k] <= max_side && ratio[k] > 1.0 && bytes + more <= budget) {
+                sides[k] *= 2u;
+                bytes += more;
+            }
+        }
+    }
+    free(ratio), free(order);
+    return lo;
+}
+
 /* A 3x4 model-space matrix in units of R from the centre: S'(x) = (S(x R + c) - c) / R. */
 static void mat_to_r(const double s[12], const double c[3], double r, bool point_map, int32_t out[12])
 {
@@ -543,6 +634,8 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     uint32_t *sidx = NULL, snt = 0, *tri_group = malloc((g->mesh.triangle_count + 1u) * sizeof *tri_group), *sreg = NULL;
     double serr = 0;
     uint32_t *shape_group = NULL, *seen = NULL;
+    unsigned max_side = 0, sides_lo = UINT32_MAX, *sides = NULL;
+    double density = 0;
     double *bulge = NULL;
     uint8_t *near = NULL;
     const psc_proxy_shape_t **near_shapes = NULL;
@@ -608,14 +701,34 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
         psc_io_errorf(err, errlen, name, "out of memory");
         goto done;
     }
+    double budget = (o->tex_mb > 0 ? o->tex_mb : PSC_BAKE_PROXY_TEX_MB) * 1048576.0;
+    if (!(sides = malloc((nshapes + 1u) * sizeof *sides))) {
+        psc_io_errorf(err, errlen, name, "out of memory");
+        goto done;
+    }
+    density = pick_sides(shapes, nshapes, side * side, budget, o->tex, sides);
     for (uint32_t k = 0; k < nshapes; k++) {
-        unsigned nn = 0;
+        unsigned nn = 0, ts = sides[k];
+        size_t chain;
+        unsigned levels = tex_levels(ts, &chain);
+        psc_proxy_part_raw_t *pr = &((psc_proxy_part_raw_t *)(void *)pk.parts.p)[k];
+        pr->tex_size = (uint16_t)ts;
+        pr->tex_levels = (uint8_t)levels;
+        max_side = ts > max_side ? ts : max_side;
+        sides_lo = ts && ts < sides_lo ? ts : sides_lo;
         for (uint32_t q = 0; q < nshapes; q++)
             if (q == k || near[(size_t)shape_group[k] * ng + shape_group[q]])
                 near_shapes[nn++] = &shapes[q];
         uint16_t *uv = buf_add(&pk.puv, (size_t)shapes[k].prx_vertices * side * side * 4u);
-        uint16_t *tx = buf_add(&pk.tex, (size_t)side * side * o->tex * o->tex * 2u);
-        if (!uv || !tx || psc_bake_proxy_views(&shapes[k], near_shapes, nn, side, o->tex, tx, uv) != 0) {
+        uint16_t *tx = buf_add(&pk.tex, (size_t)side * side * chain * 2u);
+        uint16_t *level0 = malloc(((size_t)side * side * ts * ts + 1u) * sizeof *level0);
+        int rv = !uv || (chain && !tx) || !level0 ? -1 : 0;
+        if (rv == 0 && ts > 0)
+            rv = psc_bake_proxy_views(&shapes[k], near_shapes, nn, side, ts, level0, uv);
+        for (unsigned v = 0; rv == 0 && v < side * side && ts > 0; v++)
+            psc_bake_proxy_mips(level0 + (size_t)v * ts * ts, ts, levels, tx + (size_t)v * chain);
+        free(level0);
+        if (rv != 0) {
             psc_io_errorf(err, errlen, name, "out of memory");
             goto done;
         }
@@ -669,7 +782,8 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     info.frame_count = frames;
     info.frame_period_us = period_us;
     info.view_side = (uint16_t)side;
-    info.tex_size = (uint16_t)o->tex;
+    info.tex_size = (uint16_t)(max_side ? max_side : PSC_PROXY_TEX_LEVEL_MIN);
+    info.flags = PSC_PROXY_ATLAS;
     info.model_r_um = r * 1e6 < 4e9 ? (uint32_t)lround(r * 1e6) : UINT32_MAX;
     info.bb_side = (uint16_t)bbs;
     info.bb_tex = (uint16_t)bbt;
@@ -708,11 +822,12 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     for (uint32_t k = 0; k < pk.nparts; k++)
         nparts_only += ((const psc_proxy_part_raw_t *)(const void *)pk.parts.p)[k].kind == PSC_PROXY_KIND_PART;
     snprintf(note, notelen,
-             "%u parts and %u joints, %u proxy triangles for %u%s; %u views of %ux%u (%.1f MB of RGB565 textures); "
-             "%u animation samples",
+             "%u parts and %u joints, %u proxy triangles for %u%s; %u views, %.0f texels per R (%ux%u to %ux%u, "
+             "with mips: %.1f MB of RGB565 textures); %u animation samples",
              nparts_only, pk.nparts - nparts_only, pk.ptriangles, pk.triangles,
              psc_bake_simplify_available() ? "" : " (built without libmeshoptimizer: not simplified)", side * side,
-             o->tex, o->tex, pk.tex.n / 1048576.0, frames);
+             density, sides_lo == UINT32_MAX ? 0 : sides_lo, sides_lo == UINT32_MAX ? 0 : sides_lo, max_side, max_side,
+             pk.tex.n / 1048576.0, frames);
     rc = 0;
 done:
     for (uint32_t k = 0; k < nshapes; k++)
@@ -721,7 +836,7 @@ done:
     for (uint32_t k = 0; k < ng; k++)
         group_free(&gr[k]);
     free(gr);
-    free(sidx), free(sreg), free(tri_group), free(shape_group), free(near), free(near_shapes), free(bulge), free(seen);
+    free(sidx), free(sreg), free(tri_group), free(shape_group), free(near), free(near_shapes), free(bulge), free(seen), free(sides);
     pack_free(&pk);
     free(map), free(joints), free(nodes), free(anim), free(local), free(m12), free(bb_axes), free(bb_tex);
     return rc;

@@ -40,7 +40,9 @@
 #include "import/gltf_model.h"
 
 #define PSC_BAKE_PROXY_VIEWS 49u     /* a 7 x 7 grid */
-#define PSC_BAKE_PROXY_TEX 64u
+#define PSC_BAKE_PROXY_TEX 256u     /* the largest view texture's side */
+#define PSC_BAKE_PROXY_TEX_MB 12.0  /* the view textures' budget, mips included */
+#define PSC_BAKE_PROXY_DENSITY 256.0 /* texels per R at most: proxies are drawn while R is under 200 pixels */
 #define PSC_BAKE_PROXY_FPS 30.0
 #define PSC_BAKE_PROXY_BB_SIDE 5u    /* the billboard: 5 x 5 views ... */
 #define PSC_BAKE_PROXY_BB_TEX 32u    /* ... of 32 x 32 texels (50 KB) */
@@ -50,8 +52,9 @@
 
 typedef struct {
     unsigned views;                  /* at least this many: the grid side is the smallest odd one that gives them */
-    unsigned tex;                    /* texels per side of a view texture, a power of two */
+    unsigned tex;                    /* the largest view texture's side, a power of two */
     double simplify;                 /* the largest share of the model's triangles the proxies keep (0: the default) */
+    double tex_mb;                   /* the view textures' budget in MB (0: the default) */
 } psc_bake_proxy_opts_t;
 
 /* The default lighting of proxy and full renders alike: base x (0.45 + 0.55 max(0, n.L)), L = normalize(0.4, 0.8,
@@ -87,6 +90,10 @@ typedef struct {
  *  surface lies within s->reach of s's proxy; elsewhere the texels stay empty. 0, or -1 out of memory. */
 int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *const *near, unsigned n_near,
                          unsigned side, unsigned tex, uint16_t *texels, uint16_t *uv);
+
+/** A view texture's mip chain: level 0 (side^2 texels) copied, then each level the 2 x 2 reduction of the one
+ *  before (a texel covered where two of its four are, their mean colour), `levels` in all, into chain. */
+void psc_bake_proxy_mips(const uint16_t *level0, unsigned side, unsigned levels, uint16_t *chain);
 
 /** The billboard (the far level of detail): every shape drawn, at rest, into side x side views of tex^2 fitted to
  *  the sphere (centre, radius); axes_q16 receives each view's right and up (Q16.16). 0, or -1 out of memory. */

@@ -238,3 +238,36 @@ int psc_bake_proxy_billboard(const psc_proxy_shape_t *shapes, unsigned n, const 
     free(depth), free(hi);
     return 0;
 }
+
+void psc_bake_proxy_mips(const uint16_t *level0, unsigned side, unsigned levels, uint16_t *chain)
+{
+    memcpy(chain, level0, (size_t)side * side * sizeof *chain);
+    const uint16_t *src = chain;
+    uint16_t *dst = chain + (size_t)side * side;
+    for (unsigned l = 1; l < levels; l++, side /= 2u) {
+        unsigned half = side / 2u;
+        for (unsigned y = 0; y < half; y++)
+            for (unsigned x = 0; x < half; x++) {
+                unsigned count = 0, acc[3] = {0, 0, 0};
+                for (unsigned k = 0; k < 4; k++) {
+                    uint16_t c = src[(size_t)(2u * y + k / 2u) * side + 2u * x + k % 2u];
+                    if (c == PSC_VIEW_TEXEL_EMPTY)
+                        continue;
+                    uint32_t xr = psc_rgb565_to_xrgb(c);
+                    acc[0] += xr >> 16 & 255u, acc[1] += xr >> 8 & 255u, acc[2] += xr & 255u;
+                    count++;
+                }
+                uint16_t t = PSC_VIEW_TEXEL_EMPTY;
+                if (count >= 2u) {   /* covered when half its texels are: the coverage rule of the views' blend */
+                    uint32_t c = (acc[0] + count / 2) / count << 16 | (acc[1] + count / 2) / count << 8 |
+                                 (acc[2] + count / 2) / count;
+                    t = psc_xrgb_to_rgb565(c);
+                    if (t == PSC_VIEW_TEXEL_EMPTY)
+                        t = 0x0020u;
+                }
+                dst[(size_t)y * half + x] = t;
+            }
+        src = dst;
+        dst += (size_t)half * half;
+    }
+}

@@ -290,10 +290,11 @@ int psc_render_proxy_main(const char *prog, int argc, char **argv)
         goto done;
     }
     psc_proxy_lod_t lod = (psc_proxy_lod_t)a.lod;
-    if (a.lod < 0) {   /* auto: the focal length in pixels, (W / 2) / tan(hfov / 2) */
-        double f = vw->width / 2.0 / tan(vw->hfov * 3.14159265358979 / 360.0);
-        lod = psc_proxy_lod_pick(&px, &cam, (int32_t)lround(f * 65536.0));
-    }
+    /* the focal length in pixels, (W / 2) / tan(hfov / 2): the mip levels, and the level of detail for auto */
+    int32_t focal = (int32_t)lround(vw->width / 2.0 / tan(vw->hfov * 3.14159265358979 / 360.0) * 65536.0);
+    psc_proxy_set_focal(&px, focal);
+    if (a.lod < 0)
+        lod = psc_proxy_lod_pick(&px, &cam, focal);
     double total = 0, best = 1e30;
     psc_3d_stats_t st = {0};
     for (unsigned long k = 0; k < vw->repeat; k++) {
