@@ -116,30 +116,32 @@ static bool may_show(const psc_proxy_shape_t *b, const ortho_t *o)
  * thinner than a texel, a rod or an antenna, keeps a line of texels), its colour their mean. */
 #define SS 4u
 
+/* The k x k texels from p (rows `stride` apart) as one: covered when at least `need` are, their mean colour (content
+ * black kept apart from empty). */
+static uint16_t block_mean(const uint16_t *p, size_t stride, unsigned k, unsigned need)
+{
+    unsigned count = 0, acc[3] = {0, 0, 0};
+    for (unsigned j = 0; j < k; j++)
+        for (unsigned i = 0; i < k; i++) {
+            uint16_t c = p[j * stride + i];
+            if (c == PSC_VIEW_TEXEL_EMPTY)
+                continue;
+            uint32_t xr = psc_rgb565_to_xrgb(c);
+            acc[0] += xr >> 16 & 255u, acc[1] += xr >> 8 & 255u, acc[2] += xr & 255u;
+            count++;
+        }
+    if (count == 0 || count < need)
+        return PSC_VIEW_TEXEL_EMPTY;
+    uint32_t c = (acc[0] + count / 2) / count << 16 | (acc[1] + count / 2) / count << 8 | (acc[2] + count / 2) / count;
+    uint16_t t = psc_xrgb_to_rgb565(c);
+    return t == PSC_VIEW_TEXEL_EMPTY ? 0x0020u : t;
+}
+
 static void downsample(const uint16_t *hi, unsigned n, uint16_t *out)
 {
     for (unsigned y = 0; y < n; y++)
-        for (unsigned x = 0; x < n; x++) {
-            unsigned count = 0, acc[3] = {0, 0, 0};
-            for (unsigned j = 0; j < SS; j++)
-                for (unsigned i = 0; i < SS; i++) {
-                    uint16_t c = hi[(size_t)(y * SS + j) * n * SS + x * SS + i];
-                    if (c == PSC_VIEW_TEXEL_EMPTY)
-                        continue;
-                    uint32_t xr = psc_rgb565_to_xrgb(c);
-                    acc[0] += xr >> 16 & 255u, acc[1] += xr >> 8 & 255u, acc[2] += xr & 255u;
-                    count++;
-                }
-            uint16_t t = PSC_VIEW_TEXEL_EMPTY;
-            if (count * 4u >= SS * SS) {
-                uint32_t c = (acc[0] + count / 2) / count << 16 | (acc[1] + count / 2) / count << 8 |
-                             (acc[2] + count / 2) / count;
-                t = psc_xrgb_to_rgb565(c);
-                if (t == PSC_VIEW_TEXEL_EMPTY)
-                    t = 0x0020u;
-            }
-            out[(size_t)y * n + x] = t;
-        }
+        for (unsigned x = 0; x < n; x++)
+            out[(size_t)y * n + x] = block_mean(hi + (size_t)y * SS * n * SS + x * SS, (size_t)n * SS, SS, SS * SS / 4u);
 }
 
 /* The view into hi (SS n x SS n samples), then into texels (n x n): the shapes given (s and its neighbours) at rest,
@@ -246,27 +248,10 @@ void psc_bake_proxy_mips(const uint16_t *level0, unsigned side, unsigned levels,
     uint16_t *dst = chain + (size_t)side * side;
     for (unsigned l = 1; l < levels; l++, side /= 2u) {
         unsigned half = side / 2u;
+        /* covered when half its texels are: the coverage rule of the views' blend */
         for (unsigned y = 0; y < half; y++)
-            for (unsigned x = 0; x < half; x++) {
-                unsigned count = 0, acc[3] = {0, 0, 0};
-                for (unsigned k = 0; k < 4; k++) {
-                    uint16_t c = src[(size_t)(2u * y + k / 2u) * side + 2u * x + k % 2u];
-                    if (c == PSC_VIEW_TEXEL_EMPTY)
-                        continue;
-                    uint32_t xr = psc_rgb565_to_xrgb(c);
-                    acc[0] += xr >> 16 & 255u, acc[1] += xr >> 8 & 255u, acc[2] += xr & 255u;
-                    count++;
-                }
-                uint16_t t = PSC_VIEW_TEXEL_EMPTY;
-                if (count >= 2u) {   /* covered when half its texels are: the coverage rule of the views' blend */
-                    uint32_t c = (acc[0] + count / 2) / count << 16 | (acc[1] + count / 2) / count << 8 |
-                                 (acc[2] + count / 2) / count;
-                    t = psc_xrgb_to_rgb565(c);
-                    if (t == PSC_VIEW_TEXEL_EMPTY)
-                        t = 0x0020u;
-                }
-                dst[(size_t)y * half + x] = t;
-            }
+            for (unsigned x = 0; x < half; x++)
+                dst[(size_t)y * half + x] = block_mean(src + (size_t)2u * y * side + 2u * x, side, 2u, 2u);
         src = dst;
         dst += (size_t)half * half;
     }
