@@ -25,7 +25,8 @@
  *    octahedral grid, the proxy's piece and its neighbours' (the pieces it
  *    touches) drawn orthographically, lit at rest, fitted to the proxy's
  *    bounding sphere, kept where their surface lies within reach of the
- *    proxy's front (4 times the simplification's error): the surface under
+ *    proxy's front (4 times the simplification's error in front of it, 4
+ *    times that behind it, in a hollow the proxy spans): the surface under
  *    the proxy wherever it spans, nothing of another part in front of it,
  *    and the rest of the model not drawn at all (at rest an arm hides the
  *    side of the chest that a raised arm shows). The proxy's vertices

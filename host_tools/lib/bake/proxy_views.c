@@ -112,6 +112,8 @@ static bool may_show(const psc_proxy_shape_t *b, const ortho_t *o)
     return u + rr > 0 && u - rr < 1 && v + rr > 0 && v - rr < 1 && z - rr < 1;
 }
 
+#define BEHIND 4.0   /* how much further behind the proxy than in front of it its surface may lie (times its reach) */
+
 /* Views are drawn at SS x SS samples a texel: a texel is non-empty when a quarter of its samples are (so a feature
  * thinner than a texel, a rod or an antenna, keeps a line of texels), its colour their mean. */
 #define SS 4u
@@ -164,10 +166,13 @@ static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *con
         if (may_show(all[k], o))
             draw_shape(all[k], o, &t);
     draw_tris((const double(*)[3])s->prx_pos, NULL, s->prx_index, s->prx_triangles, o, &pt);
+    /* in front of the proxy by more than its reach: a neighbour hiding it, left out; behind it, as far as BEHIND
+     * reaches: its own surface in a hollow the simplified proxy spans */
     uint64_t reach = (uint64_t)llround(fmin(s->reach / (2 * o->rho), 1.0) * 4294967295.0);
+    uint64_t behind = (uint64_t)llround(fmin(BEHIND * s->reach / (2 * o->rho), 1.0) * 4294967295.0);
     for (size_t i = 0; i < (size_t)n * n; i++) {
         uint64_t d = depth[i], pd = pdepth[i];
-        if (pd == 0xFFFFFFFFu || (d > pd ? d - pd : pd - d) > reach)
+        if (pd == 0xFFFFFFFFu || (d < pd && pd - d > reach) || (d >= pd && d - pd > behind))
             hi[i] = PSC_VIEW_TEXEL_EMPTY;
     }
     downsample(hi, view->tex, texels);
