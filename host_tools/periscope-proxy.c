@@ -25,7 +25,7 @@ static void print_usage(const char *prog, FILE *f)
 {
     (void)prog;   /* the same as PROG */
     fprintf(f,
-            "usage: " PROG " bake MODEL -o M.ppx [--views K] [--tex-mb M] [--tex N] [--simplify F]\n"
+            "usage: " PROG " bake MODEL -o M.ppx [--views K] [--tex-mb M] [--pack-mb M] [--tex N] [--simplify F]\n"
             "\n"
             "Divide a model into parts (pieces that move without changing shape) and joints (the triangles\n"
             "between them), form a proxy surface for each, render each proxy's view textures from a grid of\n"
@@ -36,9 +36,12 @@ static void print_usage(const char *prog, FILE *f)
             "                      K (default 49: 7 x 7, octahedral)\n"
             "  --tex-mb M          the view textures' budget, mip levels included (default 12): one texel\n"
             "                      density for every proxy, the highest that fits, at most 256 texels per R\n"
+            "  --pack-mb M         the pack's size at most (default 15): the textures get what the full mesh,\n"
+            "                      the proxies and their coordinates leave, down to 0.25 MB\n"
             "  --tex N             the largest view texture's side, a power of two 8..512 (default 256)\n"
             "  --simplify F        the proxies: the model simplified as far as an error of 1 %% of R allows, and\n"
-            "                      further (up to 4 %%) to at most this share of its triangles (default 0.25)\n"
+            "                      further (up to 4 %%) to at most this share of its triangles (default 0.25; a\n"
+            "                      model of rigid parts alone 0.08, or 2000 triangles if more)\n"
             "  -o M.ppx            the pack (written whole, or not at all)\n"
             "  --version, --help\n");
 }
@@ -50,12 +53,14 @@ static const struct option proxy_options[] = {
     {"tex", required_argument, NULL, 1},
     {"simplify", required_argument, NULL, 1},
     {"tex-mb", required_argument, NULL, 1},
+    {"pack-mb", required_argument, NULL, 1},
     PSC_IO_CLI_COMMON_OPTIONS,
 };
 
 int main(int argc, char **argv)
 {
-    psc_bake_proxy_opts_t o = {PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX, PSC_BAKE_PROXY_SIMPLIFY, PSC_BAKE_PROXY_TEX_MB};
+    psc_bake_proxy_opts_t o = {PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX, 0 /* by the model */, PSC_BAKE_PROXY_TEX_MB,
+                               PSC_BAKE_PROXY_PACK_MB};
     const char *model = NULL, *out = NULL;
     psc_io_cli_t c;
     char err[768], note[512] = "", load_note[256] = "";
@@ -77,6 +82,9 @@ int main(int argc, char **argv)
         } else if (strcmp(c.name, "--tex-mb") == 0) {
             if (psc_cli_parse_double(c.arg, &o.tex_mb) != 0 || !(o.tex_mb >= 0.01 && o.tex_mb <= 4096))
                 return usage_error("--tex-mb '%s': expected a size in MB, 0.01..4096", c.arg);
+        } else if (strcmp(c.name, "--pack-mb") == 0) {
+            if (psc_cli_parse_double(c.arg, &o.pack_mb) != 0 || !(o.pack_mb >= 0.1 && o.pack_mb <= 65536))
+                return usage_error("--pack-mb '%s': expected a size in MB, 0.1..65536", c.arg);
         } else if (strcmp(c.name, "--simplify") == 0) {
             if (psc_cli_parse_double(c.arg, &o.simplify) != 0 || !(o.simplify >= 0.001 && o.simplify <= 1.0))
                 return usage_error("--simplify '%s': expected a share of the triangles, 0.001..1", c.arg);

@@ -168,7 +168,7 @@ static void bake(fixture_t *f, const char *file, unsigned views, unsigned tex)
     psc_gltf_t g;
     char note[256], err[512];
     assert_int_equal(psc_gltf_load(file, &g, note, sizeof note, err, sizeof err), 0);
-    psc_bake_proxy_opts_t o = {views, tex, 0, 0};
+    psc_bake_proxy_opts_t o = {views, tex, 0, 0, 0};
     uint8_t *bytes;
     assert_int_equal(psc_bake_proxy(&g, &o, file, &bytes, &f->len, note, sizeof note, err, sizeof err), 0);
     print_message("  %s: %s\n", file, note);
@@ -771,7 +771,7 @@ static void test_model_fuzz(void **state)
             refused++;
             continue;
         }
-        psc_bake_proxy_opts_t o = {9, 8, 0, 0};
+        psc_bake_proxy_opts_t o = {9, 8, 0, 0, 0};
         uint8_t *pack = NULL;
         size_t plen = 0;
         if (psc_bake_proxy(&g, &o, path, &pack, &plen, note, sizeof note, err, sizeof err) == 0) {

@@ -94,7 +94,8 @@ typedef struct {
 
 static int bake(model_t *mo, const psc_gltf_t *g, unsigned views)
 {
-    psc_bake_proxy_opts_t o = {views, PSC_BAKE_PROXY_TEX, PSC_BAKE_PROXY_SIMPLIFY, PSC_BAKE_PROXY_TEX_MB};
+    psc_bake_proxy_opts_t o = {views, PSC_BAKE_PROXY_TEX, 0 /* by the model */, PSC_BAKE_PROXY_TEX_MB,
+                               PSC_BAKE_PROXY_PACK_MB};
     char err[512];
     uint8_t *bytes;
     if (psc_bake_proxy(g, &o, mo->name, &bytes, &mo->len, mo->note, sizeof mo->note, err, sizeof err) != 0) {

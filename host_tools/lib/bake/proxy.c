@@ -244,6 +244,64 @@ static uint8_t *neighbours(const psc_gltf_t *g, const uint32_t *tri_group, const
     return near;
 }
 
+/* ---- loosening --------------------------------------------------------------------------------- */
+
+/* Each rigid part that touches no other group made coarser by psc_bake_simplify_loose, to cap/snt of its proxy
+ * triangles: its new triangles appended to *sidx and *sreg, its list of them replaced. 0, or -1 out of memory. */
+static int loosen(const psc_gltf_t *g, group_t *gr, uint32_t ng, const uint8_t *near, uint32_t cap, uint32_t snt0,
+                  double max_error, uint32_t **sidx, uint32_t **sreg, uint32_t *snt)
+{
+    for (uint32_t k = 0; k < ng; k++) {
+        group_t *q = &gr[k];
+        bool alone = q->kind == PSC_PROXY_KIND_PART && q->prx.n >= 16;
+        for (uint32_t o = 0; o < ng && alone; o++)
+            alone = o == k || !near[(size_t)k * ng + o];
+        for (uint32_t i = 0; i < q->src.n && alone; i++)
+            for (unsigned c = 0; c < 3; c++)
+                alone = alone && vertex_rigid(g, g->mesh.index[3u * q->src.t[i] + c], q->joint);
+        if (!alone)
+            continue;
+        uint32_t *idx = malloc(3u * q->prx.n * sizeof *idx), *res = NULL, n = 0;
+        if (!idx)
+            return -1;
+        for (uint32_t i = 0; i < q->prx.n; i++)
+            for (unsigned c = 0; c < 3; c++)
+                idx[3u * i + c] = (*sidx)[3u * q->prx.t[i] + c];
+        uint32_t target = (uint32_t)((uint64_t)q->prx.n * cap / snt0);
+        int rc = psc_bake_simplify_loose((const double(*)[3])g->mesh.pos, g->mesh.vertex_count, idx, q->prx.n,
+                                         target > 4u ? target : 4u, max_error, &res, &n);
+        free(idx);
+        if (rc != 0)
+            return -1;
+        if (n == 0 || n >= q->prx.n) {   /* nothing gained, or nothing left: as it was */
+            free(res);
+            continue;
+        }
+        uint32_t *si = realloc(*sidx, 3u * ((size_t)*snt + n) * sizeof *si), *sr = NULL;
+        if (si) {
+            *sidx = si;
+            sr = realloc(*sreg, ((size_t)*snt + n) * sizeof *sr);
+        }
+        if (!si || !sr) {
+            free(res);
+            return -1;
+        }
+        *sreg = sr;
+        memcpy(si + 3u * (size_t)*snt, res, 3u * (size_t)n * sizeof *res);
+        q->prx.n = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            sr[*snt + i] = k;
+            if (tris_add(&q->prx, *snt + i) != 0) {
+                free(res);
+                return -1;
+            }
+        }
+        *snt += n;
+        free(res);
+    }
+    return 0;
+}
+
 /* ---- holding the surface ------------------------------------------------------------------------ */
 
 /* The point of triangle (a, b, c) nearest p, into q (by the triangle's regions: inside, else the nearest edge). */
@@ -639,8 +697,19 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     double *bulge = NULL;
     uint8_t *near = NULL;
     const psc_proxy_shape_t **near_shapes = NULL;
+    bool jointed = false;   /* a skinned model's triangles between parts: joint strips, no loose cuts */
+    for (uint32_t t = 0; t < g->mesh.triangle_count && !jointed; t++) {
+        uint8_t kind;
+        uint16_t x, y;
+        tri_key(g, &g->mesh.index[3u * t], &kind, &x, &y);
+        jointed = kind == PSC_PROXY_KIND_JOINT;
+    }
     double frac = o->simplify > 0 ? o->simplify : PSC_BAKE_PROXY_SIMPLIFY;
     uint32_t cap = (uint32_t)fmax(1.0, floor(g->mesh.triangle_count * frac));
+    if (o->simplify <= 0 && !jointed) {   /* rigid parts alone: a heavy machine cut further, where proxies pay most */
+        double rigid = floor(g->mesh.triangle_count * PSC_BAKE_PROXY_SIMPLIFY_RIGID);
+        cap = (uint32_t)fmin(cap, fmax(PSC_BAKE_PROXY_RIGID_FLOOR, rigid));
+    }
     /* the model into parts and joints; the proxies, the model simplified with no collapse across their borders as
      * far as an error of PSC_BAKE_PROXY_MAX_ERROR allows, and further (to 4 times that) if that leaves more than the
      * share asked for */
@@ -652,8 +721,8 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
         free(sidx), free(sreg);
         sidx = sreg = NULL;
         if (psc_bake_simplify((const double(*)[3])g->mesh.pos, g->mesh.vertex_count, g->mesh.index,
-                              g->mesh.triangle_count, tri_group, pass ? cap : 0, PSC_BAKE_PROXY_MAX_ERROR * r * (pass ? 4 : 1),
-                              &sidx, &snt, &sreg, &serr) != 0) {
+                              g->mesh.triangle_count, tri_group, pass ? cap : 0,
+                              PSC_BAKE_PROXY_MAX_ERROR * r * (pass ? 4 : 1), &sidx, &snt, &sreg, &serr) != 0) {
             psc_io_errorf(err, errlen, name, "out of memory");
             goto done;
         }
@@ -663,6 +732,18 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
             psc_io_errorf(err, errlen, name, "out of memory");
             goto done;
         }
+    /* still over the share (a machine of many small closed pieces: every bolt keeps its few triangles): rigid parts
+     * that touch no other part are made coarser regardless of topology (psc_bake_simplify_loose), each to its share
+     * of what is asked */
+    if (snt > cap) {
+        if (!(near = neighbours(g, tri_group, sidx, sreg, snt, ng)) ||
+            loosen(g, gr, ng, near, cap, snt, PSC_BAKE_PROXY_MAX_ERROR * 4 * r, &sidx, &sreg, &snt) != 0) {
+            psc_io_errorf(err, errlen, name, "out of memory");
+            goto done;
+        }
+        free(near);
+        near = NULL;
+    }
     if (getenv("PSC_PROXY_DEBUG"))
         fprintf(stderr, "simplified: %u of %u triangles (at most %u), error %.5f R\n", snt, g->mesh.triangle_count, cap,
                 serr / r);
@@ -701,7 +782,17 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
         psc_io_errorf(err, errlen, name, "out of memory");
         goto done;
     }
+    /* the textures' budget: --tex-mb, and no more than leaves the whole pack within --pack-mb (the full mesh, the
+     * proxies and their coordinates, a set a view, come first) */
     double budget = (o->tex_mb > 0 ? o->tex_mb : PSC_BAKE_PROXY_TEX_MB) * 1048576.0;
+    {
+        double rest = 4096.0 + (double)pk.parts.n + pk.vpos.n + pk.vcol.n + pk.vskin.n + pk.idx.n + pk.ppos.n +
+                      pk.pskin.n + pk.pidx.n + (double)pk.pvertices * side * side * 4.0 + g->joint_count * 100.0 +
+                      (g->duration > 0 ? (ceil(g->duration * PSC_BAKE_PROXY_FPS) + 1.0) * g->joint_count * 48.0 : 0) +
+                      PSC_BAKE_PROXY_BB_SIDE * PSC_BAKE_PROXY_BB_SIDE * (PSC_BAKE_PROXY_BB_TEX * PSC_BAKE_PROXY_BB_TEX * 2.0 + 24.0);
+        double pack = (o->pack_mb > 0 ? o->pack_mb : PSC_BAKE_PROXY_PACK_MB) * 1048576.0;
+        budget = fmax(fmin(budget, pack - rest), 0.25 * 1048576.0);
+    }
     if (!(sides = malloc((nshapes + 1u) * sizeof *sides))) {
         psc_io_errorf(err, errlen, name, "out of memory");
         goto done;

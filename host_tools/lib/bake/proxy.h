@@ -11,8 +11,10 @@
  *  - Proxies (simplify.h): the model simplified as a whole by edge
  *    collapses, no collapse crossing from one part or joint into another, as
  *    far as an error of 1 % of R allows and further (up to 4 %) to at most a
- *    quarter of its triangles; each part's and joint's proxy is its piece of
- *    the result. The pieces share their border vertices, so they meet
+ *    quarter of its triangles (a model of rigid parts alone: 8 %, or 2 000
+ *    triangles if more; parts that touch no other then made coarser whatever
+ *    their topology, so a machine's bolts stop costing); each part's and
+ *    joint's proxy is its piece of the result. The pieces share their border vertices, so they meet
  *    without cracks however the pose bends them, and a joint's proxy is a
  *    simplified strip. Each proxy vertex is the model's own vertex (its skin
  *    weights), pushed out along its normal by 0.05 % of R and by as much as
@@ -42,7 +44,8 @@
 
 #define PSC_BAKE_PROXY_VIEWS 49u     /* a 7 x 7 grid */
 #define PSC_BAKE_PROXY_TEX 256u     /* the largest view texture's side */
-#define PSC_BAKE_PROXY_TEX_MB 12.0  /* the view textures' budget, mips included */
+#define PSC_BAKE_PROXY_TEX_MB 12.0  /* the view textures' budget, mips included ... */
+#define PSC_BAKE_PROXY_PACK_MB 15.0 /* ... and less if the pack would be larger (15 MiB: under 16 MB either way) */
 #define PSC_BAKE_PROXY_DENSITY 256.0 /* texels per R at most: proxies are drawn while R is under 200 pixels */
 #define PSC_BAKE_PROXY_FPS 30.0
 #define PSC_BAKE_PROXY_BB_SIDE 5u    /* the billboard: 5 x 5 views ... */
@@ -50,12 +53,15 @@
 
 #define PSC_BAKE_PROXY_MAX_ERROR 0.01 /* proxies: the model simplified as far as this error allows (units of R) ... */
 #define PSC_BAKE_PROXY_SIMPLIFY 0.25  /* ... and further, up to 4 times the error, to at most this share of it */
+#define PSC_BAKE_PROXY_SIMPLIFY_RIGID 0.08  /* ... (rigid parts alone, no joint strips to keep whole: this share, */
+#define PSC_BAKE_PROXY_RIGID_FLOOR 2000.0   /*      or this many triangles if more: a light model loses nothing) */
 
 typedef struct {
     unsigned views;                  /* at least this many: the grid side is the smallest odd one that gives them */
     unsigned tex;                    /* the largest view texture's side, a power of two */
     double simplify;                 /* the largest share of the model's triangles the proxies keep (0: the default) */
     double tex_mb;                   /* the view textures' budget in MB (0: the default) */
+    double pack_mb;                  /* the pack's, the textures cut to fit it (0: the default) */
 } psc_bake_proxy_opts_t;
 
 /* The default lighting of proxy and full renders alike: base x (0.45 + 0.55 max(0, n.L)), L = normalize(0.4, 0.8,

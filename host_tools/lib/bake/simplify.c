@@ -89,3 +89,27 @@ done:
         free(vregion);
     return rc;
 }
+
+int psc_bake_simplify_loose(const double (*pos)[3], uint32_t nv, const uint32_t *idx, uint32_t nt, uint32_t target,
+                            double max_error, uint32_t **out, uint32_t *out_nt)
+{
+    float *p = malloc((nv ? nv : 1u) * 3u * sizeof *p);
+    unsigned *res = malloc((3u * (size_t)nt + 1u) * sizeof *res);
+    *out = NULL;
+    *out_nt = 0;
+    if (!p || !res) {
+        free(p), free(res);
+        return -1;
+    }
+    for (uint32_t i = 0; i < nv; i++)
+        for (unsigned a = 0; a < 3; a++)
+            p[3u * i + a] = (float)pos[i][a];
+    float scale = meshopt_simplifyScale(p, nv, 3u * sizeof *p), reached = 0;
+    float rel = scale > 0 ? (float)(max_error / scale) : 0;
+    size_t n = meshopt_simplifySloppy(res, idx, 3u * (size_t)nt, p, nv, 3u * sizeof *p, 3u * (size_t)target, rel,
+                                      &reached);
+    free(p);
+    *out = (uint32_t *)res;
+    *out_nt = (uint32_t)(n / 3u);
+    return 0;
+}

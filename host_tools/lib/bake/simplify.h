@@ -33,4 +33,15 @@ int psc_bake_simplify(const double (*pos)[3], uint32_t nv, const uint32_t *idx, 
                       uint32_t target, double max_error, uint32_t **out, uint32_t *out_nt, uint32_t **out_region,
                       double *error);
 
+/**
+ * Triangles idx[0..3 nt) over pos[0..nv) made coarser regardless of their
+ * topology (meshoptimizer's vertex clustering: small closed pieces - bolts,
+ * rivets - merge or vanish), towards `target` triangles within max_error
+ * (units of pos): for a rigid part that touches no other, whose cracks no
+ * one sees. *out (malloc'd, 3 *out_nt indices of pos). 0, or -1 out of
+ * memory.
+ */
+int psc_bake_simplify_loose(const double (*pos)[3], uint32_t nv, const uint32_t *idx, uint32_t nt, uint32_t target,
+                            double max_error, uint32_t **out, uint32_t *out_nt);
+
 #endif

@@ -32,3 +32,9 @@ int psc_bake_simplify(const double (*pos)[3], uint32_t nv, const uint32_t *idx, 
     *out_nt = nt;
     return 0;
 }
+
+int psc_bake_simplify_loose(const double (*pos)[3], uint32_t nv, const uint32_t *idx, uint32_t nt, uint32_t target,
+                            double max_error, uint32_t **out, uint32_t *out_nt)
+{
+    return psc_bake_simplify(pos, nv, idx, nt, NULL, target, max_error, out, out_nt, NULL, &(double){0});
+}
