@@ -21,7 +21,6 @@
  */
 #include "common/bench_time.h"
 #include "import/gltf_model.h"
-#include "import/model.h"
 #include "bake/proxy.h"
 #include "3d/psc_3d_orbit.h"
 #include "3d/psc_3d_render.h"
@@ -39,49 +38,6 @@
 #define PASSES 3u
 #define RINGS 12u
 
-/* The assembly: a root node and RINGS ring nodes, each ring rigid on its node. */
-static int make_assembly(psc_gltf_t *g)
-{
-    memset(g, 0, sizeof *g);
-    psc_model_t ring;
-    psc_model_torus(&ring, 0.35, 0.12, 96, 48);
-    uint32_t nv = ring.vertex_count * RINGS, nt = ring.triangle_count * RINGS;
-    g->joint_count = RINGS + 1u;
-    g->joints = calloc(g->joint_count, sizeof *g->joints);
-    g->mesh.pos = malloc(nv * 3u * sizeof *g->mesh.pos);
-    g->mesh.normal = malloc(nv * 3u * sizeof *g->mesh.normal);
-    g->mesh.color = malloc(nv * sizeof *g->mesh.color);
-    g->mesh.index = malloc(nt * 3u * sizeof *g->mesh.index);
-    g->joint = calloc(nv, sizeof *g->joint);
-    g->weight = calloc(nv, sizeof *g->weight);
-    if (!g->joints || !g->mesh.pos || !g->mesh.normal || !g->mesh.color || !g->mesh.index || !g->joint || !g->weight)
-        return -1;
-    for (uint32_t j = 0; j < g->joint_count; j++) {
-        snprintf(g->joints[j].name, sizeof g->joints[j].name, j ? "ring%u" : "assembly", (unsigned)j);
-        g->joints[j].parent = j ? 0 : -1;
-        g->joints[j].rest = (psc_gltf_trs_t){{0, 0, 0}, {0, 0, 0, 1}, {1, 1, 1}};
-    }
-    g->mesh.vertex_count = nv;
-    g->mesh.triangle_count = nt;
-    for (unsigned k = 0; k < RINGS; k++) {
-        double ox = ((double)(k % 4u) - 1.5) * 0.9, oz = ((double)(k / 4u) - 1.0) * 0.9, a = k * 15.0 * 3.14159265 / 180;
-        uint32_t base = k * ring.vertex_count;
-        uint32_t color = 0x406080u + 0x0F0B05u * k;
-        for (uint32_t i = 0; i < ring.vertex_count; i++) {
-            const double *p = &ring.pos[3u * i], *n = &ring.normal[3u * i];
-            double *q = &g->mesh.pos[3u * (base + i)], *m = &g->mesh.normal[3u * (base + i)];
-            q[0] = p[0] + ox, q[1] = p[1] * cos(a) - p[2] * sin(a), q[2] = p[1] * sin(a) + p[2] * cos(a) + oz;
-            m[0] = n[0], m[1] = n[1] * cos(a) - n[2] * sin(a), m[2] = n[1] * sin(a) + n[2] * cos(a);
-            g->mesh.color[base + i] = color;
-            g->joint[base + i][0] = (uint16_t)(k + 1u);
-            g->weight[base + i][0] = 1.0;
-        }
-        for (uint32_t t = 0; t < 3u * ring.triangle_count; t++)
-            g->mesh.index[3u * k * ring.triangle_count + t] = base + ring.index[t];
-    }
-    psc_model_free(&ring);
-    return 0;
-}
 
 typedef struct {
     const char *name;
@@ -176,7 +132,8 @@ int main(int argc, char **argv)
     static const char *const files[3] = {NULL, "tests/data/gltf/animation_with_skeleton.gltf",
                                          "tests/data/assimp/BCN_Epileptic.X"};
     for (unsigned k = 0; k < 3; k++) {
-        int rc = k == 0 ? make_assembly(&g[0]) : psc_gltf_load(files[k], &g[k], note, sizeof note, err, sizeof err);
+        int rc = k == 0 ? psc_gltf_machine(&g[0], RINGS, 0)
+                        : psc_gltf_load(files[k], &g[k], note, sizeof note, err, sizeof err);
         if (rc != 0) {
             fprintf(stderr, "proxy bench: %s (run from the repository's root)\n", k ? err : "out of memory");
             return 1;

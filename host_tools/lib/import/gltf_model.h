@@ -84,6 +84,12 @@ bool psc_gltf_is_file(const char *path);
  */
 bool psc_gltf_turn_outward(psc_model_t *m, uint32_t v0, uint32_t v1, uint32_t t0, uint32_t t1);
 
+/** A generated machine (gltf_machine.c, for benches and tests): a root and `rings` ring nodes in rows of four,
+ *  each a torus of 9 216 triangles turned 15 degrees more than the last, with `bolts` small cubes (12 triangles
+ *  each, closed pieces of their own) around its rim, every vertex rigid on its ring's node. 0, or -1 out of
+ *  memory (g freed). */
+int psc_gltf_machine(psc_gltf_t *g, unsigned rings, unsigned bolts);
+
 /** The joints' local transforms at time t (seconds, looping over the duration; t < 0: the rest pose). local:
  *  joint_count TRS. */
 void psc_gltf_pose(const psc_gltf_t *g, double t, psc_gltf_trs_t *local);
