@@ -482,15 +482,17 @@ static void check_atlas(fixture_t *f)
     uint32_t k = 0;
     while (m->parts[k].proxy_triangle_count == 0)
         k++;
-    for (int change = 0; change < 2; change++) {
+    for (int change = 0; change < 3; change++) {
         uint8_t *b = malloc(f->len);
         assert_non_null(b);
         memcpy(b, f->pack, f->len);
         psc_proxy_part_raw_t *pr = (psc_proxy_part_raw_t *)(void *)(b + ((const uint8_t *)&m->parts[k] - f->pack));
         if (change == 0)
             pr->tex_size = (uint16_t)(pr->tex_size == m->tex_size ? pr->tex_size / 2u : pr->tex_size * 2u);
-        else
+        else if (change == 1)
             pr->tex_levels = (uint8_t)(pr->tex_levels + 1u);
+        else
+            pr->tex_levels = 200;   /* a shift past the word, were it not refused first */
         tsup_wr32(b + PSC_CONTAINER_CRC_OFFSET, 0);
         tsup_wr32(b + PSC_CONTAINER_CRC_OFFSET, psc_crc32(0, b, f->len));
         psc_proxy_model_t bad;

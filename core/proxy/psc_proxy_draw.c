@@ -163,7 +163,8 @@ static void strip_m3(const psc_mat4_q16_t *skin, const psc_proxy_skin_raw_t *sk,
     unit_q16(c0, u);
     if (u[0] == 0 && u[1] == 0 && u[2] == 0)
         return;   /* no weight at all: the rest */
-    int64_t n1[3] = {c1[0] >> 16, c1[1] >> 16, c1[2] >> 16};   /* the cross product in range */
+    /* scaled so the cross product stays in range (its direction is all that is used) */
+    int64_t n1[3] = {psc_shr_round64(c1[0], 16), psc_shr_round64(c1[1], 16), psc_shr_round64(c1[2], 16)};
     x[0] = u[1] * n1[2] - u[2] * n1[1];
     x[1] = u[2] * n1[0] - u[0] * n1[2];
     x[2] = u[0] * n1[1] - u[1] * n1[0];

@@ -106,7 +106,7 @@ static psc_status_t check_atlas(const psc_proxy_model_t *m, uint32_t at, uint64_
         bool none = p->proxy_triangle_count == 0;
         if (none ? side != 0 || levels != 0
                  : side < PSC_PROXY_TEX_LEVEL_MIN || side > m->tex_size || (side & (side - 1u)) != 0 || levels == 0 ||
-                       (side >> (levels - 1u)) < PSC_PROXY_TEX_LEVEL_MIN)
+                       levels > 16u || (side >> (levels - 1u)) < PSC_PROXY_TEX_LEVEL_MIN)   /* (no shift past 15) */
             return fail(err, PSC_ERR_CORRUPT, "a part's view textures have a side or mip levels out of range", at + 48);
         texels += (uint64_t)psc_proxy_part_tex(m, i).chain * m->view_count;
     }
