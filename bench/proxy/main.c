@@ -18,7 +18,15 @@
  * view textures with their mips, one texel density).
  *
  *   build/bench/proxy --out bench/results     the table (`make bench`)
+ *   build/bench/proxy --callgrind --out DIR    the level of detail's choice (`make bench-callgrind`): each
+ *                                              model at two screens and six distances, both levels' instructions
+ *                                              a frame counted under callgrind beside psc_proxy_cost's estimates,
+ *                                              the level --lod auto picks, how much slower it is than the cheaper
+ *                                              (at most 10 % is the goal), and the cost model refitted from the
+ *                                              counts beside the constants core uses
  */
+#include "common/bench_callgrind.h"
+#include "common/bench_cli.h"
 #include "common/bench_time.h"
 #include "import/gltf_model.h"
 #include "bake/proxy.h"
@@ -31,6 +39,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define W 800u
 #define H 480u
@@ -110,37 +119,33 @@ done:
     return best;
 }
 
-int main(int argc, char **argv)
+/* The three models baked (g: their imports, freed by the caller). */
+static int bake_all(psc_gltf_t g[3], model_t models[3])
 {
-    const char *out = "bench/results";
-    for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
-            out = argv[++i];
-        } else if (strcmp(argv[i], "--callgrind") == 0) {
-            printf("proxy: no callgrind mode (the table's ratio is measured in one run)\n");
-            return 0;
-        } else {
-            fprintf(stderr, "usage: build/bench/proxy [--out DIR]\n");
-            return 2;
-        }
-    }
-    psc_gltf_t g[3];
     char note[256], err[512];
-    model_t models[3] = {{.name = "assembly, 12 rigid rings"},
-                         {.name = "bar, skinned, playing", .t_step = 1.0 / 60},
-                         {.name = "human, skinned, playing", .t_step = 1.0 / 60}};
+    static const char *const names[3] = {"assembly, 12 rigid rings", "bar, skinned, playing", "human, skinned, playing"};
     static const char *const files[3] = {NULL, "tests/data/gltf/animation_with_skeleton.gltf",
                                          "tests/data/assimp/BCN_Epileptic.X"};
     for (unsigned k = 0; k < 3; k++) {
+        models[k] = (model_t){.name = names[k], .t_step = k ? 1.0 / 60 : 0};
         int rc = k == 0 ? psc_gltf_machine(&g[0], RINGS, 0)
                         : psc_gltf_load(files[k], &g[k], note, sizeof note, err, sizeof err);
         if (rc != 0) {
             fprintf(stderr, "proxy bench: %s (run from the repository's root)\n", k ? err : "out of memory");
-            return 1;
+            return -1;
         }
         if (bake(&models[k], &g[k], k == 2 ? 64u : PSC_BAKE_PROXY_VIEWS) != 0)
-            return 1;
+            return -1;
     }
+    return 0;
+}
+
+static int run_table(const char *out)
+{
+    psc_gltf_t g[3] = {0};
+    model_t models[3];
+    if (bake_all(g, models) != 0)
+        return 1;
     char path[4096];
     snprintf(path, sizeof path, "%s/proxy.txt", out);
     FILE *j = fopen(path, "w");
@@ -177,4 +182,277 @@ int main(int argc, char **argv)
         psc_gltf_free(&g[k]);
     }
     return 0;
+}
+
+/* ---- callgrind: the level of detail's choice --------------------------------------------------------------- */
+
+#define CG_FRAMES 3u
+#define CG_CASE_ENV "PSC_BENCH_PROXY_CASE"   /* the child's case: "PACK W H DIST LEVEL TSTEP" */
+#define CG_DISTS 6u
+
+static const double cg_dists[CG_DISTS] = {1.8, 2.7, 4.0, 6.5, 11.0, 20.0};
+static const unsigned cg_w[2] = {320, 800}, cg_h[2] = {240, 480};
+static psc_3d_stats_t cg_stats;
+
+/* A case's camera (yaw 0, pitch 20, dist R from the rest box's centre, 50 degrees) and pipeline. */
+static int cg_camera(const psc_proxy_model_t *m, unsigned w, unsigned h, double dist, psc_mat4_q16_t *cam,
+                     psc_3d_config_t *cfg)
+{
+    psc_vec3_q16_t lo, hi;
+    psc_proxy_rest_bounds(m, &lo, &hi);
+    *cfg = (psc_3d_config_t){(uint16_t)w, (uint16_t)h, 0, 0, 16, 0x238E38E4u, 0, 0, psc_proxy_max_vertices(m)};
+    return psc_3d_orbit(lo, hi, 0, (int32_t)0x0E38E38E, (int32_t)lround(dist * 65536), cam, &cfg->near_q16,
+                        &cfg->far_q16) == PSC_OK ? 0 : -1;
+}
+
+/* What callgrind counts: CG_FRAMES frames posed, built and drawn at one level (the animation playing). */
+__attribute__((noinline)) static int cg_frames(psc_proxy_t *p, psc_3d_t *r, psc_mat4_q16_t *skin,
+                                               const psc_mat4_q16_t *cam, psc_proxy_lod_t lod, double t_step,
+                                               const psc_surface_t *sf)
+{
+    for (unsigned f = 0; f < CG_FRAMES; f++) {
+        const psc_3d_draw_t *d;
+        unsigned nd;
+        uint32_t bg = 0x30343Cu;
+        psc_proxy_pose_at(p->m, t_step > 0 ? (int64_t)(f * t_step * 1e6) : -1, skin);
+        if (psc_proxy_frame(p, skin, cam, lod, false, &d, &nd) != PSC_OK ||
+            psc_3d_render(r, d, nd, &bg, sf, &cg_stats) != PSC_OK)
+            return -1;
+    }
+    return 0;
+}
+
+static int cg_child(void)
+{
+    const char *c = getenv(CG_CASE_ENV);
+    char path[4096];
+    unsigned w, h, level;
+    double dist, t_step;
+    if (!c || sscanf(c, "%4095s %u %u %lf %u %lf", path, &w, &h, &dist, &level, &t_step) != 6)
+        return 1;
+    FILE *f = fopen(path, "rb");
+    model_t mo = {.name = path, .t_step = t_step};
+    long n = f && fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+    if (n <= 0 || fseek(f, 0, SEEK_SET) != 0 || posix_memalign((void **)&mo.pack, 64, (size_t)n) != 0 ||
+        fread(mo.pack, 1, (size_t)n, f) != (size_t)n) {
+        if (f)
+            fclose(f);
+        return 1;
+    }
+    fclose(f);
+    psc_container_error_t e = {0};
+    psc_3d_config_t cfg;
+    psc_mat4_q16_t cam;
+    if (psc_proxy_parse(mo.pack, (size_t)n, &mo.m, &e) != PSC_OK || cg_camera(&mo.m, w, h, dist, &cam, &cfg) != 0)
+        return 1;
+    size_t n3 = psc_3d_workspace_size(&cfg), np = psc_proxy_workspace_size(&mo.m);
+    void *ws3d = NULL, *wsp = NULL, *px = NULL;
+    psc_mat4_q16_t *skin = malloc(mo.m.joint_count * sizeof *skin);
+    psc_3d_t r;
+    psc_proxy_t p;
+    int rc = 1;
+    if (skin && posix_memalign(&ws3d, 64, n3) == 0 && posix_memalign(&wsp, 64, np ? np : 8) == 0 &&
+        posix_memalign(&px, 64, (size_t)w * h * 2) == 0 && psc_3d_init(&r, &cfg, ws3d, n3) == PSC_OK &&
+        psc_proxy_init(&p, &mo.m, wsp, np) == PSC_OK) {
+        psc_surface_t sf = {(uint16_t)w, (uint16_t)h, w * 2u, PSC_PIX_RGB565, px};
+        psc_proxy_set_focal(&p, psc_proxy_focal_px_q16(w, cfg.hfov));
+        if (cg_frames(&p, &r, skin, &cam, level ? PSC_PROXY_LOD_FULL : PSC_PROXY_LOD_PROXIES, t_step, &sf) == 0) {
+            printf("%u %u %u %llu\n", (unsigned)cg_stats.triangles, (unsigned)cg_stats.culled,
+                   (unsigned)cg_stats.outside, (unsigned long long)cg_stats.pixels);
+            rc = 0;
+        }
+    }
+    free(skin), free(ws3d), free(wsp), free(px), free(mo.pack);
+    return rc;
+}
+
+/* One case counted: instructions a frame, and the last frame's pixels. */
+static int cg_count(const char *self, const char *pack, unsigned w, unsigned h, double dist, unsigned level,
+                    double t_step, double *ir, double *pixels)
+{
+    char c[4200];
+    snprintf(c, sizeof c, "%s %u %u %.3f %u %.6f", pack, w, h, dist, level, t_step);
+    FILE *out = tmpfile();
+    long long n = -1;
+    char *const argv[] = {(char *)self, "--callgrind-child", NULL};
+    unsigned tri, culled, outside;
+    unsigned long long px;
+    if (!out || setenv(CG_CASE_ENV, c, 1) != 0 || bench_callgrind_count("cg_frames", argv, out, &n) != 0 || n < 0 ||
+        fseek(out, 0, SEEK_SET) != 0 || fscanf(out, "%u %u %u %llu", &tri, &culled, &outside, &px) != 4) {
+        fprintf(stderr, "proxy bench: the callgrind run of %s failed\n", c);
+        if (out)
+            fclose(out);
+        return -1;
+    }
+    fclose(out);
+    *ir = (double)n / CG_FRAMES;
+    *pixels = (double)px;
+    return 0;
+}
+
+/* Whether the proxies' views are magnified there (the model's radius beyond their texels per R). */
+static bool magnified_at(const psc_proxy_t *p, const psc_proxy_cost_t *c)
+{
+    return c->radius_px > (int32_t)p->texels_per_r;
+}
+
+/* Least squares of relative error: the k coefficients c minimising sum ((x_i . c - y_i) / y_i)^2 (k <= 5). */
+static void fit(const double (*x)[5], const double *y, unsigned n, unsigned k, double *c)
+{
+    double a[5][6] = {{0}};
+    for (unsigned i = 0; i < n; i++)
+        for (unsigned r = 0; r < k; r++) {
+            for (unsigned s = 0; s < k; s++)
+                a[r][s] += x[i][r] * x[i][s] / (y[i] * y[i]);
+            a[r][k] += x[i][r] / y[i];
+        }
+    for (unsigned r = 0; r < k; r++) {   /* Gauss-Jordan; the normal matrix is positive definite */
+        for (unsigned s = 0; s < k; s++)
+            if (s != r && a[r][r] != 0) {
+                double f = a[s][r] / a[r][r];
+                for (unsigned t = 0; t <= k; t++)
+                    a[s][t] -= f * a[r][t];
+            }
+    }
+    for (unsigned r = 0; r < k; r++)
+        c[r] = a[r][r] != 0 ? a[r][k] / a[r][r] : 0;
+}
+
+static int run_callgrind(const char *self, const char *out_dir)
+{
+    if (bench_callgrind_require("proxy") != 0)
+        return 1;
+    psc_gltf_t g[3] = {0};
+    model_t models[3];
+    char packs[3][64];
+    if (bake_all(g, models) != 0)
+        return 1;
+    int rc = 0;
+    for (unsigned k = 0; k < 3; k++) {   /* the children read the packs baked here */
+        snprintf(packs[k], sizeof packs[k], "/tmp/periscope-proxy-bench-XXXXXX");
+        int fd = mkstemp(packs[k]);
+        FILE *f = fd >= 0 ? fdopen(fd, "wb") : NULL;
+        if (!f || fwrite(models[k].pack, 1, models[k].len, f) != models[k].len || fclose(f) != 0) {
+            fprintf(stderr, "proxy bench: cannot write %s\n", packs[k]);
+            return 1;
+        }
+    }
+    enum { CASES = 3 * 2 * CG_DISTS };
+    static double xp[CASES][5], yp[CASES], xf[CASES][5], yf[CASES];
+    double worst = 1.0, worst_first = 1.0;
+    unsigned ncase = 0, billboard = 0, magnified_picks = 0;
+    char path[4096];
+    snprintf(path, sizeof path, "%s/proxy-lod-callgrind.txt", out_dir);
+    FILE *j = fopen(path, "w");
+    printf("proxy levels of detail under callgrind: instructions a frame (pose, build, draw; %u frames, RGB565), "
+           "psc_proxy_cost's estimate beside each once a frame has corrected its area, and --lod auto's choice\n",
+           CG_FRAMES);
+    char head[256];
+    snprintf(head, sizeof head, "%-26s %8s %6s %6s %15s %17s %17s %10s %7s\n", "model", "size", "dist", "r px",
+             "pixels est/drawn", "proxies est/count", "full est/count", "auto", "slower");
+    fputs(head, stdout);
+    if (j)
+        fputs(head, j);
+    for (unsigned k = 0; k < 3 && rc == 0; k++)
+        for (unsigned s = 0; s < 2 && rc == 0; s++)
+            for (unsigned d = 0; d < CG_DISTS && rc == 0; d++) {
+                const psc_proxy_model_t *m = &models[k].m;
+                double ir[2], px[2];
+                for (unsigned lv = 0; lv < 2 && rc == 0; lv++)
+                    rc = cg_count(self, packs[k], cg_w[s], cg_h[s], cg_dists[d], lv, models[k].t_step, &ir[lv],
+                                  &px[lv]);
+                if (rc != 0)
+                    break;
+                /* the estimate and the choice from a fresh state, as the first frame of a scene makes them */
+                psc_3d_config_t cfg;
+                psc_mat4_q16_t cam;
+                size_t np = psc_proxy_workspace_size(m);
+                void *wsp = NULL;
+                psc_proxy_t p;
+                if (cg_camera(m, cg_w[s], cg_h[s], cg_dists[d], &cam, &cfg) != 0 ||
+                    posix_memalign(&wsp, 64, np ? np : 8) != 0 || psc_proxy_init(&p, m, wsp, np) != PSC_OK) {
+                    rc = -1;
+                    free(wsp);
+                    break;
+                }
+                int32_t focal = psc_proxy_focal_px_q16(cg_w[s], cfg.hfov);
+                psc_proxy_set_screen(&p, cg_w[s], cg_h[s]);
+                psc_proxy_lod_t first = psc_proxy_lod_pick(&p, &cam, focal);
+                /* what a frame at that level wrote corrects the estimate (as the device's scene does every frame) */
+                psc_3d_stats_t seen = {0};
+                seen.pixels = first == PSC_PROXY_LOD_BILLBOARD ? 0 : (uint64_t)px[first == PSC_PROXY_LOD_FULL];
+                psc_proxy_observe(&p, &seen);
+                psc_proxy_cost_t c = psc_proxy_cost(&p, &cam, focal);
+                psc_proxy_lod_t pick = psc_proxy_lod_pick(&p, &cam, focal);
+                double first_slower = first == PSC_PROXY_LOD_BILLBOARD
+                                          ? 1.0
+                                          : ir[first == PSC_PROXY_LOD_FULL] / fmin(ir[0], ir[1]);
+                worst_first = fmax(worst_first, first_slower);
+                bool magnified = magnified_at(&p, &c);
+                free(wsp);
+                double slower = pick == PSC_PROXY_LOD_BILLBOARD ? 0 : ir[pick == PSC_PROXY_LOD_FULL] / fmin(ir[0], ir[1]);
+                if (pick == PSC_PROXY_LOD_BILLBOARD)
+                    billboard++;
+                else
+                    worst = fmax(worst, slower);
+                if (pick == PSC_PROXY_LOD_PROXIES && magnified)
+                    magnified_picks++;
+                /* the cost model's features, for the refit (the pixels drawn, not estimated) */
+                double t = m->proxy_triangle_count, tf = m->triangle_count;
+                xp[ncase][0] = m->proxy_vertex_count, xp[ncase][1] = t, xp[ncase][2] = sqrt(px[0] * t / 2);
+                xp[ncase][3] = px[0], xp[ncase][4] = (double)cg_w[s] * cg_h[s], yp[ncase] = ir[0];
+                xf[ncase][0] = m->vertex_count, xf[ncase][1] = sqrt(px[1] * tf / 2), xf[ncase][2] = xp[ncase][4];
+                yf[ncase] = ir[1];
+                ncase++;
+                char size[16], line[320], est[3][40], sl[16];
+                snprintf(size, sizeof size, "%ux%u", cg_w[s], cg_h[s]);
+                snprintf(est[0], sizeof est[0], "%u/%.0f", (unsigned)c.area_px, px[0]);
+                snprintf(est[1], sizeof est[1], "%.2f/%.2f M", c.proxies / 1e6, ir[0] / 1e6);
+                snprintf(est[2], sizeof est[2], "%.2f/%.2f M", c.full / 1e6, ir[1] / 1e6);
+                snprintf(sl, sizeof sl, pick == PSC_PROXY_LOD_BILLBOARD ? "-" : "%.2fx%s", slower,
+                         magnified && pick == PSC_PROXY_LOD_PROXIES ? "*" : "");
+                snprintf(line, sizeof line, "%-26s %8s %4.1f R %6d %15s %17s %17s %10s %7s\n", models[k].name, size,
+                         cg_dists[d], (int)c.radius_px, est[0], est[1], est[2],
+                         pick == PSC_PROXY_LOD_FULL ? "full" : pick == PSC_PROXY_LOD_BILLBOARD ? "billboard" : "proxies",
+                         sl);
+                fputs(line, stdout);
+                if (j)
+                    fputs(line, j);
+            }
+    for (unsigned k = 0; k < 3; k++)
+        unlink(packs[k]);
+    if (rc == 0) {
+        double cp[5], cf[5];
+        fit((const double(*)[5])xp, yp, ncase, 5, cp);
+        fit((const double(*)[5])xf, yf, ncase, 3, cf);
+        char line[640];
+        snprintf(line, sizeof line,
+                 "auto against the cheaper level: at most %.3fx slower (goal 1.10x) once a frame has corrected the "
+                 "estimate of the area, %.3fx on the first frame; %u cases the billboard's; %u proxies with their "
+                 "views magnified (*)\n"
+                 "the cost model refitted from these counts (instructions): proxies %.0f a vertex, %.0f a triangle, "
+                 "%.0f a row, %.0f a pixel, %.1f a screen pixel; full mesh %.0f a vertex, %.0f a row, %.1f a screen "
+                 "pixel\ncore's constants (psc_proxy.h):                           proxies %u, %u, %u, %u, %u; full mesh "
+                 "%u, %u, %u\n",
+                 worst, worst_first, billboard, magnified_picks, cp[0], cp[1], cp[2], cp[3], cp[4], cf[0], cf[1], cf[2],
+                 PSC_PROXY_COST_VERTEX, PSC_PROXY_COST_TRIANGLE, PSC_PROXY_COST_ROW, PSC_PROXY_COST_PIXEL,
+                 PSC_PROXY_COST_SCREEN_PIXEL, PSC_PROXY_COST_FULL_VERTEX, PSC_PROXY_COST_FULL_ROW,
+                 PSC_PROXY_COST_SCREEN_PIXEL);
+        fputs(line, stdout);
+        if (j)
+            fputs(line, j);
+    }
+    if (j)
+        fclose(j);
+    for (unsigned k = 0; k < 3; k++) {
+        free(models[k].pack);
+        psc_gltf_free(&g[k]);
+    }
+    return rc == 0 ? 0 : 1;
+}
+
+int main(int argc, char **argv)
+{
+    static const bench_cli_t cli = {"proxy", run_table, run_callgrind, cg_child};
+    return bench_cli_main(&cli, argc, argv);
 }

@@ -247,8 +247,40 @@ typedef struct {
     uint16_t bb_uv[3][8];          /* and their coordinates in its three views */
     psc_proxy_lod_t lod;           /* psc_proxy_lod_pick's last choice */
     int32_t focal_px_q16;          /* psc_proxy_lod_pick's focal length, for the mip levels (0: level 0 always) */
-    int32_t full_px, billboard_px; /* its thresholds: the model's projected radius in pixels (init: 200, 40) */
+    int32_t full_px, billboard_px; /* its thresholds: the model's projected radius in pixels beyond which the full
+                                    * mesh is drawn whatever it costs (init 0: never) and under which the billboard
+                                    * (init 40) */
+    uint32_t texels_per_r;         /* the views' texel density (texels per R, the parts weighing as their areas):
+                                    * nearer than a radius of that many pixels, the views are magnified */
+    uint32_t area_r2_q16;          /* the model's silhouette in R^2 (Q16): its billboard's covered share */
+    uint32_t area_gain_q8;         /* pixels written per pixel of silhouette (Q8): psc_proxy_observe's */
+    uint32_t silhouette_px;        /* the last pick's silhouette on the screen, for psc_proxy_observe (0: none) */
+    bool area_seen;                /* a frame has set area_gain_q8 */
+    uint32_t *view_area_r2_q16;    /* the silhouette's area in R^2 (Q16) from each billboard view */
+    uint32_t screen_w, screen_h;   /* psc_proxy_set_screen's (0: the area is not clipped) */
 } psc_proxy_t;
+
+/* The level of detail's cost model, in instructions (callgrind, x86-64, gcc -O2): `build/bench/proxy --callgrind`
+ * counts both levels over three models, two screens and six distances and refits these by least squares (relative
+ * error 4 % rms for the proxies, 8 % for the full mesh). A level costs its vertices (posing, projection), its
+ * triangles (set-up), the rows its triangles span (about sqrt(area x triangles / 2): half face the camera) and its
+ * pixels: a view-textured pixel samples three textures; a full-mesh pixel costs little beyond its row's loop. */
+#define PSC_PROXY_COST_VERTEX 1088u
+#define PSC_PROXY_COST_TRIANGLE 555u
+#define PSC_PROXY_COST_ROW 601u
+#define PSC_PROXY_COST_PIXEL 660u
+#define PSC_PROXY_COST_FULL_VERTEX 866u
+#define PSC_PROXY_COST_FULL_ROW 790u
+#define PSC_PROXY_COST_SCREEN_PIXEL 9u   /* either level: the frame's clear, a pixel of the screen */
+
+/** A level's estimated cost for one frame (in instructions of the x86-64 build; what matters is their ratio), and
+ *  what it was estimated from: the model's radius and the area it covers on the screen, in pixels. */
+typedef struct {
+    uint64_t proxies, full;
+    int32_t radius_px;
+    uint32_t area_px;         /* the pixels a frame writes: the silhouette's times the gain frames have shown */
+    uint32_t silhouette_px;   /* the silhouette's, from the billboard, clipped by the screen */
+} psc_proxy_cost_t;
 
 /** Workspace bytes for drawing model m (0 if it cannot be drawn). */
 size_t psc_proxy_workspace_size(const psc_proxy_model_t *m);
@@ -261,14 +293,33 @@ psc_status_t psc_proxy_init(psc_proxy_t *p, const psc_proxy_model_t *m, void *ws
 
 /**
  * The level of detail for the model seen through camera_from_object by a
- * camera of focal length focal_px_q16 (pixels, Q16.16): full when the
- * model's projected radius exceeds full_px, billboard below billboard_px,
- * proxies between; each threshold is crossed back only 10 % beyond it
- * (hysteresis), so a model at a threshold does not flicker. Without a
- * billboard the far level is the proxies. The focal length is kept for
- * psc_proxy_frame's choice of mip levels.
+ * camera of focal length focal_px_q16 (pixels, Q16.16): the billboard while
+ * the model's projected radius is under billboard_px; else the cheaper of
+ * the proxies and the full mesh by psc_proxy_cost (the other taken only
+ * when its estimate is 5 % lower); the full mesh while the radius exceeds
+ * full_px when the caller sets it (e.g. twice texels_per_r: the views never
+ * magnified more than twice). The billboard's threshold is crossed back
+ * 10 % beyond it. Without a billboard the far level is the proxies. The
+ * focal length is kept for psc_proxy_frame's choice of mip levels; draw the
+ * level and give psc_proxy_observe what it wrote.
  */
 psc_proxy_lod_t psc_proxy_lod_pick(psc_proxy_t *p, const psc_mat4_q16_t *camera_from_object, int32_t focal_px_q16);
+
+/** Both levels' estimated costs for that camera: vertices, triangles, the rows and pixels the model's silhouette
+ *  covers (the three nearest billboard views' covered shares of their squares, blended, clipped by the screen of
+ *  psc_proxy_set_screen). */
+psc_proxy_cost_t psc_proxy_cost(const psc_proxy_t *p, const psc_mat4_q16_t *camera_from_object, int32_t focal_px_q16);
+
+/** What the frame drawn at psc_proxy_lod_pick's level wrote (psc_3d_render's stats): the pixels written per pixel
+ *  of the estimated silhouette (overlaps, the pose) corrects the next estimates: the first frame's wholly, then a
+ *  quarter of the way a frame. */
+void psc_proxy_observe(psc_proxy_t *p, const psc_3d_stats_t *st);
+
+/** The screen the model is drawn on, for psc_proxy_cost's area (0 x 0: not clipped). */
+void psc_proxy_set_screen(psc_proxy_t *p, uint32_t width, uint32_t height);
+
+/** (psc_proxy_init) The silhouette's area and the views' texel density, from the pack. */
+void psc_proxy_lod_prepare(psc_proxy_t *p);
 
 /** The focal length in pixels (Q16.16) of a camera `width` pixels wide with horizontal field of view hfov:
  *  (width / 2) / tan(hfov / 2); 0 for a field outside (0, 180) degrees. */

@@ -46,7 +46,7 @@ size_t psc_proxy_workspace_size(const psc_proxy_model_t *m)
     counts_t c = count(m);
     return align8((size_t)c.posed * 12u) + align8((size_t)c.proxy_posed * 12u) +
            align8((size_t)c.draws * sizeof(psc_mesh_t)) + align8((size_t)c.draws * 3u * sizeof(psc_texture_t)) +
-           align8((size_t)c.draws * sizeof(psc_3d_draw_t));
+           align8((size_t)c.draws * sizeof(psc_3d_draw_t)) + align8((size_t)m->bb_view_count * sizeof(uint32_t));
 }
 
 uint32_t psc_proxy_max_vertices(const psc_proxy_model_t *m)
@@ -80,11 +80,14 @@ psc_status_t psc_proxy_init(psc_proxy_t *p, const psc_proxy_model_t *m, void *ws
     p->textures = (psc_texture_t *)(void *)w;
     w += align8((size_t)c.draws * 3u * sizeof(psc_texture_t));
     p->draws = (psc_3d_draw_t *)(void *)w;
+    w += align8((size_t)c.draws * sizeof(psc_3d_draw_t));
+    p->view_area_r2_q16 = (uint32_t *)(void *)w;   /* the billboard's views' silhouettes (psc_proxy_lod_prepare) */
     p->filter = PSC_TEX_NEAREST;
     p->lod = PSC_PROXY_LOD_PROXIES;
-    p->full_px = 200;
+    p->full_px = 0;
     p->billboard_px = 40;
     p->max_draws = (uint32_t)c.draws;
+    psc_proxy_lod_prepare(p);
     return PSC_OK;
 }
 
@@ -289,28 +292,6 @@ int32_t psc_proxy_focal_px_q16(uint32_t width, psc_bam_t hfov)
 void psc_proxy_set_focal(psc_proxy_t *p, int32_t focal_px_q16)
 {
     p->focal_px_q16 = focal_px_q16 > 0 ? focal_px_q16 : 0;
-}
-
-psc_proxy_lod_t psc_proxy_lod_pick(psc_proxy_t *p, const psc_mat4_q16_t *cam, int32_t focal_px_q16)
-{
-    /* the model's radius is 1.0 (units of R); its centre's depth is the camera translation's z */
-    int64_t z = cam->m[2][3];
-    int64_t r_px = z > 0 ? (int64_t)focal_px_q16 / z : INT32_MAX;   /* (1.0 x f) / z, in pixels */
-    int64_t up = r_px * 10, down = r_px * 10;                        /* compared with thresholds x 10 and 11 / 9 */
-    psc_proxy_lod_t l = p->lod;
-    if (l == PSC_PROXY_LOD_FULL && down < (int64_t)p->full_px * 9)
-        l = PSC_PROXY_LOD_PROXIES;
-    if (l == PSC_PROXY_LOD_BILLBOARD && up > (int64_t)p->billboard_px * 11)
-        l = PSC_PROXY_LOD_PROXIES;
-    if (l == PSC_PROXY_LOD_PROXIES) {
-        if (up > (int64_t)p->full_px * 11)
-            l = PSC_PROXY_LOD_FULL;
-        else if (down < (int64_t)p->billboard_px * 9 && p->m->bb_side != 0)
-            l = PSC_PROXY_LOD_BILLBOARD;
-    }
-    p->lod = l;
-    p->focal_px_q16 = focal_px_q16;
-    return l;
 }
 
 /* The billboard: a quad through the model's centre facing the camera, its corners projected into its three views. */

@@ -68,7 +68,7 @@ psc_status_t psc_scene_proxy_draw(const psc_proxy_model_t *m, uint64_t t_us, con
     if (first) {
         if ((s = psc_proxy_init(&st->p, m, bytes + head + skin_bytes, prx)) != PSC_OK)
             return s;
-        st->p.full_px = (int32_t)(out->height * PSC_PROXY_SCENE_FULL_PERCENT / 100u);
+        psc_proxy_set_screen(&st->p, out->width, out->height);
         st->p.billboard_px = (int32_t)(out->height * PSC_PROXY_SCENE_BILLBOARD_PERCENT / 100u);
         psc_proxy_rest_bounds(m, &st->lo, &st->hi);
     }
@@ -94,7 +94,11 @@ psc_status_t psc_scene_proxy_draw(const psc_proxy_model_t *m, uint64_t t_us, con
     if (lod_out)
         *lod_out = lod;
     uint32_t bg = PSC_OBJECT_BACKGROUND;
-    return psc_3d_render(&r, d, n, &bg, out, NULL);
+    psc_3d_stats_t stats;
+    if ((s = psc_3d_render(&r, d, n, &bg, out, &stats)) != PSC_OK)
+        return s;
+    psc_proxy_observe(&st->p, &stats);   /* what it wrote corrects the next frame's estimate of both levels */
+    return PSC_OK;
 }
 
 /* ---- the ops ---------------------------------------------------------------------------------------------- */

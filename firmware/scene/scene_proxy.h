@@ -22,7 +22,6 @@
 #include "scene/scene_3d.h"
 
 #define PSC_PROXY_SCENE_ORBIT_DIST_Q16 (3 * PSC_Q16_ONE)   /* 3 R */
-#define PSC_PROXY_SCENE_FULL_PERCENT 50u                    /* of the display's height */
 #define PSC_PROXY_SCENE_BILLBOARD_PERCENT 8u
 
 /** Workspace bytes to draw model m on a width x height display with the look (scene_3d.h; NULL: plain). */

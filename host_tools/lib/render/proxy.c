@@ -55,8 +55,9 @@ static void usage(const char *prog, FILE *f)
             "  --pose P            rest (default), t=T (T seconds into the animation) or POSE.json\n"
             "  --full              the full mesh kept in the pack, same pose and shading (the near level of detail)\n"
             "  --lod L             proxies (default), full, billboard (the far level: the rest pose in a few\n"
-            "                      small views on a quad facing the camera) or auto (by the model's size on the\n"
-            "                      screen: full above a projected radius of 200 pixels, billboard below 40)\n"
+            "                      small views on a quad facing the camera) or auto (the billboard below a\n"
+            "                      projected radius of 40 pixels, else the cheaper of proxies and full mesh by\n"
+            "                      estimated cost: vertices, triangles and the area covered)\n"
             "  --depth d.pgm       the depth buffer as a 16-bit PGM\n"
             "  --ids ids.pgm       16-bit PGM: part index + 1 of the front-most surface, 0 for the background\n"
             "  --tiles N           render in N x N pixel tiles (0: full screen)\n"
@@ -293,8 +294,19 @@ int psc_render_proxy_main(const char *prog, int argc, char **argv)
     /* the focal length in pixels, (W / 2) / tan(hfov / 2): the mip levels, and the level of detail for auto */
     int32_t focal = (int32_t)lround(vw->width / 2.0 / tan(vw->hfov * 3.14159265358979 / 360.0) * 65536.0);
     psc_proxy_set_focal(&px, focal);
-    if (a.lod < 0)
+    psc_proxy_set_screen(&px, vw->width, vw->height);
+    if (a.lod < 0) {
+        /* a frame at the first estimate's level tells how much the model covers; the level is picked again
+         * from that, as the device's scene settles on it after its first frame */
         lod = psc_proxy_lod_pick(&px, &cam, focal);
+        psc_3d_stats_t st0 = {0};
+        if (lod != PSC_PROXY_LOD_BILLBOARD &&
+            psc_render_proxy_pose(m, a.time, (const double(*)[12])pre, (const double(*)[12])post, skin) == 0 &&
+            draw(&px, &rt, skin, &cam, lod, false, vw, &st0) == PSC_OK) {
+            psc_proxy_observe(&px, &st0);
+            lod = psc_proxy_lod_pick(&px, &cam, focal);
+        }
+    }
     double total = 0, best = 1e30;
     psc_3d_stats_t st = {0};
     for (unsigned long k = 0; k < vw->repeat; k++) {
@@ -317,6 +329,14 @@ int psc_render_proxy_main(const char *prog, int argc, char **argv)
                 vw->repeat, (unsigned)vw->width, (unsigned)vw->height,
                 lod == PSC_PROXY_LOD_FULL ? "full mesh" : lod == PSC_PROXY_LOD_BILLBOARD ? "billboard" : "proxies",
                 (unsigned)st.triangles, (unsigned)st.culled, total / vw->repeat * 1e3, best * 1e3);
+    if (a.lod < 0) {
+        psc_proxy_cost_t c = psc_proxy_cost(&px, &cam, focal);
+        fprintf(stderr, "%s: --lod auto: %s (radius %d px, about %u px covered; estimated cost proxies %.2f M, full mesh "
+                "%.2f M instructions; billboard below %d px; views magnified beyond %u px)\n", prog,
+                lod == PSC_PROXY_LOD_FULL ? "full mesh" : lod == PSC_PROXY_LOD_BILLBOARD ? "billboard" : "proxies",
+                (int)c.radius_px, (unsigned)c.area_px, c.proxies / 1e6, c.full / 1e6, (int)px.billboard_px,
+                (unsigned)px.texels_per_r);
+    }
     psc_render_target_note(&rt, &st, prog, a.pack);
     if (psc_render_target_write(&rt, a.out, a.depth, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
