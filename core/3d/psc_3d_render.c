@@ -525,31 +525,47 @@ static bool draw_ok(const psc_3d_draw_t *d)
     return true;
 }
 
+/* Fill n 16-bit (size 2) or 32-bit (size 4) cells at p with pattern v: eight bytes a store where the row is aligned
+ * to them (the clear is a tenth of a small frame), the same bytes as one a cell. */
+static void fill_cells(void *p, size_t n, unsigned size, uint32_t v)
+{
+    uint8_t *b = p;
+    while (n > 0 && ((uintptr_t)b & 7u) != 0) {
+        if (size == 2)
+            *(uint16_t *)(void *)b = (uint16_t)v;
+        else
+            *(uint32_t *)(void *)b = v;
+        b += size;
+        n--;
+    }
+    uint64_t w = size == 2 ? (uint64_t)(v & 0xFFFFu) * UINT64_C(0x0001000100010001) : (uint64_t)v * UINT64_C(0x100000001);
+    size_t per = 8u / size;
+    for (; n >= per; n -= per, b += 8)
+        __builtin_memcpy(b, &w, 8);   /* one store, and no type punning */
+    for (; n > 0; n--, b += size) {
+        if (size == 2)
+            *(uint16_t *)(void *)b = (uint16_t)v;
+        else
+            *(uint32_t *)(void *)b = v;
+    }
+}
+
 static void clear_tile(const psc_3d_t *r, const psc_surface_t *out, const uint32_t *clear, uint16_t x0, uint16_t y0,
                        uint16_t x1, uint16_t y1)
 {
     size_t zn = (size_t)(x1 - x0) * (y1 - y0);
-    if (r->cfg.depth_bits == 16) {
-        uint16_t *z = r->depth;
-        for (size_t i = 0; i < zn; i++)
-            z[i] = 0xFFFFu;
-    } else {
-        uint32_t *z = r->depth;
-        for (size_t i = 0; i < zn; i++)
-            z[i] = 0xFFFFFFFFu;
-    }
+    if (r->cfg.depth_bits == 16)
+        fill_cells(r->depth, zn, 2, 0xFFFFu);
+    else
+        fill_cells(r->depth, zn, 4, 0xFFFFFFFFu);
     if (!clear)
         return;
     for (uint32_t y = y0; y < y1; y++) {
         uint8_t *row = (uint8_t *)out->pixels + (size_t)y * out->stride;
-        if (out->format == PSC_PIX_RGB565) {
-            uint16_t c = psc_xrgb_to_rgb565(*clear);
-            for (uint32_t x = x0; x < x1; x++)
-                ((uint16_t *)(void *)row)[x] = c;
-        } else {
-            for (uint32_t x = x0; x < x1; x++)
-                ((uint32_t *)(void *)row)[x] = 0xFF000000u | *clear;
-        }
+        if (out->format == PSC_PIX_RGB565)
+            fill_cells(row + 2u * x0, x1 - x0, 2, psc_xrgb_to_rgb565(*clear));
+        else
+            fill_cells(row + 4u * x0, x1 - x0, 4, 0xFF000000u | *clear);
     }
 }
 

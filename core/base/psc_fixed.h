@@ -37,13 +37,18 @@ static inline int32_t psc_mul_q16(int32_t a, int32_t b)
 
 /**
  * n r / 2^62 rounded to nearest (ties away from zero), for |n| < 2^63 and the
- * quotient within int64: a product through 128 bits made of four 32 x 32-bit
- * products, the same on every target (a division by d as a product by
- * r = 2^62 / d).
+ * quotient within int64: the magnitudes' product through 128 bits, the same
+ * on every target (a division by d as a product by r = 2^62 / d). Where the
+ * compiler has 128-bit integers (64-bit targets) one multiply; elsewhere four
+ * 32 x 32-bit products: the same exact product, the same bits.
  */
 static inline int64_t psc_mul_rcp62(int64_t n, uint64_t r)
 {
     uint64_t a = n < 0 ? 0u - (uint64_t)n : (uint64_t)n;
+#ifdef __SIZEOF_INT128__
+    unsigned __int128 p = (unsigned __int128)a * r + ((unsigned __int128)1 << 61);
+    uint64_t q = (uint64_t)(p >> 62);
+#else
     uint64_t al = a & 0xFFFFFFFFu, ah = a >> 32, bl = r & 0xFFFFFFFFu, bh = r >> 32;
     uint64_t ll = al * bl, lh = al * bh, hl = ah * bl, hh = ah * bh;
     uint64_t mid = (ll >> 32) + (lh & 0xFFFFFFFFu) + (hl & 0xFFFFFFFFu);
@@ -51,6 +56,7 @@ static inline int64_t psc_mul_rcp62(int64_t n, uint64_t r)
     uint64_t lo_r = lo + ((uint64_t)1 << 61);
     hi += lo_r < lo;
     uint64_t q = (hi << 2) | (lo_r >> 62);
+#endif
     return n < 0 ? -(int64_t)q : (int64_t)q;
 }
 
