@@ -265,13 +265,13 @@ typedef struct {
  * error 4 % rms for the proxies, 8 % for the full mesh). A level costs its vertices (posing, projection), its
  * triangles (set-up), the rows its triangles span (about sqrt(area x triangles / 2): half face the camera) and its
  * pixels: a view-textured pixel samples three textures; a full-mesh pixel costs little beyond its row's loop. */
-#define PSC_PROXY_COST_VERTEX 1088u
-#define PSC_PROXY_COST_TRIANGLE 555u
-#define PSC_PROXY_COST_ROW 601u
-#define PSC_PROXY_COST_PIXEL 660u
-#define PSC_PROXY_COST_FULL_VERTEX 866u
-#define PSC_PROXY_COST_FULL_ROW 790u
-#define PSC_PROXY_COST_SCREEN_PIXEL 9u   /* either level: the frame's clear, a pixel of the screen */
+#define PSC_PROXY_COST_VERTEX 1174u
+#define PSC_PROXY_COST_TRIANGLE 320u
+#define PSC_PROXY_COST_ROW 525u
+#define PSC_PROXY_COST_PIXEL 659u
+#define PSC_PROXY_COST_FULL_VERTEX 732u
+#define PSC_PROXY_COST_FULL_ROW 714u
+#define PSC_PROXY_COST_SCREEN_PIXEL 3u   /* either level: the frame's clear, a pixel of the screen */
 
 /** A level's estimated cost for one frame (in instructions of the x86-64 build; what matters is their ratio), and
  *  what it was estimated from: the model's radius and the area it covers on the screen, in pixels. */
