@@ -768,62 +768,80 @@ static void test_lod_auto(void **state)
         f.px.full_px = 0;
 
         /* the area estimated against the pixels frames write, and the level picked from it against the one the cost
-         * model picks from the pixels both levels wrote (random views, distances and poses): the area's error must
-         * not make the choice more than 10 % dearer */
+         * model picks from the pixels both levels wrote: along a camera wandering as a visitor's stick moves it (the
+         * view a few degrees a frame, zooming from 7.8 R to 1.8 R and back, the animation playing) the area's error must not
+         * make the choice more than 10 % dearer; with every frame a random view, distance and pose of its own (the
+         * estimate learning from a frame unlike the next), not more than 25 % */
         psc_mat4_q16_t *skin = malloc(f.m.joint_count * sizeof *skin);
         assert_non_null(skin);
-        tsup_rng_t rng;
-        tsup_rng_seed(&rng, 77u + mi);
-        double worst_area = 1.0, worst_cost = 1.0, sum_log = 0;
-        unsigned n = 0, levels[3] = {0, 0, 0};
-        for (unsigned k = 0; k < 60; k++) {
-            double yaw = tsup_rng_unit(&rng) * 360.0, pitch = -30 + tsup_rng_unit(&rng) * 90.0;
-            double dist = 1.8 + tsup_rng_unit(&rng) * 6.0;
-            psc_3d_config_t cfg = {W, H, 0, 0, 32, tsup_bam_from_deg(50), 0, 0, psc_proxy_max_vertices(&f.m)};
-            assert_int_equal(psc_3d_orbit(f.lo, f.hi, tsup_bam_from_deg(yaw), (int32_t)tsup_bam_from_deg(pitch),
-                                          (int32_t)lround(dist * 65536), &cam, &cfg.near_q16, &cfg.far_q16),
-                             PSC_OK);
-            int32_t focal = psc_proxy_focal_px_q16(W, cfg.hfov);
-            psc_proxy_pose_at(&f.m, (int64_t)(tsup_rng_unit(&rng) * (double)psc_proxy_duration_us(&f.m)), skin);
-            psc_proxy_cost_t c = psc_proxy_cost(&f.px, &cam, focal);
-            psc_proxy_lod_t lod = psc_proxy_lod_pick(&f.px, &cam, focal);
-            levels[lod]++;
-            if (lod == PSC_PROXY_LOD_BILLBOARD)
-                continue;
-            /* both levels drawn: the one picked tells the estimate what it wrote */
-            psc_3d_stats_t st = draw_counted(&f, skin, &cam, &cfg, lod, rgb);
-            psc_3d_stats_t other = draw_counted(&f, skin, &cam, &cfg,
-                                                lod == PSC_PROXY_LOD_FULL ? PSC_PROXY_LOD_PROXIES : PSC_PROXY_LOD_FULL, rgb);
-            if (k > 0 && st.pixels > 0) {   /* the first frame is the one that corrects it */
-                double ratio = c.area_px / (double)st.pixels;
-                double pf = (double)(lod == PSC_PROXY_LOD_FULL ? st.pixels : other.pixels);
-                double pp = (double)(lod == PSC_PROXY_LOD_FULL ? other.pixels : st.pixels);
-                double full = PSC_PROXY_COST_FULL_VERTEX * (double)f.m.vertex_count +
-                              PSC_PROXY_COST_FULL_ROW * sqrt(pf * f.m.triangle_count / 2);
-                double prox = PSC_PROXY_COST_VERTEX * (double)f.m.proxy_vertex_count +
-                              PSC_PROXY_COST_TRIANGLE * (double)f.m.proxy_triangle_count +
-                              PSC_PROXY_COST_ROW * sqrt(pp * f.m.proxy_triangle_count / 2) + PSC_PROXY_COST_PIXEL * pp;
-                double picked = lod == PSC_PROXY_LOD_FULL ? full : prox;
-                if (st.pixels >= 500) {   /* (a few hundred pixels of a thin bar are mostly its edges) */
-                    worst_area = fmax(worst_area, fmax(ratio, 1 / ratio));
-                    sum_log += log(ratio);
-                    n++;
+        for (int walk = 1; walk >= 0; walk--) {
+            tsup_rng_t rng;
+            tsup_rng_seed(&rng, 77u + mi);
+            double worst_area = 1.0, worst_cost = 1.0, sum_log = 0;
+            double yaw = 30, pitch = 15, dist = 0, t = 0;
+            unsigned n = 0, levels[3] = {0, 0, 0};
+            psc_proxy_init(&f.px, &f.m, f.ws, psc_proxy_workspace_size(&f.m));   /* nothing learnt yet */
+            psc_proxy_set_screen(&f.px, W, H);
+            for (unsigned k = 0; k < 60; k++) {
+                if (walk) {
+                    yaw += tsup_rng_range(&rng, -8, 8);
+                    pitch = fmin(60, fmax(-30, pitch + tsup_rng_range(&rng, -4, 4)));
+                    dist = 4.8 - 3.0 * cos(2 * M_PI * k / 60.0);   /* zooming in and out: through both levels */
+                    t += 1.0 / 30;
+                } else {
+                    yaw = tsup_rng_unit(&rng) * 360.0, pitch = -30 + tsup_rng_unit(&rng) * 90.0;
+                    dist = 1.8 + tsup_rng_unit(&rng) * 6.0;
+                    t = tsup_rng_unit(&rng) * (double)psc_proxy_duration_us(&f.m) / 1e6;
                 }
-                worst_cost = fmax(worst_cost, picked / fmin(full, prox));
+                psc_3d_config_t cfg = {W, H, 0, 0, 32, tsup_bam_from_deg(50), 0, 0, psc_proxy_max_vertices(&f.m)};
+                assert_int_equal(psc_3d_orbit(f.lo, f.hi, tsup_bam_from_deg(yaw), (int32_t)tsup_bam_from_deg(pitch),
+                                              (int32_t)lround(dist * 65536), &cam, &cfg.near_q16, &cfg.far_q16),
+                                 PSC_OK);
+                int32_t focal = psc_proxy_focal_px_q16(W, cfg.hfov);
+                psc_proxy_pose_at(&f.m, (int64_t)(t * 1e6), skin);
+                psc_proxy_cost_t c = psc_proxy_cost(&f.px, &cam, focal);
+                psc_proxy_lod_t lod = psc_proxy_lod_pick(&f.px, &cam, focal);
+                levels[lod]++;
+                if (lod == PSC_PROXY_LOD_BILLBOARD)
+                    continue;
+                /* both levels drawn: the one picked tells the estimate what it wrote */
+                psc_3d_stats_t st = draw_counted(&f, skin, &cam, &cfg, lod, rgb);
+                psc_3d_stats_t other = draw_counted(&f, skin, &cam, &cfg,
+                                                    lod == PSC_PROXY_LOD_FULL ? PSC_PROXY_LOD_PROXIES : PSC_PROXY_LOD_FULL,
+                                                    rgb);
+                if (k > 0 && st.pixels > 0) {   /* the first frame is the one that corrects it */
+                    double ratio = c.area_px / (double)st.pixels;
+                    double pf = (double)(lod == PSC_PROXY_LOD_FULL ? st.pixels : other.pixels);
+                    double pp = (double)(lod == PSC_PROXY_LOD_FULL ? other.pixels : st.pixels);
+                    double full = PSC_PROXY_COST_FULL_VERTEX * (double)f.m.vertex_count +
+                                  PSC_PROXY_COST_FULL_ROW * sqrt(pf * f.m.triangle_count / 2);
+                    double prox = PSC_PROXY_COST_VERTEX * (double)f.m.proxy_vertex_count +
+                                  PSC_PROXY_COST_TRIANGLE * (double)f.m.proxy_triangle_count +
+                                  PSC_PROXY_COST_ROW * sqrt(pp * f.m.proxy_triangle_count / 2) +
+                                  PSC_PROXY_COST_PIXEL * pp;
+                    double picked = lod == PSC_PROXY_LOD_FULL ? full : prox;
+                    if (st.pixels >= 500) {   /* (a few hundred pixels of a thin bar are mostly its edges) */
+                        worst_area = fmax(worst_area, fmax(ratio, 1 / ratio));
+                        sum_log += log(ratio);
+                        n++;
+                    }
+                    worst_cost = fmax(worst_cost, picked / fmin(full, prox));
+                }
+                psc_proxy_observe(&f.px, &st);
             }
-            psc_proxy_observe(&f.px, &st);
+            print_message("  %s, %s: %u proxies, %u full mesh, %u billboard; the estimated area against the pixels "
+                          "written: within a factor %.2f (%u frames of 500 pixels or more), %.3f on average; the level "
+                          "picked at most %.3fx the cheaper by the cost model on the pixels written\n",
+                          files[mi], walk ? "60 frames of a wandering camera" : "60 random views and poses",
+                          levels[PSC_PROXY_LOD_PROXIES], levels[PSC_PROXY_LOD_FULL], levels[PSC_PROXY_LOD_BILLBOARD],
+                          worst_area, n, exp(sum_log / n), worst_cost);
+            /* the truck within 1.5 (1.28 measured jumping), 15 % on average; the bar, bending and 8 pixels thick at
+             * 7 R, within 2.5 (2.09) and 25 % (its rest billboard's silhouette is not its bent pose's) */
+            assert_true(n >= 10);
+            assert_true(worst_area <= (mi == 0 ? 1.5 : 2.5));
+            assert_true(fabs(sum_log / n) <= log(mi == 0 ? 1.15 : 1.25));
+            assert_true(worst_cost <= (walk ? 1.10 : 1.25));
         }
-        print_message("  %s: --lod auto over 60 random views: %u proxies, %u full mesh, %u billboard; the estimated "
-                      "area against the pixels written: within a factor %.2f (%u frames of 500 pixels or more), %.3f on average; the level "
-                      "picked at most %.3fx the cheaper by the cost model on the pixels written\n",
-                      files[mi], levels[PSC_PROXY_LOD_PROXIES], levels[PSC_PROXY_LOD_FULL],
-                      levels[PSC_PROXY_LOD_BILLBOARD], worst_area, n, exp(sum_log / n), worst_cost);
-        /* the truck within 1.5 (1.30 measured), 15 % on average; the bar, bending and 8 pixels thick at 7 R, within 2.5
-         * (2.09) and 25 % (its rest billboard's silhouette is not its bent pose's) */
-        assert_true(n >= 10);
-        assert_true(worst_area <= (mi == 0 ? 1.5 : 2.5));
-        assert_true(fabs(sum_log / n) <= log(mi == 0 ? 1.15 : 1.25));
-        assert_true(worst_cost <= 1.10);
 
         /* at the crossing of the two estimates the level holds: the radius swept 2 % either way keeps it */
         psc_mat4_identity(&cam);

@@ -547,9 +547,25 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
 
     for (int32_t y = s->py0; y <= s->py1; y++) {
         int64_t e0 = e0r, e1 = e1r, e2 = e2r;
-        uint64_t d = dr, q = qr, u[3] = {ur[0], ur[1], ur[2]}, v[3] = {vr[0], vr[1], vr[2]};
-        for (int32_t x = s->px0; x <= s->px1; x++) {
+        int32_t x = s->px0;
+        /* the row's pixels before the triangle: its edges alone, the planes then moved over them at once (the same
+         * sums, modulo 2^64, as a step a pixel); a small triangle's box is half empty */
+        while (x <= s->px1 && (aa ? sample_mask(s, e0, e1, e2) == 0 : (e0 | e1 | e2) < 0)) {
+            e0 += s->ex[0];
+            e1 += s->ex[1];
+            e2 += s->ex[2];
+            x++;
+        }
+        uint64_t skip = (uint64_t)(int64_t)(x - s->px0);
+        uint64_t d = dr + skip * s->depth.step_x, q = qr + skip * s->q.step_x, u[3], v[3];
+        for (unsigned k = 0; k < 3; k++) {
+            u[k] = ur[k] + skip * s->vu[k].step_x;
+            v[k] = vr[k] + skip * s->vv[k].step_x;
+        }
+        for (; x <= s->px1; x++) {
             uint32_t cover = aa ? sample_mask(s, e0, e1, e2) : (e0 | e1 | e2) >= 0 ? PSC_ABUF_FULL : 0;
+            if (cover == 0 && !aa)
+                break;   /* three half-planes cross a row once: past the triangle, nothing more on it */
             if (cover != 0) {
                 uint32_t z = 0, limit = 0xFFFFFFFFu;
                 int draw = 1;
