@@ -140,6 +140,23 @@ static int bake_all(psc_gltf_t g[3], model_t models[3])
     return 0;
 }
 
+/* A line of the table, on the terminal and in the results file (j may be NULL). */
+static void emit(FILE *j, const char *line)
+{
+    fputs(line, stdout);
+    if (j)
+        fputs(line, j);
+}
+
+/* What bake_all made, freed. */
+static void free_all(psc_gltf_t g[3], model_t models[3])
+{
+    for (unsigned k = 0; k < 3; k++) {
+        free(models[k].pack);
+        psc_gltf_free(&g[k]);
+    }
+}
+
 static int run_table(const char *out)
 {
     psc_gltf_t g[3] = {0};
@@ -171,16 +188,11 @@ static int run_table(const char *out)
         snprintf(size, sizeof size, "%ux%u", w, h);
         snprintf(line, sizeof line, "%-26s %9u %9u %7u %7.1f MB %8s %7.1f R %10.3f %10.3f %6.2fx\n", mo->name, tf, tp,
                  mo->m.view_count, tex_mb, size, shots[k % 3].dist, full, prx, full / prx);
-        fputs(line, stdout);
-        if (j)
-            fputs(line, j);
+        emit(j, line);
     }
     if (j)
         fclose(j);
-    for (unsigned k = 0; k < 3; k++) {
-        free(models[k].pack);
-        psc_gltf_free(&g[k]);
-    }
+    free_all(g, models);
     return 0;
 }
 
@@ -350,9 +362,7 @@ static int run_callgrind(const char *self, const char *out_dir)
     char head[256];
     snprintf(head, sizeof head, "%-26s %8s %6s %6s %15s %17s %17s %10s %7s\n", "model", "size", "dist", "r px",
              "pixels est/drawn", "proxies est/count", "full est/count", "auto", "slower");
-    fputs(head, stdout);
-    if (j)
-        fputs(head, j);
+    emit(j, head);
     for (unsigned k = 0; k < 3 && rc == 0; k++)
         for (unsigned s = 0; s < 2 && rc == 0; s++)
             for (unsigned d = 0; d < CG_DISTS && rc == 0; d++) {
@@ -415,9 +425,7 @@ static int run_callgrind(const char *self, const char *out_dir)
                          cg_dists[d], (int)c.radius_px, est[0], est[1], est[2],
                          pick == PSC_PROXY_LOD_FULL ? "full" : pick == PSC_PROXY_LOD_BILLBOARD ? "billboard" : "proxies",
                          sl);
-                fputs(line, stdout);
-                if (j)
-                    fputs(line, j);
+                emit(j, line);
             }
     for (unsigned k = 0; k < 3; k++)
         unlink(packs[k]);
@@ -438,16 +446,11 @@ static int run_callgrind(const char *self, const char *out_dir)
                  PSC_PROXY_COST_VERTEX, PSC_PROXY_COST_TRIANGLE, PSC_PROXY_COST_ROW, PSC_PROXY_COST_PIXEL,
                  PSC_PROXY_COST_SCREEN_PIXEL, PSC_PROXY_COST_FULL_VERTEX, PSC_PROXY_COST_FULL_ROW,
                  PSC_PROXY_COST_SCREEN_PIXEL);
-        fputs(line, stdout);
-        if (j)
-            fputs(line, j);
+        emit(j, line);
     }
     if (j)
         fclose(j);
-    for (unsigned k = 0; k < 3; k++) {
-        free(models[k].pack);
-        psc_gltf_free(&g[k]);
-    }
+    free_all(g, models);
     return rc == 0 ? 0 : 1;
 }
 
