@@ -185,22 +185,6 @@ static void strip_m3(const psc_mat4_q16_t *skin, const psc_proxy_skin_raw_t *sk,
 
 /* ---- views ------------------------------------------------------------------------- */
 
-/* The three views for a surface seen from camera-space point at (its Ds) through cam, moved by m2: Dr = Ds M1^-1 M2^-1. */
-static void pick_views(unsigned side, const int32_t at[3], const psc_mat4_q16_t *cam, const psc_mat4_q16_t *m2,
-                       psc_proxy_pick_t *pick)
-{
-    int64_t e[3];
-    int32_t ds[3], dr[3];
-    apply(cam, at, e);
-    for (unsigned a = 0; a < 3; a++)
-        ds[a] = (int32_t)e[a];
-    if (ds[0] == 0 && ds[1] == 0 && ds[2] == 0)
-        ds[2] = 1;
-    psc_proxy_view_for_part(ds, cam, m2, dr);
-    if (psc_proxy_view_pick(side, dr, pick) != PSC_OK)
-        *pick = (psc_proxy_pick_t){{0, 0, 0}, {65536, 0, 0}};
-}
-
 /* The pick's weights in Q0.8, summing to exactly 256 (the rasterizer's), heaviest first still. */
 static void weights_q8(const psc_proxy_pick_t *pick, uint16_t w[3])
 {
@@ -307,7 +291,7 @@ static unsigned billboard(psc_proxy_t *p, const psc_mat4_q16_t *cam, bool ids)
     psc_proxy_pick_t pick;
     psc_mat4_q16_t id;
     psc_mat4_identity(&id);
-    pick_views(m->bb_side, c, cam, &id, &pick);
+    psc_proxy_view_pick_at(m->bb_side, c, cam, &id, &pick);
     /* (u, v) = 1/2 + (x.right, -x.up) / 2 rho' with rho' = 1.02 rho, as the views were fitted */
     int64_t den = 2 * (rho * 102 / 100);
     const uint16_t *uv[3];
@@ -422,7 +406,7 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
             for (unsigned a = 0; a < 3; a++)
                 cc[a] = (int32_t)c[a];
             psc_proxy_pick_t pick;
-            pick_views(m->view_side, cc, cam, js, &pick);
+            psc_proxy_view_pick_at(m->view_side, cc, cam, js, &pick);
             const uint16_t *const uv[3] = {part_uv(m, pr, pick.view[0]), part_uv(m, pr, pick.view[1]),
                                            part_uv(m, pr, pick.view[2])};
             set_views(d, &p->textures[3u * nd], &pt, &pick, uv, p->filter);
@@ -441,7 +425,7 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
         for (unsigned a = 0; a < 3; a++)
             cc[a] = (int32_t)(sum[a] / (int64_t)pr->proxy_vertex_count);
         psc_proxy_pick_t pick;
-        pick_views(m->view_side, cc, cam, &m3, &pick);
+        psc_proxy_view_pick_at(m->view_side, cc, cam, &m3, &pick);
         const uint16_t *const uv[3] = {part_uv(m, pr, pick.view[0]), part_uv(m, pr, pick.view[1]),
                                        part_uv(m, pr, pick.view[2])};
         psc_mesh_t *mesh = &p->meshes[nd];

@@ -32,7 +32,7 @@
 #define AREA_PX_MAX (UINT64_C(1) << 31)
 
 /* Billboard view v's covered texels, in halves: one on the silhouette's edge counts half (a texel is there when a
- * quarter of it is: thin parts would count double). */
+ * quarter of it is: thin parts would count twice). */
 static uint32_t view_halves(const psc_proxy_model_t *m, uint32_t v)
 {
     uint32_t t = m->bb_tex, halves = 0;
@@ -58,27 +58,16 @@ static uint64_t view_square_r2_q16(const psc_proxy_model_t *m)
 }
 
 /* The silhouette's area in R^2 (Q16) seen through cam: the three billboard views nearest the direction it is seen
- * from, blended with their weights as the billboard blends them; the views' mean without them. */
+ * from, blended with their weights as the billboard blends them. */
 static uint32_t silhouette_r2_q16(const psc_proxy_t *p, const psc_mat4_q16_t *cam)
 {
     const psc_proxy_model_t *m = p->m;
     if (m->bb_side == 0 || m->bb_texels == NULL || m->bb_tex == 0)
         return p->area_r2_q16;
-    int64_t ds[3];
-    int32_t d[3], dr[3];
-    for (unsigned r = 0; r < 3; r++) {   /* the billboard's centre in the camera's space: the direction it is seen */
-        ds[r] = psc_shr_round64((int64_t)cam->m[r][0] * m->bb_centre_q16[0] + (int64_t)cam->m[r][1] * m->bb_centre_q16[1] +
-                                    (int64_t)cam->m[r][2] * m->bb_centre_q16[2], 16) + cam->m[r][3];
-        d[r] = (int32_t)(ds[r] > INT32_MAX ? INT32_MAX : ds[r] < -INT32_MAX ? -INT32_MAX : ds[r]);
-    }
-    if (d[0] == 0 && d[1] == 0 && d[2] == 0)
-        return p->area_r2_q16;
     psc_mat4_q16_t id;
     psc_mat4_identity(&id);
-    psc_proxy_view_for_part(d, cam, &id, dr);
     psc_proxy_pick_t pick;
-    if (psc_proxy_view_pick(m->bb_side, dr, &pick) != PSC_OK)
-        return p->area_r2_q16;
+    psc_proxy_view_pick_at(m->bb_side, m->bb_centre_q16, cam, &id, &pick);   /* as the billboard picks them */
     uint64_t area = 0;
     for (unsigned k = 0; k < 3; k++) {
         if (pick.view[k] >= m->bb_view_count)

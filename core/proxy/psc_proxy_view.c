@@ -129,3 +129,19 @@ void psc_proxy_view_for_part(const int32_t ds[3], const psc_mat4_q16_t *m1, cons
         dr[r] = (int32_t)psc_shr_round64((int64_t)m2->m[0][r] * t[0] + (int64_t)m2->m[1][r] * t[1] +
                                          (int64_t)m2->m[2][r] * t[2], 32);
 }
+
+void psc_proxy_view_pick_at(unsigned side, const int32_t at[3], const psc_mat4_q16_t *m1, const psc_mat4_q16_t *m2,
+                            psc_proxy_pick_t *pick)
+{
+    int32_t ds[3], dr[3];
+    for (unsigned r = 0; r < 3; r++)   /* at in the camera's space: Ds */
+        ds[r] = (int32_t)(psc_shr_round64((int64_t)m1->m[r][0] * at[0] + (int64_t)m1->m[r][1] * at[1] +
+                                              (int64_t)m1->m[r][2] * at[2],
+                                          16) +
+                          m1->m[r][3]);
+    if (ds[0] == 0 && ds[1] == 0 && ds[2] == 0)
+        ds[2] = 1;
+    psc_proxy_view_for_part(ds, m1, m2, dr);
+    if (psc_proxy_view_pick(side, dr, pick) != PSC_OK)
+        *pick = (psc_proxy_pick_t){{0, 0, 0}, {65536, 0, 0}};
+}

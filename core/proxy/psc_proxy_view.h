@@ -58,4 +58,12 @@ psc_status_t psc_proxy_view_pick(unsigned side, const int32_t d_q16[3], psc_prox
 void psc_proxy_view_for_part(const int32_t ds_q16[3], const psc_mat4_q16_t *m1, const psc_mat4_q16_t *m2,
                              int32_t dr_q16[3]);
 
+/**
+ * The three views (and weights) to draw a surface at object-space point at
+ * with: Dr for Ds = m1 at (the camera's view of it), moved by the part's m2;
+ * the first view alone when no direction can be had.
+ */
+void psc_proxy_view_pick_at(unsigned side, const int32_t at[3], const psc_mat4_q16_t *m1, const psc_mat4_q16_t *m2,
+                            psc_proxy_pick_t *pick);
+
 #endif
