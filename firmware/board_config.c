@@ -89,6 +89,11 @@ static const key_spec_t key_table[] = {
     KEY("character_shadows", KEY_BOOL, character_shadows, 0, 0, false),
     KEY("render3d_tile", KEY_U32, render3d_tile, 0, PSC_MAX_OUT_DIM, false),
     KEY("render3d_abuffer_kb", KEY_U32, render3d_abuffer_kb, 0, 262144, false),
+    KEY("render3d_relight", KEY_BOOL, render3d_relight, 0, 0, false),
+    KEY("render3d_light_azimuth", KEY_MILLI, render3d_light_azimuth_mdeg, -360000, 360000, false),
+    KEY("render3d_light_elevation", KEY_MILLI, render3d_light_elevation_mdeg, -90000, 90000, false),
+    KEY("render3d_light_turn", KEY_MILLI, render3d_light_turn_mdeg, -360000, 360000, false),
+    KEY("render3d_light_ambient", KEY_MILLI_U32, render3d_light_ambient_milli, 0, 1000, false),
     KEY("attract_idle_s", KEY_MILLI_U32, attract_idle_ms, 0, 86400000, false),
     KEY("attract_rate", KEY_MILLI, attract_rate_mdeg, -90000, 90000, false),
     KEY("hotspot", KEY_HOTSPOT, hotspots, 0, 0, false),
@@ -153,6 +158,9 @@ void psc_board_config_defaults(psc_board_config_t *cfg)
     cfg->pitch_max_mdeg = 90000;
     cfg->pan_follows_zoom = true;
     cfg->character_shadows = true;
+    cfg->render3d_light_azimuth_mdeg = 41634;     /* the proxy bake's light (psc_proxy.h) */
+    cfg->render3d_light_elevation_mdeg = 53043;
+    cfg->render3d_light_ambient_milli = 450;
     cfg->attract_rate_mdeg = 5000;
     cfg->quality_adaptive = true;
     cfg->quality_fast_speed = 500;

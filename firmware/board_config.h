@@ -116,6 +116,11 @@ typedef struct {
     bool character_shadows;             /* character_shadows: shade characters with their .pao beside the .ppk */
     uint32_t render3d_tile;             /* render3d_tile: 3D scenes drawn in N x N tiles, 0 = whole screen */
     uint32_t render3d_abuffer_kb;       /* render3d_abuffer_kb: 3D scenes' A-buffer budget a tile, 0 = aliased */
+    bool render3d_relight;              /* render3d_relight: proxies lit by the light below, not as baked */
+    int32_t render3d_light_azimuth_mdeg;   /* render3d_light_azimuth: toward the light, from +z toward +x */
+    int32_t render3d_light_elevation_mdeg; /* render3d_light_elevation: above the horizon */
+    int32_t render3d_light_turn_mdeg;   /* render3d_light_turn: the light turning about the vertical, deg/s */
+    uint32_t render3d_light_ambient_milli; /* render3d_light_ambient: the ambient share x 1000 */
 
     /* kiosk behaviour (attract.h, hotspots.h) */
     uint32_t attract_idle_ms;           /* attract_idle_s: idle time before auto-rotating, 0 = never */

@@ -26,6 +26,7 @@ static void print_usage(const char *prog, FILE *f)
     (void)prog;   /* the same as PROG */
     fprintf(f,
             "usage: " PROG " bake MODEL -o M.ppx [--views K] [--tex-mb M] [--pack-mb M] [--tex N] [--simplify F]\n"
+            "       [--no-normals]\n"
             "\n"
             "Divide a model into parts (pieces that move without changing shape) and joints (the triangles\n"
             "between them), form a proxy surface for each, render each proxy's view textures from a grid of\n"
@@ -42,6 +43,9 @@ static void print_usage(const char *prog, FILE *f)
             "  --simplify F        the proxies: the model simplified as far as an error of 1 %% of R allows, and\n"
             "                      further (up to 4 %%) to at most this share of its triangles (default 0.25; a\n"
             "                      model of rigid parts alone 0.08, or 2000 triangles if more)\n"
+            "  --no-normals        leave out the normals that relight the pack under another light\n"
+            "                      (periscope-render --light; about a sixth of the textures' budget goes\n"
+            "                      to them): a denser, baked-light-only pack\n"
             "  -o M.ppx            the pack (written whole, or not at all)\n"
             "  --version, --help\n");
 }
@@ -54,13 +58,14 @@ static const struct option proxy_options[] = {
     {"simplify", required_argument, NULL, 1},
     {"tex-mb", required_argument, NULL, 1},
     {"pack-mb", required_argument, NULL, 1},
+    {"no-normals", no_argument, NULL, 1},
     PSC_IO_CLI_COMMON_OPTIONS,
 };
 
 int main(int argc, char **argv)
 {
     psc_bake_proxy_opts_t o = {PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX, 0 /* by the model */, PSC_BAKE_PROXY_TEX_MB,
-                               PSC_BAKE_PROXY_PACK_MB};
+                               PSC_BAKE_PROXY_PACK_MB, false};
     const char *model = NULL, *out = NULL;
     psc_io_cli_t c;
     char err[768], note[512] = "", load_note[256] = "";
@@ -85,6 +90,8 @@ int main(int argc, char **argv)
         } else if (strcmp(c.name, "--pack-mb") == 0) {
             if (psc_cli_parse_double(c.arg, &o.pack_mb) != 0 || !(o.pack_mb >= 0.1 && o.pack_mb <= 65536))
                 return usage_error("--pack-mb '%s': expected a size in MB, 0.1..65536", c.arg);
+        } else if (strcmp(c.name, "--no-normals") == 0) {
+            o.no_normals = true;
         } else if (strcmp(c.name, "--simplify") == 0) {
             if (psc_cli_parse_double(c.arg, &o.simplify) != 0 || !(o.simplify >= 0.001 && o.simplify <= 1.0))
                 return usage_error("--simplify '%s': expected a share of the triangles, 0.001..1", c.arg);

@@ -84,6 +84,11 @@ static void test_board_valid(void **state)
                        "image.modules = vc4 bochs\n"
                        "render3d_tile = 64\n"
                        "render3d_abuffer_kb = 256\n"
+                       "render3d_relight = yes\n"
+                       "render3d_light_azimuth = -90\n"
+                       "render3d_light_elevation = 12.5\n"
+                       "render3d_light_turn = -20\n"
+                       "render3d_light_ambient = 0.3\n"
                        "display_levels = grey4:halftone\n"
                        "display_dither = none\n";
     if (parse_board(text, &cfg, err, sizeof(err)) != 0)
@@ -93,6 +98,11 @@ static void test_board_valid(void **state)
     assert_int_equal(cfg.pitch_min_mdeg, -45500);
     assert_int_equal(cfg.render3d_tile, 64);
     assert_int_equal(cfg.render3d_abuffer_kb, 256);
+    assert_true(cfg.render3d_relight);
+    assert_int_equal(cfg.render3d_light_azimuth_mdeg, -90000);
+    assert_int_equal(cfg.render3d_light_elevation_mdeg, 12500);
+    assert_int_equal(cfg.render3d_light_turn_mdeg, -20000);
+    assert_int_equal(cfg.render3d_light_ambient_milli, 300);
     assert_true(cfg.display_levels.on);
     assert_int_equal(cfg.display_levels.target, PSC_DITHER_GREY4);
     assert_int_equal(cfg.display_levels.method, PSC_DITHER_HALFTONE);

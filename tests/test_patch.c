@@ -1378,7 +1378,8 @@ static void test_character_scene(void **state)
     assert_int_equal(psc_scene_character_draw(&pf.model, NULL, 0, 600, &view, true, ws, ws_size, &plain, NULL, NULL),
                      PSC_OK);
     free(ws);
-    const psc_scene3d_look_t looks[2] = {{0, 2u << 20}, {40, 64u << 10}};
+    const psc_scene3d_look_t looks[2] = {{.tile = 0, .abuffer_bytes = 2u << 20},
+                                         {.tile = 40, .abuffer_bytes = 64u << 10}};
     for (unsigned l = 0; l < 2; l++) {
         size_t n = psc_scene_character_workspace_size(&pf.model, NULL, 320, 240, &looks[l]);
         assert_true(n >= (l == 0 ? ws_size : 0) + looks[l].abuffer_bytes);

@@ -184,7 +184,7 @@ static void bake(fixture_t *f, const char *file, unsigned views, unsigned tex)
 static void bake_model(fixture_t *f, psc_gltf_t *g, const char *file, unsigned views, unsigned tex)
 {
     char note[256], err[512];
-    psc_bake_proxy_opts_t o = {views, tex, 0, 0, 0};
+    psc_bake_proxy_opts_t o = {views, tex, 0, 0, 0, false};
     uint8_t *bytes;
     assert_int_equal(psc_bake_proxy(g, &o, file, &bytes, &f->len, note, sizeof note, err, sizeof err), 0);
     print_message("  %s: %s\n", file, note);
@@ -206,6 +206,68 @@ static void fixture_free(fixture_t *f)
     free(f->ws);
 }
 
+/* The light the frames are lit by (toward it, model space, unit; the ambient share), or none: as baked. */
+typedef struct {
+    double az, el, ambient;
+} light_t;
+
+static const light_t *frame_light;
+
+static void light_dir(const light_t *l, double out[3])
+{
+    double az = l->az * M_PI / 180, el = l->el * M_PI / 180;
+    out[0] = cos(el) * sin(az), out[1] = sin(el), out[2] = cos(el) * cos(az);
+}
+
+/* The product's: frame_light (or as baked) on the pack's drawing state. */
+static void set_frame_light(fixture_t *f)
+{
+    if (!frame_light) {
+        assert_int_equal(psc_proxy_set_light(&f->px, NULL, 0), PSC_OK);
+        return;
+    }
+    double d[3];
+    light_dir(frame_light, d);
+    int32_t l[3] = {(int32_t)lround(d[0] * 65536), (int32_t)lround(d[1] * 65536), (int32_t)lround(d[2] * 65536)};
+    assert_int_equal(psc_proxy_set_light(&f->px, l, (uint16_t)lround(frame_light->ambient * 16384)), PSC_OK);
+}
+
+/* The reference's decoding of a normal code (psc_oct.h's map, in double). */
+static void oct_decode_ref(uint16_t c, double n[3])
+{
+    double x = (c & 255u) / 127.5 - 1, y = (c >> 8) / 127.5 - 1, z = 1 - fabs(x) - fabs(y);
+    if (z < 0) {
+        double fx = (1 - fabs(y)) * (x < 0 ? -1 : 1), fy = (1 - fabs(x)) * (y < 0 ? -1 : 1);
+        x = fx, y = fy;
+    }
+    double l = sqrt(x * x + y * y + z * z);
+    n[0] = x / l, n[1] = y / l, n[2] = z / l;
+}
+
+/* The reference's colour of vertex v lit by frame_light: the pack's colour (lit at rest by the bake's light,
+ * 0.45 + 0.55 max(0, n.L0), L0 = (0.4, 0.8, 0.45) normalised) divided by that and times the new light's term for
+ * the normal posed in double (its joints' linear parts, weighted, renormalised). */
+static uint32_t relit_ref(const psc_proxy_model_t *m, uint32_t v, const psc_mat4_q16_t *skin, bool rigid, unsigned joint)
+{
+    static const double l0[3] = {0.4 / 1.00124922, 0.8 / 1.00124922, 0.45 / 1.00124922};
+    double n[3], np[3] = {0, 0, 0}, l[3];
+    oct_decode_ref(m->vertex_normals[v], n);
+    for (unsigned k = 0; k < 4; k++) {
+        unsigned j = rigid ? joint : m->skin[v].joint[k];
+        double w = rigid ? (k == 0 ? 1.0 : 0.0) : m->skin[v].weight_q15[k] / 32768.0;
+        for (unsigned r = 0; r < 3 && w != 0; r++)
+            np[r] += w * (skin[j].m[r][0] * n[0] + skin[j].m[r][1] * n[1] + skin[j].m[r][2] * n[2]) / 65536.0;
+    }
+    double ln = sqrt(np[0] * np[0] + np[1] * np[1] + np[2] * np[2]);
+    light_dir(frame_light, l);
+    double d = ln > 0 ? (np[0] * l[0] + np[1] * l[1] + np[2] * l[2]) / ln : 0, d0 = n[0] * l0[0] + n[1] * l0[1] + n[2] * l0[2];
+    double gain = (frame_light->ambient + (1 - frame_light->ambient) * fmax(d, 0)) / (0.45 + 0.55 * fmax(d0, 0));
+    uint32_t c = 0;
+    for (int sh = 16; sh >= 0; sh -= 8)
+        c = c << 8 | (uint32_t)lround(fmin(255, ((m->color[v] >> sh) & 255u) * gain));
+    return c;
+}
+
 /* Draw the pack posed by skin from orbit (yaw, pitch, dist) into rgb and ids (each W x H XRGB). */
 static void render(fixture_t *f, const psc_mat4_q16_t *skin, double yaw, double pitch, double dist,
                    psc_proxy_lod_t lod, uint32_t *rgb, uint32_t *ids)
@@ -222,6 +284,7 @@ static void render(fixture_t *f, const psc_mat4_q16_t *skin, double yaw, double 
     psc_3d_t r;
     assert_int_equal(psc_3d_init(&r, &cfg, ws3d, n), PSC_OK);
     psc_proxy_set_focal(&f->px, psc_proxy_focal_px_q16(W, cfg.hfov));
+    set_frame_light(f);
     for (int pass = 0; pass < 2; pass++) {
         const psc_3d_draw_t *d;
         unsigned nd;
@@ -248,10 +311,11 @@ static void reference_full(fixture_t *f, const psc_mat4_q16_t *skin, double yaw,
                                   (int32_t)lround(dist * 65536), &cam, &cfg.near_q16, &cfg.far_q16),
                      PSC_OK);
     int32_t *posed = malloc((size_t)m->vertex_count * 3 * sizeof *posed);
+    uint32_t *colors = malloc((size_t)m->vertex_count * sizeof *colors);
     psc_mesh_t *meshes = calloc(m->part_count, sizeof *meshes);
     psc_3d_draw_t *draws = calloc(m->part_count, sizeof *draws);
     double *out = malloc((size_t)W * H * 3 * sizeof *out);
-    assert_true(posed && meshes && draws && out);
+    assert_true(posed && colors && meshes && draws && out);
     unsigned nd = 0;
     for (uint32_t i = 0; i < m->part_count; i++) {
         const psc_proxy_part_raw_t *pr = &m->parts[i];
@@ -273,10 +337,11 @@ static void reference_full(fixture_t *f, const psc_mat4_q16_t *skin, double yaw,
             }
             for (unsigned r = 0; r < 3; r++)
                 posed[3u * v + r] = (int32_t)lround(acc[r]);
+            colors[v] = frame_light ? relit_ref(m, v, skin, rigid, pr->joint) : m->color[v];
         }
         meshes[nd] = (psc_mesh_t){.vertex_count = pr->vertex_count, .triangle_count = pr->triangle_count,
                                   .position_q16 = posed + 3u * (size_t)pr->first_vertex,
-                                  .color = m->color + pr->first_vertex,
+                                  .color = colors + pr->first_vertex,
                                   .index = m->index + 3u * (size_t)pr->first_triangle};
         psc_3d_draw_defaults(&draws[nd], &meshes[nd]);
         draws[nd].camera_from_object = cam;
@@ -285,7 +350,7 @@ static void reference_full(fixture_t *f, const psc_mat4_q16_t *skin, double yaw,
     }
     for (int pass = 0; pass < 2; pass++) {
         for (unsigned k = 0; k < nd; k++) {
-            meshes[k].color = pass ? NULL : m->color + (meshes[k].position_q16 - posed) / 3;
+            meshes[k].color = pass ? NULL : colors + (meshes[k].position_q16 - posed) / 3;
             draws[k].shade = pass ? PSC_SHADE_FLAT : draws[k].shade;
         }
         tsup_ref_render3d(&cfg, draws, nd, pass ? 0u : BG, out, NULL);
@@ -297,12 +362,13 @@ static void reference_full(fixture_t *f, const psc_mat4_q16_t *skin, double yaw,
             dst[i] = c;
         }
     }
-    free(posed), free(meshes), free(draws), free(out);
+    free(posed), free(colors), free(meshes), free(draws), free(out);
 }
 
 typedef struct {
     double iou, psnr, ids;
     double hole;      /* share of the full silhouette the proxies leave uncovered */
+    double psnr_both; /* the PSNR over the pixels both cover: the shading alone, without the silhouettes' mismatch */
 } quality_t;
 
 /* Whether part ids pa and pb (part index + 1) follow the same joint or joints at most two steps apart in the
@@ -328,7 +394,7 @@ static quality_t compare(const psc_proxy_model_t *m, const uint32_t *a, const ui
                          const uint32_t *ib)
 {
     unsigned inter = 0, uni = 0, both = 0, same = 0, full = 0, holes = 0;
-    double se = 0;
+    double se = 0, se_both = 0;
     for (unsigned i = 0; i < W * H; i++) {
         bool pa = (ia[i] & 0xFFFFu) != 0, pb = (ib[i] & 0xFFFFu) != 0;
         inter += pa && pb;
@@ -339,15 +405,17 @@ static quality_t compare(const psc_proxy_model_t *m, const uint32_t *a, const ui
             for (unsigned s = 0; s < 24; s += 8) {
                 double d = (double)((a[i] >> s) & 255u) - ((b[i] >> s) & 255u);
                 se += d * d;
+                se_both += pa && pb ? d * d : 0;
             }
         if (pa && pb) {
             both++;
             same += same_bone(m, ia[i] & 0xFFFFu, ib[i] & 0xFFFFu);
         }
     }
-    double mse = uni ? se / (3.0 * uni) : 0;
+    double mse = uni ? se / (3.0 * uni) : 0, mse_both = both ? se_both / (3.0 * both) : 0;
     return (quality_t){uni ? (double)inter / uni : 1, mse > 0 ? 10 * log10(255.0 * 255.0 / mse) : 99,
-                       both ? (double)same / both : 1, full ? (double)holes / full : 0};
+                       both ? (double)same / both : 1, full ? (double)holes / full : 0,
+                       mse_both > 0 ? 10 * log10(255.0 * 255.0 / mse_both) : 99};
 }
 
 typedef struct {
@@ -422,6 +490,9 @@ static quality_t measure(fixture_t *f, const shot_t *s, const char *name)
     return q;
 }
 
+static void relight_quality(fixture_t *f, const shot_t *shots, unsigned n, const char *name, double both_db,
+                            double union_db);
+
 static void test_truck_quality(void **state)
 {
     (void)state;
@@ -448,6 +519,8 @@ static void test_truck_quality(void **state)
         quality_t q = measure(&f, &far[k], "truck");
         assert_true(q.iou >= 0.78);   /* measured 0.83, 0.85 */
     }
+    relight_quality(&f, shots, sizeof shots / sizeof shots[0], "truck", 21.0, 20.5);   /* measured 22.0..23.9, 21.5..21.8 */
+    relight_quality(&f, far, 2, "truck", 14.0, 12.0);   /* the billboard: measured 14.7..16.5, 12.7..15.1 */
     fixture_free(&f);
 }
 
@@ -582,6 +655,37 @@ static void check_atlas(fixture_t *f)
     }
 }
 
+/* Relit (psc_proxy_set_light) under three lights other than the bake's, against the reference lit the same way
+ * (relit_ref): the mean PSNR over the pixels both cover (the shading) at least both_db, over the silhouettes' union at
+ * least union_db, and the silhouettes unchanged. (A light brighter than the bake's shows the same relative errors
+ * larger, and the silhouettes' mismatch against the background with more contrast: the baked figures printed beside
+ * are not the bound.) */
+static void relight_quality(fixture_t *f, const shot_t *shots, unsigned n, const char *name, double both_db,
+                            double union_db)
+{
+    static const light_t lights[] = {{-90, 10, 0.45}, {180, 30, 0.45}, {60, -25, 0.25}};
+    double base = 0, base_both = 0, base_iou = 0;
+    for (unsigned k = 0; k < n; k++) {
+        quality_t q = measure(f, &shots[k], name);
+        base += q.psnr / n, base_both += q.psnr_both / n, base_iou += q.iou / n;
+    }
+    for (unsigned l = 0; l < sizeof lights / sizeof lights[0]; l++) {
+        frame_light = &lights[l];
+        double psnr = 0, both = 0, iou = 0;
+        for (unsigned k = 0; k < n; k++) {
+            quality_t q = measure(f, &shots[k], name);
+            psnr += q.psnr / n, both += q.psnr_both / n, iou += q.iou / n;
+        }
+        frame_light = NULL;
+        print_message("  %s relit toward %.0f,%.0f (ambient %.2f): PSNR %.1f dB (where both cover %.1f dB), IoU %.3f; "
+                      "as baked: %.1f dB (%.1f dB), %.3f\n",
+                      name, lights[l].az, lights[l].el, lights[l].ambient, psnr, both, iou, base, base_both, base_iou);
+        assert_true(both >= both_db);
+        assert_true(psnr >= union_db);
+        assert_true(fabs(iou - base_iou) < 0.002);
+    }
+}
+
 /* A held-out skinned human (tests/data/assimp: 5 126 triangles, 58 nodes; nobody tuned the proxies on it) at
  * poses and views never baked. */
 static void test_human_quality(void **state)
@@ -612,6 +716,7 @@ static void test_human_quality(void **state)
                   iou[1], psnr[1]);
     assert_true(iou[0] >= 0.93 && iou[1] >= 0.93);     /* measured 0.940, 0.935 */
     assert_true(psnr[0] >= 30.0 && psnr[1] >= 30.0);   /* measured 32.3, 30.6 dB */
+    relight_quality(&f, shots, sizeof shots / sizeof shots[0], "human", 30.0, 27.0);   /* measured 31.2..34.3, 28.2..29.2 */
     fixture_free(&f);
 }
 
@@ -908,6 +1013,31 @@ static void test_scene_draw(void **state)
      * 8 % of the height) */
     assert_true(seen[PSC_PROXY_LOD_PROXIES] > 0);
     assert_int_equal(psc_scene_proxy_draw(&f.m, 0, &v, true, ws, n - 1, &sf, NULL, NULL), PSC_ERR_NOMEM);
+    /* the board's light (render3d_relight): a light from the side changes the frame; turning at 36 degrees a second
+     * it is back where it started after 10 s, the same direction to the bit; as baked it is the default */
+    psc_scene3d_look_t look = {0};
+    look.relight = true, look.light_azimuth_mdeg = -90000, look.light_elevation_mdeg = 10000;
+    look.light_ambient_q14 = 7373, look.light_turn_mdeg = 36000;
+    static uint16_t a[160 * 120], b[160 * 120];
+    v.hfov = tsup_bam_from_deg(60);
+    psc_surface_t sa = {160, 120, 320, PSC_PIX_RGB565, a};
+    assert_int_equal(psc_scene_proxy_draw(&f.m, 0, &v, true, ws, n, &sf, NULL, NULL), PSC_OK);
+    assert_int_equal(psc_scene_proxy_draw(&f.m, 0, &v, false, ws, n, &sa, NULL, &look), PSC_OK);
+    assert_memory_not_equal(px, a, sizeof a);
+    int32_t l0[3], l1[3], l2[3];
+    psc_scene3d_light_at(&look, 0, l0);
+    psc_scene3d_light_at(&look, 10000000, l1);
+    psc_scene3d_light_at(&look, 2500000, l2);
+    assert_memory_equal(l0, l1, sizeof l0);
+    assert_true(l0[0] < -60000 && abs(l0[2]) < 100 && l2[2] > 60000);   /* -90 degrees (toward -x), then 0 (+z) */
+    psc_surface_t sb = {160, 120, 320, PSC_PIX_RGB565, b};
+    assert_int_equal(psc_scene_proxy_draw(&f.m, 2500000, &v, false, ws, n, &sb, NULL, &look), PSC_OK);
+    look.light_turn_mdeg = 0;
+    assert_int_equal(psc_scene_proxy_draw(&f.m, 2500000, &v, false, ws, n, &sa, NULL, &look), PSC_OK);
+    assert_memory_not_equal(a, b, sizeof a);   /* the turn, not the pose alone */
+    look.relight = false;
+    assert_int_equal(psc_scene_proxy_draw(&f.m, 0, &v, false, ws, n, &sa, NULL, &look), PSC_OK);
+    assert_memory_equal(px, a, sizeof a);
     free(ws);
     fixture_free(&f);
 }
@@ -1049,7 +1179,7 @@ static void test_model_fuzz(void **state)
             refused++;
             continue;
         }
-        psc_bake_proxy_opts_t o = {9, 8, 0, 0, 0};
+        psc_bake_proxy_opts_t o = {9, 8, 0, 0, 0, false};
         uint8_t *pack = NULL;
         size_t plen = 0;
         if (psc_bake_proxy(&g, &o, path, &pack, &plen, note, sizeof note, err, sizeof err) == 0) {
@@ -1076,6 +1206,71 @@ static void test_model_fuzz(void **state)
 }
 
 /* ---- fuzzing ------------------------------------------------------------------------------------- */
+
+/* A pack's normals (1.3) come with XINF's flag or not at all: the flag without the sections, or the sections without
+ * the flag, is refused with a message; --no-normals bakes the 1.2 layout, which draws as baked and refuses a light. */
+static void test_normals_sections(void **state)
+{
+    (void)state;
+    fixture_t f = {0};
+    bake(&f, GLTF_DIR "animation_with_skeleton.gltf", 9, 8);
+    assert_non_null(f.m.vertex_normals);
+    assert_non_null(f.m.tex_normals);
+    assert_non_null(f.m.bb_normals);
+    psc_container_t c;
+    psc_container_error_t e = {NULL, 0};
+    assert_int_equal(psc_container_open(f.pack, f.len, &psc_proxy_format, &c, &e), PSC_OK);
+    static const uint32_t types[4] = {PSC_SECTION_PROXY_INFO, PSC_SECTION_PROXY_VNORMALS, PSC_SECTION_PROXY_TEX_NORMALS,
+                                      PSC_SECTION_PROXY_BB_NORMALS};
+    psc_section_t sec[4];
+    bool present[4];
+    assert_int_equal(psc_container_collect(&c, types, 4, sec, present, &e), PSC_OK);
+    assert_true(present[0] && present[1] && present[2] && present[3]);
+    for (unsigned k = 0; k < 4; k++) {   /* k 0: the flag cleared; 1..3: a section renamed away */
+        uint8_t *b;
+        assert_int_equal(posix_memalign((void **)&b, 64, f.len), 0);
+        memcpy(b, f.pack, f.len);
+        if (k == 0)
+            b[sec[0].offset + offsetof(psc_proxy_info_raw_t, flags)] &= (uint8_t)~PSC_PROXY_NORMALS;
+        else
+            b[sec[k].entry] = 'Z';   /* its type's first letter: an unknown section, skipped */
+        tsup_wr32(b + PSC_CONTAINER_CRC_OFFSET, 0);
+        tsup_wr32(b + PSC_CONTAINER_CRC_OFFSET, psc_crc32(0, b, f.len));
+        psc_proxy_model_t m;
+        e = (psc_container_error_t){NULL, 0};
+        assert_int_equal(psc_proxy_parse(b, f.len, &m, &e), PSC_ERR_CORRUPT);
+        assert_non_null(e.what);
+        print_message("  normals %s: %s\n", k == 0 ? "without the flag" : "flag without a section", e.what);
+        free(b);
+    }
+    fixture_free(&f);
+    /* --no-normals: the 1.2 layout */
+    psc_gltf_t g;
+    char note[256], err[512];
+    assert_int_equal(psc_gltf_load(GLTF_DIR "animation_with_skeleton.gltf", &g, note, sizeof note, err, sizeof err), 0);
+    psc_bake_proxy_opts_t o = {9, 8, 0, 0, 0, true};
+    uint8_t *bytes;
+    size_t len;
+    assert_int_equal(psc_bake_proxy(&g, &o, "skeleton", &bytes, &len, note, sizeof note, err, sizeof err), 0);
+    psc_gltf_free(&g);
+    uint8_t *b;
+    assert_int_equal(posix_memalign((void **)&b, 64, len), 0);
+    memcpy(b, bytes, len);
+    free(bytes);
+    psc_proxy_model_t m;
+    assert_int_equal(psc_proxy_parse(b, len, &m, NULL), PSC_OK);
+    assert_null(m.vertex_normals);
+    assert_null(m.tex_normals);
+    size_t wn = psc_proxy_workspace_size(&m);
+    void *ws;
+    assert_int_equal(posix_memalign(&ws, 64, wn), 0);
+    psc_proxy_t p;
+    assert_int_equal(psc_proxy_init(&p, &m, ws, wn), PSC_OK);
+    const int32_t l[3] = {0, 65536, 0};
+    assert_int_equal(psc_proxy_set_light(&p, l, 7373), PSC_ERR_UNSUPPORTED);
+    assert_int_equal(psc_proxy_set_light(&p, NULL, 0), PSC_OK);
+    free(ws), free(b);
+}
 
 static void test_pack_fuzz(void **state)
 {
@@ -1126,7 +1321,12 @@ static void test_pack_fuzz(void **state)
             psc_mat4_q16_t cam;
             psc_mat4_identity(&cam);
             cam.m[2][3] = 3 * PSC_Q16_ONE;
-            for (int lod = 0; lod < 2; lod++) {
+            if (k & 1) {   /* relit: the normals (any code is a direction) */
+                const int32_t l[3] = {-40000, 30000, 20000};
+                psc_status_t ls = psc_proxy_set_light(&p, l, 6000);
+                assert_true(ls == (m.tex_normals ? PSC_OK : PSC_ERR_UNSUPPORTED));
+            }
+            for (int lod = 0; lod < 3; lod++) {
                 const psc_3d_draw_t *d;
                 unsigned nd;
                 assert_int_equal(psc_proxy_frame(&p, skin, &cam, (psc_proxy_lod_t)lod, false, &d, &nd), PSC_OK);
@@ -1159,6 +1359,7 @@ int main(void)
         cmocka_unit_test(test_scene_draw),
         cmocka_unit_test(test_tiles_exact),
         cmocka_unit_test(test_model_fuzz),
+        cmocka_unit_test(test_normals_sections),
         cmocka_unit_test(test_pack_fuzz),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

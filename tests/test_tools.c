@@ -874,6 +874,25 @@ static void test_proxy_tools(void **state)
     const char *posed[] = {ppx, "--pose", json, "--size", "160x120", "-o", b_png, NULL};
     expect_run("periscope-render", posed, 0, NULL);
     assert_false(tsup_same_file(a_png, b_png));
+    /* relit: another light changes the frame, the bake's own at rest does not; a bad light is said */
+    const char *rest[] = {ppx, "--size", "160x120", "--format", "xrgb8888", "-o", a_png, NULL};
+    expect_run("periscope-render", rest, 0, NULL);
+    const char *same[] = {ppx, "--size", "160x120", "--format", "xrgb8888", "--light", "41.634,53.043", "-o", b_png, NULL};
+    expect_run("periscope-render", same, 0, NULL);
+    assert_true(tsup_same_file(a_png, b_png));
+    const char *side[] = {ppx, "--size", "160x120", "--format", "xrgb8888", "--light", "-90,10", "--ambient", "0.3",
+                          "-o", b_png, NULL};
+    expect_run("periscope-render", side, 0, NULL);
+    assert_false(tsup_same_file(a_png, b_png));
+    const char *badlight[] = {ppx, "--light", "90", "-o", b_png, NULL}, *badlight_said[] = {"--light '90'", NULL};
+    expect_run("periscope-render", badlight, 2, badlight_said);
+    const char *amb[] = {ppx, "--ambient", "0.3", "-o", b_png, NULL}, *amb_said[] = {"--ambient needs --light", NULL};
+    expect_run("periscope-render", amb, 2, amb_said);
+    const char *plain[] = {"bake", bar, "-o", ppx, "--views", "9", "--tex", "32", "--no-normals", NULL};
+    const char *plain_said[] = {"not relightable (--no-normals)", NULL};
+    expect_run("periscope-proxy", plain, 0, plain_said);
+    const char *unlit[] = {ppx, "--light", "-90,10", "-o", b_png, NULL}, *unlit_said[] = {"the pack has no normals", NULL};
+    expect_run("periscope-render", unlit, 1, unlit_said);
     const char *tex48[] = {"bake", bar, "-o", ppx, "--tex", "48", NULL}, *tex48_said[] = {"--tex '48'", NULL};
     expect_run("periscope-proxy", tex48, 2, tex48_said);
     const char *verb[] = {"make", bar, "-o", ppx, NULL}, *verb_said[] = {"expected the command 'bake'", NULL};

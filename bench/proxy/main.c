@@ -60,7 +60,7 @@ typedef struct {
 static int bake(model_t *mo, const psc_gltf_t *g, unsigned views)
 {
     psc_bake_proxy_opts_t o = {views, PSC_BAKE_PROXY_TEX, 0 /* by the model */, PSC_BAKE_PROXY_TEX_MB,
-                               PSC_BAKE_PROXY_PACK_MB};
+                               PSC_BAKE_PROXY_PACK_MB, false};
     char err[512];
     uint8_t *bytes;
     if (psc_bake_proxy(g, &o, mo->name, &bytes, &mo->len, mo->note, sizeof mo->note, err, sizeof err) != 0) {
@@ -75,8 +75,10 @@ static int bake(model_t *mo, const psc_gltf_t *g, unsigned views)
     return psc_proxy_parse(mo->pack, mo->len, &mo->m, &e) == PSC_OK ? 0 : -1;
 }
 
-/* Best time of PASSES passes of FRAMES frames (ms per frame) at w x h, proxies or full. */
-static double run(model_t *mo, psc_proxy_lod_t lod, unsigned w, unsigned h, int32_t dist_q16, uint32_t *triangles)
+/* Best time of PASSES passes of FRAMES frames (ms per frame) at w x h, proxies or full, as baked or relit by a light
+ * from the side (psc_proxy_set_light). */
+static double run(model_t *mo, psc_proxy_lod_t lod, unsigned w, unsigned h, int32_t dist_q16, bool relit,
+                  uint32_t *triangles)
 {
     const psc_proxy_model_t *m = &mo->m;
     psc_vec3_q16_t lo, hi;
@@ -96,6 +98,9 @@ static double run(model_t *mo, psc_proxy_lod_t lod, unsigned w, unsigned h, int3
         goto done;
     psc_surface_t sf = {(uint16_t)w, (uint16_t)h, w * 2u, PSC_PIX_RGB565, px};
     psc_proxy_set_focal(&p, psc_proxy_focal_px_q16(w, cfg.hfov));
+    static const int32_t side_light[3] = {-64000, 11380, 0};   /* azimuth -90, elevation 10 degrees */
+    if (relit && psc_proxy_set_light(&p, side_light, 7373) != PSC_OK)
+        goto done;
     for (unsigned pass = 0; pass < PASSES; pass++) {
         double t0 = bench_now_s();
         for (unsigned f = 0; f < FRAMES; f++) {
@@ -167,8 +172,8 @@ static int run_table(const char *out)
     snprintf(path, sizeof path, "%s/proxy.txt", out);
     FILE *j = fopen(path, "w");
     printf("proxy animator against the full mesh, RGB565, one core, best of %u passes of %u frames\n", PASSES, FRAMES);
-    printf("%-26s %9s %9s %7s %10s %8s %9s %10s %10s %7s\n", "model", "triangles", "drawn", "views", "textures", "size",
-           "distance", "full ms", "proxy ms", "ratio");
+    printf("%-26s %9s %9s %7s %10s %8s %9s %10s %10s %7s %17s %7s\n", "model", "triangles", "drawn", "views", "textures",
+           "size", "distance", "full ms", "proxy ms", "ratio", "relit: full/proxy", "ratio");
     /* 800 x 480 near (the model fills the view: the full mesh's level) and at a middle distance (a third of it: the
      * proxies'), and 320 x 240 at the middle distance */
     static const struct {
@@ -180,14 +185,18 @@ static int run_table(const char *out)
         uint32_t tf = 0, tp = 0;
         unsigned w = shots[k % 3].w, h = shots[k % 3].h;
         int32_t dq = (int32_t)lround(shots[k % 3].dist * 65536);
-        double full = run(mo, PSC_PROXY_LOD_FULL, w, h, dq, &tf), prx = run(mo, PSC_PROXY_LOD_PROXIES, w, h, dq, &tp);
+        double full = run(mo, PSC_PROXY_LOD_FULL, w, h, dq, false, &tf);
+        double prx = run(mo, PSC_PROXY_LOD_PROXIES, w, h, dq, false, &tp);
+        double rfull = run(mo, PSC_PROXY_LOD_FULL, w, h, dq, true, &tf);
+        double rprx = run(mo, PSC_PROXY_LOD_PROXIES, w, h, dq, true, &tp);
         double tex_mb = 0;
         for (uint32_t i = 0; i < mo->m.part_count; i++)
             tex_mb += (double)psc_proxy_part_tex(&mo->m, i).chain * mo->m.view_count * 2 / 1048576.0;
-        char line[256], size[16];
+        char line[320], size[16];
         snprintf(size, sizeof size, "%ux%u", w, h);
-        snprintf(line, sizeof line, "%-26s %9u %9u %7u %7.1f MB %8s %7.1f R %10.3f %10.3f %6.2fx\n", mo->name, tf, tp,
-                 mo->m.view_count, tex_mb, size, shots[k % 3].dist, full, prx, full / prx);
+        snprintf(line, sizeof line, "%-26s %9u %9u %7u %7.1f MB %8s %7.1f R %10.3f %10.3f %6.2fx %8.3f/%8.3f %6.2fx\n",
+                 mo->name, tf, tp, mo->m.view_count, tex_mb, size, shots[k % 3].dist, full, prx, full / prx, rfull, rprx,
+                 rfull / rprx);
         emit(j, line);
     }
     if (j)
@@ -268,7 +277,9 @@ static int cg_child(void)
         psc_proxy_init(&p, &mo.m, wsp, np) == PSC_OK) {
         psc_surface_t sf = {(uint16_t)w, (uint16_t)h, w * 2u, PSC_PIX_RGB565, px};
         psc_proxy_set_focal(&p, psc_proxy_focal_px_q16(w, cfg.hfov));
-        if (cg_frames(&p, &r, skin, &cam, level ? PSC_PROXY_LOD_FULL : PSC_PROXY_LOD_PROXIES, t_step, &sf) == 0) {
+        static const int32_t side_light[3] = {-64000, 11380, 0};   /* level 2, 3: relit from the side */
+        if ((level < 2 || psc_proxy_set_light(&p, side_light, 7373) == PSC_OK) &&
+            cg_frames(&p, &r, skin, &cam, level & 1u ? PSC_PROXY_LOD_FULL : PSC_PROXY_LOD_PROXIES, t_step, &sf) == 0) {
             printf("%u %u %u %llu\n", (unsigned)cg_stats.triangles, (unsigned)cg_stats.culled,
                    (unsigned)cg_stats.outside, (unsigned long long)cg_stats.pixels);
             rc = 0;
@@ -427,6 +438,21 @@ static int run_callgrind(const char *self, const char *out_dir)
                          sl);
                 emit(j, line);
             }
+    /* relit from the side against as baked: both levels, 320 x 240 and 800 x 480 at the middle distance */
+    for (unsigned k = 0; k < 3 && rc == 0; k++)
+        for (unsigned s = 0; s < 2 && rc == 0; s++) {
+            double ir[4], px;
+            for (unsigned level = 0; level < 4 && rc == 0; level++)
+                rc = cg_count(self, packs[k], cg_w[s], cg_h[s], 6.5, level, models[k].t_step, &ir[level], &px);
+            if (rc != 0)
+                break;
+            char line[320];
+            snprintf(line, sizeof line, "%-26s %4ux%-4u 6.5 R relit: proxies %.2f M (%.2fx as baked), full mesh %.2f M "
+                     "(%.2fx); proxies %.2fx the full mesh's instructions relit, %.2fx as baked\n",
+                     models[k].name, cg_w[s], cg_h[s], ir[2] / 1e6, ir[2] / ir[0], ir[3] / 1e6, ir[3] / ir[1],
+                     ir[2] / ir[3], ir[0] / ir[1]);
+            emit(j, line);
+        }
     for (unsigned k = 0; k < 3; k++)
         unlink(packs[k]);
     if (rc == 0) {

@@ -392,6 +392,9 @@ static void draw_state(const psc_3d_draw_t *d, psc_raster_state_t *st)
         .view_tex = {d->view_tex[0], d->view_tex[1], d->view_tex[2]},
         .view_w_q8 = {d->view_w_q8[0], d->view_w_q8[1], d->view_w_q8[2]},
         .views_mask = d->views_mask,
+        .view_normals = {d->view_normals[0], d->view_normals[1], d->view_normals[2]},
+        .view_light = d->view_light,
+        .view_bake_light = d->view_bake_light,
         .mask_color = d->color,
     };
     if (d->shade == PSC_SHADE_PHONG)
@@ -509,8 +512,12 @@ static bool draw_ok(const psc_3d_draw_t *d)
         return false;
     if (d->shade == PSC_SHADE_VIEWS)
         for (unsigned k = 0; k < 3; k++)
-            if (d->view_w_q8[k] != 0 && (!d->view_tex[k] || !d->view_uv_q16[k]))
+            if (d->view_w_q8[k] != 0 && (!d->view_tex[k] || !d->view_uv_q16[k] ||
+                                         (d->view_normals[0] && !d->view_normals[k])))
                 return false;
+    if (d->shade == PSC_SHADE_VIEWS && d->view_normals[0] &&
+        (d->view_light.ambient_q14 > 16384 || d->view_bake_light.ambient_q14 > 16384))
+        return false;
     for (unsigned r = 0; r < 3; r++)
         for (unsigned c = 0; c < 3; c++)
             if (d->camera_from_object.m[r][c] > PSC_MAT_LINEAR_MAX_Q16 ||

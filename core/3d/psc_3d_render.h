@@ -85,6 +85,10 @@ typedef struct {
     const uint16_t *view_uv_q16[3];
     uint16_t view_w_q8[3];
     bool views_mask;
+    /* VIEWS relit (psc_raster.h): the views' normals (NULL: as baked) and the light now and at the bake, both in
+     * the normals' frame (the caller's: the pipeline does not rotate them) */
+    const psc_texture_t *view_normals[3];
+    psc_lambert_q14_t view_light, view_bake_light;
 } psc_3d_draw_t;
 
 /** A draw with the defaults: Gouraud, back faces culled, depth tested, unlit, the mesh's colours. */

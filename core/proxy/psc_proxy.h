@@ -72,6 +72,17 @@
  *           model at rest in a few small views): per view its image axes,
  *           right and up (3 int32 each, Q16.16 unit vectors)
  *   "XBBT"  with XBBB: bb_side^2 textures of bb_tex^2 RGB565 texels
+ *   With PSC_PROXY_NORMALS (1.3, relightable; needs PSC_PROXY_ATLAS), the
+ *   surface's rest-pose normal as psc_oct16 codes (base/psc_oct.h), model
+ *   space:
+ *   "XVNM"  vertex_count uint16: the full mesh's vertices'
+ *   "XTNM"  per part, per view, (side / 2)^2: its view textures' normals at
+ *           half their level 0's side (normals vary slowly; a quarter of the
+ *           texels), one texture for every mip level
+ *   "XBBN"  with the billboard: per view, (bb_tex / 2)^2
+ *   The colours stay lit by the bake's light (PSC_PROXY_BAKE_LIGHT_*), so a
+ *   frame lit by it needs no normals; another light relights them by the
+ *   ratio of the two lights' Lambert terms (psc_raster.h).
  */
 #ifndef PSC_PROXY_H
 #define PSC_PROXY_H
@@ -82,8 +93,9 @@
 
 #define PSC_PROXY_MAGIC "PSCPRXY\x1a"
 #define PSC_PROXY_VERSION_MAJOR 1u
-#define PSC_PROXY_VERSION_MINOR 2u   /* 1: the optional XNOD; 2: per-part texture sizes and mips (PSC_PROXY_ATLAS) */
-#define PSC_PROXY_MAX_SECTIONS 16u
+#define PSC_PROXY_VERSION_MINOR 3u   /* 1: the optional XNOD; 2: per-part texture sizes and mips (PSC_PROXY_ATLAS);
+                                      * 3: normals (PSC_PROXY_NORMALS) */
+#define PSC_PROXY_MAX_SECTIONS 24u
 #define PSC_PROXY_MAX_JOINTS 1024u
 #define PSC_PROXY_MAX_PARTS 4096u
 #define PSC_PROXY_MAX_VERTICES (1u << 21)
@@ -95,6 +107,15 @@
 #define PSC_PROXY_TEX_MIN 8u
 #define PSC_PROXY_TEX_LEVEL_MIN 4u            /* a mip chain ends at 4 x 4 texels or before */
 #define PSC_PROXY_ATLAS 1u                    /* XINF flags: per-part texture sizes and mip levels (1.2) */
+#define PSC_PROXY_NORMALS 2u                  /* XINF flags: XVNM, XTNM (and XBBN): relightable (1.3) */
+#define PSC_PROXY_NORMAL_SHIFT 1u             /* a view texture's normals: its level 0's side >> this */
+#define PSC_PROXY_NORMAL_SIDE(side) ((side) >> PSC_PROXY_NORMAL_SHIFT)
+/* The light the pack's colours were baked with, model space: base x (0.45 + 0.55 max(0, n.L)), L toward the light,
+ * (0.4, 0.8, 0.45) normalised (azimuth 41.6 degrees from +z toward +x, elevation 53.0 degrees); Q2.14. */
+#define PSC_PROXY_BAKE_LIGHT_X_Q14 6545
+#define PSC_PROXY_BAKE_LIGHT_Y_Q14 13091
+#define PSC_PROXY_BAKE_LIGHT_Z_Q14 7364
+#define PSC_PROXY_BAKE_AMBIENT_Q14 7373
 #define PSC_PROXY_TEX_MAX 512u
 #define PSC_PROXY_POS_MAX_Q16 (64 * 65536)    /* |position| <= 64 R */
 #define PSC_PROXY_NO_JOINT 0xFFFFu
@@ -117,6 +138,9 @@ extern const psc_container_format_t psc_proxy_format;
 #define PSC_SECTION_PROXY_BB_BASES PSC_FOURCC('X', 'B', 'B', 'B')
 #define PSC_SECTION_PROXY_BB_TEXTURES PSC_FOURCC('X', 'B', 'B', 'T')
 #define PSC_SECTION_PROXY_NODES PSC_FOURCC('X', 'N', 'O', 'D')
+#define PSC_SECTION_PROXY_VNORMALS PSC_FOURCC('X', 'V', 'N', 'M')
+#define PSC_SECTION_PROXY_TEX_NORMALS PSC_FOURCC('X', 'T', 'N', 'M')
+#define PSC_SECTION_PROXY_BB_NORMALS PSC_FOURCC('X', 'B', 'B', 'N')
 #define PSC_PROXY_MAX_NODE (1 << 24)   /* a glTF file's node index, at most */
 
 /** "XINF", 64 bytes. */
@@ -129,7 +153,7 @@ typedef struct {
     uint32_t model_r_um;                               /* R in the model's units x 10^6 (information) */
     uint16_t bb_side, bb_tex;                          /* the billboard's views: bb_side^2 of bb_tex^2 (0: none) */
     int32_t bb_centre_q16[3], bb_radius_q16;           /* the sphere its views are fitted to */
-    uint8_t flags;                                     /* PSC_PROXY_ATLAS (1.2; 0 before) */
+    uint8_t flags;                                     /* PSC_PROXY_ATLAS (1.2; 0 before), PSC_PROXY_NORMALS (1.3) */
     uint8_t reserved[3];
 } psc_proxy_info_raw_t;
 
@@ -194,6 +218,9 @@ typedef struct {
     const int32_t *bb_axes_q16;                        /* per view: right[3], up[3] */
     const uint16_t *bb_texels;
     const int32_t *node;                               /* joint_count: its glTF file's node index (-1 none), or NULL */
+    const uint16_t *vertex_normals;                    /* PSC_PROXY_NORMALS: XVNM, XTNM, XBBN (NULL without) */
+    const uint16_t *tex_normals;
+    const uint16_t *bb_normals;
 } psc_proxy_model_t;
 
 /**
@@ -258,6 +285,13 @@ typedef struct {
     bool area_seen;                /* a frame has set area_gain_q8 */
     uint32_t *view_area_r2_q16;    /* the silhouette's area in R^2 (Q16) from each billboard view */
     uint32_t screen_w, screen_h;   /* psc_proxy_set_screen's (0: the area is not clipped) */
+    bool relit;                    /* psc_proxy_set_light given: lit by `light` (else as baked) */
+    int32_t light_q16[3];          /* toward the light, model space, unit (Q16.16) */
+    uint16_t ambient_q14;
+    uint32_t *relit_color;         /* (packs with normals) the full mesh's vertex colours relit this frame */
+    psc_texture_t *normal_tex;     /* (packs with normals) 3 per draw: the views' normals */
+    int32_t *joint_light_q14;      /* (packs with normals) per joint, this frame: the light in its rest frame (Q2.14) */
+    uint32_t blended_vertices;     /* full-mesh vertices that follow more than one joint (relit, they cost more) */
 } psc_proxy_t;
 
 /* The level of detail's cost model, in instructions (callgrind, x86-64, gcc -O2): `build/bench/proxy --callgrind`
@@ -272,6 +306,11 @@ typedef struct {
 #define PSC_PROXY_COST_FULL_VERTEX 732u
 #define PSC_PROXY_COST_FULL_ROW 714u
 #define PSC_PROXY_COST_SCREEN_PIXEL 3u   /* either level: the frame's clear, a pixel of the screen */
+/* Relit (psc_proxy_set_light; the bench's "relit" lines): a proxy pixel reads a normal (four texels) and divides; a
+ * full-mesh vertex is relit, one that blends joints renormalises its light as well. */
+#define PSC_PROXY_COST_RELIT_PIXEL 630u
+#define PSC_PROXY_COST_RELIT_VERTEX 254u
+#define PSC_PROXY_COST_RELIT_BLEND 518u
 
 /** A level's estimated cost for one frame (in instructions of the x86-64 build; what matters is their ratio), and
  *  what it was estimated from: the model's radius and the area it covers on the screen, in pixels. */
@@ -324,6 +363,17 @@ void psc_proxy_lod_prepare(psc_proxy_t *p);
 /** The focal length in pixels (Q16.16) of a camera `width` pixels wide with horizontal field of view hfov:
  *  (width / 2) / tan(hfov / 2); 0 for a field outside (0, 180) degrees. */
 int32_t psc_proxy_focal_px_q16(uint32_t width, psc_bam_t hfov);
+
+/**
+ * Light the model from toward_q16 (model space, any length but not zero)
+ * with ambient_q14 (0..16384; the bake's is PSC_PROXY_BAKE_AMBIENT_Q14)
+ * instead of as baked: every level relit each frame, its normals turned
+ * with the pose (proxies: the part's rotation; the full mesh: each vertex's
+ * blended skin). NULL returns to the baked lighting (the fastest: no
+ * normals read). PSC_ERR_UNSUPPORTED for a pack without normals (baked
+ * before 1.3 or with --no-normals), PSC_ERR_ARG for a zero direction.
+ */
+psc_status_t psc_proxy_set_light(psc_proxy_t *p, const int32_t *toward_q16, uint16_t ambient_q14);
 
 /** The camera's focal length for psc_proxy_frame's mip levels (psc_proxy_lod_pick sets it too; 0: level 0). */
 void psc_proxy_set_focal(psc_proxy_t *p, int32_t focal_px_q16);

@@ -7,8 +7,13 @@
 #include "proxy/psc_proxy.h"
 #include "proxy/psc_proxy_view.h"
 #include "base/psc_fixed.h"
+#include "base/psc_oct.h"
 
 static const uint16_t quad[6] = {0, 1, 2, 0, 2, 3};
+
+/* The light the pack's colours were baked with (psc_proxy.h). */
+static const psc_lambert_q14_t bake_light = {
+    {PSC_PROXY_BAKE_LIGHT_X_Q14, PSC_PROXY_BAKE_LIGHT_Y_Q14, PSC_PROXY_BAKE_LIGHT_Z_Q14}, PSC_PROXY_BAKE_AMBIENT_Q14};
 
 static bool rigid(const psc_proxy_part_raw_t *p)
 {
@@ -39,6 +44,16 @@ static size_t align8(size_t v)
     return (v + 7u) & ~(size_t)7u;
 }
 
+/* What relighting adds (packs with normals): the full mesh's relit colours, the views' normal textures, and each
+ * joint's light. */
+static size_t relight_bytes(const psc_proxy_model_t *m)
+{
+    if (!m->tex_normals)
+        return 0;
+    return align8((size_t)m->vertex_count * 4u) + align8((size_t)m->part_count * 3u * sizeof(psc_texture_t)) +
+           align8((size_t)m->joint_count * 3u * sizeof(int32_t));
+}
+
 size_t psc_proxy_workspace_size(const psc_proxy_model_t *m)
 {
     if (!m || !m->parts)
@@ -46,7 +61,8 @@ size_t psc_proxy_workspace_size(const psc_proxy_model_t *m)
     counts_t c = count(m);
     return align8((size_t)c.posed * 12u) + align8((size_t)c.proxy_posed * 12u) +
            align8((size_t)c.draws * sizeof(psc_mesh_t)) + align8((size_t)c.draws * 3u * sizeof(psc_texture_t)) +
-           align8((size_t)c.draws * sizeof(psc_3d_draw_t)) + align8((size_t)m->bb_view_count * sizeof(uint32_t));
+           align8((size_t)c.draws * sizeof(psc_3d_draw_t)) + align8((size_t)m->bb_view_count * sizeof(uint32_t)) +
+           relight_bytes(m);
 }
 
 uint32_t psc_proxy_max_vertices(const psc_proxy_model_t *m)
@@ -82,6 +98,14 @@ psc_status_t psc_proxy_init(psc_proxy_t *p, const psc_proxy_model_t *m, void *ws
     p->draws = (psc_3d_draw_t *)(void *)w;
     w += align8((size_t)c.draws * sizeof(psc_3d_draw_t));
     p->view_area_r2_q16 = (uint32_t *)(void *)w;   /* the billboard's views' silhouettes (psc_proxy_lod_prepare) */
+    w += align8((size_t)m->bb_view_count * sizeof(uint32_t));
+    if (m->tex_normals) {
+        p->relit_color = (uint32_t *)(void *)w;
+        w += align8((size_t)m->vertex_count * 4u);
+        p->normal_tex = (psc_texture_t *)(void *)w;
+        w += align8((size_t)c.draws * 3u * sizeof(psc_texture_t));
+        p->joint_light_q14 = (int32_t *)(void *)w;
+    }
     p->filter = PSC_TEX_NEAREST;
     p->lod = PSC_PROXY_LOD_PROXIES;
     p->full_px = 0;
@@ -183,6 +207,85 @@ static void strip_m3(const psc_mat4_q16_t *skin, const psc_proxy_skin_raw_t *sk,
     }
 }
 
+/* ---- light ------------------------------------------------------------------------- */
+
+psc_status_t psc_proxy_set_light(psc_proxy_t *p, const int32_t *toward_q16, uint16_t ambient_q14)
+{
+    if (!p || !p->m)
+        return PSC_ERR_ARG;
+    if (!toward_q16) {
+        p->relit = false;
+        return PSC_OK;
+    }
+    if (!p->m->tex_normals)
+        return PSC_ERR_UNSUPPORTED;
+    int64_t v[3] = {toward_q16[0], toward_q16[1], toward_q16[2]};
+    if ((v[0] | v[1] | v[2]) == 0 || ambient_q14 > 16384)
+        return PSC_ERR_ARG;
+    unit_q16(v, p->light_q16);
+    p->ambient_q14 = ambient_q14;
+    p->relit = true;
+    return PSC_OK;
+}
+
+/* Toward the light in the frame of normals that m's linear part turns into model space: m^T L, unit, Q2.14. */
+static void light_in_q14(const psc_proxy_t *p, const psc_mat4_q16_t *m, int32_t out[3])
+{
+    int64_t v[3];
+    int32_t u[3];
+    for (unsigned c = 0; c < 3; c++)
+        v[c] = (int64_t)m->m[0][c] * p->light_q16[0] + (int64_t)m->m[1][c] * p->light_q16[1] +
+               (int64_t)m->m[2][c] * p->light_q16[2];
+    unit_q16(v, u);
+    for (unsigned a = 0; a < 3; a++)
+        out[a] = psc_shr_round32(u[a], 2);
+}
+
+static psc_lambert_q14_t lambert_in(const psc_proxy_t *p, const psc_mat4_q16_t *m)
+{
+    int32_t l[3];
+    light_in_q14(p, m, l);
+    psc_lambert_q14_t out = {{(int16_t)l[0], (int16_t)l[1], (int16_t)l[2]}, p->ambient_q14};
+    return out;
+}
+
+/* A full-mesh piece's colours relit into out: each vertex's light the blend of its joints' (their rotations'
+ * transposes applied to the light, blended as its skin weighs them: the light in the frame of its rest normal). */
+static void relight_piece(const psc_proxy_t *p, const psc_proxy_part_raw_t *pr, uint32_t *out)
+{
+    const psc_proxy_model_t *m = p->m;
+    const psc_proxy_skin_raw_t *sk = m->skin + pr->first_vertex;
+    const uint16_t *nrm = m->vertex_normals + pr->first_vertex;
+    const uint32_t *col = m->color + pr->first_vertex;
+    for (uint32_t i = 0; i < pr->vertex_count; i++) {
+        psc_lambert_q14_t now = {{0, 0, 0}, p->ambient_q14};
+        int32_t n[3];
+        unsigned single = 4;   /* the one joint it follows wholly (a rigid part's every vertex), or 4 */
+        for (unsigned k = 0; k < 4 && single == 4; k++)
+            single = sk[i].weight_q15[k] == 32768u ? k : 4;
+        if (single < 4) {   /* its joint's light as it is: no blend to renormalise */
+            const int32_t *jl = &p->joint_light_q14[3u * sk[i].joint[single]];
+            for (unsigned a = 0; a < 3; a++)
+                now.toward_q14[a] = (int16_t)jl[a];
+        } else {
+            int64_t l[3] = {0, 0, 0};
+            int32_t u[3];
+            for (unsigned k = 0; k < 4; k++) {
+                if (sk[i].weight_q15[k] == 0)
+                    continue;
+                const int32_t *jl = &p->joint_light_q14[3u * sk[i].joint[k]];
+                for (unsigned a = 0; a < 3; a++)
+                    l[a] += (int64_t)jl[a] * sk[i].weight_q15[k];
+            }
+            unit_q16(l, u);
+            for (unsigned a = 0; a < 3; a++)
+                now.toward_q14[a] = (int16_t)psc_shr_round32(u[a], 2);
+        }
+        psc_oct16_decode(nrm[i], n);
+        out[i] = psc_lambert_relight(&now, &bake_light, n, col[i]);
+    }
+}
+
 /* ---- views ------------------------------------------------------------------------- */
 
 /* The pick's weights in Q0.8, summing to exactly 256 (the rasterizer's), heaviest first still. */
@@ -194,16 +297,32 @@ static void weights_q8(const psc_proxy_pick_t *pick, uint16_t w[3])
     w[0] = (uint16_t)w0, w[1] = (uint16_t)w1, w[2] = (uint16_t)(256 - w0 - w1);
 }
 
-/* A part's view textures this frame: the first texel of its run, its sizes, and the mip level drawn. */
+/* A part's view textures this frame: the first texel of its run, its sizes, and the mip level drawn; its normals'
+ * run (NULL: drawn as baked) and the light in their frame. */
 typedef struct {
     const uint16_t *texels;
     psc_proxy_tex_t t;
     uint32_t level;
+    const uint16_t *normals;
+    psc_lambert_q14_t light;
 } part_tex_t;
+
+/* Draw d relit: normal textures ntex[k] of side `side` (the run `normals`, per view side^2) for the picked views. */
+static void set_normals(psc_3d_draw_t *d, psc_texture_t *ntex, const uint16_t *normals, uint32_t side,
+                        const uint16_t view[3], const psc_lambert_q14_t *light)
+{
+    for (unsigned k = 0; k < 3; k++) {
+        psc_texture_init(&ntex[k], (uint16_t)side, (uint16_t)side, PSC_PIX_RGB565, side * 2u,
+                         normals + (size_t)view[k] * side * side);
+        d->view_normals[k] = &ntex[k];
+    }
+    d->view_light = *light;
+    d->view_bake_light = bake_light;
+}
 
 /* Point draw d at the picked views of a part: textures (its level's), coordinates uv[k], weights in Q0.8 summing to
  * 256. */
-static void set_views(psc_3d_draw_t *d, psc_texture_t *tex, const part_tex_t *pt,
+static void set_views(psc_3d_draw_t *d, psc_texture_t *tex, psc_texture_t *ntex, const part_tex_t *pt,
                       const psc_proxy_pick_t *pick, const uint16_t *const uv[3], psc_tex_filter_t filter)
 {
     uint16_t w[3];
@@ -221,6 +340,8 @@ static void set_views(psc_3d_draw_t *d, psc_texture_t *tex, const part_tex_t *pt
         d->view_w_q8[k] = w[k];
         d->view_uv_q16[k] = uv[k];
     }
+    if (pt->normals)
+        set_normals(d, ntex, pt->normals, PSC_PROXY_NORMAL_SIDE(pt->t.side), pick->view, &pt->light);
 }
 
 /* The mip level for a part of radius r_q16 (units of R) whose centre lies z_q16 deep in front of a camera of focal
@@ -326,6 +447,12 @@ static unsigned billboard(psc_proxy_t *p, const psc_mat4_q16_t *cam, bool ids)
         d->view_w_q8[k] = w[k];
         d->view_uv_q16[k] = uv[k];
     }
+    if (p->relit && m->bb_normals && !ids) {   /* its normals are the model's at rest: the light as it is */
+        psc_mat4_q16_t one;
+        psc_mat4_identity(&one);
+        psc_lambert_q14_t l = lambert_in(p, &one);
+        set_normals(d, &p->normal_tex[0], m->bb_normals, PSC_PROXY_NORMAL_SIDE(m->bb_tex), pick.view, &l);
+    }
     return 1;
 }
 
@@ -344,14 +471,25 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
     }
     if (lod == PSC_PROXY_LOD_BILLBOARD)
         lod = PSC_PROXY_LOD_PROXIES;
+    const bool relit = p->relit && m->tex_normals && !ids;
+    if (relit && lod == PSC_PROXY_LOD_FULL)
+        for (uint32_t j = 0; j < m->joint_count; j++)
+            light_in_q14(p, &skin[j], &p->joint_light_q14[3u * j]);
     const uint16_t *texels = m->texels;   /* part i's run of the atlas */
+    const uint16_t *normals = m->tex_normals;   /* and of its normals */
     for (uint32_t i = 0; i < m->part_count; i++) {
         const psc_proxy_part_raw_t *pr = &m->parts[i];
         const psc_mat4_q16_t *js = &skin[pr->joint];
         psc_mat4_q16_t cam_part;
         psc_mat4_mul(&cam_part, cam, js);
-        part_tex_t pt = {texels, psc_proxy_part_tex(m, i), 0};
+        part_tex_t pt = {texels, psc_proxy_part_tex(m, i), 0, NULL, bake_light};
         texels += (size_t)pt.t.chain * m->view_count;
+        if (relit) {
+            pt.normals = normals;
+            pt.light = lambert_in(p, js);   /* a part's normals turn with its joint (the views it is drawn with) */
+        }
+        if (normals)
+            normals += (size_t)PSC_PROXY_NORMAL_SIDE(pt.t.side) * PSC_PROXY_NORMAL_SIDE(pt.t.side) * m->view_count;
         if (lod == PSC_PROXY_LOD_FULL) {
             if (pr->triangle_count == 0)
                 continue;
@@ -361,6 +499,10 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
                                  .position_q16 = m->position_q16 + 3u * (size_t)pr->first_vertex,
                                  .color = ids ? NULL : m->color + pr->first_vertex,
                                  .index = m->index + 3u * (size_t)pr->first_triangle};
+            if (relit) {
+                relight_piece(p, pr, p->relit_color + pr->first_vertex);
+                mesh->color = p->relit_color + pr->first_vertex;
+            }
             psc_3d_draw_t *d = &p->draws[nd++];
             if (rigid(pr)) {
                 draw_base(d, mesh, &cam_part, ids, i);
@@ -409,7 +551,8 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
             psc_proxy_view_pick_at(m->view_side, cc, cam, js, &pick);
             const uint16_t *const uv[3] = {part_uv(m, pr, pick.view[0]), part_uv(m, pr, pick.view[1]),
                                            part_uv(m, pr, pick.view[2])};
-            set_views(d, &p->textures[3u * nd], &pt, &pick, uv, p->filter);
+            set_views(d, &p->textures[3u * nd], p->normal_tex ? &p->normal_tex[3u * nd] : NULL, &pt, &pick, uv,
+                      p->filter);
             nd++;
             continue;
         }
@@ -433,7 +576,9 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
                              .position_q16 = pos, .index = idx};
         psc_3d_draw_t *d = &p->draws[nd];
         draw_base(d, mesh, cam, ids, i);
-        set_views(d, &p->textures[3u * nd], &pt, &pick, uv, p->filter);
+        if (relit)
+            pt.light = lambert_in(p, &m3);   /* a strip's normals turn with its M3 */
+        set_views(d, &p->textures[3u * nd], p->normal_tex ? &p->normal_tex[3u * nd] : NULL, &pt, &pick, uv, p->filter);
         nd++;
     }
     *draws = p->draws;

@@ -114,6 +114,10 @@ void psc_proxy_lod_prepare(psc_proxy_t *p)
         r2 += r12 * r12;
     }
     p->texels_per_r = r2 != 0 && s2 < (UINT64_C(1) << 38) ? psc_isqrt64((s2 << 24) / r2) : 0;
+    p->blended_vertices = 0;
+    for (uint32_t i = 0; i < m->vertex_count; i++)
+        p->blended_vertices += m->skin[i].weight_q15[0] != 32768u && m->skin[i].weight_q15[1] != 32768u &&
+                               m->skin[i].weight_q15[2] != 32768u && m->skin[i].weight_q15[3] != 32768u;
 }
 
 void psc_proxy_set_screen(psc_proxy_t *p, uint32_t width, uint32_t height)
@@ -174,6 +178,11 @@ psc_proxy_cost_t psc_proxy_cost(const psc_proxy_t *p, const psc_mat4_q16_t *cam,
     c.proxies = (uint64_t)PSC_PROXY_COST_VERTEX * m->proxy_vertex_count + (uint64_t)PSC_PROXY_COST_TRIANGLE * m->proxy_triangle_count +
                 PSC_PROXY_COST_ROW * rows_p + (uint64_t)PSC_PROXY_COST_PIXEL * area;
     c.full = (uint64_t)PSC_PROXY_COST_FULL_VERTEX * m->vertex_count + PSC_PROXY_COST_FULL_ROW * rows_f;
+    if (p->relit) {   /* (under 2^10 x 2^31 and 2^10 x 2^22 x 2) */
+        c.proxies += (uint64_t)PSC_PROXY_COST_RELIT_PIXEL * area;
+        c.full += (uint64_t)PSC_PROXY_COST_RELIT_VERTEX * m->vertex_count +
+                  (uint64_t)PSC_PROXY_COST_RELIT_BLEND * p->blended_vertices;
+    }
     c.proxies += PSC_PROXY_COST_SCREEN_PIXEL * screen;   /* (the same for both: the estimates read as counts) */
     c.full += PSC_PROXY_COST_SCREEN_PIXEL * screen;
     return c;

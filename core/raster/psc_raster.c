@@ -13,6 +13,7 @@
  */
 #include "raster/psc_raster.h"
 #include "base/psc_fixed.h"
+#include "base/psc_oct.h"
 #include "base/psc_pixel.h"
 
 /* Extra fraction bits of each plane: the numerators stay below 2^55 for
@@ -528,6 +529,59 @@ static PSC_ALWAYS_INLINE void view_sample(const psc_texture_t *t, int64_t uu, in
     }
 }
 
+/* Add view texture t's normal at (uu, vv), weighted by w (Q0.16), to n[3]: bilinear whatever the colours' filter
+ * (the normals have half the colours' texels; nearest would band a curved surface into steps of light). */
+static PSC_ALWAYS_INLINE void normal_sample(const psc_texture_t *t, int64_t uu, int64_t vv, uint32_t w, int32_t n[3])
+{
+    const int64_t tw = t->width, th = t->height;
+    int64_t tx = (uu * tw >> 8) - 128, ty = (vv * th >> 8) - 128;
+    int64_t ix = tx >> 8, iy = ty >> 8;
+    uint32_t fx = (uint32_t)tx & 255u, fy = (uint32_t)ty & 255u;
+    uint32_t x[2] = {(uint32_t)clamp64(ix, 0, tw - 1), (uint32_t)clamp64(ix + 1, 0, tw - 1)};
+    uint32_t y[2] = {(uint32_t)clamp64(iy, 0, th - 1), (uint32_t)clamp64(iy + 1, 0, th - 1)};
+    uint32_t wx[2] = {256u - fx, fx}, wy[2] = {256u - fy, fy};
+    for (unsigned j = 0; j < 2; j++) {
+        const uint16_t *row = (const uint16_t *)(const void *)((const uint8_t *)t->pixels + (size_t)y[j] * t->stride);
+        for (unsigned i = 0; i < 2; i++) {
+            int32_t d[3];
+            psc_oct16_decode(row[x[i]], d);
+            /* the four weights sum to w <= 65536 in all, |d| <= 16384: the sums stay within 2^30 */
+            int64_t wk = (int64_t)w * (wx[i] * wy[j]);   /* Q0.32 */
+            for (unsigned a = 0; a < 3; a++)
+                n[a] += (int32_t)((d[a] * wk) >> 32);
+        }
+    }
+}
+
+/* A Lambert term in Q2.14 for the unit-scaled dot product dot_q14. */
+static PSC_ALWAYS_INLINE int32_t lambert_q14(const psc_lambert_q14_t *l, int32_t dot_q14)
+{
+    int32_t a = l->ambient_q14;
+    return a + (int32_t)(((int64_t)(16384 - a) * (dot_q14 > 0 ? dot_q14 : 0) + 8192) >> 14);
+}
+
+uint32_t psc_lambert_relight(const psc_lambert_q14_t *now, const psc_lambert_q14_t *bake, const int32_t n[3], uint32_t c)
+{
+    uint32_t len2 = (uint32_t)((int64_t)n[0] * n[0] + (int64_t)n[1] * n[1] + (int64_t)n[2] * n[2]);
+    if (len2 == 0)
+        return c;
+    int64_t inv = psc_rsqrt_q30(len2);   /* 2^30 / |n| */
+    const int16_t *l = now->toward_q14, *l0 = bake->toward_q14;
+    int32_t d = (int32_t)psc_shr_round64(((int64_t)n[0] * l[0] + (int64_t)n[1] * l[1] + (int64_t)n[2] * l[2]) * inv, 30);
+    int32_t d0 = (int32_t)psc_shr_round64(((int64_t)n[0] * l0[0] + (int64_t)n[1] * l0[1] + (int64_t)n[2] * l0[2]) * inv, 30);
+    int32_t num = lambert_q14(now, d), den = lambert_q14(bake, d0);
+    if (den <= 0)
+        return c;
+    /* num <= 2^14: a 32-bit division (a 64-bit one is a library call on 32-bit cores) */
+    uint32_t gain_q16 = (((uint32_t)num << 16) + (uint32_t)den / 2u) / (uint32_t)den;
+    uint32_t out = 0;
+    for (int sh = 16; sh >= 0; sh -= 8) {
+        uint64_t ch = ((uint64_t)(c >> sh & 255u) * gain_q16 + 32768u) >> 16;
+        out = out << 8 | (uint32_t)(ch > 255u ? 255u : ch);
+    }
+    return out;
+}
+
 static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_target_t *t,
                                              const psc_raster_state_t *st, const int out565, const int zbits,
                                              const int bilinear, const int affine, const int aa)
@@ -535,6 +589,7 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
     const uint32_t head_w = (uint32_t)(t->x1 - t->x0);
     /* Without the A-buffer a pixel needs half the weight; with it, what the ramp below turns into one sample. */
     const uint32_t enough = aa ? 30720u : 32768u;
+    const bool relit = st->view_normals[0] != NULL;
     uint32_t written = 0;
     int64_t e0r = s->e[0], e1r = s->e[1], e2r = s->e[2];
     uint64_t dr = s->depth.base, qr = s->q.base, ur[3], vr[3];
@@ -595,6 +650,7 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                         inv = recip40(qq);
                     }
                     uint32_t cov = 0, acc[3] = {0, 0, 0}, left = 65536u;
+                    int32_t nrm[3] = {0, 0, 0};
                     for (unsigned k = 0; k < 3; k++) {
                         uint32_t wk = st->view_w_q8[k];
                         /* the heaviest views come first: stop once the rest cannot reach enough */
@@ -605,8 +661,14 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                         left -= wk << 8;
                         int64_t uu = affine ? plane_value(pu[k], UV_F) : psc_shr_round64(plane_value(pu[k], UV_F) * inv, 24);
                         int64_t vv = affine ? plane_value(pv[k], UV_F) : psc_shr_round64(plane_value(pv[k], UV_F) * inv, 24);
-                        view_sample(st->view_tex[k], clamp64(uu, 0, 65536), clamp64(vv, 0, 65536), wk, bilinear, &cov,
-                                    acc);
+                        uint32_t before = cov;
+                        uu = clamp64(uu, 0, 65536);
+                        vv = clamp64(vv, 0, 65536);
+                        view_sample(st->view_tex[k], uu, vv, wk, bilinear, &cov, acc);
+                        /* the normal from the heaviest view that covers the pixel: the views see one surface, so
+                         * their normals agree but where a view's texels blur an edge (a third of the work) */
+                        if (relit && cov != before && (nrm[0] | nrm[1] | nrm[2]) == 0)
+                            normal_sample(st->view_normals[k], uu, vv, 65536u, nrm);
                     }
                     if (aa) { /* alpha to coverage, ramped 16x steeper about the alpha test's one half */
                         int32_t ramp = ((int32_t)cov - 32768) * 16 + 32768;
@@ -629,6 +691,8 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                                 c = c << 8 | (uint32_t)(ch > 255u ? 255u : ch);
                             }
                         }
+                        if (relit && !st->views_mask)
+                            c = psc_lambert_relight(&st->view_light, &st->view_bake_light, nrm, c);
                         bool put = true;
                         if (aa && cover != PSC_ABUF_FULL)
                             put = partial(t, (uint32_t)(y - t->y0) * head_w + (uint32_t)(x - t->x0), zrow, x, zbits,

@@ -59,8 +59,18 @@
  *    the geometric mask in a dispersed order, the coverage first ramped 16x
  *    steeper about the alpha test's one half: the views' coverage is blurred
  *    over a texel, which may span several pixels), so image-based
- *    silhouettes are smoothed as well. Which pixels are covered stays independent of where a
- *    tile starts.
+ *    silhouettes are smoothed as well. Which pixels are covered stays
+ *    independent of where a tile starts.
+ *  - Relit view textures (view_normals set): each view's texels carry the
+ *    surface's normal (psc_oct.h) in a texture of its own; the heaviest
+ *    view that covers the pixel gives it, sampled bilinearly at the same
+ *    (u, v) (the views see one surface: their normals agree); N,
+ *    renormalised (psc_rsqrt_q30), relights the blended colour by the ratio
+ *    of the two lights' Lambert terms:
+ *        colour x (a + (1 - a) max(0, N.L)) / (a0 + (1 - a0) max(0, N.L0))
+ *    (Q2.14, the ratio in Q16.16, each channel rounded and saturated): the
+ *    texels hold the colour lit by the bake's light L0, so the ratio is the
+ *    albedo lit by L without storing the albedo.
  *  - Phong shading (PSC_SHADE_PHONG): the vertex colours (unlit) and the
  *    vertex normals n_q14 are planes, linear on the screen like Gouraud's
  *    colours; each pixel renormalises its normal N (one 2^30/sqrt(|N|^2),
@@ -134,6 +144,21 @@ typedef struct {
 psc_status_t psc_texture_init(psc_texture_t *t, uint16_t width, uint16_t height, psc_pixfmt_t format,
                               uint32_t stride, const void *pixels);
 
+/** A Lambert light: ambient + (1 - ambient) max(0, N.L). */
+typedef struct {
+    int16_t toward_q14[3];    /* toward the light, unit length, Q2.14 */
+    uint16_t ambient_q14;     /* 0..16384 */
+} psc_lambert_q14_t;
+
+/**
+ * Colour c (XRGB) lit by `now` instead of `bake`, for a surface of normal n
+ * (any length within 2^14 a component; zero leaves c as it is): each channel
+ * times lambert(now) / lambert(bake), rounded and saturated (psc_raster.h's
+ * relit view textures; the proxy animator's full mesh, a vertex at a time).
+ */
+uint32_t psc_lambert_relight(const psc_lambert_q14_t *now, const psc_lambert_q14_t *bake, const int32_t n[3],
+                             uint32_t c);
+
 /** How to draw. */
 typedef struct {
     psc_shade_t shade;
@@ -145,6 +170,10 @@ typedef struct {
     const psc_texture_t *view_tex[3];  /* VIEWS: RGB565, same size */
     uint16_t view_w_q8[3];    /* VIEWS: weights summing to 256, heaviest first (pixels end sooner) */
     bool views_mask;          /* VIEWS: write mask_color where covered */
+    /* VIEWS relit (below): the views' normals, psc_oct16 codes, any power-of-two size (NULL: drawn as baked), and
+     * the light they are lit by now and the one their texels were baked with, both in the normals' frame */
+    const psc_texture_t *view_normals[3];
+    psc_lambert_q14_t view_light, view_bake_light;
     uint32_t mask_color;
     /* PHONG: one directional light and a viewer far along -z (camera space). */
     int16_t light_q14[3];     /* toward the light, unit length */

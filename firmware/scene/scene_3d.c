@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* scene_3d.c - tiles and the A-buffer of the 3D scenes (scene_3d.h). */
 #include "scene/scene_3d.h"
+#include "base/psc_fixed.h"
 
 static size_t align8(size_t v)
 {
@@ -9,12 +10,31 @@ static size_t align8(size_t v)
 
 psc_scene3d_look_t psc_scene3d_look(const psc_board_config_t *b)
 {
-    psc_scene3d_look_t l = {0, 0};
+    psc_scene3d_look_t l = {0};
     if (b) {
         l.tile = (uint16_t)b->render3d_tile;
         l.abuffer_bytes = (size_t)b->render3d_abuffer_kb * 1024u;
+        l.relight = b->render3d_relight;
+        l.light_azimuth_mdeg = b->render3d_light_azimuth_mdeg;
+        l.light_elevation_mdeg = b->render3d_light_elevation_mdeg;
+        l.light_turn_mdeg = b->render3d_light_turn_mdeg;
+        l.light_ambient_q14 = (uint16_t)((b->render3d_light_ambient_milli * 16384u + 500u) / 1000u);
     }
     return l;
+}
+
+void psc_scene3d_light_at(const psc_scene3d_look_t *look, uint64_t t_us, int32_t toward_q16[3])
+{
+    /* the azimuth in millidegrees, turned and wrapped into one turn: time wraps every 360 000 s, after which a
+     * whole number of millidegrees a second has turned a whole number of turns (no jump) */
+    int64_t s = (int64_t)((t_us / 1000u) % 360000000u);   /* milliseconds */
+    int64_t az = ((int64_t)look->light_azimuth_mdeg + look->light_turn_mdeg * s / 1000) % 360000;
+    int32_t sa, ca, se, ce;
+    psc_sincos(PSC_BAM_FROM_MDEG(az), &sa, &ca);
+    psc_sincos(PSC_BAM_FROM_MDEG((int64_t)look->light_elevation_mdeg), &se, &ce);
+    toward_q16[0] = (int32_t)psc_shr_round64((int64_t)ce * sa, 44);   /* Q30 x Q30 -> Q16 */
+    toward_q16[1] = psc_shr_round32(se, 14);
+    toward_q16[2] = (int32_t)psc_shr_round64((int64_t)ce * ca, 44);
 }
 
 void psc_scene3d_tiles(psc_3d_config_t *c, const psc_scene3d_look_t *look)

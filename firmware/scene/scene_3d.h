@@ -8,6 +8,10 @@
  *   render3d_abuffer_kb = K    anti-aliased edges from an A-buffer of K KB a
  *                              tile (0: aliased edges); when a frame's edges
  *                              do not fit, the rest are drawn aliased
+ *   render3d_relight = yes     proxies (the animated object scene) lit by the
+ *                              light render3d_light_azimuth, _elevation,
+ *                              _ambient, turning render3d_light_turn degrees
+ *                              a second, instead of as baked
  *
  * The memory is part of the scene's workspace, sized once when the scene is
  * entered: nothing is allocated while it draws.
@@ -23,7 +27,14 @@
 typedef struct {
     uint16_t tile;            /* tile side in pixels, 0 = the whole screen */
     size_t abuffer_bytes;     /* 0 = no anti-aliasing */
+    bool relight;             /* lit by the light below (proxies), not as baked */
+    int32_t light_azimuth_mdeg, light_elevation_mdeg, light_turn_mdeg;   /* turn: degrees a second */
+    uint16_t light_ambient_q14;
 } psc_scene3d_look_t;
+
+/** The look's light at t_us microseconds into the scene: toward it, model space, Q16.16 unit (x = cos el sin az,
+ *  y = sin el, z = cos el cos az; azimuth turned by the turn rate). */
+void psc_scene3d_light_at(const psc_scene3d_look_t *look, uint64_t t_us, int32_t toward_q16[3]);
 
 /** The board's look for 3D scenes (b may be NULL: the whole screen, aliased edges). */
 psc_scene3d_look_t psc_scene3d_look(const psc_board_config_t *b);

@@ -83,6 +83,11 @@ psc_status_t psc_scene_proxy_draw(const psc_proxy_model_t *m, uint64_t t_us, con
         return PSC_ERR_ARG;
     psc_proxy_lod_t lod = psc_proxy_lod_pick(&st->p, &cam, focal);
     psc_proxy_pose_at(m, (int64_t)(t_us & INT64_MAX), skin);
+    int32_t toward[3];
+    if (look && look->relight)
+        psc_scene3d_light_at(look, t_us, toward);
+    /* a pack without normals draws as baked (periscope-board(5) says so) */
+    (void)psc_proxy_set_light(&st->p, look && look->relight ? toward : NULL, look ? look->light_ambient_q14 : 0);
     psc_3d_t r;
     size_t used = head + skin_bytes + prx;
     if ((s = psc_scene3d_init(&r, &c, look, bytes + used, ws_size - used)) != PSC_OK)

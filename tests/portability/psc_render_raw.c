@@ -25,8 +25,9 @@
  *     A-buffer, 32-pixel tiles with 16 KB each) or phong+aa.
  * A proxy pack (core/proxy/psc_proxy.h, PACK.ppx): the model posed at its
  * animation's time and drawn at 160x120 as its proxies, full mesh or billboard,
- *   VIEW = FORMAT,LOD,TIME_US,YAW,PITCH,DIST_Q16
- *     LOD 0 proxies, 1 full, 2 billboard; TIME_US -1 for the rest pose.
+ *   VIEW = FORMAT,LOD,TIME_US,YAW,PITCH,DIST_Q16[,relit]
+ *     LOD 0 proxies, 1 full, 2 billboard; TIME_US -1 for the rest pose;
+ *     relit: lit from the side (psc_proxy_set_light), else as baked.
  * Exit status: 0 done, 1 the work failed, 2 bad arguments.
  */
 #include "3d/psc_3d_orbit.h"
@@ -314,8 +315,10 @@ static int render_proxy(const void *buf, size_t len, FILE *out, char **specs, in
         long long t_us, pitch;
         unsigned long long yaw;
         long dist;
-        if (sscanf(specs[i], "%15[^,],%d,%lld,%llu,%lld,%ld", fmt, &lod, &t_us, &yaw, &pitch, &dist) != 6 ||
-            lod < 0 || lod > 2 || (strcmp(fmt, "rgb565") != 0 && strcmp(fmt, "xrgb8888") != 0)) {
+        char look[16] = "";
+        int fields = sscanf(specs[i], "%15[^,],%d,%lld,%llu,%lld,%ld,%15s", fmt, &lod, &t_us, &yaw, &pitch, &dist, look);
+        if (fields < 6 || (fields == 7 && strcmp(look, "relit") != 0) || lod < 0 || lod > 2 ||
+            (strcmp(fmt, "rgb565") != 0 && strcmp(fmt, "xrgb8888") != 0)) {
             rc = fail("bad proxy view", specs[i]);
             break;
         }
@@ -327,8 +330,11 @@ static int render_proxy(const void *buf, size_t len, FILE *out, char **specs, in
         psc_surface_t surf = {PATCH_W, PATCH_H, PATCH_W * psc_pixfmt_bytes(format), format, pixels};
         uint32_t bg = 0x30343Cu;
         psc_proxy_pose_at(&m, t_us, skin);
-        psc_status_t s = psc_3d_orbit(lo, hi, (psc_bam_t)yaw, (int32_t)pitch, (int32_t)dist, &cam, &cfg.near_q16,
-                                      &cfg.far_q16);
+        static const int32_t side[3] = {-64000, 11380, 9000};
+        psc_status_t s = psc_proxy_set_light(&p, fields == 7 ? side : NULL, 5000);
+        if (s == PSC_OK)
+            s = psc_3d_orbit(lo, hi, (psc_bam_t)yaw, (int32_t)pitch, (int32_t)dist, &cam, &cfg.near_q16,
+                             &cfg.far_q16);
         if (s == PSC_OK)
             s = psc_3d_init(&r, &cfg, ws3d, n3);
         if (s == PSC_OK)

@@ -134,16 +134,20 @@ echo "portability: $board ($arch): psc-render-raw: 8 self-shadowed patch frames 
     -o "$tmp/bar.ppx" >"$tmp/proxy.log" 2>&1 || { cat "$tmp/proxy.log"; die "periscope-proxy failed"; }
 xspecs="rgb565,0,-1,357913941,238609294,144179 xrgb8888,0,400000,1789569706,-119304647,144179
         rgb565,1,620000,3221225472,178956970,144179 xrgb8888,2,-1,536870912,0,786432
-        rgb565,0,250000,2863311530,-238609294,131072"
+        rgb565,0,250000,2863311530,-238609294,131072 xrgb8888,0,400000,1789569706,-119304647,144179,relit
+        rgb565,1,620000,3221225472,178956970,144179,relit xrgb8888,2,-1,536870912,0,786432,relit"
 # shellcheck disable=SC2086
 "$build/portability/psc-render-raw" "$tmp/bar.ppx" "$tmp/ref-bar.raw" $xspecs || die "the x86-64 proxy frames failed"
 x0=$(head -c 38400 "$tmp/ref-bar.raw" | cksum)
 x2=$(head -c 153600 "$tmp/ref-bar.raw" | tail -c 38400 | cksum)
 [ "$x0" != "$x2" ] || die "the x86-64 proxy frames are alike: the probe is broken"
+x1=$(head -c 115200 "$tmp/ref-bar.raw" | tail -c 76800 | cksum)
+x5=$(head -c 345600 "$tmp/ref-bar.raw" | tail -c 76800 | cksum)
+[ "$x1" != "$x5" ] || die "the x86-64 relit proxy frame equals the baked one of the same view: the probe is broken"
 # shellcheck disable=SC2086
 $runner "$probe" "$tmp/bar.ppx" "$tmp/$board-bar.raw" $xspecs || die "$probe (proxy frames) under ${runner:-the host} failed"
 cmp "$tmp/ref-bar.raw" "$tmp/$board-bar.raw" || die "proxy frames: $board's bytes differ from x86-64's (first difference above)"
-echo "portability: $board ($arch): psc-render-raw: 5 proxy frames of the skinned bar (proxies, full, billboard) equal to x86-64's ($(wc -c <"$tmp/ref-bar.raw") bytes)"
+echo "portability: $board ($arch): psc-render-raw: 8 proxy frames of the skinned bar (proxies, full, billboard; 3 relit) equal to x86-64's ($(wc -c <"$tmp/ref-bar.raw") bytes)"
 
 if [ ! -x "$tool" ]; then
     echo "portability: $board ($arch): periscope-render not cross-built (no $arch image libraries: sh scripts/cross-deps $board): the core probe above stands alone"

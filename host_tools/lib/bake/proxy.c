@@ -6,6 +6,7 @@
 #include "psc_io_container_write.h"
 #include "psc_io_error.h"
 #include "proxy/psc_proxy.h"
+#include "base/psc_oct.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -115,20 +116,21 @@ static bool vertex_rigid(const psc_gltf_t *g, uint32_t v, uint16_t joint)
 
 /* Everything the pack holds, gathered section by section. */
 typedef struct {
-    buf_t parts, vpos, vcol, vskin, idx, ppos, pskin, pidx, puv, tex;
+    buf_t parts, vpos, vcol, vskin, idx, ppos, pskin, pidx, puv, tex, vnrm, tnrm;
     uint32_t vertices, triangles, pvertices, ptriangles, nparts;
 } pack_t;
 
 static void pack_free(pack_t *p)
 {
-    buf_t *b[] = {&p->parts, &p->vpos, &p->vcol, &p->vskin, &p->idx, &p->ppos, &p->pskin, &p->pidx, &p->puv, &p->tex};
+    buf_t *b[] = {&p->parts, &p->vpos,  &p->vcol, &p->vskin, &p->idx,  &p->ppos,
+                  &p->pskin, &p->pidx, &p->puv,  &p->tex,   &p->vnrm, &p->tnrm};
     for (unsigned i = 0; i < sizeof b / sizeof b[0]; i++)
         free(b[i]->p);
 }
 
 static void shape_free(psc_proxy_shape_t *s)
 {
-    free(s->src_pos), free(s->src_color), free(s->src_index), free(s->prx_pos);
+    free(s->src_pos), free(s->src_color), free(s->src_normal), free(s->src_index), free(s->prx_pos);
     if (s->prx_index != s->src_index)
         free(s->prx_index);
     memset(s, 0, sizeof *s);
@@ -412,6 +414,21 @@ static int gather(const uint32_t *idx, const tris_t *tris, int32_t *map, uint32_
     return 0;
 }
 
+uint16_t psc_bake_proxy_oct16(const double n[3])
+{
+    int32_t q[3];
+    for (unsigned a = 0; a < 3; a++)
+        q[a] = (int32_t)lround(n[a] * 16384.0);
+    return psc_oct16_encode(q);
+}
+
+/* Model vertex v's rest normal (up when the model has none). */
+static const double *normal_at(const psc_gltf_t *g, uint32_t v)
+{
+    static const double up[3] = {0, 1, 0};
+    return g->mesh.normal ? &g->mesh.normal[3u * v] : up;
+}
+
 /* Model vertex v in units of R from the centre, and its colour lit at rest. */
 static void vertex_at(const psc_gltf_t *g, uint32_t v, const double c[3], double r, double out[3], uint32_t *color)
 {
@@ -450,9 +467,10 @@ static int form_group(const psc_gltf_t *g, const group_t *gr, const uint32_t *pr
     /* the piece of the full mesh */
     int32_t *vp = buf_add(&pk->vpos, npv * 12u);
     uint32_t *vc = buf_add(&pk->vcol, npv * 4u);
+    uint16_t *vn = buf_add(&pk->vnrm, npv * 2u);
     psc_proxy_skin_raw_t *vs = buf_add(&pk->vskin, npv * 16u);
     uint16_t *ix = buf_add(&pk->idx, gr->src.n * 6u);
-    if ((npv && (!vp || !vc || !vs)) || (gr->src.n && !ix))
+    if ((npv && (!vp || !vc || !vs || !vn)) || (gr->src.n && !ix))
         goto oom;
     for (uint32_t i = 0; i < npv; i++) {
         double q[3];
@@ -460,6 +478,7 @@ static int form_group(const psc_gltf_t *g, const group_t *gr, const uint32_t *pr
         for (unsigned a = 0; a < 3; a++)
             vp[3u * i + a] = psc_hmath_q16(q[a]);
         vs[i] = skin_of(g, pv[i], rigid, gr->joint);
+        vn[i] = psc_bake_proxy_oct16(normal_at(g, pv[i]));
     }
     for (uint32_t k = 0; k < 3u * gr->src.n; k++)
         ix[k] = (uint16_t)pl[k];
@@ -468,14 +487,16 @@ static int form_group(const psc_gltf_t *g, const group_t *gr, const uint32_t *pr
     s.src_triangles = gr->src.n;
     s.src_pos = malloc((npv + 1u) * sizeof *s.src_pos);
     s.src_color = malloc((npv + 1u) * sizeof *s.src_color);
+    s.src_normal = malloc((npv + 1u) * sizeof *s.src_normal);
     s.src_index = malloc((3u * gr->src.n + 1u) * sizeof *s.src_index);
     s.prx_pos = malloc((nxv + 1u) * sizeof *s.prx_pos);
-    if (!s.src_pos || !s.src_color || !s.src_index || !s.prx_pos)
+    if (!s.src_pos || !s.src_color || !s.src_normal || !s.src_index || !s.prx_pos)
         goto oom;
     memcpy(s.src_index, pl, 3u * gr->src.n * sizeof *pl);
     double slo[3] = {INFINITY, INFINITY, INFINITY}, shi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (uint32_t i = 0; i < npv; i++) {
         vertex_at(g, pv[i], c, r, s.src_pos[i], &s.src_color[i]);
+        s.src_normal[i] = psc_bake_proxy_normal_rgb(normal_at(g, pv[i]));
         for (unsigned a = 0; a < 3; a++)
             slo[a] = fmin(slo[a], s.src_pos[i][a]), shi[a] = fmax(shi[a], s.src_pos[i][a]);
     }
@@ -590,11 +611,12 @@ static unsigned tex_levels(unsigned side, size_t *chain)
     return levels;
 }
 
-static double tex_cost(unsigned side, unsigned views)
+/* A side's bytes for `views` views: its mip chain, and with normals their texture at half the side. */
+static double tex_cost(unsigned side, unsigned views, bool normals)
 {
     size_t chain;
     tex_levels(side, &chain);
-    return 2.0 * views * chain;
+    return 2.0 * views * (chain + (normals ? (double)PSC_PROXY_NORMAL_SIDE(side) * PSC_PROXY_NORMAL_SIDE(side) : 0.0));
 }
 
 static const double *want_key;
@@ -609,14 +631,14 @@ static int by_want(const void *a, const void *b)
  * PSC_BAKE_PROXY_DENSITY) whose sides, rounded down to powers of two, fit the budget; then the proxies furthest
  * below it doubled, most wanting first, while the budget allows (a side is a power of two, so densities step by 2:
  * this spends what the rounding left). sides: n entries. Returns the density. */
-static double pick_sides(const psc_proxy_shape_t *shapes, uint32_t n, unsigned views, double budget, unsigned max_side,
-                         unsigned *sides)
+static double pick_sides(const psc_proxy_shape_t *shapes, uint32_t n, unsigned views, bool normals, double budget,
+                         unsigned max_side, unsigned *sides)
 {
     double lo = 1, hi = PSC_BAKE_PROXY_DENSITY, bytes = 0;
     for (int i = 0; i < 48; i++) {
         double d = i == 0 ? hi : sqrt(lo * hi), b = 0;
         for (uint32_t k = 0; k < n; k++)
-            b += tex_cost(tex_floor(tex_want(&shapes[k], d), max_side), views);
+            b += tex_cost(tex_floor(tex_want(&shapes[k], d), max_side), views, normals);
         if (b <= budget)
             lo = d;
         else
@@ -628,7 +650,7 @@ static double pick_sides(const psc_proxy_shape_t *shapes, uint32_t n, unsigned v
     uint32_t *order = malloc((n + 1u) * sizeof *order);
     for (uint32_t k = 0; k < n; k++) {
         sides[k] = tex_floor(tex_want(&shapes[k], lo), max_side);
-        bytes += tex_cost(sides[k], views);
+        bytes += tex_cost(sides[k], views, normals);
         if (ratio && order) {
             ratio[k] = sides[k] ? tex_want(&shapes[k], lo) / sides[k] : 0;
             order[k] = k;
@@ -639,7 +661,7 @@ static double pick_sides(const psc_proxy_shape_t *shapes, uint32_t n, unsigned v
         qsort(order, n, sizeof *order, by_want);
         for (uint32_t i = 0; i < n; i++) {
             uint32_t k = order[i];
-            double more = tex_cost(2u * sides[k], views) - tex_cost(sides[k], views);
+            double more = tex_cost(2u * sides[k], views, normals) - tex_cost(sides[k], views, normals);
             if (sides[k] && 2u * sides[k] <= max_side && ratio[k] > 1.0 && bytes + more <= budget) {
                 sides[k] *= 2u;
                 bytes += more;
@@ -680,7 +702,7 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     uint32_t ng = 0, nshapes = 0;
     psc_proxy_shape_t *shapes = NULL;
     int32_t *bb_axes = NULL;
-    uint16_t *bb_tex = NULL;
+    uint16_t *bb_tex = NULL, *bb_nrm = NULL;
     pack_t pk = {0};
     int32_t *map = malloc(g->mesh.vertex_count * sizeof *map);
     psc_proxy_joint_raw_t *joints = calloc(g->joint_count, sizeof *joints);
@@ -784,12 +806,14 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     }
     /* the textures' budget: --tex-mb, and no more than leaves the whole pack within --pack-mb (the full mesh, the
      * proxies and their coordinates, a set a view, come first) */
+    const bool normals = !o->no_normals;
     double budget = (o->tex_mb > 0 ? o->tex_mb : PSC_BAKE_PROXY_TEX_MB) * 1048576.0;
     {
         double rest = 4096.0 + (double)pk.parts.n + pk.vpos.n + pk.vcol.n + pk.vskin.n + pk.idx.n + pk.ppos.n +
                       pk.pskin.n + pk.pidx.n + (double)pk.pvertices * side * side * 4.0 + g->joint_count * 100.0 +
                       (g->duration > 0 ? (ceil(g->duration * PSC_BAKE_PROXY_FPS) + 1.0) * g->joint_count * 48.0 : 0) +
-                      PSC_BAKE_PROXY_BB_SIDE * PSC_BAKE_PROXY_BB_SIDE * (PSC_BAKE_PROXY_BB_TEX * PSC_BAKE_PROXY_BB_TEX * 2.0 + 24.0);
+                      PSC_BAKE_PROXY_BB_SIDE * PSC_BAKE_PROXY_BB_SIDE * (PSC_BAKE_PROXY_BB_TEX * PSC_BAKE_PROXY_BB_TEX * 2.5 + 24.0) +
+                      (normals ? pk.vnrm.n : 0);
         double pack = (o->pack_mb > 0 ? o->pack_mb : PSC_BAKE_PROXY_PACK_MB) * 1048576.0;
         budget = fmax(fmin(budget, pack - rest), 0.25 * 1048576.0);
     }
@@ -797,7 +821,7 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
         psc_io_errorf(err, errlen, name, "out of memory");
         goto done;
     }
-    density = pick_sides(shapes, nshapes, side * side, budget, o->tex, sides);
+    density = pick_sides(shapes, nshapes, side * side, normals, budget, o->tex, sides);
     for (uint32_t k = 0; k < nshapes; k++) {
         unsigned nn = 0, ts = sides[k];
         size_t chain;
@@ -812,10 +836,12 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
                 near_shapes[nn++] = &shapes[q];
         uint16_t *uv = buf_add(&pk.puv, (size_t)shapes[k].prx_vertices * side * side * 4u);
         uint16_t *tx = buf_add(&pk.tex, (size_t)side * side * chain * 2u);
+        size_t nrm_n = normals ? (size_t)side * side * PSC_PROXY_NORMAL_SIDE(ts) * PSC_PROXY_NORMAL_SIDE(ts) : 0;
+        uint16_t *nx = nrm_n ? buf_add(&pk.tnrm, nrm_n * 2u) : NULL;
         uint16_t *level0 = malloc(((size_t)side * side * ts * ts + 1u) * sizeof *level0);
-        int rv = !uv || (chain && !tx) || !level0 ? -1 : 0;
+        int rv = !uv || (chain && !tx) || (nrm_n && !nx) || !level0 ? -1 : 0;
         if (rv == 0 && ts > 0)
-            rv = psc_bake_proxy_views(&shapes[k], near_shapes, nn, side, ts, level0, uv);
+            rv = psc_bake_proxy_views(&shapes[k], near_shapes, nn, side, ts, level0, nx, uv);
         for (unsigned v = 0; rv == 0 && v < side * side && ts > 0; v++)
             psc_bake_proxy_mips(level0 + (size_t)v * ts * ts, ts, levels, tx + (size_t)v * chain);
         free(level0);
@@ -832,7 +858,9 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     unsigned bbs = PSC_BAKE_PROXY_BB_SIDE, bbt = PSC_BAKE_PROXY_BB_TEX;
     bb_axes = malloc(bbs * bbs * 6u * sizeof *bb_axes);
     bb_tex = malloc((size_t)bbs * bbs * bbt * bbt * sizeof *bb_tex);
-    if (!bb_axes || !bb_tex || psc_bake_proxy_billboard(shapes, nshapes, bb_c, bb_r, bbs, bbt, bb_tex, bb_axes) != 0) {
+    bb_nrm = malloc((size_t)bbs * bbs * PSC_PROXY_NORMAL_SIDE(bbt) * PSC_PROXY_NORMAL_SIDE(bbt) * sizeof *bb_nrm);
+    if (!bb_axes || !bb_tex || !bb_nrm ||
+        psc_bake_proxy_billboard(shapes, nshapes, bb_c, bb_r, bbs, bbt, bb_tex, normals ? bb_nrm : NULL, bb_axes) != 0) {
         psc_io_errorf(err, errlen, name, "out of memory");
         goto done;
     }
@@ -874,7 +902,7 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     info.frame_period_us = period_us;
     info.view_side = (uint16_t)side;
     info.tex_size = (uint16_t)(max_side ? max_side : PSC_PROXY_TEX_LEVEL_MIN);
-    info.flags = PSC_PROXY_ATLAS;
+    info.flags = (uint8_t)(PSC_PROXY_ATLAS | (normals ? PSC_PROXY_NORMALS : 0u));
     info.model_r_um = r * 1e6 < 4e9 ? (uint32_t)lround(r * 1e6) : UINT32_MAX;
     info.bb_side = (uint16_t)bbs;
     info.bb_tex = (uint16_t)bbt;
@@ -895,9 +923,16 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
         {PSC_SECTION_PROXY_TEXTURES, pk.tex.p, pk.tex.n},
         {PSC_SECTION_PROXY_BB_BASES, bb_axes, (size_t)bbs * bbs * 24u},
         {PSC_SECTION_PROXY_BB_TEXTURES, bb_tex, (size_t)bbs * bbs * bbt * bbt * 2u},
+        {PSC_SECTION_PROXY_VNORMALS, pk.vnrm.p, pk.vnrm.n},   /* the normals: left out without them */
+        {PSC_SECTION_PROXY_TEX_NORMALS, pk.tnrm.p, pk.tnrm.n},
+        {PSC_SECTION_PROXY_BB_NORMALS, bb_nrm, (size_t)bbs * bbs * PSC_PROXY_NORMAL_SIDE(bbt) * PSC_PROXY_NORMAL_SIDE(bbt) * 2u},
         {PSC_SECTION_PROXY_NODES, nodes, g->joint_count * sizeof *nodes},   /* last: left out when unknown */
     };
     unsigned nparts = sizeof parts / sizeof parts[0];
+    if (!normals) {
+        memmove(&parts[nparts - 4u], &parts[nparts - 1u], sizeof parts[0]);
+        nparts -= 3u;
+    }
     bool numbered = false;
     for (uint32_t j = 0; j < g->joint_count && nodes; j++)
         numbered |= (nodes[j] = g->joints[j].node) >= 0;
@@ -909,16 +944,19 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     }
     if (psc_io_container_write(&psc_proxy_format, parts, nparts, out, len, name, err, errlen) != 0)
         goto done;
+    char normal_note[128];
+    snprintf(normal_note, sizeof normal_note, normals ? ": %.1f MB RGB565 colours, %.1f MB normals at half their side, "
+             "relightable" : ", RGB565 colours: not relightable (--no-normals)", pk.tex.n / 1048576.0, pk.tnrm.n / 1048576.0);
     uint32_t nparts_only = 0;
     for (uint32_t k = 0; k < pk.nparts; k++)
         nparts_only += ((const psc_proxy_part_raw_t *)(const void *)pk.parts.p)[k].kind == PSC_PROXY_KIND_PART;
     snprintf(note, notelen,
              "%u parts and %u joints, %u proxy triangles for %u%s; %u views, %.0f texels per R (%ux%u to %ux%u, "
-             "with mips: %.1f MB of RGB565 textures); %u animation samples",
+             "with mips: %.1f MB of textures%s); %u animation samples",
              nparts_only, pk.nparts - nparts_only, pk.ptriangles, pk.triangles,
              psc_bake_simplify_available() ? "" : " (built without libmeshoptimizer: not simplified)", side * side,
              density, sides_lo == UINT32_MAX ? 0 : sides_lo, sides_lo == UINT32_MAX ? 0 : sides_lo, max_side, max_side,
-             pk.tex.n / 1048576.0, frames);
+             (pk.tex.n + pk.tnrm.n) / 1048576.0, normal_note, frames);
     rc = 0;
 done:
     for (uint32_t k = 0; k < nshapes; k++)
@@ -929,6 +967,6 @@ done:
     free(gr);
     free(sidx), free(sreg), free(tri_group), free(shape_group), free(near), free(near_shapes), free(bulge), free(seen), free(sides);
     pack_free(&pk);
-    free(map), free(joints), free(nodes), free(anim), free(local), free(m12), free(bb_axes), free(bb_tex);
+    free(map), free(joints), free(nodes), free(anim), free(local), free(m12), free(bb_axes), free(bb_tex), free(bb_nrm);
     return rc;
 }

@@ -62,11 +62,18 @@ typedef struct {
     double simplify;                 /* the largest share of the model's triangles the proxies keep (0: the default) */
     double tex_mb;                   /* the view textures' budget in MB (0: the default) */
     double pack_mb;                  /* the pack's, the textures cut to fit it (0: the default) */
+    bool no_normals;                 /* leave the normals out (1.2's pack: not relightable, its texels denser) */
 } psc_bake_proxy_opts_t;
 
 /* The default lighting of proxy and full renders alike: base x (0.45 + 0.55 max(0, n.L)), L = normalize(0.4, 0.8,
  * 0.45), model space, n the rest-pose normal. */
 uint32_t psc_bake_proxy_light(uint32_t base, const double n[3]);
+
+/** Unit normal n as a psc_oct16 code (base/psc_oct.h). */
+uint16_t psc_bake_proxy_oct16(const double n[3]);
+
+/** Unit normal n as a colour the rasterizer interpolates: each component (n + 1) / 2 in 8 bits, XRGB. */
+uint32_t psc_bake_proxy_normal_rgb(const double n[3]);
 
 /**
  * Bake model g (name for messages) into a proxy pack in *out (malloc'd,
@@ -81,7 +88,8 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
 /** One proxy's geometry while baking: what it is drawn from and the proxy itself, in units of R. */
 typedef struct {
     double (*src_pos)[3];            /* the part's piece of the model: vertices ... */
-    uint32_t *src_color;             /* ... lit at rest ... */
+    uint32_t *src_color;             /* ... lit at rest, their normals (psc_bake_proxy_normal_rgb) ... */
+    uint32_t *src_normal;
     uint32_t *src_index;             /* ... and triangles (3 each) */
     uint32_t src_vertices, src_triangles;
     double (*prx_pos)[3];            /* the proxy (its piece of the simplified model) */
@@ -92,11 +100,12 @@ typedef struct {
     double reach;                    /* the model's surface within this of the proxy is the proxy's (units of R) */
 } psc_proxy_shape_t;
 
-/** Render shape s's view textures (view_count x tex^2 RGB565) and its proxy's coordinates (view_count x prx_vertices
- *  x 2) for a grid of side x side views: the shapes near[0..n_near) (s and its neighbours) at rest, where their
- *  surface lies within s->reach of s's proxy; elsewhere the texels stay empty. 0, or -1 out of memory. */
+/** Render shape s's view textures (view_count x tex^2 RGB565), their normals unless NULL (view_count x (tex / 2)^2
+ *  psc_oct16 codes) and its proxy's coordinates (view_count x prx_vertices x 2) for a grid of side x side views:
+ *  the shapes near[0..n_near) (s and its neighbours) at rest, where their surface lies within s->reach of s's proxy;
+ *  elsewhere the texels stay empty. 0, or -1 out of memory. */
 int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *const *near, unsigned n_near,
-                         unsigned side, unsigned tex, uint16_t *texels, uint16_t *uv);
+                         unsigned side, unsigned tex, uint16_t *texels, uint16_t *normals, uint16_t *uv);
 
 /** A view texture's mip chain: level 0 (side^2 texels) copied, then each level the 2 x 2 reduction of the one
  *  before (a texel covered where two of its four are, their mean colour), `levels` in all, into chain. */
@@ -105,6 +114,6 @@ void psc_bake_proxy_mips(const uint16_t *level0, unsigned side, unsigned levels,
 /** The billboard (the far level of detail): every shape drawn, at rest, into side x side views of tex^2 fitted to
  *  the sphere (centre, radius); axes_q16 receives each view's right and up (Q16.16). 0, or -1 out of memory. */
 int psc_bake_proxy_billboard(const psc_proxy_shape_t *shapes, unsigned n, const double centre[3], double radius,
-                               unsigned side, unsigned tex, uint16_t *texels, int32_t *axes_q16);
+                             unsigned side, unsigned tex, uint16_t *texels, uint16_t *normals, int32_t *axes_q16);
 
 #endif

@@ -7,6 +7,7 @@
  */
 #include "bake/proxy.h"
 #include "base/psc_pixel.h"
+#include "proxy/psc_proxy.h"
 #include "proxy/psc_proxy_view.h"
 #include "raster/psc_raster.h"
 
@@ -103,6 +104,20 @@ static void draw_shape(const psc_proxy_shape_t *s, const ortho_t *o, const psc_r
     draw_tris((const double(*)[3])s->src_pos, s->src_color, s->src_index, s->src_triangles, o, t);
 }
 
+/* The shape with its normals for colours (psc_bake_proxy_normal_rgb), Gouraud: the normal across its triangles. */
+static void draw_shape_normals(const psc_proxy_shape_t *s, const ortho_t *o, const psc_raster_target_t *t)
+{
+    draw_tris((const double(*)[3])s->src_pos, s->src_normal, s->src_index, s->src_triangles, o, t);
+}
+
+uint32_t psc_bake_proxy_normal_rgb(const double n[3])
+{
+    uint32_t out = 0;
+    for (unsigned a = 0; a < 3; a++)
+        out = out << 8 | (uint32_t)lround(fmin(fmax((n[a] + 1.0) / 2.0, 0.0), 1.0) * 255.0);
+    return out;
+}
+
 /* Whether shape b can show in view o: its bounding sphere over the view's square and not all behind it. */
 static bool may_show(const psc_proxy_shape_t *b, const ortho_t *o)
 {
@@ -139,6 +154,72 @@ static uint16_t block_mean(const uint16_t *p, size_t stride, unsigned k, unsigne
     return t == PSC_VIEW_TEXEL_EMPTY ? 0x0020u : t;
 }
 
+/* The normals of a view at half its texels' side: each the mean of the normals drawn (nhi, XRGB-coded) at the samples
+ * hi covers (2 SS x 2 SS of them), renormalised and coded; one over no covered sample takes the mean of its covered
+ * neighbours', a ring a pass (a mip level's coarser texel may reach past the samples the level 0 covered). */
+static void normals_down(const uint16_t *hi, const uint32_t *nhi, unsigned tex, uint16_t *out)
+{
+    unsigned half = PSC_PROXY_NORMAL_SIDE(tex), k = tex / half * SS, n = tex * SS;
+    double(*v)[3] = calloc((size_t)half * half + 1u, sizeof *v);
+    uint8_t *have = calloc((size_t)half * half + 1u, 1);
+    if (!v || !have) {   /* (bounded, small; should it fail, the normals face the viewer) */
+        for (size_t i = 0; i < (size_t)half * half; i++)
+            out[i] = psc_bake_proxy_oct16((const double[3]){0, 0, -1});
+        free(v), free(have);
+        return;
+    }
+    for (unsigned y = 0; y < half; y++)
+        for (unsigned x = 0; x < half; x++) {
+            double *acc = v[(size_t)y * half + x];
+            for (unsigned j = 0; j < k; j++)
+                for (unsigned i = 0; i < k; i++) {
+                    size_t at = (size_t)(y * k + j) * n + x * k + i;
+                    if (hi[at] == PSC_VIEW_TEXEL_EMPTY)
+                        continue;
+                    for (unsigned a = 0; a < 3; a++)
+                        acc[a] += (nhi[at] >> (16 - 8 * a) & 255u) / 127.5 - 1.0;
+                }
+            double l = sqrt(acc[0] * acc[0] + acc[1] * acc[1] + acc[2] * acc[2]);
+            if (l > 1e-9) {
+                for (unsigned a = 0; a < 3; a++)
+                    acc[a] /= l;
+                have[(size_t)y * half + x] = 1;
+            }
+        }
+    for (unsigned pass = 0; pass < half; pass++) {
+        bool grew = false;
+        for (unsigned y = 0; y < half; y++)
+            for (unsigned x = 0; x < half; x++) {
+                size_t at = (size_t)y * half + x;
+                if (have[at])
+                    continue;
+                double acc[3] = {0, 0, 0};
+                for (int dy = -1; dy <= 1; dy++)
+                    for (int dx = -1; dx <= 1; dx++) {
+                        int yy = (int)y + dy, xx = (int)x + dx;
+                        if (yy < 0 || xx < 0 || yy >= (int)half || xx >= (int)half || have[(size_t)yy * half + xx] != 1)
+                            continue;
+                        for (unsigned a = 0; a < 3; a++)
+                            acc[a] += v[(size_t)yy * half + xx][a];
+                    }
+                double l = sqrt(acc[0] * acc[0] + acc[1] * acc[1] + acc[2] * acc[2]);
+                if (l > 1e-9) {
+                    for (unsigned a = 0; a < 3; a++)
+                        v[at][a] = acc[a] / l;
+                    have[at] = 2;   /* this pass's: a neighbour from the next */
+                    grew = true;
+                }
+            }
+        for (size_t i = 0; i < (size_t)half * half; i++)
+            have[i] = have[i] ? 1 : 0;
+        if (!grew)
+            break;
+    }
+    for (size_t i = 0; i < (size_t)half * half; i++)
+        out[i] = have[i] ? psc_bake_proxy_oct16(v[i]) : psc_bake_proxy_oct16((const double[3]){0, 1, 0});
+    free(v), free(have);
+}
+
 static void downsample(const uint16_t *hi, unsigned n, uint16_t *out)
 {
     for (unsigned y = 0; y < n; y++)
@@ -150,7 +231,8 @@ static void downsample(const uint16_t *hi, unsigned n, uint16_t *out)
  * kept where their surface lies within s's reach of its proxy's front (the proxy carries what is on it: wherever
  * the simplified proxy spans, the surface under it, and nothing of a part in front of it). */
 static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *const *all, unsigned n_all, const ortho_t *view,
-                        uint16_t *texels, uint16_t *hi, uint32_t *depth, uint16_t *scratch, uint32_t *pdepth)
+                        uint16_t *texels, uint16_t *normals, uint16_t *hi, uint32_t *depth, uint16_t *scratch,
+                        uint32_t *pdepth, uint32_t *nhi)
 {
     ortho_t so = *view;
     const ortho_t *o = &so;
@@ -176,32 +258,44 @@ static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *con
             hi[i] = PSC_VIEW_TEXEL_EMPTY;
     }
     downsample(hi, view->tex, texels);
+    if (normals) {   /* the same shapes again, their normals for colours: the same samples win the depth test */
+        psc_surface_t ns = {(uint16_t)n, (uint16_t)n, n * 4u, PSC_PIX_XRGB8888, nhi};
+        psc_raster_target_t nt = {&ns, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL};
+        for (size_t i = 0; i < (size_t)n * n; i++)
+            depth[i] = 0xFFFFFFFFu;
+        for (unsigned k = 0; k < n_all; k++)
+            if (may_show(all[k], o))
+                draw_shape_normals(all[k], o, &nt);
+        normals_down(hi, nhi, view->tex, normals);
+    }
 }
 
-/* The supersampled depth and colour of one view of tex^2 texels. 0, or -1 out of memory. */
-static int samples_alloc(unsigned tex, uint32_t **depth, uint16_t **hi)
+/* The supersampled depth, colour and normals of one view of tex^2 texels. 0, or -1 out of memory. */
+static int samples_alloc(unsigned tex, uint32_t **depth, uint16_t **hi, uint32_t **nhi)
 {
     /* two of each: the model's and the proxy's */
     *depth = malloc((size_t)tex * tex * SS * SS * 2u * sizeof **depth);
     *hi = malloc((size_t)tex * tex * SS * SS * 2u * sizeof **hi);
-    if (*depth && *hi)
+    *nhi = malloc((size_t)tex * tex * SS * SS * sizeof **nhi);
+    if (*depth && *hi && *nhi)
         return 0;
-    free(*depth), free(*hi);
+    free(*depth), free(*hi), free(*nhi);
     return -1;
 }
 
 int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *const *near, unsigned n_near,
-                           unsigned side, unsigned tex, uint16_t *texels, uint16_t *uv)
+                         unsigned side, unsigned tex, uint16_t *texels, uint16_t *normals, uint16_t *uv)
 {
-    uint32_t *depth;
+    uint32_t *depth, *nhi;
     uint16_t *hi;
-    if (samples_alloc(tex, &depth, &hi) != 0)
+    if (samples_alloc(tex, &depth, &hi, &nhi) != 0)
         return -1;
     for (unsigned k = 0; k < side * side; k++) {
         ortho_t o;
         ortho_for(s, side, k, tex, &o);
-        render_view(s, near, n_near, &o, texels + (size_t)k * tex * tex, hi, depth, hi + (size_t)tex * tex * SS * SS,
-                    depth + (size_t)tex * tex * SS * SS);
+        render_view(s, near, n_near, &o, texels + (size_t)k * tex * tex,
+                    normals ? normals + (size_t)k * PSC_PROXY_NORMAL_SIDE(tex) * PSC_PROXY_NORMAL_SIDE(tex) : NULL, hi, depth,
+                    hi + (size_t)tex * tex * SS * SS, depth + (size_t)tex * tex * SS * SS, nhi);
         uint16_t *kuv = uv + (size_t)k * s->prx_vertices * 2u;
         for (uint32_t i = 0; i < s->prx_vertices; i++) {
             double u, v, z;
@@ -210,16 +304,16 @@ int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *co
             kuv[2 * i + 1] = (uint16_t)lround(fmin(fmax(v, 0.0), 1.0) * 65535.0);
         }
     }
-    free(depth), free(hi);
+    free(depth), free(hi), free(nhi);
     return 0;
 }
 
 int psc_bake_proxy_billboard(const psc_proxy_shape_t *shapes, unsigned n, const double centre[3], double radius,
-                               unsigned side, unsigned tex, uint16_t *texels, int32_t *axes_q16)
+                             unsigned side, unsigned tex, uint16_t *texels, uint16_t *normals, int32_t *axes_q16)
 {
-    uint32_t *depth;
+    uint32_t *depth, *nhi;
     uint16_t *hi;
-    if (samples_alloc(tex, &depth, &hi) != 0)
+    if (samples_alloc(tex, &depth, &hi, &nhi) != 0)
         return -1;
     psc_proxy_shape_t whole = {0};
     memcpy(whole.centre, centre, sizeof whole.centre);
@@ -237,12 +331,21 @@ int psc_bake_proxy_billboard(const psc_proxy_shape_t *shapes, unsigned n, const 
         for (unsigned s = 0; s < n; s++)
             draw_shape(&shapes[s], &so, &tg);
         downsample(hi, tex, texels + (size_t)k * tex * tex);
+        if (normals) {
+            psc_surface_t ns = {(uint16_t)hn, (uint16_t)hn, hn * 4u, PSC_PIX_XRGB8888, nhi};
+            tg.surface = &ns;
+            for (size_t i = 0; i < (size_t)hn * hn; i++)
+                depth[i] = 0xFFFFFFFFu;
+            for (unsigned s = 0; s < n; s++)
+                draw_shape_normals(&shapes[s], &so, &tg);
+            normals_down(hi, nhi, tex, normals + (size_t)k * PSC_PROXY_NORMAL_SIDE(tex) * PSC_PROXY_NORMAL_SIDE(tex));
+        }
         for (unsigned a = 0; a < 3; a++) {
             axes_q16[6 * k + a] = (int32_t)lround(o.right[a] * 65536.0);
             axes_q16[6 * k + 3 + a] = (int32_t)lround(o.up[a] * 65536.0);
         }
     }
-    free(depth), free(hi);
+    free(depth), free(hi), free(nhi);
     return 0;
 }
 

@@ -28,6 +28,8 @@ typedef struct {
     double time;
     int lod;                     /* psc_proxy_lod_t, or -1: chosen by the model's size on the screen */
     unsigned long tile;
+    bool light;                  /* --light given: relit */
+    double light_az, light_el, ambient;
 } proxy_args_t;
 
 static bool is_proxy_pack(const char *path)
@@ -58,6 +60,12 @@ static void usage(const char *prog, FILE *f)
             "                      small views on a quad facing the camera) or auto (the billboard below a\n"
             "                      projected radius of 40 pixels, else the cheaper of proxies and full mesh by\n"
             "                      estimated cost: vertices, triangles and the area covered)\n"
+            "  --light AZ,EL       relight every level by a light toward azimuth AZ (degrees from +z toward +x,\n"
+            "                      about the model's up axis) and elevation EL (degrees above the horizon),\n"
+            "                      fixed in the model's space, the normals turning with the pose (default:\n"
+            "                      as baked, a light at 41.6,53.0 fixed to the surface; needs a pack with\n"
+            "                      normals, periscope-proxy's default)\n"
+            "  --ambient A         with --light: the ambient share 0..1 (default 0.45, the bake's)\n"
             "  --depth d.pgm       the depth buffer as a 16-bit PGM\n"
             "  --ids ids.pgm       16-bit PGM: part index + 1 of the front-most surface, 0 for the background\n"
             "  --tiles N           render in N x N pixel tiles (0: full screen)\n"
@@ -75,6 +83,7 @@ static const struct option proxy_options[] = {
     {"pose", required_argument, NULL, 1}, {"full", no_argument, NULL, 1},
     {"depth", required_argument, NULL, 1}, {"lod", required_argument, NULL, 1},
     {"ids", required_argument, NULL, 1}, {"tiles", required_argument, NULL, 1},
+    {"light", required_argument, NULL, 1}, {"ambient", required_argument, NULL, 1},
     {NULL, 0, NULL, 0},
 };
 
@@ -91,6 +100,20 @@ static int proxy_option(const char *prog, const char *name, const char *v, void 
                                                : -2;
         if (a->lod == -2)
             return psc_io_cli_usage_error(prog, "--lod '%s': expected proxies, full, billboard or auto", v);
+    } else if (strcmp(name, "--light") == 0) {
+        char az[64] = "";
+        const char *comma = strchr(v, ',');
+        size_t n = comma ? (size_t)(comma - v) : 0;
+        if (n > 0 && n < sizeof az)
+            memcpy(az, v, n);
+        if (!comma || n == 0 || n >= sizeof az || psc_cli_parse_double(az, &a->light_az) != 0 ||
+            psc_cli_parse_double(comma + 1, &a->light_el) != 0 || !(fabs(a->light_az) <= 360.0) ||
+            !(fabs(a->light_el) <= 90.0))
+            return psc_io_cli_usage_error(prog, "--light '%s': expected AZ,EL in degrees (-360..360, -90..90)", v);
+        a->light = true;
+    } else if (strcmp(name, "--ambient") == 0) {
+        if (psc_cli_parse_double(v, &a->ambient) != 0 || !(a->ambient >= 0.0 && a->ambient <= 1.0))
+            return psc_io_cli_usage_error(prog, "--ambient '%s': expected a share 0..1", v);
     } else if (strcmp(name, "--depth") == 0) {
         a->depth = v;
     } else if (strcmp(name, "--ids") == 0) {
@@ -244,7 +267,8 @@ static psc_status_t draw(psc_proxy_t *px, psc_render_target_t *rt, const psc_mat
 
 int psc_render_proxy_main(const char *prog, int argc, char **argv)
 {
-    proxy_args_t a = {.view = psc_render_view_defaults(30, 20, 2.5, 50), .time = -1.0, .lod = PSC_PROXY_LOD_PROXIES};
+    proxy_args_t a = {.view = psc_render_view_defaults(30, 20, 2.5, 50), .time = -1.0, .lod = PSC_PROXY_LOD_PROXIES,
+                      .ambient = -1.0};
     int rc = parse_args(prog, argc, argv, &a);
     if (rc != 0)
         return rc;
@@ -266,6 +290,25 @@ int psc_render_proxy_main(const char *prog, int argc, char **argv)
     if (!skin || posix_memalign(&ws, 64, wsn ? wsn : 8) != 0 || psc_proxy_init(&px, m, ws, wsn) != PSC_OK) {
         fprintf(stderr, "%s: %s: out of memory\n", prog, a.pack);
         goto done;
+    }
+    if (a.ambient >= 0 && !a.light) {
+        fprintf(stderr, "%s: --ambient needs --light (the baked lighting has its own)\n", prog);
+        rc = 2;
+        goto done;
+    }
+    if (a.light) {   /* toward the light, model space: y up, azimuth from +z toward +x */
+        double az = a.light_az * 3.14159265358979 / 180.0, el = a.light_el * 3.14159265358979 / 180.0;
+        int32_t l[3] = {(int32_t)lround(cos(el) * sin(az) * 65536.0), (int32_t)lround(sin(el) * 65536.0),
+                        (int32_t)lround(cos(el) * cos(az) * 65536.0)};
+        double amb = a.ambient >= 0 ? a.ambient : PSC_PROXY_BAKE_AMBIENT_Q14 / 16384.0;
+        psc_status_t s = psc_proxy_set_light(&px, l, (uint16_t)lround(amb * 16384.0));
+        if (s != PSC_OK) {
+            fprintf(stderr, "%s: %s: %s\n", prog, a.pack,
+                    s == PSC_ERR_UNSUPPORTED ? "--light: the pack has no normals (baked before pack 1.3 or with "
+                                               "--no-normals): bake it again to relight it"
+                                             : "--light: the direction is not usable");
+            goto done;
+        }
     }
     if (a.pose_file && pose_from_file(&a, m, &pre, &post, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
