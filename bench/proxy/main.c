@@ -362,7 +362,7 @@ static int run_callgrind(const char *self, const char *out_dir)
     }
     enum { CASES = 3 * 2 * CG_DISTS };
     static double xp[CASES][5], yp[CASES], xf[CASES][5], yf[CASES];
-    double worst = 1.0, worst_first = 1.0;
+    double worst = 1.0, worst_first = 1.0, worst_relit = 1.0;
     unsigned ncase = 0, billboard = 0, magnified_picks = 0;
     char path[4096];
     snprintf(path, sizeof path, "%s/proxy-lod-callgrind.txt", out_dir);
@@ -441,16 +441,42 @@ static int run_callgrind(const char *self, const char *out_dir)
     /* relit from the side against as baked: both levels, 320 x 240 and 800 x 480 at the middle distance */
     for (unsigned k = 0; k < 3 && rc == 0; k++)
         for (unsigned s = 0; s < 2 && rc == 0; s++) {
-            double ir[4], px;
+            double ir[4], px[4];
             for (unsigned level = 0; level < 4 && rc == 0; level++)
-                rc = cg_count(self, packs[k], cg_w[s], cg_h[s], 6.5, level, models[k].t_step, &ir[level], &px);
+                rc = cg_count(self, packs[k], cg_w[s], cg_h[s], 6.5, level, models[k].t_step, &ir[level], &px[level]);
             if (rc != 0)
                 break;
-            char line[320];
+            /* --lod auto relit: the estimate with the relit terms, corrected by a frame as above */
+            const psc_proxy_model_t *m = &models[k].m;
+            psc_3d_config_t cfg;
+            psc_mat4_q16_t cam;
+            size_t np = psc_proxy_workspace_size(m);
+            void *wsp = NULL;
+            psc_proxy_t p;
+            static const int32_t side_light[3] = {-64000, 11380, 0};
+            if (cg_camera(m, cg_w[s], cg_h[s], 6.5, &cam, &cfg) != 0 || posix_memalign(&wsp, 64, np ? np : 8) != 0 ||
+                psc_proxy_init(&p, m, wsp, np) != PSC_OK || psc_proxy_set_light(&p, side_light, 7373) != PSC_OK) {
+                rc = -1;
+                free(wsp);
+                break;
+            }
+            int32_t focal = psc_proxy_focal_px_q16(cg_w[s], cfg.hfov);
+            psc_proxy_set_screen(&p, cg_w[s], cg_h[s]);
+            psc_proxy_lod_t first = psc_proxy_lod_pick(&p, &cam, focal);
+            psc_3d_stats_t seen = {0};
+            seen.pixels = first == PSC_PROXY_LOD_BILLBOARD ? 0 : (uint64_t)px[first == PSC_PROXY_LOD_FULL ? 3 : 2];
+            psc_proxy_observe(&p, &seen);
+            psc_proxy_lod_t pick = psc_proxy_lod_pick(&p, &cam, focal);
+            free(wsp);
+            double slower = pick == PSC_PROXY_LOD_BILLBOARD ? 1.0 : ir[pick == PSC_PROXY_LOD_FULL ? 3 : 2] / fmin(ir[2], ir[3]);
+            worst_relit = fmax(worst_relit, slower);
+            char line[400];
             snprintf(line, sizeof line, "%-26s %4ux%-4u 6.5 R relit: proxies %.2f M (%.2fx as baked), full mesh %.2f M "
-                     "(%.2fx); proxies %.2fx the full mesh's instructions relit, %.2fx as baked\n",
+                     "(%.2fx); proxies %.2fx the full mesh's instructions relit, %.2fx as baked; auto: %s, %.2fx\n",
                      models[k].name, cg_w[s], cg_h[s], ir[2] / 1e6, ir[2] / ir[0], ir[3] / 1e6, ir[3] / ir[1],
-                     ir[2] / ir[3], ir[0] / ir[1]);
+                     ir[2] / ir[3], ir[0] / ir[1],
+                     pick == PSC_PROXY_LOD_FULL ? "full" : pick == PSC_PROXY_LOD_BILLBOARD ? "billboard" : "proxies",
+                     slower);
             emit(j, line);
         }
     for (unsigned k = 0; k < 3; k++)
@@ -463,12 +489,13 @@ static int run_callgrind(const char *self, const char *out_dir)
         snprintf(line, sizeof line,
                  "auto against the cheaper level: at most %.3fx slower (goal 1.10x) once a frame has corrected the "
                  "estimate of the area, %.3fx on the first frame; %u cases the billboard's; %u proxies with their "
-                 "views magnified (*)\n"
+                 "views magnified (*); relit, at most %.3fx\n"
                  "the cost model refitted from these counts (instructions): proxies %.0f a vertex, %.0f a triangle, "
                  "%.0f a row, %.0f a pixel, %.1f a screen pixel; full mesh %.0f a vertex, %.0f a row, %.1f a screen "
                  "pixel\ncore's constants (psc_proxy.h):                           proxies %u, %u, %u, %u, %u; full mesh "
                  "%u, %u, %u\n",
-                 worst, worst_first, billboard, magnified_picks, cp[0], cp[1], cp[2], cp[3], cp[4], cf[0], cf[1], cf[2],
+                 worst, worst_first, billboard, magnified_picks, worst_relit, cp[0], cp[1], cp[2], cp[3], cp[4], cf[0],
+                 cf[1], cf[2],
                  PSC_PROXY_COST_VERTEX, PSC_PROXY_COST_TRIANGLE, PSC_PROXY_COST_ROW, PSC_PROXY_COST_PIXEL,
                  PSC_PROXY_COST_SCREEN_PIXEL, PSC_PROXY_COST_FULL_VERTEX, PSC_PROXY_COST_FULL_ROW,
                  PSC_PROXY_COST_SCREEN_PIXEL);
