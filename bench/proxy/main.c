@@ -41,6 +41,9 @@
 #include <string.h>
 #include <unistd.h>
 
+/* Relit frames' light: from the side (azimuth -90, elevation 10 degrees), toward it in Q16.16 */
+static const int32_t side_light[3] = {-64000, 11380, 0};
+
 #define W 800u
 #define H 480u
 #define FRAMES 60u
@@ -98,7 +101,6 @@ static double run(model_t *mo, psc_proxy_lod_t lod, unsigned w, unsigned h, int3
         goto done;
     psc_surface_t sf = {(uint16_t)w, (uint16_t)h, w * 2u, PSC_PIX_RGB565, px};
     psc_proxy_set_focal(&p, psc_proxy_focal_px_q16(w, cfg.hfov));
-    static const int32_t side_light[3] = {-64000, 11380, 0};   /* azimuth -90, elevation 10 degrees */
     if (relit && psc_proxy_set_light(&p, side_light, 7373) != PSC_OK)
         goto done;
     for (unsigned pass = 0; pass < PASSES; pass++) {
@@ -277,7 +279,6 @@ static int cg_child(void)
         psc_proxy_init(&p, &mo.m, wsp, np) == PSC_OK) {
         psc_surface_t sf = {(uint16_t)w, (uint16_t)h, w * 2u, PSC_PIX_RGB565, px};
         psc_proxy_set_focal(&p, psc_proxy_focal_px_q16(w, cfg.hfov));
-        static const int32_t side_light[3] = {-64000, 11380, 0};   /* level 2, 3: relit from the side */
         if ((level < 2 || psc_proxy_set_light(&p, side_light, 7373) == PSC_OK) &&
             cg_frames(&p, &r, skin, &cam, level & 1u ? PSC_PROXY_LOD_FULL : PSC_PROXY_LOD_PROXIES, t_step, &sf) == 0) {
             printf("%u %u %u %llu\n", (unsigned)cg_stats.triangles, (unsigned)cg_stats.culled,
@@ -317,6 +318,41 @@ static int cg_count(const char *self, const char *pack, unsigned w, unsigned h, 
 static bool magnified_at(const psc_proxy_t *p, const psc_proxy_cost_t *c)
 {
     return c->radius_px > (int32_t)p->texels_per_r;
+}
+
+/* What --lod auto does from a fresh state, as the first frame of a scene: its first pick, then (what a frame at that
+ * level wrote, px[0] the proxies' pixels and px[1] the full mesh's, correcting the estimate as the device's scene does
+ * every frame) the estimate and the pick after it; relit by `light` unless NULL. 0, or -1 out of memory. */
+typedef struct {
+    psc_proxy_lod_t first, pick;
+    psc_proxy_cost_t cost;
+    bool magnified;   /* the views magnified at that radius */
+} cg_auto_t;
+
+static int cg_auto(const psc_proxy_model_t *m, unsigned w, unsigned h, double dist, const int32_t *light,
+                   const double px[2], cg_auto_t *out)
+{
+    psc_3d_config_t cfg;
+    psc_mat4_q16_t cam;
+    size_t np = psc_proxy_workspace_size(m);
+    void *wsp = NULL;
+    psc_proxy_t p;
+    if (cg_camera(m, w, h, dist, &cam, &cfg) != 0 || posix_memalign(&wsp, 64, np ? np : 8) != 0 ||
+        psc_proxy_init(&p, m, wsp, np) != PSC_OK || (light && psc_proxy_set_light(&p, light, 7373) != PSC_OK)) {
+        free(wsp);
+        return -1;
+    }
+    int32_t focal = psc_proxy_focal_px_q16(w, cfg.hfov);
+    psc_proxy_set_screen(&p, w, h);
+    out->first = psc_proxy_lod_pick(&p, &cam, focal);
+    psc_3d_stats_t seen = {0};
+    seen.pixels = out->first == PSC_PROXY_LOD_BILLBOARD ? 0 : (uint64_t)px[out->first == PSC_PROXY_LOD_FULL];
+    psc_proxy_observe(&p, &seen);
+    out->cost = psc_proxy_cost(&p, &cam, focal);
+    out->pick = psc_proxy_lod_pick(&p, &cam, focal);
+    out->magnified = magnified_at(&p, &out->cost);
+    free(wsp);
+    return 0;
 }
 
 /* Least squares of relative error: the k coefficients c minimising sum ((x_i . c - y_i) / y_i)^2 (k <= 5). */
@@ -385,32 +421,16 @@ static int run_callgrind(const char *self, const char *out_dir)
                 if (rc != 0)
                     break;
                 /* the estimate and the choice from a fresh state, as the first frame of a scene makes them */
-                psc_3d_config_t cfg;
-                psc_mat4_q16_t cam;
-                size_t np = psc_proxy_workspace_size(m);
-                void *wsp = NULL;
-                psc_proxy_t p;
-                if (cg_camera(m, cg_w[s], cg_h[s], cg_dists[d], &cam, &cfg) != 0 ||
-                    posix_memalign(&wsp, 64, np ? np : 8) != 0 || psc_proxy_init(&p, m, wsp, np) != PSC_OK) {
-                    rc = -1;
-                    free(wsp);
+                cg_auto_t au;
+                if ((rc = cg_auto(m, cg_w[s], cg_h[s], cg_dists[d], NULL, px, &au)) != 0)
                     break;
-                }
-                int32_t focal = psc_proxy_focal_px_q16(cg_w[s], cfg.hfov);
-                psc_proxy_set_screen(&p, cg_w[s], cg_h[s]);
-                psc_proxy_lod_t first = psc_proxy_lod_pick(&p, &cam, focal);
-                /* what a frame at that level wrote corrects the estimate (as the device's scene does every frame) */
-                psc_3d_stats_t seen = {0};
-                seen.pixels = first == PSC_PROXY_LOD_BILLBOARD ? 0 : (uint64_t)px[first == PSC_PROXY_LOD_FULL];
-                psc_proxy_observe(&p, &seen);
-                psc_proxy_cost_t c = psc_proxy_cost(&p, &cam, focal);
-                psc_proxy_lod_t pick = psc_proxy_lod_pick(&p, &cam, focal);
+                psc_proxy_lod_t first = au.first, pick = au.pick;
+                psc_proxy_cost_t c = au.cost;
                 double first_slower = first == PSC_PROXY_LOD_BILLBOARD
                                           ? 1.0
                                           : ir[first == PSC_PROXY_LOD_FULL] / fmin(ir[0], ir[1]);
                 worst_first = fmax(worst_first, first_slower);
-                bool magnified = magnified_at(&p, &c);
-                free(wsp);
+                bool magnified = au.magnified;
                 double slower = pick == PSC_PROXY_LOD_BILLBOARD ? 0 : ir[pick == PSC_PROXY_LOD_FULL] / fmin(ir[0], ir[1]);
                 if (pick == PSC_PROXY_LOD_BILLBOARD)
                     billboard++;
@@ -447,27 +467,10 @@ static int run_callgrind(const char *self, const char *out_dir)
             if (rc != 0)
                 break;
             /* --lod auto relit: the estimate with the relit terms, corrected by a frame as above */
-            const psc_proxy_model_t *m = &models[k].m;
-            psc_3d_config_t cfg;
-            psc_mat4_q16_t cam;
-            size_t np = psc_proxy_workspace_size(m);
-            void *wsp = NULL;
-            psc_proxy_t p;
-            static const int32_t side_light[3] = {-64000, 11380, 0};
-            if (cg_camera(m, cg_w[s], cg_h[s], 6.5, &cam, &cfg) != 0 || posix_memalign(&wsp, 64, np ? np : 8) != 0 ||
-                psc_proxy_init(&p, m, wsp, np) != PSC_OK || psc_proxy_set_light(&p, side_light, 7373) != PSC_OK) {
-                rc = -1;
-                free(wsp);
+            cg_auto_t au;
+            if ((rc = cg_auto(&models[k].m, cg_w[s], cg_h[s], 6.5, side_light, &px[2], &au)) != 0)
                 break;
-            }
-            int32_t focal = psc_proxy_focal_px_q16(cg_w[s], cfg.hfov);
-            psc_proxy_set_screen(&p, cg_w[s], cg_h[s]);
-            psc_proxy_lod_t first = psc_proxy_lod_pick(&p, &cam, focal);
-            psc_3d_stats_t seen = {0};
-            seen.pixels = first == PSC_PROXY_LOD_BILLBOARD ? 0 : (uint64_t)px[first == PSC_PROXY_LOD_FULL ? 3 : 2];
-            psc_proxy_observe(&p, &seen);
-            psc_proxy_lod_t pick = psc_proxy_lod_pick(&p, &cam, focal);
-            free(wsp);
+            psc_proxy_lod_t pick = au.pick;
             double slower = pick == PSC_PROXY_LOD_BILLBOARD ? 1.0 : ir[pick == PSC_PROXY_LOD_FULL ? 3 : 2] / fmin(ir[2], ir[3]);
             worst_relit = fmax(worst_relit, slower);
             char line[400];
