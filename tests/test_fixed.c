@@ -507,6 +507,19 @@ static double angle_deg(const double a[3], const int32_t b[3])
     return acos(fmin(1.0, fmax(-1.0, c))) * 180.0 / M_PI;
 }
 
+/* A random direction: a point of the unit ball at least min_len from the centre (rejection), scaled to unit length. */
+static void random_direction(tsup_rng_t *r, double min_len, double v[3])
+{
+    double l;
+    do {
+        for (unsigned a = 0; a < 3; a++)
+            v[a] = tsup_rng_below(r, 2000001) / 1e6 - 1.0;
+        l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    } while (l < min_len || l > 1);
+    for (unsigned a = 0; a < 3; a++)
+        v[a] /= l;
+}
+
 static void test_oct16(void **state)
 {
     (void)state;
@@ -523,14 +536,10 @@ static void test_oct16(void **state)
     tsup_rng_seed(&r, 7);
     double worst = 0;
     for (unsigned k = 0; k < 200000; k++) {
-        double v[3], l;
-        do {
-            for (unsigned a = 0; a < 3; a++)
-                v[a] = tsup_rng_below(&r, 2000001) / 1e6 - 1.0;
-            l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        } while (l < 1e-3 || l > 1);
-        int32_t q[3] = {(int32_t)lround(v[0] / l * 16384), (int32_t)lround(v[1] / l * 16384),
-                        (int32_t)lround(v[2] / l * 16384)}, n[3];
+        double v[3];
+        random_direction(&r, 1e-3, v);
+        int32_t q[3] = {(int32_t)lround(v[0] * 16384), (int32_t)lround(v[1] * 16384), (int32_t)lround(v[2] * 16384)},
+                n[3];
         psc_oct16_decode(psc_oct16_encode(q), n);
         double e = angle_deg(v, n);
         worst = e > worst ? e : worst;
@@ -567,16 +576,8 @@ static void test_lambert_relight(void **state)
         double v[3][3];
         int16_t q[2][3];
         int32_t n[3];
-        for (unsigned i = 0; i < 3; i++) {
-            double l;
-            do {
-                for (unsigned a = 0; a < 3; a++)
-                    v[i][a] = tsup_rng_below(&r, 2000001) / 1e6 - 1.0;
-                l = sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
-            } while (l < 1e-2 || l > 1);
-            for (unsigned a = 0; a < 3; a++)
-                v[i][a] /= l;
-        }
+        for (unsigned i = 0; i < 3; i++)
+            random_direction(&r, 1e-2, v[i]);
         uint32_t scale = 2000 + tsup_rng_below(&r, 14385);   /* the normal's length: any up to 2^14 */
         for (unsigned a = 0; a < 3; a++) {
             n[a] = (int32_t)lround(v[0][a] * scale);
