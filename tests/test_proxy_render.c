@@ -1270,6 +1270,31 @@ static void test_normals_sections(void **state)
     assert_int_equal(psc_proxy_set_light(&p, l, 7373), PSC_ERR_UNSUPPORTED);
     assert_int_equal(psc_proxy_set_light(&p, NULL, 0), PSC_OK);
     free(ws), free(b);
+    /* the rasterizer refuses a relit state whose normal texture is not usable (no pixels, a side not a power of
+     * two), drawing nothing rather than reading it */
+    static uint16_t tex[16 * 16], nrm[8 * 8], px[32 * 32];
+    for (unsigned i = 0; i < 16 * 16; i++)
+        tex[i] = 0x7BEFu;
+    psc_texture_t vt, nt_ok, nt_bad = {6, 8, 0, 3, PSC_PIX_RGB565, 12, nrm}, nt_null;
+    assert_int_equal(psc_texture_init(&vt, 16, 16, PSC_PIX_RGB565, 32, tex), PSC_OK);
+    assert_int_equal(psc_texture_init(&nt_ok, 8, 8, PSC_PIX_RGB565, 16, nrm), PSC_OK);
+    nt_null = nt_ok;
+    nt_null.pixels = NULL;
+    psc_surface_t sf = {32, 32, 64, PSC_PIX_RGB565, px};
+    psc_raster_target_t t = {&sf, NULL, 0, 0, 0, 0, 32, 32, NULL};
+    psc_raster_vertex_t v[3] = {{.x_q4 = 16, .y_q4 = 16, .q_q28 = PSC_RASTER_Q_ONE},
+                                {.x_q4 = 500, .y_q4 = 16, .q_q28 = PSC_RASTER_Q_ONE, .u1_q16 = 65536, .u2_q16 = 65536,
+                                 .u_q16 = 65536},
+                                {.x_q4 = 16, .y_q4 = 500, .q_q28 = PSC_RASTER_Q_ONE, .v_q16 = 65536, .v1_q16 = 65536,
+                                 .v2_q16 = 65536}};
+    const psc_texture_t *cases[3] = {&nt_ok, &nt_null, &nt_bad};
+    for (unsigned k = 0; k < 3; k++) {
+        psc_raster_state_t st = {.shade = PSC_SHADE_VIEWS, .view_tex = {&vt, &vt, &vt}, .view_w_q8 = {128, 64, 64},
+                                 .view_normals = {cases[k], cases[k], cases[k]},
+                                 .view_light = {{0, 16384, 0}, 4096}, .view_bake_light = {{0, 0, 16384}, 7373}};
+        uint32_t drawn = psc_raster_triangle(&t, &st, &v[0], &v[1], &v[2]);
+        assert_true(k == 0 ? drawn > 100 : drawn == 0);
+    }
 }
 
 static void test_pack_fuzz(void **state)

@@ -307,7 +307,8 @@ typedef struct {
     psc_lambert_q14_t light;
 } part_tex_t;
 
-/* Draw d relit: normal textures ntex[k] of side `side` (the run `normals`, per view side^2) for the picked views. */
+/* Draw d relit: normal textures ntex[k] of side `side` (the run `normals`, per view side^2) for the picked views
+ * (16-bit psc_oct16 codes, described as RGB565 for their texel size). */
 static void set_normals(psc_3d_draw_t *d, psc_texture_t *ntex, const uint16_t *normals, uint32_t side,
                         const uint16_t view[3], const psc_lambert_q14_t *light)
 {

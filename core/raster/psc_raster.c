@@ -812,6 +812,11 @@ static bool state_ok(const psc_raster_target_t *t, const psc_raster_state_t *st)
             if (st->view_w_q8[k] != 0 &&
                 (!x || !x->pixels || x->width == 0 || x->height == 0 || x->format != PSC_PIX_RGB565))
                 return false;
+            const psc_texture_t *nx = st->view_normals[k];   /* relit: 16-bit codes, any power-of-two size */
+            if (st->view_normals[0] && st->view_w_q8[k] != 0 &&
+                (!nx || !nx->pixels || nx->width == 0 || nx->height == 0 || (nx->width & (nx->width - 1u)) != 0 ||
+                 (nx->height & (nx->height - 1u)) != 0 || nx->format != PSC_PIX_RGB565))
+                return false;
         }
         return sum == 256u;
     }
