@@ -59,6 +59,7 @@ static const key_spec_t key_table[] = {
     KEY("display_buffers", KEY_U8, display_buffers, 1, 3, false),
     KEY("frame_rate", KEY_MILLI_U32, frame_rate_mhz, 1000, 240000, false),
     KEY("render_threads", KEY_U8, render_threads, 0, PSC_IO_BANDS_MAX_THREADS, false),
+    KEY("map_cache_mb", KEY_U32, map_cache_mb, 4, 65536, false),
     KEY("input", KEY_BACKEND_LIST, input_backend, 0, 0, true),
     KEY("tour", KEY_PATH, tour, 0, 0, false),
     KEY("long_press_ms", KEY_U32, long_press_ms, 50, 10000, false),
@@ -140,6 +141,7 @@ void psc_board_config_defaults(psc_board_config_t *cfg)
     cfg->display_dither = PSC_DITHER_ORDERED;
     cfg->display_buffers = 2;
     cfg->frame_rate_mhz = 30000;
+    cfg->map_cache_mb = 64;
     cfg->long_press_ms = 800;
     strcpy(cfg->camera_backend, "none");
     cfg->camera_width = 1024;

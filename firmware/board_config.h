@@ -72,6 +72,7 @@ typedef struct {
     uint8_t display_buffers;                       /* display_buffers, 1..3 */
     uint32_t frame_rate_mhz;                       /* frame_rate, Hz */
     uint8_t render_threads;                        /* render_threads: the viewer's threads, 0 = the processors */
+    uint32_t map_cache_mb;              /* map_cache_mb: a tiled panorama's tile cache, MiB (psc_io_tiles.h) */
 
     char input_backend[PSC_BOARD_NAME_MAX];        /* input (required): a backend or "gpio,usb" */
     char tour[PSC_BOARD_PATH_MAX];                 /* tour: scripted input for the sim, "" = none */

@@ -10,6 +10,8 @@
 #include "util/cli_values.h"
 #include "psc_io_image.h"
 #include "psc_io_pack_build.h"
+#include "psc_io_image_rows.h"
+#include "psc_io_tiles.h"
 #include "psc_io_pack_image.h"
 #include "psc_io_cli.h"
 #include "psc_io_file.h"
@@ -50,8 +52,15 @@ static void print_usage(const char *prog, FILE *f)
             "  --lut-size ROWSxCOLS        table size (default: chosen from the display width)\n"
             "  --levels N                  map pyramid levels incl. the map, for --filter mip\n"
             "                              (default: as many as the size allows; 1: none)\n"
+            "  --tiled                     a tiled pack: the map as 256x256 tiles of every level,\n"
+            "                              read one by one into a bounded cache (the viewer's, the\n"
+            "                              board's map_cache_mb); made from the image's rows as\n"
+            "                              they are decoded, never the whole image\n"
+            "                              in memory. The default for an image larger than a flat\n"
+            "                              pack holds (16384 a side, or --max-pixels); up to 65536x32768\n"
             "  --max-pixels N              refuse a larger image before decoding it (default\n"
-            "                              134217728 = 16384x8192; it takes 4 bytes a pixel)\n"
+            "                              2147483648 = 65536x32768, the largest tiled map); an image\n"
+            "                              over 134217728 = 16384x8192 pixels is packed tiled\n"
             "  --quiet                     no progress or summary\n"
             "  --version                   the program's version\n"
             "  --help                      this text\n"
@@ -196,7 +205,7 @@ static void print_summary(const char *out_path, const psc_pack_t *p, size_t len)
 typedef struct {
     const char *in, *out;
     uint64_t max_pixels;
-    bool have_display, quiet;
+    bool have_display, quiet, tiled;
     bool lon_given, lat_given;   /* --lon-range, --lat-range: they override the image's GPano XMP */
     psc_pack_options_t opt;
 } args_t;
@@ -234,6 +243,7 @@ static const struct option pack_options[] = {
     {"lut-switch", required_argument, NULL, 1}, {"hfov-max", required_argument, NULL, 1},
     {"lut-size", required_argument, NULL, 1},   {"levels", required_argument, NULL, 1},
     {"max-pixels", required_argument, NULL, 1},
+    {"tiled", no_argument, NULL, 1},
     {"quiet", no_argument, NULL, 'q'},          PSC_IO_CLI_COMMON_OPTIONS,
 };
 
@@ -282,11 +292,13 @@ static int parse_args(int argc, char **argv, args_t *a)
             if (psc_cli_parse_uint(v, 1, PSC_PACK_MAX_LEVELS, &n) != 0)
                 return usage_error("--levels '%s': expected 1..%u", v, PSC_PACK_MAX_LEVELS);
             o->map_levels = (unsigned)n;
+        } else if (strcmp(name, "--tiled") == 0) {
+            a->tiled = true;
         } else if (strcmp(name, "--max-pixels") == 0) {
             unsigned long n;
-            if (psc_cli_parse_uint(v, 1, (unsigned long)PSC_MAX_MAP_DIM * PSC_MAX_MAP_DIM, &n) != 0)
+            if (psc_cli_parse_uint(v, 1, (unsigned long)PSC_TILES_MAX_WIDTH * PSC_TILES_MAX_HEIGHT, &n) != 0)
                 return usage_error("--max-pixels '%s': expected 1..%lu", v,
-                                   (unsigned long)PSC_MAX_MAP_DIM * PSC_MAX_MAP_DIM);
+                                   (unsigned long)PSC_TILES_MAX_WIDTH * PSC_TILES_MAX_HEIGHT);
             a->max_pixels = n;
         }
         if (rc != 0)
@@ -311,9 +323,81 @@ static int parse_args(int argc, char **argv, args_t *a)
     return 0;
 }
 
+static void print_tiled_summary(const char *out_path, const psc_pack_t *p, uint64_t bytes, uint64_t peak)
+{
+    const psc_tiles_t *t = &p->tiles;
+    fprintf(stderr, PROG ": wrote %s, %llu bytes (", out_path, (unsigned long long)bytes);
+    print_size(stderr, (double)bytes);
+    fprintf(stderr, "), tiled\n  map      %ux%u %s, %s projection, %u levels down to %ux%u, %u tiles of %ux%u (",
+            (unsigned)t->level[0].width, (unsigned)t->level[0].height, format_name(t->format),
+            psc_projection_name(p->map.projection), (unsigned)t->level_count,
+            (unsigned)t->level[t->level_count - 1u].width, (unsigned)t->level[t->level_count - 1u].height,
+            (unsigned)t->tile_count, PSC_TILE_SIDE, PSC_TILE_SIDE);
+    print_size(stderr, (double)t->tile_bytes);
+    fprintf(stderr, " each)\n  packing  at most ");
+    print_size(stderr, (double)peak);
+    fprintf(stderr, " of rows and bands in memory\n");
+    for (unsigned i = 0; i < p->lut_count; i++)
+        fprintf(stderr, "  LUT %u    up to %.2f degrees, %ux%u entries\n", i + 1,
+                psc_io_deg_from_bam(p->luts[i].hfov_max), (unsigned)p->luts[i].rows, (unsigned)p->luts[i].cols);
+    fprintf(stderr, "  display  %ux%u, zoom %.1f..%.1f degrees\n", (unsigned)p->display_width,
+            (unsigned)p->display_height, psc_io_deg_from_bam(p->hfov_min),
+            psc_io_deg_from_bam(p->luts[p->lut_count - 1].hfov_max));
+}
+
+/* The tiled pack, from the image's rows as they are decoded: never the whole image in memory. */
+static int pack_tiled(args_t *a, progress_t *prog, psc_io_image_rows_t *rows)
+{
+    char err[1024];
+    uint32_t w, h;
+    psc_io_image_rows_size(rows, &w, &h);
+    char notes[1024] = "";
+    psc_io_pack_image_coverage(a->in, w, h, a->lon_given, a->lat_given, &a->opt, notes, sizeof notes);
+    print_notes(prog, notes);
+    psc_io_tiles_writer_t *wr;
+    uint32_t *row = malloc((size_t)w * sizeof *row);
+    if (!row || psc_io_tiles_writer_open(a->out, w, h, &a->opt, &wr, err, sizeof err) != 0) {
+        progress_end(prog, false);
+        fprintf(stderr, PROG ": %s: %s\n", a->in, row ? err : "out of memory for a row");
+        free(row);
+        return 1;
+    }
+    for (uint32_t y = 0; y < h; y++)
+        if (psc_io_image_rows_next(rows, row, err, sizeof err) != 0 ||
+            psc_io_tiles_writer_row(wr, row, err, sizeof err) != 0) {
+            progress_end(prog, false);
+            fprintf(stderr, PROG ": %s\n", err);
+            psc_io_tiles_writer_abort(wr);
+            free(row);
+            return 1;
+        }
+    free(row);
+    uint64_t peak = psc_io_tiles_writer_peak(wr) + (uint64_t)w * 4u;
+    if (psc_io_tiles_writer_finish(wr, err, sizeof err) != 0) {
+        progress_end(prog, false);
+        fprintf(stderr, PROG ": %s\n", err);
+        return 1;
+    }
+    /* read back as the device will, the coarsest level's tiles checked too */
+    progress_show("verifying", 0, prog);
+    psc_io_tiled_t *t;
+    if (psc_io_tiled_open(a->out, 0, &t, err, sizeof err) != 0) {
+        progress_end(prog, false);
+        fprintf(stderr, PROG ": internal error: the tiled pack built from %s does not read back: %s\n", a->in, err);
+        return 1;
+    }
+    progress_end(prog, true);
+    if (!a->quiet) {
+        const psc_pack_t *p = psc_io_tiled_pack(t);
+        print_tiled_summary(a->out, p, p->store_offset + p->store_size, peak);
+    }
+    psc_io_tiled_close(t);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
-    args_t a = {.max_pixels = PSC_IMAGE_MAX_PIXELS};
+    args_t a = {.max_pixels = (uint64_t)PSC_TILES_MAX_WIDTH * PSC_TILES_MAX_HEIGHT};
     psc_io_pack_options_default(&a.opt);
     int rc = parse_args(argc, argv, &a);
     if (rc != 0)
@@ -330,13 +414,55 @@ int main(int argc, char **argv)
 
     char err[512];
     psc_image_t img;
-    progress_show("loading image", 0, &prog);
-    if (psc_io_image_load_within(a.in, a.max_pixels, &img, err, sizeof err) != 0) {
-        progress_end(&prog, false);
-        fprintf(stderr, PROG ": %s\n", err);
-        if (strstr(err, "more than the budget"))
-            fprintf(stderr, PROG ": --max-pixels N raises the budget, if the image is meant to be that large\n");
-        return 1;
+    /* a flat pack unless asked for tiles, or unless the image is more than a flat pack holds: larger than the
+     * budget (refused from its header, before decoding) or than PSC_MAX_MAP_DIM a side */
+    bool too_big = false;
+    if (!a.tiled) {
+        progress_show("loading image", 0, &prog);
+        uint64_t flat_budget = a.max_pixels < PSC_IMAGE_MAX_PIXELS ? a.max_pixels : PSC_IMAGE_MAX_PIXELS;
+        if (psc_io_image_load_within(a.in, flat_budget, &img, err, sizeof err) != 0) {
+            bool budget = strstr(err, "more than the budget") != NULL;
+            if (!budget || a.max_pixels <= PSC_IMAGE_MAX_PIXELS) {   /* the user's budget refuses it */
+                progress_end(&prog, false);
+                fprintf(stderr, PROG ": %s\n", err);
+                if (budget)
+                    fprintf(stderr, PROG ": --max-pixels N raises the budget, if the image is meant to be that "
+                            "large\n");
+                return 1;
+            }
+            too_big = true;
+        } else if (img.width > PSC_MAX_MAP_DIM || img.height > PSC_MAX_MAP_DIM) {
+            psc_io_image_free(&img);
+            too_big = true;
+        }
+    }
+    if (a.tiled || too_big) {
+        psc_io_image_rows_t *rows;
+        if (psc_io_image_rows_open(a.in, PSC_TILES_MAX_WIDTH, PSC_TILES_MAX_HEIGHT, &rows, err, sizeof err) != 0) {
+            progress_end(&prog, false);
+            fprintf(stderr, PROG ": %s\n", err);
+            return 1;
+        }
+        uint32_t img_w, img_h;
+        psc_io_image_rows_size(rows, &img_w, &img_h);
+        if ((uint64_t)img_w * img_h > a.max_pixels) {
+            progress_end(&prog, false);
+            fprintf(stderr, PROG ": %s: the image is %ux%u (%llu pixels), more than the budget of %llu pixels\n"
+                    PROG ": --max-pixels N raises the budget, if the image is meant to be that large\n", a.in,
+                    (unsigned)img_w, (unsigned)img_h, (unsigned long long)img_w * img_h,
+                    (unsigned long long)a.max_pixels);
+            psc_io_image_rows_close(rows);
+            return 1;
+        }
+        if (too_big && !a.quiet) {
+            progress_end(&prog, true);
+            fprintf(stderr, PROG ": %s is %ux%u, more than a flat pack holds (%u a side, %llu pixels): "
+                    "packing it tiled\n", a.in, (unsigned)img_w, (unsigned)img_h, (unsigned)PSC_MAX_MAP_DIM,
+                    (unsigned long long)PSC_IMAGE_MAX_PIXELS);
+        }
+        rc = pack_tiled(&a, &prog, rows);
+        psc_io_image_rows_close(rows);
+        return rc;
     }
     /* the image's GPano XMP for the axes the options leave open; the 2:1 warning */
     char notes[1024] = "";

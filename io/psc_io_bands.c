@@ -92,7 +92,9 @@ psc_io_bands_t *psc_io_bands_start(unsigned threads, uint16_t out_width, char *e
     pthread_cond_init(&b->go, NULL);
     pthread_cond_init(&b->done, NULL);
     for (unsigned k = 0; k < threads; k++)
-        if (posix_memalign(&b->scratch[k], 64, b->scratch_size) != 0) {
+        if (posix_memalign(&b->scratch[k], 64, b->scratch_size) == 0) {
+            memset(b->scratch[k], 0, b->scratch_size);
+        } else {
             b->scratch[k] = NULL;
             psc_io_bands_stop(b);
             psc_io_errorf(err, errlen, "render threads", "out of memory");
@@ -125,6 +127,8 @@ psc_status_t psc_io_bands_render(psc_io_bands_t *b, psc_viewer_t *v, const psc_v
     b->v = v;
     b->view = view;
     b->out = out;
+    for (unsigned k = 0; k < b->threads; k++)   /* a tiled viewer's misses: this frame's alone */
+        psc_viewer_band_requests_clear(b->scratch[k], v->out_width);
     pthread_mutex_lock(&b->lock);
     b->pending = b->threads - 1u;
     b->generation++;
@@ -139,6 +143,32 @@ psc_status_t psc_io_bands_render(psc_io_bands_t *b, psc_viewer_t *v, const psc_v
         if (b->status[k] != PSC_OK)
             return b->status[k];
     return PSC_OK;
+}
+
+unsigned psc_io_bands_requests(const psc_io_bands_t *b, uint32_t *tiles, unsigned max, bool *more)
+{
+    unsigned n = 0;
+    bool over = false;
+    for (unsigned k = 0; b->v && k < b->threads; k++) {
+        const uint32_t *got;
+        uint32_t dropped;
+        unsigned m = psc_viewer_band_requests(b->scratch[k], b->v->out_width, &got, &dropped);
+        over |= dropped != 0;
+        for (unsigned i = 0; i < m; i++) {
+            unsigned j = 0;
+            while (j < n && tiles[j] != got[i])
+                j++;
+            if (j < n)
+                continue;
+            if (n < max)
+                tiles[n++] = got[i];
+            else
+                over = true;
+        }
+    }
+    if (more)
+        *more = over;
+    return n;
 }
 
 void psc_io_bands_stop(psc_io_bands_t *b)

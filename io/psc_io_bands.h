@@ -14,6 +14,7 @@
 #ifndef PSC_IO_BANDS_H
 #define PSC_IO_BANDS_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
 #include "viewer/psc_viewer.h"
@@ -38,6 +39,13 @@ unsigned psc_io_bands_threads(const psc_io_bands_t *b);
 
 /** Render view into out on every thread of the pool (psc_viewer_prepare, then the bands). */
 psc_status_t psc_io_bands_render(psc_io_bands_t *b, psc_viewer_t *v, const psc_view_t *view, const psc_surface_t *out);
+
+/**
+ * A tiled viewer's last frame: the tiles its bands found absent
+ * (psc_viewer_band_requests), each once, into tiles[0..max); returns how many
+ * (*more, may be NULL: whether some did not fit or were dropped).
+ */
+unsigned psc_io_bands_requests(const psc_io_bands_t *b, uint32_t *tiles, unsigned max, bool *more);
 
 /** Stop the workers and free the pool (NULL is allowed). */
 void psc_io_bands_stop(psc_io_bands_t *b);

@@ -93,13 +93,22 @@ static void report(const psc_pack_options_t *opt, const char *stage, unsigned pe
 }
 
 /* The options a pack can be built from; the message names the first bad one. */
-static int check_options(const psc_image_t *img, const psc_pack_options_t *o, char *err, size_t errlen)
+static int check_options(uint32_t width, uint32_t height, bool tiled, const psc_pack_options_t *o, char *err,
+                         size_t errlen)
 {
-    if (!img || !img->xrgb || img->width == 0 || img->height == 0)
+    if (width == 0 || height == 0)
         return build_fail(err, errlen, "the image has no pixels");
-    if (img->width > PSC_MAX_MAP_DIM || img->height > PSC_MAX_MAP_DIM)
-        return build_fail(err, errlen, "the image is %ux%u; maps are limited to %u pixels per side",
-                          (unsigned)img->width, (unsigned)img->height, (unsigned)PSC_MAX_MAP_DIM);
+    if (!tiled && (width > PSC_MAX_MAP_DIM || height > PSC_MAX_MAP_DIM))
+        return build_fail(err, errlen, "the image is %ux%u; maps are limited to %u pixels per side (larger ones "
+                          "make a tiled pack: periscope-pack --tiled)",
+                          (unsigned)width, (unsigned)height, (unsigned)PSC_MAX_MAP_DIM);
+    if (tiled && (width > PSC_TILES_MAX_WIDTH || height > PSC_TILES_MAX_HEIGHT))
+        return build_fail(err, errlen, "the image is %ux%u; tiled maps are limited to %ux%u pixels",
+                          (unsigned)width, (unsigned)height, (unsigned)PSC_TILES_MAX_WIDTH,
+                          (unsigned)PSC_TILES_MAX_HEIGHT);
+    if (tiled && o->format == PSC_PIX_PAL8)
+        return build_fail(err, errlen, "a tiled map cannot be PAL8 (its palette would need the whole image at "
+                          "once); use rgb565 or xrgb8888");
     if (o->projection < PSC_PROJ_EQUIRECT || o->projection > PSC_PROJ_DIAMOND)
         return build_fail(err, errlen, "unknown projection %d", (int)o->projection);
     if (o->format != PSC_PIX_RGB565 && o->format != PSC_PIX_XRGB8888 && o->format != PSC_PIX_PAL8)
@@ -163,15 +172,17 @@ static const char *coverage_rule(psc_projection_t p)
 }
 
 /* The map's coverage must suit its projection (psc_envmap_check). */
-static int check_coverage(psc_envmap_t *map, const psc_image_t *img, char *err, size_t errlen)
+static int check_coverage(psc_envmap_t *map, char *err, size_t errlen)
 {
-    /* The check wants pixel (and palette) pointers present; the image's
-     * stand in for the map's, which do not exist yet. */
-    map->pixels = img->xrgb;
-    map->palette = img->xrgb;
-    psc_status_t s = psc_envmap_check(map);
-    map->pixels = NULL;
-    map->palette = NULL;
+    /* The check wants pixel (and palette) pointers present, and a flat map's size; stand-ins for the map's,
+     * which do not exist yet. */
+    static const uint32_t stand_in[1];
+    psc_envmap_t chk = *map;
+    chk.pixels = stand_in;
+    chk.palette = stand_in;
+    chk.width = chk.height = 1;
+    chk.stride = 4;
+    psc_status_t s = psc_envmap_check(&chk);
     if (s == PSC_OK)
         return 0;
     double lon0 = lon_deg(map->lon_min), span = map->lon_span ? psc_io_deg_from_bam(map->lon_span) : 360.0;
@@ -343,19 +354,21 @@ int psc_io_pack_build(const psc_image_t *img, const psc_pack_options_t *opt_in, 
         return build_fail(err, errlen, "no place for the pack");
     *out = NULL;
     *out_len = 0;
-    if (check_options(img, opt, err, errlen) != 0)
+    if (!img || !img->xrgb)
+        return build_fail(err, errlen, "the image has no pixels");
+    if (check_options(img->width, img->height, false, opt, err, errlen) != 0)
         return -1;
 
     psc_envmap_t map = {0};
     map.projection = opt->projection;
     map.format = opt->format;
-    map.width = (uint16_t)img->width;
-    map.height = (uint16_t)img->height;
+    map.width = img->width;
+    map.height = img->height;
     map.stride = (uint32_t)map.width * psc_pixfmt_bytes(map.format);
     fill_coverage(&map, opt);
 
     /* Checked before any large allocation. */
-    if (check_coverage(&map, img, err, errlen) != 0)
+    if (check_coverage(&map, err, errlen) != 0)
         return -1;
 
     lut_plan_t plan[MAX_BUILD_LUTS];
@@ -408,4 +421,93 @@ int psc_io_pack_build(const psc_image_t *img, const psc_pack_options_t *opt_in, 
     *out = file;
     *out_len = (size_t)l.file_size;
     return 0;
+}
+
+int psc_io_pack_build_tiled_head(uint32_t width, uint32_t height, const psc_pack_options_t *opt,
+                                 const psc_io_tiled_head_t *tiles, uint8_t **out, size_t *out_len,
+                                 psc_envmap_t *map_out, char *err, size_t errlen)
+{
+    if (!opt || !tiles || (tiles->index && (!out || !out_len)))
+        return build_fail(err, errlen, "no place for the pack");
+    if (out) {
+        *out = NULL;
+        *out_len = 0;
+    }
+    if (check_options(width, height, true, opt, err, errlen) != 0)
+        return -1;
+    psc_envmap_t map = {0};
+    map.projection = opt->projection;
+    map.format = opt->format;
+    map.width = width;
+    map.height = height;
+    fill_coverage(&map, opt);
+    if (check_coverage(&map, err, errlen) != 0)
+        return -1;
+    if (map.lon_span != 0 || (map.projection != PSC_PROJ_EQUIRECT && map.projection != PSC_PROJ_CYLINDER &&
+                              map.projection != PSC_PROJ_SINE))
+        return build_fail(err, errlen, "a tiled map must cover a full turn in the equirect, cylinder or sine "
+                          "projection (this one: %s, %s)", psc_projection_name(map.projection),
+                          map.lon_span ? "a partial turn" : "a full turn");
+    if (map_out)
+        *map_out = map;
+    if (!tiles->index)   /* the caller asked for the checks and the map alone */
+        return 0;
+    lut_plan_t plan[MAX_BUILD_LUTS];
+    unsigned nluts = plan_luts(opt, plan);
+    psc_container_layout_t l;
+    psc_io_container_layout_init(&l, &psc_pack_format);
+    psc_container_slot_t *scene = layout_add(&l, PSC_SECTION_SCENE, sizeof(psc_pack_scene_raw_t));
+    psc_container_slot_t *info = layout_add(&l, PSC_SECTION_TILE_INFO, sizeof(psc_pack_tile_info_raw_t));
+    psc_container_slot_t *index = layout_add(&l, PSC_SECTION_TILE_INDEX, tiles->index_size);
+    for (unsigned i = 0; i < nluts; i++)
+        plan[i].section = layout_add(&l, PSC_SECTION_LUT,
+                                     sizeof(psc_pack_lut_raw_t) + psc_lut_bytes(plan[i].rows, plan[i].cols));
+    uint8_t *file;
+    if (psc_io_container_layout_alloc(&l, &file, NULL, err, errlen) != 0)
+        return -1;
+    psc_lut_t built[MAX_BUILD_LUTS];
+    if (build_luts(file, plan, nluts, opt, built, err, errlen) != 0) {
+        free(file);
+        return -1;
+    }
+    psc_envmap_t scene_map = map;   /* SCEN says 0 x 0: the size is TINF's */
+    scene_map.width = scene_map.height = 0;
+    write_scene(file + scene->offset, &scene_map, opt, built[0].hfov_max, built[nluts - 1].hfov_max);
+    uint8_t *t = file + info->offset;
+    psc_put_le32(t + offsetof(psc_pack_tile_info_raw_t, width), width);
+    psc_put_le32(t + offsetof(psc_pack_tile_info_raw_t, height), height);
+    t[offsetof(psc_pack_tile_info_raw_t, level_count)] = (uint8_t)tiles->level_count;
+    t[offsetof(psc_pack_tile_info_raw_t, tile_log2)] = (uint8_t)PSC_TILE_LOG2;
+    t[offsetof(psc_pack_tile_info_raw_t, codec)] = (uint8_t)PSC_TILE_CODEC_RAW;
+    psc_put_le32(t + offsetof(psc_pack_tile_info_raw_t, tile_count), tiles->tile_count);
+    uint64_t store = (l.file_size + PSC_CONTAINER_ALIGN - 1u) & ~(uint64_t)(PSC_CONTAINER_ALIGN - 1u);
+    psc_put_le32(t + offsetof(psc_pack_tile_info_raw_t, store_offset), (uint32_t)store);
+    psc_put_le32(t + offsetof(psc_pack_tile_info_raw_t, store_offset) + 4, (uint32_t)(store >> 32));
+    psc_put_le32(t + offsetof(psc_pack_tile_info_raw_t, store_size), (uint32_t)tiles->store_size);
+    psc_put_le32(t + offsetof(psc_pack_tile_info_raw_t, store_size) + 4, (uint32_t)(tiles->store_size >> 32));
+    memcpy(file + index->offset, tiles->index, tiles->index_size);
+    psc_io_container_finish(&l, file);
+    *out = file;
+    *out_len = (size_t)l.file_size;
+    return 0;
+}
+
+uint64_t psc_io_pack_tiled_head_size(const psc_pack_options_t *opt, uint32_t tile_count)
+{
+    lut_plan_t plan[MAX_BUILD_LUTS];
+    unsigned nluts = plan_luts(opt, plan);
+    psc_container_layout_t l;
+    psc_io_container_layout_init(&l, &psc_pack_format);
+    layout_add(&l, PSC_SECTION_SCENE, sizeof(psc_pack_scene_raw_t));
+    layout_add(&l, PSC_SECTION_TILE_INFO, sizeof(psc_pack_tile_info_raw_t));
+    layout_add(&l, PSC_SECTION_TILE_INDEX, (uint64_t)tile_count * sizeof(psc_pack_tile_raw_t));
+    for (unsigned i = 0; i < nluts; i++)
+        layout_add(&l, PSC_SECTION_LUT, sizeof(psc_pack_lut_raw_t) + psc_lut_bytes(plan[i].rows, plan[i].cols));
+    /* the end of the last payload, as psc_io_container_layout_alloc places them: the container's size */
+    uint64_t table_end = PSC_CONTAINER_HEADER_SIZE + (uint64_t)l.count * PSC_CONTAINER_SECTION_SIZE, at = table_end;
+    for (unsigned i = 0; i < l.count; i++) {
+        at = (at + PSC_CONTAINER_ALIGN - 1u) & ~(uint64_t)(PSC_CONTAINER_ALIGN - 1u);
+        at += l.slot[i].size;
+    }
+    return (at + PSC_CONTAINER_ALIGN - 1u) & ~(uint64_t)(PSC_CONTAINER_ALIGN - 1u);
 }

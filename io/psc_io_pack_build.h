@@ -53,4 +53,27 @@ int psc_io_pack_options_set_lat_range(psc_pack_options_t *o, double top, double 
 int psc_io_pack_build(const psc_image_t *img, const psc_pack_options_t *opt,
                    uint8_t **out, size_t *out_len, char *err, size_t errlen);
 
+/** What a tiled pack's container holds beside its scene and tables (psc_io_tiles.h writes the tiles). */
+typedef struct {
+    uint32_t level_count, tile_count;
+    const void *index;         /* tile_count psc_pack_tile_raw_t, little-endian; NULL: only check the options */
+    size_t index_size;
+    uint64_t store_size;       /* the tile store's bytes, after the container */
+} psc_io_tiled_head_t;
+
+/**
+ * The container of a tiled pack (core/pack/psc_pack.h) of a width x height
+ * map: SCEN (map size 0), TINF, TIDX and the LUTs, its store placed at the
+ * container's end rounded to 64 bytes. The options are checked as
+ * psc_io_pack_build checks them, with the tiled limits (and full-turn
+ * equirect, cylinder or sine maps only). *map_out (may be NULL): the map's
+ * description. With tiles->index NULL only the checks run. 0, or -1 with err.
+ */
+int psc_io_pack_build_tiled_head(uint32_t width, uint32_t height, const psc_pack_options_t *opt,
+                                 const psc_io_tiled_head_t *tiles, uint8_t **out, size_t *out_len,
+                                 psc_envmap_t *map_out, char *err, size_t errlen);
+
+/** The bytes of that container (where its store starts), known before any tile is made. */
+uint64_t psc_io_pack_tiled_head_size(const psc_pack_options_t *opt, uint32_t tile_count);
+
 #endif

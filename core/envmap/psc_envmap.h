@@ -38,7 +38,7 @@ const char *psc_projection_name(psc_projection_t p);
 typedef struct {
     psc_projection_t projection;
     psc_pixfmt_t format;       /* RGB565, XRGB8888 or PAL8 */
-    uint16_t width, height;
+    uint32_t width, height;    /* a flat map: up to PSC_MAX_MAP_DIM; a tiled one (psc_tiles.h) larger */
     uint32_t stride;           /* bytes per map row */
     const void *pixels;
     const uint32_t *palette;   /* 256 XRGB8888 entries when format is PAL8 */

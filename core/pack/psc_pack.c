@@ -37,7 +37,7 @@ static psc_status_t parse_scene(const uint8_t *p, uint32_t off, psc_pack_t *out,
         return fail(err, PSC_ERR_CORRUPT, "unknown projection", off);
     if (psc_pixfmt_bytes(m->format) == 0)
         return fail(err, PSC_ERR_CORRUPT, "unknown map pixel format", off + 1);
-    if (m->width == 0 || m->height == 0)
+    if ((m->width == 0) != (m->height == 0))   /* both 0: a tiled pack's (TINF says) */
         return fail(err, PSC_ERR_CORRUPT, "map has a zero dimension", off + 2);
     if (m->width > PSC_MAX_MAP_DIM || m->height > PSC_MAX_MAP_DIM)
         return fail(err, PSC_ERR_TOO_LARGE, "map larger than PSC_MAX_MAP_DIM", off + 2);
@@ -69,6 +69,53 @@ static psc_status_t parse_lut(const uint8_t *base, uint32_t off, uint32_t size, 
     return PSC_OK;
 }
 
+/* TINF (at off) and TIDX (index, size bytes at index_off): the tiled map's geometry and every tile inside the
+ * store. The map's coverage and format come from SCEN. */
+static psc_status_t parse_tiles(const uint8_t *b, uint32_t off, const uint8_t *index, uint32_t index_off,
+                                uint32_t index_size, uint32_t container_size, psc_pack_t *out,
+                                psc_container_error_t *err)
+{
+    const uint8_t *p = b + off;
+    uint32_t w = rd32(p), h = rd32(p + 4), levels = p[8];
+    uint32_t count = rd32(p + 12);
+    uint64_t store_off = (uint64_t)rd32(p + 16) | (uint64_t)rd32(p + 20) << 32;
+    uint64_t store_size = (uint64_t)rd32(p + 24) | (uint64_t)rd32(p + 28) << 32;
+    if (p[9] != PSC_TILE_LOG2)
+        return fail(err, PSC_ERR_CORRUPT, "tile size is not 256 x 256", off + 9);
+    if (p[10] != PSC_TILE_CODEC_RAW)
+        return fail(err, PSC_ERR_UNSUPPORTED, "unknown tile codec", off + 10);
+    psc_status_t s = psc_tiles_init(&out->tiles, w, h, levels, out->map.format, out->map.palette);
+    if (s == PSC_ERR_TOO_LARGE)
+        return fail(err, s, "tiled map larger than 65536 x 32768", off);
+    if (s != PSC_OK)
+        return fail(err, PSC_ERR_CORRUPT, "tiled map size or level count invalid", off);
+    if (count != out->tiles.tile_count)
+        return fail(err, PSC_ERR_CORRUPT, "tile count does not match the map's levels", off + 12);
+    if (store_off < container_size || (store_off & (PSC_CONTAINER_ALIGN - 1u)) != 0 || store_off > UINT64_MAX / 2 ||
+        store_size > UINT64_MAX / 2)
+        return fail(err, PSC_ERR_CORRUPT, "tile store offset invalid", off + 16);
+    if (!index)
+        return fail(err, PSC_ERR_CORRUPT, "TINF without a TIDX section", off);
+    if ((uint64_t)index_size != (uint64_t)count * sizeof(psc_pack_tile_raw_t))
+        return fail(err, PSC_ERR_CORRUPT, "TIDX size does not match the tile count", index_off);
+    const psc_pack_tile_raw_t *tiles = (const psc_pack_tile_raw_t *)(const void *)index;
+    for (uint32_t i = 0; i < count; i++) {
+        const psc_pack_tile_raw_t *e = &tiles[i];
+        if (e->size != out->tiles.tile_bytes || e->offset > store_size || store_size - e->offset < e->size)
+            return fail(err, PSC_ERR_CORRUPT, "a tile lies outside the tile store or has the wrong size",
+                        index_off + i * (uint32_t)sizeof *e);
+    }
+    out->map.width = w;
+    out->map.height = h;
+    out->map.stride = 0;
+    out->tiled = true;
+    out->tile_codec = p[10];
+    out->tile_index = tiles;
+    out->store_offset = store_off;
+    out->store_size = store_size;
+    return PSC_OK;
+}
+
 psc_status_t psc_pack_parse(const void *buf, size_t len, psc_pack_t *out, psc_container_error_t *err)
 {
     if (!out)
@@ -89,6 +136,8 @@ psc_status_t psc_pack_parse(const void *buf, size_t len, psc_pack_t *out, psc_co
     uint32_t map_off = 0, map_size = 0;
     bool have_scene = false;
     uint32_t scene_off = 0;
+    const uint8_t *tile_info = NULL, *tile_index = NULL;
+    uint32_t tile_info_off = 0, tile_index_off = 0, tile_index_size = 0;
     uint32_t prev_end = 0;
     for (unsigned i = 0; i < nsec; i++) {
         psc_section_t sec;
@@ -134,15 +183,57 @@ psc_status_t psc_pack_parse(const void *buf, size_t len, psc_pack_t *out, psc_co
             if (out->lut_count > 0 && lut->hfov_max <= out->luts[out->lut_count - 1].hfov_max)
                 return fail(err, PSC_ERR_CORRUPT, "LUTs not in increasing hfov_max", eoff);
             out->lut_count++;
+        } else if (type == PSC_SECTION_TILE_INFO) {
+            if (tile_info)
+                return fail(err, PSC_ERR_CORRUPT, "more than one TINF section", eoff);
+            if (size != sizeof(psc_pack_tile_info_raw_t))
+                return fail(err, PSC_ERR_CORRUPT, "TINF section has the wrong size", eoff + 8);
+            tile_info = b + off;
+            tile_info_off = off;
+        } else if (type == PSC_SECTION_TILE_INDEX) {
+            if (tile_index)
+                return fail(err, PSC_ERR_CORRUPT, "more than one TIDX section", eoff);
+            tile_index = b + off;
+            tile_index_off = off;
+            tile_index_size = size;
         } /* unknown sections: skipped, a later minor version may add them */
     }
     if (!have_scene)
         return fail(err, PSC_ERR_CORRUPT, "missing SCEN section", header_size);
-    if (!map_pixels)
-        return fail(err, PSC_ERR_CORRUPT, "missing MAP0 section", header_size);
     if (out->lut_count == 0)
         return fail(err, PSC_ERR_CORRUPT, "missing LUT section", header_size);
     psc_envmap_t *m = &out->map;
+    if (m->width == 0) {   /* tiled */
+        if (!tile_info)
+            return fail(err, PSC_ERR_CORRUPT, "a map of size 0 without a TINF section", scene_off + 2);
+        if (map_pixels)
+            return fail(err, PSC_ERR_CORRUPT, "a tiled pack with a MAP0 section", map_off);
+        if (m->format == PSC_PIX_PAL8) {
+            if (!palette)
+                return fail(err, PSC_ERR_CORRUPT, "PAL8 map without a PALT section", header_size);
+            m->palette = (const uint32_t *)(const void *)palette;
+        }
+        psc_status_t ts = parse_tiles(b, tile_info_off, tile_index, tile_index_off, tile_index_size, c.file_size, out,
+                                      err);
+        if (ts != PSC_OK)
+            return ts;
+        m->pixels = NULL;
+        psc_envmap_t chk = *m;   /* the coverage checks, on a stand-in of a flat map's size */
+        chk.pixels = buf;
+        chk.width = chk.height = 1;
+        chk.stride = 4;
+        if (psc_envmap_check(&chk) != PSC_OK)
+            return fail(err, PSC_ERR_CORRUPT, "map coverage invalid for its projection", scene_off + 12);
+        out->levels[0] = *m;
+        out->level_count = 1;
+        if (out->hfov_switch == 0 || out->hfov_switch >= PSC_BAM_180)
+            return fail(err, PSC_ERR_CORRUPT, "LUT switch angle out of range", scene_off + 32);
+        return PSC_OK;
+    }
+    if (tile_info)
+        return fail(err, PSC_ERR_CORRUPT, "a TINF section in a pack with a flat map", tile_info_off);
+    if (!map_pixels)
+        return fail(err, PSC_ERR_CORRUPT, "missing MAP0 section", header_size);
     m->stride = (uint32_t)m->width * psc_pixfmt_bytes(m->format);
     if ((uint64_t)m->stride * m->height != map_size)
         return fail(err, PSC_ERR_CORRUPT, "MAP0 size does not match width x height x bytes per pixel", map_off);
@@ -162,8 +253,8 @@ psc_status_t psc_pack_parse(const void *buf, size_t len, psc_pack_t *out, psc_co
             return fail(err, PSC_ERR_CORRUPT, "map level whose size is not an exact halving", level_off[k]);
         psc_envmap_t *l = &out->levels[k];
         *l = *m;
-        l->width = (uint16_t)w;
-        l->height = (uint16_t)h;
+        l->width = w;
+        l->height = h;
         l->stride = w * psc_pixfmt_bytes(m->format);
         if ((uint64_t)l->stride * h != level_size[k])
             return fail(err, PSC_ERR_CORRUPT, "map level size does not match its dimensions", level_off[k]);

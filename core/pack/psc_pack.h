@@ -17,7 +17,17 @@
  *   "PALT"  256 XRGB8888 palette entries (required for PAL8 maps only)
  *   "LUT "  one look-up table: psc_pack_lut_raw_t then rows*cols uint32 entries
  *           (1..PSC_PACK_MAX_LUTS of them, in increasing hfov_max)
+ *   "TINF"  (minor version 2) a tiled pack (tiles/psc_tiles.h): psc_pack_tile_info_raw_t;
+ *           SCEN's map_width and map_height are then 0 and there is no MAP section
+ *   "TIDX"  with TINF: tile_count psc_pack_tile_raw_t, tile i of psc_tiles.h's numbering
  * Unknown section types are skipped (forward compatibility within a major).
+ *
+ * A tiled pack is the container followed by its tile store: the container's
+ * recorded file size counts the container alone (so its CRC-32 covers the
+ * scene, the tables and the index, and a loader reads that much), the store
+ * starts at TINF's store_offset (64-byte aligned, at or after the container's
+ * end) and each tile is read alone at its offset in it, checked by its own
+ * CRC-32. A file may thus exceed 4 GB: offsets into the store are 64-bit.
  */
 #ifndef PSC_PACK_H
 #define PSC_PACK_H
@@ -26,10 +36,11 @@
 #include "envmap/psc_envmap.h"
 #include "lut/psc_lut.h"
 #include "base/psc_container.h"
+#include "tiles/psc_tiles.h"
 
 #define PSC_PACK_MAGIC "PSCPANO\x1a"
 #define PSC_PACK_VERSION_MAJOR 1u
-#define PSC_PACK_VERSION_MINOR 1u
+#define PSC_PACK_VERSION_MINOR 2u   /* 1: the map pyramid; 2: tiled packs */
 #define PSC_PACK_MAX_SECTIONS 24u
 #define PSC_PACK_MAX_LEVELS 12u /* map levels, level 0 included */
 #define PSC_PACK_MAX_LUTS 4u
@@ -42,6 +53,10 @@ extern const psc_container_format_t psc_pack_format;
 #define PSC_SECTION_MAP_LEVEL(k) PSC_FOURCC('M', 'A', 'P', '0' + (k))
 #define PSC_SECTION_PALETTE PSC_FOURCC('P', 'A', 'L', 'T')
 #define PSC_SECTION_LUT PSC_FOURCC('L', 'U', 'T', ' ')
+#define PSC_SECTION_TILE_INFO PSC_FOURCC('T', 'I', 'N', 'F')
+#define PSC_SECTION_TILE_INDEX PSC_FOURCC('T', 'I', 'D', 'X')
+
+#define PSC_TILE_CODEC_RAW 0u   /* a tile is tile_bytes of map pixels, rows of PSC_TILE_SIDE */
 
 /** "SCEN" payload, 52 bytes, little-endian, no implicit padding. */
 typedef struct {
@@ -73,9 +88,32 @@ typedef struct {
     uint32_t reserved;
 } psc_pack_lut_raw_t;
 
+/** "TINF" payload, 40 bytes. */
+typedef struct {
+    uint32_t width, height;       /* level 0, pixels */
+    uint8_t level_count;          /* 1..psc_tiles_level_count(width, height) */
+    uint8_t tile_log2;            /* PSC_TILE_LOG2 */
+    uint8_t codec;                /* PSC_TILE_CODEC_* */
+    uint8_t reserved0;
+    uint32_t tile_count;          /* psc_tiles_init's count for these */
+    uint64_t store_offset;        /* the tile store's first byte in the file */
+    uint64_t store_size;          /* its bytes */
+    uint32_t reserved1[2];
+} psc_pack_tile_info_raw_t;
+
+/** A "TIDX" entry, 16 bytes: where tile i lies in the store. */
+typedef struct {
+    uint64_t offset;              /* from the store's start */
+    uint32_t size;                /* bytes (raw: the tiles' tile_bytes) */
+    uint32_t crc32;               /* of those bytes */
+} psc_pack_tile_raw_t;
+
+_Static_assert(sizeof(psc_pack_tile_info_raw_t) == 40, "TINF is 40 bytes");
+_Static_assert(sizeof(psc_pack_tile_raw_t) == 16, "a TIDX entry is 16 bytes");
+
 /** A parsed pack: pointers into the caller's buffer, valid while it lives. */
 typedef struct {
-    psc_envmap_t map;                  /* level 0, full resolution */
+    psc_envmap_t map;                  /* level 0, full resolution (tiled: pixels NULL) */
     psc_envmap_t levels[PSC_PACK_MAX_LEVELS]; /* levels[0] == map; for psc_viewer_set_levels */
     uint8_t level_count;               /* >= 1 */
     psc_lut_t luts[PSC_PACK_MAX_LUTS]; /* increasing hfov_max */
@@ -86,6 +124,12 @@ typedef struct {
     int32_t default_pitch;
     psc_bam_t default_hfov;
     uint16_t version_minor;
+    /* a tiled pack (TINF): the map is in tiles, read from the store by the caller */
+    bool tiled;
+    psc_tiles_t tiles;                 /* geometry; its residency table the caller's */
+    uint8_t tile_codec;
+    const psc_pack_tile_raw_t *tile_index;   /* tiles.tile_count entries, each inside the store */
+    uint64_t store_offset, store_size;
 } psc_pack_t;
 
 /**
@@ -93,6 +137,7 @@ typedef struct {
  * Checks magic, version, sizes, CRC, section bounds and alignment, every
  * field's range and that every table lies inside the file; on failure returns
  * the status and fills *err (err may be NULL). Nothing is read outside buf.
+ * A tiled pack's buf is its container alone (the header's file size).
  */
 psc_status_t psc_pack_parse(const void *buf, size_t len, psc_pack_t *out, psc_container_error_t *err);
 

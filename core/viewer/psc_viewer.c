@@ -37,7 +37,7 @@ static bool map_is_fast(const psc_envmap_t *m)
                                 m->projection == PSC_PROJ_SINE);
 }
 
-static ws_layout_t ws_layout(uint16_t out_width, uint16_t out_height, const psc_envmap_t *m)
+static ws_layout_t ws_layout(uint16_t out_width, uint16_t out_height, const psc_envmap_t *m, bool tiled)
 {
     ws_layout_t l = {0};
     size_t at = 0;
@@ -53,7 +53,7 @@ static ws_layout_t ws_layout(uint16_t out_width, uint16_t out_height, const psc_
     if (m->format == PSC_PIX_PAL8)
         at += align8(256u * sizeof(uint16_t));
     l.row_offsets = at;
-    if (map_is_fast(m)) /* rows -1 .. H, the outer two repeating the edge rows */
+    if (map_is_fast(m) && !tiled) /* rows -1 .. H, the outer two repeating the edge rows */
         at += align8(((size_t)m->height + 2u) * sizeof(uint32_t));
     l.samples = at;
     at += align8(psc_viewer_band_scratch_size(out_width));
@@ -63,12 +63,35 @@ static ws_layout_t ws_layout(uint16_t out_width, uint16_t out_height, const psc_
 
 size_t psc_viewer_workspace_size(uint16_t out_width, uint16_t out_height, const psc_envmap_t *m)
 {
-    return m ? ws_layout(out_width, out_height, m).total : 0;
+    return m ? ws_layout(out_width, out_height, m, false).total : 0;
 }
 
-psc_status_t psc_viewer_init(psc_viewer_t *v, const psc_envmap_t *map, const psc_lut_t *luts,
-                             unsigned lut_count, uint16_t out_width, uint16_t out_height, void *ws,
-                             size_t ws_size)
+size_t psc_viewer_workspace_size_tiled(uint16_t out_width, uint16_t out_height, const psc_envmap_t *m)
+{
+    return m ? ws_layout(out_width, out_height, m, true).total : 0;
+}
+
+/* A tiled map's description against its tiles: the flat checks on a stand-in of a flat map's size (the coverage),
+ * the tiles' level 0 size, format and palette, and a full turn of a rectangular projection. */
+static psc_status_t tiled_map_check(const psc_envmap_t *map, const psc_tiles_t *tiles)
+{
+    psc_envmap_t chk = *map;
+    chk.pixels = map;
+    chk.width = chk.height = 1;
+    chk.stride = 4;
+    psc_status_t s = psc_envmap_check(&chk);
+    if (s != PSC_OK)
+        return s;
+    if (!tiles->resident || tiles->level_count == 0 || map->width != tiles->level[0].width ||
+        map->height != tiles->level[0].height || map->format != tiles->format ||
+        (map->format == PSC_PIX_PAL8 && map->palette != tiles->palette))
+        return PSC_ERR_ARG;
+    return map_is_fast(map) ? PSC_OK : PSC_ERR_UNSUPPORTED;
+}
+
+static psc_status_t init_common(psc_viewer_t *v, const psc_envmap_t *map, const psc_tiles_t *tiles,
+                                const psc_lut_t *luts, unsigned lut_count, uint16_t out_width, uint16_t out_height,
+                                void *ws, size_t ws_size)
 {
     if (!v || !map || !luts || lut_count == 0 || lut_count > PSC_VIEWER_MAX_LUTS || !ws ||
         ((uintptr_t)ws & 7u) != 0)
@@ -76,7 +99,7 @@ psc_status_t psc_viewer_init(psc_viewer_t *v, const psc_envmap_t *map, const psc
     if (out_width < MIN_OUT_DIM || out_height < MIN_OUT_DIM || out_width > PSC_MAX_OUT_DIM ||
         out_height > PSC_MAX_OUT_DIM)
         return PSC_ERR_ARG;
-    psc_status_t s = psc_envmap_check(map);
+    psc_status_t s = tiles ? tiled_map_check(map, tiles) : psc_envmap_check(map);
     if (s != PSC_OK)
         return s;
     for (unsigned i = 0; i < lut_count; i++) {
@@ -85,12 +108,13 @@ psc_status_t psc_viewer_init(psc_viewer_t *v, const psc_envmap_t *map, const psc
         if (i > 0 && luts[i].hfov_max <= luts[i - 1].hfov_max)
             return PSC_ERR_ARG;
     }
-    ws_layout_t l = ws_layout(out_width, out_height, map);
+    ws_layout_t l = ws_layout(out_width, out_height, map, tiles != NULL);
     if (ws_size < l.total)
         return PSC_ERR_NOMEM;
 
     *v = (psc_viewer_t){0};
     v->map = map;
+    v->tiles = tiles;
     psc_map_addressing_init(&v->addr, map);
     for (unsigned i = 0; i < lut_count; i++)
         v->luts[i] = &luts[i];
@@ -98,7 +122,7 @@ psc_status_t psc_viewer_init(psc_viewer_t *v, const psc_envmap_t *map, const psc
     v->out_width = out_width;
     v->out_height = out_height;
     v->levels = map;
-    v->level_count = 1;
+    v->level_count = tiles ? (uint8_t)tiles->level_count : 1u;
     /* 2 * rows per radian, Q16: rows per bam (Q32) times bam per radian. */
     v->lod_base_q8 = psc_log2_q8((uint64_t)((v->addr.row_per_bam_q32 * BAM_PER_RAD) >> 15)) - 16 * 256 + MIP_LOD_BIAS_Q8;
     uint8_t *base = ws;
@@ -133,10 +157,26 @@ psc_status_t psc_viewer_init(psc_viewer_t *v, const psc_envmap_t *map, const psc
     return PSC_OK;
 }
 
+psc_status_t psc_viewer_init(psc_viewer_t *v, const psc_envmap_t *map, const psc_lut_t *luts,
+                             unsigned lut_count, uint16_t out_width, uint16_t out_height, void *ws,
+                             size_t ws_size)
+{
+    return init_common(v, map, NULL, luts, lut_count, out_width, out_height, ws, ws_size);
+}
+
+psc_status_t psc_viewer_init_tiled(psc_viewer_t *v, const psc_envmap_t *map, const psc_tiles_t *tiles,
+                                   const psc_lut_t *luts, unsigned lut_count, uint16_t out_width,
+                                   uint16_t out_height, void *ws, size_t ws_size)
+{
+    if (!tiles)
+        return PSC_ERR_ARG;
+    return init_common(v, map, tiles, luts, lut_count, out_width, out_height, ws, ws_size);
+}
+
 psc_status_t psc_viewer_set_levels(psc_viewer_t *v, const psc_envmap_t *levels, unsigned count)
 {
-    if (!v || !levels || count == 0 || count > PSC_VIEWER_MAX_LEVELS)
-        return PSC_ERR_ARG;
+    if (!v || !levels || count == 0 || count > PSC_VIEWER_MAX_LEVELS || v->tiles)
+        return PSC_ERR_ARG;   /* (a tiled map's pyramid is its tiles') */
     const psc_envmap_t *m = v->map;
     for (unsigned k = 0; k < count; k++) {
         const psc_envmap_t *l = &levels[k];
@@ -348,6 +388,12 @@ static size_t scan_work_layout(uint8_t *scratch, uint16_t out_width, psc_scan_wo
     return align8(end);
 }
 
+/* The missed-tile record at the end of a band's scratch. */
+static psc_tile_requests_t *requests_of(void *scratch, uint16_t out_width)
+{
+    return (psc_tile_requests_t *)(void *)((uint8_t *)scratch + 2u * scan_work_layout(NULL, out_width, NULL));
+}
+
 /* The frame of a prepared view (the zoom tables already for its hfov): reads the viewer, writes nothing of it. */
 static psc_status_t frame_begin(const psc_viewer_t *v, const psc_view_t *view, psc_sink_t sink,
                                 void *scratch, psc_frame_t *f)
@@ -366,7 +412,11 @@ static psc_status_t frame_begin(const psc_viewer_t *v, const psc_view_t *view, p
     /* The pyramid applies to full-turn rectangular maps that have one. */
     f->mip = view->filter == PSC_FILTER_MIP && v->level_count > 1 && v->addr.fast;
     f->filter = view->filter == PSC_FILTER_MIP ? PSC_FILTER_BILINEAR : view->filter;
-    f->simd_mip = f->mip && f->simd && mip_levels_addressable(v, f);
+    f->simd_mip = f->mip && f->simd && !v->tiles && mip_levels_addressable(v, f);
+    f->tiles = v->tiles;
+    f->requests = requests_of(scratch, v->out_width);
+    if (f->requests->count > PSC_VIEWER_MAX_REQUESTS)   /* never cleared: start it now */
+        f->requests->count = f->requests->dropped = 0;
     psc_sincos((psc_bam_t)view->pitch, &f->sin_pitch, &f->cos_pitch);
     polar_caps(v, f->lut, f->span, &f->cap_exact, &f->cap_per_pixel);
     return PSC_OK;
@@ -382,7 +432,30 @@ psc_status_t psc_viewer_prepare(psc_viewer_t *v, const psc_view_t *view)
 
 size_t psc_viewer_band_scratch_size(uint16_t out_width)
 {
-    return 2u * scan_work_layout(NULL, out_width, NULL); /* this scanline's and the next's */
+    /* this scanline's and the next's, then the missed tiles */
+    return 2u * scan_work_layout(NULL, out_width, NULL) + align8(sizeof(psc_tile_requests_t));
+}
+
+unsigned psc_viewer_band_requests(const void *scratch, uint16_t out_width, const uint32_t **tiles,
+                                  uint32_t *dropped)
+{
+    const psc_tile_requests_t *r = requests_of((void *)(uintptr_t)scratch, out_width);
+    if (tiles)
+        *tiles = r->tile;
+    if (dropped)
+        *dropped = r->dropped;
+    return r->count;
+}
+
+void psc_viewer_band_requests_clear(void *scratch, uint16_t out_width)
+{
+    psc_tile_requests_t *r = requests_of(scratch, out_width);
+    r->count = r->dropped = 0;
+}
+
+unsigned psc_viewer_requests(const psc_viewer_t *v, const uint32_t **tiles, uint32_t *dropped)
+{
+    return psc_viewer_band_requests(v->scratch, v->out_width, tiles, dropped);
 }
 
 psc_status_t psc_viewer_render_band(const psc_viewer_t *v, const psc_view_t *view, const psc_surface_t *out,
@@ -410,6 +483,7 @@ psc_status_t psc_viewer_render(psc_viewer_t *v, const psc_view_t *view, const ps
     psc_status_t s = psc_viewer_prepare(v, view);
     if (s != PSC_OK)
         return s;
+    psc_viewer_band_requests_clear(v->scratch, v->out_width);
     return psc_viewer_render_band(v, view, out, 0, v->out_height, v->scratch, psc_viewer_band_scratch_size(v->out_width));
 }
 

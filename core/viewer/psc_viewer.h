@@ -27,6 +27,7 @@
 #include "base/psc_types.h"
 #include "envmap/psc_envmap.h"
 #include "lut/psc_lut.h"
+#include "tiles/psc_tiles.h"
 
 typedef enum {
     PSC_FILTER_NEAREST = 0,  /* full-resolution map, nearest texel */
@@ -43,6 +44,7 @@ typedef enum {
 #define PSC_SPAN_LOG2_DEFAULT 2u  /* N = 4, the seed's preferred span */
 #define PSC_VIEWER_MAX_LUTS 4u
 #define PSC_VIEWER_MAX_LEVELS 12u
+#define PSC_VIEWER_MAX_REQUESTS 64u   /* absent tiles a band records, the rest counted */
 /* Narrowest field of view rendered (1 degree): keeps the viewing-plane
  * distance below 2^27 half-pixels (Q8) for outputs up to PSC_MAX_OUT_DIM. */
 #define PSC_HFOV_MIN PSC_BAM_FROM_MDEG(1000)
@@ -89,6 +91,7 @@ typedef struct {
 
 typedef struct {
     const psc_envmap_t *map;
+    const psc_tiles_t *tiles;    /* a tiled map (psc_viewer_init_tiled), else NULL */
     psc_map_addressing_t addr;
     const psc_envmap_t *levels;  /* map pyramid, levels[0] == *map (psc_viewer_set_levels) */
     uint8_t level_count;         /* 1 without a pyramid */
@@ -127,6 +130,35 @@ psc_status_t psc_viewer_init(psc_viewer_t *v, const psc_envmap_t *map,
                              const psc_lut_t *luts, unsigned lut_count,
                              uint16_t out_width, uint16_t out_height,
                              void *ws, size_t ws_size);
+
+/**
+ * Prepare a viewer for a tiled map (tiles/psc_tiles.h): as psc_viewer_init,
+ * `map` giving the projection, format, palette and coverage (its width and
+ * height the tiles' level 0, its pixels unused), for full-turn equirect,
+ * cylinder and sine maps (PSC_ERR_UNSUPPORTED for others). The workspace is
+ * psc_viewer_workspace_size_tiled() bytes. Every filter applies; the pyramid
+ * is the tiles'. A frame reads the residency table and never waits: where a
+ * tile is absent it samples the finest level resident there and records the
+ * tile (psc_viewer_requests). Once resident, a frame is the flat viewer's
+ * bytes for the same map and view.
+ */
+psc_status_t psc_viewer_init_tiled(psc_viewer_t *v, const psc_envmap_t *map, const psc_tiles_t *tiles,
+                                   const psc_lut_t *luts, unsigned lut_count, uint16_t out_width,
+                                   uint16_t out_height, void *ws, size_t ws_size);
+size_t psc_viewer_workspace_size_tiled(uint16_t out_width, uint16_t out_height, const psc_envmap_t *m);
+
+/**
+ * The tiles the bands drawn with this scratch since it was cleared
+ * (psc_viewer_band_requests_clear; psc_viewer_render clears the viewer's own
+ * and psc_viewer_requests reads it) found absent at the level they wanted:
+ * their numbers into *tiles, how many returned, at most
+ * PSC_VIEWER_MAX_REQUESTS (*dropped, may be NULL: the misses past those).
+ * Each tile once. Clear a band's scratch before a frame's first band.
+ */
+unsigned psc_viewer_band_requests(const void *scratch, uint16_t out_width, const uint32_t **tiles,
+                                  uint32_t *dropped);
+void psc_viewer_band_requests_clear(void *scratch, uint16_t out_width);
+unsigned psc_viewer_requests(const psc_viewer_t *v, const uint32_t **tiles, uint32_t *dropped);
 
 /**
  * Give the viewer the map pyramid for PSC_FILTER_MIP: levels[0] describes the

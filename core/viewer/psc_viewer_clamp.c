@@ -61,13 +61,13 @@ static bool fits_vertically(const psc_viewer_t *v, const extent_t *e)
         return false; /* a pole in view shows every longitude */
     if (full_lat)
         return true;
-    int32_t hq = (int32_t)m->height << 16;
+    int64_t hq = (int64_t)m->height << 16;
     return !e->pole_visible && e->row_min >= MARGIN_Q16 - 32768 && e->row_max <= hq - MARGIN_Q16 - 32768;
 }
 
 static bool fits_horizontally(const psc_viewer_t *v, const extent_t *e)
 {
-    int32_t wq = (int32_t)v->map->width << 16;
+    int64_t wq = (int64_t)v->map->width << 16;
     return v->map->lon_span == 0 || (e->col_min >= MARGIN_Q16 - 32768 && e->col_max <= wq - MARGIN_Q16 - 32768);
 }
 

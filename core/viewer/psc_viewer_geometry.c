@@ -52,7 +52,7 @@ int32_t psc_map_row_q16(const psc_viewer_t *v, int32_t lat)
 /* Row of latitude lat for CYLINDER (tan) and SINE (sin) maps, Q16.16, clamped to the map's edges. */
 static int32_t profile_row_q16(const psc_envmap_t *m, int32_t lat)
 {
-    int32_t edge_top = -32768, edge_bottom = ((int32_t)m->height << 16) - 32768;
+    int32_t edge_top = -32768, edge_bottom = (int32_t)(((int64_t)m->height << 16) - 32768);
     if (lat >= m->lat_top)
         return edge_top;
     if (lat <= m->lat_bottom)

@@ -25,6 +25,12 @@
 #define MIP_LOD_BIAS_Q8 (-160)
 #endif
 
+/* The tiles a band found absent (at the level it wanted), at the end of its scratch. */
+typedef struct {
+    uint32_t count, dropped;
+    uint32_t tile[PSC_VIEWER_MAX_REQUESTS];
+} psc_tile_requests_t;
+
 /* What a rendering pass writes per pixel. */
 typedef enum {
     PSC_SINK_RGB565,
@@ -65,6 +71,8 @@ typedef struct {
     psc_filter_t filter;           /* nearest or bilinear: what the non-mip samplers do */
     bool mip;                      /* PSC_FILTER_MIP with a pyramid on a fast map */
     uint8_t *dst;                  /* current output row (RGB565/XRGB8888) */
+    const psc_tiles_t *tiles;      /* a tiled map (psc_viewer_init_tiled), else NULL */
+    psc_tile_requests_t *requests; /* the band's missed tiles (in its scratch) */
     int32_t *trace_row, *trace_col;
 } psc_frame_t;
 
@@ -91,6 +99,14 @@ void psc_viewer_set_zoom(psc_viewer_t *v, psc_bam_t hfov);
  */
 void psc_span_mip(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, uint32_t t, int32_t drow, int32_t dt,
                   int32_t lod_q8);
+/*
+ * A tiled map's span (psc_viewer_tiles.c): pixels [x, x + n) from level-0 row
+ * and longitude t in steps (drow, dt), through the frame's filter; for
+ * PSC_FILTER_MIP at level of detail lod_q8. The flat samplers' arithmetic,
+ * texels looked up in the tiles: the flat map's bytes where they are resident.
+ */
+void psc_span_tiled(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, uint32_t t, int32_t drow, int32_t dt,
+                    int32_t lod_q8);
 /* Render (or trace) output scanline y of the frame. */
 void psc_scanline_render(const psc_frame_t *f, unsigned y);
 /* Render output rows [y0, y1) into dst0 (row y0) onwards, stride bytes apart. */

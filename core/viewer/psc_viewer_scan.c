@@ -35,7 +35,7 @@
 /* Whether pixels go through span_fast (else span_general). */
 static bool uses_fast_spans(const psc_frame_t *f)
 {
-    return f->v->addr.fast && !f->mip && f->sink != PSC_SINK_TRACE;
+    return f->v->addr.fast && !f->mip && f->sink != PSC_SINK_TRACE && !f->tiles;
 }
 
 /* ---- the scanline's LUT row ------------------------------------------------------ */
@@ -157,7 +157,7 @@ static PSC_ALWAYS_INLINE map_pos_t pos_from_angles(const psc_viewer_t *v, psc_ba
     map_pos_t p;
     int32_t row = v->addr.fast ? row_of(v, lat) : psc_map_row_q16(v, lat);
     if (v->addr.fast) { /* within the row-offset table's guard rows */
-        int32_t bottom = ((int32_t)v->map->height << 16) - 32768;
+        int32_t bottom = (int32_t)(((int64_t)v->map->height << 16) - 32768);
         row = row < -32768 ? -32768 : row > bottom ? bottom : row;
     }
     p.row = row;
@@ -220,7 +220,7 @@ static unsigned build_samples_linear(const psc_frame_t *f, row_setup_t *rs, unsi
     const unsigned w = v->out_width, n = f->span;
     const int64_t rpb = v->addr.row_per_bam_q32, row_base = (int64_t)v->map->lat_top * rpb;
     const int64_t row_per_lat = rs->lat_negative ? rpb : -rpb;
-    const int32_t bottom = ((int32_t)v->map->height << 16) - 32768;
+    const int32_t bottom = (int32_t)(((int64_t)v->map->height << 16) - 32768);
     const uint32_t pole_base = rs->over_pole ? PSC_BAM_180 : 0u, pole_sign = rs->over_pole ? (uint32_t)-1 : 1u;
     const uint32_t t_base = f->view->yaw - v->map->lon_min, cols = rs->lut_cols, u_step = rs->u_step_q24;
     const int32_t cap_pp = f->cap_per_pixel, cap_exact = f->cap_exact;
@@ -388,6 +388,10 @@ static void put_general(const psc_frame_t *f, unsigned x, int32_t row, uint32_t 
 /* Pixels [x, x + n) of a span through the general samplers, the pyramid or the trace. */
 static void span_general(const psc_frame_t *f, const row_setup_t *rs, unsigned x, unsigned n, span_t s, int32_t lod_xc)
 {
+    if (f->tiles && f->sink != PSC_SINK_TRACE) {
+        psc_span_tiled(f, x, n, s.row, s.t, s.drow, s.dt, f->mip ? lod_q8_at(f, rs, lod_xc) : 0);
+        return;
+    }
     if (f->mip && f->sink != PSC_SINK_TRACE) { /* the level of detail at half-pixel lod_xc */
         psc_span_mip(f, x, n, s.row, s.t, s.drow, s.dt, lod_q8_at(f, rs, lod_xc));
         return;
@@ -631,7 +635,8 @@ static void prefetch_samples(const psc_frame_t *f, const row_setup_t *rs, unsign
 {
     const psc_viewer_t *v = f->v;
     if (f->mip && f->sink != PSC_SINK_TRACE) {
-        prefetch_levels(f, rs, count);
+        if (!f->tiles)
+            prefetch_levels(f, rs, count);
         return;
     }
     if (!uses_fast_spans(f))

@@ -57,6 +57,8 @@ typedef struct {
     const char *name;                  /* "panorama", "object", ... for messages */
     const char *magic;                 /* PSC_CONTAINER_MAGIC_SIZE bytes its files start with, or NULL */
     bool places;                       /* hotspots can be placed in its scenes (directions in a panorama) */
+    /** Whether the file is of this kind, for kinds a magic does not tell apart (may be NULL). */
+    bool (*claims)(const char *path);
 
     /** Load the scene's file (s->path) and set up s->state. 0, or -1 with err. May run on a
      *  thread of its own (a reload, SIGHUP): it touches nothing but the scene. */
@@ -96,6 +98,7 @@ struct psc_scene {
 
 /* The kinds. */
 extern const psc_scene_ops_t psc_scene_panorama;
+extern const psc_scene_ops_t psc_scene_tiled;
 extern const psc_scene_ops_t psc_scene_object;
 extern const psc_scene_ops_t psc_scene_camera;
 extern const psc_scene_ops_t psc_scene_character;

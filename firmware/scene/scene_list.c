@@ -9,10 +9,11 @@
 
 #define SCENE_WS_ALIGN 64u
 
-/* Scene files are told apart by their magic; a file of no known kind is
- * given to the first (panorama) kind, whose loader says what is wrong. */
+/* Scene files are told apart by their magic (or a kind's own test, before any magic: a tiled pack starts as a
+ * flat one does); a file of no known kind is given to the first (panorama) kind, whose loader says what is wrong. */
 const psc_scene_ops_t *const psc_scene_kinds[] = {
     &psc_scene_panorama,
+    &psc_scene_tiled,
     &psc_scene_object,
     &psc_scene_character,
     &psc_scene_proxy,
@@ -21,6 +22,9 @@ const psc_scene_ops_t *const psc_scene_kinds[] = {
 
 static const psc_scene_ops_t *scene_kind_of(const char *path)
 {
+    for (unsigned k = 0; psc_scene_kinds[k] != NULL; k++)
+        if (psc_scene_kinds[k]->claims != NULL && psc_scene_kinds[k]->claims(path))
+            return psc_scene_kinds[k];
     for (unsigned k = 0; psc_scene_kinds[k] != NULL; k++)
         if (psc_scene_kinds[k]->magic != NULL &&
             psc_io_file_has_magic(path, psc_scene_kinds[k]->magic, PSC_CONTAINER_MAGIC_SIZE))

@@ -58,18 +58,25 @@ int psc_panorama_show(psc_scene_t *s, psc_panorama_t *p, const psc_envmap_t *map
 int psc_panorama_enter(psc_scene_t *s, psc_panorama_t *p, void *ws, size_t ws_size, psc_scene_limits_t *lim,
                        char *err, size_t errlen)
 {
-    const psc_board_config_t *b = s->env->board;
     const psc_pack_t *pk = &p->file.pack;
 
     p->ws = ws;
     p->ws_size = ws_size;
     if (psc_panorama_show(s, p, &pk->map, "the viewer cannot show this scene", err, errlen) != 0)
         return -1;
+    return psc_panorama_limits(s, pk, &p->viewer, lim, &p->hfov_min, err, errlen);
+}
+
+int psc_panorama_limits(psc_scene_t *s, const psc_pack_t *pk, const psc_viewer_t *viewer, psc_scene_limits_t *lim,
+                        psc_bam_t *hfov_min, char *err, size_t errlen)
+{
+    const psc_board_config_t *b = s->env->board;
+
     *lim = (psc_scene_limits_t){
         .pitch_min = (int32_t)PSC_BAM_FROM_MDEG(b->pitch_min_mdeg),
         .pitch_max = (int32_t)PSC_BAM_FROM_MDEG(b->pitch_max_mdeg),
         .hfov_min = pk->hfov_min,
-        .hfov_max = psc_viewer_hfov_max(&p->viewer),
+        .hfov_max = psc_viewer_hfov_max(viewer),
         .pan_follows_zoom = b->pan_follows_zoom,
         .home = { .yaw = pk->default_yaw, .pitch = pk->default_pitch, .hfov = pk->default_hfov },
     };
@@ -81,12 +88,12 @@ int psc_panorama_enter(psc_scene_t *s, psc_panorama_t *p, void *ws, size_t ws_si
     if (lim->hfov_min >= lim->hfov_max) {
         char lo[16], hi[16];
         panorama_format_degrees(lo, sizeof lo, pk->hfov_min);
-        panorama_format_degrees(hi, sizeof hi, psc_viewer_hfov_max(&p->viewer));
+        panorama_format_degrees(hi, sizeof hi, psc_viewer_hfov_max(viewer));
         psc_hal_error_set(err, errlen, "%s: hfov_min/hfov_max leave no zoom range for scene %s, which "
                           "allows hfov %s to %s degrees", b->file, s->path, lo, hi);
         return -1;
     }
-    p->hfov_min = lim->hfov_min;
+    *hfov_min = lim->hfov_min;
     return 0;
 }
 

@@ -29,6 +29,11 @@ int psc_panorama_show(psc_scene_t *s, psc_panorama_t *p, const psc_envmap_t *map
 int psc_panorama_enter(psc_scene_t *s, psc_panorama_t *p, void *ws, size_t ws_size, psc_scene_limits_t *lim,
                        char *err, size_t errlen);
 
+/** The limits of a pack's scene shown by viewer (the tiled scene's too): the board's pitch range, the tables' zoom
+ * range narrowed by the board; *hfov_min the scene's narrowest view. 0, or -1 with err. */
+int psc_panorama_limits(psc_scene_t *s, const psc_pack_t *pk, const psc_viewer_t *viewer, psc_scene_limits_t *lim,
+                        psc_bam_t *hfov_min, char *err, size_t errlen);
+
 void psc_panorama_clamp(psc_scene_t *s, psc_view_t *view);
 psc_status_t psc_panorama_render(psc_scene_t *s, const psc_view_t *view, const psc_surface_t *out);
 void psc_panorama_overlay(psc_scene_t *s, const psc_view_t *view, const psc_surface_t *out);

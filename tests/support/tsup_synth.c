@@ -142,11 +142,11 @@ uint32_t tsup_map_texel(const psc_envmap_t *m, int row, int col)
 {
     if (row < 0)
         row = 0;
-    if (row >= m->height)
+    if (row >= (int)m->height)
         row = m->height - 1;
     if (col < 0)
         col = 0;
-    if (col >= m->width)
+    if (col >= (int)m->width)
         col = m->width - 1;
     const uint8_t *p = (const uint8_t *)m->pixels + (size_t)row * m->stride;
     switch (m->format) {
@@ -195,11 +195,11 @@ int tsup_synth_map(tsup_map_t *out, const psc_envmap_t *geom, int default_covera
     m->palette = out->palette;
 
     int shaped = m->projection == PSC_PROJ_ELLIPTICAL || m->projection == PSC_PROJ_DIAMOND;
-    for (int r = 0; r < m->height; r++) {
+    for (int r = 0; r < (int)m->height; r++) {
         double lat_r = tsup_map_row_lat(m, r);
         double wf = tsup_row_width_factor(m->projection, lat_r);
         uint8_t *rowp = out->pixels + (size_t)r * m->stride;
-        for (int c = 0; c < m->width; c++) {
+        for (int c = 0; c < (int)m->width; c++) {
             double rgb[3] = {0.0, 0.0, 0.0};
             double col_full = c;
             int black = 0;

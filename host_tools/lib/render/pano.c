@@ -18,6 +18,7 @@
 #include "psc_io_pack_build.h"
 #include "psc_io_pack_image.h"
 #include "psc_io_png.h"
+#include "psc_io_tiles.h"
 #include "viewer/psc_viewer.h"
 
 #include <stdarg.h>
@@ -30,6 +31,8 @@
 static const char *pano_prog = "periscope-render";   /* the program's name, for its messages */
 
 #define MAX_REPEAT 100000ul
+#define PSC_RENDER_CACHE_MB_DEFAULT 64u   /* as the device's map_cache_mb */
+#define CACHE_MB_MAX 65536ul
 #define usage_error(...) psc_io_cli_usage_error(pano_prog, __VA_ARGS__)
 
 static void print_usage(const char *prog, FILE *f)
@@ -55,10 +58,13 @@ static void print_usage(const char *prog, FILE *f)
             "                      grey4 (16 greys) or pal8 (the 6x7x6 colour cube); M ordered (8x8 Bayer,\n"
             "                      default), halftone (4x4 clustered dot) or none (nearest level)\n"
             "  --format F          output surface: rgb565 (default) or xrgb8888\n"
+            "  --cache-mb N        a tiled pack's tile cache, megabytes (default %u); the view waits for\n"
+            "                      every tile it needs, so the output is exact whatever the cache\n"
             "  -o view.png         output PNG\n"
             "  --version           the program's version\n"
             "  --help              this text\n"
-            "Options take their value as --opt VALUE or --opt=VALUE, before or after the pack.\n");
+            "Options take their value as --opt VALUE or --opt=VALUE, before or after the pack.\n",
+            PSC_RENDER_CACHE_MB_DEFAULT);
 }
 
 
@@ -73,6 +79,7 @@ typedef struct {
     psc_pixfmt_t format;
     psc_simd_t simd;
     psc_io_levels_t levels;   /* --dither */
+    unsigned long cache_mb;   /* a tiled pack's cache */
 } args_t;
 
 static int span_to_log2(const char *v, uint8_t *log2)
@@ -135,6 +142,9 @@ static int parse_value(args_t *a, const char *name, const char *v)
         if (psc_cli_parse_size(v, PSC_MAX_OUT_DIM, &a->width, &a->height) != 0)
             return usage_error("--size '%s': expected WxH, each 1..%u", v, (unsigned)PSC_MAX_OUT_DIM);
         a->have_size = true;
+    } else if (strcmp(name, "--cache-mb") == 0) {
+        if (psc_cli_parse_uint(v, 1, CACHE_MB_MAX, &a->cache_mb) != 0)
+            return usage_error("--cache-mb '%s': expected megabytes, 1..%lu", v, CACHE_MB_MAX);
     } else if (strcmp(name, "--format") == 0) {
         if (strcmp(v, "rgb565") == 0)
             a->format = PSC_PIX_RGB565;
@@ -152,6 +162,7 @@ static const struct option render_options[] = {
     {"span", required_argument, NULL, 1},   {"repeat", required_argument, NULL, 1},
     {"size", required_argument, NULL, 1},   {"format", required_argument, NULL, 1},
     {"threads", required_argument, NULL, 1}, {"simd", required_argument, NULL, 1}, {"dither", required_argument, NULL, 1},
+    {"cache-mb", required_argument, NULL, 1},
     PSC_IO_CLI_COMMON_OPTIONS,
 };
 
@@ -248,6 +259,101 @@ static int load_scene(const args_t *a, psc_io_pack_t *pf, char *err, size_t errl
     return rc;
 }
 
+/* A tiled pack's view: drawn, the tiles it found absent read, drawn again, until every tile it needs is resident
+ * (the output exact whatever the cache); then the frames timed. */
+#define MAX_FILL_PASSES 64u
+
+static int fill_tiles(psc_io_tiled_t *t, psc_viewer_t *viewer, psc_io_bands_t *bands, const psc_view_t *view,
+                      const psc_surface_t *out, const char *path)
+{
+    uint32_t want[PSC_IO_BANDS_MAX_THREADS * PSC_VIEWER_MAX_REQUESTS];
+    char err[1024];
+    for (unsigned pass = 0; pass < MAX_FILL_PASSES; pass++) {
+        psc_status_t s = psc_io_bands_render(bands, viewer, view, out);
+        if (s != PSC_OK) {
+            fprintf(stderr, "%s: rendering failed: %s\n", pano_prog, psc_status_str(s));
+            return -1;
+        }
+        bool more;
+        unsigned n = psc_io_bands_requests(bands, want, sizeof want / sizeof *want, &more);
+        if (n == 0)
+            return 0;
+        if (psc_io_tiled_load(t, want, n, err, sizeof err) != 0) {
+            fprintf(stderr, "%s: %s\n", pano_prog, err);
+            return -1;
+        }
+    }
+    fprintf(stderr, "%s: %s: the view still lacks tiles after %u passes: its cache of %u tiles is too small for "
+            "it (raise --cache-mb)\n", pano_prog, path, MAX_FILL_PASSES, psc_io_tiled_slots(t));
+    return -1;
+}
+
+static int render_tiled(const args_t *a)
+{
+    char err[1024];
+    psc_io_tiled_t *t;
+    size_t budget = (size_t)(a->cache_mb ? a->cache_mb : PSC_RENDER_CACHE_MB_DEFAULT) << 20;
+    if (psc_io_tiled_open(a->pack, budget, &t, err, sizeof err) != 0) {
+        fprintf(stderr, "%s: %s\n", pano_prog, err);
+        return 1;
+    }
+    const psc_pack_t *pack = psc_io_tiled_pack(t);
+    psc_envmap_t map = pack->map;
+    uint16_t w = a->have_size ? a->width : pack->display_width;
+    uint16_t h = a->have_size ? a->height : pack->display_height;
+    size_t ws_size = psc_viewer_workspace_size_tiled(w, h, &map);
+    psc_surface_t out = {.width = w, .height = h, .stride = (uint32_t)w * psc_pixfmt_bytes(a->format),
+                         .format = a->format};
+    void *ws = alloc_aligned(ws_size);
+    out.pixels = alloc_aligned((size_t)out.stride * h);
+    int rc = 1;
+    psc_viewer_t viewer;
+    psc_status_t s;
+    psc_io_bands_t *bands = NULL;
+    if (!ws || !out.pixels) {
+        fprintf(stderr, "%s: out of memory for a %ux%u view\n", pano_prog, (unsigned)w, (unsigned)h);
+    } else if ((s = psc_viewer_init_tiled(&viewer, &map, psc_io_tiled_tiles(t), pack->luts, pack->lut_count, w, h,
+                                          ws, ws_size)) != PSC_OK) {
+        fprintf(stderr, "%s: %s: cannot set up a %ux%u viewer: %s\n", pano_prog, a->pack, (unsigned)w,
+                (unsigned)h, psc_status_str(s));
+    } else if (psc_viewer_set_simd(&viewer, a->simd) != PSC_OK) {
+        fprintf(stderr, "%s: --simd %s: this build or this processor does not have it\n", pano_prog,
+                psc_simd_name(a->simd));
+    } else if (!(bands = psc_io_bands_start(a->threads ? (unsigned)a->threads : psc_io_online_cpus(), w, err,
+                                            sizeof err))) {
+        fprintf(stderr, "%s: %s\n", pano_prog, err);
+    } else {
+        psc_view_t want = {
+            .yaw = a->have_yaw ? psc_io_bam_from_deg(a->yaw) : pack->default_yaw,
+            .pitch = a->have_pitch ? psc_io_sbam_from_deg(a->pitch) : pack->default_pitch,
+            .hfov = a->have_hfov ? psc_io_bam_from_deg(a->hfov) : pack->default_hfov,
+            .filter = a->filter,
+            .span_log2 = a->span_log2,
+        };
+        psc_view_t view = want;
+        psc_viewer_clamp(&viewer, &view, pack->hfov_min);
+        note_clamped(&want, &view);
+        if (fill_tiles(t, &viewer, bands, &view, &out, a->pack) == 0 &&
+            render_frames(&viewer, bands, &view, &out, a->repeat) == 0) {
+            uint64_t loaded;
+            psc_io_tiled_counts(t, &loaded, NULL);
+            if (a->repeat > 1)
+                fprintf(stderr, "%s: %llu tiles read into a cache of %u (%.1f MB)\n", pano_prog,
+                        (unsigned long long)loaded, psc_io_tiled_slots(t), psc_io_tiled_bytes(t) / 1048576.0);
+            psc_io_levels_apply(&a->levels, &out);
+            if (psc_io_png_write(a->out, &out, err, sizeof err) != 0)
+                fprintf(stderr, "%s: %s\n", pano_prog, err);
+            else
+                rc = 0;
+        }
+    }
+    psc_io_bands_stop(bands);
+    free(out.pixels);
+    free(ws);
+    psc_io_tiled_close(t);
+    return rc;
+}
+
 bool psc_render_pano_wanted(int argc, char **argv)
 {
     (void)argc;
@@ -268,6 +374,8 @@ int psc_render_pano_main(const char *prog, int argc, char **argv)
     psc_io_pack_t pf;
     if (a.levels.on)
         a.format = PSC_PIX_XRGB8888; /* dithered from the full colours */
+    if (!psc_io_image_sniff(a.pack) && psc_io_tiled_sniff(a.pack))
+        return render_tiled(&a);
     if (load_scene(&a, &pf, err, sizeof err) != 0) {
         fprintf(stderr, "%s" ": %s\n", pano_prog, err);
         return 1;

@@ -1,0 +1,282 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * psc_viewer_tiles.c - a tiled map's spans (psc_viewer_init_tiled).
+ *
+ * The arithmetic is the flat samplers' (psc_viewer_scan.c's span_fast for
+ * nearest and bilinear, psc_viewer_mip.c's for the pyramid): the same rows,
+ * columns and weights, so a frame whose tiles are resident is the flat
+ * frame's bytes. Only the texel's address differs: tile (row >> 8, col >> 8)
+ * of its level, at (row & 255, col & 255) in it.
+ *
+ * Tiles are looked up once a span: positions move linearly along a span, so
+ * the texels its first and last pixels read bound the rest (columns move one
+ * way round; a wrap across the seam changes the tile, except on a level one
+ * tile wide, where it does not matter). When they share one resident tile,
+ * the span reads it directly; otherwise (a span across a tile edge, or an
+ * absent tile) each texel is looked up, and an absent one is taken from the
+ * finest level resident over it, its tile recorded for the caller to load.
+ */
+#include "viewer/psc_viewer_internal.h"
+
+/* Record tile i as absent, once per band (psc_viewer_band_requests). */
+static void request(const psc_frame_t *f, uint32_t i)
+{
+    psc_tile_requests_t *r = f->requests;
+    for (uint32_t k = 0; k < r->count; k++)
+        if (r->tile[k] == i)
+            return;
+    if (r->count < PSC_VIEWER_MAX_REQUESTS)
+        r->tile[r->count++] = i;
+    else
+        r->dropped++;
+}
+
+/* Texel (r, c) of a tile holding it: raw RGB565, XRGB8888, or a palette entry (XRGB8888). */
+static PSC_ALWAYS_INLINE uint32_t tile_read(const psc_tiles_t *t, const uint8_t *tile, uint32_t r, uint32_t c,
+                                            const psc_pixfmt_t in)
+{
+    const uint8_t *row = tile + (r & (PSC_TILE_SIDE - 1u)) * t->tile_stride;
+    c &= PSC_TILE_SIDE - 1u;
+    if (in == PSC_PIX_RGB565)
+        return ((const uint16_t *)(const void *)row)[c];
+    if (in == PSC_PIX_XRGB8888)
+        return ((const uint32_t *)(const void *)row)[c];
+    return t->palette[row[c]];
+}
+
+/* Texel (r, c) of level k, looked up: where its tile is absent (and requested), the texel over it of the finest
+ * level resident there; 0 where none is. */
+static PSC_ALWAYS_INLINE uint32_t texel_at(const psc_frame_t *f, uint32_t k, uint32_t r, uint32_t c,
+                                           const psc_pixfmt_t in)
+{
+    const psc_tiles_t *t = f->tiles;
+    uint32_t i = psc_tiles_at(t, k, r, c);
+    const uint8_t *p = t->resident[i];
+    if (p)
+        return tile_read(t, p, r, c, in);
+    request(f, i);
+    while (++k < t->level_count) {
+        r >>= 1;
+        c >>= 1;
+        p = t->resident[psc_tiles_at(t, k, r, c)];
+        if (p)
+            return tile_read(t, p, r, c, in);
+    }
+    return 0;
+}
+
+/* A texel through a span's one tile (fast) or looked up. */
+static PSC_ALWAYS_INLINE uint32_t fetch(const psc_frame_t *f, const uint8_t *tile, uint32_t k, uint32_t r, uint32_t c,
+                                        const psc_pixfmt_t in, const bool fast)
+{
+    return fast ? tile_read(f->tiles, tile, r, c, in) : texel_at(f, k, r, c, in);
+}
+
+/* ---- positions: the flat samplers' ------------------------------------------------------------------------ */
+
+/* Nearest texel of level 0 (span_fast's: the row rounded, clamped as its guard rows do; the column by t). */
+typedef struct {
+    uint32_t r, c;
+} near_t;
+
+static PSC_ALWAYS_INLINE near_t near_at(const psc_frame_t *f, int32_t row, uint32_t t, const bool pow2)
+{
+    const psc_viewer_t *v = f->v;
+    int32_t r = (int32_t)(((uint32_t)row + 65536u + 32768u) >> 16) - 1, hmax = (int32_t)v->map->height - 1;
+    near_t n;
+    n.r = (uint32_t)(r < 0 ? 0 : r > hmax ? hmax : r);
+    n.c = pow2 ? t >> (v->col_shift & 31u) : (uint32_t)(((uint64_t)t * v->map->width) >> 32);
+    return n;
+}
+
+/* The four texels and weights of a bilinear sample of level k (psc_viewer_mip.c's level_sample; at level 0
+ * span_fast's). */
+typedef struct {
+    uint32_t r0, r1, c0, c1, fr, fc;
+} taps_t;
+
+static PSC_ALWAYS_INLINE taps_t taps_at(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, const bool pow2)
+{
+    const psc_tile_level_t *l = &f->tiles->level[k];
+    taps_t q;
+    int32_t r = (int32_t)(((int64_t)row + 32768) >> k) - 32768, hmax = (int32_t)l->height - 1;
+    int32_t r0 = r >> 16, r1 = r0 + 1;
+    q.fr = ((uint32_t)r >> 8) & 255u;
+    q.r0 = (uint32_t)(r0 < 0 ? 0 : r0);
+    q.r1 = (uint32_t)(r1 > hmax ? hmax : r1);
+    uint32_t tk = t - (f->v->half_col_bam << k);
+    if (pow2) {
+        unsigned s = f->v->col_shift + k;   /* < 32: a level is at least 2 wide */
+        q.c0 = tk >> s;
+        q.fc = tk << (32u - s) >> 24;
+    } else {
+        uint64_t m = (uint64_t)tk * l->width;
+        q.c0 = (uint32_t)(m >> 32);
+        q.fc = (uint32_t)(m >> 24) & 255u;
+    }
+    q.c1 = q.c0 + 1u == l->width ? 0u : q.c0 + 1u;
+    return q;
+}
+
+/* Bilinear at level k: RGB565 when packed565 (map and output both RGB565), else XRGB8888. */
+static PSC_ALWAYS_INLINE uint32_t bilinear(const psc_frame_t *f, const uint8_t *tile, uint32_t k, taps_t q,
+                                           const psc_pixfmt_t in, const bool packed565, const bool fast)
+{
+    uint32_t a = fetch(f, tile, k, q.r0, q.c0, in, fast), b = fetch(f, tile, k, q.r0, q.c1, in, fast);
+    uint32_t c = fetch(f, tile, k, q.r1, q.c0, in, fast), d = fetch(f, tile, k, q.r1, q.c1, in, fast);
+    if (packed565)
+        return psc_blend4_rgb565(a, b, c, d, (q.fc + 4u) >> 3, (q.fr + 4u) >> 3);
+    if (in == PSC_PIX_RGB565) {
+        a = psc_rgb565_to_xrgb(a);
+        b = psc_rgb565_to_xrgb(b);
+        c = psc_rgb565_to_xrgb(c);
+        d = psc_rgb565_to_xrgb(d);
+    }
+    return psc_blend4_xrgb(a, b, c, d, q.fc, q.fr);
+}
+
+/* ---- one resident tile for a whole span? ---------------------------------------------------------------- */
+
+static PSC_ALWAYS_INLINE bool same_tile(uint32_t a, uint32_t b)
+{
+    return (a >> PSC_TILE_LOG2) == (b >> PSC_TILE_LOG2);
+}
+
+/* The resident tile every texel of a span of n pixels reads at level k, or NULL. */
+static const uint8_t *span_tile_bilinear(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, int32_t drow,
+                                         int32_t dt, unsigned n, const bool pow2)
+{
+    taps_t a = taps_at(f, k, row, t, pow2);
+    taps_t b = taps_at(f, k, (int32_t)((uint32_t)row + (n - 1u) * (uint32_t)drow), t + (n - 1u) * (uint32_t)dt, pow2);
+    if (!same_tile(a.r0, a.r1) || !same_tile(a.r0, b.r0) || !same_tile(a.r0, b.r1) || !same_tile(a.c0, a.c1) ||
+        !same_tile(a.c0, b.c0) || !same_tile(a.c0, b.c1))
+        return NULL;
+    return f->tiles->resident[psc_tiles_at(f->tiles, k, a.r0, a.c0)];
+}
+
+static const uint8_t *span_tile_nearest(const psc_frame_t *f, int32_t row, uint32_t t, int32_t drow, int32_t dt,
+                                        unsigned n, const bool pow2)
+{
+    near_t a = near_at(f, row, t, pow2);
+    near_t b = near_at(f, (int32_t)((uint32_t)row + (n - 1u) * (uint32_t)drow), t + (n - 1u) * (uint32_t)dt, pow2);
+    if (!same_tile(a.r, b.r) || !same_tile(a.c, b.c))
+        return NULL;
+    return f->tiles->resident[psc_tiles_at(f->tiles, 0, a.r, a.c)];
+}
+
+/* ---- the spans --------------------------------------------------------------------------------------------- */
+
+static PSC_ALWAYS_INLINE void put(const psc_frame_t *f, unsigned x, uint32_t px, const psc_sink_t sink)
+{
+    if (sink == PSC_SINK_RGB565)
+        ((uint16_t *)(void *)f->dst)[x] = (uint16_t)px;
+    else
+        ((uint32_t *)(void *)f->dst)[x] = px;
+}
+
+static PSC_ALWAYS_INLINE void span_nearest(const psc_frame_t *f, const uint8_t *tile, unsigned x, unsigned n,
+                                           int32_t row, uint32_t t, int32_t drow, int32_t dt, const psc_pixfmt_t in,
+                                           const psc_sink_t sink, const bool pow2, const bool fast)
+{
+    for (unsigned i = 0; i < n; i++, row = (int32_t)((uint32_t)row + (uint32_t)drow), t += (uint32_t)dt) {
+        near_t q = near_at(f, row, t, pow2);
+        uint32_t p = fetch(f, tile, 0, q.r, q.c, in, fast), px;
+        if (in == PSC_PIX_RGB565)
+            px = sink == PSC_SINK_RGB565 ? p : psc_rgb565_to_xrgb(p);
+        else   /* XRGB8888, or a palette entry: pal565[i] is the entry converted */
+            px = sink == PSC_SINK_RGB565 ? psc_xrgb_to_rgb565(p) : p | 0xFF000000u;
+        put(f, x + i, px, sink);
+    }
+}
+
+static PSC_ALWAYS_INLINE void span_bilinear(const psc_frame_t *f, const uint8_t *tile, unsigned x, unsigned n,
+                                            int32_t row, uint32_t t, int32_t drow, int32_t dt, const psc_pixfmt_t in,
+                                            const psc_sink_t sink, const bool pow2, const bool fast)
+{
+    const bool packed565 = in == PSC_PIX_RGB565 && sink == PSC_SINK_RGB565;
+    for (unsigned i = 0; i < n; i++, row = (int32_t)((uint32_t)row + (uint32_t)drow), t += (uint32_t)dt) {
+        uint32_t px = bilinear(f, tile, 0, taps_at(f, 0, row, t, pow2), in, packed565, fast);
+        if (sink == PSC_SINK_RGB565 && !packed565)
+            px = psc_xrgb_to_rgb565(px);
+        put(f, x + i, px, sink);
+    }
+}
+
+static PSC_ALWAYS_INLINE void span_mip(const psc_frame_t *f, const uint8_t *ta, const uint8_t *tb, unsigned x,
+                                       unsigned n, int32_t row, uint32_t t, int32_t drow, int32_t dt, uint32_t level,
+                                       uint32_t frac, const psc_pixfmt_t in, const psc_sink_t sink, const bool pow2,
+                                       const bool fast)
+{
+    const bool packed565 = in == PSC_PIX_RGB565 && sink == PSC_SINK_RGB565;
+    for (unsigned i = 0; i < n; i++, row = (int32_t)((uint32_t)row + (uint32_t)drow), t += (uint32_t)dt) {
+        uint32_t px = bilinear(f, ta, level, taps_at(f, level, row, t, pow2), in, packed565, fast);
+        if (frac) {
+            uint32_t q = bilinear(f, tb, level + 1u, taps_at(f, level + 1u, row, t, pow2), in, packed565, fast);
+            px = packed565 ? psc_blend4_rgb565(px, q, px, q, (frac + 4u) >> 3, 0) : psc_blend4_xrgb(px, q, px, q, frac, 0);
+        }
+        if (sink == PSC_SINK_RGB565)
+            px = packed565 ? px : psc_xrgb_to_rgb565(px);
+        else
+            px |= 0xFF000000u;
+        put(f, x + i, px, sink);
+    }
+}
+
+/* One combination of map format, output and column addressing, all constants once inlined. */
+static PSC_ALWAYS_INLINE void span_tiled(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, uint32_t t,
+                                         int32_t drow, int32_t dt, int32_t lod_q8, const psc_pixfmt_t in,
+                                         const psc_sink_t sink, const bool pow2)
+{
+    if (f->mip) {   /* psc_span_mip's choice of levels */
+        uint32_t top = f->tiles->level_count - 1u;
+        uint32_t level = lod_q8 < 0 ? 0u : (uint32_t)lod_q8 >> 8, frac = lod_q8 < 0 ? 0u : (uint32_t)lod_q8 & 255u;
+        if (level >= top) {
+            level = top;
+            frac = 0;
+        }
+        const uint8_t *ta = span_tile_bilinear(f, level, row, t, drow, dt, n, pow2);
+        const uint8_t *tb = frac && ta ? span_tile_bilinear(f, level + 1u, row, t, drow, dt, n, pow2) : ta;
+        if (ta && tb)
+            span_mip(f, ta, tb, x, n, row, t, drow, dt, level, frac, in, sink, pow2, true);
+        else
+            span_mip(f, NULL, NULL, x, n, row, t, drow, dt, level, frac, in, sink, pow2, false);
+        return;
+    }
+    if (f->filter == PSC_FILTER_NEAREST) {
+        const uint8_t *tile = span_tile_nearest(f, row, t, drow, dt, n, pow2);
+        if (tile)
+            span_nearest(f, tile, x, n, row, t, drow, dt, in, sink, pow2, true);
+        else
+            span_nearest(f, NULL, x, n, row, t, drow, dt, in, sink, pow2, false);
+        return;
+    }
+    const uint8_t *tile = span_tile_bilinear(f, 0, row, t, drow, dt, n, pow2);
+    if (tile)
+        span_bilinear(f, tile, x, n, row, t, drow, dt, in, sink, pow2, true);
+    else
+        span_bilinear(f, NULL, x, n, row, t, drow, dt, in, sink, pow2, false);
+}
+
+#define TILED_SPAN(in_, sink_) \
+    (pow2 ? span_tiled(f, x, n, row, t, drow, dt, lod_q8, in_, sink_, true) \
+          : span_tiled(f, x, n, row, t, drow, dt, lod_q8, in_, sink_, false))
+#define TILED_FOR_FORMAT(in_) \
+    do { \
+        if (to565) \
+            TILED_SPAN(in_, PSC_SINK_RGB565); \
+        else \
+            TILED_SPAN(in_, PSC_SINK_XRGB8888); \
+    } while (0)
+
+void psc_span_tiled(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, uint32_t t, int32_t drow, int32_t dt,
+                    int32_t lod_q8)
+{
+    if (n == 0)
+        return;
+    const bool pow2 = f->v->col_shift != 0, to565 = f->sink == PSC_SINK_RGB565;
+    switch (f->tiles->format) {
+    case PSC_PIX_RGB565: TILED_FOR_FORMAT(PSC_PIX_RGB565); break;
+    case PSC_PIX_XRGB8888: TILED_FOR_FORMAT(PSC_PIX_XRGB8888); break;
+    case PSC_PIX_PAL8: TILED_FOR_FORMAT(PSC_PIX_PAL8); break;
+    }
+}

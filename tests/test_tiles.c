@@ -1,0 +1,423 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * test_tiles.c - tiled packs (issue 30): written from rows, read tile by tile.
+ *
+ *  - the tiles hold the flat pack's pixels, every level (the same filter and rounding);
+ *  - once its tiles are resident, a tiled frame is the flat frame's bytes: random views (the poles and the seam
+ *    included), every filter, span and map and output format;
+ *  - a starved cache (its fewest slots) draws every frame, coarser where tiles are absent, and the frames
+ *    sharpen to the flat bytes as the tiles they ask for are loaded;
+ *  - a corrupt tile gives a message naming the file and the tile, and the coarser level there; a truncated
+ *    pack is refused at opening;
+ *  - the streaming writer's memory does not grow with the image's height (counted, not timed).
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "psc_io_pack_build.h"
+#include "psc_io_tiles.h"
+#include "pack/psc_pack.h"
+#include "viewer/psc_viewer.h"
+#include "psc_testsupport.h"
+
+#define MAP_W 2048u
+#define MAP_H 1024u
+#define OUT_W 320u
+#define OUT_H 240u
+
+/* A map with detail at every scale: smooth colours, a fine hash, sharp lines every 37 pixels. */
+static psc_image_t test_image(uint32_t w, uint32_t h, uint64_t seed)
+{
+    psc_image_t img = {w, h, malloc((size_t)w * h * sizeof(uint32_t))};
+    assert_non_null(img.xrgb);
+    tsup_rng_t rng;
+    tsup_rng_seed(&rng, seed);
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++) {
+            uint32_t r = (x * 255u) / w, g = (y * 255u) / h, b = (uint32_t)(tsup_rng_u32(&rng) & 63u) + 96u;
+            if (x % 37u == 0 || y % 37u == 0)
+                r = g = b = 255u;
+            img.xrgb[(size_t)y * w + x] = 0xFF000000u | r << 16 | g << 8 | b;
+        }
+    return img;
+}
+
+static char *temp_path(const char *name)
+{
+    static char buf[4][256];
+    static unsigned k;
+    char *p = buf[k++ & 3u];
+    snprintf(p, 256, "%s/psc-test-tiles-%d-%s", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp", (int)getpid(), name);
+    return p;
+}
+
+typedef struct {
+    uint8_t *flat_bytes;
+    size_t flat_len;
+    psc_pack_t flat;
+    psc_io_tiled_t *tiled;
+    char path[256];
+} packs_t;
+
+static void make_packs(packs_t *p, const psc_image_t *img, psc_pixfmt_t format, size_t budget, const char *name)
+{
+    psc_pack_options_t o;
+    psc_io_pack_options_default(&o);
+    o.format = format;
+    o.display_width = OUT_W;
+    o.display_height = OUT_H;
+    o.hfov_min_deg = 2.0;
+    char err[512];
+    assert_int_equal(psc_io_pack_build(img, &o, &p->flat_bytes, &p->flat_len, err, sizeof err), 0);
+    psc_container_error_t e = {0};
+    assert_int_equal(psc_pack_parse(p->flat_bytes, p->flat_len, &p->flat, &e), PSC_OK);
+    snprintf(p->path, sizeof p->path, "%s", temp_path(name));
+    if (psc_io_tiles_write_image(p->path, img, &o, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    if (psc_io_tiled_open(p->path, budget, &p->tiled, err, sizeof err) != 0)
+        fail_msg("%s", err);
+}
+
+static void free_packs(packs_t *p)
+{
+    psc_io_tiled_close(p->tiled);
+    free(p->flat_bytes);
+    unlink(p->path);
+}
+
+/* Every tile loaded (the cache holds them all). */
+static void load_all(psc_io_tiled_t *t)
+{
+    const psc_tiles_t *g = psc_io_tiled_tiles(t);
+    uint32_t *all = malloc(g->tile_count * sizeof *all);
+    for (uint32_t i = 0; i < g->tile_count; i++)
+        all[i] = i;
+    char err[512];
+    assert_int_equal(psc_io_tiled_load(t, all, g->tile_count, err, sizeof err), 0);
+    free(all);
+}
+
+/* The tiles hold the flat pack's levels, pixel for pixel. */
+static void test_tiles_are_the_flat_levels(void **state)
+{
+    (void)state;
+    psc_image_t img = test_image(MAP_W, MAP_H, 1);
+    for (int f = 0; f < 2; f++) {
+        packs_t p;
+        psc_pixfmt_t fmt = f ? PSC_PIX_XRGB8888 : PSC_PIX_RGB565;
+        make_packs(&p, &img, fmt, 256u << 20, "levels.pano");
+        load_all(p.tiled);
+        const psc_tiles_t *g = psc_io_tiled_tiles(p.tiled);
+        assert_int_equal(g->level_count, p.flat.level_count);
+        const uint32_t bpp = psc_pixfmt_bytes(fmt);
+        for (uint32_t k = 0; k < g->level_count; k++) {
+            const psc_envmap_t *l = &p.flat.levels[k];
+            assert_int_equal(g->level[k].width, l->width);
+            assert_int_equal(g->level[k].height, l->height);
+            for (uint32_t r = 0; r < l->height; r++) {
+                const uint8_t *flat = (const uint8_t *)l->pixels + (size_t)r * l->stride;
+                for (uint32_t c0 = 0; c0 < l->width; c0 += PSC_TILE_SIDE) {
+                    const uint8_t *tile = g->resident[psc_tiles_at(g, k, r, c0)];
+                    assert_non_null(tile);
+                    uint32_t n = l->width - c0 < PSC_TILE_SIDE ? l->width - c0 : PSC_TILE_SIDE;
+                    assert_memory_equal(tile + (r % PSC_TILE_SIDE) * g->tile_stride, flat + (size_t)c0 * bpp,
+                                        n * bpp);
+                }
+            }
+        }
+        print_message("  %s: %u levels, %u tiles, identical to the flat pack's levels\n", f ? "xrgb8888" : "rgb565",
+                      (unsigned)g->level_count, (unsigned)g->tile_count);
+        free_packs(&p);
+    }
+    free(img.xrgb);
+}
+
+typedef struct {
+    psc_viewer_t v;
+    void *ws;
+    psc_envmap_t map;
+} viewer_t;
+
+static void flat_viewer(viewer_t *vw, const psc_pack_t *p)
+{
+    size_t n = psc_viewer_workspace_size(OUT_W, OUT_H, &p->map);
+    vw->ws = aligned_alloc(64, (n + 63u) & ~(size_t)63u);
+    assert_int_equal(psc_viewer_init(&vw->v, &p->map, p->luts, p->lut_count, OUT_W, OUT_H, vw->ws, n), PSC_OK);
+    assert_int_equal(psc_viewer_set_levels(&vw->v, p->levels, p->level_count), PSC_OK);
+}
+
+static void tiled_viewer(viewer_t *vw, psc_io_tiled_t *t)
+{
+    const psc_pack_t *p = psc_io_tiled_pack(t);
+    vw->map = p->map;
+    size_t n = psc_viewer_workspace_size_tiled(OUT_W, OUT_H, &vw->map);
+    vw->ws = aligned_alloc(64, (n + 63u) & ~(size_t)63u);
+    assert_int_equal(psc_viewer_init_tiled(&vw->v, &vw->map, psc_io_tiled_tiles(t), p->luts, p->lut_count, OUT_W,
+                                           OUT_H, vw->ws, n),
+                     PSC_OK);
+}
+
+static psc_view_t random_view(tsup_rng_t *rng, const psc_viewer_t *v)
+{
+    psc_view_t view = {0};
+    view.yaw = tsup_rng_u32(rng);
+    unsigned kind = tsup_rng_below(rng, 6);
+    double pitch = kind == 0 ? 90.0 : kind == 1 ? -90.0 : kind == 2 ? tsup_rng_range(rng, 75, 90)
+                                                                    : tsup_rng_range(rng, -89, 89);
+    view.pitch = (int32_t)tsup_bam_from_deg(pitch);
+    double hfov = tsup_rng_below(rng, 3) == 0 ? tsup_rng_range(rng, 2, 10) : tsup_rng_range(rng, 10, 118);
+    view.hfov = tsup_bam_from_deg(hfov);
+    view.filter = (psc_filter_t)tsup_rng_below(rng, 3);
+    view.span_log2 = (uint8_t)tsup_rng_below(rng, PSC_SPAN_LOG2_MAX + 1u);
+    if (view.hfov > psc_viewer_hfov_max(v))
+        view.hfov = psc_viewer_hfov_max(v);
+    return view;
+}
+
+static psc_surface_t surface(psc_pixfmt_t fmt)
+{
+    psc_surface_t s = {OUT_W, OUT_H, OUT_W * psc_pixfmt_bytes(fmt), fmt, calloc(OUT_W * OUT_H, 4)};
+    assert_non_null(s.pixels);
+    return s;
+}
+
+/* Resident, a tiled frame is the flat frame's bytes. */
+static void test_tiled_frames_are_flat_bytes(void **state)
+{
+    (void)state;
+    psc_image_t img = test_image(MAP_W, MAP_H, 2);
+    tsup_rng_t rng;
+    tsup_rng_seed(&rng, 30);
+    unsigned frames = 0, filters[3] = {0, 0, 0};
+    for (int f = 0; f < 2; f++) {
+        packs_t p;
+        make_packs(&p, &img, f ? PSC_PIX_XRGB8888 : PSC_PIX_RGB565, 256u << 20, "bytes.pano");
+        load_all(p.tiled);
+        viewer_t a, b;
+        flat_viewer(&a, &p.flat);
+        tiled_viewer(&b, p.tiled);
+        for (int out = 0; out < 2; out++) {
+            psc_surface_t sa = surface(out ? PSC_PIX_XRGB8888 : PSC_PIX_RGB565), sb = sa;
+            sb.pixels = calloc(OUT_W * OUT_H, 4);
+            for (unsigned i = 0; i < 60; i++) {
+                psc_view_t view = random_view(&rng, &a.v);
+                assert_int_equal(psc_viewer_render(&a.v, &view, &sa), PSC_OK);
+                assert_int_equal(psc_viewer_render(&b.v, &view, &sb), PSC_OK);
+                if (memcmp(sa.pixels, sb.pixels, (size_t)sa.stride * OUT_H) != 0)
+                    fail_msg("map %d output %d view %u (yaw %u pitch %d hfov %u filter %d span %u) differs", f, out,
+                             i, (unsigned)view.yaw, (int)view.pitch, (unsigned)view.hfov, (int)view.filter,
+                             (unsigned)view.span_log2);
+                assert_int_equal(psc_viewer_requests(&b.v, NULL, NULL), 0);
+                frames++;
+                filters[view.filter]++;
+            }
+            free(sa.pixels);
+            free(sb.pixels);
+        }
+        free(a.ws);
+        free(b.ws);
+        free_packs(&p);
+    }
+    print_message("  %u random views (nearest %u, bilinear %u, mip %u): tiled = flat, byte for byte\n", frames,
+                  filters[0], filters[1], filters[2]);
+    free(img.xrgb);
+}
+
+/* A starved cache draws every frame (coarser), asks for its tiles, and sharpens to the flat bytes. */
+static void test_starved_cache_sharpens(void **state)
+{
+    (void)state;
+    psc_image_t img = test_image(MAP_W, MAP_H, 3);
+    packs_t p;
+    make_packs(&p, &img, PSC_PIX_RGB565, 0, "starved.pano");   /* budget 0: the fewest slots */
+    assert_int_equal(psc_io_tiled_slots(p.tiled), PSC_IO_TILES_MIN_SLOTS);
+    viewer_t a, b;
+    flat_viewer(&a, &p.flat);
+    tiled_viewer(&b, p.tiled);
+    psc_surface_t sa = surface(PSC_PIX_RGB565), sb = sa;
+    sb.pixels = calloc(OUT_W * OUT_H, 4);
+    tsup_rng_t rng;
+    tsup_rng_seed(&rng, 31);
+    for (unsigned i = 0; i < 12; i++) {
+        psc_view_t view = {tsup_rng_u32(&rng), (int32_t)tsup_bam_from_deg(tsup_rng_range(&rng, -60, 60)),
+                           tsup_bam_from_deg(tsup_rng_range(&rng, 20, 60)), (psc_filter_t)(i % 3u), 2};
+        assert_int_equal(psc_viewer_render(&a.v, &view, &sa), PSC_OK);
+        unsigned passes = 0, first = 0;
+        for (;; passes++) {
+            assert_int_equal(psc_viewer_render(&b.v, &view, &sb), PSC_OK);
+            const uint32_t *want;
+            uint32_t dropped;
+            unsigned n = psc_viewer_requests(&b.v, &want, &dropped);
+            if (passes == 0)
+                first = n;
+            if (n == 0)
+                break;
+            assert_true(passes < 8);
+            char err[256];
+            assert_int_equal(psc_io_tiled_load(p.tiled, want, n, err, sizeof err), 0);
+        }
+        if (i == 0)
+            assert_true(first > 0);   /* the first frame had only the coarsest level */
+        assert_memory_equal(sa.pixels, sb.pixels, (size_t)sa.stride * OUT_H);
+    }
+    uint64_t loaded;
+    psc_io_tiled_counts(p.tiled, &loaded, NULL);
+    print_message("  a cache of %u slots: every frame drawn, sharpened to the flat bytes; %llu tiles read\n",
+                  psc_io_tiled_slots(p.tiled), (unsigned long long)loaded);
+    free(sa.pixels);
+    free(sb.pixels);
+    free(a.ws);
+    free(b.ws);
+    free_packs(&p);
+    free(img.xrgb);
+}
+
+/* The device's way: a loader thread reads the tiles a frame missed while the next frames are drawn (coarser where
+ * they are absent); once it has published them the frames are the flat bytes. */
+static void test_loader_thread_sharpens(void **state)
+{
+    (void)state;
+    psc_image_t img = test_image(MAP_W, MAP_H, 5);
+    packs_t p;
+    make_packs(&p, &img, PSC_PIX_XRGB8888, 48u * 256u * 1024u, "loader.pano");
+    char err[512];
+    assert_int_equal(psc_io_tiled_start_loader(p.tiled, err, sizeof err), 0);
+    viewer_t a, b;
+    flat_viewer(&a, &p.flat);
+    tiled_viewer(&b, p.tiled);
+    psc_surface_t sa = surface(PSC_PIX_RGB565), sb = sa;
+    sb.pixels = calloc(OUT_W * OUT_H, 4);
+    unsigned frames = 0, coarse = 0;
+    for (unsigned i = 0; i < 16; i++) {   /* a pan: each view 25 degrees on */
+        psc_view_t view = {tsup_bam_from_deg(25.0 * i), (int32_t)tsup_bam_from_deg(10), tsup_bam_from_deg(50),
+                           (psc_filter_t)(i % 3u), 2};
+        assert_int_equal(psc_viewer_render(&a.v, &view, &sa), PSC_OK);
+        for (;;) {
+            err[0] = '\0';
+            psc_io_tiled_publish(p.tiled, err, sizeof err);
+            assert_string_equal(err, "");
+            assert_int_equal(psc_viewer_render(&b.v, &view, &sb), PSC_OK);
+            frames++;
+            const uint32_t *want;
+            unsigned n = psc_viewer_requests(&b.v, &want, NULL);
+            if (n == 0)
+                break;
+            coarse++;
+            assert_true(memcmp(sa.pixels, sb.pixels, (size_t)sa.stride * OUT_H) != 0);   /* coarser meanwhile */
+            psc_io_tiled_request(p.tiled, want, n);
+            for (;;) {   /* (the test waits for them; a device draws on) */
+                unsigned left = psc_io_tiled_pending(p.tiled);
+                if (psc_io_tiled_publish(p.tiled, err, sizeof err) >= left)
+                    break;
+                usleep(1000);
+            }
+            assert_string_equal(err, "");
+        }
+        assert_memory_equal(sa.pixels, sb.pixels, (size_t)sa.stride * OUT_H);
+    }
+    uint64_t loaded;
+    psc_io_tiled_counts(p.tiled, &loaded, NULL);
+    print_message("  loader thread, a cache of %u slots: %u frames, %u of them coarser while tiles were read; %llu "
+                  "tiles read; every view sharpened to the flat bytes\n", psc_io_tiled_slots(p.tiled), frames, coarse,
+                  (unsigned long long)loaded);
+    assert_true(coarse > 0);
+    free(sa.pixels);
+    free(sb.pixels);
+    free(a.ws);
+    free(b.ws);
+    free_packs(&p);
+    free(img.xrgb);
+}
+
+/* A corrupt tile: a message, and the coarser level there; a truncated pack: refused at opening. */
+static void test_corrupt_and_truncated(void **state)
+{
+    (void)state;
+    psc_image_t img = test_image(MAP_W, MAP_H, 4);
+    packs_t p;
+    make_packs(&p, &img, PSC_PIX_RGB565, 256u << 20, "corrupt.pano");
+    const psc_pack_t *pk = psc_io_tiled_pack(p.tiled);
+    uint64_t at = pk->store_offset + pk->tile_index[5].offset + 100u, size = pk->store_offset + pk->store_size;
+    psc_io_tiled_close(p.tiled);
+    FILE *f = fopen(p.path, "r+b");
+    assert_non_null(f);
+    assert_int_equal(fseek(f, (long)at, SEEK_SET), 0);
+    int c = fgetc(f);
+    assert_int_equal(fseek(f, (long)at, SEEK_SET), 0);
+    fputc(c ^ 0x5A, f);
+    fclose(f);
+    char err[512];
+    assert_int_equal(psc_io_tiled_open(p.path, 256u << 20, &p.tiled, err, sizeof err), 0);
+    uint32_t five = 5;
+    assert_int_equal(psc_io_tiled_load(p.tiled, &five, 1, err, sizeof err), -1);
+    assert_non_null(strstr(err, p.path));
+    assert_non_null(strstr(err, "tile 5"));
+    print_message("  %s\n", err);
+    assert_null(psc_io_tiled_tiles(p.tiled)->resident[5]);
+    psc_io_tiled_close(p.tiled);
+    /* truncated: the store ends past the file */
+    assert_int_equal(truncate(p.path, (off_t)(size - 1000u)), 0);
+    assert_int_equal(psc_io_tiled_open(p.path, 256u << 20, &p.tiled, err, sizeof err), -1);
+    assert_non_null(strstr(err, "truncated"));
+    print_message("  %s\n", err);
+    p.tiled = NULL;
+    free_packs(&p);
+    free(img.xrgb);
+}
+
+/* The streaming writer's memory: the same for an image four times as tall. */
+static void test_writer_memory_bounded(void **state)
+{
+    (void)state;
+    psc_pack_options_t o;
+    psc_io_pack_options_default(&o);
+    o.format = PSC_PIX_XRGB8888;
+    o.projection = PSC_PROJ_CYLINDER;   /* any height: a cylinder's coverage follows its proportions */
+    o.map_levels = 4;                   /* the same levels for both heights */
+    uint64_t peak[2];
+    uint32_t *row = malloc(4096u * sizeof *row);
+    for (uint32_t i = 0; i < 4096u; i++)
+        row[i] = 0xFF000000u | i * 2654435761u;
+    for (int k = 0; k < 2; k++) {
+        uint32_t w = 4096u, h = k ? 4096u : 1024u;
+        psc_io_tiles_writer_t *wr;
+        char err[512];
+        if (psc_io_tiles_writer_open(temp_path("memory.pano"), w, h, &o, &wr, err, sizeof err) != 0)
+            fail_msg("%s", err);
+        for (uint32_t y = 0; y < h; y++)
+            assert_int_equal(psc_io_tiles_writer_row(wr, row, err, sizeof err), 0);
+        peak[k] = psc_io_tiles_writer_peak(wr);
+        assert_int_equal(psc_io_tiles_writer_finish(wr, err, sizeof err), 0);
+        unlink(temp_path("memory.pano"));
+    }
+    free(row);
+    /* bands of 256 rows for each level (a halving series: under twice level 0's, and at least a tile each), four
+     * rows of filter sums for each (under twice level 0's: 4 x 2048 x 3 x 4 bytes), the index */
+    uint64_t bound = 2u * 256u * 4096u * 4u + PSC_TILES_MAX_LEVELS * (256u * 256u * 4u) + 2u * 4u * 2048u * 12u +
+                     (64u << 10);
+    print_message("  streaming writer, 4096 wide: %llu bytes at most for 1024 rows, %llu for 4096 (bound %llu)\n",
+                  (unsigned long long)peak[0], (unsigned long long)peak[1], (unsigned long long)bound);
+    assert_true(peak[1] <= bound);
+    assert_true(peak[1] <= peak[0] + (64u << 10));   /* the index grows with the height, nothing else */
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_tiles_are_the_flat_levels),
+        cmocka_unit_test(test_tiled_frames_are_flat_bytes),
+        cmocka_unit_test(test_starved_cache_sharpens),
+        cmocka_unit_test(test_loader_thread_sharpens),
+        cmocka_unit_test(test_corrupt_and_truncated),
+        cmocka_unit_test(test_writer_memory_bounded),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
