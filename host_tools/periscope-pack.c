@@ -46,7 +46,8 @@ static void print_usage(const char *prog, FILE *f)
             "                              panorama opens looking at the middle of its ranges.\n"
             "                              Without them, an equirectangular image's GPano XMP\n"
             "                              (photo-sphere metadata) gives its crop, if it has one\n"
-            "  --hfov-min D                narrowest zoom the viewer allows (default 20)\n"
+            "  --hfov-min D                narrowest zoom the viewer allows (default 20; a tiled pack:\n"
+            "                              two display pixels a texel, at least 1)\n"
             "  --lut-switch D              widest view served by the narrow table (default 60)\n"
             "  --hfov-max D                widest view served by the wide table (default 120, max 170)\n"
             "  --lut-size ROWSxCOLS        table size (default: chosen from the display width)\n"
@@ -206,6 +207,7 @@ typedef struct {
     const char *in, *out;
     uint64_t max_pixels;
     bool have_display, quiet, tiled;
+    bool hfov_min_given;
     bool lon_given, lat_given;   /* --lon-range, --lat-range: they override the image's GPano XMP */
     psc_pack_options_t opt;
 } args_t;
@@ -279,6 +281,7 @@ static int parse_args(int argc, char **argv, args_t *a)
             rc = parse_lat_range(v, a);
         } else if (strcmp(name, "--hfov-min") == 0) {
             rc = take_degrees(name, v, &o->hfov_min_deg);
+            a->hfov_min_given = true;
         } else if (strcmp(name, "--lut-switch") == 0) {
             rc = take_degrees(name, v, &o->hfov_switch_deg);
         } else if (strcmp(name, "--hfov-max") == 0) {
@@ -354,6 +357,11 @@ static int pack_tiled(args_t *a, progress_t *prog, psc_io_image_rows_t *rows)
     char notes[1024] = "";
     psc_io_pack_image_coverage(a->in, w, h, a->lon_given, a->lat_given, &a->opt, notes, sizeof notes);
     print_notes(prog, notes);
+    /* a map this large is for zooming in: by default down to two display pixels a texel (at least 1 degree) */
+    if (!a->hfov_min_given) {
+        double deep = 360.0 * a->opt.display_width / (2.0 * w);
+        a->opt.hfov_min_deg = deep < 1.0 ? 1.0 : deep < a->opt.hfov_min_deg ? deep : a->opt.hfov_min_deg;
+    }
     psc_io_tiles_writer_t *wr;
     uint32_t *row = malloc((size_t)w * sizeof *row);
     if (!row || psc_io_tiles_writer_open(a->out, w, h, &a->opt, &wr, err, sizeof err) != 0) {
@@ -414,26 +422,27 @@ int main(int argc, char **argv)
 
     char err[512];
     psc_image_t img;
-    /* a flat pack unless asked for tiles, or unless the image is more than a flat pack holds: larger than the
-     * budget (refused from its header, before decoding) or than PSC_MAX_MAP_DIM a side */
-    bool too_big = false;
-    if (!a.tiled) {
+    /* a flat pack unless asked for tiles, or unless the image (its header says) is more than a flat pack holds:
+     * more than PSC_MAX_MAP_DIM a side or PSC_IMAGE_MAX_PIXELS; more than --max-pixels is refused */
+    uint32_t img_w, img_h;
+    if (psc_io_image_probe(a.in, &img_w, &img_h, err, sizeof err) != 0) {
+        fprintf(stderr, PROG ": %s\n", err);
+        return 1;
+    }
+    if ((uint64_t)img_w * img_h > a.max_pixels) {
+        fprintf(stderr, PROG ": %s: image is %ux%u (%llu pixels), more than the budget of %llu pixels (checked "
+                "before decoding)\n" PROG ": --max-pixels N raises the budget, if the image is meant to be that "
+                "large\n", a.in, (unsigned)img_w, (unsigned)img_h, (unsigned long long)img_w * img_h,
+                (unsigned long long)a.max_pixels);
+        return 1;
+    }
+    bool too_big = img_w > PSC_MAX_MAP_DIM || img_h > PSC_MAX_MAP_DIM || (uint64_t)img_w * img_h > PSC_IMAGE_MAX_PIXELS;
+    if (!a.tiled && !too_big) {
         progress_show("loading image", 0, &prog);
-        uint64_t flat_budget = a.max_pixels < PSC_IMAGE_MAX_PIXELS ? a.max_pixels : PSC_IMAGE_MAX_PIXELS;
-        if (psc_io_image_load_within(a.in, flat_budget, &img, err, sizeof err) != 0) {
-            bool budget = strstr(err, "more than the budget") != NULL;
-            if (!budget || a.max_pixels <= PSC_IMAGE_MAX_PIXELS) {   /* the user's budget refuses it */
-                progress_end(&prog, false);
-                fprintf(stderr, PROG ": %s\n", err);
-                if (budget)
-                    fprintf(stderr, PROG ": --max-pixels N raises the budget, if the image is meant to be that "
-                            "large\n");
-                return 1;
-            }
-            too_big = true;
-        } else if (img.width > PSC_MAX_MAP_DIM || img.height > PSC_MAX_MAP_DIM) {
-            psc_io_image_free(&img);
-            too_big = true;
+        if (psc_io_image_load_within(a.in, a.max_pixels, &img, err, sizeof err) != 0) {
+            progress_end(&prog, false);
+            fprintf(stderr, PROG ": %s\n", err);
+            return 1;
         }
     }
     if (a.tiled || too_big) {
@@ -443,19 +452,7 @@ int main(int argc, char **argv)
             fprintf(stderr, PROG ": %s\n", err);
             return 1;
         }
-        uint32_t img_w, img_h;
-        psc_io_image_rows_size(rows, &img_w, &img_h);
-        if ((uint64_t)img_w * img_h > a.max_pixels) {
-            progress_end(&prog, false);
-            fprintf(stderr, PROG ": %s: the image is %ux%u (%llu pixels), more than the budget of %llu pixels\n"
-                    PROG ": --max-pixels N raises the budget, if the image is meant to be that large\n", a.in,
-                    (unsigned)img_w, (unsigned)img_h, (unsigned long long)img_w * img_h,
-                    (unsigned long long)a.max_pixels);
-            psc_io_image_rows_close(rows);
-            return 1;
-        }
-        if (too_big && !a.quiet) {
-            progress_end(&prog, true);
+        if (too_big && !a.tiled && !a.quiet) {
             fprintf(stderr, PROG ": %s is %ux%u, more than a flat pack holds (%u a side, %llu pixels): "
                     "packing it tiled\n", a.in, (unsigned)img_w, (unsigned)img_h, (unsigned)PSC_MAX_MAP_DIM,
                     (unsigned long long)PSC_IMAGE_MAX_PIXELS);

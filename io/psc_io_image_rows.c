@@ -40,6 +40,7 @@ struct psc_io_image_rows {
     uint32_t width, height;
     uint32_t next_row;           /* the row the next call returns */
     bool failed;                 /* an earlier call failed: the decoder's state is gone */
+    bool probe;                  /* psc_io_image_probe: stop once the header has given the size */
 
     /* JPEG */
     struct jpeg_decompress_struct jpeg;
@@ -155,6 +156,8 @@ static int rows_jpeg_open(psc_io_image_rows_t *r, uint32_t max_width, uint32_t m
         return psc_io_errorf(err, errlen, r->path, "unsupported JPEG colour space %d", (int)cinfo->jpeg_color_space);
     if (rows_check_size(r, cinfo->image_width, cinfo->image_height, max_width, max_height, err, errlen) != 0)
         return -1;
+    if (r->probe)
+        return 0;
     /* A single-scan file is decoded an MCU row at a time; any other is read whole into
      * coefficients first, which only a small enough image may do. */
     if (jpeg_has_multiple_scans(cinfo)) {
@@ -250,6 +253,8 @@ static int rows_png_open(psc_io_image_rows_t *r, uint32_t max_width, uint32_t ma
     if (rows_check_size(r, png_get_image_width(png, info), png_get_image_height(png, info), max_width, max_height,
                         err, errlen) != 0)
         return -1;
+    if (r->probe)
+        return 0;
     if (png_get_interlace_type(png, info) != PNG_INTERLACE_NONE)
         return psc_io_errorf(err, errlen, r->path,
                              "interlaced (Adam7) PNG of %ux%u: its rows need the whole image in memory, which the "
@@ -292,14 +297,16 @@ static int rows_png_next(psc_io_image_rows_t *r, uint32_t *xrgb, char *err, size
 
 /* ---- the front end ------------------------------------------------------------------------------ */
 
-int psc_io_image_rows_open(const char *path, uint32_t max_width, uint32_t max_height, psc_io_image_rows_t **out,
-                           char *err, size_t errlen)
+static int rows_open(const char *path, uint32_t max_width, uint32_t max_height, bool probe, psc_io_image_rows_t **out,
+                     char *err, size_t errlen)
 {
     if (out)
         *out = NULL;
     if (!path || !out)
         return psc_io_errorf(err, errlen, path, "no file, or nowhere to put the reader");
     psc_io_image_rows_t *r = calloc(1, sizeof *r);
+    if (r)
+        r->probe = probe;
     char *name = r ? strdup(path) : NULL;
     if (!name) {
         free(r);
@@ -340,6 +347,23 @@ int psc_io_image_rows_open(const char *path, uint32_t max_width, uint32_t max_he
         return -1;
     }
     *out = r;
+    return 0;
+}
+
+int psc_io_image_rows_open(const char *path, uint32_t max_width, uint32_t max_height, psc_io_image_rows_t **out,
+                           char *err, size_t errlen)
+{
+    return rows_open(path, max_width, max_height, false, out, err, errlen);
+}
+
+int psc_io_image_probe(const char *path, uint32_t *width, uint32_t *height, char *err, size_t errlen)
+{
+    psc_io_image_rows_t *r;
+    if (rows_open(path, PSC_IO_IMAGE_ROWS_MAX_SIDE, PSC_IO_IMAGE_ROWS_MAX_SIDE, true, &r, err, errlen) != 0)
+        return -1;
+    *width = r->width;
+    *height = r->height;
+    psc_io_image_rows_close(r);
     return 0;
 }
 

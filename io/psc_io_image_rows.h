@@ -36,6 +36,13 @@ typedef struct psc_io_image_rows psc_io_image_rows_t;   /* opaque */
 int psc_io_image_rows_open(const char *path, uint32_t max_width, uint32_t max_height, psc_io_image_rows_t **out,
                            char *err, size_t errlen);
 
+/**
+ * A JPEG's or PNG's size from its header alone (nothing decoded, whatever the
+ * file: progressive and interlaced ones too), at most
+ * PSC_IO_IMAGE_ROWS_MAX_SIDE a side. 0, or -1 with err.
+ */
+int psc_io_image_probe(const char *path, uint32_t *width, uint32_t *height, char *err, size_t errlen);
+
 /** The image's size in pixels. */
 void psc_io_image_rows_size(const psc_io_image_rows_t *r, uint32_t *width, uint32_t *height);
 

@@ -17,6 +17,7 @@
 #include <setjmp.h>
 #include <cmocka.h>
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -173,9 +174,12 @@ static psc_view_t random_view(tsup_rng_t *rng, const psc_viewer_t *v)
     double pitch = kind == 0 ? 90.0 : kind == 1 ? -90.0 : kind == 2 ? tsup_rng_range(rng, 75, 90)
                                                                     : tsup_rng_range(rng, -89, 89);
     view.pitch = (int32_t)tsup_bam_from_deg(pitch);
-    double hfov = tsup_rng_below(rng, 3) == 0 ? tsup_rng_range(rng, 2, 10) : tsup_rng_range(rng, 10, 118);
-    view.hfov = tsup_bam_from_deg(hfov);
     view.filter = (psc_filter_t)tsup_rng_below(rng, 3);
+    /* nearest and bilinear read level 0 while it has at most two texels a pixel (here up to about 85 degrees at
+     * 320 pixels: a 2048-wide map); wider, a tiled map reads a coarser level (test_wide_views_read_few_tiles) */
+    double widest = view.filter == PSC_FILTER_MIP ? 118 : 80;
+    double hfov = tsup_rng_below(rng, 3) == 0 ? tsup_rng_range(rng, 2, 10) : tsup_rng_range(rng, 10, widest);
+    view.hfov = tsup_bam_from_deg(hfov);
     view.span_log2 = (uint8_t)tsup_rng_below(rng, PSC_SPAN_LOG2_MAX + 1u);
     if (view.hfov > psc_viewer_hfov_max(v))
         view.hfov = psc_viewer_hfov_max(v);
@@ -231,6 +235,67 @@ static void test_tiled_frames_are_flat_bytes(void **state)
     free(img.xrgb);
 }
 
+/* PSNR (8-bit RGB) of two RGB565 frames. */
+static double psnr565(const psc_surface_t *a, const psc_surface_t *b)
+{
+    double se = 0;
+    for (unsigned y = 0; y < OUT_H; y++)
+        for (unsigned x = 0; x < OUT_W; x++) {
+            uint8_t p[3], q[3];
+            tsup_surface_rgb(a, x, y, p);
+            tsup_surface_rgb(b, x, y, q);
+            for (int c = 0; c < 3; c++)
+                se += (double)(p[c] - q[c]) * (p[c] - q[c]);
+        }
+    return 10.0 * log10(255.0 * 255.0 / (se / (3.0 * OUT_W * OUT_H) + 1e-12));
+}
+
+/* Zoomed out, nearest and bilinear read the finest level with at most two texels a pixel: a wide view of a tiled map
+ * asks for about as many texels as it has pixels (not the whole map), and shows what the flat pyramid shows. */
+static void test_wide_views_read_few_tiles(void **state)
+{
+    (void)state;
+    psc_image_t img = test_image(MAP_W * 2u, MAP_H * 2u, 6);   /* 4096 x 2048: level 0 is 128 tiles */
+    packs_t p;
+    make_packs(&p, &img, PSC_PIX_RGB565, 256u << 20, "wide.pano");
+    viewer_t a, b;
+    flat_viewer(&a, &p.flat);
+    tiled_viewer(&b, p.tiled);
+    psc_surface_t sa = surface(PSC_PIX_RGB565), sb = sa;
+    sb.pixels = calloc(OUT_W * OUT_H, 4);
+    for (int filter = 0; filter < 2; filter++) {
+        psc_view_t view = {tsup_bam_from_deg(40), (int32_t)tsup_bam_from_deg(15), tsup_bam_from_deg(115),
+                           (psc_filter_t)filter, 2};
+        unsigned asked = 0;
+        for (;;) {
+            assert_int_equal(psc_viewer_render(&b.v, &view, &sb), PSC_OK);
+            const uint32_t *want;
+            unsigned n = psc_viewer_requests(&b.v, &want, NULL);
+            if (n == 0)
+                break;
+            asked += n;
+            char err[256];
+            assert_int_equal(psc_io_tiled_load(p.tiled, want, n, err, sizeof err), 0);
+            for (unsigned k = 0; k < n; k++)
+                assert_true(psc_tiles_level_of(psc_io_tiled_tiles(p.tiled), want[k]) > 0);   /* never level 0 */
+        }
+        view.filter = PSC_FILTER_MIP;
+        assert_int_equal(psc_viewer_render(&a.v, &view, &sa), PSC_OK);
+        double db = psnr565(&sa, &sb);
+        print_message("  hfov 115 at %ux%u, %s: %u tiles read (level 0 has %u), %.1f dB against the flat mip frame\n",
+                      OUT_W, OUT_H, filter ? "bilinear" : "nearest", asked,
+                      (unsigned)(psc_io_tiled_tiles(p.tiled)->level[1].first), db);
+        assert_true(db >= (filter ? 32.0 : 28.0));   /* measured 37.8 and 33.2 */
+        assert_true(asked <= 40u);                    /* (bilinear finds nearest's tiles resident) */
+    }
+    free(sa.pixels);
+    free(sb.pixels);
+    free(a.ws);
+    free(b.ws);
+    free_packs(&p);
+    free(img.xrgb);
+}
+
 /* A starved cache draws every frame (coarser), asks for its tiles, and sharpens to the flat bytes. */
 static void test_starved_cache_sharpens(void **state)
 {
@@ -248,7 +313,7 @@ static void test_starved_cache_sharpens(void **state)
     tsup_rng_seed(&rng, 31);
     for (unsigned i = 0; i < 12; i++) {
         psc_view_t view = {tsup_rng_u32(&rng), (int32_t)tsup_bam_from_deg(tsup_rng_range(&rng, -60, 60)),
-                           tsup_bam_from_deg(tsup_rng_range(&rng, 20, 60)), (psc_filter_t)(i % 3u), 2};
+                           tsup_bam_from_deg(tsup_rng_range(&rng, 20, 60)), (psc_filter_t)(i % 3u), 2};   /* level 0 */
         assert_int_equal(psc_viewer_render(&a.v, &view, &sa), PSC_OK);
         unsigned passes = 0, first = 0;
         for (;; passes++) {
@@ -414,6 +479,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_tiles_are_the_flat_levels),
         cmocka_unit_test(test_tiled_frames_are_flat_bytes),
+        cmocka_unit_test(test_wide_views_read_few_tiles),
         cmocka_unit_test(test_starved_cache_sharpens),
         cmocka_unit_test(test_loader_thread_sharpens),
         cmocka_unit_test(test_corrupt_and_truncated),

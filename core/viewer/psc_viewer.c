@@ -53,8 +53,10 @@ static ws_layout_t ws_layout(uint16_t out_width, uint16_t out_height, const psc_
     if (m->format == PSC_PIX_PAL8)
         at += align8(256u * sizeof(uint16_t));
     l.row_offsets = at;
-    if (map_is_fast(m) && !tiled) /* rows -1 .. H, the outer two repeating the edge rows */
-        at += align8(((size_t)m->height + 2u) * sizeof(uint32_t));
+    /* rows -1 .. H, the outer two repeating the edge rows; a tiled map's hold rows within their tiles, then one
+     * tile's rows -1 .. 256 (the vector kernels' view of a tile) */
+    if (map_is_fast(m))
+        at += align8(((size_t)m->height + 2u + (tiled ? PSC_TILE_SIDE + 2u : 0u)) * sizeof(uint32_t));
     l.samples = at;
     at += align8(psc_viewer_band_scratch_size(out_width));
     l.total = at;
@@ -144,7 +146,16 @@ static psc_status_t init_common(psc_viewer_t *v, const psc_envmap_t *map, const 
         v->row_offsets = (uint32_t *)(void *)(base + l.row_offsets);
         for (int32_t r = -1; r <= (int32_t)map->height; r++) {
             int32_t c = r < 0 ? 0 : r >= (int32_t)map->height ? (int32_t)map->height - 1 : r;
-            v->row_offsets[r + 1] = (uint32_t)c * map->stride;
+            /* a tiled map: the row's offset within its tile (psc_viewer_tiles.c's level-0 spans) */
+            v->row_offsets[r + 1] = tiles ? ((uint32_t)c & (PSC_TILE_SIDE - 1u)) * tiles->tile_stride
+                                          : (uint32_t)c * map->stride;
+        }
+        if (tiles) {
+            v->tile_row_offsets = v->row_offsets + map->height + 2u;
+            for (int32_t r = -1; r <= (int32_t)PSC_TILE_SIDE; r++) {
+                int32_t c = r < 0 ? 0 : r >= (int32_t)PSC_TILE_SIDE ? (int32_t)PSC_TILE_SIDE - 1 : r;
+                v->tile_row_offsets[r + 1] = (uint32_t)c * tiles->tile_stride;
+            }
         }
     }
     v->scratch = base + l.samples;

@@ -105,7 +105,9 @@ typedef struct {
     int32_t *lat_to_row;        /* projection table, PSC_LAT_TABLE_SIZE entries (Q16.16 rows) */
     int32_t *row_width_q16;     /* ELLIPTICAL/DIAMOND: width of each map row as a fraction of W, Q16.16 */
     uint16_t *palette565;       /* PAL8 maps: the palette converted for RGB565 output */
-    uint32_t *row_offsets;      /* fast maps: byte offset of map row r at [r + 1], r = -1 .. H (edges repeated) */
+    uint32_t *row_offsets;      /* fast maps: byte offset of map row r at [r + 1], r = -1 .. H (edges repeated);
+                                 * tiled: of row r within its tile */
+    uint32_t *tile_row_offsets; /* tiled: one tile's rows, r = -1 .. 256, as a map of 256 rows */
     void *scratch;              /* a band's scanline workspace, for psc_viewer_render and tracing */
     uint8_t col_shift;          /* 32 - log2(W) for a power-of-two width, else 0 */
     uint8_t simd;               /* psc_simd_t: PSC_SIMD_AUTO unless psc_viewer_set_simd says otherwise */

@@ -107,6 +107,17 @@ void psc_span_mip(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, uin
  */
 void psc_span_tiled(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, uint32_t t, int32_t drow, int32_t dt,
                     int32_t lod_q8);
+/*
+ * Each level-0 boundary sample of a scanline (count of them): the tile (row << 16 | column of tiles) holding
+ * every texel a nearest or bilinear pixel next to it reads - rows r0 = floor(row) and r0 + 1 (nearest rounds to
+ * one of them), columns c - 1 .. c + 1 (the bilinear pair is c - 1, c or c, c + 1; nearest c), none a guard row -
+ * else PSC_TILES_NO_TILE; into key (psc_viewer_tiles.c).
+ */
+#define PSC_TILES_NO_TILE UINT32_MAX
+void psc_tiles_boundary_keys(const psc_frame_t *f, unsigned count, uint32_t *key);
+/* The spans from boundary k0 to k1 (pixels [x0, x1)), all in one resident tile at level 0: one loop. */
+void psc_tiled_run0(const psc_frame_t *f, const uint8_t *tile, uint32_t id, unsigned k0, unsigned k1, unsigned x0,
+                    unsigned x1);
 /* Render (or trace) output scanline y of the frame. */
 void psc_scanline_render(const psc_frame_t *f, unsigned y);
 /* Render output rows [y0, y1) into dst0 (row y0) onwards, stride bytes apart. */

@@ -52,6 +52,7 @@ typedef struct {
     int32_t yc;              /* half-pixels, up */
     bool any_polar;          /* a sample of the scanline lies in a polar cap */
     unsigned prefetched;     /* samples [0, n) and their mirrors: map lines prefetched by the kernel */
+    bool tiled_level0;       /* a tiled map's nearest or bilinear scanline reads level 0 throughout */
 } row_setup_t;
 
 /* LUT column of a point |xc| half-pixels from the centre, Q8. */
@@ -389,7 +390,7 @@ static void put_general(const psc_frame_t *f, unsigned x, int32_t row, uint32_t 
 static void span_general(const psc_frame_t *f, const row_setup_t *rs, unsigned x, unsigned n, span_t s, int32_t lod_xc)
 {
     if (f->tiles && f->sink != PSC_SINK_TRACE) {
-        psc_span_tiled(f, x, n, s.row, s.t, s.drow, s.dt, f->mip ? lod_q8_at(f, rs, lod_xc) : 0);
+        psc_span_tiled(f, x, n, s.row, s.t, s.drow, s.dt, rs->tiled_level0 ? MIP_LOD_BIAS_Q8 : lod_q8_at(f, rs, lod_xc));
         return;
     }
     if (f->mip && f->sink != PSC_SINK_TRACE) { /* the level of detail at half-pixel lod_xc */
@@ -700,6 +701,47 @@ static void scanline_prepare(const psc_frame_t *f, unsigned y, scan_line_t *l)
 {
     row_setup(f, y, &l->rs);
     l->count = build_samples(f, &l->rs);
+    /* the scanline's middle has its largest level of detail (its pixels' footprints shrink outwards): level 0
+     * there is level 0 throughout, and its spans need no level of their own */
+    l->rs.tiled_level0 = f->tiles && !f->mip && lod_q8_at(f, &l->rs, 0) - MIP_LOD_BIAS_Q8 < 256;
+}
+
+/*
+ * A tiled map's nearest or bilinear scanline at level 0: each boundary
+ * keyed by the tile it lies safely inside (psc_tiles_boundary_keys), each
+ * run of spans between boundaries of one resident tile drawn by one loop
+ * (psc_tiled_run0); the other spans (across a tile's edge, an absent tile, a
+ * polar cap) one by one.
+ */
+static void scanline_tiled0(const psc_frame_t *f, const scan_line_t *l)
+{
+    const row_setup_t *rs = &l->rs;
+    const unsigned w = f->v->out_width, n = f->span, count = l->count;
+    const uint8_t *polar = f->work.polar;
+    const void *const *resident = f->tiles->resident;
+    const uint32_t tiles_x = f->tiles->level[0].tiles_x;
+    uint32_t *key = f->work.lod;   /* (the vector pyramid's, unused by tiled maps) */
+    psc_tiles_boundary_keys(f, count, key);
+    for (unsigned k = 0, x = 0; k + 1u < count;) {
+        unsigned len = w - x < n ? w - x : n;
+        uint32_t kk = key[k];
+        const void *tile = kk == PSC_TILES_NO_TILE || key[k + 1u] != kk ? NULL
+                                                                        : resident[(kk >> 16) * tiles_x + (kk & 0xFFFFu)];
+        if (polar[k] | polar[k + 1u]) {
+            polar_pixels(f, rs, x, len);
+        } else if (!tile) {
+            span_general(f, rs, x, len, span_at(f, k, len), 2 * (int32_t)x + (int32_t)len - (int32_t)w);
+        } else {   /* a run: spans whose both ends lie in this tile, none polar */
+            unsigned k1 = k + 1u;
+            while (k1 + 1u < count && key[k1 + 1u] == kk && !(polar[k1] | polar[k1 + 1u]))
+                k1++;
+            unsigned x1 = k1 * n < w ? k1 * n : w;
+            psc_tiled_run0(f, (const uint8_t *)tile, (kk >> 16) * tiles_x + (kk & 0xFFFFu), k, k1, x, x1);
+            k = k1, x = x1;
+            continue;
+        }
+        k++, x += len;
+    }
 }
 
 static void scanline_draw(const psc_frame_t *f, const scan_line_t *l)
@@ -707,6 +749,10 @@ static void scanline_draw(const psc_frame_t *f, const scan_line_t *l)
     const row_setup_t *rs = &l->rs;
     if (uses_fast_spans(f)) {
         spans_fast_dispatch(f, rs, l->count, row_vector(f, rs));
+        return;
+    }
+    if (f->tiles && rs->tiled_level0 && f->sink != PSC_SINK_TRACE) {
+        scanline_tiled0(f, l);
         return;
     }
     const unsigned w = f->v->out_width, n = f->span, x0 = mip_vector(f, rs, l->count);

@@ -22,6 +22,8 @@
 static void request(const psc_frame_t *f, uint32_t i)
 {
     psc_tile_requests_t *r = f->requests;
+    if (r->count > 0 && r->tile[r->count - 1u] == i)   /* the texels of an absent tile come in runs */
+        return;
     for (uint32_t k = 0; k < r->count; k++)
         if (r->tile[k] == i)
             return;
@@ -74,18 +76,20 @@ static PSC_ALWAYS_INLINE uint32_t fetch(const psc_frame_t *f, const uint8_t *til
 
 /* ---- positions: the flat samplers' ------------------------------------------------------------------------ */
 
-/* Nearest texel of level 0 (span_fast's: the row rounded, clamped as its guard rows do; the column by t). */
+/* Nearest texel of level k (at level 0 span_fast's: the row rounded, clamped as its guard rows do; the column by
+ * t); level k's row of a level-0 row is (row + 1/2) / 2^k - 1/2, as the pyramid's. */
 typedef struct {
     uint32_t r, c;
 } near_t;
 
-static PSC_ALWAYS_INLINE near_t near_at(const psc_frame_t *f, int32_t row, uint32_t t, const bool pow2)
+static PSC_ALWAYS_INLINE near_t near_at(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, const bool pow2)
 {
-    const psc_viewer_t *v = f->v;
-    int32_t r = (int32_t)(((uint32_t)row + 65536u + 32768u) >> 16) - 1, hmax = (int32_t)v->map->height - 1;
+    const psc_tile_level_t *l = &f->tiles->level[k];
+    int64_t rk = (((int64_t)row + 32768) >> k) - 32768;   /* Q16, level k's pixel centres */
+    int32_t r = (int32_t)((rk + 32768) >> 16), hmax = (int32_t)l->height - 1;
     near_t n;
     n.r = (uint32_t)(r < 0 ? 0 : r > hmax ? hmax : r);
-    n.c = pow2 ? t >> (v->col_shift & 31u) : (uint32_t)(((uint64_t)t * v->map->width) >> 32);
+    n.c = pow2 ? t >> ((f->v->col_shift + k) & 31u) : (uint32_t)(((uint64_t)t * l->width) >> 32);
     return n;
 }
 
@@ -154,14 +158,14 @@ static const uint8_t *span_tile_bilinear(const psc_frame_t *f, uint32_t k, int32
     return f->tiles->resident[psc_tiles_at(f->tiles, k, a.r0, a.c0)];
 }
 
-static const uint8_t *span_tile_nearest(const psc_frame_t *f, int32_t row, uint32_t t, int32_t drow, int32_t dt,
-                                        unsigned n, const bool pow2)
+static const uint8_t *span_tile_nearest(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, int32_t drow,
+                                        int32_t dt, unsigned n, const bool pow2)
 {
-    near_t a = near_at(f, row, t, pow2);
-    near_t b = near_at(f, (int32_t)((uint32_t)row + (n - 1u) * (uint32_t)drow), t + (n - 1u) * (uint32_t)dt, pow2);
+    near_t a = near_at(f, k, row, t, pow2);
+    near_t b = near_at(f, k, (int32_t)((uint32_t)row + (n - 1u) * (uint32_t)drow), t + (n - 1u) * (uint32_t)dt, pow2);
     if (!same_tile(a.r, b.r) || !same_tile(a.c, b.c))
         return NULL;
-    return f->tiles->resident[psc_tiles_at(f->tiles, 0, a.r, a.c)];
+    return f->tiles->resident[psc_tiles_at(f->tiles, k, a.r, a.c)];
 }
 
 /* ---- the spans --------------------------------------------------------------------------------------------- */
@@ -174,13 +178,14 @@ static PSC_ALWAYS_INLINE void put(const psc_frame_t *f, unsigned x, uint32_t px,
         ((uint32_t *)(void *)f->dst)[x] = px;
 }
 
-static PSC_ALWAYS_INLINE void span_nearest(const psc_frame_t *f, const uint8_t *tile, unsigned x, unsigned n,
-                                           int32_t row, uint32_t t, int32_t drow, int32_t dt, const psc_pixfmt_t in,
-                                           const psc_sink_t sink, const bool pow2, const bool fast)
+static PSC_ALWAYS_INLINE void span_nearest(const psc_frame_t *f, const uint8_t *tile, uint32_t k, unsigned x,
+                                           unsigned n, int32_t row, uint32_t t, int32_t drow, int32_t dt,
+                                           const psc_pixfmt_t in, const psc_sink_t sink, const bool pow2,
+                                           const bool fast)
 {
     for (unsigned i = 0; i < n; i++, row = (int32_t)((uint32_t)row + (uint32_t)drow), t += (uint32_t)dt) {
-        near_t q = near_at(f, row, t, pow2);
-        uint32_t p = fetch(f, tile, 0, q.r, q.c, in, fast), px;
+        near_t q = near_at(f, k, row, t, pow2);
+        uint32_t p = fetch(f, tile, k, q.r, q.c, in, fast), px;
         if (in == PSC_PIX_RGB565)
             px = sink == PSC_SINK_RGB565 ? p : psc_rgb565_to_xrgb(p);
         else   /* XRGB8888, or a palette entry: pal565[i] is the entry converted */
@@ -189,13 +194,14 @@ static PSC_ALWAYS_INLINE void span_nearest(const psc_frame_t *f, const uint8_t *
     }
 }
 
-static PSC_ALWAYS_INLINE void span_bilinear(const psc_frame_t *f, const uint8_t *tile, unsigned x, unsigned n,
-                                            int32_t row, uint32_t t, int32_t drow, int32_t dt, const psc_pixfmt_t in,
-                                            const psc_sink_t sink, const bool pow2, const bool fast)
+static PSC_ALWAYS_INLINE void span_bilinear(const psc_frame_t *f, const uint8_t *tile, uint32_t k, unsigned x,
+                                            unsigned n, int32_t row, uint32_t t, int32_t drow, int32_t dt,
+                                            const psc_pixfmt_t in, const psc_sink_t sink, const bool pow2,
+                                            const bool fast)
 {
     const bool packed565 = in == PSC_PIX_RGB565 && sink == PSC_SINK_RGB565;
     for (unsigned i = 0; i < n; i++, row = (int32_t)((uint32_t)row + (uint32_t)drow), t += (uint32_t)dt) {
-        uint32_t px = bilinear(f, tile, 0, taps_at(f, 0, row, t, pow2), in, packed565, fast);
+        uint32_t px = bilinear(f, tile, k, taps_at(f, k, row, t, pow2), in, packed565, fast);
         if (sink == PSC_SINK_RGB565 && !packed565)
             px = psc_xrgb_to_rgb565(px);
         put(f, x + i, px, sink);
@@ -222,6 +228,79 @@ static PSC_ALWAYS_INLINE void span_mip(const psc_frame_t *f, const uint8_t *ta, 
     }
 }
 
+/* Level 0 within one resident tile: span_fast's loops, the row's offset in its tile from the viewer's table (its
+ * guard rows the edge rows) and the column within the tile. */
+static PSC_ALWAYS_INLINE uint32_t tile_col(uint32_t c)
+{
+    return c & (PSC_TILE_SIDE - 1u);
+}
+
+static PSC_ALWAYS_INLINE uint32_t raw_at(const uint8_t *row, uint32_t c, const psc_pixfmt_t in, const uint32_t *pal)
+{
+    if (in == PSC_PIX_RGB565)
+        return ((const uint16_t *)(const void *)row)[c];
+    if (in == PSC_PIX_XRGB8888)
+        return ((const uint32_t *)(const void *)row)[c];
+    return pal[row[c]];
+}
+
+static PSC_ALWAYS_INLINE void span0_nearest(const psc_frame_t *f, const uint8_t *tile, unsigned x, unsigned n,
+                                            int32_t row, uint32_t t, int32_t drow, int32_t dt, const psc_pixfmt_t in,
+                                            const psc_sink_t sink, const bool pow2)
+{
+    const uint32_t *rowoff = f->v->row_offsets, *pal = f->tiles->palette, w = f->v->map->width, sh = f->v->col_shift;
+    uint32_t r = (uint32_t)row + 65536u + 32768u;   /* biased by the guard row, rounded */
+    for (unsigned i = 0; i < n; i++, r += (uint32_t)drow, t += (uint32_t)dt) {
+        uint32_t c = pow2 ? t >> sh : (uint32_t)(((uint64_t)t * w) >> 32);
+        uint32_t p = raw_at(tile + rowoff[r >> 16], tile_col(c), in, pal), px;
+        if (in == PSC_PIX_RGB565)
+            px = sink == PSC_SINK_RGB565 ? p : psc_rgb565_to_xrgb(p);
+        else
+            px = sink == PSC_SINK_RGB565 ? psc_xrgb_to_rgb565(p) : p | 0xFF000000u;
+        put(f, x + i, px, sink);
+    }
+}
+
+static PSC_ALWAYS_INLINE void span0_bilinear(const psc_frame_t *f, const uint8_t *tile, unsigned x, unsigned n,
+                                             int32_t row, uint32_t t, int32_t drow, int32_t dt,
+                                             const psc_pixfmt_t in, const psc_sink_t sink, const bool pow2)
+{
+    const uint32_t *rowoff = f->v->row_offsets, *pal = f->tiles->palette, w = f->v->map->width, sh = f->v->col_shift;
+    uint32_t r = (uint32_t)row + 65536u;
+    t -= f->v->half_col_bam;   /* column c0 is the one left of the sample point */
+    for (unsigned i = 0; i < n; i++, r += (uint32_t)drow, t += (uint32_t)dt) {
+        const uint8_t *p0 = tile + rowoff[r >> 16], *p1 = tile + rowoff[(r >> 16) + 1u];
+        uint32_t c0, fc;
+        if (pow2) {
+            c0 = t >> sh;
+            fc = t << (32u - sh) >> 24;
+        } else {
+            uint64_t q = (uint64_t)t * w;
+            c0 = (uint32_t)(q >> 32);
+            fc = (uint32_t)(q >> 24) & 255u;
+        }
+        uint32_t c1 = tile_col(c0 + 1u == w ? 0u : c0 + 1u), fr = (r >> 8) & 255u, px;
+        c0 = tile_col(c0);
+        if (in == PSC_PIX_RGB565 && sink == PSC_SINK_RGB565) {
+            const uint16_t *a = (const uint16_t *)(const void *)p0, *b = (const uint16_t *)(const void *)p1;
+            px = psc_blend4_rgb565(a[c0], a[c1], b[c0], b[c1], (fc + 4u) >> 3, (fr + 4u) >> 3);
+        } else {
+            uint32_t a = raw_at(p0, c0, in, pal), b = raw_at(p0, c1, in, pal), c = raw_at(p1, c0, in, pal);
+            uint32_t d = raw_at(p1, c1, in, pal);
+            if (in == PSC_PIX_RGB565) {
+                a = psc_rgb565_to_xrgb(a);
+                b = psc_rgb565_to_xrgb(b);
+                c = psc_rgb565_to_xrgb(c);
+                d = psc_rgb565_to_xrgb(d);
+            }
+            px = psc_blend4_xrgb(a, b, c, d, fc, fr);
+            if (sink == PSC_SINK_RGB565)
+                px = psc_xrgb_to_rgb565(px);
+        }
+        put(f, x + i, px, sink);
+    }
+}
+
 /* One combination of map format, output and column addressing, all constants once inlined. */
 static PSC_ALWAYS_INLINE void span_tiled(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, uint32_t t,
                                          int32_t drow, int32_t dt, int32_t lod_q8, const psc_pixfmt_t in,
@@ -242,19 +321,29 @@ static PSC_ALWAYS_INLINE void span_tiled(const psc_frame_t *f, unsigned x, unsig
             span_mip(f, NULL, NULL, x, n, row, t, drow, dt, level, frac, in, sink, pow2, false);
         return;
     }
+    /* nearest and bilinear read the finest level no coarser than the pixels (level 0 zoomed in and down to two
+     * texels a pixel: the flat map's bytes), so that a wide view of a huge map reads about as many texels as it
+     * has pixels, not the whole map */
+    int32_t fit_q8 = lod_q8 - MIP_LOD_BIAS_Q8;
+    uint32_t k = fit_q8 < 256 ? 0u : (uint32_t)fit_q8 >> 8;
+    k = k < f->tiles->level_count ? k : f->tiles->level_count - 1u;
     if (f->filter == PSC_FILTER_NEAREST) {
-        const uint8_t *tile = span_tile_nearest(f, row, t, drow, dt, n, pow2);
-        if (tile)
-            span_nearest(f, tile, x, n, row, t, drow, dt, in, sink, pow2, true);
+        const uint8_t *tile = span_tile_nearest(f, k, row, t, drow, dt, n, pow2);
+        if (tile && k == 0)
+            span0_nearest(f, tile, x, n, row, t, drow, dt, in, sink, pow2);
+        else if (tile)
+            span_nearest(f, tile, k, x, n, row, t, drow, dt, in, sink, pow2, true);
         else
-            span_nearest(f, NULL, x, n, row, t, drow, dt, in, sink, pow2, false);
+            span_nearest(f, NULL, k, x, n, row, t, drow, dt, in, sink, pow2, false);
         return;
     }
-    const uint8_t *tile = span_tile_bilinear(f, 0, row, t, drow, dt, n, pow2);
-    if (tile)
-        span_bilinear(f, tile, x, n, row, t, drow, dt, in, sink, pow2, true);
+    const uint8_t *tile = span_tile_bilinear(f, k, row, t, drow, dt, n, pow2);
+    if (tile && k == 0)
+        span0_bilinear(f, tile, x, n, row, t, drow, dt, in, sink, pow2);
+    else if (tile)
+        span_bilinear(f, tile, k, x, n, row, t, drow, dt, in, sink, pow2, true);
     else
-        span_bilinear(f, NULL, x, n, row, t, drow, dt, in, sink, pow2, false);
+        span_bilinear(f, NULL, k, x, n, row, t, drow, dt, in, sink, pow2, false);
 }
 
 #define TILED_SPAN(in_, sink_) \
@@ -278,5 +367,124 @@ void psc_span_tiled(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, u
     case PSC_PIX_RGB565: TILED_FOR_FORMAT(PSC_PIX_RGB565); break;
     case PSC_PIX_XRGB8888: TILED_FOR_FORMAT(PSC_PIX_XRGB8888); break;
     case PSC_PIX_PAL8: TILED_FOR_FORMAT(PSC_PIX_PAL8); break;
+    }
+}
+
+/* ---- level-0 runs: a scanline's spans in one tile ----------------------------------------------------------------- */
+
+/* One loop without branches (the compiler's vectors take it): the tile's row and column packed, no multiply. */
+static PSC_ALWAYS_INLINE void boundary_keys(const psc_frame_t *f, unsigned count, uint32_t *key, const bool pow2)
+{
+    const int32_t *row = f->work.row;
+    const uint32_t *lon = f->work.t, w = f->v->map->width, hmax = f->v->map->height - 1u, sh = f->v->col_shift;
+    for (unsigned k = 0; k < count; k++) {
+        uint32_t r0 = (uint32_t)(row[k] >> 16);   /* a guard row (-1) becomes huge: unsafe */
+        uint32_t c = pow2 ? lon[k] >> sh : (uint32_t)(((uint64_t)lon[k] * w) >> 32);
+        uint32_t rt = r0 & (PSC_TILE_SIDE - 1u), ct = c & (PSC_TILE_SIDE - 1u);
+        uint32_t bad = (uint32_t)(r0 >= hmax) | (uint32_t)(rt == PSC_TILE_SIDE - 1u) |
+                       (uint32_t)(ct - 1u >= PSC_TILE_SIDE - 2u) | (uint32_t)(c + 1u >= w);
+        key[k] = bad ? PSC_TILES_NO_TILE : (r0 >> PSC_TILE_LOG2) << 16 | c >> PSC_TILE_LOG2;
+    }
+}
+
+void psc_tiles_boundary_keys(const psc_frame_t *f, unsigned count, uint32_t *key)
+{
+    if (f->v->col_shift != 0)
+        boundary_keys(f, count, key, true);
+    else
+        boundary_keys(f, count, key, false);
+}
+
+/* The spans of a run through one specialised loop. */
+static PSC_ALWAYS_INLINE void run0(const psc_frame_t *f, const uint8_t *tile, unsigned k0, unsigned k1, unsigned x0,
+                                   unsigned x1, const psc_filter_t filter, const psc_pixfmt_t in,
+                                   const psc_sink_t sink, const bool pow2)
+{
+    const int32_t *row = f->work.row;
+    const uint32_t *lon = f->work.t;
+    const unsigned n = f->span, sl = f->view->span_log2;
+    for (unsigned k = k0, x = x0; k < k1; k++, x += n) {
+        unsigned len = x1 - x < n ? x1 - x : n;
+        int32_t dr = row[k + 1u] - row[k], dl = (int32_t)(lon[k + 1u] - lon[k]);   /* span_at's steps */
+        if (len == n) {
+            dr >>= sl;
+            dl >>= sl;
+        } else {
+            dr /= (int32_t)len;
+            dl /= (int32_t)len;
+        }
+        int32_t r = row[k] + (dr >> 1);
+        uint32_t t = lon[k] + (uint32_t)(dl >> 1);
+        if (filter == PSC_FILTER_NEAREST)
+            span0_nearest(f, tile, x, len, r, t, dr, dl, in, sink, pow2);
+        else
+            span0_bilinear(f, tile, x, len, r, t, dr, dl, in, sink, pow2);
+    }
+}
+
+#define RUN0(fl_, in_, sink_) \
+    (pow2 ? run0(f, tile, k0, k1, x0, x1, fl_, in_, sink_, true) : run0(f, tile, k0, k1, x0, x1, fl_, in_, sink_, false))
+#define RUN0_FOR(in_) \
+    do { \
+        if (near) { \
+            if (to565) RUN0(PSC_FILTER_NEAREST, in_, PSC_SINK_RGB565); \
+            else RUN0(PSC_FILTER_NEAREST, in_, PSC_SINK_XRGB8888); \
+        } else { \
+            if (to565) RUN0(PSC_FILTER_BILINEAR, in_, PSC_SINK_RGB565); \
+            else RUN0(PSC_FILTER_BILINEAR, in_, PSC_SINK_XRGB8888); \
+        } \
+    } while (0)
+
+/*
+ * The vector kernel's share of a run (its whole spans): the run's boundary
+ * samples moved to the tile's own rows and columns (the tile's origin taken
+ * off, exactly: it is a whole number of rows and of columns), so the kernel
+ * draws the tile as a map of 256 rows of the tile's stride whose texels it
+ * never reads past (the boundaries lie a texel inside it); then put back.
+ * Returns the spans drawn.
+ */
+static unsigned run0_vector(const psc_frame_t *f, const uint8_t *tile, uint32_t id, unsigned k0, unsigned spans,
+                            unsigned x0)
+{
+    const psc_viewer_t *v = f->v;
+    const psc_tiles_t *t = f->tiles;
+    if (!f->simd || v->col_shift == 0 || spans == 0)
+        return 0;
+    const psc_tile_level_t *l = &t->level[0];
+    uint32_t at = id - l->first, tr = at / l->tiles_x, tc = at % l->tiles_x;
+    uint32_t drow = (tr << PSC_TILE_LOG2) << 16, dt = (tc << PSC_TILE_LOG2) << v->col_shift;
+    int32_t *row = f->work.row;
+    uint32_t *lon = f->work.t;
+    for (unsigned k = k0; k <= k0 + spans; k++) {
+        row[k] = (int32_t)((uint32_t)row[k] - drow);
+        lon[k] -= dt;
+    }
+    const unsigned bpp = f->sink == PSC_SINK_RGB565 ? 2u : 4u;
+    const psc_simd_row_t job = {tile, v->tile_row_offsets, t->palette, row + k0, lon + k0, f->dst + (size_t)x0 * bpp,
+                                spans << f->view->span_log2, f->view->span_log2, v->col_shift, v->half_col_bam,
+                                PSC_TILE_SIDE, t->tile_stride, f->filter == PSC_FILTER_BILINEAR, (uint8_t)t->format,
+                                f->sink == PSC_SINK_RGB565};
+    unsigned done = f->simd->row(&job) >> f->view->span_log2;
+    for (unsigned k = k0; k <= k0 + spans; k++) {
+        row[k] = (int32_t)((uint32_t)row[k] + drow);
+        lon[k] += dt;
+    }
+    return done;
+}
+
+void psc_tiled_run0(const psc_frame_t *f, const uint8_t *tile, uint32_t id, unsigned k0, unsigned k1, unsigned x0,
+                    unsigned x1)
+{
+    /* whole spans to the vector kernel, the rest (and a short last span) here */
+    unsigned whole = (x1 - x0) >> f->view->span_log2, done = run0_vector(f, tile, id, k0, whole, x0);
+    k0 += done;
+    x0 += done << f->view->span_log2;
+    if (k0 >= k1)
+        return;
+    const bool pow2 = f->v->col_shift != 0, to565 = f->sink == PSC_SINK_RGB565, near = f->filter == PSC_FILTER_NEAREST;
+    switch (f->tiles->format) {
+    case PSC_PIX_RGB565: RUN0_FOR(PSC_PIX_RGB565); break;
+    case PSC_PIX_XRGB8888: RUN0_FOR(PSC_PIX_XRGB8888); break;
+    case PSC_PIX_PAL8: RUN0_FOR(PSC_PIX_PAL8); break;
     }
 }
