@@ -415,6 +415,8 @@ BENCH_DIRS := $(filter-out bench/common,$(sort $(patsubst %/,%,$(dir $(wildcard 
 BENCH_PROGS := $(patsubst bench/%,$(BUILD)/bench/%,$(BENCH_DIRS))
 BENCH_COMMON_OBJS := $(call obj,$(wildcard bench/common/*.c))
 $(BUILD)/obj/bench/%.o: TEST_INC += -Ibench
+# the gigapixel bench writes its panorama with the tests' generator (tests/support/tsup_panorama.c: libjpeg only)
+$(BUILD)/bench/tiles: $(BUILD)/lib/libpsc_testsupport.a
 BENCH_PACKAGES = $(shell cat bench/packages.txt 2>/dev/null)
 bench_pkgs = $(shell cat bench/$(1)/pkg-config 2>/dev/null)
 

@@ -146,26 +146,49 @@ static PSC_ALWAYS_INLINE bool same_tile(uint32_t a, uint32_t b)
     return (a >> PSC_TILE_LOG2) == (b >> PSC_TILE_LOG2);
 }
 
-/* The resident tile every texel of a span of n pixels reads at level k, or NULL. */
-static const uint8_t *span_tile_bilinear(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, int32_t drow,
-                                         int32_t dt, unsigned n, const bool pow2)
+#define NO_TILE UINT32_MAX
+
+/* The tile every texel of a span of n pixels reads at level k (resident or not), or NO_TILE when they lie in
+ * several. */
+static uint32_t span_tile_bilinear(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, int32_t drow,
+                                   int32_t dt, unsigned n, const bool pow2)
 {
     taps_t a = taps_at(f, k, row, t, pow2);
     taps_t b = taps_at(f, k, (int32_t)((uint32_t)row + (n - 1u) * (uint32_t)drow), t + (n - 1u) * (uint32_t)dt, pow2);
     if (!same_tile(a.r0, a.r1) || !same_tile(a.r0, b.r0) || !same_tile(a.r0, b.r1) || !same_tile(a.c0, a.c1) ||
         !same_tile(a.c0, b.c0) || !same_tile(a.c0, b.c1))
-        return NULL;
-    return f->tiles->resident[psc_tiles_at(f->tiles, k, a.r0, a.c0)];
+        return NO_TILE;
+    return psc_tiles_at(f->tiles, k, a.r0, a.c0);
 }
 
-static const uint8_t *span_tile_nearest(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, int32_t drow,
-                                        int32_t dt, unsigned n, const bool pow2)
+static uint32_t span_tile_nearest(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, int32_t drow,
+                                  int32_t dt, unsigned n, const bool pow2)
 {
     near_t a = near_at(f, k, row, t, pow2);
     near_t b = near_at(f, k, (int32_t)((uint32_t)row + (n - 1u) * (uint32_t)drow), t + (n - 1u) * (uint32_t)dt, pow2);
     if (!same_tile(a.r, b.r) || !same_tile(a.c, b.c))
-        return NULL;
-    return f->tiles->resident[psc_tiles_at(f->tiles, k, a.r, a.c)];
+        return NO_TILE;
+    return psc_tiles_at(f->tiles, k, a.r, a.c);
+}
+
+static PSC_ALWAYS_INLINE const uint8_t *resident_tile(const psc_frame_t *f, uint32_t id)
+{
+    return id == NO_TILE ? NULL : (const uint8_t *)f->tiles->resident[id];
+}
+
+/* An absent tile's span (id not resident, requested): the finest coarser level with the span's texels in one
+ * resident tile, *level and its tile; NULL when there is none (the texels then are looked up one by one). */
+static const uint8_t *coarser_tile(const psc_frame_t *f, uint32_t *level, int32_t row, uint32_t t, int32_t drow,
+                                   int32_t dt, unsigned n, const bool pow2)
+{
+    for (uint32_t j = *level + 1u; j < f->tiles->level_count; j++) {
+        const uint8_t *p = resident_tile(f, span_tile_bilinear(f, j, row, t, drow, dt, n, pow2));
+        if (p) {
+            *level = j;
+            return p;
+        }
+    }
+    return NULL;
 }
 
 /* ---- the spans --------------------------------------------------------------------------------------------- */
@@ -313,12 +336,26 @@ static PSC_ALWAYS_INLINE void span_tiled(const psc_frame_t *f, unsigned x, unsig
             level = top;
             frac = 0;
         }
-        const uint8_t *ta = span_tile_bilinear(f, level, row, t, drow, dt, n, pow2);
-        const uint8_t *tb = frac && ta ? span_tile_bilinear(f, level + 1u, row, t, drow, dt, n, pow2) : ta;
-        if (ta && tb)
+        uint32_t ia = span_tile_bilinear(f, level, row, t, drow, dt, n, pow2);
+        uint32_t ib = frac ? span_tile_bilinear(f, level + 1u, row, t, drow, dt, n, pow2) : ia;
+        const uint8_t *ta = resident_tile(f, ia), *tb = resident_tile(f, ib);
+        if (ta && tb) {
             span_mip(f, ta, tb, x, n, row, t, drow, dt, level, frac, in, sink, pow2, true);
-        else
-            span_mip(f, NULL, NULL, x, n, row, t, drow, dt, level, frac, in, sink, pow2, false);
+            return;
+        }
+        if (ia != NO_TILE && ib != NO_TILE) {   /* absent: asked for, and a coarser level's tile meanwhile */
+            if (!ta)
+                request(f, ia);
+            if (!tb)
+                request(f, ib);
+            uint32_t j = frac ? level + 1u : level;
+            const uint8_t *tj = tb ? tb : coarser_tile(f, &j, row, t, drow, dt, n, pow2);
+            if (tj) {
+                span_mip(f, tj, tj, x, n, row, t, drow, dt, j, 0, in, sink, pow2, true);
+                return;
+            }
+        }
+        span_mip(f, NULL, NULL, x, n, row, t, drow, dt, level, frac, in, sink, pow2, false);
         return;
     }
     /* nearest and bilinear read the finest level no coarser than the pixels (level 0 zoomed in and down to two
@@ -327,8 +364,15 @@ static PSC_ALWAYS_INLINE void span_tiled(const psc_frame_t *f, unsigned x, unsig
     int32_t fit_q8 = lod_q8 - MIP_LOD_BIAS_Q8;
     uint32_t k = fit_q8 < 256 ? 0u : (uint32_t)fit_q8 >> 8;
     k = k < f->tiles->level_count ? k : f->tiles->level_count - 1u;
-    if (f->filter == PSC_FILTER_NEAREST) {
-        const uint8_t *tile = span_tile_nearest(f, k, row, t, drow, dt, n, pow2);
+    const bool near = f->filter == PSC_FILTER_NEAREST;
+    uint32_t id = near ? span_tile_nearest(f, k, row, t, drow, dt, n, pow2)
+                       : span_tile_bilinear(f, k, row, t, drow, dt, n, pow2);
+    const uint8_t *tile = resident_tile(f, id);
+    if (!tile && id != NO_TILE) {   /* absent: asked for, and a coarser level's tile meanwhile */
+        request(f, id);
+        tile = coarser_tile(f, &k, row, t, drow, dt, n, pow2);
+    }
+    if (near) {
         if (tile && k == 0)
             span0_nearest(f, tile, x, n, row, t, drow, dt, in, sink, pow2);
         else if (tile)
@@ -337,7 +381,6 @@ static PSC_ALWAYS_INLINE void span_tiled(const psc_frame_t *f, unsigned x, unsig
             span_nearest(f, NULL, k, x, n, row, t, drow, dt, in, sink, pow2, false);
         return;
     }
-    const uint8_t *tile = span_tile_bilinear(f, k, row, t, drow, dt, n, pow2);
     if (tile && k == 0)
         span0_bilinear(f, tile, x, n, row, t, drow, dt, in, sink, pow2);
     else if (tile)
