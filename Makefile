@@ -254,6 +254,12 @@ $(SAMPLE_PACK): $(SAMPLE_JPG) $(BUILD)/bin/periscope-pack boards/sim/board.conf
 	@mkdir -p $(@D)
 	$(BUILD)/bin/periscope-pack $(SAMPLE_JPG) -o $@ --display $(or $(SIM_DISPLAY),640x480) --format rgb565
 
+# The sample as a tiled pack (periscope-pack --tiled): the tiled scene under valgrind (check-memcheck)
+SAMPLE_TILED := out/sample-tiled.pano
+$(SAMPLE_TILED): $(SAMPLE_JPG) $(BUILD)/bin/periscope-pack boards/sim/board.conf
+	@mkdir -p $(@D)
+	$(BUILD)/bin/periscope-pack $(SAMPLE_JPG) -o $@ --display $(or $(SIM_DISPLAY),640x480) --format rgb565 --tiled --quiet
+
 # The sample character: Thom (assets/thom, CC0) with his two actions, skinned from Thom2's bones.
 THOM := assets/thom
 SAMPLE_CHARACTER := out/thom.ppk
@@ -345,10 +351,14 @@ check-sanitize: deps
 # a use of uninitialised memory, or a block definitely or indirectly lost fails the run.
 MEMCHECK := valgrind -q --error-exitcode=99 --leak-check=full --show-leak-kinds=definite,indirect \
 	--errors-for-leak-kinds=definite,indirect
-check-memcheck: all $(SAMPLE_PACK) $(SAMPLE_CHARACTER)
-	@echo "  CHECK   valgrind memcheck: the device program, a panorama and a character on the sim board"
+check-memcheck: all $(SAMPLE_PACK) $(SAMPLE_CHARACTER) $(SAMPLE_TILED) $(BUILD)/tests/test_tiles
+	@echo "  CHECK   valgrind memcheck: the device program, a panorama, a tiled one and a character on the sim board"
 	$(Q)$(MEMCHECK) $(FIRMWARE) --board sim --frames-every 0 --max-frames 90 --quiet
+	$(Q)$(MEMCHECK) $(FIRMWARE) --board sim --scene $(SAMPLE_TILED) --frames-every 0 --max-frames 60 --quiet
 	$(Q)$(MEMCHECK) $(FIRMWARE) --board sim --scene $(SAMPLE_CHARACTER) --frames-every 0 --max-frames 20 --quiet
+	@echo "  CHECK   valgrind helgrind: the tile loader thread reading while frames are drawn (test_tiles)"
+	$(Q)PSC_TILES_ONLY=test_loader_thread_sharpens valgrind -q --tool=helgrind --error-exitcode=99 \
+		$(BUILD)/tests/test_tiles > /dev/null
 
 # A long run of the device program on the simulated board (tests/test_soak.c): 10^5 frames of a tour
 # through attract mode, hotspots, scene switches and a gamepad pulled out and back; asserts not one

@@ -485,5 +485,7 @@ int main(void)
         cmocka_unit_test(test_corrupt_and_truncated),
         cmocka_unit_test(test_writer_memory_bounded),
     };
+    if (getenv("PSC_TILES_ONLY"))   /* one test, e.g. the loader's under helgrind (make check-memcheck) */
+        cmocka_set_test_filter(getenv("PSC_TILES_ONLY"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -42,6 +42,7 @@
 #include "psc_io_image.h"
 #include "psc_io_pack_build.h"
 #include "viewer/psc_viewer.h"
+#include "dither/psc_dither.h"
 #include "psc_testsupport.h"
 #include "tsup_files.h"
 #include "tsup_tool.h"
@@ -258,7 +259,10 @@ static psc_image_t render_in_process(const char *pack_path, const view_case_t *v
     size_t ws_size = psc_viewer_workspace_size(w, h, &p->map);
     void *ws = NULL;
     assert_int_equal(posix_memalign(&ws, 64, ws_size), 0);
-    psc_surface_t out = {w, h, (uint32_t)w * psc_pixfmt_bytes(vc->format), vc->format, NULL};
+    /* an RGB565 display shows a map of more colours drawn at 8 bits and dithered (display_dither) */
+    bool dither = vc->format == PSC_PIX_RGB565 && p->map.format != PSC_PIX_RGB565;
+    psc_pixfmt_t draw = dither ? PSC_PIX_XRGB8888 : vc->format;
+    psc_surface_t out = {w, h, (uint32_t)w * psc_pixfmt_bytes(draw), draw, NULL};
     out.pixels = calloc(1, (size_t)out.stride * h);
     assert_non_null(out.pixels);
     psc_viewer_t v;
@@ -274,6 +278,17 @@ static psc_image_t render_in_process(const char *pack_path, const view_case_t *v
     psc_viewer_clamp(&v, &view, p->hfov_min);
     assert_int_equal(psc_viewer_render(&v, &view, &out), PSC_OK);
     *used = view;
+    if (dither) {
+        static psc_dither_565_t table;
+        psc_dither_565_init(&table);
+        psc_surface_t shown = {w, h, (uint32_t)w * 2u, PSC_PIX_RGB565, calloc(1, (size_t)w * h * 2u)};
+        assert_non_null(shown.pixels);
+        for (unsigned y = 0; y < h; y++)
+            psc_dither_row_rgb565(&table, PSC_DITHER_ORDERED, (const uint32_t *)out.pixels + (size_t)y * w, w, 0, y,
+                                  (uint16_t *)shown.pixels + (size_t)y * w);
+        free(out.pixels);
+        out = shown;
+    }
     psc_image_t img;
     assert_int_equal(psc_io_surface_to_image(&out, &img), 0);
     free(out.pixels);

@@ -20,6 +20,7 @@
 #include "psc_io_png.h"
 #include "psc_io_tiles.h"
 #include "viewer/psc_viewer.h"
+#include "dither/psc_dither.h"
 
 #include <stdarg.h>
 #include <stdbool.h>
@@ -58,6 +59,9 @@ static void print_usage(const char *prog, FILE *f)
             "                      grey4 (16 greys) or pal8 (the 6x7x6 colour cube); M ordered (8x8 Bayer,\n"
             "                      default), halftone (4x4 clustered dot) or none (nearest level)\n"
             "  --format F          output surface: rgb565 (default) or xrgb8888\n"
+            "  --display-dither D  an rgb565 output of a map with more colours (xrgb8888, pal8) is drawn at\n"
+            "                      8 bits and dithered as the device's display_dither does: ordered\n"
+            "                      (default, the device's) or none (rounded)\n"
             "  --cache-mb N        a tiled pack's tile cache, megabytes (default %u); the view waits for\n"
             "                      every tile it needs, so the output is exact whatever the cache\n"
             "  -o view.png         output PNG\n"
@@ -80,6 +84,7 @@ typedef struct {
     psc_simd_t simd;
     psc_io_levels_t levels;   /* --dither */
     unsigned long cache_mb;   /* a tiled pack's cache */
+    bool no_display_dither;   /* --display-dither none */
 } args_t;
 
 static int span_to_log2(const char *v, uint8_t *log2)
@@ -142,6 +147,10 @@ static int parse_value(args_t *a, const char *name, const char *v)
         if (psc_cli_parse_size(v, PSC_MAX_OUT_DIM, &a->width, &a->height) != 0)
             return usage_error("--size '%s': expected WxH, each 1..%u", v, (unsigned)PSC_MAX_OUT_DIM);
         a->have_size = true;
+    } else if (strcmp(name, "--display-dither") == 0) {
+        if (strcmp(v, "ordered") != 0 && strcmp(v, "none") != 0)
+            return usage_error("--display-dither '%s': expected ordered or none", v);
+        a->no_display_dither = strcmp(v, "none") == 0;
     } else if (strcmp(name, "--cache-mb") == 0) {
         if (psc_cli_parse_uint(v, 1, CACHE_MB_MAX, &a->cache_mb) != 0)
             return usage_error("--cache-mb '%s': expected megabytes, 1..%lu", v, CACHE_MB_MAX);
@@ -162,7 +171,7 @@ static const struct option render_options[] = {
     {"span", required_argument, NULL, 1},   {"repeat", required_argument, NULL, 1},
     {"size", required_argument, NULL, 1},   {"format", required_argument, NULL, 1},
     {"threads", required_argument, NULL, 1}, {"simd", required_argument, NULL, 1}, {"dither", required_argument, NULL, 1},
-    {"cache-mb", required_argument, NULL, 1},
+    {"cache-mb", required_argument, NULL, 1}, {"display-dither", required_argument, NULL, 1},
     PSC_IO_CLI_COMMON_OPTIONS,
 };
 
@@ -259,6 +268,43 @@ static int load_scene(const args_t *a, psc_io_pack_t *pf, char *err, size_t errl
     return rc;
 }
 
+/* Whether the view is drawn at 8 bits and dithered to the RGB565 output, as the device's display_dither does for
+ * a scene whose frames hold more than RGB565's colours (a map that is not RGB565). */
+static bool display_dithers(const args_t *a, psc_pixfmt_t map_format)
+{
+    return a->format == PSC_PIX_RGB565 && map_format != PSC_PIX_RGB565 && !a->no_display_dither && !a->levels.on;
+}
+
+/* The drawn frame as shown (--dither's levels, or display_dither's RGB565), written. 0, or -1 said. */
+static int write_view(const args_t *a, const psc_surface_t *drawn, bool dither)
+{
+    char err[512];
+    psc_surface_t shown = *drawn;
+    if (dither) {
+        static psc_dither_565_t table;
+        psc_dither_565_init(&table);
+        shown = (psc_surface_t){drawn->width, drawn->height, drawn->width * 2u, PSC_PIX_RGB565,
+                                malloc((size_t)drawn->width * drawn->height * 2u)};
+        if (!shown.pixels) {
+            fprintf(stderr, "%s: out of memory\n", pano_prog);
+            return -1;
+        }
+        for (unsigned y = 0; y < drawn->height; y++)   /* the matrix fixed to the output, as to the screen */
+            psc_dither_row_rgb565(&table, PSC_DITHER_ORDERED,
+                                  (const uint32_t *)(const void *)((const uint8_t *)drawn->pixels +
+                                                                   (size_t)y * drawn->stride),
+                                  drawn->width, 0, y, (uint16_t *)(void *)((uint8_t *)shown.pixels + (size_t)y * shown.stride));
+    } else {
+        psc_io_levels_apply(&a->levels, &shown);
+    }
+    int rc = psc_io_png_write(a->out, &shown, err, sizeof err);
+    if (rc != 0)
+        fprintf(stderr, "%s: %s\n", pano_prog, err);
+    if (dither)
+        free(shown.pixels);
+    return rc;
+}
+
 /* A tiled pack's view: drawn, the tiles it found absent read, drawn again, until every tile it needs is resident
  * (the output exact whatever the cache); then the frames timed. */
 #define MAX_FILL_PASSES 64u
@@ -302,8 +348,10 @@ static int render_tiled(const args_t *a)
     uint16_t w = a->have_size ? a->width : pack->display_width;
     uint16_t h = a->have_size ? a->height : pack->display_height;
     size_t ws_size = psc_viewer_workspace_size_tiled(w, h, &map);
-    psc_surface_t out = {.width = w, .height = h, .stride = (uint32_t)w * psc_pixfmt_bytes(a->format),
-                         .format = a->format};
+    bool dither = display_dithers(a, map.format);
+    psc_pixfmt_t draw_format = dither ? PSC_PIX_XRGB8888 : a->format;
+    psc_surface_t out = {.width = w, .height = h, .stride = (uint32_t)w * psc_pixfmt_bytes(draw_format),
+                         .format = draw_format};
     void *ws = alloc_aligned(ws_size);
     out.pixels = alloc_aligned((size_t)out.stride * h);
     int rc = 1;
@@ -340,11 +388,7 @@ static int render_tiled(const args_t *a)
             if (a->repeat > 1)
                 fprintf(stderr, "%s: %llu tiles read into a cache of %u (%.1f MB)\n", pano_prog,
                         (unsigned long long)loaded, psc_io_tiled_slots(t), psc_io_tiled_bytes(t) / 1048576.0);
-            psc_io_levels_apply(&a->levels, &out);
-            if (psc_io_png_write(a->out, &out, err, sizeof err) != 0)
-                fprintf(stderr, "%s: %s\n", pano_prog, err);
-            else
-                rc = 0;
+            rc = write_view(a, &out, dither) == 0 ? 0 : 1;
         }
     }
     psc_io_bands_stop(bands);
@@ -384,8 +428,10 @@ int psc_render_pano_main(const char *prog, int argc, char **argv)
     uint16_t w = a.have_size ? a.width : pack->display_width;
     uint16_t h = a.have_size ? a.height : pack->display_height;
     size_t ws_size = psc_viewer_workspace_size(w, h, &pack->map);
-    uint32_t bpp = psc_pixfmt_bytes(a.format);
-    psc_surface_t out = {.width = w, .height = h, .stride = (uint32_t)w * bpp, .format = a.format};
+    bool dither = display_dithers(&a, pack->map.format);
+    psc_pixfmt_t draw_format = dither ? PSC_PIX_XRGB8888 : a.format;
+    uint32_t bpp = psc_pixfmt_bytes(draw_format);
+    psc_surface_t out = {.width = w, .height = h, .stride = (uint32_t)w * bpp, .format = draw_format};
     void *ws = alloc_aligned(ws_size);
     out.pixels = alloc_aligned((size_t)out.stride * h);
     rc = 1;
@@ -416,11 +462,7 @@ int psc_render_pano_main(const char *prog, int argc, char **argv)
         if (!bands) {
             fprintf(stderr, "%s" ": %s\n", pano_prog, err);
         } else if (render_frames(&viewer, bands, &view, &out, a.repeat) == 0) {
-            psc_io_levels_apply(&a.levels, &out);
-            if (psc_io_png_write(a.out, &out, err, sizeof err) != 0)
-                fprintf(stderr, "%s" ": %s\n", pano_prog, err);
-            else
-                rc = 0;
+            rc = write_view(&a, &out, dither) == 0 ? 0 : 1;
         }
         psc_io_bands_stop(bands);
     }
