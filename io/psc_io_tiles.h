@@ -115,6 +115,8 @@ void psc_io_tiled_touch(psc_io_tiled_t *t, const uint32_t *tiles, unsigned n);
 int psc_io_tiled_start_loader(psc_io_tiled_t *t, char *err, size_t errlen);
 unsigned psc_io_tiled_request(psc_io_tiled_t *t, const uint32_t *tiles, unsigned n);
 unsigned psc_io_tiled_publish(psc_io_tiled_t *t, char *err, size_t errlen);
+/** Wait until the loader has read every tile asked for (a simulated board, whose storage answers at once). */
+void psc_io_tiled_drain(psc_io_tiled_t *t);
 /** Loads queued, being read, or read and not yet published. */
 unsigned psc_io_tiled_pending(const psc_io_tiled_t *t);
 

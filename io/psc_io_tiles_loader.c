@@ -30,7 +30,7 @@ typedef struct {
 struct psc_io_tile_loader {
     pthread_t tid;
     pthread_mutex_t lock;
-    pthread_cond_t wake;
+    pthread_cond_t wake, idle;    /* idle: the queue empty and nothing being read */
     bool quit;
     job_t *todo;                 /* a stack: the newest first */
     uint32_t todo_n;
@@ -63,6 +63,8 @@ static void *loader_main(void *arg)
         l->done_ok[l->done_n++] = ok;
         if (!ok && l->err[0] == '\0')
             snprintf(l->err, sizeof l->err, "%s", err);
+        if (l->todo_n == 0 && l->in_flight == 0)
+            pthread_cond_broadcast(&l->idle);
     }
     pthread_mutex_unlock(&l->lock);
     return NULL;
@@ -86,11 +88,13 @@ int psc_io_tiled_start_loader(psc_io_tiled_t *t, char *err, size_t errlen)
     }
     pthread_mutex_init(&l->lock, NULL);
     pthread_cond_init(&l->wake, NULL);
+    pthread_cond_init(&l->idle, NULL);
     t->loader = l;
     if (pthread_create(&l->tid, NULL, loader_main, t) != 0) {
         t->loader = NULL;
         pthread_mutex_destroy(&l->lock);
         pthread_cond_destroy(&l->wake);
+        pthread_cond_destroy(&l->idle);
         free(l->todo), free(l->done), free(l->done_ok), free(l->asked), free(l);
         return psc_io_errorf(err, errlen, t->path, "cannot start the tile loader thread");
     }
@@ -114,8 +118,20 @@ void psc_io_tiled_stop_loader(psc_io_tiled_t *t)
         t->slot_busy[l->done[k].slot] = 0;
     pthread_mutex_destroy(&l->lock);
     pthread_cond_destroy(&l->wake);
+    pthread_cond_destroy(&l->idle);
     free(l->todo), free(l->done), free(l->done_ok), free(l->asked), free(l);
     t->loader = NULL;
+}
+
+void psc_io_tiled_drain(psc_io_tiled_t *t)
+{
+    struct psc_io_tile_loader *l = t->loader;
+    if (!l)
+        return;
+    pthread_mutex_lock(&l->lock);
+    while (l->todo_n > 0 || l->in_flight > 0)
+        pthread_cond_wait(&l->idle, &l->lock);
+    pthread_mutex_unlock(&l->lock);
 }
 
 unsigned psc_io_tiled_request(psc_io_tiled_t *t, const uint32_t *tiles, unsigned n)

@@ -458,6 +458,15 @@ unsigned psc_viewer_band_requests(const void *scratch, uint16_t out_width, const
     return r->count;
 }
 
+unsigned psc_viewer_view_tiles(psc_viewer_t *v, const psc_view_t *view, uint32_t *tiles, unsigned max)
+{
+    psc_frame_t f;
+    if (!v || !v->tiles || !tiles || psc_viewer_prepare(v, view) != PSC_OK ||
+        frame_begin(v, view, PSC_SINK_TRACE, v->scratch, &f) != PSC_OK)
+        return 0;
+    return psc_tiles_of_view(&f, tiles, max);
+}
+
 void psc_viewer_band_requests_clear(void *scratch, uint16_t out_width)
 {
     psc_tile_requests_t *r = requests_of(scratch, out_width);

@@ -160,6 +160,15 @@ size_t psc_viewer_workspace_size_tiled(uint16_t out_width, uint16_t out_height, 
 unsigned psc_viewer_band_requests(const void *scratch, uint16_t out_width, const uint32_t **tiles,
                                   uint32_t *dropped);
 void psc_viewer_band_requests_clear(void *scratch, uint16_t out_width);
+
+/**
+ * A tiled viewer: the tiles a view reads (resident or not) at the levels its
+ * filter takes at its middle, found on a grid of its pixels fine enough that
+ * no tile falls between them; into tiles[0..max), how many. For prefetching
+ * where the view is going (it needs no pixels drawn). Between frames only:
+ * it uses the viewer's own scratch.
+ */
+unsigned psc_viewer_view_tiles(psc_viewer_t *v, const psc_view_t *view, uint32_t *tiles, unsigned max);
 unsigned psc_viewer_requests(const psc_viewer_t *v, const uint32_t **tiles, uint32_t *dropped);
 
 /**

@@ -118,6 +118,8 @@ void psc_tiles_boundary_keys(const psc_frame_t *f, unsigned count, uint32_t *key
 /* The spans from boundary k0 to k1 (pixels [x0, x1)), all in one resident tile at level 0: one loop. */
 void psc_tiled_run0(const psc_frame_t *f, const uint8_t *tile, uint32_t id, unsigned k0, unsigned k1, unsigned x0,
                     unsigned x1);
+/* The tiles a frame's view reads (psc_viewer_view_tiles), into tiles[0..max): how many. */
+unsigned psc_tiles_of_view(const psc_frame_t *f, uint32_t *tiles, unsigned max);
 /* Render (or trace) output scanline y of the frame. */
 void psc_scanline_render(const psc_frame_t *f, unsigned y);
 /* Render output rows [y0, y1) into dst0 (row y0) onwards, stride bytes apart. */

@@ -531,3 +531,80 @@ void psc_tiled_run0(const psc_frame_t *f, const uint8_t *tile, uint32_t id, unsi
     case PSC_PIX_PAL8: RUN0_FOR(PSC_PIX_PAL8); break;
     }
 }
+
+/* ---- the tiles of a view, for prefetching ------------------------------------------------------------------ */
+
+/* Add tile i to tiles[0..*n) once (max of them). */
+static void add_tile(uint32_t *tiles, unsigned *n, unsigned max, uint32_t i)
+{
+    for (unsigned k = 0; k < *n; k++)
+        if (tiles[k] == i)
+            return;
+    if (*n < max)
+        tiles[(*n)++] = i;
+}
+
+unsigned psc_tiles_of_view(const psc_frame_t *f, uint32_t *tiles, unsigned max)
+{
+    const psc_viewer_t *v = f->v;
+    const psc_tiles_t *t = f->tiles;
+    /* the level at the view's middle (the largest there), as the spans choose it */
+    int32_t lod = v->lod_base_q8 - (psc_log2_q8((uint64_t)v->dist_q8 * v->dist_q8) - 16 * 256) / 2;
+    uint32_t top = t->level_count - 1u, k0, k1;
+    if (f->mip) {
+        k0 = lod < 0 ? 0u : (uint32_t)lod >> 8;
+        k0 = k0 < top ? k0 : top;
+        k1 = k0 < top && lod >= 0 && (lod & 255) ? k0 + 1u : k0;
+    } else {
+        int32_t fit = lod - MIP_LOD_BIAS_Q8;
+        k0 = fit < 256 ? 0u : (uint32_t)fit >> 8;
+        k0 = k1 = k0 < top ? k0 : top;
+    }
+    /* a grid of the view's pixels, an eighth of its smaller side apart: at most two texels a pixel, so a
+     * step under 256 texels, and no tile of the view falls between the points */
+    const int32_t w = v->out_width, h = v->out_height, step = 2 * ((w < h ? w : h) / 8);
+    const bool pow2 = v->col_shift != 0;
+    unsigned n = 0;
+    for (int32_t yc = -(h - 1); ; yc += step) {
+        yc = yc > h - 1 ? h - 1 : yc;
+        for (int32_t xc = -(w - 1); ; xc += step) {
+            xc = xc > w - 1 ? w - 1 : xc;
+            psc_bam_t lon;
+            int32_t lat;
+            psc_exact_angles(f, xc, yc, &lon, &lat);
+            int32_t row = psc_map_row_q16(v, lat);
+            uint32_t at = lon - v->map->lon_min;
+            for (uint32_t k = k0; k <= k1; k++) {   /* the texel and its neighbours: a bilinear pixel's four */
+                near_t q = near_at(f, k, row, at, pow2);
+                const psc_tile_level_t *l = &t->level[k];
+                for (int dr = -1; dr <= 1; dr++)
+                    for (int dc = -1; dc <= 1; dc++) {
+                        int64_t r = (int64_t)q.r + dr, c = (int64_t)q.c + dc;
+                        r = r < 0 ? 0 : r >= l->height ? l->height - 1u : r;
+                        c = c < 0 ? c + l->width : c >= l->width ? c - l->width : c;
+                        add_tile(tiles, &n, max, psc_tiles_at(t, k, (uint32_t)r, (uint32_t)c));
+                    }
+            }
+            if (xc == w - 1)
+                break;
+        }
+        if (yc == h - 1)
+            break;
+    }
+    /* a pole in view: every longitude meets there, the whole row of tiles around it (the grid would pass
+     * between them) - when the pole lies within the view's half diagonal of its axis */
+    uint32_t corner = psc_isqrt64((uint64_t)((int64_t)w * w + (int64_t)h * h) << 16);   /* Q8 half-pixels */
+    psc_bam_t half_diag = psc_atan2((int32_t)corner, (int32_t)v->dist_q8, NULL);
+    for (int pole = 0; pole < 2; pole++) {
+        int64_t off = pole ? (int64_t)f->view->pitch + (int64_t)PSC_BAM_90 : (int64_t)PSC_BAM_90 - f->view->pitch;
+        if (off > (int64_t)half_diag)
+            continue;
+        for (uint32_t k = k0; k <= k1; k++) {
+            const psc_tile_level_t *l = &t->level[k];
+            uint32_t ty = pole ? l->tiles_y - 1u : 0u;
+            for (uint32_t tx = 0; tx < l->tiles_x; tx++)
+                add_tile(tiles, &n, max, l->first + ty * l->tiles_x + tx);
+        }
+    }
+    return n;
+}

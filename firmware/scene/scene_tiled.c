@@ -7,9 +7,15 @@
  * shows the finest level resident there and says which tiles it missed;
  * they are asked for after the frame and shown once read, so the picture
  * sharpens over the next frames. The coarsest level stays in memory.
+ * Prefetch follows the view's motion: after each frame the tiles of the
+ * view PREFETCH_FRAMES frames ahead (at the pace of the last frame's turn
+ * and zoom) are asked for too, behind the frame's own misses; and the
+ * view's own resident tiles are marked used, so that no prefetch evicts
+ * them.
  */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "psc_hal.h"
 #include "psc_io_log.h"
@@ -17,12 +23,18 @@
 #include "scene/scene.h"
 #include "scene/scene_panorama.h"
 
+#define PREFETCH_FRAMES 8    /* about 130 ms at 60 Hz: a few tile reads from an SD card */
+#define PREFETCH_TILES 256u
+
 typedef struct {
     psc_io_tiled_t *tiles;
     psc_envmap_t map;              /* level 0's description (pixels in the tiles) */
     psc_viewer_t viewer;
     psc_bam_t hfov_min;
     uint32_t want[PSC_IO_BANDS_MAX_THREADS * PSC_VIEWER_MAX_REQUESTS];   /* a frame's misses */
+    uint32_t ahead[PREFETCH_TILES];   /* the tiles of the view to come */
+    psc_view_t last;                  /* the last frame's view, for its motion */
+    bool have_last;
 } tiled_t;
 
 static bool tiled_claims(const char *path)
@@ -76,13 +88,16 @@ static int tiled_enter(psc_scene_t *s, const psc_scene_env_t *env, void *ws, siz
     return psc_panorama_limits(s, pk, &t->viewer, lim, &t->hfov_min, err, errlen);
 }
 
-/* Between frames: the tiles the loader has read become resident. */
+/* Between frames: the tiles the loader has read become resident. A simulated board's storage answers at once (its
+ * clock is simulated too): every tile asked for is read first, so its frames are the same on every run. */
 static int tiled_update(psc_scene_t *s, char *err, size_t errlen)
 {
     tiled_t *t = s->state;
     char bad[1024] = "";
     (void)err;
     (void)errlen;
+    if (strcmp(s->env->board->clock_backend, "sim") == 0)
+        psc_io_tiled_drain(t->tiles);
     psc_io_tiled_publish(t->tiles, bad, sizeof bad);
     if (bad[0] != '\0')   /* the scene goes on: the coarser level shows where the tile is bad */
         psc_io_log(PSC_LOG_WARNING, "periscope: %s", bad);
@@ -111,7 +126,28 @@ static psc_status_t tiled_render(psc_scene_t *s, const psc_view_t *view, const p
         for (unsigned k = 0; k < n; k++)
             t->want[k] = got[k];
     }
-    if (st == PSC_OK && n > 0)
+    if (st != PSC_OK)
+        return st;
+    /* where the view is going (asked first: the queue serves the newest first, the frame's own misses) */
+    if (t->have_last && (view->yaw != t->last.yaw || view->pitch != t->last.pitch || view->hfov != t->last.hfov)) {
+        psc_view_t ahead = *view;
+        ahead.yaw += (view->yaw - t->last.yaw) * PREFETCH_FRAMES;
+        int64_t pitch = view->pitch + (int64_t)((int64_t)view->pitch - t->last.pitch) * PREFETCH_FRAMES;
+        int64_t hfov = view->hfov + (int64_t)((int64_t)view->hfov - (int64_t)t->last.hfov) * PREFETCH_FRAMES;
+        ahead.pitch = (int32_t)(pitch > (int32_t)PSC_BAM_90 ? (int32_t)PSC_BAM_90
+                                : pitch < -(int32_t)PSC_BAM_90 ? -(int32_t)PSC_BAM_90 : pitch);
+        ahead.hfov = (psc_bam_t)(hfov < (int64_t)t->hfov_min ? t->hfov_min : hfov > (int64_t)PSC_BAM_180 ? view->hfov : hfov);
+        psc_viewer_clamp(&t->viewer, &ahead, t->hfov_min);
+        unsigned m = psc_viewer_view_tiles(&t->viewer, &ahead, t->ahead, PREFETCH_TILES);
+        psc_io_tiled_request(t->tiles, t->ahead, m);
+    }
+    t->last = *view;
+    t->have_last = true;
+    /* the view's own tiles: the resident ones used now (the least recently used give way, never these), the
+     * others asked for; then the frame's misses, the first to be read */
+    unsigned m = psc_viewer_view_tiles(&t->viewer, view, t->ahead, PREFETCH_TILES);
+    psc_io_tiled_request(t->tiles, t->ahead, m);
+    if (n > 0)
         psc_io_tiled_request(t->tiles, t->want, n);
     return st;
 }
