@@ -137,10 +137,11 @@ int psc_io_tiled_open(const char *path, size_t budget, psc_io_tiled_t **out, cha
         return psc_io_errorf(err, errlen, path, "not a tiled pack (its map is in the file whole)");
     }
     if (t->pack.store_offset > t->file_size || t->file_size - t->pack.store_offset < t->pack.store_size) {
-        psc_io_tiled_close(t);
-        return psc_io_errorf(err, errlen, path, "the file is %llu bytes, its tile store ends at %llu (a truncated pack)",
+        psc_io_errorf(err, errlen, path, "the file is %llu bytes, its tile store ends at %llu (a truncated pack)",
                       (unsigned long long)t->file_size,
                       (unsigned long long)(t->pack.store_offset + t->pack.store_size));
+        psc_io_tiled_close(t);
+        return -1;
     }
     const psc_tiles_t *g = &t->pack.tiles;
     const psc_tile_level_t *top = &g->level[g->level_count - 1u];

@@ -402,6 +402,56 @@ static void test_loader_thread_sharpens(void **state)
     free(img.xrgb);
 }
 
+/* Golden views of a tiled pack against the double-precision reference of its map (PSNR over 8-bit RGB of the
+ * XRGB8888 output): zoomed in to a few degrees (level 0, bilinear, against bilinear), and a wide view through the
+ * pyramid (mip, against a 4 x 4 supersampled reference). */
+static void test_golden_deep_and_wide(void **state)
+{
+    (void)state;
+    psc_image_t img = test_image(MAP_W * 2u, MAP_H * 2u, 8);
+    packs_t p;
+    make_packs(&p, &img, PSC_PIX_XRGB8888, 256u << 20, "golden.pano");
+    load_all(p.tiled);
+    viewer_t b;
+    tiled_viewer(&b, p.tiled);
+    psc_envmap_t ref_map = p.flat.map;   /* the image itself, as the reference samples it */
+    ref_map.format = PSC_PIX_XRGB8888;
+    ref_map.pixels = img.xrgb;
+    ref_map.stride = img.width * 4u;
+    psc_surface_t sb = surface(PSC_PIX_XRGB8888);
+    double *ref = malloc(OUT_W * OUT_H * 3u * sizeof *ref);
+    assert_non_null(ref);
+    static const struct {
+        double yaw, pitch, hfov;
+        psc_filter_t filter;
+        unsigned ss;
+        double bound;
+    } g[] = {
+        {37.5, 12, 3, PSC_FILTER_BILINEAR, 1, 50.0},   /* about 11 screen pixels a texel (measured 57.1) */
+        {-120, -55, 2.5, PSC_FILTER_BILINEAR, 1, 50.0},  /* (57.8) */
+        {200, 30, 110, PSC_FILTER_MIP, 4, 30.0},       /* about 3 texels a pixel: levels 1 and 2 (32.4) */
+        {10, -80, 100, PSC_FILTER_MIP, 4, 30.0},       /* a pole in view (33.6) */
+    };
+    for (size_t i = 0; i < sizeof g / sizeof *g; i++) {
+        psc_view_t view = {tsup_bam_from_deg(g[i].yaw), (int32_t)tsup_bam_from_deg(g[i].pitch),
+                           tsup_bam_from_deg(g[i].hfov), g[i].filter, 2};
+        assert_int_equal(psc_viewer_render(&b.v, &view, &sb), PSC_OK);
+        psc_view_t rv = view;
+        rv.filter = PSC_FILTER_BILINEAR;
+        tsup_ref_render(&ref_map, &rv, OUT_W, OUT_H, g[i].ss, ref);
+        double db = tsup_psnr(tsup_mse_surface(&sb, ref));
+        print_message("  yaw %.1f pitch %.1f hfov %.1f %s: %.1f dB against the double-precision reference%s (at "
+                      "least %.0f)\n", g[i].yaw, g[i].pitch, g[i].hfov, g[i].filter == PSC_FILTER_MIP ? "mip" : "bilinear",
+                      db, g[i].ss > 1 ? ", 4x4 supersampled" : "", g[i].bound);
+        assert_true(db >= g[i].bound);
+    }
+    free(ref);
+    free(sb.pixels);
+    free(b.ws);
+    free_packs(&p);
+    free(img.xrgb);
+}
+
 /* The tiles of a view (for prefetching where the view is going): the tiles a frame of the view reads at the level
  * the view's middle takes, found from exact directions on a grid of its pixels. Zoomed in (level 0 everywhere),
  * nearly every tile the frame asks for from an empty cache (measured 213 of 215: a frame's positions come from the
@@ -524,6 +574,7 @@ int main(void)
         cmocka_unit_test(test_tiles_are_the_flat_levels),
         cmocka_unit_test(test_tiled_frames_are_flat_bytes),
         cmocka_unit_test(test_wide_views_read_few_tiles),
+        cmocka_unit_test(test_golden_deep_and_wide),
         cmocka_unit_test(test_starved_cache_sharpens),
         cmocka_unit_test(test_loader_thread_sharpens),
         cmocka_unit_test(test_view_tiles_cover_the_frame),
