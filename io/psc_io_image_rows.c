@@ -12,6 +12,8 @@
  * same change here (tests/test_image_rows.c compares the two byte for byte).
  */
 #include "psc_io_image_rows.h"
+#include "psc_io_jpeg_fail.h"
+#include "psc_io_png_src.h"
 #include "psc_io_error.h"
 #include "psc_io_file.h"
 
@@ -27,11 +29,6 @@
 
 typedef enum { ROWS_JPEG, ROWS_PNG } rows_kind_t;
 
-typedef struct {
-    struct jpeg_error_mgr mgr;   /* first: libjpeg hands us a pointer to it */
-    jmp_buf jump;
-    char msg[JMSG_LENGTH_MAX];
-} rows_jpeg_fail_t;
 
 struct psc_io_image_rows {
     rows_kind_t kind;
@@ -44,7 +41,7 @@ struct psc_io_image_rows {
 
     /* JPEG */
     struct jpeg_decompress_struct jpeg;
-    rows_jpeg_fail_t jpeg_fail;
+    psc_io_jpeg_fail_t jpeg_fail;
     bool jpeg_created;
     bool cmyk, inverted;         /* CMYK or YCCK output; Adobe's inverted ink */
     unsigned channels;           /* 3 (RGB) or 4 (CMYK) bytes a pixel from libjpeg */
@@ -53,57 +50,13 @@ struct psc_io_image_rows {
     /* PNG */
     png_structp png;
     png_infop png_info;
-    char png_msg[200];
+    psc_io_png_src_t png_src;    /* libpng's error and read pointer: the file and its last error */
 };
 
 static const uint8_t rows_jpeg_magic[3] = {0xFF, 0xD8, 0xFF};
 static const uint8_t rows_png_magic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
 
 /* ---- JPEG ------------------------------------------------------------------------------------- */
-
-static void rows_jpeg_exit(j_common_ptr cinfo)
-{
-    rows_jpeg_fail_t *fail = (rows_jpeg_fail_t *)cinfo->err;
-    fail->mgr.format_message(cinfo, fail->msg);
-    longjmp(fail->jump, 1);
-}
-
-/* The same warnings as psc_io_jpeg.c let through (the image intact); any other
- * means lost pixels (a truncated or damaged stream) and fails the read. */
-static bool rows_jpeg_warning_is_fatal(int code)
-{
-    switch (code) {
-    case JWRN_ADOBE_XFORM:
-    case JWRN_EXTRANEOUS_DATA:
-    case JWRN_JFIF_MAJOR:
-    case JWRN_BOGUS_ICC:
-    case JWRN_TOO_MUCH_DATA:
-        return false;
-    default:
-        return true;
-    }
-}
-
-static void rows_jpeg_message(j_common_ptr cinfo, int level)
-{
-    /* level < 0: a warning; >= 0: trace output, of no interest here. */
-    if (level < 0 && rows_jpeg_warning_is_fatal(cinfo->err->msg_code))
-        rows_jpeg_exit(cinfo);
-}
-
-/* psc_io_jpeg.c's conversion: Adobe CMYK JPEGs store inverted ink amounts, plain ones store ink. */
-static uint32_t rows_cmyk_to_xrgb(const JSAMPLE *p, bool inverted)
-{
-    uint32_t c = p[0], m = p[1], y = p[2], k = p[3];
-    if (!inverted) {
-        c = 255u - c;
-        m = 255u - m;
-        y = 255u - y;
-        k = 255u - k;
-    }
-    uint32_t r = (c * k + 127u) / 255u, g = (m * k + 127u) / 255u, b = (y * k + 127u) / 255u;
-    return 0xFF000000u | r << 16 | g << 8 | b;
-}
 
 /* The bytes of libjpeg's whole-image coefficient buffer (a multi-scan file needs one): each
  * component's blocks, padded to its sampling factors, 64 coefficients of a JCOEF each. */
@@ -198,7 +151,7 @@ static int rows_jpeg_next(psc_io_image_rows_t *r, uint32_t *xrgb, char *err, siz
                              (unsigned)r->height);
     for (uint32_t x = 0; x < r->width; x++) {
         const JSAMPLE *p = r->jpeg_row + (size_t)x * r->channels;
-        xrgb[x] = r->cmyk ? rows_cmyk_to_xrgb(p, r->inverted)
+        xrgb[x] = r->cmyk ? psc_io_jpeg_cmyk_to_xrgb(p, r->inverted)
                           : 0xFF000000u | (uint32_t)p[0] << 16 | (uint32_t)p[1] << 8 | p[2];
     }
     /* After the last row, read on to the end marker: a file cut after its pixels fails here,
@@ -210,27 +163,6 @@ static int rows_jpeg_next(psc_io_image_rows_t *r, uint32_t *xrgb, char *err, siz
 
 /* ---- PNG -------------------------------------------------------------------------------------- */
 
-static void rows_png_error(png_structp png, png_const_charp msg)
-{
-    psc_io_image_rows_t *r = png_get_error_ptr(png);
-    snprintf(r->png_msg, sizeof r->png_msg, "%s", msg);
-    png_longjmp(png, 1);
-}
-
-/* Warnings (odd ancillary chunks, colour profiles) do not affect the pixels we use. */
-static void rows_png_warning(png_structp png, png_const_charp msg)
-{
-    (void)png;
-    (void)msg;
-}
-
-static void rows_png_read(png_structp png, png_bytep data, size_t len)
-{
-    psc_io_image_rows_t *r = png_get_io_ptr(png);
-    if (fread(data, 1, len, r->file) != len)
-        png_error(png, ferror(r->file) ? "read error" : "file ends early (truncated)");
-}
-
 /* psc_io_png.c's bound on an ancillary chunk read (8 MiB: a generous ICC profile). */
 #define ROWS_PNG_CHUNK_MAX ((png_alloc_size_t)8 << 20)
 
@@ -239,7 +171,7 @@ static int rows_png_open(psc_io_image_rows_t *r, uint32_t max_width, uint32_t ma
     png_structp png = r->png;
     png_infop info = r->png_info;
     if (setjmp(png_jmpbuf(png)))
-        return psc_io_errorf(err, errlen, r->path, "corrupt or truncated PNG (before row 0): %s", r->png_msg);
+        return psc_io_errorf(err, errlen, r->path, "corrupt or truncated PNG (before row 0): %s", r->png_src.msg);
 
     /* As psc_io_png.c: metadata chunks skipped unread (a tiny file may declare a huge one), any other bounded. */
     static const png_byte skipped[] = "tEXt\0zTXt\0iTXt\0iCCP\0sPLT\0eXIf\0hIST\0pHYs\0sBIT\0bKGD\0"
@@ -248,7 +180,7 @@ static int rows_png_open(psc_io_image_rows_t *r, uint32_t max_width, uint32_t ma
     png_set_keep_unknown_chunks(png, PNG_HANDLE_CHUNK_NEVER, NULL, 0);
     png_set_chunk_malloc_max(png, ROWS_PNG_CHUNK_MAX);
     png_set_chunk_cache_max(png, 1000);
-    png_set_read_fn(png, r, rows_png_read);
+    png_set_read_fn(png, &r->png_src, psc_io_png_on_read);
     png_read_info(png, info);
     if (rows_check_size(r, png_get_image_width(png, info), png_get_image_height(png, info), max_width, max_height,
                         err, errlen) != 0)
@@ -281,7 +213,7 @@ static int rows_png_next(psc_io_image_rows_t *r, uint32_t *xrgb, char *err, size
     png_structp png = r->png;
     if (setjmp(png_jmpbuf(png)))
         return psc_io_errorf(err, errlen, r->path, "corrupt or truncated PNG at row %u of %u: %s",
-                             (unsigned)r->next_row, (unsigned)r->height, r->png_msg);
+                             (unsigned)r->next_row, (unsigned)r->height, r->png_src.msg);
 
     /* RGBA straight into the caller's row (width * 4 bytes), then each quad repacked in place. */
     png_read_row(png, (png_bytep)xrgb, NULL);
@@ -329,13 +261,12 @@ static int rows_open(const char *path, uint32_t max_width, uint32_t max_height, 
         rc = psc_io_errorf(err, errlen, path, "cannot seek: %s", strerror(errno));
     } else if (got >= sizeof rows_jpeg_magic && memcmp(head, rows_jpeg_magic, sizeof rows_jpeg_magic) == 0) {
         r->kind = ROWS_JPEG;
-        r->jpeg.err = jpeg_std_error(&r->jpeg_fail.mgr);
-        r->jpeg_fail.mgr.error_exit = rows_jpeg_exit;
-        r->jpeg_fail.mgr.emit_message = rows_jpeg_message;
+        psc_io_jpeg_fail_init(&r->jpeg, &r->jpeg_fail);   /* psc_io_jpeg.c's: the same files refused */
         rc = rows_jpeg_open(r, max_width, max_height, err, errlen);
     } else if (got >= sizeof rows_png_magic && memcmp(head, rows_png_magic, sizeof rows_png_magic) == 0) {
         r->kind = ROWS_PNG;
-        r->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, r, rows_png_error, rows_png_warning);
+        r->png_src.file = r->file;   /* psc_io_png.c's callbacks: the same files refused, the same messages */
+        r->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &r->png_src, psc_io_png_on_error, psc_io_png_on_warning);
         r->png_info = r->png ? png_create_info_struct(r->png) : NULL;
         rc = r->png_info ? rows_png_open(r, max_width, max_height, err, errlen)
                          : psc_io_errorf(err, errlen, path, "out of memory (libpng)");

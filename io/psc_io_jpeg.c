@@ -1,13 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /*
- * psc_io_jpeg.c - JPEG decoding with libjpeg(-turbo) into 0xFFRRGGBB pixels.
- * libjpeg reports fatal errors through error_exit, which must not return:
- * ours longjmps back with the message. Warnings that mean lost pixel data
- * (a truncated or damaged stream) are treated as errors too, so a broken file
- * is refused instead of being shown with grey blocks.
+ * psc_io_jpeg.c - JPEG decoding with libjpeg(-turbo) into 0xFFRRGGBB pixels,
+ * and the error manager both of io's JPEG readers use (psc_io_jpeg_fail.h).
  */
 #include "psc_io_image_codecs.h"
 #include "psc_io_error.h"
+#include "psc_io_jpeg_fail.h"
 
 #include <setjmp.h>
 #include <stdlib.h>
@@ -15,24 +13,18 @@
 #include <jpeglib.h>
 #include <jerror.h>
 
-typedef struct {
-    struct jpeg_error_mgr mgr;   /* first: libjpeg hands us a pointer to it */
-    jmp_buf jump;
-    char msg[JMSG_LENGTH_MAX];
-} jpeg_fail_t;
-
 /* Everything the decoder allocates, kept outside the setjmp frame so that it
  * is still valid after a longjmp and can be freed. */
 typedef struct {
     struct jpeg_decompress_struct cinfo;
-    jpeg_fail_t fail;
+    psc_io_jpeg_fail_t fail;
     bool created;
     JSAMPLE *row;
 } jpeg_job_t;
 
 static void jpeg_fail_exit(j_common_ptr cinfo)
 {
-    jpeg_fail_t *fail = (jpeg_fail_t *)cinfo->err;
+    psc_io_jpeg_fail_t *fail = (psc_io_jpeg_fail_t *)cinfo->err;
     fail->mgr.format_message(cinfo, fail->msg);
     longjmp(fail->jump, 1);
 }
@@ -59,8 +51,14 @@ static void jpeg_fail_message(j_common_ptr cinfo, int level)
         jpeg_fail_exit(cinfo);
 }
 
-/* Adobe CMYK JPEGs store inverted ink amounts; plain CMYK ones store ink. */
-static uint32_t cmyk_to_xrgb(const JSAMPLE *p, bool inverted)
+void psc_io_jpeg_fail_init(struct jpeg_decompress_struct *cinfo, psc_io_jpeg_fail_t *fail)
+{
+    cinfo->err = jpeg_std_error(&fail->mgr);
+    fail->mgr.error_exit = jpeg_fail_exit;
+    fail->mgr.emit_message = jpeg_fail_message;
+}
+
+uint32_t psc_io_jpeg_cmyk_to_xrgb(const JSAMPLE *p, bool inverted)
 {
     uint32_t c = p[0], m = p[1], y = p[2], k = p[3];
     if (!inverted) {
@@ -112,7 +110,7 @@ static int jpeg_run(jpeg_job_t *job, FILE *f, const char *path, uint64_t max_pix
         uint32_t *dst = img->xrgb + (size_t)y * img->width;
         for (uint32_t x = 0; x < img->width; x++) {
             const JSAMPLE *p = job->row + (size_t)x * channels;
-            dst[x] = cmyk ? cmyk_to_xrgb(p, inverted)
+            dst[x] = cmyk ? psc_io_jpeg_cmyk_to_xrgb(p, inverted)
                           : 0xFF000000u | (uint32_t)p[0] << 16 | (uint32_t)p[1] << 8 | p[2];
         }
     }
@@ -126,9 +124,7 @@ int psc_io_jpeg_decode(FILE *f, const char *path, uint64_t max_pixels, psc_image
     jpeg_job_t *job = calloc(1, sizeof *job);
     if (!job)
         return psc_io_errorf(err, errlen, path, "out of memory");
-    job->cinfo.err = jpeg_std_error(&job->fail.mgr);
-    job->fail.mgr.error_exit = jpeg_fail_exit;
-    job->fail.mgr.emit_message = jpeg_fail_message;
+    psc_io_jpeg_fail_init(&job->cinfo, &job->fail);
     int rc = jpeg_run(job, f, path, max_pixels, img, err, errlen);
     if (job->created)
         jpeg_destroy_decompress(&job->cinfo);

@@ -423,6 +423,22 @@ int psc_io_pack_build(const psc_image_t *img, const psc_pack_options_t *opt_in, 
     return 0;
 }
 
+/* A tiled pack's sections, in order: SCEN, TINF, TIDX (index_size bytes), the LUTs (plan's). Returns the LUTs'
+ * count. */
+static unsigned tiled_layout(psc_container_layout_t *l, const psc_pack_options_t *opt, lut_plan_t *plan,
+                             uint64_t index_size)
+{
+    unsigned nluts = plan_luts(opt, plan);
+    psc_io_container_layout_init(l, &psc_pack_format);
+    layout_add(l, PSC_SECTION_SCENE, sizeof(psc_pack_scene_raw_t));
+    layout_add(l, PSC_SECTION_TILE_INFO, sizeof(psc_pack_tile_info_raw_t));
+    layout_add(l, PSC_SECTION_TILE_INDEX, index_size);
+    for (unsigned i = 0; i < nluts; i++)
+        plan[i].section = layout_add(l, PSC_SECTION_LUT,
+                                     sizeof(psc_pack_lut_raw_t) + psc_lut_bytes(plan[i].rows, plan[i].cols));
+    return nluts;
+}
+
 int psc_io_pack_build_tiled_head(uint32_t width, uint32_t height, const psc_pack_options_t *opt,
                                  const psc_io_tiled_head_t *tiles, uint8_t **out, size_t *out_len,
                                  psc_envmap_t *map_out, char *err, size_t errlen)
@@ -453,15 +469,9 @@ int psc_io_pack_build_tiled_head(uint32_t width, uint32_t height, const psc_pack
     if (!tiles->index)   /* the caller asked for the checks and the map alone */
         return 0;
     lut_plan_t plan[MAX_BUILD_LUTS];
-    unsigned nluts = plan_luts(opt, plan);
     psc_container_layout_t l;
-    psc_io_container_layout_init(&l, &psc_pack_format);
-    psc_container_slot_t *scene = layout_add(&l, PSC_SECTION_SCENE, sizeof(psc_pack_scene_raw_t));
-    psc_container_slot_t *info = layout_add(&l, PSC_SECTION_TILE_INFO, sizeof(psc_pack_tile_info_raw_t));
-    psc_container_slot_t *index = layout_add(&l, PSC_SECTION_TILE_INDEX, tiles->index_size);
-    for (unsigned i = 0; i < nluts; i++)
-        plan[i].section = layout_add(&l, PSC_SECTION_LUT,
-                                     sizeof(psc_pack_lut_raw_t) + psc_lut_bytes(plan[i].rows, plan[i].cols));
+    unsigned nluts = tiled_layout(&l, opt, plan, tiles->index_size);
+    psc_container_slot_t *scene = &l.slot[0], *info = &l.slot[1], *index = &l.slot[2];
     uint8_t *file;
     if (psc_io_container_layout_alloc(&l, &file, NULL, err, errlen) != 0)
         return -1;
@@ -495,14 +505,8 @@ int psc_io_pack_build_tiled_head(uint32_t width, uint32_t height, const psc_pack
 uint64_t psc_io_pack_tiled_head_size(const psc_pack_options_t *opt, uint32_t tile_count)
 {
     lut_plan_t plan[MAX_BUILD_LUTS];
-    unsigned nluts = plan_luts(opt, plan);
     psc_container_layout_t l;
-    psc_io_container_layout_init(&l, &psc_pack_format);
-    layout_add(&l, PSC_SECTION_SCENE, sizeof(psc_pack_scene_raw_t));
-    layout_add(&l, PSC_SECTION_TILE_INFO, sizeof(psc_pack_tile_info_raw_t));
-    layout_add(&l, PSC_SECTION_TILE_INDEX, (uint64_t)tile_count * sizeof(psc_pack_tile_raw_t));
-    for (unsigned i = 0; i < nluts; i++)
-        layout_add(&l, PSC_SECTION_LUT, sizeof(psc_pack_lut_raw_t) + psc_lut_bytes(plan[i].rows, plan[i].cols));
+    tiled_layout(&l, opt, plan, (uint64_t)tile_count * sizeof(psc_pack_tile_raw_t));
     /* the end of the last payload, as psc_io_container_layout_alloc places them: the container's size */
     uint64_t table_end = PSC_CONTAINER_HEADER_SIZE + (uint64_t)l.count * PSC_CONTAINER_SECTION_SIZE, at = table_end;
     for (unsigned i = 0; i < l.count; i++) {

@@ -7,6 +7,7 @@
  * keeps the message and longjmps back to the setjmp in the job.
  */
 #include "psc_io_png.h"
+#include "psc_io_png_src.h"
 #include "psc_io_error.h"
 #include "psc_io_file.h"
 
@@ -21,35 +22,34 @@ typedef void (*png_row_fn)(const void *ctx, uint32_t y, uint8_t *rgb);
 
 /* State that must survive a longjmp lives here, not in the setjmp frame. */
 typedef struct {
+    psc_io_png_src_t src;  /* first: libpng's error (and, decoding, read) pointer is the job */
     png_structp png;
     png_infop info;
-    FILE *file;            /* decoding */
     png_bytep *rows;       /* decoding: row pointers into the image */
     uint8_t *out;          /* encoding: growing output buffer */
     size_t out_len, out_cap;
     uint8_t *row;          /* encoding: one RGB row */
-    char msg[200];
 } png_job_t;
 
-static void png_job_error(png_structp png, png_const_charp msg)
+void psc_io_png_on_error(png_structp png, png_const_charp msg)
 {
-    png_job_t *job = png_get_error_ptr(png);
-    snprintf(job->msg, sizeof job->msg, "%s", msg);
+    psc_io_png_src_t *src = png_get_error_ptr(png);
+    snprintf(src->msg, sizeof src->msg, "%s", msg);
     png_longjmp(png, 1);
 }
 
 /* Warnings (odd ancillary chunks, colour profiles) do not affect the pixels we use. */
-static void png_job_warning(png_structp png, png_const_charp msg)
+void psc_io_png_on_warning(png_structp png, png_const_charp msg)
 {
     (void)png;
     (void)msg;
 }
 
-static void png_job_read(png_structp png, png_bytep data, size_t len)
+void psc_io_png_on_read(png_structp png, png_bytep data, size_t len)
 {
-    png_job_t *job = png_get_io_ptr(png);
-    if (fread(data, 1, len, job->file) != len)
-        png_error(png, ferror(job->file) ? "read error" : "file ends early (truncated)");
+    psc_io_png_src_t *src = png_get_io_ptr(png);
+    if (fread(data, 1, len, src->file) != len)
+        png_error(png, ferror(src->file) ? "read error" : "file ends early (truncated)");
 }
 
 int psc_io_image_over_budget(char *err, size_t errlen, const char *path, uint32_t w, uint32_t h, uint64_t max_pixels)
@@ -68,7 +68,7 @@ static int png_read_run(png_job_t *job, const char *path, uint32_t max_side, uin
     png_structp png = job->png;
     png_infop info = job->info;
     if (setjmp(png_jmpbuf(png)))
-        return psc_io_errorf(err, errlen, path, "corrupt or truncated PNG: %s", job->msg);
+        return psc_io_errorf(err, errlen, path, "corrupt or truncated PNG: %s", job->src.msg);
 
     /* The metadata chunks are skipped unread: the pixels need none of them, and a 43-byte
      * file can declare a 1 GiB text chunk that libpng would allocate whole (found by
@@ -79,7 +79,7 @@ static int png_read_run(png_job_t *job, const char *path, uint32_t max_side, uin
     png_set_keep_unknown_chunks(png, PNG_HANDLE_CHUNK_NEVER, NULL, 0);
     png_set_chunk_malloc_max(png, PSC_IO_PNG_CHUNK_MAX);
     png_set_chunk_cache_max(png, 1000);
-    png_set_read_fn(png, job, png_job_read);
+    png_set_read_fn(png, job, psc_io_png_on_read);
     png_read_info(png, info);
     uint32_t w = png_get_image_width(png, info), h = png_get_image_height(png, info);
     if (w == 0 || h == 0)
@@ -130,8 +130,8 @@ int psc_io_png_decode(FILE *f, const char *path, uint32_t max_side, uint64_t max
     png_job_t *job = calloc(1, sizeof *job);
     if (!job)
         return psc_io_errorf(err, errlen, path, "out of memory");
-    job->file = f;
-    job->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, job, png_job_error, png_job_warning);
+    job->src.file = f;
+    job->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, job, psc_io_png_on_error, psc_io_png_on_warning);
     job->info = job->png ? png_create_info_struct(job->png) : NULL;
     int rc = job->info ? png_read_run(job, path, max_side, max_pixels, img, err, errlen)
                        : psc_io_errorf(err, errlen, path, "out of memory (libpng)");
@@ -176,7 +176,7 @@ static int png_write_run(png_job_t *job, uint32_t w, uint32_t h, png_row_fn row,
     png_structp png = job->png;
     png_infop info = job->info;
     if (setjmp(png_jmpbuf(png)))
-        return psc_io_errorf(err, errlen, path, "cannot encode PNG: %s", job->msg);
+        return psc_io_errorf(err, errlen, path, "cannot encode PNG: %s", job->src.msg);
 
     job->row = malloc((size_t)w * 3u);
     if (!job->row)
@@ -203,7 +203,7 @@ static int png_encode(uint32_t width, uint32_t height, png_row_fn row, const voi
     png_job_t *job = calloc(1, sizeof *job);
     if (!job)
         return psc_io_errorf(err, errlen, path, "out of memory");
-    job->png = png_create_write_struct(PNG_LIBPNG_VER_STRING, job, png_job_error, png_job_warning);
+    job->png = png_create_write_struct(PNG_LIBPNG_VER_STRING, job, psc_io_png_on_error, psc_io_png_on_warning);
     job->info = job->png ? png_create_info_struct(job->png) : NULL;
     int rc = job->info ? png_write_run(job, width, height, row, ctx, path, err, errlen)
                        : psc_io_errorf(err, errlen, path, "out of memory (libpng)");

@@ -38,6 +38,7 @@
 
 #include "psc_io_image.h"
 #include "psc_testsupport.h"
+#include "tsup_jpeg.h"
 #include "tsup_files.h"
 #include "psc_io_png.h"
 
@@ -305,46 +306,11 @@ static void test_write_errors(void **state)
 
 /* ---- JPEGs written here ------------------------------------------------------------------- */
 
-typedef struct {
-    J_COLOR_SPACE in_space;
-    int components;
-    int quality;
-    int full_chroma;   /* 4:4:4 (every component sampled 1x1) */
-    int progressive;
-    int no_adobe;      /* CMYK without the Adobe marker: plain (not inverted) ink */
-} jpeg_spec_t;
+typedef tsup_jpeg_spec_t jpeg_spec_t;
 
-/* Encode w x h pixels of spec->components bytes each with libjpeg (it exits on error: inputs are valid). */
 static void write_jpeg(const char *path, const uint8_t *pix, unsigned w, unsigned h, const jpeg_spec_t *spec)
 {
-    struct jpeg_compress_struct c;
-    struct jpeg_error_mgr e;
-    FILE *f = fopen(path, "wb");
-    assert_non_null(f);
-    c.err = jpeg_std_error(&e);
-    jpeg_create_compress(&c);
-    jpeg_stdio_dest(&c, f);
-    c.image_width = w;
-    c.image_height = h;
-    c.input_components = spec->components;
-    c.in_color_space = spec->in_space;
-    jpeg_set_defaults(&c);
-    jpeg_set_quality(&c, spec->quality, TRUE);
-    if (spec->full_chroma)
-        for (int i = 0; i < c.num_components; i++)
-            c.comp_info[i].h_samp_factor = c.comp_info[i].v_samp_factor = 1;
-    if (spec->progressive)
-        jpeg_simple_progression(&c);
-    if (spec->no_adobe)
-        c.write_Adobe_marker = FALSE;
-    jpeg_start_compress(&c, TRUE);
-    while (c.next_scanline < c.image_height) {
-        JSAMPROW row = (JSAMPROW)(pix + (size_t)c.next_scanline * w * (unsigned)spec->components);
-        jpeg_write_scanlines(&c, &row, 1);
-    }
-    jpeg_finish_compress(&c);
-    jpeg_destroy_compress(&c);
-    assert_int_equal(fclose(f), 0);
+    assert_int_equal(tsup_write_jpeg(path, pix, w, h, spec), 0);
 }
 
 /* The smooth test scene: slow gradients and one period of a sine, 0..255 in each channel. */
@@ -404,12 +370,12 @@ static void test_jpeg_load(void **state)
         int max_err;
         double mean_err;
     } cases[] = {
-        {"RGB 4:4:4 q95", {JCS_RGB, 3, 95, 1, 0, 0}, 6, 1.0},
-        {"RGB 4:4:4 q95 progressive", {JCS_RGB, 3, 95, 1, 1, 0}, 6, 1.0},
-        {"RGB 4:2:0 q75 progressive", {JCS_RGB, 3, 75, 0, 1, 0}, 16, 2.5},
-        {"greyscale q95", {JCS_GRAYSCALE, 1, 95, 1, 0, 0}, 3, 0.5},
-        {"Adobe CMYK q95", {JCS_CMYK, 4, 95, 1, 0, 0}, 3, 0.3},
-        {"plain CMYK q95", {JCS_CMYK, 4, 95, 1, 0, 1}, 3, 0.3},
+        {"RGB 4:4:4 q95", {JCS_RGB, 3, 95, 1, 0, 0, 0, 0}, 6, 1.0},
+        {"RGB 4:4:4 q95 progressive", {JCS_RGB, 3, 95, 1, 1, 0, 0, 0}, 6, 1.0},
+        {"RGB 4:2:0 q75 progressive", {JCS_RGB, 3, 75, 0, 1, 0, 0, 0}, 16, 2.5},
+        {"greyscale q95", {JCS_GRAYSCALE, 1, 95, 1, 0, 0, 0, 0}, 3, 0.5},
+        {"Adobe CMYK q95", {JCS_CMYK, 4, 95, 1, 0, 0, 0, 0}, 3, 0.3},
+        {"plain CMYK q95", {JCS_CMYK, 4, 95, 1, 0, 1, 0, 0}, 3, 0.3},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         const jpeg_spec_t *sp = &cases[k].spec;
@@ -693,7 +659,7 @@ static void test_truncated(void **state)
     for (unsigned y = 0; y < H; y++)
         for (unsigned x = 0; x < W; x++)
             smooth_rgb(x, y, W, H, rgb + 3 * (y * W + x));
-    jpeg_spec_t base = {JCS_RGB, 3, 95, 1, 0, 0}, prog = {JCS_RGB, 3, 80, 0, 1, 0};
+    jpeg_spec_t base = {JCS_RGB, 3, 95, 1, 0, 0, 0, 0}, prog = {JCS_RGB, 3, 80, 0, 1, 0, 0, 0};
     write_jpeg(src, rgb, W, H, &base);
     truncate_every_length(src, dst, "JPEG 16x16 baseline");
     write_jpeg(src, rgb, W, H, &prog);
@@ -876,7 +842,7 @@ static void test_corrupt_jpeg(void **state)
             grey[y * W + x] = rgb[3 * (y * W + x) + 1];
         }
     static const jpeg_spec_t specs[3] = {
-        {JCS_RGB, 3, 95, 1, 0, 0}, {JCS_RGB, 3, 75, 0, 1, 0}, {JCS_GRAYSCALE, 1, 90, 1, 0, 0}};
+        {JCS_RGB, 3, 95, 1, 0, 0, 0, 0}, {JCS_RGB, 3, 75, 0, 1, 0, 0, 0}, {JCS_GRAYSCALE, 1, 90, 1, 0, 0, 0, 0}};
     seed_t seeds[3];
     for (int i = 0; i < 3; i++) {
         write_jpeg(path, specs[i].components == 3 ? rgb : grey, W, H, &specs[i]);
@@ -980,7 +946,7 @@ static void test_pixel_budget(void **state)
     assert_non_null(rgb);
     for (unsigned i = 0; i < W * H * 3; i++)
         rgb[i] = (uint8_t)(i * 7);
-    static const jpeg_spec_t spec = {JCS_RGB, 3, 90, 1, 0, 0};
+    static const jpeg_spec_t spec = {JCS_RGB, 3, 90, 1, 0, 0, 0, 0};
     tmp_path(path, sizeof path, "budget.jpg");
     write_jpeg(path, rgb, W, H, &spec);
     assert_int_equal(psc_io_image_load_within(path, W * H - 1, &img, err, sizeof err), -1);

@@ -41,6 +41,7 @@
 #include "psc_io_image.h"
 #include "psc_io_image_rows.h"
 #include "psc_testsupport.h"
+#include "tsup_jpeg.h"
 #include "tsup_files.h"
 
 #define ERRLEN 512
@@ -155,51 +156,11 @@ static void expect_rows_equal_load(const char *path, const char *what)
 
 /* ---- images written here -------------------------------------------------------------------------- */
 
-typedef struct {
-    J_COLOR_SPACE in_space;
-    int components;
-    int quality;
-    int full_chroma;     /* 4:4:4 */
-    int progressive;
-    int no_adobe;        /* CMYK without the Adobe marker: plain (not inverted) ink */
-    int restart_rows;    /* a restart marker every this many MCU rows (0: none) */
-    int rgb_space;       /* stored as RGB, not YCbCr */
-} jpeg_spec_t;
+typedef tsup_jpeg_spec_t jpeg_spec_t;
 
-/* Encode w x h pixels of spec->components bytes each with libjpeg (valid inputs: it does not fail). */
 static void write_jpeg(const char *path, const uint8_t *pix, unsigned w, unsigned h, const jpeg_spec_t *spec)
 {
-    struct jpeg_compress_struct c;
-    struct jpeg_error_mgr e;
-    FILE *f = fopen(path, "wb");
-    assert_non_null(f);
-    c.err = jpeg_std_error(&e);
-    jpeg_create_compress(&c);
-    jpeg_stdio_dest(&c, f);
-    c.image_width = w;
-    c.image_height = h;
-    c.input_components = spec->components;
-    c.in_color_space = spec->in_space;
-    jpeg_set_defaults(&c);
-    if (spec->rgb_space)
-        jpeg_set_colorspace(&c, JCS_RGB);
-    jpeg_set_quality(&c, spec->quality, TRUE);
-    if (spec->full_chroma)
-        for (int i = 0; i < c.num_components; i++)
-            c.comp_info[i].h_samp_factor = c.comp_info[i].v_samp_factor = 1;
-    if (spec->progressive)
-        jpeg_simple_progression(&c);
-    if (spec->no_adobe)
-        c.write_Adobe_marker = FALSE;
-    c.restart_in_rows = spec->restart_rows;
-    jpeg_start_compress(&c, TRUE);
-    while (c.next_scanline < c.image_height) {
-        JSAMPROW row = (JSAMPROW)(pix + (size_t)c.next_scanline * w * (unsigned)spec->components);
-        jpeg_write_scanlines(&c, &row, 1);
-    }
-    jpeg_finish_compress(&c);
-    jpeg_destroy_compress(&c);
-    assert_int_equal(fclose(f), 0);
+    assert_int_equal(tsup_write_jpeg(path, pix, w, h, spec), 0);
 }
 
 /* Smooth gradients with an edge and some noise: chroma subsampling and the DCT both have work. */
