@@ -193,6 +193,77 @@ static psc_surface_t surface(psc_pixfmt_t fmt)
     return s;
 }
 
+/* The range limits: the largest tiled map's geometry, sizes past it refused, and frames of it drawn - its rows reach
+ * 2^31 in Q16.16 - with only its coarsest tile resident: every view draws, asks for tiles that exist. */
+static void test_range_limits(void **state)
+{
+    (void)state;
+    psc_tiles_t t;
+    assert_int_equal(psc_tiles_level_count(PSC_TILES_MAX_WIDTH, PSC_TILES_MAX_HEIGHT), 12);
+    assert_int_equal(psc_tiles_level_count(30000, 15000), 4);   /* 3750 x 1875: no exact half */
+    assert_int_equal(psc_tiles_init(&t, PSC_TILES_MAX_WIDTH, PSC_TILES_MAX_HEIGHT, 12, PSC_PIX_RGB565, NULL), PSC_OK);
+    assert_int_equal(t.tile_count, PSC_TILES_MAX_COUNT);
+    assert_int_equal(psc_tiles_init(&t, PSC_TILES_MAX_WIDTH + 1u, 100, 1, PSC_PIX_RGB565, NULL), PSC_ERR_TOO_LARGE);
+    assert_int_equal(psc_tiles_init(&t, 100, PSC_TILES_MAX_HEIGHT + 1u, 1, PSC_PIX_RGB565, NULL), PSC_ERR_TOO_LARGE);
+    assert_int_equal(psc_tiles_init(&t, 4096, 2048, 13, PSC_PIX_RGB565, NULL), PSC_ERR_ARG);
+    assert_int_equal(psc_tiles_init(&t, 4096, 2048, 0, PSC_PIX_RGB565, NULL), PSC_ERR_ARG);
+    assert_int_equal(psc_tiles_init(&t, 4096, 2048, 1, PSC_PIX_PAL8, NULL), PSC_ERR_ARG);
+
+    assert_int_equal(psc_tiles_init(&t, PSC_TILES_MAX_WIDTH, PSC_TILES_MAX_HEIGHT, 12, PSC_PIX_RGB565, NULL), PSC_OK);
+    const void **resident = calloc(t.tile_count, sizeof *resident);
+    uint16_t *slot = malloc(t.tile_bytes);
+    assert_true(resident && slot);
+    for (uint32_t i = 0; i < PSC_TILE_SIDE * PSC_TILE_SIDE; i++)
+        slot[i] = (uint16_t)(i * 2654435761u >> 16);
+    resident[t.tile_count - 1u] = slot;   /* the coarsest level's one tile */
+    t.resident = resident;
+    psc_envmap_t map = {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, PSC_TILES_MAX_WIDTH, PSC_TILES_MAX_HEIGHT, 0, NULL, NULL,
+                        0, 0, (int32_t)PSC_BAM_90, -(int32_t)PSC_BAM_90};
+    psc_pack_options_t o;
+    psc_io_pack_options_default(&o);
+    o.display_width = OUT_W;
+    o.display_height = OUT_H;
+    uint8_t *bytes;
+    size_t len;
+    char err[256];
+    psc_image_t tiny = {16, 8, calloc(16 * 8, 4)};
+    assert_int_equal(psc_io_pack_build(&tiny, &o, &bytes, &len, err, sizeof err), 0);   /* (for its tables) */
+    psc_pack_t tables;
+    psc_container_error_t e = {0};
+    assert_int_equal(psc_pack_parse(bytes, len, &tables, &e), PSC_OK);
+    size_t n = psc_viewer_workspace_size_tiled(OUT_W, OUT_H, &map);
+    void *ws = aligned_alloc(64, (n + 63u) & ~(size_t)63u);
+    psc_viewer_t v;
+    assert_int_equal(psc_viewer_init_tiled(&v, &map, &t, tables.luts, tables.lut_count, OUT_W, OUT_H, ws, n), PSC_OK);
+    psc_surface_t out = surface(PSC_PIX_RGB565);
+    tsup_rng_t rng;
+    tsup_rng_seed(&rng, 34);
+    unsigned asked = 0;
+    for (unsigned i = 0; i < 48; i++) {
+        psc_view_t view = random_view(&rng, &v);
+        view.hfov = view.hfov < PSC_HFOV_MIN ? PSC_HFOV_MIN : view.hfov;
+        assert_int_equal(psc_viewer_render(&v, &view, &out), PSC_OK);
+        const uint32_t *want;
+        unsigned k = psc_viewer_requests(&v, &want, NULL);
+        for (unsigned j = 0; j < k; j++)
+            assert_true(want[j] < t.tile_count && resident[want[j]] == NULL);
+        asked += k;
+        uint32_t ahead[256];
+        unsigned m = psc_viewer_view_tiles(&v, &view, ahead, 256);
+        for (unsigned j = 0; j < m; j++)
+            assert_true(ahead[j] < t.tile_count);
+    }
+    print_message("  65536 x 32768, %u tiles: 48 random views drawn from the coarsest tile alone, %u tiles asked for\n",
+                  (unsigned)t.tile_count, asked);
+    assert_true(asked > 48);
+    free(out.pixels);
+    free(ws);
+    free(bytes);
+    free(tiny.xrgb);
+    free(slot);
+    free(resident);
+}
+
 /* Resident, a tiled frame is the flat frame's bytes. */
 static void test_tiled_frames_are_flat_bytes(void **state)
 {
@@ -571,6 +642,7 @@ static void test_writer_memory_bounded(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_range_limits),
         cmocka_unit_test(test_tiles_are_the_flat_levels),
         cmocka_unit_test(test_tiled_frames_are_flat_bytes),
         cmocka_unit_test(test_wide_views_read_few_tiles),

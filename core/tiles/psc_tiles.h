@@ -34,8 +34,8 @@
 #define PSC_TILES_MAX_LEVELS 12u
 #define PSC_TILES_MAX_WIDTH 65536u     /* level 0: a 2-gigapixel full sphere */
 #define PSC_TILES_MAX_HEIGHT 32768u
-/* tiles of a 65536 x 32768 pyramid: 32768 + 8192 + 2048 + ... */
-#define PSC_TILES_MAX_COUNT 43704u
+/* tiles of a 65536 x 32768 pyramid of 12 levels: 32768 + 8192 + 2048 + ... + 1 */
+#define PSC_TILES_MAX_COUNT 43694u
 
 /** One level's geometry. */
 typedef struct {
@@ -60,10 +60,10 @@ uint32_t psc_tiles_level_count(uint32_t width, uint32_t height);
 
 /**
  * Describe a tiled map of width x height (level 0) with `levels` levels
- * (1..psc_tiles_level_count) in format (palette: PAL8's, else NULL) and its
- * residency table `resident` (tile_count entries; may be NULL until the
- * caller has one, psc_tiles_set_resident). PSC_ERR_ARG or PSC_ERR_TOO_LARGE
- * for sizes outside 1..PSC_TILES_MAX_WIDTH x PSC_TILES_MAX_HEIGHT.
+ * (1..psc_tiles_level_count) in format (palette: PAL8's, else NULL); the
+ * residency table (`resident`, tile_count entries) is the caller's to set.
+ * PSC_ERR_ARG or PSC_ERR_TOO_LARGE for sizes outside 1..PSC_TILES_MAX_WIDTH x
+ * PSC_TILES_MAX_HEIGHT.
  */
 psc_status_t psc_tiles_init(psc_tiles_t *t, uint32_t width, uint32_t height, uint32_t levels, psc_pixfmt_t format,
                             const uint32_t *palette);
