@@ -159,6 +159,7 @@ static psc_status_t init_common(psc_viewer_t *v, const psc_envmap_t *map, const 
         }
     }
     v->scratch = base + l.samples;
+    psc_viewer_band_requests_clear(v->scratch, out_width);
     /* Columns from a binary angle: a shift when the width is a power of two. */
     v->col_shift = 0;
     for (unsigned k = 1; k <= 16; k++)
@@ -425,9 +426,7 @@ static psc_status_t frame_begin(const psc_viewer_t *v, const psc_view_t *view, p
     f->filter = view->filter == PSC_FILTER_MIP ? PSC_FILTER_BILINEAR : view->filter;
     f->simd_mip = f->mip && f->simd && !v->tiles && mip_levels_addressable(v, f);
     f->tiles = v->tiles;
-    f->requests = requests_of(scratch, v->out_width);
-    if (f->requests->count > PSC_VIEWER_MAX_REQUESTS)   /* never cleared: start it now */
-        f->requests->count = f->requests->dropped = 0;
+    f->requests = requests_of(scratch, v->out_width);   /* (read by tiled maps' spans only) */
     psc_sincos((psc_bam_t)view->pitch, &f->sin_pitch, &f->cos_pitch);
     polar_caps(v, f->lut, f->span, &f->cap_exact, &f->cap_per_pixel);
     return PSC_OK;

@@ -22,6 +22,8 @@
 static void request(const psc_frame_t *f, uint32_t i)
 {
     psc_tile_requests_t *r = f->requests;
+    if (r->count > PSC_VIEWER_MAX_REQUESTS)   /* a scratch never cleared: begin its record */
+        r->count = r->dropped = 0;
     if (r->count > 0 && r->tile[r->count - 1u] == i)   /* the texels of an absent tile come in runs */
         return;
     for (uint32_t k = 0; k < r->count; k++)
