@@ -249,16 +249,17 @@ $(BUILD)/tests/%: $(BUILD)/obj/tests/%.o $(TESTSUP_LIB) $(FW_LIB) $(HAL_LIB) $(H
 SAMPLE_JPG := assets/pannellum-examplepano.jpg
 SAMPLE_PACK := out/sample.pano
 SIM_DISPLAY := $(shell sh scripts/board-key sim display_size)
+SIM_PACK_FORMAT := $(shell sh scripts/board-pack-format sim)
 
 $(SAMPLE_PACK): $(SAMPLE_JPG) $(BUILD)/bin/periscope-pack boards/sim/board.conf
 	@mkdir -p $(@D)
-	$(BUILD)/bin/periscope-pack $(SAMPLE_JPG) -o $@ --display $(or $(SIM_DISPLAY),640x480) --format rgb565
+	$(BUILD)/bin/periscope-pack $(SAMPLE_JPG) -o $@ --display $(or $(SIM_DISPLAY),640x480) --format $(or $(SIM_PACK_FORMAT),rgb888)
 
 # The sample as a tiled pack (periscope-pack --tiled): the tiled scene under valgrind (check-memcheck)
 SAMPLE_TILED := out/sample-tiled.pano
 $(SAMPLE_TILED): $(SAMPLE_JPG) $(BUILD)/bin/periscope-pack boards/sim/board.conf
 	@mkdir -p $(@D)
-	$(BUILD)/bin/periscope-pack $(SAMPLE_JPG) -o $@ --display $(or $(SIM_DISPLAY),640x480) --format rgb565 --tiled --quiet
+	$(BUILD)/bin/periscope-pack $(SAMPLE_JPG) -o $@ --display $(or $(SIM_DISPLAY),640x480) --format $(or $(SIM_PACK_FORMAT),rgb888) --tiled --quiet
 
 # The sample character: Thom (assets/thom, CC0) with his two actions, skinned from Thom2's bones.
 THOM := assets/thom
@@ -337,7 +338,8 @@ SAN_FLAGS := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-fr
 SAN_TESTS := $(addprefix $(SAN_BUILD)/tests/,test_3d_abuffer test_3d_golden test_3d_mesh test_3d_raster \
 	test_accuracy test_bands test_config_fuzz test_crc32 test_dither test_envmap test_firmware test_fisheye \
 	test_evdev test_fixed test_golden test_hid test_image_io test_image_rows test_input test_io_atomic test_kiosk test_lut test_mip test_pack test_patch \
-	test_pixel test_pose test_proxy test_proxy_render test_shadow test_simd test_tiles test_gestures test_log test_open_image)
+	test_pixel test_pose test_proxy test_proxy_render test_shadow test_simd test_sky565 test_tiles test_gestures test_log \
+	test_open_image)
 check-sanitize: deps
 	$(Q)$(MAKE) $(PAR) --no-print-directory CC=$(SAN_CC) BUILD=$(SAN_BUILD) OPT="-O1 -g" CFLAGS="$(SAN_FLAGS)" \
 		LDFLAGS="-fsanitize=address,undefined" all $(SAN_TESTS) fuzz-replay-build

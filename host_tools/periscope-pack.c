@@ -13,6 +13,7 @@
 #include "psc_io_image_rows.h"
 #include "psc_io_tiles.h"
 #include "psc_io_pack_image.h"
+#include "psc_io_pixfmt.h"
 #include "psc_io_cli.h"
 #include "psc_io_file.h"
 #include "psc_io_png.h"
@@ -37,7 +38,9 @@ static void print_usage(const char *prog, FILE *f)
             "\n"
             "  -o OUT.pano                 output file (written atomically)\n"
             "  --display WxH               display the tables are built for, e.g. 640x480\n"
-            "  --format F                  map pixels: rgb565 (default), xrgb8888, pal8\n"
+            "  --format F                  map pixels: rgb888 (default: 8 bits a channel, no bands in\n"
+            "                              a smooth sky), rgb565 (two thirds of the memory, faster on\n"
+            "                              an RGB565 display), xrgb8888, pal8\n"
             "  --projection P              equirect (default), cylinder, sine, elliptical, diamond\n"
             "  --lon-range MIN:MAX         longitudes the image covers, degrees (partial panoramas;\n"
             "                              default the full turn, -180:180)\n"
@@ -70,19 +73,6 @@ static void print_usage(const char *prog, FILE *f)
 
 #define usage_error(...) psc_io_cli_usage_error(PROG, __VA_ARGS__)
 
-static bool parse_format(const char *s, psc_pixfmt_t *f)
-{
-    if (strcmp(s, "rgb565") == 0)
-        *f = PSC_PIX_RGB565;
-    else if (strcmp(s, "xrgb8888") == 0)
-        *f = PSC_PIX_XRGB8888;
-    else if (strcmp(s, "pal8") == 0)
-        *f = PSC_PIX_PAL8;
-    else
-        return false;
-    return true;
-}
-
 static bool parse_projection(const char *s, psc_projection_t *p)
 {
     for (int i = PSC_PROJ_EQUIRECT; i <= PSC_PROJ_DIAMOND; i++) {
@@ -92,11 +82,6 @@ static bool parse_projection(const char *s, psc_projection_t *p)
         }
     }
     return false;
-}
-
-static const char *format_name(psc_pixfmt_t f)
-{
-    return f == PSC_PIX_RGB565 ? "rgb565" : f == PSC_PIX_XRGB8888 ? "xrgb8888" : f == PSC_PIX_PAL8 ? "pal8" : "?";
 }
 
 /* ---- progress on stderr -------------------------------------------------- */
@@ -172,7 +157,7 @@ static void print_summary(const char *out_path, const psc_pack_t *p, size_t len)
     fprintf(stderr, PROG ": wrote %s, %zu bytes (", out_path, len);
     print_size(stderr, (double)len);
     fprintf(stderr, ")\n  map      %ux%u %s, %s projection, ", (unsigned)m->width, (unsigned)m->height,
-            format_name(m->format), psc_projection_name(m->projection));
+            psc_io_pixfmt_name(m->format), psc_projection_name(m->projection));
     print_size(stderr, (double)m->stride * m->height);
     double lon0 = lon_deg(m->lon_min), span = m->lon_span ? psc_io_deg_from_bam(m->lon_span) : 360.0;
     fprintf(stderr, "\n  covers   longitude %.2f..%.2f, latitude %.2f..%.2f degrees\n", lon0, lon0 + span,
@@ -270,8 +255,8 @@ static int parse_args(int argc, char **argv, args_t *a)
                 return usage_error("--display '%s': expected WxH, each 1..4096", v);
             a->have_display = true;
         } else if (strcmp(name, "--format") == 0) {
-            if (!parse_format(v, &o->format))
-                return usage_error("--format '%s': expected rgb565, xrgb8888 or pal8", v);
+            if (psc_io_pixfmt_parse(v, &o->format) != 0)
+                return usage_error("--format '%s': expected rgb888, rgb565, xrgb8888 or pal8", v);
         } else if (strcmp(name, "--projection") == 0) {
             if (!parse_projection(v, &o->projection))
                 return usage_error("--projection '%s': expected equirect, cylinder, sine, elliptical or diamond", v);
@@ -332,7 +317,7 @@ static void print_tiled_summary(const char *out_path, const psc_pack_t *p, uint6
     fprintf(stderr, PROG ": wrote %s, %llu bytes (", out_path, (unsigned long long)bytes);
     print_size(stderr, (double)bytes);
     fprintf(stderr, "), tiled\n  map      %ux%u %s, %s projection, %u levels down to %ux%u, %u tiles of %ux%u (",
-            (unsigned)t->level[0].width, (unsigned)t->level[0].height, format_name(t->format),
+            (unsigned)t->level[0].width, (unsigned)t->level[0].height, psc_io_pixfmt_name(t->format),
             psc_projection_name(p->map.projection), (unsigned)t->level_count,
             (unsigned)t->level[t->level_count - 1u].width, (unsigned)t->level[t->level_count - 1u].height,
             (unsigned)t->tile_count, PSC_TILE_SIDE, PSC_TILE_SIDE);

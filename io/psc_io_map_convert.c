@@ -5,6 +5,7 @@
 #include "psc_io_palette.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 uint16_t psc_io_rgb565_from_xrgb(uint32_t xrgb)
 {
@@ -76,19 +77,25 @@ int psc_io_map_convert(const psc_image_t *img, psc_pixfmt_t format, uint8_t *pix
 {
     if (format == PSC_PIX_PAL8)
         return palette ? convert_pal8(img, pixels, palette, progress, progress_ctx) : -1;
-    if (format != PSC_PIX_RGB565 && format != PSC_PIX_XRGB8888)
+    if (format != PSC_PIX_RGB565 && format != PSC_PIX_XRGB8888 && format != PSC_PIX_RGB888)
         return -1;
-    uint32_t bpp = psc_pixfmt_bytes(format);
+    const uint32_t bpp = psc_pixfmt_bytes(format), stride = psc_pixfmt_row_bytes(format, img->width);
     for (uint32_t y = 0; y < img->height; y++) {
         report_rows(progress, progress_ctx, "converting map", y, img->height);
         const uint32_t *src = img->xrgb + (size_t)y * img->width;
-        uint8_t *dst = pixels + (size_t)y * img->width * bpp;
+        uint8_t *dst = pixels + (size_t)y * stride;
         for (uint32_t x = 0; x < img->width; x++) {
-            if (format == PSC_PIX_RGB565)
+            if (format == PSC_PIX_RGB565) {
                 psc_put_le16(dst + 2 * (size_t)x, psc_io_rgb565_from_xrgb(src[x]));
-            else
+            } else if (format == PSC_PIX_RGB888) {
+                dst[3 * (size_t)x] = (uint8_t)src[x];
+                dst[3 * (size_t)x + 1] = (uint8_t)(src[x] >> 8);
+                dst[3 * (size_t)x + 2] = (uint8_t)(src[x] >> 16);
+            } else {
                 psc_put_le32(dst + 4 * (size_t)x, 0xFF000000u | src[x]); /* X written 0xFF */
+            }
         }
+        memset(dst + (size_t)img->width * bpp, 0, stride - (size_t)img->width * bpp);   /* RGB888's spare bytes */
     }
     report_rows(progress, progress_ctx, "converting map", img->height, img->height);
     return 0;

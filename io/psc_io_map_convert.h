@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * psc_io_map_convert.h - convert an image's pixels to an environment-map pixel
- * format (core/base/psc_types.h): RGB565 rounded to nearest, XRGB8888 as is,
- * PAL8 through a palette chosen for the image. Output is little-endian rows
- * of width * bytes-per-pixel bytes, no padding (the pack's "MAP0" layout).
+ * format (core/base/psc_types.h): RGB565 rounded to nearest, XRGB8888 and
+ * RGB888 as is, PAL8 through a palette chosen for the image. Output is
+ * little-endian rows of psc_pixfmt_row_bytes bytes (width * bytes per pixel;
+ * RGB888's spare bytes zero): the pack's "MAP0" layout.
  */
 #ifndef PSC_MAP_CONVERT_H
 #define PSC_MAP_CONVERT_H
@@ -19,7 +20,7 @@ typedef void (*psc_progress_fn)(const char *stage, unsigned percent, void *ctx);
 uint16_t psc_io_rgb565_from_xrgb(uint32_t xrgb);
 
 /**
- * Convert img into pixels (width * height * psc_pixfmt_bytes(format) bytes).
+ * Convert img into pixels (height * psc_pixfmt_row_bytes(format, width) bytes).
  * For PAL8, palette receives 256 0xFFRRGGBB entries (unused ones black);
  * otherwise it may be NULL. progress may be NULL.
  * 0 on success; -1 for an unknown format or when out of memory.

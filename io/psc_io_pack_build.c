@@ -31,7 +31,7 @@ void psc_io_pack_options_default(psc_pack_options_t *o)
 {
     *o = (psc_pack_options_t){0};
     o->projection = PSC_PROJ_EQUIRECT;
-    o->format = PSC_PIX_RGB565;
+    o->format = PSC_PIX_RGB888;
     o->display_width = 640;
     o->display_height = 480;
     o->hfov_min_deg = 20.0;
@@ -108,10 +108,11 @@ static int check_options(uint32_t width, uint32_t height, bool tiled, const psc_
                           (unsigned)PSC_TILES_MAX_HEIGHT);
     if (tiled && o->format == PSC_PIX_PAL8)
         return build_fail(err, errlen, "a tiled map cannot be PAL8 (its palette would need the whole image at "
-                          "once); use rgb565 or xrgb8888");
+                          "once); use rgb888, rgb565 or xrgb8888");
     if (o->projection < PSC_PROJ_EQUIRECT || o->projection > PSC_PROJ_DIAMOND)
         return build_fail(err, errlen, "unknown projection %d", (int)o->projection);
-    if (o->format != PSC_PIX_RGB565 && o->format != PSC_PIX_XRGB8888 && o->format != PSC_PIX_PAL8)
+    if (o->format != PSC_PIX_RGB565 && o->format != PSC_PIX_XRGB8888 && o->format != PSC_PIX_PAL8 &&
+        o->format != PSC_PIX_RGB888)
         return build_fail(err, errlen, "unknown map format %d", (int)o->format);
     if (o->display_width == 0 || o->display_height == 0 || o->display_width > PSC_MAX_OUT_DIM ||
         o->display_height > PSC_MAX_OUT_DIM)
@@ -364,7 +365,7 @@ int psc_io_pack_build(const psc_image_t *img, const psc_pack_options_t *opt_in, 
     map.format = opt->format;
     map.width = img->width;
     map.height = img->height;
-    map.stride = (uint32_t)map.width * psc_pixfmt_bytes(map.format);
+    map.stride = psc_pixfmt_row_bytes(map.format, map.width);
     fill_coverage(&map, opt);
 
     /* Checked before any large allocation. */
@@ -382,7 +383,7 @@ int psc_io_pack_build(const psc_image_t *img, const psc_pack_options_t *opt_in, 
     psc_container_slot_t *level_sec[PSC_PACK_MAX_LEVELS] = {pixels};
     for (unsigned k = 1; k < nlevels; k++)
         level_sec[k] = layout_add(&l, PSC_SECTION_MAP_LEVEL(k),
-                                  (uint64_t)(map.width >> k) * (map.height >> k) * psc_pixfmt_bytes(map.format));
+                                  (uint64_t)psc_pixfmt_row_bytes(map.format, map.width >> k) * (map.height >> k));
     psc_container_slot_t *palette = opt->format == PSC_PIX_PAL8 ? layout_add(&l, PSC_SECTION_PALETTE, PALETTE_BYTES) : NULL;
     for (unsigned i = 0; i < nluts; i++)
         plan[i].section = layout_add(&l, PSC_SECTION_LUT,

@@ -14,7 +14,7 @@
 
 typedef struct {
     psc_projection_t projection;   /* default EQUIRECT */
-    psc_pixfmt_t format;           /* default RGB565 */
+    psc_pixfmt_t format;           /* default RGB888 */
     uint16_t display_width, display_height;  /* default 640x480 */
     /* coverage; lon_span 0 and lat_top == lat_bottom == 0 mean "the projection's default" */
     psc_bam_t lon_min, lon_span;

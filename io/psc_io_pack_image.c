@@ -8,6 +8,7 @@
 #include "psc_io_file.h"
 #include "psc_io_image.h"
 #include "psc_io_png.h"
+#include "psc_io_pixfmt.h"
 #include "psc_io_xmp.h"
 
 #include <errno.h>
@@ -146,11 +147,6 @@ static uint64_t pack_fnv1a(const char *s)
     return h;
 }
 
-static const char *pack_format_name(psc_pixfmt_t f)
-{
-    return f == PSC_PIX_RGB565 ? "rgb565" : f == PSC_PIX_XRGB8888 ? "xrgb8888" : f == PSC_PIX_PAL8 ? "pal8" : "?";
-}
-
 /* The cache file for the source (st) and the request: res->cache_path, or cache_off with the reason. */
 static void pack_cache_name(const char *path, const struct stat *st, const psc_io_pack_image_request_t *rq,
                             psc_io_pack_image_result_t *res)
@@ -176,7 +172,7 @@ static void pack_cache_name(const char *path, const struct stat *st, const psc_i
         snprintf(abs, sizeof abs, "%s", path);
     snprintf(key, sizeof key, "%s|%llu|%lld.%09ld|%ux%u|%s|pack %u.%u|%s", abs, (unsigned long long)st->st_size,
              (long long)st->st_mtim.tv_sec, (long)st->st_mtim.tv_nsec, (unsigned)rq->display_width,
-             (unsigned)rq->display_height, pack_format_name(rq->format), PSC_PACK_VERSION_MAJOR,
+             (unsigned)rq->display_height, psc_io_pixfmt_name(rq->format), PSC_PACK_VERSION_MAJOR,
              PSC_PACK_VERSION_MINOR, PSC_VERSION);
     int n = snprintf(res->cache_path, sizeof res->cache_path, "%s/%016llx.pano", dir,
                      (unsigned long long)pack_fnv1a(key));
@@ -205,8 +201,8 @@ static bool pack_cache_take(const psc_io_pack_image_request_t *rq, psc_io_pack_i
         p->map.format != rq->format) {
         pack_note(notes, noteslen, "warning: cache file %s is for %ux%u %s, not %ux%u %s: packing again",
                   res->cache_path, (unsigned)p->display_width, (unsigned)p->display_height,
-                  pack_format_name(p->map.format), (unsigned)rq->display_width, (unsigned)rq->display_height,
-                  pack_format_name(rq->format));
+                  psc_io_pixfmt_name(p->map.format), (unsigned)rq->display_width, (unsigned)rq->display_height,
+                  psc_io_pixfmt_name(rq->format));
         psc_io_pack_free(pf);
         return false;
     }
@@ -270,7 +266,7 @@ int psc_io_pack_image_load(const char *path, const psc_io_pack_image_request_t *
         res->from_cache = true;
         snprintf(res->line, sizeof res->line, "%s: from the cache, %s (packed for %ux%u %s)", path,
                  res->cache_path, (unsigned)rq->display_width, (unsigned)rq->display_height,
-                 pack_format_name(rq->format));
+                 psc_io_pixfmt_name(rq->format));
         return 0;
     }
     uint64_t t0 = pack_now_us();
@@ -288,11 +284,11 @@ int psc_io_pack_image_load(const char *path, const psc_io_pack_image_request_t *
     uint64_t cs = (res->build_us + 5000u) / 10000u;   /* hundredths of a second, rounded */
     if (res->cache_off)
         snprintf(res->line, sizeof res->line, "%s: packed for %ux%u %s in %llu.%02llu s, not cached", path,
-                 (unsigned)rq->display_width, (unsigned)rq->display_height, pack_format_name(rq->format),
+                 (unsigned)rq->display_width, (unsigned)rq->display_height, psc_io_pixfmt_name(rq->format),
                  (unsigned long long)(cs / 100u), (unsigned long long)(cs % 100u));
     else
         snprintf(res->line, sizeof res->line, "%s: packed for %ux%u %s in %llu.%02llu s, cached as %s", path,
-                 (unsigned)rq->display_width, (unsigned)rq->display_height, pack_format_name(rq->format),
+                 (unsigned)rq->display_width, (unsigned)rq->display_height, psc_io_pixfmt_name(rq->format),
                  (unsigned long long)(cs / 100u), (unsigned long long)(cs % 100u), res->cache_path);
     return 0;
 }

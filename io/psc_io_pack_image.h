@@ -46,7 +46,7 @@ void psc_io_pack_image_coverage(const char *path, uint32_t w, uint32_t h, bool l
 /** What the device asks for: its display, and where to cache (NULL: the environment's choice). */
 typedef struct {
     uint16_t display_width, display_height;
-    psc_pixfmt_t format;            /* the map format: the display's own (rgb565 or xrgb8888) */
+    psc_pixfmt_t format;            /* the map format: the display's own (rgb565 or xrgb8888), or rgb888 */
     const char *cache_dir;          /* NULL: the environment (above); "": no cache */
 } psc_io_pack_image_request_t;
 

@@ -100,6 +100,12 @@ static uint32_t level_count(uint32_t width, uint32_t height, const psc_pack_opti
     return n < most ? n : most;
 }
 
+/* A band row of level k: its tiles' texels side by side, as psc_io_map_convert lays out a row that wide. */
+static uint32_t band_row_bytes(const psc_io_tiles_writer_t *w, uint32_t k)
+{
+    return psc_pixfmt_row_bytes(w->geo.format, w->geo.level[k].tiles_x * PSC_TILE_SIDE);
+}
+
 int psc_io_tiles_writer_open(const char *path, uint32_t width, uint32_t height, const psc_pack_options_t *opt,
                              psc_io_tiles_writer_t **out, char *err, size_t errlen)
 {
@@ -120,7 +126,6 @@ int psc_io_tiles_writer_open(const char *path, uint32_t width, uint32_t height, 
         free(w);
         return fail(NULL, err, errlen, "cannot tile a %ux%u map", (unsigned)width, (unsigned)height);
     }
-    const uint32_t bpp = psc_pixfmt_bytes(opt->format);
     w->index = counted_alloc(w, (size_t)w->geo.tile_count * sizeof *w->index);
     w->tile = counted_alloc(w, w->geo.tile_bytes);
     w->child_row = counted_alloc(w, (size_t)(width / 2u + 1u) * sizeof *w->child_row);
@@ -129,7 +134,7 @@ int psc_io_tiles_writer_open(const char *path, uint32_t width, uint32_t height, 
         level_t *l = &w->level[k];
         l->width = w->geo.level[k].width;
         l->height = w->geo.level[k].height;
-        l->band = counted_alloc(w, (size_t)w->geo.level[k].tiles_x * PSC_TILE_SIDE * PSC_TILE_SIDE * bpp);
+        l->band = counted_alloc(w, (size_t)band_row_bytes(w, k) * PSC_TILE_SIDE);
         if (k + 1u < levels)
             l->hsum = counted_alloc(w, 4u * (size_t)(l->width / 2u) * sizeof *l->hsum);
         ok = l->band && (k + 1u == levels || l->hsum);
@@ -162,16 +167,13 @@ static int flush_band(psc_io_tiles_writer_t *w, uint32_t k, char *err, size_t er
 {
     level_t *l = &w->level[k];
     const psc_tile_level_t *g = &w->geo.level[k];
-    const uint32_t stride = w->geo.tile_stride, band_stride = g->tiles_x * stride;
+    const uint32_t stride = w->geo.tile_stride, band_stride = band_row_bytes(w, k);
+    const uint32_t texels = PSC_TILE_SIDE * psc_pixfmt_bytes(w->geo.format);   /* a tile row's, before its pad */
     const uint32_t ty = (l->rows_in - 1u) >> PSC_TILE_LOG2;
     for (uint32_t tx = 0; tx < g->tiles_x; tx++) {
-        for (uint32_t r = 0; r < PSC_TILE_SIDE; r++) {   /* rows past the level's end: zeros */
-            uint8_t *dst = w->tile + (size_t)r * stride;
-            if (r < l->band_rows)
-                memcpy(dst, l->band + (size_t)r * band_stride + (size_t)tx * stride, stride);
-            else
-                memset(dst, 0, stride);
-        }
+        memset(w->tile, 0, w->geo.tile_bytes);   /* rows past the level's end and RGB888's spare bytes: zeros */
+        for (uint32_t r = 0; r < l->band_rows; r++)
+            memcpy(w->tile + (size_t)r * stride, l->band + (size_t)r * band_stride + (size_t)tx * texels, texels);
         uint32_t i = g->first + ty * g->tiles_x + tx;
         w->index[i].offset = w->store_used;
         w->index[i].size = w->geo.tile_bytes;
@@ -230,7 +232,7 @@ static int add_row(psc_io_tiles_writer_t *w, uint32_t k, const uint32_t *xrgb, c
     const uint32_t y = l->rows_in++;
     /* the map's format, as the flat pack converts it (one row as an image) */
     const psc_image_t row = {l->width, 1, (uint32_t *)(uintptr_t)xrgb};
-    uint8_t *dst = l->band + (size_t)l->band_rows * w->geo.level[k].tiles_x * w->geo.tile_stride;
+    uint8_t *dst = l->band + (size_t)l->band_rows * band_row_bytes(w, k);
     if (psc_io_map_convert(&row, w->opt.format, dst, NULL, NULL, NULL) != 0)
         return fail(w, err, errlen, "cannot convert a row of level %u", (unsigned)k);
     l->band_rows++;

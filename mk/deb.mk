@@ -30,9 +30,9 @@ DEB_HOST_BOARD := $(firstword $(foreach b,x86-kiosk $(filter-out x86-kiosk,$(CRO
 $(BUILD)/scenes/%.pano: $(DEB_SAMPLE_JPG) $(BUILD)/bin/periscope-pack boards/%/board.conf
 	@mkdir -p $(@D)
 	@$(if $(Q),echo "  PACK    $@")
-	$(Q)size='$(call board_key,$*,display_size)'; fmt='$(call board_key,$*,display_format)'; \
+	$(Q)size='$(call board_key,$*,display_size)'; fmt=$$(sh scripts/board-pack-format $*); \
 	[ -n "$$size" ] || { echo "deb: boards/$*/board.conf has no display_size"; exit 1; }; \
-	$(BUILD)/bin/periscope-pack $(DEB_SAMPLE_JPG) -o $@ --display $$size --format $${fmt:-rgb565} --quiet
+	$(BUILD)/bin/periscope-pack $(DEB_SAMPLE_JPG) -o $@ --display $$size --format $$fmt --quiet
 
 image: deb
 

@@ -315,12 +315,12 @@ static void test_direct_open_equals_pack(void **state)
     tmp_path(pack, sizeof pack, "scene.pano");
     tmp_path(a, sizeof a, "from-pack.raw");
     tmp_path(b, sizeof b, "from-jpeg.raw");
-    /* the board's RGB565 display dithers (the default): the image is packed with its 8-bit map */
-    const char *pargs[] = {fx.jpg, "-o", pack, "--display", DISP, "--format", "xrgb8888", "--quiet", NULL};
+    /* the board's RGB565 display dithers (the default): the image is packed with its 8-bit map, RGB888 */
+    const char *pargs[] = {fx.jpg, "-o", pack, "--display", DISP, "--format", "rgb888", "--quiet", NULL};
     free(run_ok("periscope-pack", pargs));
     free(show(pack, a));
     char *out = show(fx.jpg, b);
-    expect_in(out, "packed for " DISP " xrgb8888 in ");
+    expect_in(out, "packed for " DISP " rgb888 in ");
     expect_in(out, "cached as ");
     free(out);
     size_t la, lb;
@@ -339,12 +339,12 @@ static void test_direct_open_equals_pack(void **state)
     free(fb);
     the_cache_file(cached, sizeof cached);
     assert_true(tsup_same_file(cached, pack));
-    /* periscope-render takes the image the same way (and finds it in the cache) */
+    /* periscope-render takes the image the same way for an RGB565 output it dithers (and finds it in the cache) */
     char v1[512], v2[512];
     tmp_path(v1, sizeof v1, "view-pack.png");
     tmp_path(v2, sizeof v2, "view-jpeg.png");
-    const char *r1[] = {pack, "-o", v1, "--yaw", "30", "--size", DISP, "--format", "xrgb8888", NULL};
-    const char *r2[] = {fx.jpg, "-o", v2, "--yaw", "30", "--size", DISP, "--format", "xrgb8888", NULL};
+    const char *r1[] = {pack, "-o", v1, "--yaw", "30", "--size", DISP, "--format", "rgb565", NULL};
+    const char *r2[] = {fx.jpg, "-o", v2, "--yaw", "30", "--size", DISP, "--format", "rgb565", NULL};
     free(run_ok("periscope-render", r1));
     out = run_ok("periscope-render", r2);
     expect_in(out, "from the cache");
@@ -502,7 +502,7 @@ static void test_gpano_xmp(void **state)
     char dump[512], pack[512], cached[512];
     tmp_path(dump, sizeof dump, "xmp.raw");
     tmp_path(pack, sizeof pack, "xmp-png.pano");
-    const char *pargs[] = {png, "-o", pack, "--display", DISP, "--format", "xrgb8888", "--quiet", NULL};
+    const char *pargs[] = {png, "-o", pack, "--display", DISP, "--format", "rgb888", "--quiet", NULL};
     free(run_ok("periscope-pack", pargs));
     out = show(png, dump);
     expect_in(out, "GPano XMP: a partial panorama");

@@ -3,7 +3,7 @@
  * test_simd.c - the viewer's vector scanlines (core/viewer/psc_viewer_simd.h)
  * give the scalar path's bytes:
  *  - every path this build and CPU have (baseline vectors: SSE2 or NEON;
- *    AVX2) against the scalar path on random views of maps of three formats
+ *    AVX2) against the scalar path on random views of maps of four formats
  *    and three projections, every filter and span, RGB565 and XRGB8888
  *    output, at widths with and without a lane tail and one the span does
  *    not divide, pitches to the poles;
@@ -11,7 +11,9 @@
  *    words, so AUTO must take another path there) and maps whose width is not
  *    a power of two (scalar) give the same bytes;
  *  - the map pyramid (PSC_FILTER_MIP) through each path: packs of a random
- *    image in three formats with every level, random views zoomed in and out;
+ *    image in four formats with every level, random views zoomed in and out;
+ *  - an RGB888 map's frames are an XRGB8888 map's of the same picture, every
+ *    sampler, projection and output;
  *  - psc_viewer_set_simd refuses what the build or CPU lacks and names
  *    the path it draws with.
  */
@@ -45,6 +47,9 @@ static const map_kind_t KINDS[] = {
     {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, 512, 256, 2}, /* rows at odd 16-bit words */
     {PSC_PROJ_EQUIRECT, PSC_PIX_PAL8, 512, 256, 1},   /* rows at odd bytes */
     {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, 600, 300, 0}, /* not a power of two */
+    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB888, 1024, 512, 0},
+    {PSC_PROJ_CYLINDER, PSC_PIX_RGB888, 600, 300, 0},
+    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB888, 512, 256, 1}, /* rows at odd bytes: no AVX2 */
 };
 
 static const struct {
@@ -195,11 +200,11 @@ static void mip_pack(psc_pixfmt_t fmt, tsup_rng_t *r, uint8_t **buf, size_t *len
 static void test_mip_paths_equal_scalar(void **state)
 {
     (void)state;
-    static const psc_pixfmt_t fmts[] = {PSC_PIX_RGB565, PSC_PIX_XRGB8888, PSC_PIX_PAL8};
+    static const psc_pixfmt_t fmts[] = {PSC_PIX_RGB565, PSC_PIX_XRGB8888, PSC_PIX_PAL8, PSC_PIX_RGB888};
     tsup_rng_t r;
     tsup_rng_seed(&r, 4242);
     unsigned frames = 0, compared = 0, counts[3] = {0};
-    for (unsigned fi = 0; fi < 3; fi++) {
+    for (unsigned fi = 0; fi < sizeof fmts / sizeof fmts[0]; fi++) {
         uint8_t *buf;
         size_t len;
         psc_pack_t p;
@@ -234,6 +239,79 @@ static void test_mip_paths_equal_scalar(void **state)
     assert_true(compared > 0);
     if (cpu_has_avx2())
         assert_true(counts[2] > 0);
+}
+
+/*
+ * An RGB888 map holds what an XRGB8888 map of the same picture holds, in three bytes a texel: every view of it,
+ * through every sampler (the general one of elliptical maps, the fast spans, the pyramid) and to either output,
+ * is the XRGB8888 map's frame, byte for byte; its rows' spare bytes (0x5A here) never show.
+ */
+static void test_rgb888_is_xrgb8888(void **state)
+{
+    (void)state;
+    static const psc_projection_t projs[] = {PSC_PROJ_EQUIRECT, PSC_PROJ_CYLINDER, PSC_PROJ_SINE, PSC_PROJ_ELLIPTICAL};
+    tsup_rng_t r;
+    tsup_rng_seed(&r, 888);
+    unsigned frames = 0;
+    for (unsigned k = 0; k < sizeof projs / sizeof projs[0]; k++) {
+        psc_envmap_t g = {0};
+        g.projection = projs[k];
+        g.width = 600;
+        g.height = 300;
+        tsup_map_t m8888, m888;
+        g.format = PSC_PIX_XRGB8888;
+        assert_int_equal(tsup_synth_map(&m8888, &g, 1, 0), 0);
+        g.format = PSC_PIX_RGB888;
+        assert_int_equal(tsup_synth_map(&m888, &g, 1, k), 0);   /* and spare bytes beyond the least */
+        for (int out = 0; out < 2; out++) {
+            psc_pixfmt_t of = out ? PSC_PIX_XRGB8888 : PSC_PIX_RGB565;
+            tsup_viewer_t a, b;
+            assert_int_equal(tsup_viewer_init(&a, &m8888.map, 173, 97, of), PSC_OK);
+            assert_int_equal(tsup_viewer_init(&b, &m888.map, 173, 97, of), PSC_OK);
+            for (unsigned i = 0; i < VIEWS; i++) {
+                psc_view_t view = random_view(&r);
+                psc_viewer_clamp(&a.v, &view, 0);
+                assert_int_equal(psc_viewer_render(&a.v, &view, &a.out), PSC_OK);
+                assert_int_equal(psc_viewer_render(&b.v, &view, &b.out), PSC_OK);
+                if (memcmp(a.out.pixels, b.out.pixels, (size_t)a.out.stride * a.out.height) != 0)
+                    fail_msg("%s map, %s output: yaw %u pitch %d hfov %u filter %d: rgb888 differs from xrgb8888",
+                             psc_projection_name(projs[k]), out ? "xrgb8888" : "rgb565", (unsigned)view.yaw,
+                             (int)view.pitch, (unsigned)view.hfov, (int)view.filter);
+                frames++;
+            }
+            tsup_viewer_free(&a);
+            tsup_viewer_free(&b);
+        }
+        tsup_map_free(&m8888);
+        tsup_map_free(&m888);
+    }
+    /* the pyramid: packs of one picture in both formats */
+    uint8_t *buf[2];
+    size_t len[2];
+    psc_pack_t p[2];
+    tsup_rng_t same = r;
+    mip_pack(PSC_PIX_XRGB8888, &r, &buf[0], &len[0], &p[0]);
+    mip_pack(PSC_PIX_RGB888, &same, &buf[1], &len[1], &p[1]);
+    assert_true(len[1] < len[0] * 4 / 5);   /* three bytes a texel, not four */
+    tsup_viewer_t tv[2];
+    for (int i = 0; i < 2; i++) {
+        assert_int_equal(tsup_viewer_init(&tv[i], &p[i].map, 48, 32, PSC_PIX_XRGB8888), PSC_OK);
+        assert_int_equal(psc_viewer_set_levels(&tv[i].v, p[i].levels, p[i].level_count), PSC_OK);
+    }
+    for (unsigned i = 0; i < VIEWS; i++, frames++) {
+        psc_view_t view = random_view(&r);
+        view.filter = PSC_FILTER_MIP;
+        psc_viewer_clamp(&tv[0].v, &view, 0);
+        assert_int_equal(psc_viewer_render(&tv[0].v, &view, &tv[0].out), PSC_OK);
+        assert_int_equal(psc_viewer_render(&tv[1].v, &view, &tv[1].out), PSC_OK);
+        assert_memory_equal(tv[0].out.pixels, tv[1].out.pixels, (size_t)tv[0].out.stride * tv[0].out.height);
+    }
+    for (int i = 0; i < 2; i++) {
+        tsup_viewer_free(&tv[i]);
+        free(buf[i]);
+    }
+    print_message("  %u random views: an rgb888 map's frames are the xrgb8888 map's, byte for byte (pack %zu bytes "
+                  "against %zu)\n", frames, len[1], len[0]);
 }
 
 static void test_choice(void **state)
@@ -280,6 +358,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_paths_equal_scalar),
         cmocka_unit_test(test_mip_paths_equal_scalar),
+        cmocka_unit_test(test_rgb888_is_xrgb8888),
         cmocka_unit_test(test_choice),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -621,8 +621,9 @@ static void test_exit_codes(void **state)
         expect_run("periscope-render", a, 1, m);
         assert_false(tsup_file_exists(out));
     }
-    /* An image is packed first, as the device packs one (tests/test_open_image.c); no cache here. */
-    snprintf(named, sizeof named, "%s: packed for 640x480 rgb565 in ", fx.png);
+    /* An image is packed first, as the device packs one for the RGB565 output it dithers (tests/test_open_image.c:
+     * RGB888); no cache here. */
+    snprintf(named, sizeof named, "%s: packed for 640x480 rgb888 in ", fx.png);
     {
         const char *a[] = {fx.png, "-o", out, NULL}, *m[] = {named, "not cached", NULL};
         assert_int_equal(setenv("PERISCOPE_CACHE_DIR", "", 1), 0);

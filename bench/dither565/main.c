@@ -7,15 +7,17 @@
  *   build/bench/dither565 --callgrind --out bench/results  instructions per frame under callgrind
  *                                                          (`make bench-callgrind`)
  *
- * The bundled sample packed for an 800x480 display twice, as periscope-pack
- * does: with RGB565 maps (the default) and with XRGB8888 maps. Per frame, one
- * core, mip, span 4, four views, best of PASSES passes:
+ * The bundled sample packed for an 800x480 display three times, as periscope-pack
+ * does: with RGB565 maps (the default before RGB888), XRGB8888 maps and RGB888
+ * maps (the default). Per frame, one core, mip, span 4, four views, best of
+ * PASSES passes:
  *   565 pack -> 565          the viewer straight into RGB565: the frames before the key, and what the
  *                            device still draws for an RGB565 pack (the scene fits RGB565)
  *   565 pack -> 8888 + dither  what dithering an RGB565 pack would cost (the device does not: it buys nothing)
  *   8888 pack -> 565         an 8-bit pack with display_dither = none (rounded to nearest)
  *   8888 pack -> 8888 + dither an 8-bit pack with the default: the viewer into the XRGB8888 draw frame, then
  *                            psc_dither_row_rgb565; the sky's 8 bits reach the screen
+ *   888 pack -> 8888 + dither  the same from the default RGB888 pack (three bytes a texel)
  *   the pass alone            ordered, and the same pass rounding (none), over a drawn frame
  * Banding, on a real sky (yaw 200, pitch 50, hfov 90: sky over the whole
  * frame): each RGB565 frame against the 8-bit frame the 8-bit pack renders,
@@ -56,7 +58,7 @@ typedef struct {
 } pack_t;
 
 typedef struct {
-    pack_t p565, p8888;
+    pack_t p565, p8888, p888;
     uint16_t *out;   /* the RGB565 back buffer */
     uint32_t *draw;  /* the XRGB8888 draw frame */
     psc_dither_565_t t;
@@ -111,7 +113,8 @@ static int setup(bench_t *b)
         fprintf(stderr, "dither565 bench: %s (run from the repository root)\n", err);
         return -1;
     }
-    int rc = pack_make(&img, PSC_PIX_RGB565, &b->p565) | pack_make(&img, PSC_PIX_XRGB8888, &b->p8888);
+    int rc = pack_make(&img, PSC_PIX_RGB565, &b->p565) | pack_make(&img, PSC_PIX_XRGB8888, &b->p8888) |
+             pack_make(&img, PSC_PIX_RGB888, &b->p888);
     free(img.xrgb);
     if (rc != 0 || posix_memalign((void **)&b->out, 64, W * H * 2) != 0 ||
         posix_memalign((void **)&b->draw, 64, W * H * 4) != 0)
@@ -122,8 +125,8 @@ static int setup(bench_t *b)
 
 static void teardown(bench_t *b)
 {
-    pack_t *p[2] = {&b->p565, &b->p8888};
-    for (unsigned i = 0; i < 2; i++) {
+    pack_t *p[3] = {&b->p565, &b->p8888, &b->p888};
+    for (unsigned i = 0; i < 3; i++) {
         free(p[i]->buf);
         free(p[i]->ws);
     }
@@ -170,18 +173,18 @@ static void run_banding(bench_t *b, FILE *j)
 {
     unsigned sky = VIEWS - 1u;
     uint32_t *ref = malloc(W * H * 4);
-    uint16_t *shown[4];
-    static const char *const name[4] = {"565 pack -> 565 (before)", "565 pack -> dither",
-                                        "8888 pack -> 565", "8888 pack -> dither"};
+    uint16_t *shown[5];
+    static const char *const name[5] = {"565 pack -> 565 (before)", "565 pack -> dither",
+                                        "8888 pack -> 565", "8888 pack -> dither", "888 pack -> dither (default)"};
     if (!ref) {
         fprintf(stderr, "dither565 bench: out of memory\n");
         exit(1);
     }
     frame_dithered(b, &b->p8888, sky);
     memcpy(ref, b->draw, W * H * 4);
-    for (unsigned k = 0; k < 4; k++) {
-        pack_t *p = k < 2 ? &b->p565 : &b->p8888;
-        if (k & 1u)
+    for (unsigned k = 0; k < 5; k++) {
+        pack_t *p = k < 2 ? &b->p565 : k < 4 ? &b->p8888 : &b->p888;
+        if (k & 1u || k == 4)
             frame_dithered(b, p, sky);
         else
             frame_direct(b, p, sky);
@@ -198,7 +201,7 @@ static void run_banding(bench_t *b, FILE *j)
            "%-28s %8s %9s %11s %22s\n", W, H, PSC_MEASURE_BANDING_SIGMA, psc_measure_banding_step(ref, W, H), "path", "RMS", "max step", "error step",
            "mean error R/G/B");
     fprintf(j, "  \"banding\": {\n");
-    for (unsigned k = 0; k < 4; k++) {
+    for (unsigned k = 0; k < 5; k++) {
         psc_measure_banding_t r;
         if (psc_measure_banding(ref, shown[k], W, H, &r) != 0) {
             fprintf(stderr, "dither565 bench: out of memory\n");
@@ -207,7 +210,7 @@ static void run_banding(bench_t *b, FILE *j)
         printf("%-28s %8.3f %9.3f %11.3f %+7.3f %+7.3f %+7.3f\n", name[k], r.rms, r.step, r.estep, r.bias[0],
                r.bias[1], r.bias[2]);
         fprintf(j, "    \"%s\": {\"rms\": %.4f, \"max_step\": %.4f, \"error_step\": %.4f, \"bias\": [%.4f, %.4f, %.4f]}%s\n",
-                name[k], r.rms, r.step, r.estep, r.bias[0], r.bias[1], r.bias[2], k + 1u < 4u ? "," : "");
+                name[k], r.rms, r.step, r.estep, r.bias[0], r.bias[1], r.bias[2], k + 1u < 5u ? "," : "");
         free(shown[k]);
     }
     fprintf(j, "  }\n");
@@ -229,7 +232,8 @@ static double time_path(bench_t *b, unsigned path)
                 case 1: frame_dithered(b, &b->p565, i); break;
                 case 2: frame_direct(b, &b->p8888, i); break;
                 case 3: frame_dithered(b, &b->p8888, i); break;
-                case 4: pass_ordered(b); break;
+                case 4: frame_dithered(b, &b->p888, i); break;
+                case 5: pass_ordered(b); break;
                 default: pass_none(b); break;
                 }
         double t = (bench_now_s() - t0) / (REPEAT * VIEWS);
@@ -238,9 +242,10 @@ static double time_path(bench_t *b, unsigned path)
     return best * 1e3;
 }
 
-static const char *const path_name[6] = {"565 pack -> 565 (none)", "565 pack -> 8888 + dither",
+static const char *const path_name[7] = {"565 pack -> 565 (none)", "565 pack -> 8888 + dither",
                                          "8888 pack -> 565 (none)", "8888 pack -> 8888 + dither",
-                                         "the pass alone, ordered", "the pass alone, none"};
+                                         "888 pack -> 8888 + dither", "the pass alone, ordered",
+                                         "the pass alone, none"};
 
 static int run_table(const char *out_dir)
 {
@@ -258,22 +263,24 @@ static int run_table(const char *out_dir)
            PASSES);
     fprintf(j, "{\n  \"benchmark\": \"dither565\",\n  \"width\": %u, \"height\": %u,\n  \"ms_per_frame\": {\n", W, H);
     double base = 0.0;
-    for (unsigned k = 0; k < 6; k++) {
+    for (unsigned k = 0; k < 7; k++) {
         double ms = time_path(&b, k);
         if (k == 0)
             base = ms;
         printf("%-30s %8.3f ms (%5.2f ns/pixel)  x%.2f\n", path_name[k], ms, ms * 1e6 / (W * H), ms / base);
-        fprintf(j, "    \"%s\": %.4f%s\n", path_name[k], ms, k < 5 ? "," : "");
+        fprintf(j, "    \"%s\": %.4f%s\n", path_name[k], ms, k < 6 ? "," : "");
     }
     fprintf(j, "  },\n");
     size_t map565 = (size_t)b.p565.pack.map.stride * b.p565.pack.map.height;
     size_t map8888 = (size_t)b.p8888.pack.map.stride * b.p8888.pack.map.height;
+    size_t map888 = (size_t)b.p888.pack.map.stride * b.p888.pack.map.height;
     printf("\nMemory: the draw frame %u KiB (%ux%u XRGB8888; none with display_dither = none), the tables %zu bytes;\n"
-           "packs %zu KiB (RGB565 maps, map %zu KiB) and %zu KiB (XRGB8888 maps, map %zu KiB), pyramids included\n",
+           "packs %zu KiB (RGB565 maps, map %zu KiB), %zu KiB (XRGB8888 maps, map %zu KiB) and %zu KiB (RGB888\n"
+           "maps, map %zu KiB: %.3fx the RGB565 map), pyramids included\n",
            W * H * 4u / 1024u, W, H, sizeof b.t, b.p565.len / 1024u, map565 / 1024u, b.p8888.len / 1024u,
-           map8888 / 1024u);
-    fprintf(j, "  \"bytes\": {\"draw_frame\": %u, \"tables\": %zu, \"pack_rgb565\": %zu, \"pack_xrgb8888\": %zu},\n",
-            W * H * 4u, sizeof b.t, b.p565.len, b.p8888.len);
+           map8888 / 1024u, b.p888.len / 1024u, map888 / 1024u, (double)map888 / (double)map565);
+    fprintf(j, "  \"bytes\": {\"draw_frame\": %u, \"tables\": %zu, \"pack_rgb565\": %zu, \"pack_xrgb8888\": %zu, "
+            "\"pack_rgb888\": %zu},\n", W * H * 4u, sizeof b.t, b.p565.len, b.p8888.len, b.p888.len);
     run_banding(&b, j);
     fprintf(j, "}\n");
     fclose(j);
@@ -307,6 +314,12 @@ __attribute__((noinline)) static void cg_dither8888(bench_t *b)
         frame_dithered(b, &b->p8888, i);
 }
 
+__attribute__((noinline)) static void cg_dither888(bench_t *b)
+{
+    for (unsigned i = 0; i < VIEWS; i++)
+        frame_dithered(b, &b->p888, i);
+}
+
 __attribute__((noinline)) static void cg_pass_ordered(bench_t *b)
 {
     for (unsigned i = 0; i < VIEWS; i++)
@@ -329,6 +342,7 @@ static int cg_child(void)
     cg_dither565(&b);
     cg_direct8888(&b);
     cg_dither8888(&b);
+    cg_dither888(&b);
     cg_pass_ordered(&b);
     cg_pass_none(&b);
     teardown(&b);
@@ -339,13 +353,10 @@ static int run_callgrind(const char *self, const char *out_dir)
 {
     if (bench_callgrind_require("dither565") != 0)
         return 1;
-    static const char *const fns[] = {"cg_direct565", "cg_dither565", "cg_direct8888", "cg_dither8888", "cg_pass_ordered",
-                                      "cg_pass_none"};
-    static const char *const names[] = {"565 pack -> 565 (none)", "565 pack -> 8888 + dither",
-                                        "8888 pack -> 565 (none)", "8888 pack -> 8888 + dither",
-                                        "the pass alone, ordered", "the pass alone, none"};
-    double ir[6];
-    if (bench_callgrind_counts("dither565", self, fns, 6, ir) != 0)
+    static const char *const fns[] = {"cg_direct565", "cg_dither565", "cg_direct8888", "cg_dither8888", "cg_dither888",
+                                      "cg_pass_ordered", "cg_pass_none"};
+    double ir[7];
+    if (bench_callgrind_counts("dither565", self, fns, 7, ir) != 0)
         return 1;
     printf("RGB565 output under callgrind at %ux%u, mip span 4, the same %u views: instructions per frame\n", W, H,
            VIEWS);
@@ -354,11 +365,11 @@ static int run_callgrind(const char *self, const char *out_dir)
     FILE *j = fopen(path, "w");
     if (j)
         fprintf(j, "{\n  \"benchmark\": \"dither565-callgrind\",\n  \"per_frame\": {\n");
-    for (unsigned i = 0; i < 6; i++) {
+    for (unsigned i = 0; i < 7; i++) {
         double per = ir[i] / VIEWS;
-        printf("%-30s %12.0f (%5.2f a pixel)  x%.2f\n", names[i], per, per / (W * H), per / (ir[0] / VIEWS));
+        printf("%-30s %12.0f (%5.2f a pixel)  x%.2f\n", path_name[i], per, per / (W * H), per / (ir[0] / VIEWS));
         if (j)
-            fprintf(j, "    \"%s\": %.0f%s\n", names[i], per, i < 5 ? "," : "");
+            fprintf(j, "    \"%s\": %.0f%s\n", path_name[i], per, i < 6 ? "," : "");
     }
     if (j) {
         fprintf(j, "  }\n}\n");

@@ -27,6 +27,17 @@ static PSC_ALWAYS_INLINE uint32_t psc_rgb565_to_xrgb(uint32_t p)
     return 0xFF000000u | (r << 16) | (g << 8) | b;
 }
 
+/*
+ * Texel c of an RGB888 row as XRGB8888 with X = 0: one 32-bit load (the row's spare byte keeps it inside,
+ * psc_pixfmt_row_bytes), its fourth byte dropped. Little-endian, as every pack is.
+ */
+static PSC_ALWAYS_INLINE uint32_t psc_rgb888_at(const uint8_t *row, uint32_t c)
+{
+    uint32_t w;
+    __builtin_memcpy(&w, row + 3u * c, sizeof w);
+    return w & 0xFFFFFFu;
+}
+
 static PSC_ALWAYS_INLINE uint16_t psc_xrgb_to_rgb565(uint32_t p)
 {
     uint32_t r = (p >> 16) & 255u, g = (p >> 8) & 255u, b = p & 255u;

@@ -57,13 +57,25 @@ const char *psc_status_str(psc_status_t s);
 typedef enum {
     PSC_PIX_RGB565 = 1,   /* 16-bit, R in bits 15..11, little-endian in memory */
     PSC_PIX_XRGB8888 = 2, /* 32-bit word 0xXXRRGGBB, X ignored (written 0xFF) */
-    PSC_PIX_PAL8 = 3      /* 8-bit index into a 256-entry XRGB8888 palette (maps only) */
+    PSC_PIX_PAL8 = 3,     /* 8-bit index into a 256-entry XRGB8888 palette (maps only) */
+    PSC_PIX_RGB888 = 4    /* 24-bit, bytes B, G, R: the XRGB8888 word's low three (maps only); rows padded, see
+                           * psc_pixfmt_row_bytes */
 } psc_pixfmt_t;
 
 /** Bytes per pixel of a format (0 for an unknown format). */
 static inline uint32_t psc_pixfmt_bytes(psc_pixfmt_t f)
 {
-    return f == PSC_PIX_RGB565 ? 2u : f == PSC_PIX_XRGB8888 ? 4u : f == PSC_PIX_PAL8 ? 1u : 0u;
+    return f == PSC_PIX_RGB565 ? 2u : f == PSC_PIX_XRGB8888 ? 4u : f == PSC_PIX_PAL8 ? 1u : f == PSC_PIX_RGB888 ? 3u : 0u;
+}
+
+/**
+ * Bytes a row of w pixels takes in a map (w <= 2^24): w times the pixel's bytes, and for RGB888 at least one
+ * spare byte more, rounded up to 4, so that a 32-bit load at any texel stays inside its row (the samplers read
+ * a texel that way) and rows stay 4-byte aligned. A map's stride is at least this.
+ */
+static inline uint32_t psc_pixfmt_row_bytes(psc_pixfmt_t f, uint32_t w)
+{
+    return f == PSC_PIX_RGB888 ? (3u * w + 4u) & ~3u : w * psc_pixfmt_bytes(f);
 }
 
 /** A rectangle of pixels the caller owns: an output framebuffer or a view buffer. */

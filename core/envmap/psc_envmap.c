@@ -31,7 +31,7 @@ psc_status_t psc_envmap_check(const psc_envmap_t *m)
         return PSC_ERR_ARG;
     if (m->width > PSC_MAX_MAP_DIM || m->height > PSC_MAX_MAP_DIM)
         return PSC_ERR_TOO_LARGE;
-    if (m->stride < (uint32_t)m->width * bpp)
+    if (m->stride < psc_pixfmt_row_bytes(m->format, m->width))
         return PSC_ERR_ARG;
     if (m->format == PSC_PIX_PAL8 && !m->palette)
         return PSC_ERR_ARG;

@@ -234,9 +234,9 @@ psc_status_t psc_pack_parse(const void *buf, size_t len, psc_pack_t *out, psc_co
         return fail(err, PSC_ERR_CORRUPT, "a TINF section in a pack with a flat map", tile_info_off);
     if (!map_pixels)
         return fail(err, PSC_ERR_CORRUPT, "missing MAP0 section", header_size);
-    m->stride = (uint32_t)m->width * psc_pixfmt_bytes(m->format);
+    m->stride = psc_pixfmt_row_bytes(m->format, m->width);
     if ((uint64_t)m->stride * m->height != map_size)
-        return fail(err, PSC_ERR_CORRUPT, "MAP0 size does not match width x height x bytes per pixel", map_off);
+        return fail(err, PSC_ERR_CORRUPT, "MAP0 size does not match height x row bytes", map_off);
     m->pixels = map_pixels;
     if (m->format == PSC_PIX_PAL8) {
         if (!palette)
@@ -255,7 +255,7 @@ psc_status_t psc_pack_parse(const void *buf, size_t len, psc_pack_t *out, psc_co
         *l = *m;
         l->width = w;
         l->height = h;
-        l->stride = w * psc_pixfmt_bytes(m->format);
+        l->stride = psc_pixfmt_row_bytes(m->format, w);
         if ((uint64_t)l->stride * h != level_size[k])
             return fail(err, PSC_ERR_CORRUPT, "map level size does not match its dimensions", level_off[k]);
         l->pixels = level_pixels[k];

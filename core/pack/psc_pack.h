@@ -9,7 +9,8 @@
  * version PSC_PACK_VERSION_MAJOR.PSC_PACK_VERSION_MINOR and at most
  * PSC_PACK_MAX_SECTIONS sections. Section types:
  *   "SCEN"  psc_pack_scene_raw_t (exactly its size)
- *   "MAP0"  map pixels, rows of width * bytes-per-pixel bytes, no padding
+ *   "MAP0"  map pixels, rows of psc_pixfmt_row_bytes(format, width) bytes: width * bytes per pixel, and
+ *           for RGB888 (minor version 3) the spare bytes up to the next multiple of 4 past one more
  *   "MAP1".."MAP9", "MAP:".."MAP;"  (minor version 1) the map pyramid: level k is
  *           (width >> k) x (height >> k), same format (and palette), filtered
  *           down from level k-1; levels are consecutive from 1, and exist only
@@ -40,7 +41,7 @@
 
 #define PSC_PACK_MAGIC "PSCPANO\x1a"
 #define PSC_PACK_VERSION_MAJOR 1u
-#define PSC_PACK_VERSION_MINOR 2u   /* 1: the map pyramid; 2: tiled packs */
+#define PSC_PACK_VERSION_MINOR 3u   /* 1: the map pyramid; 2: tiled packs; 3: RGB888 maps */
 #define PSC_PACK_MAX_SECTIONS 24u
 #define PSC_PACK_MAX_LEVELS 12u /* map levels, level 0 included */
 #define PSC_PACK_MAX_LUTS 4u

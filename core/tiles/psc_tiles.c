@@ -31,7 +31,7 @@ psc_status_t psc_tiles_init(psc_tiles_t *t, uint32_t width, uint32_t height, uin
     t->format = format;
     t->palette = format == PSC_PIX_PAL8 ? palette : NULL;
     t->level_count = levels;
-    t->tile_stride = PSC_TILE_SIDE * psc_pixfmt_bytes(format);
+    t->tile_stride = psc_pixfmt_row_bytes(format, PSC_TILE_SIDE);
     t->tile_bytes = t->tile_stride * PSC_TILE_SIDE;
     uint32_t first = 0;
     for (uint32_t k = 0; k < levels; k++) {

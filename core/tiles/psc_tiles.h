@@ -49,7 +49,7 @@ typedef struct {
     psc_pixfmt_t format;
     const uint32_t *palette;            /* PAL8: 256 XRGB8888 entries */
     uint32_t level_count, tile_count;
-    uint32_t tile_stride;               /* bytes per tile row: PSC_TILE_SIDE pixels */
+    uint32_t tile_stride;               /* bytes per tile row: psc_pixfmt_row_bytes(format, PSC_TILE_SIDE) */
     uint32_t tile_bytes;                /* a whole tile */
     psc_tile_level_t level[PSC_TILES_MAX_LEVELS];
     const void *const *resident;        /* tile_count pointers (tile_bytes each, aligned to 4), NULL: absent */

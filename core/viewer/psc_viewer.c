@@ -195,7 +195,7 @@ psc_status_t psc_viewer_set_levels(psc_viewer_t *v, const psc_envmap_t *levels, 
         if (l->projection != m->projection || l->format != m->format || l->lon_min != m->lon_min ||
             l->lon_span != m->lon_span || l->lat_top != m->lat_top || l->lat_bottom != m->lat_bottom ||
             ((uint32_t)l->width << k) != m->width || ((uint32_t)l->height << k) != m->height || !l->pixels ||
-            l->stride < (uint32_t)l->width * psc_pixfmt_bytes(l->format) ||
+            l->stride < psc_pixfmt_row_bytes(l->format, l->width) ||
             (m->format == PSC_PIX_PAL8 && l->palette != m->palette))
             return PSC_ERR_ARG;
     }
@@ -285,7 +285,8 @@ static void polar_caps(const psc_viewer_t *v, const psc_lut_t *lut, unsigned spa
 
 /* ---- the scanline code path ---------------------------------------------------- */
 
-/* The AVX2 kernel reads aligned 32-bit words around each texel: the map and its rows must be 4-byte aligned. */
+/* The AVX2 kernel reads aligned 32-bit words around each texel (RGB888's at any byte): the map and its rows must be
+ * 4-byte aligned. */
 static bool map_words_aligned(const psc_envmap_t *m)
 {
     return ((uintptr_t)m->pixels & 3u) == 0 && (m->stride & 3u) == 0;

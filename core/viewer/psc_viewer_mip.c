@@ -18,6 +18,8 @@ static PSC_ALWAYS_INLINE uint32_t texel(const uint8_t *row, uint32_t c, const ps
         return ((const uint16_t *)(const void *)row)[c]; /* raw: blended packed or expanded by the caller */
     if (in == PSC_PIX_XRGB8888)
         return ((const uint32_t *)(const void *)row)[c];
+    if (in == PSC_PIX_RGB888)
+        return psc_rgb888_at(row, c);
     return pal[row[c]];
 }
 
@@ -111,5 +113,6 @@ void psc_span_mip(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, uin
     case PSC_PIX_RGB565: MIP_FOR_FORMAT(PSC_PIX_RGB565); break;
     case PSC_PIX_XRGB8888: MIP_FOR_FORMAT(PSC_PIX_XRGB8888); break;
     case PSC_PIX_PAL8: MIP_FOR_FORMAT(PSC_PIX_PAL8); break;
+    case PSC_PIX_RGB888: MIP_FOR_FORMAT(PSC_PIX_RGB888); break;
     }
 }

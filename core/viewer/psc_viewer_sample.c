@@ -14,6 +14,7 @@ static uint32_t texel(const psc_envmap_t *m, int32_t r, int32_t c)
     case PSC_PIX_RGB565: return psc_rgb565_to_xrgb(((const uint16_t *)(const void *)row)[c]);
     case PSC_PIX_XRGB8888: return ((const uint32_t *)(const void *)row)[c] | 0xFF000000u;
     case PSC_PIX_PAL8: return m->palette[row[c]] | 0xFF000000u;
+    case PSC_PIX_RGB888: return psc_rgb888_at(row, (uint32_t)c) | 0xFF000000u;
     }
     return 0xFF000000u;
 }

@@ -232,8 +232,8 @@ static unsigned build_samples_linear(const psc_frame_t *f, row_setup_t *rs, unsi
     unsigned k0 = 0;
     if (f->simd && (uint64_t)w * u_step + 32768u <= UINT32_MAX) {
         /* the kernel prefetches too, where it can address columns by shift and the spans are fast */
-        const bool pf = uses_fast_spans(f) && v->col_shift != 0;
         const uint32_t bpp = psc_pixfmt_bytes(v->map->format), step = pf_step(f);
+        const bool pf = uses_fast_spans(f) && v->col_shift != 0 && bpp != 3u;   /* it addresses columns by shift */
         const psc_simd_samples_t job = {lut_row, cols, u_step, w, n, w / (2u * n) + 1u, count, row_base,
                                         (int32_t)row_per_lat, bottom, pole_base, pole_sign, t_base, cap_pp,
                                         cap_exact, row, t, polar, pf ? v->map->pixels : 0,
@@ -409,6 +409,8 @@ static PSC_ALWAYS_INLINE uint32_t texel_xrgb(const uint8_t *row, uint32_t c, con
         return psc_rgb565_to_xrgb(((const uint16_t *)(const void *)row)[c]);
     if (in == PSC_PIX_XRGB8888)
         return ((const uint32_t *)(const void *)row)[c];
+    if (in == PSC_PIX_RGB888)
+        return psc_rgb888_at(row, c);
     return pal[row[c]];
 }
 
@@ -420,8 +422,8 @@ static PSC_ALWAYS_INLINE uint32_t texel_out(const uint8_t *row, uint32_t c, cons
         uint32_t p = ((const uint16_t *)(const void *)row)[c];
         return sink == PSC_SINK_RGB565 ? p : psc_rgb565_to_xrgb(p);
     }
-    if (in == PSC_PIX_XRGB8888) {
-        uint32_t p = ((const uint32_t *)(const void *)row)[c];
+    if (in == PSC_PIX_XRGB8888 || in == PSC_PIX_RGB888) {
+        uint32_t p = in == PSC_PIX_RGB888 ? psc_rgb888_at(row, c) : ((const uint32_t *)(const void *)row)[c];
         return sink == PSC_SINK_RGB565 ? psc_xrgb_to_rgb565(p) : p | 0xFF000000u;
     }
     return sink == PSC_SINK_RGB565 ? pal565[row[c]] : pal[row[c]] | 0xFF000000u;
@@ -516,12 +518,16 @@ static PSC_ALWAYS_INLINE void span_fast(const fast_ctx_t *cx, unsigned x, unsign
     X(PSC_FILTER_NEAREST, PSC_PIX_XRGB8888, PSC_SINK_XRGB8888)                                             \
     X(PSC_FILTER_NEAREST, PSC_PIX_PAL8, PSC_SINK_RGB565)                                                   \
     X(PSC_FILTER_NEAREST, PSC_PIX_PAL8, PSC_SINK_XRGB8888)                                                 \
+    X(PSC_FILTER_NEAREST, PSC_PIX_RGB888, PSC_SINK_RGB565)                                                 \
+    X(PSC_FILTER_NEAREST, PSC_PIX_RGB888, PSC_SINK_XRGB8888)                                               \
     X(PSC_FILTER_BILINEAR, PSC_PIX_RGB565, PSC_SINK_RGB565)                                                \
     X(PSC_FILTER_BILINEAR, PSC_PIX_RGB565, PSC_SINK_XRGB8888)                                              \
     X(PSC_FILTER_BILINEAR, PSC_PIX_XRGB8888, PSC_SINK_RGB565)                                              \
     X(PSC_FILTER_BILINEAR, PSC_PIX_XRGB8888, PSC_SINK_XRGB8888)                                            \
     X(PSC_FILTER_BILINEAR, PSC_PIX_PAL8, PSC_SINK_RGB565)                                                  \
-    X(PSC_FILTER_BILINEAR, PSC_PIX_PAL8, PSC_SINK_XRGB8888)
+    X(PSC_FILTER_BILINEAR, PSC_PIX_PAL8, PSC_SINK_XRGB8888)                                                \
+    X(PSC_FILTER_BILINEAR, PSC_PIX_RGB888, PSC_SINK_RGB565)                                                \
+    X(PSC_FILTER_BILINEAR, PSC_PIX_RGB888, PSC_SINK_XRGB8888)
 
 /* One pixel (inside a polar cap) through the fast sampler of the frame's combination. */
 static void pixel_fast(const psc_frame_t *f, unsigned x, map_pos_t p)
@@ -620,15 +626,15 @@ static void prefetch_levels(const psc_frame_t *f, const row_setup_t *rs, unsigne
     int32_t lod_q8 = lod_q8_at(f, rs, 0);
     unsigned lv = lod_q8 < 0 ? 0u : (unsigned)lod_q8 >> 8;
     lv = lv > top ? top : lv;
-    const unsigned lv2 = lv < top ? lv + 1u : top, bpp_log2 = psc_pixfmt_bytes(v->map->format) / 2u;
+    const unsigned lv2 = lv < top ? lv + 1u : top, bpp = psc_pixfmt_bytes(v->map->format);
     const psc_envmap_t *a = &v->levels[lv], *b = &v->levels[lv2];
     const int32_t *row = f->work.row;
     const uint32_t *t = f->work.t;
     for (unsigned k = 0; k < count; k += step) {
         int32_t ra = ((row[k] + 32768) >> lv) >> 16, rb = ((row[k] + 32768) >> lv2) >> 16;
         uint32_t ca = t[k] >> (sh + lv), cb = t[k] >> (sh + lv2);
-        __builtin_prefetch((const uint8_t *)a->pixels + (size_t)(ra < 0 ? 0 : ra) * a->stride + ((size_t)ca << bpp_log2));
-        __builtin_prefetch((const uint8_t *)b->pixels + (size_t)(rb < 0 ? 0 : rb) * b->stride + ((size_t)cb << bpp_log2));
+        __builtin_prefetch((const uint8_t *)a->pixels + (size_t)(ra < 0 ? 0 : ra) * a->stride + (size_t)ca * bpp);
+        __builtin_prefetch((const uint8_t *)b->pixels + (size_t)(rb < 0 ? 0 : rb) * b->stride + (size_t)cb * bpp);
     }
 }
 

@@ -122,9 +122,12 @@ static PSC_ALWAYS_INLINE vu row_offset(const psc_simd_row_t *j, vu idx)
 static PSC_ALWAYS_INLINE vu texel_at(const uint8_t *base, vu off, const psc_pixfmt_t in, const uint32_t *pal)
 {
 #ifdef KERNEL_AVX2
-    /* Aligned 32-bit loads (the map and its rows are 4-byte aligned: the caller checks), then the lane's texel. */
+    /* Aligned 32-bit loads (the map and its rows are 4-byte aligned: the caller checks), then the lane's texel;
+     * RGB888's at its own byte. */
     if (in == PSC_PIX_XRGB8888)
         return LOAD32_AT(base, off);
+    if (in == PSC_PIX_RGB888) /* unaligned: the row's spare byte keeps the load inside (psc_pixfmt_row_bytes) */
+        return LOAD32_AT(base, off) & 0xFFFFFFu;
     vu word = LOAD32_AT(base, off & ~3u);
     if (in == PSC_PIX_RGB565)
         return (word >> ((off & 2u) << 3)) & 0xFFFFu;
@@ -135,6 +138,8 @@ static PSC_ALWAYS_INLINE vu texel_at(const uint8_t *base, vu off, const psc_pixf
         const uint8_t *p = base + off[j];
         if (in == PSC_PIX_XRGB8888)
             r[j] = *(const uint32_t *)(const void *)p;
+        else if (in == PSC_PIX_RGB888)
+            r[j] = psc_rgb888_at(p, 0);
         else if (in == PSC_PIX_RGB565)
             r[j] = *(const uint16_t *)(const void *)p;
         else
@@ -146,7 +151,7 @@ static PSC_ALWAYS_INLINE vu texel_at(const uint8_t *base, vu off, const psc_pixf
 
 static PSC_ALWAYS_INLINE vu col_bytes(vu c, const psc_pixfmt_t in)
 {
-    return in == PSC_PIX_XRGB8888 ? c << 2 : in == PSC_PIX_RGB565 ? c << 1 : c;
+    return in == PSC_PIX_XRGB8888 ? c << 2 : in == PSC_PIX_RGB565 ? c << 1 : in == PSC_PIX_RGB888 ? (c << 1) + c : c;
 }
 
 /* psc_rgb565_to_xrgb */
@@ -269,12 +274,16 @@ static unsigned KERNEL_ROW(const psc_simd_row_t *j)
     ROW_CASE(0, PSC_PIX_XRGB8888, 0)
     ROW_CASE(0, PSC_PIX_PAL8, 1)
     ROW_CASE(0, PSC_PIX_PAL8, 0)
+    ROW_CASE(0, PSC_PIX_RGB888, 1)
+    ROW_CASE(0, PSC_PIX_RGB888, 0)
     ROW_CASE(1, PSC_PIX_RGB565, 1)
     ROW_CASE(1, PSC_PIX_RGB565, 0)
     ROW_CASE(1, PSC_PIX_XRGB8888, 1)
     ROW_CASE(1, PSC_PIX_XRGB8888, 0)
     ROW_CASE(1, PSC_PIX_PAL8, 1)
     ROW_CASE(1, PSC_PIX_PAL8, 0)
+    ROW_CASE(1, PSC_PIX_RGB888, 1)
+    ROW_CASE(1, PSC_PIX_RGB888, 0)
     return 0;
 }
 
@@ -485,6 +494,8 @@ static unsigned KERNEL_MIP(const psc_simd_mip_t *j)
     MIP_CASE(PSC_PIX_XRGB8888, 0)
     MIP_CASE(PSC_PIX_PAL8, 1)
     MIP_CASE(PSC_PIX_PAL8, 0)
+    MIP_CASE(PSC_PIX_RGB888, 1)
+    MIP_CASE(PSC_PIX_RGB888, 0)
     return 0;
 }
 

@@ -35,7 +35,7 @@ static void request(const psc_frame_t *f, uint32_t i)
         r->dropped++;
 }
 
-/* Texel (r, c) of a tile holding it: raw RGB565, XRGB8888, or a palette entry (XRGB8888). */
+/* Texel (r, c) of a tile holding it: raw RGB565, XRGB8888 (RGB888 as it), or a palette entry (XRGB8888). */
 static PSC_ALWAYS_INLINE uint32_t tile_read(const psc_tiles_t *t, const uint8_t *tile, uint32_t r, uint32_t c,
                                             const psc_pixfmt_t in)
 {
@@ -45,6 +45,8 @@ static PSC_ALWAYS_INLINE uint32_t tile_read(const psc_tiles_t *t, const uint8_t 
         return ((const uint16_t *)(const void *)row)[c];
     if (in == PSC_PIX_XRGB8888)
         return ((const uint32_t *)(const void *)row)[c];
+    if (in == PSC_PIX_RGB888)
+        return psc_rgb888_at(row, c);
     return t->palette[row[c]];
 }
 
@@ -266,6 +268,8 @@ static PSC_ALWAYS_INLINE uint32_t raw_at(const uint8_t *row, uint32_t c, const p
         return ((const uint16_t *)(const void *)row)[c];
     if (in == PSC_PIX_XRGB8888)
         return ((const uint32_t *)(const void *)row)[c];
+    if (in == PSC_PIX_RGB888)
+        return psc_rgb888_at(row, c);
     return pal[row[c]];
 }
 
@@ -412,6 +416,7 @@ void psc_span_tiled(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, u
     case PSC_PIX_RGB565: TILED_FOR_FORMAT(PSC_PIX_RGB565); break;
     case PSC_PIX_XRGB8888: TILED_FOR_FORMAT(PSC_PIX_XRGB8888); break;
     case PSC_PIX_PAL8: TILED_FOR_FORMAT(PSC_PIX_PAL8); break;
+    case PSC_PIX_RGB888: TILED_FOR_FORMAT(PSC_PIX_RGB888); break;
     }
 }
 
@@ -531,6 +536,7 @@ void psc_tiled_run0(const psc_frame_t *f, const uint8_t *tile, uint32_t id, unsi
     case PSC_PIX_RGB565: RUN0_FOR(PSC_PIX_RGB565); break;
     case PSC_PIX_XRGB8888: RUN0_FOR(PSC_PIX_XRGB8888); break;
     case PSC_PIX_PAL8: RUN0_FOR(PSC_PIX_PAL8); break;
+    case PSC_PIX_RGB888: RUN0_FOR(PSC_PIX_RGB888); break;
     }
 }
 

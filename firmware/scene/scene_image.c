@@ -31,15 +31,15 @@ int psc_scene_image_load(const psc_scene_t *s, psc_io_pack_t *pf, char *err, siz
     const psc_scene_env_t *env = s->env;
     /* periscope-pack --format: the board's display_format, as the package packs the sample scene for a
      * board (mk/deb.mk); but an RGB565 display that dithers (display_dither, the default) gets the
-     * 8-bit map, or there would be nothing left to dither: the sky's bands are in a 565 map already */
+     * 8-bit RGB888 map, or there would be nothing left to dither: the sky's bands are in a 565 map already */
     const psc_board_config_t *b = env->board;
     psc_pixfmt_t f = b != NULL ? b->display_format : env->format;
     if (b != NULL && f == PSC_PIX_RGB565 && b->display_dither != PSC_DITHER_NONE && !b->display_levels.on)
-        f = PSC_PIX_XRGB8888;
+        f = PSC_PIX_RGB888;
     psc_io_pack_image_request_t rq = {
         .display_width = env->width,
         .display_height = env->height,
-        .format = f == PSC_PIX_XRGB8888 ? PSC_PIX_XRGB8888 : PSC_PIX_RGB565,
+        .format = f == PSC_PIX_XRGB8888 || f == PSC_PIX_RGB888 ? f : PSC_PIX_RGB565,
         .cache_dir = NULL,
     };
     psc_io_pack_image_result_t res;

@@ -177,7 +177,7 @@ int tsup_synth_map(tsup_map_t *out, const psc_envmap_t *geom, int default_covera
         return -1;
     if (default_coverage)
         psc_envmap_default_coverage(m);
-    m->stride = m->width * bpp + stride_pad;
+    m->stride = psc_pixfmt_row_bytes(m->format, m->width) + stride_pad;
     out->pixels = malloc((size_t)m->stride * m->height);
     if (!out->pixels)
         return -1;
@@ -228,6 +228,11 @@ int tsup_synth_map(tsup_map_t *out, const psc_envmap_t *geom, int default_covera
                 memcpy(rowp + 4 * c, &w, 4);
                 break;
             }
+            case PSC_PIX_RGB888: /* bytes B, G, R; the row's spare bytes stay 0x5A, which no sampler may show */
+                rowp[3 * c] = (uint8_t)floor(rgb[2] + 0.5);
+                rowp[3 * c + 1] = (uint8_t)floor(rgb[1] + 0.5);
+                rowp[3 * c + 2] = (uint8_t)floor(rgb[0] + 0.5);
+                break;
             default:
                 rowp[c] = tsup_pal8_index(rgb[0], rgb[1], rgb[2]);
                 break;

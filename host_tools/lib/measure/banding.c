@@ -50,7 +50,8 @@ static double banding_max_step(const double *p, unsigned w, unsigned h)
     return step;
 }
 
-int psc_measure_banding(const uint32_t *pic, const uint16_t *shown, unsigned w, unsigned h, psc_measure_banding_t *out)
+int psc_measure_banding_ref(const double *ref_rgb, const uint16_t *shown, unsigned w, unsigned h,
+                            psc_measure_banding_t *out)
 {
     size_t n = (size_t)w * h;
     double *plane = malloc(5 * n * sizeof *plane);   /* err R, G, B; luma shown; scratch */
@@ -66,7 +67,7 @@ int psc_measure_banding(const uint32_t *pic, const uint16_t *shown, unsigned w, 
         luma[i] = 0.0;
         for (unsigned c = 0; c < 3; c++) {
             double e = (double)((s >> (16u - 8u * c)) & 255u);
-            err[c][i] = e - (double)((pic[i] >> (16u - 8u * c)) & 255u);
+            err[c][i] = e - ref_rgb[3 * i + c];
             luma[i] += banding_luma_weight[c] * e;
             out->bias[c] += err[c][i] / (double)n;
         }
@@ -87,6 +88,22 @@ int psc_measure_banding(const uint32_t *pic, const uint16_t *shown, unsigned w, 
     out->rms = count ? sqrt(sq / (double)count) : 0.0;
     free(plane);
     return 0;
+}
+
+int psc_measure_banding(const uint32_t *pic, const uint16_t *shown, unsigned w, unsigned h, psc_measure_banding_t *out)
+{
+    size_t n = (size_t)w * h;
+    double *ref = malloc(3 * n * sizeof *ref);
+
+    *out = (psc_measure_banding_t){ 0.0, 0.0, 0.0, { 0.0, 0.0, 0.0 } };
+    if (ref == NULL)
+        return -1;
+    for (size_t i = 0; i < n; i++)
+        for (unsigned c = 0; c < 3; c++)
+            ref[3 * i + c] = (double)((pic[i] >> (16u - 8u * c)) & 255u);
+    int rc = psc_measure_banding_ref(ref, shown, w, h, out);
+    free(ref);
+    return rc;
 }
 
 double psc_measure_banding_step(const uint32_t *pic, unsigned w, unsigned h)

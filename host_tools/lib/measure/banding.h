@@ -27,6 +27,10 @@ typedef struct {
 /** The banding of shown (RGB565) for pic (XRGB8888), both w x h packed rows. 0, or -1 out of memory. */
 int psc_measure_banding(const uint32_t *pic, const uint16_t *shown, unsigned w, unsigned h, psc_measure_banding_t *out);
 
+/** The same against a picture in double precision: ref_rgb holds R, G, B (0..255) for each of its w x h pixels. */
+int psc_measure_banding_ref(const double *ref_rgb, const uint16_t *shown, unsigned w, unsigned h,
+                            psc_measure_banding_t *out);
+
 /** The largest jump of the low-passed luma of the picture itself (the gradient it has), or -1 out of memory. */
 double psc_measure_banding_step(const uint32_t *pic, unsigned w, unsigned h);
 

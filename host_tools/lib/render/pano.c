@@ -251,7 +251,8 @@ static int load_scene(const args_t *a, psc_io_pack_t *pf, char *err, size_t errl
     psc_io_pack_image_request_t rq = {
         .display_width = a->have_size ? a->width : 640,
         .display_height = a->have_size ? a->height : 480,
-        .format = a->format,
+        /* as the device packs an image for the display: 8-bit (RGB888) where an RGB565 frame is dithered */
+        .format = a->format == PSC_PIX_RGB565 && !a->no_display_dither && !a->levels.on ? PSC_PIX_RGB888 : a->format,
     };
     psc_io_pack_image_result_t res;
     char notes[1024] = "";
