@@ -67,8 +67,8 @@ tmp="${PSC_TEST_TMPDIR:-$build/test-tmp}/portability-$board"
 rm -rf "$tmp"
 mkdir -p "$tmp" || die "cannot create $tmp"
 
-# two packs of the bundled panorama, small enough for emulation: the map as RGB565 and as XRGB8888
-for fmt in rgb565 xrgb8888; do
+# three packs of the bundled panorama, small enough for emulation: the map as RGB565, XRGB8888 and RGB888
+for fmt in rgb565 xrgb8888 rgb888; do
     "$build/bin/periscope-pack" assets/pannellum-examplepano.jpg -o "$tmp/$fmt.pano" --display 160x120 \
         --format "$fmt" --quiet >"$tmp/pack.log" 2>&1 || { cat "$tmp/pack.log"; die "periscope-pack $fmt failed"; }
 done
@@ -87,7 +87,7 @@ for out in rgb565 xrgb8888; do
 done
 
 frames=0
-for map in rgb565 xrgb8888; do
+for map in rgb565 xrgb8888 rgb888; do
     # shellcheck disable=SC2086
     "$build/portability/psc-render-raw" "$tmp/$map.pano" "$tmp/ref-$map.raw" $specs ||
         die "the x86-64 psc-render-raw failed"
@@ -103,7 +103,7 @@ for map in rgb565 xrgb8888; do
         die "psc-render-raw on a $map map: $board's bytes differ from x86-64's (first difference above)"
     frames=$((frames + $(echo $specs | wc -w)))
 done
-echo "portability: $board ($arch): psc-render-raw: $frames frames equal to x86-64's ($(wc -c <"$tmp/ref-rgb565.raw") + $(wc -c <"$tmp/ref-xrgb8888.raw") bytes)"
+echo "portability: $board ($arch): psc-render-raw: $frames frames of three map formats equal to x86-64's ($(cat "$tmp"/ref-*.raw | wc -c) bytes)"
 
 # the Hash patch character: Thom walking and waving, tessellated and drawn by core (the pack is built once, here)
 "$build/bin/periscope-patch" assets/thom/Thom.mdl --skin-from assets/thom/Thom2.mdl \
