@@ -273,7 +273,7 @@ static void test_tiled_frames_are_flat_bytes(void **state)
     psc_image_t img = test_image(MAP_W, MAP_H, 2);
     tsup_rng_t rng;
     tsup_rng_seed(&rng, 30);
-    unsigned frames = 0, filters[3] = {0, 0, 0};
+    unsigned frames = 0, filters[3] = {0, 0, 0}, simd_used[4] = {0, 0, 0, 0};
     static const psc_pixfmt_t fmts[] = {PSC_PIX_RGB565, PSC_PIX_XRGB8888, PSC_PIX_RGB888};
     for (int f = 0; f < 3; f++) {
         packs_t p;
@@ -287,12 +287,19 @@ static void test_tiled_frames_are_flat_bytes(void **state)
             sb.pixels = calloc(OUT_W * OUT_H, 4);
             for (unsigned i = 0; i < 40; i++) {
                 psc_view_t view = random_view(&rng, &a.v);
+                /* the tiled map through each path this build has: the scalar spans, the baseline vectors' kernel,
+                 * and AUTO's (AVX2 where the CPU has it) */
+                static const psc_simd_t paths[] = {PSC_SIMD_SCALAR, PSC_SIMD_VECTOR, PSC_SIMD_AUTO};
+                psc_simd_t path = paths[i % 3u];
+                if (psc_viewer_set_simd(&b.v, path) != PSC_OK)
+                    assert_int_equal(psc_viewer_set_simd(&b.v, path = PSC_SIMD_AUTO), PSC_OK);
+                simd_used[psc_viewer_simd(&b.v)]++;
                 assert_int_equal(psc_viewer_render(&a.v, &view, &sa), PSC_OK);
                 assert_int_equal(psc_viewer_render(&b.v, &view, &sb), PSC_OK);
                 if (memcmp(sa.pixels, sb.pixels, (size_t)sa.stride * OUT_H) != 0)
-                    fail_msg("map %d output %d view %u (yaw %u pitch %d hfov %u filter %d span %u) differs", f, out,
-                             i, (unsigned)view.yaw, (int)view.pitch, (unsigned)view.hfov, (int)view.filter,
-                             (unsigned)view.span_log2);
+                    fail_msg("map %d output %d view %u (yaw %u pitch %d hfov %u filter %d span %u, %s) differs", f,
+                             out, i, (unsigned)view.yaw, (int)view.pitch, (unsigned)view.hfov, (int)view.filter,
+                             (unsigned)view.span_log2, psc_simd_name(path));
                 assert_int_equal(psc_viewer_requests(&b.v, NULL, NULL), 0);
                 frames++;
                 filters[view.filter]++;
@@ -304,8 +311,13 @@ static void test_tiled_frames_are_flat_bytes(void **state)
         free(b.ws);
         free_packs(&p);
     }
-    print_message("  %u random views (nearest %u, bilinear %u, mip %u): tiled = flat, byte for byte\n", frames,
-                  filters[0], filters[1], filters[2]);
+    print_message("  %u random views (nearest %u, bilinear %u, mip %u; the tiled map drawn scalar %u, vector %u, "
+                  "avx2 %u times): tiled = flat, byte for byte\n", frames, filters[0], filters[1], filters[2],
+                  simd_used[PSC_SIMD_SCALAR], simd_used[PSC_SIMD_VECTOR], simd_used[PSC_SIMD_AVX2]);
+#if defined(__SSE2__) || defined(__ARM_NEON)
+    assert_true(simd_used[PSC_SIMD_VECTOR] > 0);   /* this target has baseline vectors: their tiled kernels drew */
+#endif
+    assert_true(simd_used[PSC_SIMD_SCALAR] > 0);
     free(img.xrgb);
 }
 

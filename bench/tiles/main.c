@@ -94,6 +94,7 @@ static int make_packs(packs_t *p, uint16_t w, uint16_t h)
     char err[512];
     psc_pack_options_t o;
     psc_io_pack_options_default(&o);
+    o.format = PSC_PIX_RGB565;   /* the figures before RGB888 was the default, compared with these */
     o.display_width = w;
     o.display_height = h;
     if (psc_io_image_load(SAMPLE, &p->img, err, sizeof err) != 0 ||

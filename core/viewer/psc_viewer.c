@@ -427,6 +427,11 @@ static psc_status_t frame_begin(const psc_viewer_t *v, const psc_view_t *view, p
     f->filter = view->filter == PSC_FILTER_MIP ? PSC_FILTER_BILINEAR : view->filter;
     f->simd_mip = f->mip && f->simd && !v->tiles && mip_levels_addressable(v, f);
     f->tiles = v->tiles;
+    for (unsigned k = 0; f->tiles && k < f->tiles->level_count; k++) {   /* the tiled kernels' level tables */
+        f->level_hmax[k] = f->tiles->level[k].height - 1u;
+        f->tile_first[k] = f->tiles->level[k].first;
+        f->tile_cols[k] = f->tiles->level[k].tiles_x;
+    }
     f->requests = requests_of(scratch, v->out_width);   /* (read by tiled maps' spans only) */
     psc_sincos((psc_bam_t)view->pitch, &f->sin_pitch, &f->cos_pitch);
     polar_caps(v, f->lut, f->span, &f->cap_exact, &f->cap_per_pixel);

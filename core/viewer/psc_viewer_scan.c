@@ -401,6 +401,16 @@ static void span_general(const psc_frame_t *f, const row_setup_t *rs, unsigned x
         put_general(f, x + i, s.row, s.t);
 }
 
+/* Pixels [a, b) of a scanline through its spans' general path (a tiled map's, here). */
+static void pixels_general(const psc_frame_t *f, const row_setup_t *rs, unsigned a, unsigned b)
+{
+    const unsigned w = f->v->out_width, n = f->span;
+    for (unsigned k = a / n, x = k * n; x < b; k++, x += n) {
+        unsigned len = w - x < n ? w - x : n, lo = a > x ? a : x, hi = b < x + len ? b : x + len;
+        span_general(f, rs, lo, hi - lo, span_from(f, k, len, lo - x), 2 * (int32_t)x + (int32_t)len - (int32_t)w);
+    }
+}
+
 /* ---- the fast spans: full-turn rectangular maps ------------------------------------------ */
 
 static PSC_ALWAYS_INLINE uint32_t texel_xrgb(const uint8_t *row, uint32_t c, const psc_pixfmt_t in, const uint32_t *pal)
@@ -673,7 +683,8 @@ static void prefetch_samples(const psc_frame_t *f, const row_setup_t *rs, unsign
 static unsigned mip_vector(const psc_frame_t *f, const row_setup_t *rs, unsigned count)
 {
     const psc_viewer_t *v = f->v;
-    if (!f->simd_mip || f->sink == PSC_SINK_TRACE || rs->any_polar || v->out_width % f->span != 0 ||
+    const bool tiled = f->tiles && f->mip && f->simd && f->tiles->format != PSC_PIX_PAL8;
+    if (!(f->simd_mip || tiled) || f->sink == PSC_SINK_TRACE || rs->any_polar || v->out_width % f->span != 0 ||
         v->col_shift == 0)
         return 0;
     const unsigned n = f->span, top = v->level_count - 1u, spans = count - 1u;
@@ -690,11 +701,22 @@ static unsigned mip_vector(const psc_frame_t *f, const row_setup_t *rs, unsigned
         lod[k] = lod[spans - 1u - k] = level | next << 8 | frac << 16;
     }
     lod[spans] = lod[spans - 1u]; /* read by the lanes beyond the last span, unused */
-    const psc_simd_mip_t job = {v->levels[0].pixels, f->level_off, f->level_stride, f->level_hmax, v->map->palette,
-                                f->work.row, f->work.t, f->work.lod, f->dst, v->out_width, f->view->span_log2,
-                                v->col_shift, v->half_col_bam, v->map->width - 1u, (uint8_t)v->map->format,
-                                f->sink == PSC_SINK_RGB565};
-    return f->simd->mip(&job);
+    const psc_simd_mip_t job = {tiled ? NULL : v->levels[0].pixels, f->level_off, f->level_stride, f->level_hmax,
+                                v->map->palette, f->work.row, f->work.t, f->work.lod, f->dst, v->out_width,
+                                f->view->span_log2, v->col_shift, v->half_col_bam, v->map->width - 1u,
+                                (uint8_t)v->map->format, f->sink == PSC_SINK_RGB565};
+    if (!tiled)
+        return f->simd->mip(&job);
+    /* the groups the kernel could not draw (a texel in an absent tile), listed in the composite LUT row's room:
+     * drawing never reads it (without a polar cap, the case here) */
+    uint16_t *miss = (uint16_t *)(void *)f->work.lut_row;
+    uint32_t misses = 0;
+    const psc_simd_mip_tiled_t tj = {job, f->tiles->resident, f->tile_first, f->tile_cols, f->tiles->tile_stride, miss,
+                                     &misses};
+    const unsigned done = f->simd->mip_tiled(&tj), lanes = f->simd->lanes;
+    for (uint32_t i = 0; i < misses; i++)
+        pixels_general(f, rs, miss[i] * lanes, (miss[i] + 1u) * lanes);
+    return done;
 }
 
 /* One scanline's samples, ready to draw. */
@@ -719,8 +741,36 @@ static void scanline_prepare(const psc_frame_t *f, unsigned y, scan_line_t *l)
  * (psc_tiled_run0); the other spans (across a tile's edge, an absent tile, a
  * polar cap) one by one.
  */
+/*
+ * The vector kernel's tiled row (psc_viewer_simd.h): every group of lanes
+ * inside one resident tile drawn by it, the others (across a tile's edge, an
+ * absent tile) and the row's tail through the spans. Where the kernel cannot
+ * serve the scanline (a polar cap, uneven spans, no kernel), false.
+ */
+static bool scanline_tiled0_vector(const psc_frame_t *f, const scan_line_t *l)
+{
+    const psc_viewer_t *v = f->v;
+    const psc_tiles_t *g = f->tiles;
+    if (!f->simd || l->rs.any_polar || v->out_width % f->span != 0 || v->col_shift == 0 || g->format == PSC_PIX_PAL8)
+        return false;
+    uint16_t *miss = (uint16_t *)(void *)f->work.lod;   /* (the pyramid's levels, unused at level 0) */
+    uint32_t misses = 0;
+    const psc_simd_row_tiled_t job = {
+        {NULL, NULL, NULL, f->work.row, f->work.t, f->dst, v->out_width, f->view->span_log2, v->col_shift,
+         v->half_col_bam, g->level[0].height, g->tile_stride, f->filter == PSC_FILTER_BILINEAR, (uint8_t)g->format,
+         f->sink == PSC_SINK_RGB565},
+        g->resident, g->level[0].tiles_x, miss, &misses};
+    const unsigned done = f->simd->row_tiled(&job), lanes = f->simd->lanes;
+    for (uint32_t i = 0; i < misses; i++)
+        pixels_general(f, &l->rs, miss[i] * lanes, (miss[i] + 1u) * lanes);
+    pixels_general(f, &l->rs, done, v->out_width);
+    return true;
+}
+
 static void scanline_tiled0(const psc_frame_t *f, const scan_line_t *l)
 {
+    if (scanline_tiled0_vector(f, l))
+        return;
     const row_setup_t *rs = &l->rs;
     const unsigned w = f->v->out_width, n = f->span, count = l->count;
     const uint8_t *polar = f->work.polar;

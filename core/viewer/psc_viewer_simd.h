@@ -20,6 +20,7 @@
 #define PSC_VIEWER_SIMD_H
 
 #include "base/psc_types.h"
+#include "tiles/psc_tiles.h"
 
 typedef struct {
     const uint8_t *base;      /* map pixels */
@@ -87,15 +88,53 @@ typedef struct {
 } psc_simd_mip_t;
 
 /*
+ * A tiled map's level-0 row, nearest or bilinear (psc_viewer_tiles.c): row's
+ * fields as for a flat map but base and rowoff (unused), map_height (level
+ * 0's rows) and stride (a tile row's bytes). Each group of the kernel's lanes
+ * whose texels all lie in one resident tile is drawn from it as row draws a
+ * flat map, lane by lane from several where they straddle a tile's edge;
+ * the groups with a texel in an absent tile are left undrawn, their indices
+ * (group g: pixels [g * lanes, (g + 1) * lanes)) in miss[0 .. *misses), for
+ * the scalar spans. Returns the pixels the groups cover, as row does. PAL8
+ * maps (never tiled) are not served.
+ */
+typedef struct {
+    psc_simd_row_t row;
+    const void *const *resident;   /* level 0's tiles, row by row (psc_tiles_t's table) */
+    uint32_t tiles_x;              /* level 0's tiles a row */
+    uint16_t *miss;                /* room for width / lanes entries */
+    uint32_t *misses;
+} psc_simd_row_tiled_t;
+
+/*
+ * A tiled map's row of PSC_FILTER_MIP: mip's fields but base, level_off and
+ * level_stride (unused; level_hmax is each level's last row), each level's
+ * texels from its tiles; the groups with a texel in an absent tile listed in
+ * miss as for the tiled row.
+ */
+typedef struct {
+    psc_simd_mip_t mip;
+    const void *const *resident;                   /* every tile (psc_tiles_t's numbering and table) */
+    const uint32_t *level_first, *level_tiles_x;   /* each level's first tile and tiles a row */
+    uint32_t tile_stride;
+    uint16_t *miss;
+    uint32_t *misses;
+} psc_simd_mip_tiled_t;
+
+/*
  * A kernel's functions: the row, the samples, and the composite LUT row
  * (composite: lon and lat of n entries of the two LUT rows e0, e1 blended
- * with weight fr of e1, Q0.8, into (lon, lat) pairs at out).
+ * with weight fr of e1, Q0.8, into (lon, lat) pairs at out), the pyramid's
+ * row, a tiled map's rows, and the pixels a group of lanes draws.
  */
 typedef struct {
     unsigned (*row)(const psc_simd_row_t *r);
     unsigned (*samples)(const psc_simd_samples_t *s, uint8_t *any_polar);
     void (*composite)(const uint32_t *e0, const uint32_t *e1, uint32_t fr, uint32_t n, uint32_t *out);
     unsigned (*mip)(const psc_simd_mip_t *m);
+    unsigned (*row_tiled)(const psc_simd_row_tiled_t *r);
+    unsigned (*mip_tiled)(const psc_simd_mip_tiled_t *m);
+    unsigned lanes;
 } psc_simd_kernel_t;
 
 /* The kernels this build has (NULL where the target has none, and AVX2's where the CPU lacks it). */

@@ -12,6 +12,8 @@
 #define KERNEL_ROW row_avx2
 #define KERNEL_SAMPLES samples_avx2
 #define KERNEL_COMPOSITE composite_avx2
+#define KERNEL_ROW_TILED row_tiled_avx2
+#define KERNEL_MIP_TILED mip_tiled_avx2
 #define KERNEL_MIP mip_avx2
 #define KERNEL kernel_avx2
 #include "viewer/psc_viewer_simd_kernel.h"

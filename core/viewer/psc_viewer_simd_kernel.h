@@ -220,6 +220,25 @@ static PSC_ALWAYS_INLINE void store_lanes(void *dst, unsigned x, vu px, const bo
     }
 }
 
+/* A nearest pixel of raw texel raw, in the output's format. */
+static PSC_ALWAYS_INLINE vu shade_nearest(vu raw, const psc_pixfmt_t in, const bool out_565)
+{
+    if (in == PSC_PIX_RGB565)
+        return out_565 ? raw : v_565_to_xrgb(raw);
+    return out_565 ? v_xrgb_to_565(raw) : raw | 0xFF000000u;
+}
+
+/* A bilinear pixel of four raw texels at fractions fc, fr (Q0.8), in the output's format. */
+static PSC_ALWAYS_INLINE vu shade_bilinear(vu p00, vu p01, vu p10, vu p11, vu fc, vu fr, const psc_pixfmt_t in,
+                                           const bool out_565)
+{
+    if (in == PSC_PIX_RGB565 && out_565)
+        return v_blend4_565(p00, p01, p10, p11, (fc + 4u) >> 3, (fr + 4u) >> 3);
+    vu px = v_blend4_xrgb(v_texel_xrgb(p00, in), v_texel_xrgb(p01, in), v_texel_xrgb(p10, in), v_texel_xrgb(p11, in),
+                          fc, fr);
+    return out_565 ? v_xrgb_to_565(px) : px;
+}
+
 /* Pixels [0, n) of the row for one combination, all compile-time constants once inlined. */
 static PSC_ALWAYS_INLINE unsigned row_lanes(const psc_simd_row_t *j, const bool bilinear, const psc_pixfmt_t in,
                                             const bool out_565)
@@ -235,11 +254,7 @@ static PSC_ALWAYS_INLINE unsigned row_lanes(const psc_simd_row_t *j, const bool 
         r += 65536u; /* biased by the guard row */
         if (!bilinear) {
             vu ro = row_offset(j, (r + 32768u) >> 16);
-            vu raw = texel_at(base, ro + col_bytes(t >> sh, in), in, j->pal);
-            if (in == PSC_PIX_RGB565)
-                px = out_565 ? raw : v_565_to_xrgb(raw);
-            else
-                px = out_565 ? v_xrgb_to_565(raw) : raw | 0xFF000000u;
+            px = shade_nearest(texel_at(base, ro + col_bytes(t >> sh, in), in, j->pal), in, out_565);
         } else {
             vu ri = r >> 16;
             vu ro0 = row_offset(j, ri), ro1 = row_offset(j, ri + 1u);
@@ -248,14 +263,7 @@ static PSC_ALWAYS_INLINE unsigned row_lanes(const psc_simd_row_t *j, const bool 
             vu b0 = col_bytes(c0, in), b1 = col_bytes(c1, in);
             vu p00 = texel_at(base, ro0 + b0, in, j->pal), p01 = texel_at(base, ro0 + b1, in, j->pal);
             vu p10 = texel_at(base, ro1 + b0, in, j->pal), p11 = texel_at(base, ro1 + b1, in, j->pal);
-            if (in == PSC_PIX_RGB565 && out_565) {
-                px = v_blend4_565(p00, p01, p10, p11, (fc + 4u) >> 3, (fr + 4u) >> 3);
-            } else {
-                px = v_blend4_xrgb(v_texel_xrgb(p00, in), v_texel_xrgb(p01, in), v_texel_xrgb(p10, in),
-                                   v_texel_xrgb(p11, in), fc, fr);
-                if (out_565)
-                    px = v_xrgb_to_565(px);
-            }
+            px = shade_bilinear(p00, p01, p10, p11, fc, fr, in, out_565);
         }
         store_lanes(j->dst, x, px, out_565);
     }
@@ -470,8 +478,10 @@ static PSC_ALWAYS_INLINE unsigned mip_lanes(const psc_simd_mip_t *j, const psc_p
     for (unsigned x = 0; x < n; x += LANES) {
         vu r, t, lod = samples_under(j->lod, x, l2, lane_span), frac = lod >> 16;
         lane_positions(row, j->t, x, l2, lane_span, &r, &t);
-        vu p = level_lanes(j, lod & 255u, r, t, in, packed565), q = level_lanes(j, (lod >> 8) & 255u, r, t, in, packed565);
-        /* a fraction of 0 (the top level) blends to p exactly, as span_mip's skipping the second level */
+        /* a fraction of 0 (level 0 zoomed in, the top level) blends to p exactly, as span_mip's skipping the second
+         * level: a group with none reads one level */
+        vu p = level_lanes(j, lod & 255u, r, t, in, packed565);
+        vu q = any_lane(frac) ? level_lanes(j, (lod >> 8) & 255u, r, t, in, packed565) : p;
         vu px = packed565 ? v_blend4_565(p, q, p, q, (frac + 4u) >> 3, (vu){0}) : v_blend4_xrgb(p, q, p, q, frac, (vu){0});
         if (out_565)
             px = packed565 ? px : v_xrgb_to_565(px);
@@ -499,4 +509,235 @@ static unsigned KERNEL_MIP(const psc_simd_mip_t *j)
     return 0;
 }
 
-static const psc_simd_kernel_t KERNEL = {KERNEL_ROW, KERNEL_SAMPLES, KERNEL_COMPOSITE, KERNEL_MIP};
+/* ---- a tiled map ---------------------------------------------------------------- */
+
+/* Map row idx - 1, the edge rows repeated beyond the map (row_offset's row). */
+static PSC_ALWAYS_INLINE vu clamped_row(vu idx, uint32_t map_height)
+{
+#ifdef KERNEL_AVX2
+    return (vu)MIN_I32(MAX_I32((vi)idx - 1, (vi){0}), (vi){0} + ((int32_t)map_height - 1));
+#else
+    vi r = (vi)idx - 1;
+    r = (vi)select_lanes((vu)(r < 0), (vu){0}, (vu)r);
+    return select_lanes((vu)(r > (int32_t)map_height - 1), (vu){0} + (map_height - 1u), (vu)r);
+#endif
+}
+
+/*
+ * The tile holding row r, column c of a level: its number, first + (r >> 8) *
+ * tiles_x + (c >> 8) (each lane's level's). (At level 0, row << 16 | column
+ * without the multiply measured more instructions: the lookup then multiplies.)
+ */
+static PSC_ALWAYS_INLINE vu tile_index(vu first, vu tiles_x, vu r, vu c)
+{
+    return first + (r >> PSC_TILE_LOG2) * tiles_x + (c >> PSC_TILE_LOG2);
+}
+
+/*
+ * The texels of a group whose lanes lie in several tiles (across a tile's
+ * edge, or at two levels): for each tile in turn, the texels at every lane's
+ * offset within a tile read from it (the offsets are valid in any tile), kept
+ * in the lanes whose texel it holds. Positions 0..npos-1 of idx/off/p. False
+ * where a tile is absent.
+ */
+static PSC_ALWAYS_INLINE bool texels_apart(const void *const *resident, const uint32_t *pal, const vu *idx,
+                                           const vu *off, const unsigned npos, const psc_pixfmt_t in, vu *p)
+{
+    vu left[4];
+    for (unsigned q = 0; q < npos; q++)
+        left[q] = (vu){0} - 1u;
+    for (unsigned round = 0; round < 4u * LANES; round++) {
+        uint32_t k = 0;
+        bool found = false;
+        for (unsigned q = 0; q < npos && !found; q++)   /* the first lane left: its tile next */
+            if (any_lane(left[q]))
+                for (unsigned l = 0; l < LANES && !found; l++)
+                    if (left[q][l]) {
+                        k = idx[q][l];
+                        found = true;
+                    }
+        if (!found)
+            return true;
+        const uint8_t *tile = (const uint8_t *)resident[k];
+        if (!tile)
+            return false;
+        for (unsigned q = 0; q < npos; q++) {
+            vu m = left[q] & (vu)(idx[q] == k);
+            if (any_lane(m)) {
+                p[q] = select_lanes(m, texel_at(tile, off[q], in, pal), p[q]);
+                left[q] &= ~m;
+            }
+        }
+    }
+    return true;
+}
+
+/*
+ * Every lane's texels at rows ra, rb and columns ca, cb of its level (the
+ * level's first tile and tiles a row, per lane): p0 (ra, ca), p1 (ra, cb), p2
+ * (rb, ca), p3 (rb, cb), or with !four p0 alone. From the one tile holding
+ * them all (their offsets in it from the rows' and columns' low bits), else
+ * tile by tile (about one group in 25 at 1:1). False where a tile is absent.
+ */
+static PSC_ALWAYS_INLINE bool tile_texels(const void *const *resident, uint32_t tile_stride, const uint32_t *pal,
+                                          vu first, vu tiles_x, vu ra, vu rb, vu ca, vu cb, const bool four,
+                                          const psc_pixfmt_t in, vu *p0, vu *p1, vu *p2, vu *p3)
+{
+    const uint32_t side = PSC_TILE_SIDE - 1u;
+    vu i00 = tile_index(first, tiles_x, ra, ca), i11 = four ? tile_index(first, tiles_x, rb, cb) : i00;
+    vu oa = (ra & side) * tile_stride, ba = col_bytes(ca & side, in);
+    vu ob = four ? (rb & side) * tile_stride : oa, bb = four ? col_bytes(cb & side, in) : ba;
+    if (!any_lane((i00 ^ ((vu){0} + i00[0])) | (i00 ^ i11))) {   /* one tile */
+        const uint8_t *tile = (const uint8_t *)resident[i00[0]];
+        if (!tile)
+            return false;
+        *p0 = texel_at(tile, oa + ba, in, pal);
+        if (four) {
+            *p1 = texel_at(tile, oa + bb, in, pal);
+            *p2 = texel_at(tile, ob + ba, in, pal);
+            *p3 = texel_at(tile, ob + bb, in, pal);
+        }
+        return true;
+    }
+    const vu idx[4] = {i00, tile_index(first, tiles_x, ra, cb), tile_index(first, tiles_x, rb, ca), i11};
+    const vu off[4] = {oa + ba, oa + bb, ob + ba, ob + bb};
+    vu p[4] = {{0}, {0}, {0}, {0}};
+    if (!texels_apart(resident, pal, idx, off, four ? 4u : 1u, in, p))
+        return false;
+    *p0 = p[0], *p1 = p[1], *p2 = p[2], *p3 = p[3];
+    return true;
+}
+
+/*
+ * row_lanes through the tiles (level 0): the same positions, rows and
+ * columns, the texels from their tiles (tile_texels); a group with a texel in
+ * an absent tile is listed in miss[] and left to the scalar spans (which ask
+ * for the tile and show the coarser level there).
+ */
+static PSC_ALWAYS_INLINE unsigned row_tiled_lanes(const psc_simd_row_tiled_t *jt, const bool bilinear,
+                                                  const psc_pixfmt_t in, const bool out_565)
+{
+    const psc_simd_row_t *j = &jt->row;
+    const unsigned n = j->width - j->width % LANES, l2 = j->span_log2, sh = j->col_shift;
+    const uint32_t cmask = (uint32_t)(((uint64_t)1 << (32u - sh)) - 1u), hm = j->map_height;
+    const uint32_t *row = (const uint32_t *)(const void *)j->row;
+    const vu lane_span = LANE_IDS >> l2, tiles_x = (vu){0} + jt->tiles_x;
+    *jt->misses = 0;
+    for (unsigned x = 0; x < n; x += LANES) {
+        vu r, t, ra, rb, ca, cb, fc = {0}, fr = {0}, p0, p1 = {0}, p2 = {0}, p3 = {0};
+        lane_positions(row, j->t, x, l2, lane_span, &r, &t);
+        r += 65536u; /* biased by the guard row */
+        if (!bilinear) {
+            ra = rb = clamped_row((r + 32768u) >> 16, hm);
+            ca = cb = t >> sh;
+        } else {
+            ra = clamped_row(r >> 16, hm);
+            rb = clamped_row((r >> 16) + 1u, hm);
+            t -= j->half_col;
+            ca = t >> sh;
+            cb = (ca + 1u) & cmask;
+            fc = (t << (32u - sh)) >> 24;
+            fr = (r >> 8) & 255u;
+        }
+        if (!tile_texels(jt->resident, j->stride, j->pal, (vu){0}, tiles_x, ra, rb, ca, cb, bilinear, in, &p0, &p1,
+                         &p2, &p3)) {
+            jt->miss[(*jt->misses)++] = (uint16_t)(x / LANES);
+            continue;
+        }
+        vu px = bilinear ? shade_bilinear(p0, p1, p2, p3, fc, fr, in, out_565) : shade_nearest(p0, in, out_565);
+        store_lanes(j->dst, x, px, out_565);
+    }
+    return n;
+}
+
+/* level_lanes through the tiles: false where a texel's tile is absent. */
+static PSC_ALWAYS_INLINE bool level_tiled_lanes(const psc_simd_mip_tiled_t *jt, vu lv, vu row, vu t,
+                                                const psc_pixfmt_t in, const bool packed565, vu *out)
+{
+    const psc_simd_mip_t *j = &jt->mip;
+    vi r = (((vi)row + 32768) >> (vi)lv) - 32768;
+    vi r0 = r >> 16, r1 = r0 + 1;
+    vu fr = ((vu)r >> 8) & 255u, hmax = ENTRY_AT(j->level_hmax, lv);
+    r0 = (vi)select_lanes((vu)(r0 < 0), (vu){0}, (vu)r0);
+    r1 = (vi)select_lanes((vu)(r1 > (vi)hmax), hmax, (vu)r1);
+    vu tk = t - (j->half_col << lv), s = j->col_shift + lv;
+    vu c0 = tk >> s, fc = (tk << (32u - s)) >> 24, c1 = (c0 + 1u) & (j->col_mask >> lv);
+    vu a, b, c, d;
+    if (!tile_texels(jt->resident, jt->tile_stride, j->pal, ENTRY_AT(jt->level_first, lv),
+                     ENTRY_AT(jt->level_tiles_x, lv), (vu)r0, (vu)r1, c0, c1, true, in, &a, &b, &c, &d))
+        return false;
+    *out = packed565 ? v_blend4_565(a, b, c, d, (fc + 4u) >> 3, (fr + 4u) >> 3)
+                     : v_blend4_xrgb(v_texel_xrgb(a, in), v_texel_xrgb(b, in), v_texel_xrgb(c, in),
+                                     v_texel_xrgb(d, in), fc, fr);
+    return true;
+}
+
+/* mip_lanes through the tiles; a group whose second level has a fraction of 0 throughout reads the first alone. */
+static PSC_ALWAYS_INLINE unsigned mip_tiled_lanes(const psc_simd_mip_tiled_t *jt, const psc_pixfmt_t in,
+                                                  const bool out_565)
+{
+    const psc_simd_mip_t *j = &jt->mip;
+    const unsigned n = j->width - j->width % LANES, l2 = j->span_log2;
+    const bool packed565 = in == PSC_PIX_RGB565 && out_565;
+    const uint32_t *row = (const uint32_t *)(const void *)j->row;
+    const vu lane_span = LANE_IDS >> l2;
+    *jt->misses = 0;
+    for (unsigned x = 0; x < n; x += LANES) {
+        vu r, t, lod = samples_under(j->lod, x, l2, lane_span), frac = lod >> 16, p, q;
+        lane_positions(row, j->t, x, l2, lane_span, &r, &t);
+        bool have = level_tiled_lanes(jt, lod & 255u, r, t, in, packed565, &p);
+        q = p;
+        if (have && any_lane(frac))
+            have = level_tiled_lanes(jt, (lod >> 8) & 255u, r, t, in, packed565, &q);
+        if (!have) {
+            jt->miss[(*jt->misses)++] = (uint16_t)(x / LANES);
+            continue;
+        }
+        vu px = packed565 ? v_blend4_565(p, q, p, q, (frac + 4u) >> 3, (vu){0}) : v_blend4_xrgb(p, q, p, q, frac, (vu){0});
+        if (out_565)
+            px = packed565 ? px : v_xrgb_to_565(px);
+        else
+            px |= 0xFF000000u;
+        store_lanes(j->dst, x, px, out_565);
+    }
+    return n;
+}
+
+#define MIP_TILED_CASE(fmt, o565)                      \
+    if (j->mip.in == (fmt) && j->mip.out_565 == (o565)) \
+        return mip_tiled_lanes(j, fmt, o565);
+
+static unsigned KERNEL_MIP_TILED(const psc_simd_mip_tiled_t *j)
+{
+    MIP_TILED_CASE(PSC_PIX_RGB565, 1)
+    MIP_TILED_CASE(PSC_PIX_RGB565, 0)
+    MIP_TILED_CASE(PSC_PIX_XRGB8888, 1)
+    MIP_TILED_CASE(PSC_PIX_XRGB8888, 0)
+    MIP_TILED_CASE(PSC_PIX_RGB888, 1)
+    MIP_TILED_CASE(PSC_PIX_RGB888, 0)
+    return 0;
+}
+
+#define ROW_TILED_CASE(bl, fmt, o565)                                                         \
+    if (j->row.bilinear == (bl) && j->row.in == (fmt) && j->row.out_565 == (o565))            \
+        return row_tiled_lanes(j, bl, fmt, o565);
+
+static unsigned KERNEL_ROW_TILED(const psc_simd_row_tiled_t *j)
+{
+    ROW_TILED_CASE(0, PSC_PIX_RGB565, 1)
+    ROW_TILED_CASE(0, PSC_PIX_RGB565, 0)
+    ROW_TILED_CASE(0, PSC_PIX_XRGB8888, 1)
+    ROW_TILED_CASE(0, PSC_PIX_XRGB8888, 0)
+    ROW_TILED_CASE(0, PSC_PIX_RGB888, 1)
+    ROW_TILED_CASE(0, PSC_PIX_RGB888, 0)
+    ROW_TILED_CASE(1, PSC_PIX_RGB565, 1)
+    ROW_TILED_CASE(1, PSC_PIX_RGB565, 0)
+    ROW_TILED_CASE(1, PSC_PIX_XRGB8888, 1)
+    ROW_TILED_CASE(1, PSC_PIX_XRGB8888, 0)
+    ROW_TILED_CASE(1, PSC_PIX_RGB888, 1)
+    ROW_TILED_CASE(1, PSC_PIX_RGB888, 0)
+    return 0;
+}
+
+static const psc_simd_kernel_t KERNEL = {KERNEL_ROW,       KERNEL_SAMPLES,   KERNEL_COMPOSITE, KERNEL_MIP,
+                                         KERNEL_ROW_TILED, KERNEL_MIP_TILED, LANES};

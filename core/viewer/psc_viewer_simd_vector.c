@@ -11,6 +11,8 @@
 #define KERNEL_ROW row_vector
 #define KERNEL_SAMPLES samples_vector
 #define KERNEL_COMPOSITE composite_vector
+#define KERNEL_ROW_TILED row_tiled_vector
+#define KERNEL_MIP_TILED mip_tiled_vector
 #define KERNEL_MIP mip_vector
 #define KERNEL kernel_vector
 #include "viewer/psc_viewer_simd_kernel.h"
