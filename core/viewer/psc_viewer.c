@@ -428,9 +428,17 @@ static psc_status_t frame_begin(const psc_viewer_t *v, const psc_view_t *view, p
     f->simd_mip = f->mip && f->simd && !v->tiles && mip_levels_addressable(v, f);
     f->tiles = v->tiles;
     for (unsigned k = 0; f->tiles && k < f->tiles->level_count; k++) {   /* the tiled kernels' level tables */
-        f->level_hmax[k] = f->tiles->level[k].height - 1u;
-        f->tile_first[k] = f->tiles->level[k].first;
-        f->tile_cols[k] = f->tiles->level[k].tiles_x;
+        const psc_tile_level_t *l = &f->tiles->level[k];
+        f->level_hmax[k] = l->height - 1u;
+        f->tile_first[k] = l->first;
+        f->tile_cols[k] = l->tiles_x;
+        /* the levels holding a resident tile: an absent tile's span looks for a coarser one on these alone (a
+         * pack just opened has its coarsest level only); residency does not change while a frame is drawn */
+        for (uint32_t i = l->first, end = l->first + l->tiles_x * l->tiles_y; i < end; i++)
+            if (f->tiles->resident[i]) {
+                f->tile_levels |= 1u << k;
+                break;
+            }
     }
     f->requests = requests_of(scratch, v->out_width);   /* (read by tiled maps' spans only) */
     psc_sincos((psc_bam_t)view->pitch, &f->sin_pitch, &f->cos_pitch);

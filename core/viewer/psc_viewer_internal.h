@@ -63,6 +63,7 @@ typedef struct {
     bool simd_mip;                 /* the pyramid through the kernel: its levels addressable from level 0 */
     uint32_t level_off[PSC_VIEWER_MAX_LEVELS], level_stride[PSC_VIEWER_MAX_LEVELS], level_hmax[PSC_VIEWER_MAX_LEVELS];
     uint32_t tile_first[PSC_VIEWER_MAX_LEVELS], tile_cols[PSC_VIEWER_MAX_LEVELS]; /* a tiled map's, for the kernel */
+    uint32_t tile_levels;          /* a tiled map's levels with a tile resident (bit k: level k), when it began */
     const psc_lut_t *lut;
     int32_t sin_pitch, cos_pitch;  /* Q2.30 */
     int32_t cap_per_pixel;         /* |lat| >= this: LUT read at every pixel (polar cap) */

@@ -64,6 +64,8 @@ static PSC_ALWAYS_INLINE uint32_t texel_at(const psc_frame_t *f, uint32_t k, uin
     while (++k < t->level_count) {
         r >>= 1;
         c >>= 1;
+        if (!(f->tile_levels >> k & 1u))
+            continue;
         p = t->resident[psc_tiles_at(t, k, r, c)];
         if (p)
             return tile_read(t, p, r, c, in);
@@ -186,6 +188,8 @@ static const uint8_t *coarser_tile(const psc_frame_t *f, uint32_t *level, int32_
                                    int32_t dt, unsigned n, const bool pow2)
 {
     for (uint32_t j = *level + 1u; j < f->tiles->level_count; j++) {
+        if (!(f->tile_levels >> j & 1u))   /* no tile of level j is resident */
+            continue;
         const uint8_t *p = resident_tile(f, span_tile_bilinear(f, j, row, t, drow, dt, n, pow2));
         if (p) {
             *level = j;
