@@ -393,17 +393,26 @@ static void test_starved_cache_sharpens(void **state)
     viewer_t a, b;
     flat_viewer(&a, &p.flat);
     tiled_viewer(&b, p.tiled);
-    psc_surface_t sa = surface(PSC_PIX_RGB565), sb = sa;
+    psc_surface_t sa = surface(PSC_PIX_RGB565), sb = sa, sc = sa;
     sb.pixels = calloc(OUT_W * OUT_H, 4);
+    sc.pixels = calloc(OUT_W * OUT_H, 4);
     tsup_rng_t rng;
     tsup_rng_seed(&rng, 31);
+    unsigned coarse = 0;
     for (unsigned i = 0; i < 12; i++) {
         psc_view_t view = {tsup_rng_u32(&rng), (int32_t)tsup_bam_from_deg(tsup_rng_range(&rng, -60, 60)),
                            tsup_bam_from_deg(tsup_rng_range(&rng, 20, 60)), (psc_filter_t)(i % 3u), 2};   /* level 0 */
+        if (i % 3u == 2u)   /* the pyramid, zoomed out to its levels */
+            view.hfov = tsup_bam_from_deg(tsup_rng_range(&rng, 60, 110));
         assert_int_equal(psc_viewer_render(&a.v, &view, &sa), PSC_OK);
         unsigned passes = 0, first = 0;
         for (;; passes++) {
+            /* a coarser frame is the same bytes through the scalar spans as through the vector kernels */
+            assert_int_equal(psc_viewer_set_simd(&b.v, PSC_SIMD_SCALAR), PSC_OK);
+            assert_int_equal(psc_viewer_render(&b.v, &view, &sc), PSC_OK);
+            assert_int_equal(psc_viewer_set_simd(&b.v, PSC_SIMD_AUTO), PSC_OK);
             assert_int_equal(psc_viewer_render(&b.v, &view, &sb), PSC_OK);
+            assert_memory_equal(sb.pixels, sc.pixels, (size_t)sb.stride * OUT_H);
             const uint32_t *want;
             uint32_t dropped;
             unsigned n = psc_viewer_requests(&b.v, &want, &dropped);
@@ -411,6 +420,7 @@ static void test_starved_cache_sharpens(void **state)
                 first = n;
             if (n == 0)
                 break;
+            coarse++;
             assert_true(passes < 8);
             char err[256];
             assert_int_equal(psc_io_tiled_load(p.tiled, want, n, err, sizeof err), 0);
@@ -421,10 +431,13 @@ static void test_starved_cache_sharpens(void **state)
     }
     uint64_t loaded;
     psc_io_tiled_counts(p.tiled, &loaded, NULL);
-    print_message("  a cache of %u slots: every frame drawn, sharpened to the flat bytes; %llu tiles read\n",
-                  psc_io_tiled_slots(p.tiled), (unsigned long long)loaded);
+    print_message("  a cache of %u slots: every frame drawn (%u coarser ones, the same bytes scalar and %s), sharpened "
+                  "to the flat bytes; %llu tiles read\n", psc_io_tiled_slots(p.tiled), coarse,
+                  psc_simd_name(psc_viewer_simd(&b.v)), (unsigned long long)loaded);
+    assert_true(coarse >= 12);
     free(sa.pixels);
     free(sb.pixels);
+    free(sc.pixels);
     free(a.ws);
     free(b.ws);
     free_packs(&p);

@@ -711,11 +711,40 @@ static unsigned mip_vector(const psc_frame_t *f, const row_setup_t *rs, unsigned
      * drawing never reads it (without a polar cap, the case here) */
     uint16_t *miss = (uint16_t *)(void *)f->work.lut_row;
     uint32_t misses = 0;
-    const psc_simd_mip_tiled_t tj = {job, f->tiles->resident, f->tile_first, f->tile_cols, f->tiles->tile_stride, miss,
-                                     &misses};
+    psc_simd_mip_tiled_t tj = {job, f->tiles->resident, f->tile_first, f->tile_cols, f->tiles->tile_stride, miss,
+                               &misses, NULL, 0};
     const unsigned done = f->simd->mip_tiled(&tj), lanes = f->simd->lanes;
-    for (uint32_t i = 0; i < misses; i++)
-        pixels_general(f, rs, miss[i] * lanes, (miss[i] + 1u) * lanes);
+    if (misses == 0)
+        return done;
+    /* The groups with a texel in an absent tile: each of their spans takes the scalar spans' choice
+     * (psc_tiled_mip_level: the tiles asked for, the finest coarser level resident over the span meanwhile) into
+     * its lod entry, and those groups are drawn again by the kernel at those levels; a group with a span whose
+     * texels must be looked up one by one goes to the scalar spans. (Listed in place: a group is read before it
+     * is written.) */
+    uint32_t again = 0;
+    for (uint32_t i = 0; i < misses; i++) {
+        const unsigned a = miss[i] * lanes, b = a + lanes;
+        bool ok = true;
+        for (unsigned k = a / n; k * n < b && ok; k++) {
+            span_t s = span_at(f, k, n);
+            ok = psc_tiled_mip_level(f, s.row, s.t, s.drow, s.dt, n,
+                                     lod_q8_at(f, rs, 2 * (int32_t)(k * n) + (int32_t)n - w), &lod[k]);
+        }
+        if (ok)
+            miss[again++] = miss[i];
+        else
+            pixels_general(f, rs, a, b);
+    }
+    if (again) {
+        uint32_t left = 0;
+        tj.misses = &left;
+        tj.miss = miss + again;   /* (none expected: every tile those levels read is resident) */
+        tj.only = miss;
+        tj.only_n = again;
+        f->simd->mip_tiled(&tj);
+        for (uint32_t i = 0; i < left; i++)
+            pixels_general(f, rs, tj.miss[i] * lanes, (tj.miss[i] + 1u) * lanes);
+    }
     return done;
 }
 

@@ -119,6 +119,8 @@ typedef struct {
     uint32_t tile_stride;
     uint16_t *miss;
     uint32_t *misses;
+    const uint16_t *only;                          /* if not NULL, these only_n groups alone */
+    uint32_t only_n;
 } psc_simd_mip_tiled_t;
 
 /*

@@ -682,7 +682,9 @@ static PSC_ALWAYS_INLINE unsigned mip_tiled_lanes(const psc_simd_mip_tiled_t *jt
     const uint32_t *row = (const uint32_t *)(const void *)j->row;
     const vu lane_span = LANE_IDS >> l2;
     *jt->misses = 0;
-    for (unsigned x = 0; x < n; x += LANES) {
+    for (unsigned g = 0, x = 0; jt->only ? g < jt->only_n : x < n; g++, x += LANES) {
+        if (jt->only)
+            x = jt->only[g] * LANES;
         vu r, t, lod = samples_under(j->lod, x, l2, lane_span), frac = lod >> 16, p, q;
         lane_positions(row, j->t, x, l2, lane_span, &r, &t);
         bool have = level_tiled_lanes(jt, lod & 255u, r, t, in, packed565, &p);

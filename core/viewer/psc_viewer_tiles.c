@@ -334,38 +334,67 @@ static PSC_ALWAYS_INLINE void span0_bilinear(const psc_frame_t *f, const uint8_t
     }
 }
 
+/*
+ * A PSC_FILTER_MIP span's levels and tiles (psc_span_mip's choice at lod_q8): both levels' tiles resident,
+ * their level and fraction; else, the absent ones asked for, the finest coarser level with the span's texels in
+ * one resident tile at fraction 0; else ta NULL (each texel looked up, at the levels and fraction asked for).
+ */
+typedef struct {
+    const uint8_t *ta, *tb;
+    uint32_t level, frac;
+} mip_choice_t;
+
+static mip_choice_t mip_choose(const psc_frame_t *f, int32_t row, uint32_t t, int32_t drow, int32_t dt, unsigned n,
+                               int32_t lod_q8, const bool pow2)
+{
+    uint32_t top = f->tiles->level_count - 1u;
+    mip_choice_t c = {NULL, NULL, lod_q8 < 0 ? 0u : (uint32_t)lod_q8 >> 8, lod_q8 < 0 ? 0u : (uint32_t)lod_q8 & 255u};
+    if (c.level >= top) {
+        c.level = top;
+        c.frac = 0;
+    }
+    uint32_t ia = span_tile_bilinear(f, c.level, row, t, drow, dt, n, pow2);
+    uint32_t ib = c.frac ? span_tile_bilinear(f, c.level + 1u, row, t, drow, dt, n, pow2) : ia;
+    c.ta = resident_tile(f, ia);
+    c.tb = resident_tile(f, ib);
+    if (c.ta && c.tb)
+        return c;
+    if (ia != NO_TILE && ib != NO_TILE) {   /* absent: asked for, and a coarser level's tile meanwhile */
+        if (!c.ta)
+            request(f, ia);
+        if (!c.tb)
+            request(f, ib);
+        uint32_t j = c.frac ? c.level + 1u : c.level;
+        const uint8_t *tj = c.tb ? c.tb : coarser_tile(f, &j, row, t, drow, dt, n, pow2);
+        if (tj)
+            return (mip_choice_t){tj, tj, j, 0};
+    }
+    c.ta = c.tb = NULL;
+    return c;
+}
+
+bool psc_tiled_mip_level(const psc_frame_t *f, int32_t row, uint32_t t, int32_t drow, int32_t dt, unsigned n,
+                         int32_t lod_q8, uint32_t *lod)
+{
+    mip_choice_t c = mip_choose(f, row, t, drow, dt, n, lod_q8, f->v->col_shift != 0);
+    if (!c.ta)
+        return false;
+    uint32_t next = c.frac ? c.level + 1u : c.level;
+    *lod = c.level | next << 8 | c.frac << 16;
+    return true;
+}
+
 /* One combination of map format, output and column addressing, all constants once inlined. */
 static PSC_ALWAYS_INLINE void span_tiled(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, uint32_t t,
                                          int32_t drow, int32_t dt, int32_t lod_q8, const psc_pixfmt_t in,
                                          const psc_sink_t sink, const bool pow2)
 {
     if (f->mip) {   /* psc_span_mip's choice of levels */
-        uint32_t top = f->tiles->level_count - 1u;
-        uint32_t level = lod_q8 < 0 ? 0u : (uint32_t)lod_q8 >> 8, frac = lod_q8 < 0 ? 0u : (uint32_t)lod_q8 & 255u;
-        if (level >= top) {
-            level = top;
-            frac = 0;
-        }
-        uint32_t ia = span_tile_bilinear(f, level, row, t, drow, dt, n, pow2);
-        uint32_t ib = frac ? span_tile_bilinear(f, level + 1u, row, t, drow, dt, n, pow2) : ia;
-        const uint8_t *ta = resident_tile(f, ia), *tb = resident_tile(f, ib);
-        if (ta && tb) {
-            span_mip(f, ta, tb, x, n, row, t, drow, dt, level, frac, in, sink, pow2, true);
-            return;
-        }
-        if (ia != NO_TILE && ib != NO_TILE) {   /* absent: asked for, and a coarser level's tile meanwhile */
-            if (!ta)
-                request(f, ia);
-            if (!tb)
-                request(f, ib);
-            uint32_t j = frac ? level + 1u : level;
-            const uint8_t *tj = tb ? tb : coarser_tile(f, &j, row, t, drow, dt, n, pow2);
-            if (tj) {
-                span_mip(f, tj, tj, x, n, row, t, drow, dt, j, 0, in, sink, pow2, true);
-                return;
-            }
-        }
-        span_mip(f, NULL, NULL, x, n, row, t, drow, dt, level, frac, in, sink, pow2, false);
+        mip_choice_t c = mip_choose(f, row, t, drow, dt, n, lod_q8, pow2);
+        if (c.ta)
+            span_mip(f, c.ta, c.tb, x, n, row, t, drow, dt, c.level, c.frac, in, sink, pow2, true);
+        else
+            span_mip(f, NULL, NULL, x, n, row, t, drow, dt, c.level, c.frac, in, sink, pow2, false);
         return;
     }
     /* nearest and bilinear read the finest level no coarser than the pixels (level 0 zoomed in and down to two
