@@ -321,6 +321,46 @@ static void test_tiled_frames_are_flat_bytes(void **state)
     free(img.xrgb);
 }
 
+/* Levels narrower than a tile (a 128x64 map: every level one tile, its right half unused): at the seam a bilinear
+ * sample's right texel wraps to column 0 of the same tile, which the vector kernels must not read as the next
+ * column. Views across the seam, every path, RGB565 (whose kernels read a texel's right neighbour with it). */
+static void test_narrow_levels_at_the_seam(void **state)
+{
+    (void)state;
+    psc_image_t img = test_image(128, 64, 9);
+    packs_t p;
+    make_packs(&p, &img, PSC_PIX_RGB565, 256u << 20, "narrow.pano");
+    load_all(p.tiled);
+    viewer_t a, b;
+    flat_viewer(&a, &p.flat);
+    tiled_viewer(&b, p.tiled);
+    psc_surface_t sa = surface(PSC_PIX_RGB565), sb = sa;
+    sb.pixels = calloc(OUT_W * OUT_H, 4);
+    tsup_rng_t rng;
+    tsup_rng_seed(&rng, 128);
+    static const psc_simd_t paths[] = {PSC_SIMD_SCALAR, PSC_SIMD_VECTOR, PSC_SIMD_AUTO};
+    for (unsigned i = 0; i < 36; i++) {
+        psc_view_t view = tsup_view_deg(tsup_rng_range(&rng, 150, 210), tsup_rng_range(&rng, -50, 50),
+                                        tsup_rng_range(&rng, 20, 120), i % 2u ? PSC_FILTER_MIP : PSC_FILTER_BILINEAR,
+                                        tsup_rng_below(&rng, 4));
+        psc_viewer_clamp(&a.v, &view, 0);
+        if (psc_viewer_set_simd(&b.v, paths[i % 3u]) != PSC_OK)
+            assert_int_equal(psc_viewer_set_simd(&b.v, PSC_SIMD_AUTO), PSC_OK);
+        assert_int_equal(psc_viewer_render(&a.v, &view, &sa), PSC_OK);
+        assert_int_equal(psc_viewer_render(&b.v, &view, &sb), PSC_OK);
+        if (memcmp(sa.pixels, sb.pixels, (size_t)sa.stride * OUT_H) != 0)
+            fail_msg("view %u (yaw %u pitch %d hfov %u filter %d, %s) differs", i, (unsigned)view.yaw,
+                     (int)view.pitch, (unsigned)view.hfov, (int)view.filter, psc_simd_name(psc_viewer_simd(&b.v)));
+    }
+    print_message("  a 128x64 map, every level one tile: 36 views across the seam, tiled = flat, every path\n");
+    free(sa.pixels);
+    free(sb.pixels);
+    free(a.ws);
+    free(b.ws);
+    free_packs(&p);
+    free(img.xrgb);
+}
+
 /* PSNR (8-bit RGB) of two RGB565 frames. */
 static double psnr565(const psc_surface_t *a, const psc_surface_t *b)
 {
@@ -673,6 +713,7 @@ int main(void)
         cmocka_unit_test(test_range_limits),
         cmocka_unit_test(test_tiles_are_the_flat_levels),
         cmocka_unit_test(test_tiled_frames_are_flat_bytes),
+        cmocka_unit_test(test_narrow_levels_at_the_seam),
         cmocka_unit_test(test_wide_views_read_few_tiles),
         cmocka_unit_test(test_golden_deep_and_wide),
         cmocka_unit_test(test_starved_cache_sharpens),

@@ -50,6 +50,7 @@ typedef long long v4di_t __attribute__((vector_size(32)));
 #define MIN_I32(a, b) ((vi)__builtin_ia32_pminsd256((v8si_t)(a), (v8si_t)(b)))
 #endif
 #define ANY_BIT(v) (!__builtin_ia32_ptestz256((v4di_t)(v), (v4di_t)(v)))
+
 #else
 static PSC_ALWAYS_INLINE vu entry_at(const uint32_t *table, vu idx)
 {
@@ -220,6 +221,20 @@ static PSC_ALWAYS_INLINE void store_lanes(void *dst, unsigned x, vu px, const bo
     }
 }
 
+#ifdef KERNEL_AVX2
+/*
+ * RGB565 texels c and c + 1 of a row at every lane's byte offset off (of texel c; c + 1 inside the row), into
+ * left and right: one unaligned 32-bit gather for the pair, half the gathers of a bilinear sample (measured
+ * 10-15 % faster at 1024x768; XRGB8888's 64-bit gathers of pairs measured 15 % slower than two 32-bit ones).
+ */
+static PSC_ALWAYS_INLINE void texel_pairs(const uint8_t *base, vu off, vu *left, vu *right)
+{
+    vu w = LOAD32_AT(base, off);
+    *left = w & 0xFFFFu;
+    *right = w >> 16;
+}
+#endif
+
 /* A nearest pixel of raw texel raw, in the output's format. */
 static PSC_ALWAYS_INLINE vu shade_nearest(vu raw, const psc_pixfmt_t in, const bool out_565)
 {
@@ -260,9 +275,18 @@ static PSC_ALWAYS_INLINE unsigned row_lanes(const psc_simd_row_t *j, const bool 
             vu ro0 = row_offset(j, ri), ro1 = row_offset(j, ri + 1u);
             t -= j->half_col;
             vu c0 = t >> sh, fc = (t << (32u - sh)) >> 24, c1 = (c0 + 1u) & cmask, fr = (r >> 8) & 255u;
-            vu b0 = col_bytes(c0, in), b1 = col_bytes(c1, in);
-            vu p00 = texel_at(base, ro0 + b0, in, j->pal), p01 = texel_at(base, ro0 + b1, in, j->pal);
-            vu p10 = texel_at(base, ro1 + b0, in, j->pal), p11 = texel_at(base, ro1 + b1, in, j->pal);
+            vu b0 = col_bytes(c0, in), p00, p01, p10, p11;
+#ifdef KERNEL_AVX2
+            if (in == PSC_PIX_RGB565 && !ANY_BIT((vu)(c0 == cmask))) {
+                texel_pairs(base, ro0 + b0, &p00, &p01);   /* no lane at the map's last column (the seam) */
+                texel_pairs(base, ro1 + b0, &p10, &p11);
+            } else
+#endif
+            {
+                vu b1 = col_bytes(c1, in);
+                p00 = texel_at(base, ro0 + b0, in, j->pal), p01 = texel_at(base, ro0 + b1, in, j->pal);
+                p10 = texel_at(base, ro1 + b0, in, j->pal), p11 = texel_at(base, ro1 + b1, in, j->pal);
+            }
             px = shade_bilinear(p00, p01, p10, p11, fc, fr, in, out_565);
         }
         store_lanes(j->dst, x, px, out_565);
@@ -591,6 +615,15 @@ static PSC_ALWAYS_INLINE bool tile_texels(const void *const *resident, uint32_t 
         const uint8_t *tile = (const uint8_t *)resident[i00[0]];
         if (!tile)
             return false;
+#ifdef KERNEL_AVX2
+        /* every lane's right texel next to its left one in the tile's row (not at the seam of a level one tile
+         * wide, where it wraps to column 0) */
+        if (four && in == PSC_PIX_RGB565 && !ANY_BIT((vu)(cb != ca + 1u))) {
+            texel_pairs(tile, oa + ba, p0, p1);
+            texel_pairs(tile, ob + ba, p2, p3);
+            return true;
+        }
+#endif
         *p0 = texel_at(tile, oa + ba, in, pal);
         if (four) {
             *p1 = texel_at(tile, oa + bb, in, pal);
