@@ -484,6 +484,8 @@ void psc_viewer_band_requests_clear(void *scratch, uint16_t out_width)
 {
     psc_tile_requests_t *r = requests_of(scratch, out_width);
     r->count = r->dropped = 0;
+    for (unsigned k = 0; k < PSC_TILE_SEEN_SLOTS; k++)
+        r->seen[k] = 0;
 }
 
 unsigned psc_viewer_requests(const psc_viewer_t *v, const uint32_t **tiles, uint32_t *dropped)

@@ -154,8 +154,9 @@ size_t psc_viewer_workspace_size_tiled(uint16_t out_width, uint16_t out_height, 
  * (psc_viewer_band_requests_clear; psc_viewer_render clears the viewer's own
  * and psc_viewer_requests reads it) found absent at the level they wanted:
  * their numbers into *tiles, how many returned, at most
- * PSC_VIEWER_MAX_REQUESTS (*dropped, may be NULL: the misses past those).
- * Each tile once. Clear a band's scratch before a frame's first band.
+ * PSC_VIEWER_MAX_REQUESTS (*dropped, may be NULL: the misses past those, a
+ * tile as often as it was missed). Each tile once. Clear a band's scratch
+ * before a frame's first band.
  */
 unsigned psc_viewer_band_requests(const void *scratch, uint16_t out_width, const uint32_t **tiles,
                                   uint32_t *dropped);

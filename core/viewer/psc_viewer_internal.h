@@ -25,10 +25,15 @@
 #define MIP_LOD_BIAS_Q8 (-160)
 #endif
 
-/* The tiles a band found absent (at the level it wanted), at the end of its scratch. */
+/* The tiles a band found absent (at the level it wanted), at the end of its scratch; seen, a cache of which are
+ * recorded (slot PSC_TILE_SEEN_SLOT(i) holds i + 1 if tile i is, else maybe another or 0), spares most of the
+ * look-ups through the record. */
+#define PSC_TILE_SEEN_SLOTS 256u
+#define PSC_TILE_SEEN_SLOT(i) (((uint32_t)(i) * 2654435761u) >> 24)
 typedef struct {
     uint32_t count, dropped;
     uint32_t tile[PSC_VIEWER_MAX_REQUESTS];
+    uint32_t seen[PSC_TILE_SEEN_SLOTS];
 } psc_tile_requests_t;
 
 /* What a rendering pass writes per pixel. */

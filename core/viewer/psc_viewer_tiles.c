@@ -22,17 +22,26 @@
 static void request(const psc_frame_t *f, uint32_t i)
 {
     psc_tile_requests_t *r = f->requests;
-    if (r->count > PSC_VIEWER_MAX_REQUESTS)   /* a scratch never cleared: begin its record */
+    if (r->count > PSC_VIEWER_MAX_REQUESTS) {   /* a scratch never cleared: begin its record */
         r->count = r->dropped = 0;
-    if (r->count > 0 && r->tile[r->count - 1u] == i)   /* the texels of an absent tile come in runs */
+        for (unsigned k = 0; k < PSC_TILE_SEEN_SLOTS; k++)
+            r->seen[k] = 0;
+    }
+    uint32_t *seen = &r->seen[PSC_TILE_SEEN_SLOT(i)];
+    if (*seen == i + 1u)   /* recorded */
         return;
-    for (uint32_t k = 0; k < r->count; k++)
-        if (r->tile[k] == i)
-            return;
-    if (r->count < PSC_VIEWER_MAX_REQUESTS)
-        r->tile[r->count++] = i;
-    else
+    if (r->count == PSC_VIEWER_MAX_REQUESTS) {   /* full: a miss past the record (without looking: a frame of a
+                                                  * pack just opened has tens of thousands) */
         r->dropped++;
+        return;
+    }
+    for (uint32_t k = 0; *seen != 0 && k < r->count; k++)   /* the slot another's: look through the record */
+        if (r->tile[k] == i) {
+            *seen = i + 1u;
+            return;
+        }
+    r->tile[r->count++] = i;
+    *seen = i + 1u;
 }
 
 /* Texel (r, c) of a tile holding it: raw RGB565, XRGB8888 (RGB888 as it), or a palette entry (XRGB8888). */
