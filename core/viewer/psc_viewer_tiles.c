@@ -344,9 +344,33 @@ static PSC_ALWAYS_INLINE void span0_bilinear(const psc_frame_t *f, const uint8_t
 }
 
 /*
+ * The tiles of level k that a span's texels lie in, the span across a tile's edge (its two ends' taps bound the
+ * others, and a span is shorter than a tile: at most two rows by two columns of tiles): whether all are
+ * resident, the absent ones asked for.
+ */
+static bool span_tiles_resident(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, int32_t drow,
+                                int32_t dt, unsigned n, const bool pow2)
+{
+    taps_t a = taps_at(f, k, row, t, pow2);
+    taps_t b = taps_at(f, k, (int32_t)((uint32_t)row + (n - 1u) * (uint32_t)drow), t + (n - 1u) * (uint32_t)dt, pow2);
+    const uint32_t rows[4] = {a.r0, a.r1, b.r0, b.r1}, cols[4] = {a.c0, a.c1, b.c0, b.c1};
+    bool all = true;
+    for (unsigned i = 0; i < 4; i++)
+        for (unsigned j = 0; j < 4; j++) {
+            uint32_t id = psc_tiles_at(f->tiles, k, rows[i], cols[j]);
+            if (!f->tiles->resident[id]) {
+                request(f, id);
+                all = false;
+            }
+        }
+    return all;
+}
+
+/*
  * A PSC_FILTER_MIP span's levels and tiles (psc_span_mip's choice at lod_q8): both levels' tiles resident,
  * their level and fraction; else, the absent ones asked for, the finest coarser level with the span's texels in
- * one resident tile at fraction 0; else ta NULL (each texel looked up, at the levels and fraction asked for).
+ * one resident tile at fraction 0; else ta NULL (each texel looked up, at the levels and fraction asked for: a
+ * span across a tile's edge with every tile resident, or no coarser tile over the span).
  */
 typedef struct {
     const uint8_t *ta, *tb;
@@ -368,11 +392,17 @@ static mip_choice_t mip_choose(const psc_frame_t *f, int32_t row, uint32_t t, in
     c.tb = resident_tile(f, ib);
     if (c.ta && c.tb)
         return c;
-    if (ia != NO_TILE && ib != NO_TILE) {   /* absent: asked for, and a coarser level's tile meanwhile */
-        if (!c.ta)
-            request(f, ia);
-        if (!c.tb)
+    /* absent tiles asked for (a span across a tile's edge: each of the tiles it reads); where all are resident
+     * the span is across an edge only, its texels looked up one by one */
+    bool absent = ia == NO_TILE ? !span_tiles_resident(f, c.level, row, t, drow, dt, n, pow2) : !c.ta;
+    if (ia != NO_TILE && !c.ta)
+        request(f, ia);
+    if (c.frac) {
+        absent |= ib == NO_TILE ? !span_tiles_resident(f, c.level + 1u, row, t, drow, dt, n, pow2) : !c.tb;
+        if (ib != NO_TILE && !c.tb)
             request(f, ib);
+    }
+    if (absent) {   /* meanwhile the finest coarser level with the span in one resident tile */
         uint32_t j = c.frac ? c.level + 1u : c.level;
         const uint8_t *tj = c.tb ? c.tb : coarser_tile(f, &j, row, t, drow, dt, n, pow2);
         if (tj)
