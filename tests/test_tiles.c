@@ -361,6 +361,68 @@ static void test_narrow_levels_at_the_seam(void **state)
     free(img.xrgb);
 }
 
+/* Every path draws a tiled map's frames alike, whatever is resident: random views (every filter, zoomed out to the
+ * pyramid's levels too, where nearest and bilinear read a level of their own), with every tile, with a random
+ * half of them and with the coarsest level alone; the scalar spans against the baseline vector kernel and AUTO's. */
+static void test_paths_agree_at_any_residency(void **state)
+{
+    (void)state;
+    psc_image_t img = test_image(MAP_W, MAP_H, 5);
+    static const psc_simd_t paths[] = {PSC_SIMD_SCALAR, PSC_SIMD_VECTOR, PSC_SIMD_AUTO};
+    tsup_rng_t rng;
+    tsup_rng_seed(&rng, 77);
+    unsigned frames = 0;
+    for (int fmt = 0; fmt < 2; fmt++) {
+        for (int residency = 0; residency < 3; residency++) {
+            packs_t p;
+            make_packs(&p, &img, fmt ? PSC_PIX_RGB888 : PSC_PIX_RGB565, 256u << 20, "agree.pano");
+            const psc_tiles_t *g = psc_io_tiled_tiles(p.tiled);
+            uint32_t *some = malloc(g->tile_count * sizeof *some);
+            assert_non_null(some);
+            unsigned n = 0;
+            for (uint32_t i = 0; i < g->tile_count; i++)
+                if (residency == 0 || (residency == 1 && tsup_rng_below(&rng, 2)))
+                    some[n++] = i;
+            char err[256];
+            assert_int_equal(psc_io_tiled_load(p.tiled, some, n, err, sizeof err), 0);
+            free(some);
+            viewer_t b;
+            tiled_viewer(&b, p.tiled);
+            psc_surface_t s[3];
+            for (int k = 0; k < 3; k++)
+                s[k] = surface(fmt ? PSC_PIX_XRGB8888 : PSC_PIX_RGB565);
+            for (unsigned i = 0; i < 12; i++, frames++) {
+                psc_view_t view = random_view(&rng, &b.v);
+                view.hfov = tsup_bam_from_deg(tsup_rng_range(&rng, 20, 120));
+                psc_viewer_clamp(&b.v, &view, 0);
+                for (int k = 0; k < 3; k++) {
+                    if (psc_viewer_set_simd(&b.v, paths[k]) != PSC_OK)
+                        assert_int_equal(psc_viewer_set_simd(&b.v, PSC_SIMD_SCALAR), PSC_OK);
+                    assert_int_equal(psc_viewer_render(&b.v, &view, &s[k]), PSC_OK);
+                }
+                for (int k = 1; k < 3; k++) {
+                    size_t bytes = (size_t)s[0].stride * OUT_H, at = 0;
+                    while (at < bytes && ((uint8_t *)s[0].pixels)[at] == ((uint8_t *)s[k].pixels)[at])
+                        at++;
+                    if (at < bytes)
+                        fail_msg("%s map, residency %d, view %u (yaw %u pitch %d hfov %u filter %d span %u): %s "
+                                 "differs from scalar at pixel (%zu, %zu)", fmt ? "rgb888" : "rgb565", residency, i,
+                                 (unsigned)view.yaw, (int)view.pitch, (unsigned)view.hfov, (int)view.filter,
+                                 (unsigned)view.span_log2, psc_simd_name(paths[k]), at % s[0].stride / (fmt ? 4u : 2u),
+                                 at / s[0].stride);
+                }
+            }
+            for (int k = 0; k < 3; k++)
+                free(s[k].pixels);
+            free(b.ws);
+            free_packs(&p);
+        }
+    }
+    print_message("  %u random views (every tile, a random half, the coarsest level): the scalar spans' bytes through "
+                  "every path\n", frames);
+    free(img.xrgb);
+}
+
 /* PSNR (8-bit RGB) of two RGB565 frames. */
 static double psnr565(const psc_surface_t *a, const psc_surface_t *b)
 {
@@ -714,6 +776,7 @@ int main(void)
         cmocka_unit_test(test_tiles_are_the_flat_levels),
         cmocka_unit_test(test_tiled_frames_are_flat_bytes),
         cmocka_unit_test(test_narrow_levels_at_the_seam),
+        cmocka_unit_test(test_paths_agree_at_any_residency),
         cmocka_unit_test(test_wide_views_read_few_tiles),
         cmocka_unit_test(test_golden_deep_and_wide),
         cmocka_unit_test(test_starved_cache_sharpens),

@@ -683,7 +683,9 @@ static void prefetch_samples(const psc_frame_t *f, const row_setup_t *rs, unsign
 static unsigned mip_vector(const psc_frame_t *f, const row_setup_t *rs, unsigned count)
 {
     const psc_viewer_t *v = f->v;
-    const bool tiled = f->tiles && f->mip && f->simd && f->tiles->format != PSC_PIX_PAL8;
+    /* a tiled map's pyramid, and its nearest and bilinear scanlines past level 0 (each span at the finest level
+     * with at most two texels a pixel, psc_span_tiled's choice): through the tiled kernel */
+    const bool tiled = f->tiles && f->simd && f->tiles->format != PSC_PIX_PAL8;
     if (!(f->simd_mip || tiled) || f->sink == PSC_SINK_TRACE || rs->any_polar || v->out_width % f->span != 0 ||
         v->col_shift == 0)
         return 0;
@@ -693,6 +695,11 @@ static unsigned mip_vector(const psc_frame_t *f, const row_setup_t *rs, unsigned
     for (unsigned k = 0; 2u * k < spans; k++) { /* span k and its mirror spans - 1 - k share a level */
         int32_t lod_q8 = lod_q8_at(f, rs, 2 * (int32_t)(k * n) + (int32_t)n - w);
         uint32_t level = lod_q8 < 0 ? 0u : (uint32_t)lod_q8 >> 8, frac = lod_q8 < 0 ? 0u : (uint32_t)lod_q8 & 255u;
+        if (!f->mip) {   /* one level, no blend */
+            int32_t fit_q8 = lod_q8 - MIP_LOD_BIAS_Q8;
+            level = fit_q8 < 256 ? 0u : (uint32_t)fit_q8 >> 8;
+            frac = 0;
+        }
         if (level >= top) {
             level = top;
             frac = 0;
@@ -711,39 +718,47 @@ static unsigned mip_vector(const psc_frame_t *f, const row_setup_t *rs, unsigned
      * drawing never reads it (without a polar cap, the case here) */
     uint16_t *miss = (uint16_t *)(void *)f->work.lut_row;
     uint32_t misses = 0;
-    psc_simd_mip_tiled_t tj = {job, f->tiles->resident, f->tile_first, f->tile_cols, f->tiles->tile_stride, miss,
-                               &misses, NULL, 0};
+    psc_simd_mip_tiled_t tj = {job,  f->tiles->resident, f->tile_first, f->tile_cols, f->tiles->tile_stride, miss,
+                               &misses, NULL, 0,  f->filter == PSC_FILTER_NEAREST && !f->mip};
     const unsigned done = f->simd->mip_tiled(&tj), lanes = f->simd->lanes;
     if (misses == 0)
         return done;
-    /* The groups with a texel in an absent tile: each of their spans takes the scalar spans' choice
-     * (psc_tiled_mip_level: the tiles asked for, the finest coarser level resident over the span meanwhile) into
-     * its lod entry, and those groups are drawn again by the kernel at those levels; a group with a span whose
-     * texels must be looked up one by one goes to the scalar spans. (Listed in place: a group is read before it
-     * is written.) */
-    uint32_t again = 0;
+    /* The groups with a texel in an absent tile: each span they touch (the whole span, as the scalar spans decide
+     * for it) takes the scalar spans' choice (psc_tiled_span_level: the tiles asked for, the finest coarser level
+     * resident over the span meanwhile) into its lod entry, and the groups of those spans are drawn again by the
+     * kernel at those levels; a span whose texels must be looked up one by one goes to the scalar spans whole,
+     * with the groups it shares. */
+    const unsigned groups = v->out_width / lanes;
+    uint16_t *again = miss + groups + 1u, *left = again + groups + 1u;
+    uint32_t n_again = 0, next = 0;   /* next: the first pixel no missed group's span has reached */
     for (uint32_t i = 0; i < misses; i++) {
-        const unsigned a = miss[i] * lanes, b = a + lanes;
+        /* the pixels of the spans group miss[i] touches, whole: [a, b) */
+        unsigned a = miss[i] * lanes / n * n, b = ((miss[i] + 1u) * lanes + n - 1u) / n * n;
+        a = a < next ? next : a;
+        if (a >= b)
+            continue;
+        next = b;
         bool ok = true;
         for (unsigned k = a / n; k * n < b && ok; k++) {
             span_t s = span_at(f, k, n);
-            ok = psc_tiled_mip_level(f, s.row, s.t, s.drow, s.dt, n,
-                                     lod_q8_at(f, rs, 2 * (int32_t)(k * n) + (int32_t)n - w), &lod[k]);
+            ok = psc_tiled_span_level(f, s.row, s.t, s.drow, s.dt, n,
+                                      lod_q8_at(f, rs, 2 * (int32_t)(k * n) + (int32_t)n - w), &lod[k]);
         }
         if (ok)
-            miss[again++] = miss[i];
+            for (unsigned gi = a / lanes; gi < b / lanes; gi++)
+                again[n_again++] = (uint16_t)gi;
         else
             pixels_general(f, rs, a, b);
     }
-    if (again) {
-        uint32_t left = 0;
-        tj.misses = &left;
-        tj.miss = miss + again;   /* (none expected: every tile those levels read is resident) */
-        tj.only = miss;
-        tj.only_n = again;
+    if (n_again) {
+        uint32_t n_left = 0;
+        tj.misses = &n_left;
+        tj.miss = left;   /* (none expected: every tile those levels read is resident) */
+        tj.only = again;
+        tj.only_n = n_again;
         f->simd->mip_tiled(&tj);
-        for (uint32_t i = 0; i < left; i++)
-            pixels_general(f, rs, tj.miss[i] * lanes, (tj.miss[i] + 1u) * lanes);
+        for (uint32_t i = 0; i < n_left; i++)
+            pixels_general(f, rs, left[i] * lanes / n * n, ((left[i] + 1u) * lanes + n - 1u) / n * n);
     }
     return done;
 }
@@ -789,9 +804,15 @@ static bool scanline_tiled0_vector(const psc_frame_t *f, const scan_line_t *l)
          v->half_col_bam, g->level[0].height, g->tile_stride, f->filter == PSC_FILTER_BILINEAR, (uint8_t)g->format,
          f->sink == PSC_SINK_RGB565},
         g->resident, g->level[0].tiles_x, miss, &misses};
-    const unsigned done = f->simd->row_tiled(&job), lanes = f->simd->lanes;
-    for (uint32_t i = 0; i < misses; i++)
-        pixels_general(f, &l->rs, miss[i] * lanes, (miss[i] + 1u) * lanes);
+    const unsigned done = f->simd->row_tiled(&job), lanes = f->simd->lanes, n = f->span;
+    /* a missed group's spans again through the scalar spans, whole (they decide span by span) */
+    for (uint32_t i = 0, last_b = 0; i < misses; i++) {
+        unsigned a = miss[i] * lanes / n * n, b = ((miss[i] + 1u) * lanes + n - 1u) / n * n;
+        a = a < last_b ? last_b : a;
+        if (a < b)
+            pixels_general(f, &l->rs, a, b);
+        last_b = b > last_b ? b : last_b;
+    }
     pixels_general(f, &l->rs, done, v->out_width);
     return true;
 }

@@ -107,7 +107,8 @@ typedef struct {
 } psc_simd_row_tiled_t;
 
 /*
- * A tiled map's row of PSC_FILTER_MIP: mip's fields but base, level_off and
+ * A tiled map's row of PSC_FILTER_MIP, or of nearest or bilinear at each
+ * span's level (fraction 0): mip's fields but base, level_off and
  * level_stride (unused; level_hmax is each level's last row), each level's
  * texels from its tiles; the groups with a texel in an absent tile listed in
  * miss as for the tiled row.
@@ -121,6 +122,7 @@ typedef struct {
     uint32_t *misses;
     const uint16_t *only;                          /* if not NULL, these only_n groups alone */
     uint32_t only_n;
+    uint8_t nearest;                               /* the nearest texel of each span's level (its lod entry's) */
 } psc_simd_mip_tiled_t;
 
 /*

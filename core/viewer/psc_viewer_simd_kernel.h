@@ -688,7 +688,7 @@ static PSC_ALWAYS_INLINE bool level_tiled_lanes(const psc_simd_mip_tiled_t *jt, 
                                                 const psc_pixfmt_t in, const bool packed565, vu *out)
 {
     const psc_simd_mip_t *j = &jt->mip;
-    vi r = (((vi)row + 32768) >> (vi)lv) - 32768;
+    vi r = (vi)(((vu)row + 32768u) >> lv) - 32768;   /* unsigned: row + 1/2 reaches 2^31 on a 32768-row map */
     vi r0 = r >> 16, r1 = r0 + 1;
     vu fr = ((vu)r >> 8) & 255u, hmax = ENTRY_AT(j->level_hmax, lv);
     r0 = (vi)select_lanes((vu)(r0 < 0), (vu){0}, (vu)r0);
@@ -703,6 +703,21 @@ static PSC_ALWAYS_INLINE bool level_tiled_lanes(const psc_simd_mip_tiled_t *jt, 
                      : v_blend4_xrgb(v_texel_xrgb(a, in), v_texel_xrgb(b, in), v_texel_xrgb(c, in),
                                      v_texel_xrgb(d, in), fc, fr);
     return true;
+}
+
+/* near_at of psc_viewer_tiles.c, lane by lane at each lane's level lv: false where a texel's tile is absent. */
+static PSC_ALWAYS_INLINE bool nearest_tiled_lanes(const psc_simd_mip_tiled_t *jt, vu lv, vu row, vu t,
+                                                  const psc_pixfmt_t in, vu *out)
+{
+    const psc_simd_mip_t *j = &jt->mip;
+    vi rk = (vi)(((vu)row + 32768u) >> lv) - 32768;
+    vi r = (rk + 32768) >> 16;
+    vu hmax = ENTRY_AT(j->level_hmax, lv);
+    r = (vi)select_lanes((vu)(r < 0), (vu){0}, (vu)r);
+    r = (vi)select_lanes((vu)(r > (vi)hmax), hmax, (vu)r);
+    vu c = t >> (j->col_shift + lv), unused = {0};
+    return tile_texels(jt->resident, jt->tile_stride, j->pal, ENTRY_AT(jt->level_first, lv),
+                       ENTRY_AT(jt->level_tiles_x, lv), (vu)r, (vu)r, c, c, false, in, out, &unused, &unused, &unused);
 }
 
 /* mip_lanes through the tiles; a group whose second level has a fraction of 0 throughout reads the first alone. */
@@ -720,6 +735,14 @@ static PSC_ALWAYS_INLINE unsigned mip_tiled_lanes(const psc_simd_mip_tiled_t *jt
             x = jt->only[g] * LANES;
         vu r, t, lod = samples_under(j->lod, x, l2, lane_span), frac = lod >> 16, p, q;
         lane_positions(row, j->t, x, l2, lane_span, &r, &t);
+        if (jt->nearest) {
+            if (!nearest_tiled_lanes(jt, lod & 255u, r, t, in, &p)) {
+                jt->miss[(*jt->misses)++] = (uint16_t)(x / LANES);
+                continue;
+            }
+            store_lanes(j->dst, x, shade_nearest(p, in, out_565), out_565);
+            continue;
+        }
         bool have = level_tiled_lanes(jt, lod & 255u, r, t, in, packed565, &p);
         q = p;
         if (have && any_lane(frac))

@@ -412,14 +412,37 @@ static mip_choice_t mip_choose(const psc_frame_t *f, int32_t row, uint32_t t, in
     return c;
 }
 
-bool psc_tiled_mip_level(const psc_frame_t *f, int32_t row, uint32_t t, int32_t drow, int32_t dt, unsigned n,
-                         int32_t lod_q8, uint32_t *lod)
+/* Nearest and bilinear: the finest level no coarser than the pixels (see span_tiled). */
+static uint32_t fit_level(const psc_frame_t *f, int32_t lod_q8)
 {
-    mip_choice_t c = mip_choose(f, row, t, drow, dt, n, lod_q8, f->v->col_shift != 0);
-    if (!c.ta)
-        return false;
-    uint32_t next = c.frac ? c.level + 1u : c.level;
-    *lod = c.level | next << 8 | c.frac << 16;
+    int32_t fit_q8 = lod_q8 - MIP_LOD_BIAS_Q8;
+    uint32_t k = fit_q8 < 256 ? 0u : (uint32_t)fit_q8 >> 8;
+    return k < f->tiles->level_count ? k : f->tiles->level_count - 1u;
+}
+
+bool psc_tiled_span_level(const psc_frame_t *f, int32_t row, uint32_t t, int32_t drow, int32_t dt, unsigned n,
+                          int32_t lod_q8, uint32_t *lod)
+{
+    const bool pow2 = f->v->col_shift != 0;
+    if (f->mip) {
+        mip_choice_t c = mip_choose(f, row, t, drow, dt, n, lod_q8, pow2);
+        if (!c.ta)
+            return false;
+        uint32_t next = c.frac ? c.level + 1u : c.level;
+        *lod = c.level | next << 8 | c.frac << 16;
+        return true;
+    }
+    uint32_t k = fit_level(f, lod_q8);
+    uint32_t id = f->filter == PSC_FILTER_NEAREST ? span_tile_nearest(f, k, row, t, drow, dt, n, pow2)
+                                                  : span_tile_bilinear(f, k, row, t, drow, dt, n, pow2);
+    const uint8_t *tile = resident_tile(f, id);
+    if (!tile && id != NO_TILE) {   /* span_tiled's: asked for, a coarser level's tile meanwhile */
+        request(f, id);
+        tile = coarser_tile(f, &k, row, t, drow, dt, n, pow2);
+    }
+    if (!tile)
+        return false;   /* across a tile's edge, or no coarser tile: texel by texel */
+    *lod = k | k << 8;
     return true;
 }
 
@@ -439,9 +462,7 @@ static PSC_ALWAYS_INLINE void span_tiled(const psc_frame_t *f, unsigned x, unsig
     /* nearest and bilinear read the finest level no coarser than the pixels (level 0 zoomed in and down to two
      * texels a pixel: the flat map's bytes), so that a wide view of a huge map reads about as many texels as it
      * has pixels, not the whole map */
-    int32_t fit_q8 = lod_q8 - MIP_LOD_BIAS_Q8;
-    uint32_t k = fit_q8 < 256 ? 0u : (uint32_t)fit_q8 >> 8;
-    k = k < f->tiles->level_count ? k : f->tiles->level_count - 1u;
+    uint32_t k = fit_level(f, lod_q8);
     const bool near = f->filter == PSC_FILTER_NEAREST;
     uint32_t id = near ? span_tile_nearest(f, k, row, t, drow, dt, n, pow2)
                        : span_tile_bilinear(f, k, row, t, drow, dt, n, pow2);
