@@ -149,6 +149,17 @@ typedef struct {
     psc_envmap_t map;
 } viewer_t;
 
+/* What a test comparing a flat and a tiled viewer's frames frees at its end. */
+static void free_frames(psc_surface_t *sa, psc_surface_t *sb, viewer_t *a, viewer_t *b, packs_t *p, psc_image_t *img)
+{
+    free(sa->pixels);
+    free(sb->pixels);
+    free(a->ws);
+    free(b->ws);
+    free_packs(p);
+    free(img->xrgb);
+}
+
 static void flat_viewer(viewer_t *vw, const psc_pack_t *p)
 {
     size_t n = psc_viewer_workspace_size(OUT_W, OUT_H, &p->map);
@@ -353,12 +364,7 @@ static void test_narrow_levels_at_the_seam(void **state)
                      (int)view.pitch, (unsigned)view.hfov, (int)view.filter, psc_simd_name(psc_viewer_simd(&b.v)));
     }
     print_message("  a 128x64 map, every level one tile: 36 views across the seam, tiled = flat, every path\n");
-    free(sa.pixels);
-    free(sb.pixels);
-    free(a.ws);
-    free(b.ws);
-    free_packs(&p);
-    free(img.xrgb);
+    free_frames(&sa, &sb, &a, &b, &p, &img);
 }
 
 /* Every path draws a tiled map's frames alike, whatever is resident: random views (every filter, zoomed out to the
@@ -476,12 +482,7 @@ static void test_wide_views_read_few_tiles(void **state)
         assert_true(db >= (filter ? 32.0 : 28.0));   /* measured 37.8 and 33.2 */
         assert_true(asked <= 40u);                    /* (bilinear finds nearest's tiles resident) */
     }
-    free(sa.pixels);
-    free(sb.pixels);
-    free(a.ws);
-    free(b.ws);
-    free_packs(&p);
-    free(img.xrgb);
+    free_frames(&sa, &sb, &a, &b, &p, &img);
 }
 
 /* A starved cache draws every frame (coarser), asks for its tiles, and sharpens to the flat bytes. */
@@ -595,12 +596,7 @@ static void test_loader_thread_sharpens(void **state)
                   "tiles read; every view sharpened to the flat bytes\n", psc_io_tiled_slots(p.tiled), frames, coarse,
                   (unsigned long long)loaded);
     assert_true(coarse > 0);
-    free(sa.pixels);
-    free(sb.pixels);
-    free(a.ws);
-    free(b.ws);
-    free_packs(&p);
-    free(img.xrgb);
+    free_frames(&sa, &sb, &a, &b, &p, &img);
 }
 
 /* Golden views of a tiled pack against the double-precision reference of its map (PSNR over 8-bit RGB of the

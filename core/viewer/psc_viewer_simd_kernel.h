@@ -294,28 +294,22 @@ static PSC_ALWAYS_INLINE unsigned row_lanes(const psc_simd_row_t *j, const bool 
     return n;
 }
 
+/* The map formats and outputs the kernels serve, X(format, RGB565 output), a tiled map's (never PAL8) first. */
+#define TILED_FORMATS(X) \
+    X(PSC_PIX_RGB565, 1) X(PSC_PIX_RGB565, 0) X(PSC_PIX_XRGB8888, 1) X(PSC_PIX_XRGB8888, 0) X(PSC_PIX_RGB888, 1) \
+    X(PSC_PIX_RGB888, 0)
+#define KERNEL_FORMATS(X) TILED_FORMATS(X) X(PSC_PIX_PAL8, 1) X(PSC_PIX_PAL8, 0)
+
 #define ROW_CASE(bl, fmt, o565)                                                                      \
     if (j->bilinear == (bl) && j->in == (fmt) && j->out_565 == (o565))                               \
         return row_lanes(j, bl, fmt, o565);
+#define ROW_CASE_NEAREST(fmt, o565) ROW_CASE(0, fmt, o565)
+#define ROW_CASE_BILINEAR(fmt, o565) ROW_CASE(1, fmt, o565)
 
 static unsigned KERNEL_ROW(const psc_simd_row_t *j)
 {
-    ROW_CASE(0, PSC_PIX_RGB565, 1)
-    ROW_CASE(0, PSC_PIX_RGB565, 0)
-    ROW_CASE(0, PSC_PIX_XRGB8888, 1)
-    ROW_CASE(0, PSC_PIX_XRGB8888, 0)
-    ROW_CASE(0, PSC_PIX_PAL8, 1)
-    ROW_CASE(0, PSC_PIX_PAL8, 0)
-    ROW_CASE(0, PSC_PIX_RGB888, 1)
-    ROW_CASE(0, PSC_PIX_RGB888, 0)
-    ROW_CASE(1, PSC_PIX_RGB565, 1)
-    ROW_CASE(1, PSC_PIX_RGB565, 0)
-    ROW_CASE(1, PSC_PIX_XRGB8888, 1)
-    ROW_CASE(1, PSC_PIX_XRGB8888, 0)
-    ROW_CASE(1, PSC_PIX_PAL8, 1)
-    ROW_CASE(1, PSC_PIX_PAL8, 0)
-    ROW_CASE(1, PSC_PIX_RGB888, 1)
-    ROW_CASE(1, PSC_PIX_RGB888, 0)
+    KERNEL_FORMATS(ROW_CASE_NEAREST)
+    KERNEL_FORMATS(ROW_CASE_BILINEAR)
     return 0;
 }
 
@@ -493,6 +487,18 @@ static PSC_ALWAYS_INLINE vu level_lanes(const psc_simd_mip_t *j, vu lv, vu row, 
     return v_blend4_xrgb(v_texel_xrgb(a, in), v_texel_xrgb(b, in), v_texel_xrgb(c, in), v_texel_xrgb(d, in), fc, fr);
 }
 
+/* The samples p and q of a pixel's two levels blended by frac (Q0.8), stored in the output's format (span_mip's). */
+static PSC_ALWAYS_INLINE void store_levels(void *dst, unsigned x, vu p, vu q, vu frac, const bool packed565,
+                                           const bool out_565)
+{
+    vu px = packed565 ? v_blend4_565(p, q, p, q, (frac + 4u) >> 3, (vu){0}) : v_blend4_xrgb(p, q, p, q, frac, (vu){0});
+    if (out_565)
+        px = packed565 ? px : v_xrgb_to_565(px);
+    else
+        px |= 0xFF000000u;
+    store_lanes(dst, x, px, out_565);
+}
+
 static PSC_ALWAYS_INLINE unsigned mip_lanes(const psc_simd_mip_t *j, const psc_pixfmt_t in, const bool out_565)
 {
     const unsigned n = j->width - j->width % LANES, l2 = j->span_log2;
@@ -506,12 +512,7 @@ static PSC_ALWAYS_INLINE unsigned mip_lanes(const psc_simd_mip_t *j, const psc_p
          * level: a group with none reads one level */
         vu p = level_lanes(j, lod & 255u, r, t, in, packed565);
         vu q = any_lane(frac) ? level_lanes(j, (lod >> 8) & 255u, r, t, in, packed565) : p;
-        vu px = packed565 ? v_blend4_565(p, q, p, q, (frac + 4u) >> 3, (vu){0}) : v_blend4_xrgb(p, q, p, q, frac, (vu){0});
-        if (out_565)
-            px = packed565 ? px : v_xrgb_to_565(px);
-        else
-            px |= 0xFF000000u;
-        store_lanes(j->dst, x, px, out_565);
+        store_levels(j->dst, x, p, q, frac, packed565, out_565);
     }
     return n;
 }
@@ -522,14 +523,7 @@ static PSC_ALWAYS_INLINE unsigned mip_lanes(const psc_simd_mip_t *j, const psc_p
 
 static unsigned KERNEL_MIP(const psc_simd_mip_t *j)
 {
-    MIP_CASE(PSC_PIX_RGB565, 1)
-    MIP_CASE(PSC_PIX_RGB565, 0)
-    MIP_CASE(PSC_PIX_XRGB8888, 1)
-    MIP_CASE(PSC_PIX_XRGB8888, 0)
-    MIP_CASE(PSC_PIX_PAL8, 1)
-    MIP_CASE(PSC_PIX_PAL8, 0)
-    MIP_CASE(PSC_PIX_RGB888, 1)
-    MIP_CASE(PSC_PIX_RGB888, 0)
+    KERNEL_FORMATS(MIP_CASE)
     return 0;
 }
 
@@ -751,12 +745,7 @@ static PSC_ALWAYS_INLINE unsigned mip_tiled_lanes(const psc_simd_mip_tiled_t *jt
             jt->miss[(*jt->misses)++] = (uint16_t)(x / LANES);
             continue;
         }
-        vu px = packed565 ? v_blend4_565(p, q, p, q, (frac + 4u) >> 3, (vu){0}) : v_blend4_xrgb(p, q, p, q, frac, (vu){0});
-        if (out_565)
-            px = packed565 ? px : v_xrgb_to_565(px);
-        else
-            px |= 0xFF000000u;
-        store_lanes(j->dst, x, px, out_565);
+        store_levels(j->dst, x, p, q, frac, packed565, out_565);
     }
     return n;
 }
@@ -767,33 +756,20 @@ static PSC_ALWAYS_INLINE unsigned mip_tiled_lanes(const psc_simd_mip_tiled_t *jt
 
 static unsigned KERNEL_MIP_TILED(const psc_simd_mip_tiled_t *j)
 {
-    MIP_TILED_CASE(PSC_PIX_RGB565, 1)
-    MIP_TILED_CASE(PSC_PIX_RGB565, 0)
-    MIP_TILED_CASE(PSC_PIX_XRGB8888, 1)
-    MIP_TILED_CASE(PSC_PIX_XRGB8888, 0)
-    MIP_TILED_CASE(PSC_PIX_RGB888, 1)
-    MIP_TILED_CASE(PSC_PIX_RGB888, 0)
+    TILED_FORMATS(MIP_TILED_CASE)
     return 0;
 }
 
 #define ROW_TILED_CASE(bl, fmt, o565)                                                         \
     if (j->row.bilinear == (bl) && j->row.in == (fmt) && j->row.out_565 == (o565))            \
         return row_tiled_lanes(j, bl, fmt, o565);
+#define ROW_TILED_NEAREST(fmt, o565) ROW_TILED_CASE(0, fmt, o565)
+#define ROW_TILED_BILINEAR(fmt, o565) ROW_TILED_CASE(1, fmt, o565)
 
 static unsigned KERNEL_ROW_TILED(const psc_simd_row_tiled_t *j)
 {
-    ROW_TILED_CASE(0, PSC_PIX_RGB565, 1)
-    ROW_TILED_CASE(0, PSC_PIX_RGB565, 0)
-    ROW_TILED_CASE(0, PSC_PIX_XRGB8888, 1)
-    ROW_TILED_CASE(0, PSC_PIX_XRGB8888, 0)
-    ROW_TILED_CASE(0, PSC_PIX_RGB888, 1)
-    ROW_TILED_CASE(0, PSC_PIX_RGB888, 0)
-    ROW_TILED_CASE(1, PSC_PIX_RGB565, 1)
-    ROW_TILED_CASE(1, PSC_PIX_RGB565, 0)
-    ROW_TILED_CASE(1, PSC_PIX_XRGB8888, 1)
-    ROW_TILED_CASE(1, PSC_PIX_XRGB8888, 0)
-    ROW_TILED_CASE(1, PSC_PIX_RGB888, 1)
-    ROW_TILED_CASE(1, PSC_PIX_RGB888, 0)
+    TILED_FORMATS(ROW_TILED_NEAREST)
+    TILED_FORMATS(ROW_TILED_BILINEAR)
     return 0;
 }
 
