@@ -28,8 +28,8 @@
 /* The tiles a band found absent (at the level it wanted), at the end of its scratch; seen, a cache of which are
  * recorded (slot PSC_TILE_SEEN_SLOT(i) holds i + 1 if tile i is, else maybe another or 0), spares most of the
  * look-ups through the record. */
-#define PSC_TILE_SEEN_SLOTS 256u
-#define PSC_TILE_SEEN_SLOT(i) (((uint32_t)(i) * 2654435761u) >> 24)
+#define PSC_TILE_SEEN_SLOTS 64u   /* (every band's scratch has it, a microcontroller's too: 256 bytes) */
+#define PSC_TILE_SEEN_SLOT(i) (((uint32_t)(i) * 2654435761u) >> 26)
 typedef struct {
     uint32_t count, dropped;
     uint32_t tile[PSC_VIEWER_MAX_REQUESTS];

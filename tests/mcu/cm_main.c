@@ -93,7 +93,8 @@ static void ln_end(void)
 extern const uint8_t _binary_scene_pano_start[];
 extern const uint8_t _binary_scene_pano_end[];
 
-#define CM_WS_BYTES 4096u  /* 3368 needed for 64x48 from a 256x128 equirect map (two scanlines' workspace) */
+#define CM_WS_BYTES 4096u  /* 3888 needed for 64x48 from a 256x128 equirect map (two scanlines' workspace and
+                             * a tiled map's record of missed tiles) */
 static uint64_t workspace[CM_WS_BYTES / sizeof(uint64_t)];
 static uint16_t frame[CM_VIEW_WIDTH * CM_VIEW_HEIGHT];
 static psc_pack_t pack;
