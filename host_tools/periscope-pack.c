@@ -151,6 +151,14 @@ static double lon_deg(psc_bam_t a)
     return d >= 180.0 ? d - 360.0 : d;
 }
 
+/* The longitudes and latitudes a map covers (a partial panorama's, or the full sphere). */
+static void print_coverage(const psc_envmap_t *m)
+{
+    double lon0 = lon_deg(m->lon_min), span = m->lon_span ? psc_io_deg_from_bam(m->lon_span) : 360.0;
+    fprintf(stderr, "  covers   longitude %.2f..%.2f, latitude %.2f..%.2f degrees\n", lon0, lon0 + span,
+            psc_io_deg_from_sbam(m->lat_top), psc_io_deg_from_sbam(m->lat_bottom));
+}
+
 static void print_summary(const char *out_path, const psc_pack_t *p, size_t len)
 {
     const psc_envmap_t *m = &p->map;
@@ -159,9 +167,8 @@ static void print_summary(const char *out_path, const psc_pack_t *p, size_t len)
     fprintf(stderr, ")\n  map      %ux%u %s, %s projection, ", (unsigned)m->width, (unsigned)m->height,
             psc_io_pixfmt_name(m->format), psc_projection_name(m->projection));
     print_size(stderr, (double)m->stride * m->height);
-    double lon0 = lon_deg(m->lon_min), span = m->lon_span ? psc_io_deg_from_bam(m->lon_span) : 360.0;
-    fprintf(stderr, "\n  covers   longitude %.2f..%.2f, latitude %.2f..%.2f degrees\n", lon0, lon0 + span,
-            psc_io_deg_from_sbam(m->lat_top), psc_io_deg_from_sbam(m->lat_bottom));
+    fprintf(stderr, "\n");
+    print_coverage(m);
     if (p->level_count > 1) {
         double bytes = 0;
         for (unsigned k = 1; k < p->level_count; k++)
@@ -322,7 +329,9 @@ static void print_tiled_summary(const char *out_path, const psc_pack_t *p, uint6
             (unsigned)t->level[t->level_count - 1u].width, (unsigned)t->level[t->level_count - 1u].height,
             (unsigned)t->tile_count, PSC_TILE_SIDE, PSC_TILE_SIDE);
     print_size(stderr, (double)t->tile_bytes);
-    fprintf(stderr, " each)\n  packing  at most ");
+    fprintf(stderr, " each)\n");
+    print_coverage(&p->map);
+    fprintf(stderr, "  packing  at most ");
     print_size(stderr, (double)peak);
     fprintf(stderr, " of rows and bands in memory\n");
     for (unsigned i = 0; i < p->lut_count; i++)

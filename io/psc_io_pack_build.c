@@ -460,11 +460,9 @@ int psc_io_pack_build_tiled_head(uint32_t width, uint32_t height, const psc_pack
     fill_coverage(&map, opt);
     if (check_coverage(&map, err, errlen) != 0)
         return -1;
-    if (map.lon_span != 0 || (map.projection != PSC_PROJ_EQUIRECT && map.projection != PSC_PROJ_CYLINDER &&
-                              map.projection != PSC_PROJ_SINE))
-        return build_fail(err, errlen, "a tiled map must cover a full turn in the equirect, cylinder or sine "
-                          "projection (this one: %s, %s)", psc_projection_name(map.projection),
-                          map.lon_span ? "a partial turn" : "a full turn");
+    if (map.projection != PSC_PROJ_EQUIRECT && map.projection != PSC_PROJ_CYLINDER && map.projection != PSC_PROJ_SINE)
+        return build_fail(err, errlen, "a tiled map must be in the equirect, cylinder or sine projection (this one: "
+                          "%s)", psc_projection_name(map.projection));
     if (map_out)
         *map_out = map;
     if (!tiles->index)   /* the caller asked for the checks and the map alone */

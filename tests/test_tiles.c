@@ -69,7 +69,8 @@ typedef struct {
     char path[256];
 } packs_t;
 
-static void make_packs(packs_t *p, const psc_image_t *img, psc_pixfmt_t format, size_t budget, const char *name)
+/* The tests' pack options: a full turn (unless a test sets a coverage), zoom down to 2 degrees. */
+static psc_pack_options_t pack_options(psc_pixfmt_t format)
 {
     psc_pack_options_t o;
     psc_io_pack_options_default(&o);
@@ -77,6 +78,15 @@ static void make_packs(packs_t *p, const psc_image_t *img, psc_pixfmt_t format, 
     o.display_width = OUT_W;
     o.display_height = OUT_H;
     o.hfov_min_deg = 2.0;
+    return o;
+}
+
+/* A flat and a tiled pack of img with options o (the flat one in memory, the tiled one in a file, opened with a
+ * cache of `budget` bytes). */
+static void make_packs_with(packs_t *p, const psc_image_t *img, const psc_pack_options_t *opt, size_t budget,
+                            const char *name)
+{
+    psc_pack_options_t o = *opt;
     char err[512];
     assert_int_equal(psc_io_pack_build(img, &o, &p->flat_bytes, &p->flat_len, err, sizeof err), 0);
     psc_container_error_t e = {0};
@@ -86,6 +96,12 @@ static void make_packs(packs_t *p, const psc_image_t *img, psc_pixfmt_t format, 
         fail_msg("%s", err);
     if (psc_io_tiled_open(p->path, budget, &p->tiled, err, sizeof err) != 0)
         fail_msg("%s", err);
+}
+
+static void make_packs(packs_t *p, const psc_image_t *img, psc_pixfmt_t format, size_t budget, const char *name)
+{
+    psc_pack_options_t o = pack_options(format);
+    make_packs_with(p, img, &o, budget, name);
 }
 
 static void free_packs(packs_t *p)
@@ -547,6 +563,183 @@ static void test_starved_cache_sharpens(void **state)
     free(img.xrgb);
 }
 
+/* Columns [x0, x0 + w) and rows [y0, y0 + h) of img. */
+static psc_image_t crop(const psc_image_t *img, uint32_t x0, uint32_t y0, uint32_t w, uint32_t h)
+{
+    psc_image_t c = {w, h, malloc((size_t)w * h * sizeof(uint32_t))};
+    assert_non_null(c.xrgb);
+    for (uint32_t y = 0; y < h; y++)
+        memcpy(&c.xrgb[(size_t)y * w], &img->xrgb[(size_t)(y0 + y) * img->width + x0], w * sizeof(uint32_t));
+    return c;
+}
+
+/* Draw a view through the tiled viewer until it asks for no tile, loading what it asks for after each frame (the
+ * cache's slots permitting); returns the frames drawn before the last. */
+static unsigned render_sharp(viewer_t *b, psc_io_tiled_t *t, const psc_view_t *view, psc_surface_t *out)
+{
+    for (unsigned passes = 0;; passes++) {
+        assert_int_equal(psc_viewer_render(&b->v, view, out), PSC_OK);
+        const uint32_t *want;
+        unsigned n = psc_viewer_requests(&b->v, &want, NULL);
+        if (n == 0)
+            return passes;
+        assert_true(passes < 8);
+        char err[256];
+        assert_int_equal(psc_io_tiled_load(t, want, n, err, sizeof err), 0);
+    }
+}
+
+/*
+ * Partial panoramas (part of a turn: a gigapixel of one wall of a hall) tile as full turns do:
+ *  - where the tiled viewer reads level 0 (nearest and bilinear zoomed in to at most two texels a pixel), its
+ *    frames are the flat map's bytes, every map and output format, from a starved cache too;
+ *  - a partial map cut from a full turn at tile-aligned edges draws the full turn's bytes, every filter and
+ *    level (its columns clamp at its edges where the full turn's wrap; the views here stay inside it);
+ *  - the largest partial map (65536 columns over 120 degrees) draws from its coarsest tile alone.
+ */
+static void test_partial_panoramas(void **state)
+{
+    (void)state;
+    tsup_rng_t rng;
+    tsup_rng_seed(&rng, 35);
+    static const psc_pixfmt_t fmts[] = {PSC_PIX_RGB565, PSC_PIX_XRGB8888, PSC_PIX_RGB888};
+    psc_image_t img = test_image(1536, 640, 11);   /* 135 x 56.25 degrees, 11.4 texels a degree */
+    unsigned frames = 0, coarse = 0;
+    for (int f = 0; f < 3; f++) {
+        psc_pack_options_t o = pack_options(fmts[f]);
+        assert_int_equal(psc_io_pack_options_set_lon_range(&o, -75.0, 60.0), 0);
+        assert_int_equal(psc_io_pack_options_set_lat_range(&o, 30.0, -26.25), 0);
+        packs_t p;
+        make_packs_with(&p, &img, &o, f == 0 ? 0u : 256u << 20, "partial.pano");   /* RGB565: the fewest slots */
+        viewer_t a, b;
+        flat_viewer(&a, &p.flat);
+        tiled_viewer(&b, p.tiled);
+        for (int out = 0; out < 2; out++) {
+            psc_surface_t sa = surface(out ? PSC_PIX_XRGB8888 : PSC_PIX_RGB565), sb = sa;
+            sb.pixels = calloc(OUT_W * OUT_H, 4);
+            for (unsigned i = 0; i < 16; i++) {
+                psc_view_t view = {tsup_bam_from_deg(tsup_rng_range(&rng, -100, 85)),
+                                   (int32_t)tsup_bam_from_deg(tsup_rng_range(&rng, -40, 40)),
+                                   tsup_bam_from_deg(tsup_rng_range(&rng, 3, 50)), (psc_filter_t)(i % 2u),
+                                   (uint8_t)tsup_rng_below(&rng, PSC_SPAN_LOG2_MAX + 1u)};
+                psc_viewer_clamp(&a.v, &view, tsup_bam_from_deg(2));   /* inside the map, as the device keeps it */
+                assert_int_equal(psc_viewer_render(&a.v, &view, &sa), PSC_OK);
+                coarse += render_sharp(&b, p.tiled, &view, &sb);
+                if (memcmp(sa.pixels, sb.pixels, (size_t)sa.stride * OUT_H) != 0)
+                    fail_msg("partial map %d output %d view %u (yaw %u pitch %d hfov %u filter %d) differs", f, out, i,
+                             (unsigned)view.yaw, (int)view.pitch, (unsigned)view.hfov, (int)view.filter);
+                frames++;
+            }
+            free(sa.pixels);
+            free(sb.pixels);
+        }
+        free(a.ws);
+        free(b.ws);
+        free_packs(&p);
+    }
+    free(img.xrgb);
+    print_message("  a partial panorama, %u random views zoomed in (nearest and bilinear, 3 map and 2 output formats; "
+                  "%u coarser frames first): tiled = flat, byte for byte\n", frames, coarse);
+    assert_true(coarse > 0);
+
+    /* a quarter of a full turn's area cut at its tiles' edges: its levels are the full turn's inside (the pyramid's
+     * filter reaches one texel past a level's edge) */
+    psc_image_t full = test_image(MAP_W, MAP_H, 12), part = crop(&full, MAP_W / 4u, MAP_H / 4u, MAP_W / 2u, MAP_H / 2u);
+    unsigned same = 0, filters[3] = {0, 0, 0};
+    for (int f = 0; f < 2; f++) {
+        packs_t pf, pp;
+        make_packs(&pf, &full, fmts[f], 256u << 20, "turn.pano");
+        psc_pack_options_t o = pack_options(fmts[f]);
+        assert_int_equal(psc_io_pack_options_set_lon_range(&o, -90.0, 90.0), 0);
+        assert_int_equal(psc_io_pack_options_set_lat_range(&o, 45.0, -45.0), 0);
+        make_packs_with(&pp, &part, &o, 256u << 20, "cut.pano");
+        load_all(pf.tiled);
+        load_all(pp.tiled);
+        viewer_t a, b;
+        tiled_viewer(&a, pf.tiled);
+        tiled_viewer(&b, pp.tiled);
+        psc_surface_t sa = surface(PSC_PIX_XRGB8888), sb = sa;
+        sb.pixels = calloc(OUT_W * OUT_H, 4);
+        for (unsigned i = 0; i < 24; i++) {   /* up to 40 degrees from the middle: 50 inside the cut's edges */
+            psc_view_t view = {tsup_bam_from_deg(tsup_rng_range(&rng, -25, 25)),
+                               (int32_t)tsup_bam_from_deg(tsup_rng_range(&rng, -10, 10)),
+                               tsup_bam_from_deg(tsup_rng_range(&rng, 5, 60)), (psc_filter_t)(i % 3u), 2};
+            assert_int_equal(psc_viewer_render(&a.v, &view, &sa), PSC_OK);
+            assert_int_equal(psc_viewer_render(&b.v, &view, &sb), PSC_OK);
+            if (memcmp(sa.pixels, sb.pixels, (size_t)sa.stride * OUT_H) != 0)
+                fail_msg("map %d view %u (yaw %u pitch %d hfov %u filter %d): the cut differs from the full turn", f, i,
+                         (unsigned)view.yaw, (int)view.pitch, (unsigned)view.hfov, (int)view.filter);
+            same++;
+            filters[view.filter]++;
+        }
+        free(sa.pixels);
+        free(sb.pixels);
+        free(a.ws);
+        free(b.ws);
+        free_packs(&pf);
+        free_packs(&pp);
+    }
+    free(full.xrgb);
+    free(part.xrgb);
+    print_message("  a partial map cut from a full turn: %u views (nearest %u, bilinear %u, mip %u) the full turn's "
+                  "bytes\n", same, filters[0], filters[1], filters[2]);
+
+    /* the largest partial map, 65536 x 4096 over 120 x 7.5 degrees, its coarsest tile alone resident */
+    psc_tiles_t t;
+    uint32_t levels = psc_tiles_level_count(PSC_TILES_MAX_WIDTH, 4096);
+    assert_int_equal(psc_tiles_init(&t, PSC_TILES_MAX_WIDTH, 4096, levels, PSC_PIX_RGB565, NULL), PSC_OK);
+    const void **resident = calloc(t.tile_count, sizeof *resident);
+    uint16_t *slot = malloc(t.tile_bytes);
+    assert_true(resident && slot);
+    for (uint32_t i = 0; i < PSC_TILE_SIDE * PSC_TILE_SIDE; i++)
+        slot[i] = (uint16_t)(i * 2654435761u >> 16);
+    resident[t.tile_count - 1u] = slot;
+    t.resident = resident;
+    psc_envmap_t map = {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, PSC_TILES_MAX_WIDTH, 4096, 0, NULL, NULL,
+                        tsup_bam_from_deg(-60), tsup_bam_from_deg(120), (int32_t)tsup_bam_from_deg(3.75),
+                        -(int32_t)tsup_bam_from_deg(3.75)};
+    psc_pack_options_t o = pack_options(PSC_PIX_RGB565);
+    uint8_t *bytes;
+    size_t len;
+    char err[256];
+    psc_image_t tiny = {16, 8, calloc(16 * 8, 4)};
+    assert_int_equal(psc_io_pack_build(&tiny, &o, &bytes, &len, err, sizeof err), 0);   /* (for its tables) */
+    psc_pack_t tables;
+    psc_container_error_t e = {0};
+    assert_int_equal(psc_pack_parse(bytes, len, &tables, &e), PSC_OK);
+    size_t n = psc_viewer_workspace_size_tiled(OUT_W, OUT_H, &map);
+    void *ws = aligned_alloc(64, (n + 63u) & ~(size_t)63u);
+    psc_viewer_t v;
+    assert_int_equal(psc_viewer_init_tiled(&v, &map, &t, tables.luts, tables.lut_count, OUT_W, OUT_H, ws, n), PSC_OK);
+    psc_surface_t sv = surface(PSC_PIX_RGB565);
+    unsigned asked = 0;
+    for (unsigned i = 0; i < 32; i++) {
+        psc_view_t view = {tsup_bam_from_deg(tsup_rng_range(&rng, -80, 80)),
+                           (int32_t)tsup_bam_from_deg(tsup_rng_range(&rng, -5, 5)),
+                           tsup_bam_from_deg(tsup_rng_range(&rng, 0.5, 10)), (psc_filter_t)(i % 3u), 2};
+        psc_viewer_clamp(&v, &view, PSC_HFOV_MIN);
+        assert_int_equal(psc_viewer_render(&v, &view, &sv), PSC_OK);
+        const uint32_t *want;
+        unsigned k = psc_viewer_requests(&v, &want, NULL);
+        for (unsigned j = 0; j < k; j++)
+            assert_true(want[j] < t.tile_count && resident[want[j]] == NULL);
+        asked += k;
+        uint32_t ahead[256];
+        unsigned m = psc_viewer_view_tiles(&v, &view, ahead, 256);
+        for (unsigned j = 0; j < m; j++)
+            assert_true(ahead[j] < t.tile_count);
+    }
+    print_message("  65536 x 4096 over 120 degrees, %u tiles: 32 views drawn from the coarsest tile alone, %u tiles "
+                  "asked for\n", (unsigned)t.tile_count, asked);
+    assert_true(asked > 32);
+    free(sv.pixels);
+    free(ws);
+    free(bytes);
+    free(tiny.xrgb);
+    free(slot);
+    free(resident);
+}
+
 /* The device's way: a loader thread reads the tiles a frame missed while the next frames are drawn (coarser where
  * they are absent); once it has published them the frames are the flat bytes. */
 static void test_loader_thread_sharpens(void **state)
@@ -776,6 +969,7 @@ int main(void)
         cmocka_unit_test(test_wide_views_read_few_tiles),
         cmocka_unit_test(test_golden_deep_and_wide),
         cmocka_unit_test(test_starved_cache_sharpens),
+        cmocka_unit_test(test_partial_panoramas),
         cmocka_unit_test(test_loader_thread_sharpens),
         cmocka_unit_test(test_view_tiles_cover_the_frame),
         cmocka_unit_test(test_corrupt_and_truncated),

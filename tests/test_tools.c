@@ -511,6 +511,66 @@ static void test_limits_and_interrupted_writes(void **state)
     unlink(png);
 }
 
+/*
+ * A partial panorama packed tiled (issue 30: a gigapixel of one wall is seldom a full turn) renders as its flat
+ * pack does: periscope-pack --tiled --lon-range --lat-range, then periscope-render zoomed in (the tiled viewer at
+ * level 0) gives the flat pack's bytes, nearest and bilinear; a wide view draws from the pyramid.
+ */
+static void test_partial_tiled(void **state)
+{
+    (void)state;
+    char png[512], flat[512], tiled[512], a[512], b[512], err[512];
+    tmp_path(png, sizeof png, "wall.png");
+    tmp_path(flat, sizeof flat, "wall-flat.pano");
+    tmp_path(tiled, sizeof tiled, "wall-tiled.pano");
+    tmp_path(a, sizeof a, "wall-flat.png");
+    tmp_path(b, sizeof b, "wall-tiled.png");
+    psc_image_t img = {1280, 512, malloc(1280u * 512u * 4u)};   /* 120 x 48 degrees */
+    assert_non_null(img.xrgb);
+    for (uint32_t y = 0; y < img.height; y++)
+        for (uint32_t x = 0; x < img.width; x++)
+            img.xrgb[(size_t)y * img.width + x] = 0xFF000000u | (x * 255u / img.width) << 16 |
+                                                  (y * 255u / img.height) << 8 | ((x ^ y) % 29u == 0 ? 255u : 64u);
+    if (psc_io_image_write_png(png, &img, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    free(img.xrgb);
+    const char *pack_flat[] = {png, "-o", flat, "--display", "160x120", "--lon-range", "-70:50", "--lat-range",
+                               "30:-18", "--format", "xrgb8888", "--quiet", NULL};
+    expect_run("periscope-pack", pack_flat, 0, NULL);
+    const char *pack_tiled[] = {png, "-o", tiled, "--display", "160x120", "--lon-range", "-70:50", "--lat-range",
+                                "30:-18", "--format", "xrgb8888", "--tiled", NULL};
+    const char *tiled_says[] = {"tiled", NULL};
+    expect_run("periscope-pack", pack_tiled, 0, tiled_says);
+    static const char *const filters[] = {"nearest", "bilinear"};
+    for (int f = 0; f < 2; f++) {
+        /* 20 degrees over 160 pixels: 1.3 texels a pixel, level 0 (the flat pack of a partial map has no pyramid) */
+        const char *view_flat[] = {flat, "-o", a, "--yaw", "-25", "--pitch", "8", "--hfov", "20", "--filter",
+                                   filters[f], "--format", "xrgb8888", NULL};
+        const char *view_tiled[] = {tiled, "-o", b, "--yaw", "-25", "--pitch", "8", "--hfov", "20", "--filter",
+                                    filters[f], "--format", "xrgb8888", "--cache-mb", "1", NULL};
+        expect_run("periscope-render", view_flat, 0, NULL);
+        expect_run("periscope-render", view_tiled, 0, NULL);
+        psc_image_t ia, ib;
+        assert_int_equal(psc_io_image_load(a, &ia, err, sizeof err), 0);
+        assert_int_equal(psc_io_image_load(b, &ib, err, sizeof err), 0);
+        assert_int_equal(ia.width * ia.height, ib.width * ib.height);
+        if (memcmp(ia.xrgb, ib.xrgb, (size_t)ia.width * ia.height * 4u) != 0)
+            fail_msg("periscope-render --filter %s: the tiled partial pack differs from the flat one", filters[f]);
+        psc_io_image_free(&ia);
+        psc_io_image_free(&ib);
+    }
+    /* wide, past the map's edge: brought inside it, drawn from the pyramid */
+    const char *wide[] = {tiled, "-o", b, "--yaw", "80", "--hfov", "110", "--filter", "mip", NULL};
+    const char *wide_says[] = {"view brought inside", NULL};
+    expect_run("periscope-render", wide, 0, wide_says);
+    printf("  a partial panorama (120 x 48 degrees) packed tiled: periscope-render gives the flat pack's bytes\n");
+    unlink(png);
+    unlink(flat);
+    unlink(tiled);
+    unlink(a);
+    unlink(b);
+}
+
 static void test_exit_codes(void **state)
 {
     (void)state;
@@ -1112,6 +1172,7 @@ int main(void)
         cmocka_unit_test(test_render_matches_device_path),
         cmocka_unit_test(test_exit_codes),
         cmocka_unit_test(test_limits_and_interrupted_writes),
+        cmocka_unit_test(test_partial_tiled),
         cmocka_unit_test(test_command_line_convention),
         cmocka_unit_test(test_patch_tools),
         cmocka_unit_test(test_gltf_tools),

@@ -74,7 +74,7 @@ size_t psc_viewer_workspace_size_tiled(uint16_t out_width, uint16_t out_height, 
 }
 
 /* A tiled map's description against its tiles: the flat checks on a stand-in of a flat map's size (the coverage),
- * the tiles' level 0 size, format and palette, and a full turn of a rectangular projection. */
+ * the tiles' level 0 size, format and palette, and a projection of rectangular rows (a full turn or part of one). */
 static psc_status_t tiled_map_check(const psc_envmap_t *map, const psc_tiles_t *tiles)
 {
     psc_envmap_t chk = *map;
@@ -88,7 +88,9 @@ static psc_status_t tiled_map_check(const psc_envmap_t *map, const psc_tiles_t *
         map->height != tiles->level[0].height || map->format != tiles->format ||
         (map->format == PSC_PIX_PAL8 && map->palette != tiles->palette))
         return PSC_ERR_ARG;
-    return map_is_fast(map) ? PSC_OK : PSC_ERR_UNSUPPORTED;
+    bool rectangular = map->projection == PSC_PROJ_EQUIRECT || map->projection == PSC_PROJ_CYLINDER ||
+                       map->projection == PSC_PROJ_SINE;
+    return rectangular ? PSC_OK : PSC_ERR_UNSUPPORTED;
 }
 
 static psc_status_t init_common(psc_viewer_t *v, const psc_envmap_t *map, const psc_tiles_t *tiles,
@@ -160,9 +162,9 @@ static psc_status_t init_common(psc_viewer_t *v, const psc_envmap_t *map, const 
     }
     v->scratch = base + l.samples;
     psc_viewer_band_requests_clear(v->scratch, out_width);
-    /* Columns from a binary angle: a shift when the width is a power of two. */
+    /* A full turn's columns from a binary angle: a shift when the width is a power of two. */
     v->col_shift = 0;
-    for (unsigned k = 1; k <= 16; k++)
+    for (unsigned k = 1; k <= 16 && v->addr.wraps; k++)
         if (map->width == 1u << k)
             v->col_shift = (uint8_t)(32u - k);
     v->half_col_bam = (uint32_t)((((uint64_t)1 << 31) + map->width / 2u) / map->width);
@@ -422,8 +424,8 @@ static psc_status_t frame_begin(const psc_viewer_t *v, const psc_view_t *view, p
     f->lut = v->cached_lut;
     f->span = 1u << view->span_log2;
     f->sink = sink;
-    /* The pyramid applies to full-turn rectangular maps that have one. */
-    f->mip = view->filter == PSC_FILTER_MIP && v->level_count > 1 && v->addr.fast;
+    /* The pyramid applies to full-turn rectangular maps that have one, and to tiled maps (rectangular rows). */
+    f->mip = view->filter == PSC_FILTER_MIP && v->level_count > 1 && (v->addr.fast || v->tiles);
     f->filter = view->filter == PSC_FILTER_MIP ? PSC_FILTER_BILINEAR : view->filter;
     f->simd_mip = f->mip && f->simd && !v->tiles && mip_levels_addressable(v, f);
     f->tiles = v->tiles;

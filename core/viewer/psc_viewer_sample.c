@@ -93,6 +93,12 @@ uint32_t psc_sample_general(const psc_viewer_t *v, psc_filter_t filter, int32_t 
         r0 = hmax;
         fr = 0;
     }
+    if (!v->row_width_q16) {   /* rectangular rows: one blend of four texels (a tiled map's, psc_viewer_tiles.c) */
+        int32_t c0 = col >> 16, r1 = fr ? r0 + 1 : r0, a = fix_column(v, c0, 0, m->width - 1),
+                b = fix_column(v, c0 + 1, 0, m->width - 1);
+        return psc_blend4_xrgb(texel(m, r0, a), texel(m, r0, b), texel(m, r1, a), texel(m, r1, b),
+                               ((uint32_t)col >> 8) & 255u, fr);
+    }
     uint32_t top = sample_row(v, r0, col);
     if (fr == 0)
         return top;

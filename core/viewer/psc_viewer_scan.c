@@ -775,7 +775,7 @@ static void scanline_prepare(const psc_frame_t *f, unsigned y, scan_line_t *l)
     l->count = build_samples(f, &l->rs);
     /* the scanline's middle has its largest level of detail (its pixels' footprints shrink outwards): level 0
      * there is level 0 throughout, and its spans need no level of their own */
-    l->rs.tiled_level0 = f->tiles && !f->mip && lod_q8_at(f, &l->rs, 0) - MIP_LOD_BIAS_Q8 < 256;
+    l->rs.tiled_level0 = f->tiles && f->v->addr.fast && !f->mip && lod_q8_at(f, &l->rs, 0) - MIP_LOD_BIAS_Q8 < 256;
 }
 
 /*

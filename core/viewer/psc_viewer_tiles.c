@@ -15,6 +15,12 @@
  * the span reads it directly; otherwise (a span across a tile edge, or an
  * absent tile) each texel is looked up, and an absent one is taken from the
  * finest level resident over it, its tile recorded for the caller to load.
+ *
+ * A partial panorama (part of a turn: a museum's gigapixel of one wall) has
+ * no level-0 runs or vector kernels, as its flat map has no fast spans: its
+ * spans take the general sampler's columns, clamped at the map's edges, and
+ * its blend (psc_viewer_sample.c), at every level, so that at level 0 its
+ * frames are its flat map's bytes too.
  */
 #include "viewer/psc_viewer_internal.h"
 
@@ -91,20 +97,47 @@ static PSC_ALWAYS_INLINE uint32_t fetch(const psc_frame_t *f, const uint8_t *til
 
 /* ---- positions: the flat samplers' ------------------------------------------------------------------------ */
 
+/* How a longitude becomes a column: a full turn's by a shift (a power-of-two width) or a multiply, wrapping at the
+ * seam; a partial panorama's as the general sampler's (psc_viewer_sample.c), clamped at its edges. */
+typedef enum { COLS_SHIFT, COLS_MUL, COLS_CLAMP } cols_t;
+
+static cols_t cols_of(const psc_viewer_t *v)
+{
+    return !v->addr.wraps ? COLS_CLAMP : v->col_shift != 0 ? COLS_SHIFT : COLS_MUL;
+}
+
+/* A partial panorama's column of t at level k, Q16.16 (integer = pixel centre), in 64 bits: level 0 is
+ * psc_map_col_q16's (exactly, where that fits 32 bits: maps up to 32767 wide), level k's centres as the rows'. */
+static PSC_ALWAYS_INLINE int64_t partial_col_q16(const psc_viewer_t *v, uint32_t k, uint32_t t)
+{
+    const psc_map_addressing_t *a = &v->addr;
+    int64_t rel = (int64_t)(int32_t)(t + v->map->lon_min - a->lon_center) + a->lon_half_span;
+    int64_t col = ((rel * a->col_per_bam_q32) >> 16) - 32768;   /* |rel| <= 2^32, col_per_bam_q32 < 2^26 */
+    return ((col + 32768) >> k) - 32768;
+}
+
+static PSC_ALWAYS_INLINE uint32_t clamp_col(int64_t c, uint32_t width)
+{
+    return c < 0 ? 0u : c >= (int64_t)width ? width - 1u : (uint32_t)c;
+}
+
 /* Nearest texel of level k (at level 0 span_fast's: the row rounded, clamped as its guard rows do; the column by
  * t); level k's row of a level-0 row is (row + 1/2) / 2^k - 1/2, as the pyramid's. */
 typedef struct {
     uint32_t r, c;
 } near_t;
 
-static PSC_ALWAYS_INLINE near_t near_at(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, const bool pow2)
+static PSC_ALWAYS_INLINE near_t near_at(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, const cols_t cols)
 {
     const psc_tile_level_t *l = &f->tiles->level[k];
     int64_t rk = (((int64_t)row + 32768) >> k) - 32768;   /* Q16, level k's pixel centres */
     int32_t r = (int32_t)((rk + 32768) >> 16), hmax = (int32_t)l->height - 1;
     near_t n;
     n.r = (uint32_t)(r < 0 ? 0 : r > hmax ? hmax : r);
-    n.c = pow2 ? t >> ((f->v->col_shift + k) & 31u) : (uint32_t)(((uint64_t)t * l->width) >> 32);
+    if (cols == COLS_CLAMP)
+        n.c = clamp_col((partial_col_q16(f->v, k, t) + 32768) >> 16, l->width);
+    else
+        n.c = cols == COLS_SHIFT ? t >> ((f->v->col_shift + k) & 31u) : (uint32_t)(((uint64_t)t * l->width) >> 32);
     return n;
 }
 
@@ -114,7 +147,7 @@ typedef struct {
     uint32_t r0, r1, c0, c1, fr, fc;
 } taps_t;
 
-static PSC_ALWAYS_INLINE taps_t taps_at(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, const bool pow2)
+static PSC_ALWAYS_INLINE taps_t taps_at(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, const cols_t cols)
 {
     const psc_tile_level_t *l = &f->tiles->level[k];
     taps_t q;
@@ -123,8 +156,17 @@ static PSC_ALWAYS_INLINE taps_t taps_at(const psc_frame_t *f, uint32_t k, int32_
     q.fr = ((uint32_t)r >> 8) & 255u;
     q.r0 = (uint32_t)(r0 < 0 ? 0 : r0);
     q.r1 = (uint32_t)(r1 > hmax ? hmax : r1);
+    if (cols == COLS_CLAMP) {   /* the general sampler's: rows (unclamped on a partial map) and columns clamped */
+        q.r0 = r0 > hmax ? (uint32_t)hmax : q.r0;
+        q.r1 = r1 < 0 ? 0u : q.r1;
+        int64_t c = partial_col_q16(f->v, k, t);
+        q.c0 = clamp_col(c >> 16, l->width);
+        q.c1 = clamp_col((c >> 16) + 1, l->width);
+        q.fc = (uint32_t)(c >> 8) & 255u;
+        return q;
+    }
     uint32_t tk = t - (f->v->half_col_bam << k);
-    if (pow2) {
+    if (cols == COLS_SHIFT) {
         unsigned s = f->v->col_shift + k;   /* < 32: a level is at least 2 wide */
         q.c0 = tk >> s;
         q.fc = tk << (32u - s) >> 24;
@@ -166,10 +208,10 @@ static PSC_ALWAYS_INLINE bool same_tile(uint32_t a, uint32_t b)
 /* The tile every texel of a span of n pixels reads at level k (resident or not), or NO_TILE when they lie in
  * several. */
 static uint32_t span_tile_bilinear(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, int32_t drow,
-                                   int32_t dt, unsigned n, const bool pow2)
+                                   int32_t dt, unsigned n, const cols_t cols)
 {
-    taps_t a = taps_at(f, k, row, t, pow2);
-    taps_t b = taps_at(f, k, (int32_t)((uint32_t)row + (n - 1u) * (uint32_t)drow), t + (n - 1u) * (uint32_t)dt, pow2);
+    taps_t a = taps_at(f, k, row, t, cols);
+    taps_t b = taps_at(f, k, (int32_t)((uint32_t)row + (n - 1u) * (uint32_t)drow), t + (n - 1u) * (uint32_t)dt, cols);
     if (!same_tile(a.r0, a.r1) || !same_tile(a.r0, b.r0) || !same_tile(a.r0, b.r1) || !same_tile(a.c0, a.c1) ||
         !same_tile(a.c0, b.c0) || !same_tile(a.c0, b.c1))
         return NO_TILE;
@@ -177,10 +219,10 @@ static uint32_t span_tile_bilinear(const psc_frame_t *f, uint32_t k, int32_t row
 }
 
 static uint32_t span_tile_nearest(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, int32_t drow,
-                                  int32_t dt, unsigned n, const bool pow2)
+                                  int32_t dt, unsigned n, const cols_t cols)
 {
-    near_t a = near_at(f, k, row, t, pow2);
-    near_t b = near_at(f, k, (int32_t)((uint32_t)row + (n - 1u) * (uint32_t)drow), t + (n - 1u) * (uint32_t)dt, pow2);
+    near_t a = near_at(f, k, row, t, cols);
+    near_t b = near_at(f, k, (int32_t)((uint32_t)row + (n - 1u) * (uint32_t)drow), t + (n - 1u) * (uint32_t)dt, cols);
     if (!same_tile(a.r, b.r) || !same_tile(a.c, b.c))
         return NO_TILE;
     return psc_tiles_at(f->tiles, k, a.r, a.c);
@@ -194,12 +236,12 @@ static PSC_ALWAYS_INLINE const uint8_t *resident_tile(const psc_frame_t *f, uint
 /* An absent tile's span (id not resident, requested): the finest coarser level with the span's texels in one
  * resident tile, *level and its tile; NULL when there is none (the texels then are looked up one by one). */
 static const uint8_t *coarser_tile(const psc_frame_t *f, uint32_t *level, int32_t row, uint32_t t, int32_t drow,
-                                   int32_t dt, unsigned n, const bool pow2)
+                                   int32_t dt, unsigned n, const cols_t cols)
 {
     for (uint32_t j = *level + 1u; j < f->tiles->level_count; j++) {
         if (!(f->tile_levels >> j & 1u))   /* no tile of level j is resident */
             continue;
-        const uint8_t *p = resident_tile(f, span_tile_bilinear(f, j, row, t, drow, dt, n, pow2));
+        const uint8_t *p = resident_tile(f, span_tile_bilinear(f, j, row, t, drow, dt, n, cols));
         if (p) {
             *level = j;
             return p;
@@ -220,11 +262,11 @@ static PSC_ALWAYS_INLINE void put(const psc_frame_t *f, unsigned x, uint32_t px,
 
 static PSC_ALWAYS_INLINE void span_nearest(const psc_frame_t *f, const uint8_t *tile, uint32_t k, unsigned x,
                                            unsigned n, int32_t row, uint32_t t, int32_t drow, int32_t dt,
-                                           const psc_pixfmt_t in, const psc_sink_t sink, const bool pow2,
+                                           const psc_pixfmt_t in, const psc_sink_t sink, const cols_t cols,
                                            const bool fast)
 {
     for (unsigned i = 0; i < n; i++, row = (int32_t)((uint32_t)row + (uint32_t)drow), t += (uint32_t)dt) {
-        near_t q = near_at(f, k, row, t, pow2);
+        near_t q = near_at(f, k, row, t, cols);
         uint32_t p = fetch(f, tile, k, q.r, q.c, in, fast), px;
         if (in == PSC_PIX_RGB565)
             px = sink == PSC_SINK_RGB565 ? p : psc_rgb565_to_xrgb(p);
@@ -236,12 +278,13 @@ static PSC_ALWAYS_INLINE void span_nearest(const psc_frame_t *f, const uint8_t *
 
 static PSC_ALWAYS_INLINE void span_bilinear(const psc_frame_t *f, const uint8_t *tile, uint32_t k, unsigned x,
                                             unsigned n, int32_t row, uint32_t t, int32_t drow, int32_t dt,
-                                            const psc_pixfmt_t in, const psc_sink_t sink, const bool pow2,
+                                            const psc_pixfmt_t in, const psc_sink_t sink, const cols_t cols,
                                             const bool fast)
 {
-    const bool packed565 = in == PSC_PIX_RGB565 && sink == PSC_SINK_RGB565;
+    /* (a partial panorama's blend is the general sampler's, in XRGB8888) */
+    const bool packed565 = in == PSC_PIX_RGB565 && sink == PSC_SINK_RGB565 && cols != COLS_CLAMP;
     for (unsigned i = 0; i < n; i++, row = (int32_t)((uint32_t)row + (uint32_t)drow), t += (uint32_t)dt) {
-        uint32_t px = bilinear(f, tile, k, taps_at(f, k, row, t, pow2), in, packed565, fast);
+        uint32_t px = bilinear(f, tile, k, taps_at(f, k, row, t, cols), in, packed565, fast);
         if (sink == PSC_SINK_RGB565 && !packed565)
             px = psc_xrgb_to_rgb565(px);
         put(f, x + i, px, sink);
@@ -250,14 +293,15 @@ static PSC_ALWAYS_INLINE void span_bilinear(const psc_frame_t *f, const uint8_t 
 
 static PSC_ALWAYS_INLINE void span_mip(const psc_frame_t *f, const uint8_t *ta, const uint8_t *tb, unsigned x,
                                        unsigned n, int32_t row, uint32_t t, int32_t drow, int32_t dt, uint32_t level,
-                                       uint32_t frac, const psc_pixfmt_t in, const psc_sink_t sink, const bool pow2,
+                                       uint32_t frac, const psc_pixfmt_t in, const psc_sink_t sink, const cols_t cols,
                                        const bool fast)
 {
-    const bool packed565 = in == PSC_PIX_RGB565 && sink == PSC_SINK_RGB565;
+    /* (a partial panorama's blend is the general sampler's, in XRGB8888) */
+    const bool packed565 = in == PSC_PIX_RGB565 && sink == PSC_SINK_RGB565 && cols != COLS_CLAMP;
     for (unsigned i = 0; i < n; i++, row = (int32_t)((uint32_t)row + (uint32_t)drow), t += (uint32_t)dt) {
-        uint32_t px = bilinear(f, ta, level, taps_at(f, level, row, t, pow2), in, packed565, fast);
+        uint32_t px = bilinear(f, ta, level, taps_at(f, level, row, t, cols), in, packed565, fast);
         if (frac) {
-            uint32_t q = bilinear(f, tb, level + 1u, taps_at(f, level + 1u, row, t, pow2), in, packed565, fast);
+            uint32_t q = bilinear(f, tb, level + 1u, taps_at(f, level + 1u, row, t, cols), in, packed565, fast);
             px = packed565 ? psc_blend4_rgb565(px, q, px, q, (frac + 4u) >> 3, 0) : psc_blend4_xrgb(px, q, px, q, frac, 0);
         }
         if (sink == PSC_SINK_RGB565)
@@ -349,15 +393,15 @@ static PSC_ALWAYS_INLINE void span0_bilinear(const psc_frame_t *f, const uint8_t
  * resident, the absent ones asked for.
  */
 static bool span_tiles_resident(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, int32_t drow,
-                                int32_t dt, unsigned n, const bool pow2)
+                                int32_t dt, unsigned n, const cols_t cols)
 {
-    taps_t a = taps_at(f, k, row, t, pow2);
-    taps_t b = taps_at(f, k, (int32_t)((uint32_t)row + (n - 1u) * (uint32_t)drow), t + (n - 1u) * (uint32_t)dt, pow2);
-    const uint32_t rows[4] = {a.r0, a.r1, b.r0, b.r1}, cols[4] = {a.c0, a.c1, b.c0, b.c1};
+    taps_t a = taps_at(f, k, row, t, cols);
+    taps_t b = taps_at(f, k, (int32_t)((uint32_t)row + (n - 1u) * (uint32_t)drow), t + (n - 1u) * (uint32_t)dt, cols);
+    const uint32_t rows[4] = {a.r0, a.r1, b.r0, b.r1}, columns[4] = {a.c0, a.c1, b.c0, b.c1};
     bool all = true;
     for (unsigned i = 0; i < 4; i++)
         for (unsigned j = 0; j < 4; j++) {
-            uint32_t id = psc_tiles_at(f->tiles, k, rows[i], cols[j]);
+            uint32_t id = psc_tiles_at(f->tiles, k, rows[i], columns[j]);
             if (!f->tiles->resident[id]) {
                 request(f, id);
                 all = false;
@@ -378,7 +422,7 @@ typedef struct {
 } mip_choice_t;
 
 static mip_choice_t mip_choose(const psc_frame_t *f, int32_t row, uint32_t t, int32_t drow, int32_t dt, unsigned n,
-                               int32_t lod_q8, const bool pow2)
+                               int32_t lod_q8, const cols_t cols)
 {
     uint32_t top = f->tiles->level_count - 1u;
     mip_choice_t c = {NULL, NULL, lod_q8 < 0 ? 0u : (uint32_t)lod_q8 >> 8, lod_q8 < 0 ? 0u : (uint32_t)lod_q8 & 255u};
@@ -386,25 +430,25 @@ static mip_choice_t mip_choose(const psc_frame_t *f, int32_t row, uint32_t t, in
         c.level = top;
         c.frac = 0;
     }
-    uint32_t ia = span_tile_bilinear(f, c.level, row, t, drow, dt, n, pow2);
-    uint32_t ib = c.frac ? span_tile_bilinear(f, c.level + 1u, row, t, drow, dt, n, pow2) : ia;
+    uint32_t ia = span_tile_bilinear(f, c.level, row, t, drow, dt, n, cols);
+    uint32_t ib = c.frac ? span_tile_bilinear(f, c.level + 1u, row, t, drow, dt, n, cols) : ia;
     c.ta = resident_tile(f, ia);
     c.tb = resident_tile(f, ib);
     if (c.ta && c.tb)
         return c;
     /* absent tiles asked for (a span across a tile's edge: each of the tiles it reads); where all are resident
      * the span is across an edge only, its texels looked up one by one */
-    bool absent = ia == NO_TILE ? !span_tiles_resident(f, c.level, row, t, drow, dt, n, pow2) : !c.ta;
+    bool absent = ia == NO_TILE ? !span_tiles_resident(f, c.level, row, t, drow, dt, n, cols) : !c.ta;
     if (ia != NO_TILE && !c.ta)
         request(f, ia);
     if (c.frac) {
-        absent |= ib == NO_TILE ? !span_tiles_resident(f, c.level + 1u, row, t, drow, dt, n, pow2) : !c.tb;
+        absent |= ib == NO_TILE ? !span_tiles_resident(f, c.level + 1u, row, t, drow, dt, n, cols) : !c.tb;
         if (ib != NO_TILE && !c.tb)
             request(f, ib);
     }
     if (absent) {   /* meanwhile the finest coarser level with the span in one resident tile */
         uint32_t j = c.frac ? c.level + 1u : c.level;
-        const uint8_t *tj = c.tb ? c.tb : coarser_tile(f, &j, row, t, drow, dt, n, pow2);
+        const uint8_t *tj = c.tb ? c.tb : coarser_tile(f, &j, row, t, drow, dt, n, cols);
         if (tj)
             return (mip_choice_t){tj, tj, j, 0};
     }
@@ -423,9 +467,9 @@ static uint32_t fit_level(const psc_frame_t *f, int32_t lod_q8)
 bool psc_tiled_span_level(const psc_frame_t *f, int32_t row, uint32_t t, int32_t drow, int32_t dt, unsigned n,
                           int32_t lod_q8, uint32_t *lod)
 {
-    const bool pow2 = f->v->col_shift != 0;
+    const cols_t cols = cols_of(f->v);
     if (f->mip) {
-        mip_choice_t c = mip_choose(f, row, t, drow, dt, n, lod_q8, pow2);
+        mip_choice_t c = mip_choose(f, row, t, drow, dt, n, lod_q8, cols);
         if (!c.ta)
             return false;
         uint32_t next = c.frac ? c.level + 1u : c.level;
@@ -433,12 +477,12 @@ bool psc_tiled_span_level(const psc_frame_t *f, int32_t row, uint32_t t, int32_t
         return true;
     }
     uint32_t k = fit_level(f, lod_q8);
-    uint32_t id = f->filter == PSC_FILTER_NEAREST ? span_tile_nearest(f, k, row, t, drow, dt, n, pow2)
-                                                  : span_tile_bilinear(f, k, row, t, drow, dt, n, pow2);
+    uint32_t id = f->filter == PSC_FILTER_NEAREST ? span_tile_nearest(f, k, row, t, drow, dt, n, cols)
+                                                  : span_tile_bilinear(f, k, row, t, drow, dt, n, cols);
     const uint8_t *tile = resident_tile(f, id);
     if (!tile && id != NO_TILE) {   /* span_tiled's: asked for, a coarser level's tile meanwhile */
         request(f, id);
-        tile = coarser_tile(f, &k, row, t, drow, dt, n, pow2);
+        tile = coarser_tile(f, &k, row, t, drow, dt, n, cols);
     }
     if (!tile)
         return false;   /* across a tile's edge, or no coarser tile: texel by texel */
@@ -449,14 +493,14 @@ bool psc_tiled_span_level(const psc_frame_t *f, int32_t row, uint32_t t, int32_t
 /* One combination of map format, output and column addressing, all constants once inlined. */
 static PSC_ALWAYS_INLINE void span_tiled(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, uint32_t t,
                                          int32_t drow, int32_t dt, int32_t lod_q8, const psc_pixfmt_t in,
-                                         const psc_sink_t sink, const bool pow2)
+                                         const psc_sink_t sink, const cols_t cols)
 {
     if (f->mip) {   /* psc_span_mip's choice of levels */
-        mip_choice_t c = mip_choose(f, row, t, drow, dt, n, lod_q8, pow2);
+        mip_choice_t c = mip_choose(f, row, t, drow, dt, n, lod_q8, cols);
         if (c.ta)
-            span_mip(f, c.ta, c.tb, x, n, row, t, drow, dt, c.level, c.frac, in, sink, pow2, true);
+            span_mip(f, c.ta, c.tb, x, n, row, t, drow, dt, c.level, c.frac, in, sink, cols, true);
         else
-            span_mip(f, NULL, NULL, x, n, row, t, drow, dt, c.level, c.frac, in, sink, pow2, false);
+            span_mip(f, NULL, NULL, x, n, row, t, drow, dt, c.level, c.frac, in, sink, cols, false);
         return;
     }
     /* nearest and bilinear read the finest level no coarser than the pixels (level 0 zoomed in and down to two
@@ -464,33 +508,34 @@ static PSC_ALWAYS_INLINE void span_tiled(const psc_frame_t *f, unsigned x, unsig
      * has pixels, not the whole map */
     uint32_t k = fit_level(f, lod_q8);
     const bool near = f->filter == PSC_FILTER_NEAREST;
-    uint32_t id = near ? span_tile_nearest(f, k, row, t, drow, dt, n, pow2)
-                       : span_tile_bilinear(f, k, row, t, drow, dt, n, pow2);
+    uint32_t id = near ? span_tile_nearest(f, k, row, t, drow, dt, n, cols)
+                       : span_tile_bilinear(f, k, row, t, drow, dt, n, cols);
     const uint8_t *tile = resident_tile(f, id);
     if (!tile && id != NO_TILE) {   /* absent: asked for, and a coarser level's tile meanwhile */
         request(f, id);
-        tile = coarser_tile(f, &k, row, t, drow, dt, n, pow2);
+        tile = coarser_tile(f, &k, row, t, drow, dt, n, cols);
     }
     if (near) {
-        if (tile && k == 0)
-            span0_nearest(f, tile, x, n, row, t, drow, dt, in, sink, pow2);
+        if (tile && k == 0 && cols != COLS_CLAMP)
+            span0_nearest(f, tile, x, n, row, t, drow, dt, in, sink, cols == COLS_SHIFT);
         else if (tile)
-            span_nearest(f, tile, k, x, n, row, t, drow, dt, in, sink, pow2, true);
+            span_nearest(f, tile, k, x, n, row, t, drow, dt, in, sink, cols, true);
         else
-            span_nearest(f, NULL, k, x, n, row, t, drow, dt, in, sink, pow2, false);
+            span_nearest(f, NULL, k, x, n, row, t, drow, dt, in, sink, cols, false);
         return;
     }
-    if (tile && k == 0)
-        span0_bilinear(f, tile, x, n, row, t, drow, dt, in, sink, pow2);
+    if (tile && k == 0 && cols != COLS_CLAMP)
+        span0_bilinear(f, tile, x, n, row, t, drow, dt, in, sink, cols == COLS_SHIFT);
     else if (tile)
-        span_bilinear(f, tile, k, x, n, row, t, drow, dt, in, sink, pow2, true);
+        span_bilinear(f, tile, k, x, n, row, t, drow, dt, in, sink, cols, true);
     else
-        span_bilinear(f, NULL, k, x, n, row, t, drow, dt, in, sink, pow2, false);
+        span_bilinear(f, NULL, k, x, n, row, t, drow, dt, in, sink, cols, false);
 }
 
 #define TILED_SPAN(in_, sink_) \
-    (pow2 ? span_tiled(f, x, n, row, t, drow, dt, lod_q8, in_, sink_, true) \
-          : span_tiled(f, x, n, row, t, drow, dt, lod_q8, in_, sink_, false))
+    (cols == COLS_SHIFT  ? span_tiled(f, x, n, row, t, drow, dt, lod_q8, in_, sink_, COLS_SHIFT) \
+     : cols == COLS_MUL ? span_tiled(f, x, n, row, t, drow, dt, lod_q8, in_, sink_, COLS_MUL) \
+                        : span_tiled(f, x, n, row, t, drow, dt, lod_q8, in_, sink_, COLS_CLAMP))
 #define TILED_FOR_FORMAT(in_) \
     do { \
         if (to565) \
@@ -504,7 +549,8 @@ void psc_span_tiled(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, u
 {
     if (n == 0)
         return;
-    const bool pow2 = f->v->col_shift != 0, to565 = f->sink == PSC_SINK_RGB565;
+    const cols_t cols = cols_of(f->v);
+    const bool to565 = f->sink == PSC_SINK_RGB565;
     switch (f->tiles->format) {
     case PSC_PIX_RGB565: TILED_FOR_FORMAT(PSC_PIX_RGB565); break;
     case PSC_PIX_XRGB8888: TILED_FOR_FORMAT(PSC_PIX_XRGB8888); break;
@@ -664,7 +710,7 @@ unsigned psc_tiles_of_view(const psc_frame_t *f, uint32_t *tiles, unsigned max)
     /* a grid of the view's pixels, an eighth of its smaller side apart: at most two texels a pixel, so a
      * step under 256 texels, and no tile of the view falls between the points */
     const int32_t w = v->out_width, h = v->out_height, step = 2 * ((w < h ? w : h) / 8);
-    const bool pow2 = v->col_shift != 0;
+    const cols_t cols = cols_of(v);
     unsigned n = 0;
     for (int32_t yc = -(h - 1); ; yc += step) {
         yc = yc > h - 1 ? h - 1 : yc;
@@ -676,13 +722,16 @@ unsigned psc_tiles_of_view(const psc_frame_t *f, uint32_t *tiles, unsigned max)
             int32_t row = psc_map_row_q16(v, lat);
             uint32_t at = lon - v->map->lon_min;
             for (uint32_t k = k0; k <= k1; k++) {   /* the texel and its neighbours: a bilinear pixel's four */
-                near_t q = near_at(f, k, row, at, pow2);
+                near_t q = near_at(f, k, row, at, cols);
                 const psc_tile_level_t *l = &t->level[k];
                 for (int dr = -1; dr <= 1; dr++)
                     for (int dc = -1; dc <= 1; dc++) {
                         int64_t r = (int64_t)q.r + dr, c = (int64_t)q.c + dc;
                         r = r < 0 ? 0 : r >= l->height ? l->height - 1u : r;
-                        c = c < 0 ? c + l->width : c >= l->width ? c - l->width : c;
+                        if (cols == COLS_CLAMP)   /* a partial panorama's edge */
+                            c = c < 0 ? 0 : c >= l->width ? l->width - 1u : c;
+                        else   /* across the seam */
+                            c = c < 0 ? c + l->width : c >= l->width ? c - l->width : c;
                         add_tile(tiles, &n, max, psc_tiles_at(t, k, (uint32_t)r, (uint32_t)c));
                     }
             }
