@@ -485,7 +485,7 @@ unsigned psc_viewer_view_tiles(psc_viewer_t *v, const psc_view_t *view, uint32_t
 void psc_viewer_band_requests_clear(void *scratch, uint16_t out_width)
 {
     psc_tile_requests_t *r = requests_of(scratch, out_width);
-    r->count = r->dropped = 0;
+    r->count = r->dropped = r->cold_levels = 0;
     for (unsigned k = 0; k < PSC_TILE_SEEN_SLOTS; k++)
         r->seen[k] = 0;
 }

@@ -32,6 +32,7 @@
 #define PSC_TILE_SEEN_SLOT(i) (((uint32_t)(i) * 2654435761u) >> 26)
 typedef struct {
     uint32_t count, dropped;
+    uint32_t cold_levels;   /* the levels without a resident tile that asked for one (psc_viewer_tiles.c) */
     uint32_t tile[PSC_VIEWER_MAX_REQUESTS];
     uint32_t seen[PSC_TILE_SEEN_SLOTS];
 } psc_tile_requests_t;

@@ -720,7 +720,18 @@ static unsigned mip_vector(const psc_frame_t *f, const row_setup_t *rs, unsigned
     uint32_t misses = 0;
     psc_simd_mip_tiled_t tj = {job,  f->tiles->resident, f->tile_first, f->tile_cols, f->tiles->tile_stride, miss,
                                &misses, NULL, 0,  f->filter == PSC_FILTER_NEAREST && !f->mip};
-    const unsigned done = f->simd->mip_tiled(&tj), lanes = f->simd->lanes;
+    /* the levels the scanline reads: from its ends' level to its middle's next (the level of detail grows from the
+     * ends to the middle) */
+    const uint32_t lo = lod[0] & 255u, hi = (lod[spans / 2u] >> 8) & 255u, used = (2u << hi) - (1u << lo);
+    const unsigned lanes = f->simd->lanes;
+    unsigned done;
+    if (used & f->tile_levels) {
+        done = f->simd->mip_tiled(&tj);
+    } else {   /* no tile of the levels it reads is resident (a pack just opened): every group would miss */
+        done = v->out_width - v->out_width % lanes;
+        for (unsigned g = 0; g < done / lanes; g++)
+            miss[misses++] = (uint16_t)g;
+    }
     if (misses == 0)
         return done;
     /* The groups with a texel in an absent tile: each span they touch (the whole span, as the scalar spans decide

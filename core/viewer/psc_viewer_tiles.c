@@ -29,7 +29,7 @@ static void request(const psc_frame_t *f, uint32_t i)
 {
     psc_tile_requests_t *r = f->requests;
     if (r->count > PSC_VIEWER_MAX_REQUESTS) {   /* a scratch never cleared: begin its record */
-        r->count = r->dropped = 0;
+        r->count = r->dropped = r->cold_levels = 0;
         for (unsigned k = 0; k < PSC_TILE_SEEN_SLOTS; k++)
             r->seen[k] = 0;
     }
@@ -210,6 +210,9 @@ static PSC_ALWAYS_INLINE bool same_tile(uint32_t a, uint32_t b)
 static uint32_t span_tile_bilinear(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, int32_t drow,
                                    int32_t dt, unsigned n, const cols_t cols)
 {
+    const psc_tile_level_t *l = &f->tiles->level[k];
+    if (l->tiles_x == 1u && l->tiles_y == 1u)   /* a level of one tile (the coarsest ones): every texel's */
+        return l->first;
     taps_t a = taps_at(f, k, row, t, cols);
     taps_t b = taps_at(f, k, (int32_t)((uint32_t)row + (n - 1u) * (uint32_t)drow), t + (n - 1u) * (uint32_t)dt, cols);
     if (!same_tile(a.r0, a.r1) || !same_tile(a.r0, b.r0) || !same_tile(a.r0, b.r1) || !same_tile(a.c0, a.c1) ||
@@ -233,14 +236,36 @@ static PSC_ALWAYS_INLINE const uint8_t *resident_tile(const psc_frame_t *f, uint
     return id == NO_TILE ? NULL : (const uint8_t *)f->tiles->resident[id];
 }
 
+/*
+ * A cold level, none of whose tiles is resident (a pack just opened, a jump in zoom): its spans ask for one tile
+ * of it a band (the tile of the first such span's first texel) and go straight to a coarser level. Looking up each
+ * span's tiles there made a cold frame cost three times a warm one; once a tile of the level is resident its spans
+ * ask for exactly theirs (so periscope-render, which draws until nothing is asked for, still ends exact), and the
+ * device asks for the view's tiles besides (psc_viewer_view_tiles).
+ */
+static PSC_ALWAYS_INLINE bool level_cold(const psc_frame_t *f, uint32_t k)
+{
+    return !(f->tile_levels >> k & 1u);
+}
+
+static void request_cold(const psc_frame_t *f, uint32_t k, int32_t row, uint32_t t, const cols_t cols)
+{
+    psc_tile_requests_t *r = f->requests;
+    if (r->count <= PSC_VIEWER_MAX_REQUESTS && (r->cold_levels >> k & 1u))   /* (a record begun: its bits hold) */
+        return;
+    near_t q = near_at(f, k, row, t, cols);
+    request(f, psc_tiles_at(f->tiles, k, q.r, q.c));
+    r->cold_levels |= 1u << k;
+}
+
 /* An absent tile's span (id not resident, requested): the finest coarser level with the span's texels in one
  * resident tile, *level and its tile; NULL when there is none (the texels then are looked up one by one). */
 static const uint8_t *coarser_tile(const psc_frame_t *f, uint32_t *level, int32_t row, uint32_t t, int32_t drow,
                                    int32_t dt, unsigned n, const cols_t cols)
 {
-    for (uint32_t j = *level + 1u; j < f->tiles->level_count; j++) {
-        if (!(f->tile_levels >> j & 1u))   /* no tile of level j is resident */
-            continue;
+    /* the levels past *level with a resident tile, finest first */
+    for (uint32_t more = f->tile_levels & ~((2u << *level) - 1u), j; more; more &= more - 1u) {
+        j = (uint32_t)__builtin_ctz(more);
         const uint8_t *p = resident_tile(f, span_tile_bilinear(f, j, row, t, drow, dt, n, cols));
         if (p) {
             *level = j;
@@ -430,6 +455,14 @@ static mip_choice_t mip_choose(const psc_frame_t *f, int32_t row, uint32_t t, in
         c.level = top;
         c.frac = 0;
     }
+    uint32_t next = c.frac ? c.level + 1u : c.level;
+    if (level_cold(f, c.level) && level_cold(f, next)) {
+        request_cold(f, c.level, row, t, cols);
+        if (next != c.level)
+            request_cold(f, next, row, t, cols);
+        const uint8_t *tj = coarser_tile(f, &next, row, t, drow, dt, n, cols);
+        return tj ? (mip_choice_t){tj, tj, next, 0} : c;
+    }
     uint32_t ia = span_tile_bilinear(f, c.level, row, t, drow, dt, n, cols);
     uint32_t ib = c.frac ? span_tile_bilinear(f, c.level + 1u, row, t, drow, dt, n, cols) : ia;
     c.ta = resident_tile(f, ia);
@@ -464,6 +497,26 @@ static uint32_t fit_level(const psc_frame_t *f, int32_t lod_q8)
     return k < f->tiles->level_count ? k : f->tiles->level_count - 1u;
 }
 
+/* Nearest and bilinear: the tile holding the span's texels at level *k (fit_level's), or where it is absent
+ * (asked for) a coarser level's, *k that level; NULL when the span's texels are to be looked up one by one (a span
+ * across a tile's edge, or no coarser tile over it). */
+static PSC_ALWAYS_INLINE const uint8_t *fit_tile(const psc_frame_t *f, uint32_t *k, int32_t row, uint32_t t,
+                                                 int32_t drow, int32_t dt, unsigned n, const cols_t cols)
+{
+    if (level_cold(f, *k)) {
+        request_cold(f, *k, row, t, cols);
+        return coarser_tile(f, k, row, t, drow, dt, n, cols);
+    }
+    uint32_t id = f->filter == PSC_FILTER_NEAREST ? span_tile_nearest(f, *k, row, t, drow, dt, n, cols)
+                                                  : span_tile_bilinear(f, *k, row, t, drow, dt, n, cols);
+    const uint8_t *tile = resident_tile(f, id);
+    if (!tile && id != NO_TILE) {
+        request(f, id);
+        tile = coarser_tile(f, k, row, t, drow, dt, n, cols);
+    }
+    return tile;
+}
+
 bool psc_tiled_span_level(const psc_frame_t *f, int32_t row, uint32_t t, int32_t drow, int32_t dt, unsigned n,
                           int32_t lod_q8, uint32_t *lod)
 {
@@ -477,14 +530,7 @@ bool psc_tiled_span_level(const psc_frame_t *f, int32_t row, uint32_t t, int32_t
         return true;
     }
     uint32_t k = fit_level(f, lod_q8);
-    uint32_t id = f->filter == PSC_FILTER_NEAREST ? span_tile_nearest(f, k, row, t, drow, dt, n, cols)
-                                                  : span_tile_bilinear(f, k, row, t, drow, dt, n, cols);
-    const uint8_t *tile = resident_tile(f, id);
-    if (!tile && id != NO_TILE) {   /* span_tiled's: asked for, a coarser level's tile meanwhile */
-        request(f, id);
-        tile = coarser_tile(f, &k, row, t, drow, dt, n, cols);
-    }
-    if (!tile)
+    if (!fit_tile(f, &k, row, t, drow, dt, n, cols))
         return false;   /* across a tile's edge, or no coarser tile: texel by texel */
     *lod = k | k << 8;
     return true;
@@ -508,13 +554,7 @@ static PSC_ALWAYS_INLINE void span_tiled(const psc_frame_t *f, unsigned x, unsig
      * has pixels, not the whole map */
     uint32_t k = fit_level(f, lod_q8);
     const bool near = f->filter == PSC_FILTER_NEAREST;
-    uint32_t id = near ? span_tile_nearest(f, k, row, t, drow, dt, n, cols)
-                       : span_tile_bilinear(f, k, row, t, drow, dt, n, cols);
-    const uint8_t *tile = resident_tile(f, id);
-    if (!tile && id != NO_TILE) {   /* absent: asked for, and a coarser level's tile meanwhile */
-        request(f, id);
-        tile = coarser_tile(f, &k, row, t, drow, dt, n, cols);
-    }
+    const uint8_t *tile = fit_tile(f, &k, row, t, drow, dt, n, cols);
     if (near) {
         if (tile && k == 0 && cols != COLS_CLAMP)
             span0_nearest(f, tile, x, n, row, t, drow, dt, in, sink, cols == COLS_SHIFT);
