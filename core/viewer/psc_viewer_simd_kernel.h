@@ -636,10 +636,37 @@ static PSC_ALWAYS_INLINE bool tile_texels(const void *const *resident, uint32_t 
 }
 
 /*
+ * The common group of a level-0 bilinear row: every lane's texels in one
+ * tile, none on its last row or column, none at the map's edges (a sample
+ * whose neighbour is a repeated edge row, or the seam's last column). Then
+ * the rows and columns need no clamping and the bottom and right texels lie
+ * one row and one texel on in the same tile, where the general test
+ * (tile_texels) finds two tile numbers and clamps four indices (measured: the
+ * tiled bilinear frame 1.19 times the flat frame's instructions, now 1.12).
+ * ra: the upper row unclamped; ca: the left column. False where the group is
+ * not such a group (tile_texels then decides); *tile NULL where it is absent.
+ */
+static PSC_ALWAYS_INLINE bool one_tile_inside(const psc_simd_row_tiled_t *jt, vu ra, vu ca, uint32_t cmask,
+                                              const uint8_t **tile, vu *ra_in, vu *ca_in)
+{
+    const uint32_t side = PSC_TILE_SIDE - 1u;
+    const vi last = (vi){0} + (int32_t)jt->row.map_height - 2;
+    *ra_in = ra & side;
+    *ca_in = ca & side;
+    vu id = tile_index((vu){0}, (vu){0} + jt->tiles_x, ra, ca);
+    vu bad = (vu)((vi)ra < 0) | (vu)((vi)ra > last) | (id ^ ((vu){0} + id[0])) | (vu)(*ra_in == side) |
+             (vu)(*ca_in == side) | (vu)(ca == cmask);
+    if (any_lane(bad))
+        return false;
+    *tile = (const uint8_t *)jt->resident[id[0]];
+    return true;
+}
+
+/*
  * row_lanes through the tiles (level 0): the same positions, rows and
- * columns, the texels from their tiles (tile_texels); a group with a texel in
- * an absent tile is listed in miss[] and left to the scalar spans (which ask
- * for the tile and show the coarser level there).
+ * columns, the texels from their tiles (one_tile_inside, else tile_texels); a
+ * group with a texel in an absent tile is listed in miss[] and left to the
+ * scalar spans (which ask for the tile and show the coarser level there).
  */
 static PSC_ALWAYS_INLINE unsigned row_tiled_lanes(const psc_simd_row_tiled_t *jt, const bool bilinear,
                                                   const psc_pixfmt_t in, const bool out_565)
@@ -654,17 +681,40 @@ static PSC_ALWAYS_INLINE unsigned row_tiled_lanes(const psc_simd_row_tiled_t *jt
         vu r, t, ra, rb, ca, cb, fc = {0}, fr = {0}, p0, p1 = {0}, p2 = {0}, p3 = {0};
         lane_positions(row, j->t, x, l2, lane_span, &r, &t);
         r += 65536u; /* biased by the guard row */
-        if (!bilinear) {
+        if (!bilinear) {   /* (one texel a lane: tile_texels' test is as short) */
             ra = rb = clamped_row((r + 32768u) >> 16, hm);
             ca = cb = t >> sh;
         } else {
-            ra = clamped_row(r >> 16, hm);
-            rb = clamped_row((r >> 16) + 1u, hm);
             t -= j->half_col;
             ca = t >> sh;
-            cb = (ca + 1u) & cmask;
             fc = (t << (32u - sh)) >> 24;
             fr = (r >> 8) & 255u;
+            const uint8_t *tile;
+            vu ra_in, ca_in;
+            if (one_tile_inside(jt, (r >> 16) - 1u, ca, cmask, &tile, &ra_in, &ca_in)) {
+                if (!tile) {
+                    jt->miss[(*jt->misses)++] = (uint16_t)(x / LANES);
+                    continue;
+                }
+                vu oa = ra_in * j->stride + col_bytes(ca_in, in), ob = oa + j->stride;
+#ifdef KERNEL_AVX2
+                if (in == PSC_PIX_RGB565) {
+                    texel_pairs(tile, oa, &p0, &p1);
+                    texel_pairs(tile, ob, &p2, &p3);
+                } else
+#endif
+                {
+                    const uint32_t step = in == PSC_PIX_XRGB8888 ? 4u : in == PSC_PIX_RGB565 ? 2u
+                                          : in == PSC_PIX_RGB888 ? 3u : 1u;
+                    p0 = texel_at(tile, oa, in, j->pal), p1 = texel_at(tile, oa + step, in, j->pal);
+                    p2 = texel_at(tile, ob, in, j->pal), p3 = texel_at(tile, ob + step, in, j->pal);
+                }
+                store_lanes(j->dst, x, shade_bilinear(p0, p1, p2, p3, fc, fr, in, out_565), out_565);
+                continue;
+            }
+            ra = clamped_row(r >> 16, hm);
+            rb = clamped_row((r >> 16) + 1u, hm);
+            cb = (ca + 1u) & cmask;
         }
         if (!tile_texels(jt->resident, j->stride, j->pal, (vu){0}, tiles_x, ra, rb, ca, cb, bilinear, in, &p0, &p1,
                          &p2, &p3)) {

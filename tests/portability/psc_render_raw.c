@@ -16,6 +16,9 @@
  * command line and core. Every view is brought inside the pack's limits
  * (psc_viewer_clamp) and rendered at the pack's display size; OUT.raw holds
  * the frames one after another, rows packed (stride = width x bytes per pixel).
+ * A tiled pack's tiles are all made resident from the file itself (raw tiles:
+ * its tile store, read whole), so its frames go through the tiled spans and
+ * kernels.
  * A patch pack (core/patch/psc_patch.h) instead (PACK.ppk, or
  * PACK.ppk,SHADOW.pao for its self-shadowing too): a character posed, its
  * patches tessellated and drawn by the 3D pipeline at 160x120,
@@ -132,20 +135,42 @@ static int parse_view(char *spec, psc_view_t *view, psc_pixfmt_t *format)
     return 0;
 }
 
-static int render_views(const psc_pack_t *pack, FILE *out, char **specs, int count)
+/* A tiled pack's viewer, every tile resident in the file's own bytes (buf, len: the whole file). */
+static psc_status_t init_tiled(psc_viewer_t *viewer, const psc_pack_t *pack, const uint8_t *buf, size_t len,
+                               psc_tiles_t *tiles, const void ***resident, void *ws, size_t ws_size)
+{
+    if (pack->tile_codec != PSC_TILE_CODEC_RAW || pack->store_offset > len || len - pack->store_offset < pack->store_size)
+        return PSC_ERR_CORRUPT;   /* (psc_pack_parse checked every tile lies inside the store) */
+    *tiles = pack->tiles;
+    *resident = calloc(tiles->tile_count, sizeof **resident);
+    if (!*resident)
+        return PSC_ERR_NOMEM;
+    for (uint32_t i = 0; i < tiles->tile_count; i++)
+        (*resident)[i] = buf + pack->store_offset + pack->tile_index[i].offset;
+    tiles->resident = *resident;
+    return psc_viewer_init_tiled(viewer, &pack->map, tiles, pack->luts, pack->lut_count, pack->display_width,
+                                 pack->display_height, ws, ws_size);
+}
+
+static int render_views(const psc_pack_t *pack, const uint8_t *buf, size_t len, FILE *out, char **specs, int count)
 {
     uint16_t w = pack->display_width, h = pack->display_height;
-    size_t ws_size = psc_viewer_workspace_size(w, h, &pack->map);
+    size_t ws_size = pack->tiled ? psc_viewer_workspace_size_tiled(w, h, &pack->map)
+                                 : psc_viewer_workspace_size(w, h, &pack->map);
     size_t frame_max = (size_t)w * h * 4;
     void *ws = NULL, *pixels = NULL;
+    const void **resident = NULL;
+    psc_tiles_t tiles;
     psc_viewer_t viewer;
     psc_status_t s;
     int rc = 1;
 
     if (posix_memalign(&ws, 64, ws_size) != 0 || posix_memalign(&pixels, 64, frame_max) != 0) {
         rc = fail("out of memory", NULL);
-    } else if ((s = psc_viewer_init(&viewer, &pack->map, pack->luts, pack->lut_count, w, h, ws, ws_size)) != PSC_OK ||
-               (s = psc_viewer_set_levels(&viewer, pack->levels, pack->level_count)) != PSC_OK) {
+    } else if (pack->tiled ? (s = init_tiled(&viewer, pack, buf, len, &tiles, &resident, ws, ws_size)) != PSC_OK
+                           : (s = psc_viewer_init(&viewer, &pack->map, pack->luts, pack->lut_count, w, h, ws,
+                                                  ws_size)) != PSC_OK ||
+                                 (s = psc_viewer_set_levels(&viewer, pack->levels, pack->level_count)) != PSC_OK) {
         rc = fail("cannot set up the viewer", psc_status_str(s));
     } else {
         rc = 0;
@@ -168,6 +193,7 @@ static int render_views(const psc_pack_t *pack, FILE *out, char **specs, int cou
                 rc = fail("cannot write the output", strerror(errno));
         }
     }
+    free(resident);
     free(pixels);
     free(ws);
     return rc;
@@ -407,7 +433,9 @@ int main(int argc, char **argv)
         return rc;
     }
     free(sbuf);
-    if (psc_pack_parse(buf, len, &pack, &perr) != PSC_OK) {
+    /* a tiled pack's container comes first (its header says how long), its tile store after it */
+    size_t clen = len >= 32u ? psc_rd32((const uint8_t *)buf + 16) : len;
+    if (psc_pack_parse(buf, clen < len ? clen : len, &pack, &perr) != PSC_OK) {
         free(buf);
         return fail(argv[1], "not a valid scene pack");
     }
@@ -416,7 +444,7 @@ int main(int argc, char **argv)
         free(buf);
         return fail(argv[2], strerror(errno));
     }
-    rc = render_views(&pack, out, argv + 3, argc - 3);
+    rc = render_views(&pack, buf, len, out, argv + 3, argc - 3);
     if (fclose(out) != 0 && rc == 0)
         rc = fail(argv[2], strerror(errno));
     free(buf);

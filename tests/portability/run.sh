@@ -67,15 +67,26 @@ tmp="${PSC_TEST_TMPDIR:-$build/test-tmp}/portability-$board"
 rm -rf "$tmp"
 mkdir -p "$tmp" || die "cannot create $tmp"
 
-# three packs of the bundled panorama, small enough for emulation: the map as RGB565, XRGB8888 and RGB888
+# three packs of the bundled panorama, small enough for emulation: the map as RGB565, XRGB8888 and RGB888; and
+# three tiled ones (every tile resident: the tiled spans and kernels), RGB565, RGB888 and a partial turn
 for fmt in rgb565 xrgb8888 rgb888; do
     "$build/bin/periscope-pack" assets/pannellum-examplepano.jpg -o "$tmp/$fmt.pano" --display 160x120 \
         --format "$fmt" --quiet >"$tmp/pack.log" 2>&1 || { cat "$tmp/pack.log"; die "periscope-pack $fmt failed"; }
 done
+for fmt in rgb565 rgb888 partial; do
+    part=""
+    [ "$fmt" = partial ] && part="--lon-range -90:90 --lat-range 60:-30"
+    # shellcheck disable=SC2086
+    "$build/bin/periscope-pack" assets/pannellum-examplepano.jpg -o "$tmp/tiled-$fmt.pano" --display 160x120 \
+        --format "$( [ "$fmt" = partial ] && echo rgb888 || echo "$fmt")" --tiled $part --quiet >"$tmp/pack.log" 2>&1 ||
+        { cat "$tmp/pack.log"; die "periscope-pack --tiled $fmt failed"; }
+done
 
-# views: YAW,PITCH,HFOV as binary angles (2^32 per turn; pitch 2^30 = 90 degrees) and SPAN_LOG2
+# views: YAW,PITCH,HFOV as binary angles (2^32 per turn; pitch 2^30 = 90 degrees) and SPAN_LOG2; the last at
+# 10 degrees (level 0 of a tiled map; a flat pack's narrowest zoom, 20 degrees, instead)
 VIEWS="0,0,1073741824,2 2147483648,0,1073741824,2 447392427,1073741824,1073741824,2
-       3937053355,-1073741824,1073741824,2 1789569707,238609294,715827883,0 2863311531,-477218588,1431655765,4"
+       3937053355,-1073741824,1073741824,2 1789569707,238609294,715827883,0 2863311531,-477218588,1431655765,4
+       1789569707,238609294,119304647,2"
 specs=""
 for out in rgb565 xrgb8888; do
     for filter in nearest bilinear mip; do
@@ -87,7 +98,7 @@ for out in rgb565 xrgb8888; do
 done
 
 frames=0
-for map in rgb565 xrgb8888 rgb888; do
+for map in rgb565 xrgb8888 rgb888 tiled-rgb565 tiled-rgb888 tiled-partial; do
     # shellcheck disable=SC2086
     "$build/portability/psc-render-raw" "$tmp/$map.pano" "$tmp/ref-$map.raw" $specs ||
         die "the x86-64 psc-render-raw failed"
@@ -103,7 +114,7 @@ for map in rgb565 xrgb8888 rgb888; do
         die "psc-render-raw on a $map map: $board's bytes differ from x86-64's (first difference above)"
     frames=$((frames + $(echo $specs | wc -w)))
 done
-echo "portability: $board ($arch): psc-render-raw: $frames frames of three map formats equal to x86-64's ($(cat "$tmp"/ref-*.raw | wc -c) bytes)"
+echo "portability: $board ($arch): psc-render-raw: $frames frames of three map formats, flat and tiled (every tile resident; a partial turn too), equal to x86-64's ($(cat "$tmp"/ref-*.raw | wc -c) bytes)"
 
 # the Hash patch character: Thom walking and waving, tessellated and drawn by core (the pack is built once, here)
 "$build/bin/periscope-patch" assets/thom/Thom.mdl --skin-from assets/thom/Thom2.mdl \
