@@ -601,18 +601,19 @@ static void spans_fast_dispatch(const psc_frame_t *f, const row_setup_t *rs, uns
 
 /*
  * The vector kernel's share of a scanline (psc_viewer_simd.h): pixels
- * [0, returned) when every span is N long, none is polar and the map's
- * width is a power of two; the scalar spans draw the rest.
+ * [0, returned) when every span is N long and none is polar; the scalar
+ * spans draw the rest.
  */
 static unsigned row_vector(const psc_frame_t *f, const row_setup_t *rs)
 {
     const psc_viewer_t *v = f->v;
-    if (!f->simd || rs->any_polar || v->out_width % f->span != 0 || v->col_shift == 0)
+    if (!f->simd || rs->any_polar || v->out_width % f->span != 0)
         return 0;
     const psc_simd_row_t job = {v->map->pixels, v->row_offsets, v->map->palette, f->work.row, f->work.t, f->dst,
                                 v->out_width, f->view->span_log2, v->col_shift, v->half_col_bam,
                                 v->map->height, v->map->stride,
-                                f->filter == PSC_FILTER_BILINEAR, (uint8_t)v->map->format, f->sink == PSC_SINK_RGB565};
+                                f->filter == PSC_FILTER_BILINEAR, (uint8_t)v->map->format, f->sink == PSC_SINK_RGB565,
+                                v->map->width};
     return f->simd->row(&job);
 }
 
@@ -687,7 +688,7 @@ static unsigned mip_vector(const psc_frame_t *f, const row_setup_t *rs, unsigned
      * with at most two texels a pixel, psc_span_tiled's choice): through the tiled kernel */
     const bool tiled = f->tiles && f->simd && f->tiles->format != PSC_PIX_PAL8;
     if (!(f->simd_mip || tiled) || f->sink == PSC_SINK_TRACE || rs->any_polar || v->out_width % f->span != 0 ||
-        v->col_shift == 0)
+        !v->addr.wraps)   /* (a partial panorama's tiles: the general sampler's spans) */
         return 0;
     const unsigned n = f->span, top = v->level_count - 1u, spans = count - 1u;
     const int32_t w = (int32_t)v->out_width;
@@ -806,14 +807,14 @@ static bool scanline_tiled0_vector(const psc_frame_t *f, const scan_line_t *l)
 {
     const psc_viewer_t *v = f->v;
     const psc_tiles_t *g = f->tiles;
-    if (!f->simd || l->rs.any_polar || v->out_width % f->span != 0 || v->col_shift == 0 || g->format == PSC_PIX_PAL8)
+    if (!f->simd || l->rs.any_polar || v->out_width % f->span != 0 || !v->addr.wraps || g->format == PSC_PIX_PAL8)
         return false;
     uint16_t *miss = (uint16_t *)(void *)f->work.lod;   /* (the pyramid's levels, unused at level 0) */
     uint32_t misses = 0;
     const psc_simd_row_tiled_t job = {
         {NULL, NULL, NULL, f->work.row, f->work.t, f->dst, v->out_width, f->view->span_log2, v->col_shift,
          v->half_col_bam, g->level[0].height, g->tile_stride, f->filter == PSC_FILTER_BILINEAR, (uint8_t)g->format,
-         f->sink == PSC_SINK_RGB565},
+         f->sink == PSC_SINK_RGB565, g->level[0].width},
         g->resident, g->level[0].tiles_x, miss, &misses};
     const unsigned done = f->simd->row_tiled(&job), lanes = f->simd->lanes, n = f->span;
     /* a missed group's spans again through the scalar spans, whole (they decide span by span) */

@@ -31,13 +31,14 @@ typedef struct {
     void *dst;                /* output row */
     uint32_t width;           /* output pixels, a multiple of the span */
     uint32_t span_log2;
-    uint32_t col_shift;       /* 32 - log2(map width): power-of-two maps only */
+    uint32_t col_shift;       /* 32 - log2(map width) for a power-of-two width, else 0 (map_width's multiply) */
     uint32_t half_col;        /* half a map column, binary angle */
     uint32_t map_height;      /* rows */
     uint32_t stride;          /* bytes from one map row to the next */
     uint8_t bilinear;         /* else nearest */
     uint8_t in;               /* psc_pixfmt_t of the map */
     uint8_t out_565;          /* RGB565 output, else XRGB8888 */
+    uint32_t map_width;       /* columns (a full turn): column = t * map_width >> 32 */
 } psc_simd_row_t;
 
 /*
@@ -83,7 +84,8 @@ typedef struct {
     const int32_t *row;
     const uint32_t *t, *lod;
     void *dst;
-    uint32_t width, span_log2, col_shift, half_col, col_mask; /* col_mask: level 0 width - 1 */
+    uint32_t width, span_log2, col_shift, half_col, col_mask; /* col_mask: level 0 width - 1 (col_shift: 0 where
+                                                                 * that width is not a power of two) */
     uint8_t in, out_565;
 } psc_simd_mip_t;
 

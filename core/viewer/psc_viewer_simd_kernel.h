@@ -254,12 +254,56 @@ static PSC_ALWAYS_INLINE vu shade_bilinear(vu p00, vu p01, vu p10, vu p11, vu fc
     return out_565 ? v_xrgb_to_565(px) : px;
 }
 
+/*
+ * The columns of binary angles t on a level w columns wide (per lane): t >>
+ * sh where the width is a power of two (sh = 32 - log2 w), else the high
+ * word of t * w, as the scalar spans take them (most photographs' widths are
+ * not powers of two: 6000, 5376, 8000); *frac: the position's fraction, Q0.8
+ * (bilinear weights), if frac is not NULL.
+ */
+typedef uint64_t vu64 __attribute__((vector_size(LANES * 8)));
+static PSC_ALWAYS_INLINE vu columns(vu t, vu sh, vu w, const bool pow2, vu *frac)
+{
+    if (pow2) {
+        if (frac)
+            *frac = (t << (32u - sh)) >> 24;
+        return t >> sh;
+    }
+    vu64 p = __builtin_convertvector(t, vu64) * __builtin_convertvector(w, vu64);
+    if (frac)
+        *frac = __builtin_convertvector(p >> 24, vu) & 255u;
+    return __builtin_convertvector(p >> 32, vu);
+}
+
+/* The column right of c on a full turn w wide (the seam's: column 0). */
+static PSC_ALWAYS_INLINE vu next_column(vu c, vu w, const bool pow2)
+{
+    return pow2 ? (c + 1u) & (w - 1u) : select_lanes((vu)(c + 1u == w), (vu){0}, c + 1u);
+}
+
+/* A bilinear sample's columns c0 (returned) and *c1 and fraction *fc at each lane's level lv of a pyramid whose
+ * level 0 is col_mask + 1 wide (col_shift: 32 - log2 of that where it is a power of two), tk the longitude less
+ * half a level-lv column. */
+static PSC_ALWAYS_INLINE vu level_columns(vu tk, vu lv, uint32_t col_shift, uint32_t col_mask, const bool pow2,
+                                          vu *c1, vu *fc)
+{
+    if (pow2) {
+        vu s = col_shift + lv, c0 = tk >> s;
+        *fc = (tk << (32u - s)) >> 24;
+        *c1 = (c0 + 1u) & (col_mask >> lv);
+        return c0;
+    }
+    vu wk = (col_mask + 1u) >> lv, c0 = columns(tk, (vu){0}, wk, false, fc);
+    *c1 = next_column(c0, wk, false);
+    return c0;
+}
+
 /* Pixels [0, n) of the row for one combination, all compile-time constants once inlined. */
 static PSC_ALWAYS_INLINE unsigned row_lanes(const psc_simd_row_t *j, const bool bilinear, const psc_pixfmt_t in,
-                                            const bool out_565)
+                                            const bool out_565, const bool pow2)
 {
-    const unsigned n = j->width - j->width % LANES, l2 = j->span_log2, sh = j->col_shift;
-    const uint32_t cmask = (uint32_t)(((uint64_t)1 << (32u - sh)) - 1u);
+    const unsigned n = j->width - j->width % LANES, l2 = j->span_log2;
+    const vu sh = (vu){0} + j->col_shift, w = (vu){0} + j->map_width;
     const uint8_t *base = j->base;
     const uint32_t *row = (const uint32_t *)(const void *)j->row;
     const vu lane_span = LANE_IDS >> l2;
@@ -269,15 +313,16 @@ static PSC_ALWAYS_INLINE unsigned row_lanes(const psc_simd_row_t *j, const bool 
         r += 65536u; /* biased by the guard row */
         if (!bilinear) {
             vu ro = row_offset(j, (r + 32768u) >> 16);
-            px = shade_nearest(texel_at(base, ro + col_bytes(t >> sh, in), in, j->pal), in, out_565);
+            px = shade_nearest(texel_at(base, ro + col_bytes(columns(t, sh, w, pow2, NULL), in), in, j->pal), in,
+                               out_565);
         } else {
             vu ri = r >> 16;
             vu ro0 = row_offset(j, ri), ro1 = row_offset(j, ri + 1u);
             t -= j->half_col;
-            vu c0 = t >> sh, fc = (t << (32u - sh)) >> 24, c1 = (c0 + 1u) & cmask, fr = (r >> 8) & 255u;
+            vu fc, c0 = columns(t, sh, w, pow2, &fc), c1 = next_column(c0, w, pow2), fr = (r >> 8) & 255u;
             vu b0 = col_bytes(c0, in), p00, p01, p10, p11;
 #ifdef KERNEL_AVX2
-            if (in == PSC_PIX_RGB565 && !ANY_BIT((vu)(c0 == cmask))) {
+            if (in == PSC_PIX_RGB565 && !ANY_BIT((vu)(c0 == w - 1u))) {
                 texel_pairs(base, ro0 + b0, &p00, &p01);   /* no lane at the map's last column (the seam) */
                 texel_pairs(base, ro1 + b0, &p10, &p11);
             } else
@@ -302,7 +347,7 @@ static PSC_ALWAYS_INLINE unsigned row_lanes(const psc_simd_row_t *j, const bool 
 
 #define ROW_CASE(bl, fmt, o565)                                                                      \
     if (j->bilinear == (bl) && j->in == (fmt) && j->out_565 == (o565))                               \
-        return row_lanes(j, bl, fmt, o565);
+        return j->col_shift ? row_lanes(j, bl, fmt, o565, true) : row_lanes(j, bl, fmt, o565, false);
 #define ROW_CASE_NEAREST(fmt, o565) ROW_CASE(0, fmt, o565)
 #define ROW_CASE_BILINEAR(fmt, o565) ROW_CASE(1, fmt, o565)
 
@@ -469,15 +514,14 @@ static void KERNEL_COMPOSITE(const uint32_t *e0, const uint32_t *e1, uint32_t fr
 
 /* level_sample of psc_viewer_mip.c, lane by lane at each lane's level lv. */
 static PSC_ALWAYS_INLINE vu level_lanes(const psc_simd_mip_t *j, vu lv, vu row, vu t, const psc_pixfmt_t in,
-                                        const bool packed565)
+                                        const bool packed565, const bool pow2)
 {
     vi r = (((vi)row + 32768) >> (vi)lv) - 32768;
     vi r0 = r >> 16, r1 = r0 + 1;
     vu fr = ((vu)r >> 8) & 255u, hmax = ENTRY_AT(j->level_hmax, lv);
     r0 = (vi)select_lanes((vu)(r0 < 0), (vu){0}, (vu)r0);
     r1 = (vi)select_lanes((vu)(r1 > (vi)hmax), hmax, (vu)r1);
-    vu tk = t - (j->half_col << lv), s = j->col_shift + lv;
-    vu c0 = tk >> s, fc = (tk << (32u - s)) >> 24, c1 = (c0 + 1u) & (j->col_mask >> lv);
+    vu fc, c1, c0 = level_columns(t - (j->half_col << lv), lv, j->col_shift, j->col_mask, pow2, &c1, &fc);
     vu off = ENTRY_AT(j->level_off, lv), stride = ENTRY_AT(j->level_stride, lv);
     vu ro0 = off + (vu)r0 * stride, ro1 = off + (vu)r1 * stride, b0 = col_bytes(c0, in), b1 = col_bytes(c1, in);
     vu a = texel_at(j->base, ro0 + b0, in, j->pal), b = texel_at(j->base, ro0 + b1, in, j->pal);
@@ -499,7 +543,8 @@ static PSC_ALWAYS_INLINE void store_levels(void *dst, unsigned x, vu p, vu q, vu
     store_lanes(dst, x, px, out_565);
 }
 
-static PSC_ALWAYS_INLINE unsigned mip_lanes(const psc_simd_mip_t *j, const psc_pixfmt_t in, const bool out_565)
+static PSC_ALWAYS_INLINE unsigned mip_lanes(const psc_simd_mip_t *j, const psc_pixfmt_t in, const bool out_565,
+                                            const bool pow2)
 {
     const unsigned n = j->width - j->width % LANES, l2 = j->span_log2;
     const bool packed565 = in == PSC_PIX_RGB565 && out_565;
@@ -510,8 +555,8 @@ static PSC_ALWAYS_INLINE unsigned mip_lanes(const psc_simd_mip_t *j, const psc_p
         lane_positions(row, j->t, x, l2, lane_span, &r, &t);
         /* a fraction of 0 (level 0 zoomed in, the top level) blends to p exactly, as span_mip's skipping the second
          * level: a group with none reads one level */
-        vu p = level_lanes(j, lod & 255u, r, t, in, packed565);
-        vu q = any_lane(frac) ? level_lanes(j, (lod >> 8) & 255u, r, t, in, packed565) : p;
+        vu p = level_lanes(j, lod & 255u, r, t, in, packed565, pow2);
+        vu q = any_lane(frac) ? level_lanes(j, (lod >> 8) & 255u, r, t, in, packed565, pow2) : p;
         store_levels(j->dst, x, p, q, frac, packed565, out_565);
     }
     return n;
@@ -519,7 +564,7 @@ static PSC_ALWAYS_INLINE unsigned mip_lanes(const psc_simd_mip_t *j, const psc_p
 
 #define MIP_CASE(fmt, o565)                          \
     if (j->in == (fmt) && j->out_565 == (o565))      \
-        return mip_lanes(j, fmt, o565);
+        return j->col_shift ? mip_lanes(j, fmt, o565, true) : mip_lanes(j, fmt, o565, false);
 
 static unsigned KERNEL_MIP(const psc_simd_mip_t *j)
 {
@@ -646,16 +691,16 @@ static PSC_ALWAYS_INLINE bool tile_texels(const void *const *resident, uint32_t 
  * ra: the upper row unclamped; ca: the left column. False where the group is
  * not such a group (tile_texels then decides); *tile NULL where it is absent.
  */
-static PSC_ALWAYS_INLINE bool one_tile_inside(const psc_simd_row_tiled_t *jt, vu ra, vu ca, uint32_t cmask,
+static PSC_ALWAYS_INLINE bool one_tile_inside(const psc_simd_row_tiled_t *jt, vu ra, vu ca, vu last_col,
                                               const uint8_t **tile, vu *ra_in, vu *ca_in)
 {
     const uint32_t side = PSC_TILE_SIDE - 1u;
-    const vi last = (vi){0} + (int32_t)jt->row.map_height - 2;
+    const vi last = (vi){0} + (int32_t)jt->row.map_height - 2;   /* the last upper row */
     *ra_in = ra & side;
     *ca_in = ca & side;
     vu id = tile_index((vu){0}, (vu){0} + jt->tiles_x, ra, ca);
     vu bad = (vu)((vi)ra < 0) | (vu)((vi)ra > last) | (id ^ ((vu){0} + id[0])) | (vu)(*ra_in == side) |
-             (vu)(*ca_in == side) | (vu)(ca == cmask);
+             (vu)(*ca_in == side) | (vu)(ca == last_col);
     if (any_lane(bad))
         return false;
     *tile = (const uint8_t *)jt->resident[id[0]];
@@ -669,11 +714,12 @@ static PSC_ALWAYS_INLINE bool one_tile_inside(const psc_simd_row_tiled_t *jt, vu
  * scalar spans (which ask for the tile and show the coarser level there).
  */
 static PSC_ALWAYS_INLINE unsigned row_tiled_lanes(const psc_simd_row_tiled_t *jt, const bool bilinear,
-                                                  const psc_pixfmt_t in, const bool out_565)
+                                                  const psc_pixfmt_t in, const bool out_565, const bool pow2)
 {
     const psc_simd_row_t *j = &jt->row;
-    const unsigned n = j->width - j->width % LANES, l2 = j->span_log2, sh = j->col_shift;
-    const uint32_t cmask = (uint32_t)(((uint64_t)1 << (32u - sh)) - 1u), hm = j->map_height;
+    const unsigned n = j->width - j->width % LANES, l2 = j->span_log2;
+    const uint32_t hm = j->map_height;
+    const vu sh = (vu){0} + j->col_shift, w = (vu){0} + j->map_width;
     const uint32_t *row = (const uint32_t *)(const void *)j->row;
     const vu lane_span = LANE_IDS >> l2, tiles_x = (vu){0} + jt->tiles_x;
     *jt->misses = 0;
@@ -683,15 +729,14 @@ static PSC_ALWAYS_INLINE unsigned row_tiled_lanes(const psc_simd_row_tiled_t *jt
         r += 65536u; /* biased by the guard row */
         if (!bilinear) {   /* (one texel a lane: tile_texels' test is as short) */
             ra = rb = clamped_row((r + 32768u) >> 16, hm);
-            ca = cb = t >> sh;
+            ca = cb = columns(t, sh, w, pow2, NULL);
         } else {
             t -= j->half_col;
-            ca = t >> sh;
-            fc = (t << (32u - sh)) >> 24;
+            ca = columns(t, sh, w, pow2, &fc);
             fr = (r >> 8) & 255u;
             const uint8_t *tile;
             vu ra_in, ca_in;
-            if (one_tile_inside(jt, (r >> 16) - 1u, ca, cmask, &tile, &ra_in, &ca_in)) {
+            if (one_tile_inside(jt, (r >> 16) - 1u, ca, w - 1u, &tile, &ra_in, &ca_in)) {
                 if (!tile) {
                     jt->miss[(*jt->misses)++] = (uint16_t)(x / LANES);
                     continue;
@@ -714,7 +759,7 @@ static PSC_ALWAYS_INLINE unsigned row_tiled_lanes(const psc_simd_row_tiled_t *jt
             }
             ra = clamped_row(r >> 16, hm);
             rb = clamped_row((r >> 16) + 1u, hm);
-            cb = (ca + 1u) & cmask;
+            cb = next_column(ca, w, pow2);
         }
         if (!tile_texels(jt->resident, j->stride, j->pal, (vu){0}, tiles_x, ra, rb, ca, cb, bilinear, in, &p0, &p1,
                          &p2, &p3)) {
@@ -729,7 +774,7 @@ static PSC_ALWAYS_INLINE unsigned row_tiled_lanes(const psc_simd_row_tiled_t *jt
 
 /* level_lanes through the tiles: false where a texel's tile is absent. */
 static PSC_ALWAYS_INLINE bool level_tiled_lanes(const psc_simd_mip_tiled_t *jt, vu lv, vu row, vu t,
-                                                const psc_pixfmt_t in, const bool packed565, vu *out)
+                                                const psc_pixfmt_t in, const bool packed565, const bool pow2, vu *out)
 {
     const psc_simd_mip_t *j = &jt->mip;
     vi r = (vi)(((vu)row + 32768u) >> lv) - 32768;   /* unsigned: row + 1/2 reaches 2^31 on a 32768-row map */
@@ -737,8 +782,7 @@ static PSC_ALWAYS_INLINE bool level_tiled_lanes(const psc_simd_mip_tiled_t *jt, 
     vu fr = ((vu)r >> 8) & 255u, hmax = ENTRY_AT(j->level_hmax, lv);
     r0 = (vi)select_lanes((vu)(r0 < 0), (vu){0}, (vu)r0);
     r1 = (vi)select_lanes((vu)(r1 > (vi)hmax), hmax, (vu)r1);
-    vu tk = t - (j->half_col << lv), s = j->col_shift + lv;
-    vu c0 = tk >> s, fc = (tk << (32u - s)) >> 24, c1 = (c0 + 1u) & (j->col_mask >> lv);
+    vu fc, c1, c0 = level_columns(t - (j->half_col << lv), lv, j->col_shift, j->col_mask, pow2, &c1, &fc);
     vu a, b, c, d;
     if (!tile_texels(jt->resident, jt->tile_stride, j->pal, ENTRY_AT(jt->level_first, lv),
                      ENTRY_AT(jt->level_tiles_x, lv), (vu)r0, (vu)r1, c0, c1, true, in, &a, &b, &c, &d))
@@ -751,7 +795,7 @@ static PSC_ALWAYS_INLINE bool level_tiled_lanes(const psc_simd_mip_tiled_t *jt, 
 
 /* near_at of psc_viewer_tiles.c, lane by lane at each lane's level lv: false where a texel's tile is absent. */
 static PSC_ALWAYS_INLINE bool nearest_tiled_lanes(const psc_simd_mip_tiled_t *jt, vu lv, vu row, vu t,
-                                                  const psc_pixfmt_t in, vu *out)
+                                                  const psc_pixfmt_t in, const bool pow2, vu *out)
 {
     const psc_simd_mip_t *j = &jt->mip;
     vi rk = (vi)(((vu)row + 32768u) >> lv) - 32768;
@@ -759,14 +803,14 @@ static PSC_ALWAYS_INLINE bool nearest_tiled_lanes(const psc_simd_mip_tiled_t *jt
     vu hmax = ENTRY_AT(j->level_hmax, lv);
     r = (vi)select_lanes((vu)(r < 0), (vu){0}, (vu)r);
     r = (vi)select_lanes((vu)(r > (vi)hmax), hmax, (vu)r);
-    vu c = t >> (j->col_shift + lv), unused = {0};
+    vu c = columns(t, j->col_shift + lv, (j->col_mask + 1u) >> lv, pow2, NULL), unused = {0};
     return tile_texels(jt->resident, jt->tile_stride, j->pal, ENTRY_AT(jt->level_first, lv),
                        ENTRY_AT(jt->level_tiles_x, lv), (vu)r, (vu)r, c, c, false, in, out, &unused, &unused, &unused);
 }
 
 /* mip_lanes through the tiles; a group whose second level has a fraction of 0 throughout reads the first alone. */
 static PSC_ALWAYS_INLINE unsigned mip_tiled_lanes(const psc_simd_mip_tiled_t *jt, const psc_pixfmt_t in,
-                                                  const bool out_565)
+                                                  const bool out_565, const bool pow2)
 {
     const psc_simd_mip_t *j = &jt->mip;
     const unsigned n = j->width - j->width % LANES, l2 = j->span_log2;
@@ -780,17 +824,17 @@ static PSC_ALWAYS_INLINE unsigned mip_tiled_lanes(const psc_simd_mip_tiled_t *jt
         vu r, t, lod = samples_under(j->lod, x, l2, lane_span), frac = lod >> 16, p, q;
         lane_positions(row, j->t, x, l2, lane_span, &r, &t);
         if (jt->nearest) {
-            if (!nearest_tiled_lanes(jt, lod & 255u, r, t, in, &p)) {
+            if (!nearest_tiled_lanes(jt, lod & 255u, r, t, in, pow2, &p)) {
                 jt->miss[(*jt->misses)++] = (uint16_t)(x / LANES);
                 continue;
             }
             store_lanes(j->dst, x, shade_nearest(p, in, out_565), out_565);
             continue;
         }
-        bool have = level_tiled_lanes(jt, lod & 255u, r, t, in, packed565, &p);
+        bool have = level_tiled_lanes(jt, lod & 255u, r, t, in, packed565, pow2, &p);
         q = p;
         if (have && any_lane(frac))
-            have = level_tiled_lanes(jt, (lod >> 8) & 255u, r, t, in, packed565, &q);
+            have = level_tiled_lanes(jt, (lod >> 8) & 255u, r, t, in, packed565, pow2, &q);
         if (!have) {
             jt->miss[(*jt->misses)++] = (uint16_t)(x / LANES);
             continue;
@@ -802,7 +846,7 @@ static PSC_ALWAYS_INLINE unsigned mip_tiled_lanes(const psc_simd_mip_tiled_t *jt
 
 #define MIP_TILED_CASE(fmt, o565)                      \
     if (j->mip.in == (fmt) && j->mip.out_565 == (o565)) \
-        return mip_tiled_lanes(j, fmt, o565);
+        return j->mip.col_shift ? mip_tiled_lanes(j, fmt, o565, true) : mip_tiled_lanes(j, fmt, o565, false);
 
 static unsigned KERNEL_MIP_TILED(const psc_simd_mip_tiled_t *j)
 {
@@ -812,7 +856,7 @@ static unsigned KERNEL_MIP_TILED(const psc_simd_mip_tiled_t *j)
 
 #define ROW_TILED_CASE(bl, fmt, o565)                                                         \
     if (j->row.bilinear == (bl) && j->row.in == (fmt) && j->row.out_565 == (o565))            \
-        return row_tiled_lanes(j, bl, fmt, o565);
+        return j->row.col_shift ? row_tiled_lanes(j, bl, fmt, o565, true) : row_tiled_lanes(j, bl, fmt, o565, false);
 #define ROW_TILED_NEAREST(fmt, o565) ROW_TILED_CASE(0, fmt, o565)
 #define ROW_TILED_BILINEAR(fmt, o565) ROW_TILED_CASE(1, fmt, o565)
 

@@ -692,7 +692,7 @@ static unsigned run0_vector(const psc_frame_t *f, const uint8_t *tile, uint32_t 
     const psc_simd_row_t job = {tile, v->tile_row_offsets, t->palette, row + k0, lon + k0, f->dst + (size_t)x0 * bpp,
                                 spans << f->view->span_log2, f->view->span_log2, v->col_shift, v->half_col_bam,
                                 PSC_TILE_SIDE, t->tile_stride, f->filter == PSC_FILTER_BILINEAR, (uint8_t)t->format,
-                                f->sink == PSC_SINK_RGB565};
+                                f->sink == PSC_SINK_RGB565, l->width};
     unsigned done = f->simd->row(&job) >> f->view->span_log2;
     for (unsigned k = k0; k <= k0 + spans; k++) {
         row[k] = (int32_t)((uint32_t)row[k] + drow);
