@@ -222,6 +222,90 @@ static psc_surface_t surface(psc_pixfmt_t fmt)
     return s;
 }
 
+/* A pack pair's viewers: the flat pack's, the tiled pack's. */
+static void both_viewers(packs_t *p, viewer_t *a, viewer_t *b)
+{
+    flat_viewer(a, &p->flat);
+    tiled_viewer(b, p->tiled);
+}
+
+/* Two output surfaces of one format, their pixels apart. */
+static void surface_pair(psc_pixfmt_t fmt, psc_surface_t *sa, psc_surface_t *sb)
+{
+    *sa = surface(fmt);
+    *sb = surface(fmt);
+}
+
+/* A random view of the sphere at least PSC_HFOV_MIN wide; of a 120 x 7.5 degree strip, brought inside it. */
+static psc_view_t sphere_view(tsup_rng_t *rng, const psc_viewer_t *v)
+{
+    psc_view_t view = random_view(rng, v);
+    view.hfov = view.hfov < PSC_HFOV_MIN ? PSC_HFOV_MIN : view.hfov;
+    return view;
+}
+
+static psc_view_t strip_view(tsup_rng_t *rng, const psc_viewer_t *v)
+{
+    psc_view_t view = {tsup_bam_from_deg(tsup_rng_range(rng, -80, 80)),
+                       (int32_t)tsup_bam_from_deg(tsup_rng_range(rng, -5, 5)),
+                       tsup_bam_from_deg(tsup_rng_range(rng, 0.5, 10)), (psc_filter_t)tsup_rng_below(rng, 3), 2};
+    psc_viewer_clamp(v, &view, PSC_HFOV_MIN);
+    return view;
+}
+
+/* `views` views (view_of's) of an RGB565 tiled map of `levels` levels drawn with its coarsest tile alone resident:
+ * every frame draws and asks only for absent tiles that exist, the tiles of every view exist. Returns the tiles
+ * asked for; *count, the map's tiles. */
+static unsigned draw_from_coarsest(const psc_envmap_t *map, uint32_t levels, unsigned views, tsup_rng_t *rng,
+                                   psc_view_t (*view_of)(tsup_rng_t *, const psc_viewer_t *), uint32_t *count)
+{
+    psc_tiles_t t;
+    assert_int_equal(psc_tiles_init(&t, map->width, map->height, levels, PSC_PIX_RGB565, NULL), PSC_OK);
+    const void **resident = calloc(t.tile_count, sizeof *resident);
+    uint16_t *slot = malloc(t.tile_bytes);
+    assert_true(resident && slot);
+    for (uint32_t i = 0; i < PSC_TILE_SIDE * PSC_TILE_SIDE; i++)
+        slot[i] = (uint16_t)(i * 2654435761u >> 16);
+    resident[t.tile_count - 1u] = slot;   /* the coarsest level's one tile */
+    t.resident = resident;
+    psc_pack_options_t o = pack_options(PSC_PIX_RGB565);
+    uint8_t *bytes;
+    size_t len;
+    char err[256];
+    psc_image_t tiny = {16, 8, calloc(16 * 8, 4)};
+    assert_int_equal(psc_io_pack_build(&tiny, &o, &bytes, &len, err, sizeof err), 0);   /* (for its tables) */
+    psc_pack_t tables;
+    psc_container_error_t e = {0};
+    assert_int_equal(psc_pack_parse(bytes, len, &tables, &e), PSC_OK);
+    size_t n = psc_viewer_workspace_size_tiled(OUT_W, OUT_H, map);
+    void *ws = aligned_alloc(64, (n + 63u) & ~(size_t)63u);
+    psc_viewer_t v;
+    assert_int_equal(psc_viewer_init_tiled(&v, map, &t, tables.luts, tables.lut_count, OUT_W, OUT_H, ws, n), PSC_OK);
+    psc_surface_t out = surface(PSC_PIX_RGB565);
+    unsigned asked = 0;
+    for (unsigned i = 0; i < views; i++) {
+        psc_view_t view = view_of(rng, &v);
+        assert_int_equal(psc_viewer_render(&v, &view, &out), PSC_OK);
+        const uint32_t *want;
+        unsigned k = psc_viewer_requests(&v, &want, NULL);
+        for (unsigned j = 0; j < k; j++)
+            assert_true(want[j] < t.tile_count && resident[want[j]] == NULL);
+        asked += k;
+        uint32_t ahead[256];
+        unsigned m = psc_viewer_view_tiles(&v, &view, ahead, 256);
+        for (unsigned j = 0; j < m; j++)
+            assert_true(ahead[j] < t.tile_count);
+    }
+    *count = t.tile_count;
+    free(out.pixels);
+    free(ws);
+    free(bytes);
+    free(tiny.xrgb);
+    free(slot);
+    free(resident);
+    return asked;
+}
+
 /* The range limits: the largest tiled map's geometry, sizes past it refused, and frames of it drawn - its rows reach
  * 2^31 in Q16.16 - with only its coarsest tile resident: every view draws, asks for tiles that exist. */
 static void test_range_limits(void **state)
@@ -238,59 +322,15 @@ static void test_range_limits(void **state)
     assert_int_equal(psc_tiles_init(&t, 4096, 2048, 0, PSC_PIX_RGB565, NULL), PSC_ERR_ARG);
     assert_int_equal(psc_tiles_init(&t, 4096, 2048, 1, PSC_PIX_PAL8, NULL), PSC_ERR_ARG);
 
-    assert_int_equal(psc_tiles_init(&t, PSC_TILES_MAX_WIDTH, PSC_TILES_MAX_HEIGHT, 12, PSC_PIX_RGB565, NULL), PSC_OK);
-    const void **resident = calloc(t.tile_count, sizeof *resident);
-    uint16_t *slot = malloc(t.tile_bytes);
-    assert_true(resident && slot);
-    for (uint32_t i = 0; i < PSC_TILE_SIDE * PSC_TILE_SIDE; i++)
-        slot[i] = (uint16_t)(i * 2654435761u >> 16);
-    resident[t.tile_count - 1u] = slot;   /* the coarsest level's one tile */
-    t.resident = resident;
-    psc_envmap_t map = {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, PSC_TILES_MAX_WIDTH, PSC_TILES_MAX_HEIGHT, 0, NULL, NULL,
-                        0, 0, (int32_t)PSC_BAM_90, -(int32_t)PSC_BAM_90};
-    psc_pack_options_t o;
-    psc_io_pack_options_default(&o);
-    o.display_width = OUT_W;
-    o.display_height = OUT_H;
-    uint8_t *bytes;
-    size_t len;
-    char err[256];
-    psc_image_t tiny = {16, 8, calloc(16 * 8, 4)};
-    assert_int_equal(psc_io_pack_build(&tiny, &o, &bytes, &len, err, sizeof err), 0);   /* (for its tables) */
-    psc_pack_t tables;
-    psc_container_error_t e = {0};
-    assert_int_equal(psc_pack_parse(bytes, len, &tables, &e), PSC_OK);
-    size_t n = psc_viewer_workspace_size_tiled(OUT_W, OUT_H, &map);
-    void *ws = aligned_alloc(64, (n + 63u) & ~(size_t)63u);
-    psc_viewer_t v;
-    assert_int_equal(psc_viewer_init_tiled(&v, &map, &t, tables.luts, tables.lut_count, OUT_W, OUT_H, ws, n), PSC_OK);
-    psc_surface_t out = surface(PSC_PIX_RGB565);
     tsup_rng_t rng;
     tsup_rng_seed(&rng, 34);
-    unsigned asked = 0;
-    for (unsigned i = 0; i < 48; i++) {
-        psc_view_t view = random_view(&rng, &v);
-        view.hfov = view.hfov < PSC_HFOV_MIN ? PSC_HFOV_MIN : view.hfov;
-        assert_int_equal(psc_viewer_render(&v, &view, &out), PSC_OK);
-        const uint32_t *want;
-        unsigned k = psc_viewer_requests(&v, &want, NULL);
-        for (unsigned j = 0; j < k; j++)
-            assert_true(want[j] < t.tile_count && resident[want[j]] == NULL);
-        asked += k;
-        uint32_t ahead[256];
-        unsigned m = psc_viewer_view_tiles(&v, &view, ahead, 256);
-        for (unsigned j = 0; j < m; j++)
-            assert_true(ahead[j] < t.tile_count);
-    }
+    psc_envmap_t map = {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, PSC_TILES_MAX_WIDTH, PSC_TILES_MAX_HEIGHT, 0, NULL, NULL,
+                        0, 0, (int32_t)PSC_BAM_90, -(int32_t)PSC_BAM_90};
+    uint32_t count;
+    unsigned asked = draw_from_coarsest(&map, 12, 48, &rng, sphere_view, &count);
     print_message("  65536 x 32768, %u tiles: 48 random views drawn from the coarsest tile alone, %u tiles asked for\n",
-                  (unsigned)t.tile_count, asked);
+                  (unsigned)count, asked);
     assert_true(asked > 48);
-    free(out.pixels);
-    free(ws);
-    free(bytes);
-    free(tiny.xrgb);
-    free(slot);
-    free(resident);
 }
 
 /* Resident, a tiled frame is the flat frame's bytes. */
@@ -308,11 +348,10 @@ static void test_tiled_frames_are_flat_bytes(void **state)
         make_packs(&p, f == 3 ? &odd : &img, fmts[f], 256u << 20, "bytes.pano");
         load_all(p.tiled);
         viewer_t a, b;
-        flat_viewer(&a, &p.flat);
-        tiled_viewer(&b, p.tiled);
+        both_viewers(&p, &a, &b);
         for (int out = 0; out < 2; out++) {
-            psc_surface_t sa = surface(out ? PSC_PIX_XRGB8888 : PSC_PIX_RGB565), sb = sa;
-            sb.pixels = calloc(OUT_W * OUT_H, 4);
+            psc_surface_t sa, sb;
+            surface_pair(out ? PSC_PIX_XRGB8888 : PSC_PIX_RGB565, &sa, &sb);
             for (unsigned i = 0; i < 40; i++) {
                 psc_view_t view = random_view(&rng, &a.v);
                 /* the tiled map through each path this build has: the scalar spans, the baseline vectors' kernel,
@@ -614,11 +653,10 @@ static void test_partial_panoramas(void **state)
         packs_t p;
         make_packs_with(&p, &img, &o, f == 0 ? 0u : 256u << 20, "partial.pano");   /* RGB565: the fewest slots */
         viewer_t a, b;
-        flat_viewer(&a, &p.flat);
-        tiled_viewer(&b, p.tiled);
+        both_viewers(&p, &a, &b);
         for (int out = 0; out < 2; out++) {
-            psc_surface_t sa = surface(out ? PSC_PIX_XRGB8888 : PSC_PIX_RGB565), sb = sa;
-            sb.pixels = calloc(OUT_W * OUT_H, 4);
+            psc_surface_t sa, sb;
+            surface_pair(out ? PSC_PIX_XRGB8888 : PSC_PIX_RGB565, &sa, &sb);
             for (unsigned i = 0; i < 16; i++) {
                 psc_view_t view = {tsup_bam_from_deg(tsup_rng_range(&rng, -100, 85)),
                                    (int32_t)tsup_bam_from_deg(tsup_rng_range(&rng, -40, 40)),
@@ -687,59 +725,15 @@ static void test_partial_panoramas(void **state)
                   "bytes\n", same, filters[0], filters[1], filters[2]);
 
     /* the largest partial map, 65536 x 4096 over 120 x 7.5 degrees, its coarsest tile alone resident */
-    psc_tiles_t t;
-    uint32_t levels = psc_tiles_level_count(PSC_TILES_MAX_WIDTH, 4096);
-    assert_int_equal(psc_tiles_init(&t, PSC_TILES_MAX_WIDTH, 4096, levels, PSC_PIX_RGB565, NULL), PSC_OK);
-    const void **resident = calloc(t.tile_count, sizeof *resident);
-    uint16_t *slot = malloc(t.tile_bytes);
-    assert_true(resident && slot);
-    for (uint32_t i = 0; i < PSC_TILE_SIDE * PSC_TILE_SIDE; i++)
-        slot[i] = (uint16_t)(i * 2654435761u >> 16);
-    resident[t.tile_count - 1u] = slot;
-    t.resident = resident;
-    psc_envmap_t map = {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, PSC_TILES_MAX_WIDTH, 4096, 0, NULL, NULL,
-                        tsup_bam_from_deg(-60), tsup_bam_from_deg(120), (int32_t)tsup_bam_from_deg(3.75),
-                        -(int32_t)tsup_bam_from_deg(3.75)};
-    psc_pack_options_t o = pack_options(PSC_PIX_RGB565);
-    uint8_t *bytes;
-    size_t len;
-    char err[256];
-    psc_image_t tiny = {16, 8, calloc(16 * 8, 4)};
-    assert_int_equal(psc_io_pack_build(&tiny, &o, &bytes, &len, err, sizeof err), 0);   /* (for its tables) */
-    psc_pack_t tables;
-    psc_container_error_t e = {0};
-    assert_int_equal(psc_pack_parse(bytes, len, &tables, &e), PSC_OK);
-    size_t n = psc_viewer_workspace_size_tiled(OUT_W, OUT_H, &map);
-    void *ws = aligned_alloc(64, (n + 63u) & ~(size_t)63u);
-    psc_viewer_t v;
-    assert_int_equal(psc_viewer_init_tiled(&v, &map, &t, tables.luts, tables.lut_count, OUT_W, OUT_H, ws, n), PSC_OK);
-    psc_surface_t sv = surface(PSC_PIX_RGB565);
-    unsigned asked = 0;
-    for (unsigned i = 0; i < 32; i++) {
-        psc_view_t view = {tsup_bam_from_deg(tsup_rng_range(&rng, -80, 80)),
-                           (int32_t)tsup_bam_from_deg(tsup_rng_range(&rng, -5, 5)),
-                           tsup_bam_from_deg(tsup_rng_range(&rng, 0.5, 10)), (psc_filter_t)(i % 3u), 2};
-        psc_viewer_clamp(&v, &view, PSC_HFOV_MIN);
-        assert_int_equal(psc_viewer_render(&v, &view, &sv), PSC_OK);
-        const uint32_t *want;
-        unsigned k = psc_viewer_requests(&v, &want, NULL);
-        for (unsigned j = 0; j < k; j++)
-            assert_true(want[j] < t.tile_count && resident[want[j]] == NULL);
-        asked += k;
-        uint32_t ahead[256];
-        unsigned m = psc_viewer_view_tiles(&v, &view, ahead, 256);
-        for (unsigned j = 0; j < m; j++)
-            assert_true(ahead[j] < t.tile_count);
-    }
+    psc_envmap_t strip = {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, PSC_TILES_MAX_WIDTH, 4096, 0, NULL, NULL,
+                          tsup_bam_from_deg(-60), tsup_bam_from_deg(120), (int32_t)tsup_bam_from_deg(3.75),
+                          -(int32_t)tsup_bam_from_deg(3.75)};
+    uint32_t count;
+    unsigned asked = draw_from_coarsest(&strip, psc_tiles_level_count(PSC_TILES_MAX_WIDTH, 4096), 32, &rng, strip_view,
+                                        &count);
     print_message("  65536 x 4096 over 120 degrees, %u tiles: 32 views drawn from the coarsest tile alone, %u tiles "
-                  "asked for\n", (unsigned)t.tile_count, asked);
+                  "asked for\n", (unsigned)count, asked);
     assert_true(asked > 32);
-    free(sv.pixels);
-    free(ws);
-    free(bytes);
-    free(tiny.xrgb);
-    free(slot);
-    free(resident);
 }
 
 /* The device's way: a loader thread reads the tiles a frame missed while the next frames are drawn (coarser where
