@@ -117,11 +117,12 @@ void psc_span_tiled(const psc_frame_t *f, unsigned x, unsigned n, int32_t row, u
                     int32_t lod_q8);
 /*
  * The levels a tiled span of n pixels from level-0 row and longitude t in steps (drow, dt) is drawn at
- * (psc_span_tiled's choice at lod_q8 for the frame's filter, its absent tiles asked for), as the vector kernel's
- * lod entry (level | next level << 8 | fraction << 16): false where the span's texels must be looked up one by one.
+ * (psc_span_tiled's choice for the frame's filter, its absent tiles asked for), as the vector kernel's lod entry
+ * (level | next level << 8 | fraction << 16; on entry the span's own levels, as mip_vector makes them from its
+ * level of detail): false where the span's texels must be looked up one by one.
  */
 bool psc_tiled_span_level(const psc_frame_t *f, int32_t row, uint32_t t, int32_t drow, int32_t dt, unsigned n,
-                          int32_t lod_q8, uint32_t *lod);
+                          uint32_t *lod);
 /*
  * Each level-0 boundary sample of a scanline (count of them): the tile (row << 16 | column of tiles) holding
  * every texel a nearest or bilinear pixel next to it reads - rows r0 = floor(row) and r0 + 1 (nearest rounds to

@@ -753,8 +753,7 @@ static unsigned mip_vector(const psc_frame_t *f, const row_setup_t *rs, unsigned
         bool ok = true;
         for (unsigned k = a / n; k * n < b && ok; k++) {
             span_t s = span_at(f, k, n);
-            ok = psc_tiled_span_level(f, s.row, s.t, s.drow, s.dt, n,
-                                      lod_q8_at(f, rs, 2 * (int32_t)(k * n) + (int32_t)n - w), &lod[k]);
+            ok = psc_tiled_span_level(f, s.row, s.t, s.drow, s.dt, n, &lod[k]);   /* (its own levels on entry) */
         }
         if (ok)
             for (unsigned gi = a / lanes; gi < b / lanes; gi++)

@@ -446,15 +446,10 @@ typedef struct {
     uint32_t level, frac;
 } mip_choice_t;
 
-static mip_choice_t mip_choose(const psc_frame_t *f, int32_t row, uint32_t t, int32_t drow, int32_t dt, unsigned n,
-                               int32_t lod_q8, const cols_t cols)
+static mip_choice_t mip_choose_at(const psc_frame_t *f, int32_t row, uint32_t t, int32_t drow, int32_t dt,
+                                  unsigned n, uint32_t level, uint32_t frac, const cols_t cols)
 {
-    uint32_t top = f->tiles->level_count - 1u;
-    mip_choice_t c = {NULL, NULL, lod_q8 < 0 ? 0u : (uint32_t)lod_q8 >> 8, lod_q8 < 0 ? 0u : (uint32_t)lod_q8 & 255u};
-    if (c.level >= top) {
-        c.level = top;
-        c.frac = 0;
-    }
+    mip_choice_t c = {NULL, NULL, level, frac};
     uint32_t next = c.frac ? c.level + 1u : c.level;
     if (level_cold(f, c.level) && level_cold(f, next)) {
         request_cold(f, c.level, row, t, cols);
@@ -489,6 +484,19 @@ static mip_choice_t mip_choose(const psc_frame_t *f, int32_t row, uint32_t t, in
     return c;
 }
 
+/* The level and fraction of a level of detail (psc_span_mip's), then the choice. */
+static mip_choice_t mip_choose(const psc_frame_t *f, int32_t row, uint32_t t, int32_t drow, int32_t dt, unsigned n,
+                               int32_t lod_q8, const cols_t cols)
+{
+    uint32_t top = f->tiles->level_count - 1u;
+    uint32_t level = lod_q8 < 0 ? 0u : (uint32_t)lod_q8 >> 8, frac = lod_q8 < 0 ? 0u : (uint32_t)lod_q8 & 255u;
+    if (level >= top) {
+        level = top;
+        frac = 0;
+    }
+    return mip_choose_at(f, row, t, drow, dt, n, level, frac, cols);
+}
+
 /* Nearest and bilinear: the finest level no coarser than the pixels (see span_tiled). */
 static uint32_t fit_level(const psc_frame_t *f, int32_t lod_q8)
 {
@@ -518,18 +526,18 @@ static PSC_ALWAYS_INLINE const uint8_t *fit_tile(const psc_frame_t *f, uint32_t 
 }
 
 bool psc_tiled_span_level(const psc_frame_t *f, int32_t row, uint32_t t, int32_t drow, int32_t dt, unsigned n,
-                          int32_t lod_q8, uint32_t *lod)
+                          uint32_t *lod)
 {
     const cols_t cols = cols_of(f->v);
     if (f->mip) {
-        mip_choice_t c = mip_choose(f, row, t, drow, dt, n, lod_q8, cols);
+        mip_choice_t c = mip_choose_at(f, row, t, drow, dt, n, *lod & 255u, *lod >> 16, cols);
         if (!c.ta)
             return false;
         uint32_t next = c.frac ? c.level + 1u : c.level;
         *lod = c.level | next << 8 | c.frac << 16;
         return true;
     }
-    uint32_t k = fit_level(f, lod_q8);
+    uint32_t k = *lod & 255u;
     if (!fit_tile(f, &k, row, t, drow, dt, n, cols))
         return false;   /* across a tile's edge, or no coarser tile: texel by texel */
     *lod = k | k << 8;
