@@ -36,20 +36,26 @@ typedef struct {
     psc_pixfmt_t fmt;
     uint16_t w, h;
     uint32_t stride_pad; /* bytes after each row */
+    uint16_t part_deg;   /* a partial map: the longitudes it covers (latitudes 50 to -40), 0: the sphere */
 } map_kind_t;
 
 static const map_kind_t KINDS[] = {
-    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, 1024, 512, 0},
-    {PSC_PROJ_EQUIRECT, PSC_PIX_XRGB8888, 512, 256, 0},
-    {PSC_PROJ_EQUIRECT, PSC_PIX_PAL8, 512, 256, 0},
-    {PSC_PROJ_CYLINDER, PSC_PIX_RGB565, 512, 256, 0},
-    {PSC_PROJ_SINE, PSC_PIX_PAL8, 256, 128, 0},
-    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, 512, 256, 2}, /* rows at odd 16-bit words */
-    {PSC_PROJ_EQUIRECT, PSC_PIX_PAL8, 512, 256, 1},   /* rows at odd bytes */
-    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, 600, 300, 0}, /* not a power of two */
-    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB888, 1024, 512, 0},
-    {PSC_PROJ_CYLINDER, PSC_PIX_RGB888, 600, 300, 0},
-    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB888, 512, 256, 1}, /* rows at odd bytes: no AVX2 */
+    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, 1024, 512, 0, 0},
+    {PSC_PROJ_EQUIRECT, PSC_PIX_XRGB8888, 512, 256, 0, 0},
+    {PSC_PROJ_EQUIRECT, PSC_PIX_PAL8, 512, 256, 0, 0},
+    {PSC_PROJ_CYLINDER, PSC_PIX_RGB565, 512, 256, 0, 0},
+    {PSC_PROJ_SINE, PSC_PIX_PAL8, 256, 128, 0, 0},
+    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, 512, 256, 2, 0}, /* rows at odd 16-bit words */
+    {PSC_PROJ_EQUIRECT, PSC_PIX_PAL8, 512, 256, 1, 0},   /* rows at odd bytes */
+    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, 600, 300, 0, 0}, /* not a power of two */
+    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB888, 1024, 512, 0, 0},
+    {PSC_PROJ_CYLINDER, PSC_PIX_RGB888, 600, 300, 0, 0},
+    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB888, 512, 256, 1, 0}, /* rows at odd bytes: no AVX2 */
+    /* partial maps: a window of a full turn of W x 360 / span columns (the fast spans inside, the general sampler
+     * near the edges): by multiplying, and by shifting (1024 over 90 degrees: 4096 a turn) */
+    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB565, 1000, 400, 0, 150},
+    {PSC_PROJ_CYLINDER, PSC_PIX_XRGB8888, 1024, 512, 0, 90},
+    {PSC_PROJ_EQUIRECT, PSC_PIX_RGB888, 777, 300, 0, 200},
 };
 
 static const struct {
@@ -139,8 +145,14 @@ static void test_paths_equal_scalar(void **state)
         g.format = KINDS[k].fmt;
         g.width = KINDS[k].w;
         g.height = KINDS[k].h;
+        if (KINDS[k].part_deg) {
+            g.lon_min = tsup_bam_from_deg(-KINDS[k].part_deg / 2.0);
+            g.lon_span = tsup_bam_from_deg(KINDS[k].part_deg);
+            g.lat_top = (int32_t)tsup_bam_from_deg(50.0);
+            g.lat_bottom = -(int32_t)tsup_bam_from_deg(40.0);
+        }
         tsup_map_t m;
-        assert_int_equal(tsup_synth_map(&m, &g, 1, KINDS[k].stride_pad), 0);
+        assert_int_equal(tsup_synth_map(&m, &g, !KINDS[k].part_deg, KINDS[k].stride_pad), 0);
         for (unsigned sz = 0; sz < sizeof SIZES / sizeof SIZES[0]; sz++) {
             for (int fmt = 0; fmt < 2; fmt++) {
                 tsup_viewer_t tv;

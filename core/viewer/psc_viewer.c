@@ -31,10 +31,10 @@ static size_t align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
 
 #define SCAN_SAMPLES(w) ((size_t)(w) + 2u) /* boundary samples of a scanline, at most */
 
+/* Rectangular rows (a full turn or part of one): the fast samplers' maps. */
 static bool map_is_fast(const psc_envmap_t *m)
 {
-    return m->lon_span == 0 && (m->projection == PSC_PROJ_EQUIRECT || m->projection == PSC_PROJ_CYLINDER ||
-                                m->projection == PSC_PROJ_SINE);
+    return m->projection == PSC_PROJ_EQUIRECT || m->projection == PSC_PROJ_CYLINDER || m->projection == PSC_PROJ_SINE;
 }
 
 static ws_layout_t ws_layout(uint16_t out_width, uint16_t out_height, const psc_envmap_t *m, bool tiled)
@@ -88,9 +88,7 @@ static psc_status_t tiled_map_check(const psc_envmap_t *map, const psc_tiles_t *
         map->height != tiles->level[0].height || map->format != tiles->format ||
         (map->format == PSC_PIX_PAL8 && map->palette != tiles->palette))
         return PSC_ERR_ARG;
-    bool rectangular = map->projection == PSC_PROJ_EQUIRECT || map->projection == PSC_PROJ_CYLINDER ||
-                       map->projection == PSC_PROJ_SINE;
-    return rectangular ? PSC_OK : PSC_ERR_UNSUPPORTED;
+    return map_is_fast(map) ? PSC_OK : PSC_ERR_UNSUPPORTED;
 }
 
 static psc_status_t init_common(psc_viewer_t *v, const psc_envmap_t *map, const psc_tiles_t *tiles,
@@ -162,12 +160,15 @@ static psc_status_t init_common(psc_viewer_t *v, const psc_envmap_t *map, const 
     }
     v->scratch = base + l.samples;
     psc_viewer_band_requests_clear(v->scratch, out_width);
-    /* A full turn's columns from a binary angle: a shift when the width is a power of two. */
+    /* Columns from a binary angle: t x col_width / 2^32, a shift where col_width is a power of two. A partial
+     * map is a window of a full turn of col_width columns (its own W x 2^32 / lon_span, < 2^32: W <= 65536 and
+     * lon_span >= a degree), so its fast spans address it as a full turn away from its edges. */
+    v->col_width = v->addr.wraps ? map->width : (uint32_t)v->addr.col_per_bam_q32;
     v->col_shift = 0;
-    for (unsigned k = 1; k <= 16 && v->addr.wraps; k++)
-        if (map->width == 1u << k)
+    for (unsigned k = 1; k <= 31; k++)
+        if (v->col_width == 1u << k)
             v->col_shift = (uint8_t)(32u - k);
-    v->half_col_bam = (uint32_t)((((uint64_t)1 << 31) + map->width / 2u) / map->width);
+    v->half_col_bam = (uint32_t)((((uint64_t)1 << 31) + v->col_width / 2u) / v->col_width);
     return PSC_OK;
 }
 
@@ -425,7 +426,7 @@ static psc_status_t frame_begin(const psc_viewer_t *v, const psc_view_t *view, p
     f->span = 1u << view->span_log2;
     f->sink = sink;
     /* The pyramid applies to full-turn rectangular maps that have one, and to tiled maps (rectangular rows). */
-    f->mip = view->filter == PSC_FILTER_MIP && v->level_count > 1 && (v->addr.fast || v->tiles);
+    f->mip = view->filter == PSC_FILTER_MIP && v->level_count > 1 && ((v->addr.fast && v->addr.wraps) || v->tiles);
     f->filter = view->filter == PSC_FILTER_MIP ? PSC_FILTER_BILINEAR : view->filter;
     f->simd_mip = f->mip && f->simd && !v->tiles && mip_levels_addressable(v, f);
     f->tiles = v->tiles;

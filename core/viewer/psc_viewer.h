@@ -85,7 +85,7 @@ typedef struct {
     int64_t col_per_bam_q32;    /* map columns per bam, Q32.32 (= W for a full turn) */
     int64_t row_per_bam_q32;    /* linear-row projections: map rows per bam of latitude, Q32.32 */
     bool wraps;                 /* full turn: columns wrap around */
-    bool fast;                  /* full turn and rectangular rows: the fast samplers apply */
+    bool fast;                  /* rectangular rows: the fast samplers apply (a partial map's away from its edges) */
     bool row_table;             /* rows come from lat_to_row (cylinder, sine) */
 } psc_map_addressing_t;
 
@@ -109,9 +109,10 @@ typedef struct {
                                  * tiled: of row r within its tile */
     uint32_t *tile_row_offsets; /* tiled: one tile's rows, r = -1 .. 256, as a map of 256 rows */
     void *scratch;              /* a band's scanline workspace, for psc_viewer_render and tracing */
-    uint8_t col_shift;          /* 32 - log2(W) for a power-of-two width, else 0 */
+    uint8_t col_shift;          /* 32 - log2(col_width) for a power of two, else 0 */
     uint8_t simd;               /* psc_simd_t: PSC_SIMD_AUTO unless psc_viewer_set_simd says otherwise */
-    uint32_t half_col_bam;      /* half a map column as a binary angle, 2^31 / W */
+    uint32_t col_width;         /* the columns a full turn holds: W, or a partial map's W x turn / lon_span */
+    uint32_t half_col_bam;      /* half a map column as a binary angle, 2^31 / col_width */
     /* cached zoom state */
     psc_bam_t cached_hfov;
     const psc_lut_t *cached_lut;

@@ -22,7 +22,7 @@ void psc_map_addressing_init(psc_map_addressing_t *a, const psc_envmap_t *m)
     a->row_per_bam_q32 = (int64_t)(((uint64_t)m->height << 32) / lat_span);
     a->wraps = m->lon_span == 0;
     a->row_table = m->projection == PSC_PROJ_CYLINDER || m->projection == PSC_PROJ_SINE;
-    a->fast = a->wraps && (m->projection == PSC_PROJ_EQUIRECT || a->row_table);
+    a->fast = m->projection == PSC_PROJ_EQUIRECT || a->row_table;
 }
 
 int32_t psc_map_col_q16(const psc_viewer_t *v, psc_bam_t lon)

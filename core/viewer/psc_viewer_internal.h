@@ -143,4 +143,27 @@ void psc_scan_rows(const psc_frame_t *f, unsigned y0, unsigned y1, uint8_t *dst0
 /* Sample any map at (row, col) Q16.16 through the general (per-pixel, clamping) path: XRGB8888. */
 uint32_t psc_sample_general(const psc_viewer_t *v, psc_filter_t filter, int32_t row, int32_t col);
 
+/*
+ * A partial map's column position at level k, Q32.32 (the integer part a column of level k): t's offset from the
+ * map's left edge taken signed (negative beyond it), in the columns of the full turn the map is a window of
+ * (col_width >> k of them); for a bilinear sample less half a column (its left texel's). Where t lies inside the
+ * map these are a full turn's fast spans' columns (t x col_width / 2^32); beyond it, in order, for clamping.
+ * |rel| <= 2^32 and col_width < 2^25: the product fits.
+ */
+static inline int64_t psc_partial_col_q32(const psc_viewer_t *v, uint32_t k, uint32_t t, bool bilinear)
+{
+    const psc_map_addressing_t *a = &v->addr;
+    int64_t rel = (int64_t)(int32_t)(t + v->map->lon_min - a->lon_center) + a->lon_half_span;
+    if (bilinear)
+        rel -= (int64_t)v->half_col_bam << k;
+    return rel * (int64_t)(v->col_width >> k);
+}
+
+/*
+ * Sample a partial map of rectangular rows at level-0 row (Q16.16) and t (psc_partial_col_q32's columns), rows
+ * and columns clamped at its edges: its fast spans' arithmetic, so that a frame is the same bytes whichever path a
+ * span takes. XRGB8888, or with packed565 (an RGB565 map drawn to RGB565) the RGB565 blend of the fast spans.
+ */
+uint32_t psc_sample_partial(const psc_viewer_t *v, psc_filter_t filter, int32_t row, uint32_t t, bool packed565);
+
 #endif

@@ -104,3 +104,38 @@ uint32_t psc_sample_general(const psc_viewer_t *v, psc_filter_t filter, int32_t 
         return top;
     return lerp_xrgb(top, sample_row(v, r0 + 1, col), fr);
 }
+
+static int32_t clamp_col64(int64_t c, int32_t hi) { return c < 0 ? 0 : c > hi ? hi : (int32_t)c; }
+
+static uint32_t raw_texel(const psc_envmap_t *m, int32_t r, int32_t c)
+{
+    return ((const uint16_t *)(const void *)((const uint8_t *)m->pixels + (size_t)r * m->stride))[c];
+}
+
+uint32_t psc_sample_partial(const psc_viewer_t *v, psc_filter_t filter, int32_t row, uint32_t t, bool packed565)
+{
+    const psc_envmap_t *m = v->map;
+    int32_t hmax = m->height - 1, wmax = m->width - 1;
+    if (filter == PSC_FILTER_NEAREST) {
+        int32_t r = clamp_i32((row + 32768) >> 16, 0, hmax);
+        int32_t c = clamp_col64(psc_partial_col_q32(v, 0, t, false) >> 32, wmax);
+        return packed565 ? raw_texel(m, r, c) : texel(m, r, c);
+    }
+    int32_t r0 = row >> 16;
+    uint32_t fr = ((uint32_t)row >> 8) & 255u;
+    if (r0 < 0) {
+        r0 = 0;
+        fr = 0;
+    } else if (r0 >= hmax) {
+        r0 = hmax;
+        fr = 0;
+    }
+    int32_t r1 = fr ? r0 + 1 : r0;
+    int64_t q = psc_partial_col_q32(v, 0, t, true);
+    int32_t a = clamp_col64(q >> 32, wmax), b = clamp_col64((q >> 32) + 1, wmax);
+    uint32_t fc = (uint32_t)(q >> 24) & 255u;
+    if (packed565)
+        return psc_blend4_rgb565(raw_texel(m, r0, a), raw_texel(m, r0, b), raw_texel(m, r1, a), raw_texel(m, r1, b),
+                                 (fc + 4u) >> 3, (fr + 4u) >> 3);
+    return psc_blend4_xrgb(texel(m, r0, a), texel(m, r0, b), texel(m, r1, a), texel(m, r1, b), fc, fr);
+}

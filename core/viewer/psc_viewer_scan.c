@@ -138,6 +138,11 @@ static PSC_ALWAYS_INLINE void lut_read(const row_setup_t *rs, uint32_t ax, uint3
 
 /* ---- samples ---------------------------------------------------------------------- */
 
+/* A boundary sample's flags (work.polar): in a polar cap (its spans' pixels take exact positions), near a partial
+ * map's edge (its spans' pixels go through the general sampler, which clamps). */
+#define POLAR_CAP 1u
+#define MAP_EDGE 2u
+
 /* Map row of a latitude, Q16.16: linear rows inline, profile tables through the geometry code. */
 static PSC_ALWAYS_INLINE int32_t row_of(const psc_viewer_t *v, int32_t lat)
 {
@@ -233,7 +238,8 @@ static unsigned build_samples_linear(const psc_frame_t *f, row_setup_t *rs, unsi
     if (f->simd && (uint64_t)w * u_step + 32768u <= UINT32_MAX) {
         /* the kernel prefetches too, where it can address columns by shift and the spans are fast */
         const uint32_t bpp = psc_pixfmt_bytes(v->map->format), step = pf_step(f);
-        const bool pf = uses_fast_spans(f) && v->col_shift != 0 && bpp != 3u;   /* it addresses columns by shift */
+        /* it addresses columns by shift (a partial map's edges: prefetch_samples' alone, which skips them) */
+        const bool pf = uses_fast_spans(f) && v->col_shift != 0 && bpp != 3u && v->addr.wraps;
         const psc_simd_samples_t job = {lut_row, cols, u_step, w, n, w / (2u * n) + 1u, count, row_base,
                                         (int32_t)row_per_lat, bottom, pole_base, pole_sign, t_base, cap_pp,
                                         cap_exact, row, t, polar, pf ? v->map->pixels : 0,
@@ -379,8 +385,14 @@ static void put_general(const psc_frame_t *f, unsigned x, int32_t row, uint32_t 
         f->trace_col[x] = col;
         return;
     }
-    uint32_t px = psc_sample_general(f->v, f->filter, row, col);
-    if (f->sink == PSC_SINK_RGB565)
+    /* a partial map of rectangular rows: its columns as its fast spans take them, clamped at its edges */
+    const bool partial = !f->v->addr.wraps && !f->v->row_width_q16;
+    const bool packed565 = partial && f->v->map->format == PSC_PIX_RGB565 && f->sink == PSC_SINK_RGB565;
+    uint32_t px = partial ? psc_sample_partial(f->v, f->filter, row, t, packed565)
+                          : psc_sample_general(f->v, f->filter, row, col);
+    if (packed565)
+        ((uint16_t *)(void *)f->dst)[x] = (uint16_t)px;
+    else if (f->sink == PSC_SINK_RGB565)
         ((uint16_t *)(void *)f->dst)[x] = psc_xrgb_to_rgb565(px);
     else
         ((uint32_t *)(void *)f->dst)[x] = px;
@@ -460,7 +472,7 @@ typedef struct {
 static fast_ctx_t fast_ctx(const psc_frame_t *f)
 {
     const psc_viewer_t *v = f->v;
-    fast_ctx_t cx = {v->map->pixels, v->row_offsets, v->map->width, v->col_shift, v->half_col_bam,
+    fast_ctx_t cx = {v->map->pixels, v->row_offsets, v->col_width, v->col_shift, v->half_col_bam,
                      v->map->palette, v->palette565, f->dst};
     return cx;
 }
@@ -560,7 +572,7 @@ static void polar_pixels(const psc_frame_t *f, const row_setup_t *rs, unsigned x
     for (unsigned i = 0; i < n; i++) {
         bool polar;
         map_pos_t p = point_pos(f, rs, half_pixel_x(f, x + i), &polar);
-        if (uses_fast_spans(f)) {
+        if (uses_fast_spans(f) && f->v->addr.wraps) {   /* (a partial map's: the general sampler clamps its edges) */
             pixel_fast(f, x + i, p);
         } else {
             span_t s = {p.row, 0, 0, p.t};
@@ -579,8 +591,14 @@ static PSC_ALWAYS_INLINE void spans_fast(const psc_frame_t *f, const row_setup_t
     const uint8_t *polar = f->work.polar;
     for (unsigned k = x0 / n, x = k * n; k + 1u < count; k++, x += n) {
         unsigned len = w - x < n ? w - x : n, skip = x0 > x ? x0 - x : 0u;
-        if (polar[k] | polar[k + 1u]) {
+        uint8_t p = polar[k] | polar[k + 1u];
+        if (p & POLAR_CAP) {
             polar_pixels(f, rs, x + skip, len - skip);
+            continue;
+        }
+        if (p) {   /* near a partial map's edge: its positions, through the general sampler */
+            span_general(f, rs, x + skip, len - skip, span_from(f, k, len, skip),
+                         2 * (int32_t)x + (int32_t)len - (int32_t)w);
             continue;
         }
         span_fast(&cx, x + skip, len - skip, span_from(f, k, len, skip), filter, in, sink, pow2);
@@ -613,7 +631,7 @@ static unsigned row_vector(const psc_frame_t *f, const row_setup_t *rs)
                                 v->out_width, f->view->span_log2, v->col_shift, v->half_col_bam,
                                 v->map->height, v->map->stride,
                                 f->filter == PSC_FILTER_BILINEAR, (uint8_t)v->map->format, f->sink == PSC_SINK_RGB565,
-                                v->map->width};
+                                v->col_width};
     return f->simd->row(&job);
 }
 
@@ -660,15 +678,17 @@ static void prefetch_samples(const psc_frame_t *f, const row_setup_t *rs, unsign
     if (!uses_fast_spans(f))
         return;
     const uint8_t *base = v->map->pixels;
-    const uint32_t *rowoff = v->row_offsets, bpp = psc_pixfmt_bytes(v->map->format), w = v->map->width;
+    const uint32_t *rowoff = v->row_offsets, bpp = psc_pixfmt_bytes(v->map->format), w = v->col_width;
     const unsigned step = pf_step(f);
     const bool bilinear = f->filter == PSC_FILTER_BILINEAR;
     const int32_t *row = f->work.row;
     const uint32_t *t = f->work.t, sh = v->col_shift, round = bilinear ? 65536u : 65536u + 32768u;
+    const uint32_t last = v->map->width - 1u;   /* (a partial map's samples beyond its edges) */
     /* the kernel did samples [0, p) and [count - p, count) */
     for (unsigned k = rs->prefetched, end = count - rs->prefetched; k < end; k += step) {
         uint32_t r = ((uint32_t)row[k] + round) >> 16;
         uint32_t c = sh ? t[k] >> sh : (uint32_t)((uint64_t)t[k] * w >> 32);
+        c = c < last ? c : last;
         const uint8_t *p = base + (size_t)c * bpp;
         __builtin_prefetch(p + rowoff[r]);
         if (bilinear)
@@ -711,7 +731,7 @@ static unsigned mip_vector(const psc_frame_t *f, const row_setup_t *rs, unsigned
     lod[spans] = lod[spans - 1u]; /* read by the lanes beyond the last span, unused */
     const psc_simd_mip_t job = {tiled ? NULL : v->levels[0].pixels, f->level_off, f->level_stride, f->level_hmax,
                                 v->map->palette, f->work.row, f->work.t, f->work.lod, f->dst, v->out_width,
-                                f->view->span_log2, v->col_shift, v->half_col_bam, v->map->width - 1u,
+                                f->view->span_log2, v->col_shift, v->half_col_bam, v->col_width - 1u,
                                 (uint8_t)v->map->format, f->sink == PSC_SINK_RGB565};
     if (!tiled)
         return f->simd->mip(&job);
@@ -780,13 +800,37 @@ typedef struct {
     unsigned count;
 } scan_line_t;
 
+/*
+ * A partial map's fast spans address it as a window of a full turn (col_width columns): a span is fast only where
+ * both its ends lie two columns or more inside the map's left and right edges (positions move linearly along a
+ * span), so that no texel it reads is past them. The samples nearer an edge, or beyond it, are marked MAP_EDGE:
+ * their spans go pixel by pixel through the general sampler, which clamps, at the spans' own positions.
+ */
+static void mark_edges(const psc_frame_t *f, row_setup_t *rs, unsigned count)
+{
+    const psc_viewer_t *v = f->v;
+    const uint32_t margin = 2u * (uint32_t)((((uint64_t)1 << 32) + v->col_width - 1u) / v->col_width) + 1u;
+    /* t in [margin, lon_span - margin) is inside (a map a few columns wide: none) */
+    const uint32_t inner = v->map->lon_span > 2u * margin ? v->map->lon_span - 2u * margin : 0u;
+    const uint32_t *t = f->work.t;
+    uint8_t *polar = f->work.polar, any = 0;
+    for (unsigned k = 0; k < count; k++) {
+        uint8_t edge = t[k] - margin >= inner ? MAP_EDGE : 0u;   /* (t = lon - lon_min wraps high left of it) */
+        polar[k] |= edge;
+        any |= edge;
+    }
+    rs->any_polar |= any;
+}
+
 static void scanline_prepare(const psc_frame_t *f, unsigned y, scan_line_t *l)
 {
     row_setup(f, y, &l->rs);
     l->count = build_samples(f, &l->rs);
     /* the scanline's middle has its largest level of detail (its pixels' footprints shrink outwards): level 0
      * there is level 0 throughout, and its spans need no level of their own */
-    l->rs.tiled_level0 = f->tiles && f->v->addr.fast && !f->mip && lod_q8_at(f, &l->rs, 0) - MIP_LOD_BIAS_Q8 < 256;
+    l->rs.tiled_level0 = f->tiles && f->v->addr.wraps && !f->mip && lod_q8_at(f, &l->rs, 0) - MIP_LOD_BIAS_Q8 < 256;
+    if (!f->v->addr.wraps && uses_fast_spans(f))
+        mark_edges(f, &l->rs, l->count);
 }
 
 /*

@@ -17,10 +17,10 @@
  * finest level resident over it, its tile recorded for the caller to load.
  *
  * A partial panorama (part of a turn: a museum's gigapixel of one wall) has
- * no level-0 runs or vector kernels, as its flat map has no fast spans: its
- * spans take the general sampler's columns, clamped at the map's edges, and
- * its blend (psc_viewer_sample.c), at every level, so that at level 0 its
- * frames are its flat map's bytes too.
+ * no level-0 runs or vector kernels here: its spans take its flat map's
+ * columns (psc_partial_col_q32: the fast spans' inside it), clamped at its
+ * edges, at every level, so that at level 0 its frames are its flat map's
+ * bytes too.
  */
 #include "viewer/psc_viewer_internal.h"
 
@@ -106,16 +106,6 @@ static cols_t cols_of(const psc_viewer_t *v)
     return !v->addr.wraps ? COLS_CLAMP : v->col_shift != 0 ? COLS_SHIFT : COLS_MUL;
 }
 
-/* A partial panorama's column of t at level k, Q16.16 (integer = pixel centre), in 64 bits: level 0 is
- * psc_map_col_q16's (exactly, where that fits 32 bits: maps up to 32767 wide), level k's centres as the rows'. */
-static PSC_ALWAYS_INLINE int64_t partial_col_q16(const psc_viewer_t *v, uint32_t k, uint32_t t)
-{
-    const psc_map_addressing_t *a = &v->addr;
-    int64_t rel = (int64_t)(int32_t)(t + v->map->lon_min - a->lon_center) + a->lon_half_span;
-    int64_t col = ((rel * a->col_per_bam_q32) >> 16) - 32768;   /* |rel| <= 2^32, col_per_bam_q32 < 2^26 */
-    return ((col + 32768) >> k) - 32768;
-}
-
 static PSC_ALWAYS_INLINE uint32_t clamp_col(int64_t c, uint32_t width)
 {
     return c < 0 ? 0u : c >= (int64_t)width ? width - 1u : (uint32_t)c;
@@ -135,7 +125,7 @@ static PSC_ALWAYS_INLINE near_t near_at(const psc_frame_t *f, uint32_t k, int32_
     near_t n;
     n.r = (uint32_t)(r < 0 ? 0 : r > hmax ? hmax : r);
     if (cols == COLS_CLAMP)
-        n.c = clamp_col((partial_col_q16(f->v, k, t) + 32768) >> 16, l->width);
+        n.c = clamp_col(psc_partial_col_q32(f->v, k, t, false) >> 32, l->width);
     else
         n.c = cols == COLS_SHIFT ? t >> ((f->v->col_shift + k) & 31u) : (uint32_t)(((uint64_t)t * l->width) >> 32);
     return n;
@@ -159,10 +149,10 @@ static PSC_ALWAYS_INLINE taps_t taps_at(const psc_frame_t *f, uint32_t k, int32_
     if (cols == COLS_CLAMP) {   /* the general sampler's: rows (unclamped on a partial map) and columns clamped */
         q.r0 = r0 > hmax ? (uint32_t)hmax : q.r0;
         q.r1 = r1 < 0 ? 0u : q.r1;
-        int64_t c = partial_col_q16(f->v, k, t);
-        q.c0 = clamp_col(c >> 16, l->width);
-        q.c1 = clamp_col((c >> 16) + 1, l->width);
-        q.fc = (uint32_t)(c >> 8) & 255u;
+        int64_t c = psc_partial_col_q32(f->v, k, t, true);
+        q.c0 = clamp_col(c >> 32, l->width);
+        q.c1 = clamp_col((c >> 32) + 1, l->width);
+        q.fc = (uint32_t)(c >> 24) & 255u;
         return q;
     }
     uint32_t tk = t - (f->v->half_col_bam << k);
@@ -306,8 +296,7 @@ static PSC_ALWAYS_INLINE void span_bilinear(const psc_frame_t *f, const uint8_t 
                                             const psc_pixfmt_t in, const psc_sink_t sink, const cols_t cols,
                                             const bool fast)
 {
-    /* (a partial panorama's blend is the general sampler's, in XRGB8888) */
-    const bool packed565 = in == PSC_PIX_RGB565 && sink == PSC_SINK_RGB565 && cols != COLS_CLAMP;
+    const bool packed565 = in == PSC_PIX_RGB565 && sink == PSC_SINK_RGB565;
     for (unsigned i = 0; i < n; i++, row = (int32_t)((uint32_t)row + (uint32_t)drow), t += (uint32_t)dt) {
         uint32_t px = bilinear(f, tile, k, taps_at(f, k, row, t, cols), in, packed565, fast);
         if (sink == PSC_SINK_RGB565 && !packed565)
@@ -321,8 +310,7 @@ static PSC_ALWAYS_INLINE void span_mip(const psc_frame_t *f, const uint8_t *ta, 
                                        uint32_t frac, const psc_pixfmt_t in, const psc_sink_t sink, const cols_t cols,
                                        const bool fast)
 {
-    /* (a partial panorama's blend is the general sampler's, in XRGB8888) */
-    const bool packed565 = in == PSC_PIX_RGB565 && sink == PSC_SINK_RGB565 && cols != COLS_CLAMP;
+    const bool packed565 = in == PSC_PIX_RGB565 && sink == PSC_SINK_RGB565;
     for (unsigned i = 0; i < n; i++, row = (int32_t)((uint32_t)row + (uint32_t)drow), t += (uint32_t)dt) {
         uint32_t px = bilinear(f, ta, level, taps_at(f, level, row, t, cols), in, packed565, fast);
         if (frac) {

@@ -79,6 +79,10 @@ done
     >"$tmp/pack.log" 2>&1 || { cat "$tmp/pack.log"; die "periscope-render of the 1500-wide map failed"; }
 "$build/bin/periscope-pack" "$tmp/odd.png" -o "$tmp/odd.pano" --display 160x120 --format xrgb8888 --quiet \
     >"$tmp/pack.log" 2>&1 || { cat "$tmp/pack.log"; die "periscope-pack of the 1500-wide map failed"; }
+# and the panorama as a partial one (its fast spans inside, the general sampler at its edges)
+"$build/bin/periscope-pack" assets/pannellum-examplepano.jpg -o "$tmp/part.pano" --display 160x120 --format rgb565 \
+    --lon-range -100:80 --lat-range 60:-30 --quiet >"$tmp/pack.log" 2>&1 ||
+    { cat "$tmp/pack.log"; die "periscope-pack of the partial map failed"; }
 for fmt in rgb565 rgb888 partial; do
     part=""
     [ "$fmt" = partial ] && part="--lon-range -90:90 --lat-range 60:-30"
@@ -104,7 +108,7 @@ for out in rgb565 xrgb8888; do
 done
 
 frames=0
-for map in rgb565 xrgb8888 rgb888 odd tiled-rgb565 tiled-rgb888 tiled-partial; do
+for map in rgb565 xrgb8888 rgb888 odd part tiled-rgb565 tiled-rgb888 tiled-partial; do
     # shellcheck disable=SC2086
     "$build/portability/psc-render-raw" "$tmp/$map.pano" "$tmp/ref-$map.raw" $specs ||
         die "the x86-64 psc-render-raw failed"
@@ -120,7 +124,7 @@ for map in rgb565 xrgb8888 rgb888 odd tiled-rgb565 tiled-rgb888 tiled-partial; d
         die "psc-render-raw on a $map map: $board's bytes differ from x86-64's (first difference above)"
     frames=$((frames + $(echo $specs | wc -w)))
 done
-echo "portability: $board ($arch): psc-render-raw: $frames frames of three map formats, flat (one 1500 wide) and tiled (every tile resident; a partial turn too), equal to x86-64's ($(cat "$tmp"/ref-*.raw | wc -c) bytes)"
+echo "portability: $board ($arch): psc-render-raw: $frames frames of three map formats, flat (one 1500 wide, one partial) and tiled (every tile resident; a partial turn too), equal to x86-64's ($(cat "$tmp"/ref-*.raw | wc -c) bytes)"
 
 # the Hash patch character: Thom walking and waving, tessellated and drawn by core (the pack is built once, here)
 "$build/bin/periscope-patch" assets/thom/Thom.mdl --skin-from assets/thom/Thom2.mdl \
