@@ -3,7 +3,9 @@
  * psc_viewer_sample.c - the general sampler: any projection, partial maps,
  * one pixel at a time. Columns wrap around a full turn (within the row's own
  * width on ELLIPTICAL/DIAMOND maps) and clamp at the edges of partial maps;
- * rows clamp at the top and bottom. Never reads outside the map.
+ * rows clamp at the top and bottom. Never reads outside the map. A partial
+ * map of rectangular rows has its own (psc_sample_partial): its fast spans'
+ * columns, so that the spans near its edges, drawn here, join theirs.
  */
 #include "viewer/psc_viewer_internal.h"
 
@@ -75,6 +77,24 @@ static uint32_t sample_row(const psc_viewer_t *v, int32_t r, int32_t col)
     return lerp_xrgb(texel(v->map, r, a), texel(v->map, r, b), fc);
 }
 
+/* A bilinear sample's rows at level-0 row (Q16.16) on a map hmax + 1 rows tall: the upper *r0 and the lower *r1
+ * (the same at the edges, where the weight of the lower is 0), the weight returned (Q0.8). */
+static uint32_t bilinear_rows(int32_t row, int32_t hmax, int32_t *r0, int32_t *r1)
+{
+    int32_t r = row >> 16;
+    uint32_t fr = ((uint32_t)row >> 8) & 255u;
+    if (r < 0) {
+        r = 0;
+        fr = 0;
+    } else if (r >= hmax) {
+        r = hmax;
+        fr = 0;
+    }
+    *r0 = r;
+    *r1 = fr ? r + 1 : r;
+    return fr;
+}
+
 uint32_t psc_sample_general(const psc_viewer_t *v, psc_filter_t filter, int32_t row, int32_t col)
 {
     const psc_envmap_t *m = v->map;
@@ -84,25 +104,12 @@ uint32_t psc_sample_general(const psc_viewer_t *v, psc_filter_t filter, int32_t 
         int32_t cr = row_column(v, r, col, &lo, &hi);
         return texel(m, r, fix_column(v, (cr + 32768) >> 16, lo, hi));
     }
-    int32_t r0 = row >> 16;
-    uint32_t fr = ((uint32_t)row >> 8) & 255u;
-    if (r0 < 0) {
-        r0 = 0;
-        fr = 0;
-    } else if (r0 >= hmax) {
-        r0 = hmax;
-        fr = 0;
-    }
-    if (!v->row_width_q16) {   /* rectangular rows: one blend of four texels (a tiled map's, psc_viewer_tiles.c) */
-        int32_t c0 = col >> 16, r1 = fr ? r0 + 1 : r0, a = fix_column(v, c0, 0, m->width - 1),
-                b = fix_column(v, c0 + 1, 0, m->width - 1);
-        return psc_blend4_xrgb(texel(m, r0, a), texel(m, r0, b), texel(m, r1, a), texel(m, r1, b),
-                               ((uint32_t)col >> 8) & 255u, fr);
-    }
+    int32_t r0, r1;
+    uint32_t fr = bilinear_rows(row, hmax, &r0, &r1);
     uint32_t top = sample_row(v, r0, col);
     if (fr == 0)
         return top;
-    return lerp_xrgb(top, sample_row(v, r0 + 1, col), fr);
+    return lerp_xrgb(top, sample_row(v, r1, col), fr);
 }
 
 static int32_t clamp_col64(int64_t c, int32_t hi) { return c < 0 ? 0 : c > hi ? hi : (int32_t)c; }
@@ -121,16 +128,8 @@ uint32_t psc_sample_partial(const psc_viewer_t *v, psc_filter_t filter, int32_t 
         int32_t c = clamp_col64(psc_partial_col_q32(v, 0, t, false) >> 32, wmax);
         return packed565 ? raw_texel(m, r, c) : texel(m, r, c);
     }
-    int32_t r0 = row >> 16;
-    uint32_t fr = ((uint32_t)row >> 8) & 255u;
-    if (r0 < 0) {
-        r0 = 0;
-        fr = 0;
-    } else if (r0 >= hmax) {
-        r0 = hmax;
-        fr = 0;
-    }
-    int32_t r1 = fr ? r0 + 1 : r0;
+    int32_t r0, r1;
+    uint32_t fr = bilinear_rows(row, hmax, &r0, &r1);
     int64_t q = psc_partial_col_q32(v, 0, t, true);
     int32_t a = clamp_col64(q >> 32, wmax), b = clamp_col64((q >> 32) + 1, wmax);
     uint32_t fc = (uint32_t)(q >> 24) & 255u;
