@@ -169,6 +169,12 @@ static psc_status_t init_common(psc_viewer_t *v, const psc_envmap_t *map, const 
         if (v->col_width == 1u << k)
             v->col_shift = (uint8_t)(32u - k);
     v->half_col_bam = (uint32_t)((((uint64_t)1 << 31) + v->col_width / 2u) / v->col_width);
+    /* a partial map's fast spans: two columns (rounded up) and one inside either edge (psc_viewer_scan.c's
+     * mark_edges); in 64 bits, as a column of a map one column wide is the whole turn; a map a few columns wide
+     * has no inside */
+    uint64_t margin = 2u * ((((uint64_t)1 << 32) + v->col_width - 1u) / v->col_width) + 1u, span = map->lon_span;
+    v->edge_inner = span > 2u * margin ? (uint32_t)(span - 2u * margin) : 0u;
+    v->edge_margin = v->edge_inner ? (uint32_t)margin : 0u;
     return PSC_OK;
 }
 

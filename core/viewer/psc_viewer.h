@@ -113,6 +113,8 @@ typedef struct {
     uint8_t simd;               /* psc_simd_t: PSC_SIMD_AUTO unless psc_viewer_set_simd says otherwise */
     uint32_t col_width;         /* the columns a full turn holds: W, or a partial map's W x turn / lon_span */
     uint32_t half_col_bam;      /* half a map column as a binary angle, 2^31 / col_width */
+    uint32_t edge_margin;       /* a partial map: its fast spans keep t in [edge_margin, edge_margin + edge_inner) */
+    uint32_t edge_inner;
     /* cached zoom state */
     psc_bam_t cached_hfov;
     const psc_lut_t *cached_lut;

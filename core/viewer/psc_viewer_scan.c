@@ -808,16 +808,11 @@ typedef struct {
  */
 static void mark_edges(const psc_frame_t *f, row_setup_t *rs, unsigned count)
 {
-    const psc_viewer_t *v = f->v;
-    /* two columns (rounded up) and one; t in [margin, lon_span - margin) is inside (a map a few columns wide:
-     * none; in 64 bits, as a column of a map one column wide is the whole turn) */
-    const uint64_t margin = 2u * ((((uint64_t)1 << 32) + v->col_width - 1u) / v->col_width) + 1u;
-    const uint64_t span = v->map->lon_span;
-    const uint32_t inner = span > 2u * margin ? (uint32_t)(span - 2u * margin) : 0u;
+    const uint32_t margin = f->v->edge_margin, inner = f->v->edge_inner;   /* (psc_viewer_init's) */
     const uint32_t *t = f->work.t;
     uint8_t *polar = f->work.polar, any = 0;
     for (unsigned k = 0; k < count; k++) {
-        uint8_t edge = t[k] - (uint32_t)margin >= inner ? MAP_EDGE : 0u;   /* (t = lon - lon_min: high left of it) */
+        uint8_t edge = t[k] - margin >= inner ? MAP_EDGE : 0u;   /* (t = lon - lon_min: high left of it) */
         polar[k] |= edge;
         any |= edge;
     }

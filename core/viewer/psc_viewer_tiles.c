@@ -98,7 +98,7 @@ static PSC_ALWAYS_INLINE uint32_t fetch(const psc_frame_t *f, const uint8_t *til
 /* ---- positions: the flat samplers' ------------------------------------------------------------------------ */
 
 /* How a longitude becomes a column: a full turn's by a shift (a power-of-two width) or a multiply, wrapping at the
- * seam; a partial panorama's as the general sampler's (psc_viewer_sample.c), clamped at its edges. */
+ * seam; a partial panorama's as its flat map's (psc_partial_col_q32), clamped at its edges. */
 typedef enum { COLS_SHIFT, COLS_MUL, COLS_CLAMP } cols_t;
 
 static cols_t cols_of(const psc_viewer_t *v)
@@ -146,7 +146,7 @@ static PSC_ALWAYS_INLINE taps_t taps_at(const psc_frame_t *f, uint32_t k, int32_
     q.fr = ((uint32_t)r >> 8) & 255u;
     q.r0 = (uint32_t)(r0 < 0 ? 0 : r0);
     q.r1 = (uint32_t)(r1 > hmax ? hmax : r1);
-    if (cols == COLS_CLAMP) {   /* the general sampler's: rows (unclamped on a partial map) and columns clamped */
+    if (cols == COLS_CLAMP) {   /* psc_sample_partial's: rows and columns clamped at the map's edges */
         q.r0 = r0 > hmax ? (uint32_t)hmax : q.r0;
         q.r1 = r1 < 0 ? 0u : q.r1;
         int64_t c = psc_partial_col_q32(f->v, k, t, true);
