@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "board_config.h"
+#include "3d/psc_3d_render.h"
 #include "psc_io_bands.h"
 #include "board_file.h"
 #include "psc_hal_parse.h"
@@ -25,6 +26,7 @@ typedef enum {
     KEY_QUALITY,        /* adaptive | fixed -> bool */
     KEY_LEVELS,         /* mono | grey4 | pal8 [:ordered | :halftone | :none] -> psc_io_levels_t */
     KEY_DITHER,         /* ordered | none -> psc_dither_method_t */
+    KEY_HSR,            /* zbuffer | area -> uint8_t (psc_3d_hsr_t) */
     KEY_U32,            /* whole number -> uint32_t */
     KEY_U8,             /* whole number -> uint8_t */
     KEY_MILLI,          /* decimal x 1000 -> int32_t */
@@ -89,6 +91,7 @@ static const key_spec_t key_table[] = {
     KEY("pan_follows_zoom", KEY_BOOL, pan_follows_zoom, 0, 0, false),
     KEY("character_shadows", KEY_BOOL, character_shadows, 0, 0, false),
     KEY("render3d_tile", KEY_U32, render3d_tile, 0, PSC_MAX_OUT_DIM, false),
+    KEY("render3d_hsr", KEY_HSR, render3d_hsr, 0, 0, false),
     KEY("render3d_abuffer_kb", KEY_U32, render3d_abuffer_kb, 0, 262144, false),
     KEY("render3d_relight", KEY_BOOL, render3d_relight, 0, 0, false),
     KEY("render3d_light_azimuth", KEY_MILLI, render3d_light_azimuth_mdeg, -360000, 360000, false),
@@ -347,6 +350,12 @@ static int board_set_key(board_parser_t *p, const key_spec_t *k, const char *val
             return board_fail(p, "%s must be mono, grey4 or pal8, optionally :ordered, :halftone or :none, got '%s'",
                               k->key, value);
         return 0;
+    case KEY_HSR:
+        if (strcmp(value, "zbuffer") == 0 || strcmp(value, "area") == 0) {
+            *(uint8_t *)field = value[0] == 'a' ? PSC_3D_HSR_AREA : PSC_3D_HSR_ZBUFFER;
+            return 0;
+        }
+        return board_fail(p, "%s must be zbuffer or area, got '%s'", k->key, value);
     case KEY_DITHER:
         if (strcmp(value, "ordered") == 0 || strcmp(value, "none") == 0) {
             *(psc_dither_method_t *)field = value[0] == 'o' ? PSC_DITHER_ORDERED : PSC_DITHER_NONE;

@@ -177,7 +177,7 @@ static void test_silhouettes_against_supersampled(void **state)
         psc_3d_draw_t d;
         setup_draw(&d, &m, v, &tex.tex);
         psc_3d_config_t cfg = {W, H, v->tile, v->tile, v->depth_bits, tsup_bam_from_deg(v->hfov), PSC_Q16_ONE / 32,
-                               16 * PSC_Q16_ONE, m.mesh.vertex_count};
+                               16 * PSC_Q16_ONE, m.mesh.vertex_count, PSC_3D_HSR_ZBUFFER};
         tsup_ref_render3d_ss(&cfg, &d, 1, 0x283040, 4, ss, covered);
         tsup_ref_render3d(&cfg, &d, 1, 0x283040, one, NULL);
         for (size_t i = 0; i < np; i++)
@@ -277,7 +277,7 @@ static void test_two_objects_and_tiles(void **state)
     d[1].camera_from_object.m[0][3] += PSC_Q16_ONE / 3;
     d[1].camera_from_object.m[2][3] -= PSC_Q16_ONE * 9 / 10;
     psc_3d_config_t cfg = {W, H, 0, 0, 32, tsup_bam_from_deg(v.hfov), PSC_Q16_ONE / 32, 16 * PSC_Q16_ONE,
-                           mc.mesh.vertex_count + ms.mesh.vertex_count};
+                           mc.mesh.vertex_count + ms.mesh.vertex_count, PSC_3D_HSR_ZBUFFER};
     double *ss = malloc(np * 3 * sizeof(double)), *one = malloc(np * 3 * sizeof(double));
     uint8_t *covered = malloc(np), *edge = malloc(np);
     tsup_ref_render3d_ss(&cfg, d, 2, 0x283040, 4, ss, covered);

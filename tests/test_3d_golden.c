@@ -103,7 +103,7 @@ static void test_golden_views(void **state)
         d.specular_q8 = v->shade == PSC_SHADE_PHONG ? (uint16_t)(64 + 32 * (i % 4)) : 0;
         d.shininess = (uint8_t)(8u << (i % 4));
         psc_3d_config_t cfg = {W, H, v->tile, v->tile, v->depth_bits, tsup_bam_from_deg(v->hfov), PSC_Q16_ONE / 32,
-                               16 * PSC_Q16_ONE, m.mesh.vertex_count};
+                               16 * PSC_Q16_ONE, m.mesh.vertex_count, PSC_3D_HSR_ZBUFFER};
         tsup_3d_t t;
         assert_int_equal(tsup_3d_init(&t, &cfg), PSC_OK);
         psc_surface_t s = tsup_surface_new(W, H, v->fmt);
@@ -141,7 +141,7 @@ static void test_golden_detects_offset(void **state)
     assert_int_equal(tsup_mesh_from_geom(&m, &g, 1), 0);
     const uint16_t W = 200, H = 150;
     psc_3d_config_t cfg = {W, H, 0, 0, 32, tsup_bam_from_deg(60), PSC_Q16_ONE / 32, 16 * PSC_Q16_ONE,
-                           m.mesh.vertex_count};
+                           m.mesh.vertex_count, PSC_3D_HSR_ZBUFFER};
     psc_3d_draw_t d;
     psc_3d_draw_defaults(&d, &m.mesh);
     tsup_texture_t tex;

@@ -260,7 +260,7 @@ static void test_fuzz(void **state)
     tsup_rng_seed(&rng, 4242);
     unsigned parsed = 0, rendered = 0;
     psc_surface_t s = tsup_surface_new(48, 32, PSC_PIX_RGB565);
-    psc_3d_config_t cfg = {48, 32, 16, 16, 16, tsup_bam_from_deg(70), PSC_Q16_ONE / 8, 16 * PSC_Q16_ONE, 65535};
+    psc_3d_config_t cfg = {48, 32, 16, 16, 16, tsup_bam_from_deg(70), PSC_Q16_ONE / 8, 16 * PSC_Q16_ONE, 65535, PSC_3D_HSR_ZBUFFER};
     tsup_3d_t t;
     assert_int_equal(tsup_3d_init(&t, &cfg), PSC_OK);
     const unsigned rounds = 20000;

@@ -37,7 +37,7 @@
 static psc_3d_config_t config(uint16_t w, uint16_t h, double hfov_deg, uint32_t max_vertices)
 {
     psc_3d_config_t c = {w, h, 0, 0, 32, tsup_bam_from_deg(hfov_deg), PSC_Q16_ONE / 16, 64 * PSC_Q16_ONE,
-                         max_vertices};
+                         max_vertices, PSC_3D_HSR_ZBUFFER};
     return c;
 }
 

@@ -22,6 +22,7 @@
 #include "app.h"
 #include "psc_io_image.h"
 #include "board_config.h"
+#include "3d/psc_3d_render.h"
 #include "motion.h"
 #include "psc_io_pack_build.h"
 #include "sim/psc_hal_sim.h"
@@ -83,6 +84,7 @@ static void test_board_valid(void **state)
                        "image.kernel = linux-image-arm64\n"
                        "image.modules = vc4 bochs\n"
                        "render3d_tile = 64\n"
+                       "render3d_hsr = area\n"
                        "render3d_abuffer_kb = 256\n"
                        "render3d_relight = yes\n"
                        "render3d_light_azimuth = -90\n"
@@ -97,6 +99,7 @@ static void test_board_valid(void **state)
     assert_int_equal(cfg.frame_rate_mhz, 29970);
     assert_int_equal(cfg.pitch_min_mdeg, -45500);
     assert_int_equal(cfg.render3d_tile, 64);
+    assert_int_equal(cfg.render3d_hsr, PSC_3D_HSR_AREA);
     assert_int_equal(cfg.render3d_abuffer_kb, 256);
     assert_true(cfg.render3d_relight);
     assert_int_equal(cfg.render3d_light_azimuth_mdeg, -90000);
@@ -165,6 +168,7 @@ static void test_board_errors(void **state)
     expect_board_error("display_levels = sepia\n", "t/board.conf:5:", "display_levels");
     expect_board_error("display_levels = mono:fancy\n", "t/board.conf:5:", "mono:fancy");
     expect_board_error("display_dither = halftone\n", "t/board.conf:5:", "display_dither must be ordered or none");
+    expect_board_error("render3d_hsr = painter\n", "t/board.conf:5:", "render3d_hsr must be zbuffer or area");
 
     /* A missing required key names the file and the key. */
     psc_board_config_t cfg;

@@ -558,7 +558,7 @@ static void draw(const psc_patch_t *p, const psc_patch_camera_t *cam, int32_t ne
                  double hfov, psc_surface_t *out, double *z, bool cull)
 {
     psc_3d_config_t cfg = {out->width, out->height, 0, 0, 32, tsup_bam_from_deg(hfov), near_q16, far_q16,
-                           PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES};
+                           PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES, PSC_3D_HSR_ZBUFFER};
     tsup_3d_t r;
     assert_int_equal(tsup_3d_init(&r, &cfg), PSC_OK);
     uint16_t *zout = calloc((size_t)out->width * out->height, 2);

@@ -85,7 +85,7 @@ static void test_views_rule(void **state)
         psc_surface_t sf = {64, 64, 64 * 4, PSC_PIX_XRGB8888, out};
         for (unsigned i = 0; i < 64 * 64; i++)
             out[i] = 0xFF000000u;
-        psc_raster_target_t tg = {&sf, NULL, 0, 0, 0, 0, 64, 64, NULL};
+        psc_raster_target_t tg = {&sf, NULL, 0, 0, 0, 0, 64, 64, NULL, NULL};
         /* a triangle with affine coordinates (q = 1): each view's (u, v) a different affine map of the pixel */
         psc_raster_vertex_t v[3];
         double uv[3][3][2];
@@ -273,7 +273,7 @@ static void render(fixture_t *f, const psc_mat4_q16_t *skin, double yaw, double 
                    psc_proxy_lod_t lod, uint32_t *rgb, uint32_t *ids)
 {
     psc_mat4_q16_t cam;
-    psc_3d_config_t cfg = {W, H, 0, 0, 32, tsup_bam_from_deg(50), 0, 0, psc_proxy_max_vertices(&f->m)};
+    psc_3d_config_t cfg = {W, H, 0, 0, 32, tsup_bam_from_deg(50), 0, 0, psc_proxy_max_vertices(&f->m), PSC_3D_HSR_ZBUFFER};
     assert_int_equal(psc_3d_orbit(f->lo, f->hi, tsup_bam_from_deg(yaw),
                                   (int32_t)tsup_bam_from_deg(pitch),
                                   (int32_t)lround(dist * 65536), &cam, &cfg.near_q16, &cfg.far_q16),
@@ -306,7 +306,7 @@ static void reference_full(fixture_t *f, const psc_mat4_q16_t *skin, double yaw,
 {
     const psc_proxy_model_t *m = &f->m;
     psc_mat4_q16_t cam;
-    psc_3d_config_t cfg = {W, H, 0, 0, 32, tsup_bam_from_deg(50), 0, 0, psc_proxy_max_vertices(m)};
+    psc_3d_config_t cfg = {W, H, 0, 0, 32, tsup_bam_from_deg(50), 0, 0, psc_proxy_max_vertices(m), PSC_3D_HSR_ZBUFFER};
     assert_int_equal(psc_3d_orbit(f->lo, f->hi, tsup_bam_from_deg(yaw), (int32_t)tsup_bam_from_deg(pitch),
                                   (int32_t)lround(dist * 65536), &cam, &cfg.near_q16, &cfg.far_q16),
                      PSC_OK);
@@ -898,7 +898,7 @@ static void test_lod_auto(void **state)
                     dist = 1.8 + tsup_rng_unit(&rng) * 6.0;
                     t = tsup_rng_unit(&rng) * (double)psc_proxy_duration_us(&f.m) / 1e6;
                 }
-                psc_3d_config_t cfg = {W, H, 0, 0, 32, tsup_bam_from_deg(50), 0, 0, psc_proxy_max_vertices(&f.m)};
+                psc_3d_config_t cfg = {W, H, 0, 0, 32, tsup_bam_from_deg(50), 0, 0, psc_proxy_max_vertices(&f.m), PSC_3D_HSR_ZBUFFER};
                 assert_int_equal(psc_3d_orbit(f.lo, f.hi, tsup_bam_from_deg(yaw), (int32_t)tsup_bam_from_deg(pitch),
                                               (int32_t)lround(dist * 65536), &cam, &cfg.near_q16, &cfg.far_q16),
                                  PSC_OK);
@@ -1042,13 +1042,16 @@ static void test_scene_draw(void **state)
     fixture_free(&f);
 }
 
+/* The hidden-surface method render_lod draws with. */
+static uint8_t render_hsr = PSC_3D_HSR_ZBUFFER;
+
 /* One frame of the bar at level lod into px (W x H RGB565): tiles or not, the A-buffer or not, or the part ids. */
 static void render_lod(fixture_t *f, const psc_mat4_q16_t *skin, int lod, bool tiled, bool aa, bool ids,
                        uint16_t *px)
 {
     psc_mat4_q16_t cam;
     psc_3d_config_t cfg = {W, H, tiled ? 32 : 0, tiled ? 32 : 0, 16, tsup_bam_from_deg(50), 0, 0,
-                           psc_proxy_max_vertices(&f->m)};
+                           psc_proxy_max_vertices(&f->m), render_hsr};
     assert_int_equal(psc_3d_orbit(f->lo, f->hi, tsup_bam_from_deg(75), (int32_t)tsup_bam_from_deg(30),
                                   lod == 2 ? 5 * 65536 : 144179, &cam, &cfg.near_q16, &cfg.far_q16),
                      PSC_OK);
@@ -1117,6 +1120,12 @@ static void test_tiles_exact(void **state)
         render_lod(&f, skin, lod, false, true, false, aa);
         render_lod(&f, skin, lod, true, true, false, tiled);
         assert_memory_equal(aa, tiled, sizeof aa);
+        render_hsr = PSC_3D_HSR_AREA; /* area subdivision: the same bytes (view textures are never hidden early) */
+        render_lod(&f, skin, lod, false, false, false, tiled);
+        assert_memory_equal(plain, tiled, sizeof plain);
+        render_lod(&f, skin, lod, true, false, false, tiled);
+        assert_memory_equal(plain, tiled, sizeof plain);
+        render_hsr = PSC_3D_HSR_ZBUFFER;
         render_lod(&f, skin, lod, false, false, true, ids);
         unsigned drawn = 0, changed = 0;
         for (int y = 0; y < (int)H; y++)
@@ -1137,8 +1146,8 @@ static void test_tiles_exact(void **state)
                     fail_msg("level %d: the A-buffer changed pixel (%d, %d) from %04X to %04X, away from the edges",
                              lod, x, y, (unsigned)p, (unsigned)q);
             }
-        print_message("  level %d: %u pixels drawn, tiled and full-buffer alike, with the A-buffer too; it changed "
-                      "%u, all at edges\n", lod, drawn, changed);
+        print_message("  level %d: %u pixels drawn, tiled and full-buffer alike, by area subdivision too, with the "
+                      "A-buffer too; it changed %u, all at edges\n", lod, drawn, changed);
         /* (the billboard: one view, its texels sampled whole or not at all, on a quad wider than the model) */
         assert_true(drawn > 100 && (changed > 20 || lod == 2));
     }
@@ -1281,7 +1290,7 @@ static void test_normals_sections(void **state)
     nt_null = nt_ok;
     nt_null.pixels = NULL;
     psc_surface_t sf = {32, 32, 64, PSC_PIX_RGB565, px};
-    psc_raster_target_t t = {&sf, NULL, 0, 0, 0, 0, 32, 32, NULL};
+    psc_raster_target_t t = {&sf, NULL, 0, 0, 0, 0, 32, 32, NULL, NULL};
     psc_raster_vertex_t v[3] = {{.x_q4 = 16, .y_q4 = 16, .q_q28 = PSC_RASTER_Q_ONE},
                                 {.x_q4 = 500, .y_q4 = 16, .q_q28 = PSC_RASTER_Q_ONE, .u1_q16 = 65536, .u2_q16 = 65536,
                                  .u_q16 = 65536},
@@ -1337,7 +1346,7 @@ static void test_pack_fuzz(void **state)
             assert_int_equal(psc_proxy_init(&p, &m, ws, wn), PSC_OK);
             psc_proxy_pose_at(&m, (int64_t)tsup_rng_below(&r, 2000000), skin);
             psc_3d_config_t cfg = {64, 48, 0, 0, 16, tsup_bam_from_deg(60), PSC_Q16_ONE, 8 * PSC_Q16_ONE,
-                                   psc_proxy_max_vertices(&m)};
+                                   psc_proxy_max_vertices(&m), PSC_3D_HSR_ZBUFFER};
             void *ws3d = NULL;
             size_t n3 = psc_3d_workspace_size(&cfg);
             assert_int_equal(posix_memalign(&ws3d, 64, n3), 0);

@@ -840,8 +840,17 @@ static void check_patch_look(const char *ppk, const char *plain, const char *out
     expect_run("periscope-render", bad_aa, 2, bad_aa_said);
     const char *bad_shade[] = {VIEW, "--shade", "toon", "-o", out, NULL}, *bad_shade_said[] = {"--shade 'toon'", NULL};
     expect_run("periscope-render", bad_shade, 2, bad_shade_said);
+    const char *area[] = {VIEW, "--hsr", "area", "-o", out, NULL};
+    expect_run("periscope-render", area, 0, NULL);
+    assert_true(tsup_same_file(plain, out));
+    const char *area_tiles[] = {VIEW, "--hsr", "area", "--tiles", "32", "-o", out, NULL};
+    expect_run("periscope-render", area_tiles, 0, NULL);
+    assert_true(tsup_same_file(plain, out));
+    const char *bad_hsr[] = {VIEW, "--hsr", "painter", "-o", out, NULL}, *bad_hsr_said[] = {"--hsr 'painter'", NULL};
+    expect_run("periscope-render", bad_hsr, 2, bad_hsr_said);
 #undef VIEW
-    printf("  3D looks: --shade phong, --aa abuffer (tiles give the same bytes; a small budget is said), --dither\n");
+    printf("  3D looks: --shade phong, --aa abuffer (tiles give the same bytes; a small budget is said), --dither, "
+           "--hsr area (the same bytes)\n");
     unlink(full);
 }
 

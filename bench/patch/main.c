@@ -83,7 +83,7 @@ static int setup(bench_t *b, bool plain)
         fprintf(stderr, "patch bench: %s (run from the repository)\n", err);
         return -1;
     }
-    psc_3d_config_t cfg = {W, H, 0, 0, 16, 0x238E38E4u, PSC_Q16_ONE, 4 * PSC_Q16_ONE, limits.max_vertices};
+    psc_3d_config_t cfg = {W, H, 0, 0, 16, 0x238E38E4u, PSC_Q16_ONE, 4 * PSC_Q16_ONE, limits.max_vertices, PSC_3D_HSR_ZBUFFER};
     b->ws_size = psc_patch_workspace_size(&b->pf.model, &limits);
     b->ws3d_size = psc_3d_workspace_size(&cfg);
     if (posix_memalign(&b->ws, 64, b->ws_size) != 0 || posix_memalign(&b->ws3d, 64, b->ws3d_size) != 0 ||
@@ -285,7 +285,7 @@ static int run_table(const char *out_dir)
            (shaded / plain - 1) * 100, shp.shade, b.sm.rest_gain_q16 / 65536.0,
            shp.shade > 0 ? (sh.shade / shp.shade - 1) * 100 : 0);
     double t05 = r[1].pose + r[1].tess + r[1].draw;
-    psc_3d_config_t cfg = {W, H, 0, 0, 16, 0x238E38E4u, PSC_Q16_ONE, 4 * PSC_Q16_ONE, limits.max_vertices};
+    psc_3d_config_t cfg = {W, H, 0, 0, 16, 0x238E38E4u, PSC_Q16_ONE, 4 * PSC_Q16_ONE, limits.max_vertices, PSC_3D_HSR_ZBUFFER};
     printf("At 0.5 px the animated character costs %.2fx the static mesh's frame; %.0f frames/s (goal: 60).\n"
            "Memory: patch workspace %zu bytes (limits %u vertices, %u triangles), 3D workspace at %ux%u %zu bytes,\n"
            "the pack %zu bytes.\n",

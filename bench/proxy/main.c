@@ -86,7 +86,7 @@ static double run(model_t *mo, psc_proxy_lod_t lod, unsigned w, unsigned h, int3
     const psc_proxy_model_t *m = &mo->m;
     psc_vec3_q16_t lo, hi;
     psc_proxy_rest_bounds(m, &lo, &hi);
-    psc_3d_config_t cfg = {(uint16_t)w, (uint16_t)h, 0, 0, 16, 0x238E38E4u, 0, 0, psc_proxy_max_vertices(m)};
+    psc_3d_config_t cfg = {(uint16_t)w, (uint16_t)h, 0, 0, 16, 0x238E38E4u, 0, 0, psc_proxy_max_vertices(m), PSC_3D_HSR_ZBUFFER};
     psc_mat4_q16_t cam;
     psc_3d_orbit(lo, hi, 0, (int32_t)0x0E38E38E, dist_q16, &cam, &cfg.near_q16, &cfg.far_q16);
     size_t n3 = psc_3d_workspace_size(&cfg), np = psc_proxy_workspace_size(m);

@@ -46,13 +46,15 @@ typedef struct {
 } row_spec_t;
 
 static const row_spec_t rows[] = {
-    {"periscope", NULL, {0, 0, false}, 5, false},
-    {"periscope tiles 64x64", NULL, {64, 0, false}, 5, false},
-    {"periscope A-buffer 4 MB", NULL, {0, ABUF_BYTES, false}, 5, false},
-    {"periscope A-buf tiles 64", NULL, {64, 256u << 10, false}, 5, false},
-    {"periscope phong", NULL, {0, 0, true}, 5, true},
-    {"mesa softpipe", "softpipe", {0, 0, false}, 2, false},
-    {"mesa llvmpipe 1 thread", "llvmpipe", {0, 0, false}, 5, false},
+    {"periscope", NULL, {0, 0, false, PSC_3D_HSR_ZBUFFER}, 5, false},
+    {"periscope tiles 64x64", NULL, {64, 0, false, PSC_3D_HSR_ZBUFFER}, 5, false},
+    {"periscope area subdivision", NULL, {0, 0, false, PSC_3D_HSR_AREA}, 5, false},
+    {"periscope area, tiles 64", NULL, {64, 0, false, PSC_3D_HSR_AREA}, 5, false},
+    {"periscope A-buffer 4 MB", NULL, {0, ABUF_BYTES, false, PSC_3D_HSR_ZBUFFER}, 5, false},
+    {"periscope A-buf tiles 64", NULL, {64, 256u << 10, false, PSC_3D_HSR_ZBUFFER}, 5, false},
+    {"periscope phong", NULL, {0, 0, true, PSC_3D_HSR_ZBUFFER}, 5, true},
+    {"mesa softpipe", "softpipe", {0, 0, false, PSC_3D_HSR_ZBUFFER}, 2, false},
+    {"mesa llvmpipe 1 thread", "llvmpipe", {0, 0, false, PSC_3D_HSR_ZBUFFER}, 5, false},
 };
 #define NROWS (sizeof rows / sizeof rows[0])
 
@@ -86,6 +88,9 @@ static int run_scene(const char *self, const char *out_dir, r3d_kind_t kind, FIL
     if (kind == R3D_TEAPOT)
         printf("\nUtah teapot: %u triangles, %u vertices, bilinear %ux%u RGB565 texture, lit", tris,
                (unsigned)s.mesh.vertex_count, (unsigned)s.mesh.texture.width, (unsigned)s.mesh.texture.height);
+    else if (kind == R3D_BLOCKS)
+        printf("\nLarge polygons: %u boxes of many sizes hiding one another, %u triangles, %u vertices, vertex colours, "
+               "lit", R3D_BLOCKS_COUNT, tris, (unsigned)s.mesh.vertex_count);
     else
         printf("\nThom (assets/thom, 1.1 s into Wave, patches tessellated for an 800-pixel view): %u triangles, %u "
                "vertices, vertex colours, lit", tris, (unsigned)s.mesh.vertex_count);
@@ -96,7 +101,7 @@ static int run_scene(const char *self, const char *out_dir, r3d_kind_t kind, FIL
     for (size_t z = 0; z < NSIZES; z++) {
         uint16_t w = sizes[z][0], h = sizes[z][1];
         for (size_t r = 0; r < NROWS; r++) {
-            res[z][r] = (r3d_result_t){0, 0, false};
+            res[z][r] = (r3d_result_t){0, 0, 0, false};
             psnr[z][r] = 0;
         }
         for (unsigned round = 0; round < ROUNDS; round++)
@@ -117,7 +122,7 @@ static int run_scene(const char *self, const char *out_dir, r3d_kind_t kind, FIL
                     continue;
                 /* the row's last pass: its frame against Periscope's, and the picture */
                 psnr[z][r] = r == 0 ? 99.0 : frame_psnr(ours, dst, (size_t)w * h);
-                if (rows[r].o.tile == 0) {
+                if (rows[r].o.tile == 0 && rows[r].o.hsr == PSC_3D_HSR_ZBUFFER) {
                     char png[1024], err[512];
                     psc_surface_t sf = {w, h, (uint32_t)w * 2, PSC_PIX_RGB565, dst};
                     const char *who = rows[r].driver ? rows[r].driver
@@ -131,8 +136,8 @@ static int run_scene(const char *self, const char *out_dir, r3d_kind_t kind, FIL
                 }
             }
     }
-    printf("%-9s %-26s %10s %10s %10s %12s %13s\n", "size", "renderer", "ms/frame", "Mtri/s", "Mpix/s",
-           "vs periscope", "same image dB");
+    printf("%-9s %-26s %10s %10s %10s %12s %13s %11s\n", "size", "renderer", "ms/frame", "Mtri/s", "Mpix/s",
+           "vs periscope", "same image dB", "z-tests/px");
     for (size_t z = 0; z < NSIZES; z++) {
         uint16_t w = sizes[z][0], h = sizes[z][1];
         char size[16];
@@ -146,13 +151,17 @@ static int run_scene(const char *self, const char *out_dir, r3d_kind_t kind, FIL
                 continue;
             }
             double ratio = res[z][0].ok ? x->ms_per_frame / res[z][0].ms_per_frame : 0;
-            printf("%-9s %-26s %10.3f %10.3f %10.2f %11.2fx %13.1f\n", size, rows[r].label, x->ms_per_frame,
-                   tris / x->ms_per_frame / 1e3, (double)w * h / x->ms_per_frame / 1e3, ratio, psnr[z][r]);
+            char tests[16] = "-";
+            if (!rows[r].driver)
+                snprintf(tests, sizeof tests, "%.2f", x->depth_tests / ((double)w * h));
+            printf("%-9s %-26s %10.3f %10.3f %10.2f %11.2fx %13.1f %11s\n", size, rows[r].label, x->ms_per_frame,
+                   tris / x->ms_per_frame / 1e3, (double)w * h / x->ms_per_frame / 1e3, ratio, psnr[z][r], tests);
             fprintf(json, "%s    {\"scene\": \"%s\", \"size\": \"%ux%u\", \"renderer\": \"%s\", \"ms_per_frame\": %.4f, "
                           "\"triangles_per_s\": %.0f, \"mpixels_per_s\": %.3f, \"time_vs_periscope\": %.3f, "
-                          "\"psnr_vs_periscope_db\": %.2f}",
+                          "\"psnr_vs_periscope_db\": %.2f, \"depth_tests_per_frame\": %.0f}",
                     *first_json ? "" : ",\n", s.name, (unsigned)w, (unsigned)h, rows[r].label, x->ms_per_frame,
-                    tris / x->ms_per_frame * 1e3, (double)w * h / x->ms_per_frame / 1e3, ratio, psnr[z][r]);
+                    tris / x->ms_per_frame * 1e3, (double)w * h / x->ms_per_frame / 1e3, ratio, psnr[z][r],
+                    x->depth_tests);
             *first_json = false;
         }
     }
@@ -182,7 +191,8 @@ static int run_table(const char *self, const char *out_dir)
         rc = run_scene(self, out_dir, (r3d_kind_t)k, f, &first);
     printf("(vs periscope: the row's time per frame over Periscope's full-buffer time; > 1 means Periscope is faster;\n"
            " for Periscope's own rows it is their extra cost. same image: PSNR of the row's last frame against\n"
-           " Periscope's - the scenes match; the A-buffer's and Phong's differ by what they change.)\n");
+           " Periscope's - the scenes match; the A-buffer's and Phong's differ by what they change, area\n"
+           " subdivision's is the same bytes (99 dB). z-tests/px: pixels depth-tested per output pixel.)\n");
 
     /* Memory: what the device hands the renderer. */
     printf("\nMemory (psc_3d_workspace_size; the A-buffer's is a budget of its own):\n");
@@ -194,7 +204,7 @@ static int run_table(const char *self, const char *out_dir)
             uint16_t tile = t < 2 ? 0 : 64;
             uint8_t bits = t % 2 ? 32 : 16;
             psc_3d_config_t cfg = {sizes[z][0], sizes[z][1], tile, tile, bits, PSC_BAM_FROM_MDEG(60000),
-                                   PSC_Q16_ONE, 4 * PSC_Q16_ONE, 10816};
+                                   PSC_Q16_ONE, 4 * PSC_Q16_ONE, 10816, PSC_3D_HSR_ZBUFFER};
             size_t depth = psc_3d_depth_bytes(&cfg), total = psc_3d_workspace_size(&cfg);
             char mode[40];
             snprintf(mode, sizeof mode, "%s, %u-bit depth", tile ? "tiles 64x64" : "full screen", (unsigned)bits);
@@ -220,7 +230,7 @@ static int run_table(const char *self, const char *out_dir)
 /* The workload counted: CG_FRAMES frames at 320x240, full buffer. noinline: callgrind toggles on it. */
 __attribute__((noinline)) static void cg_workload(r3d_scene_t *s, uint16_t *frame, double *pixels)
 {
-    r3d_options_t o = {0, 0, false};
+    r3d_options_t o = {0, 0, false, PSC_3D_HSR_ZBUFFER};
     r3d_result_t r = r3d_run_periscope(s, 320, 240, &o, CG_FRAMES, 1, frame);
     *pixels = r.pixels_written;
 }
@@ -284,15 +294,16 @@ static int run_callgrind(const char *self, const char *out_dir)
     return 0;
 }
 
-/* Periscope alone, 360 frames of scene kind at w x h (with an A-buffer of abuf bytes): for `perf record`. */
-static int profile_run(r3d_kind_t kind, uint16_t w, uint16_t h, size_t abuf)
+/* Periscope alone, `frames` frames of scene kind at w x h (with an A-buffer of abuf bytes, hidden surfaces by hsr):
+ * for `perf record` and callgrind. */
+static int profile_run(r3d_kind_t kind, uint16_t w, uint16_t h, size_t abuf, uint8_t hsr, unsigned frames)
 {
     r3d_scene_t s;
     if (r3d_scene_make(&s, kind) != 0 || w == 0 || h == 0 || w > 4096 || h > 4096)
         return 1;
     uint16_t *frame = malloc((size_t)w * h * 2);
-    r3d_options_t o = {0, abuf, false};
-    r3d_result_t r = r3d_run_periscope(&s, w, h, &o, 360, 1, frame);
+    r3d_options_t o = {0, abuf, false, hsr};
+    r3d_result_t r = r3d_run_periscope(&s, w, h, &o, frames, 1, frame);
     printf("%.3f ms per frame\n", r.ms_per_frame);
     free(frame);
     r3d_scene_free(&s);
@@ -310,9 +321,10 @@ int main(int argc, char **argv)
                                   argv[i + 6]);
         if (strcmp(argv[i], "--callgrind-child") == 0)
             return cg_child();
-        if (strcmp(argv[i], "--profile") == 0 && i + 4 < argc) /* for perf: Periscope alone, SCENE W H ABUF_KB */
+        if (strcmp(argv[i], "--profile") == 0 && i + 4 < argc) /* Periscope alone: SCENE W H ABUF_KB [HSR [FRAMES]] */
             return profile_run((r3d_kind_t)atoi(argv[i + 1]), (uint16_t)atoi(argv[i + 2]), (uint16_t)atoi(argv[i + 3]),
-                               (size_t)atoi(argv[i + 4]) * 1024u);
+                               (size_t)atoi(argv[i + 4]) * 1024u, i + 5 < argc ? (uint8_t)atoi(argv[i + 5]) : 0,
+                               i + 6 < argc ? (unsigned)atoi(argv[i + 6]) : 360u);
         if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
             out = argv[++i];
         } else if (strcmp(argv[i], "--callgrind") == 0) {

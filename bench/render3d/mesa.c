@@ -156,7 +156,7 @@ int r3d_mesa_child(r3d_kind_t kind, uint16_t w, uint16_t h, unsigned frames, uns
 r3d_result_t r3d_run_mesa(const char *self, const char *driver, r3d_kind_t kind, uint16_t w, uint16_t h,
                           unsigned frames, unsigned passes, uint16_t *last)
 {
-    r3d_result_t res = {0, 0, false};
+    r3d_result_t res = {0, 0, 0, false};
     char frame[] = "/tmp/periscope-render3d-XXXXXX";
     int fd = mkstemp(frame);
     if (fd < 0)

@@ -3,7 +3,9 @@
  * render3d.h - the 3D benchmark's scenes and the two renderers it times:
  * Periscope's integer pipeline (core/3d/psc_3d_render.h) and Mesa's OSMesa
  * (softpipe, llvmpipe single-threaded), on the same meshes: the textured,
- * lit Utah teapot, and Thom's tessellated patch mesh (vertex colours, lit).
+ * lit Utah teapot, Thom's tessellated patch mesh (vertex colours, lit), and
+ * a scene of large polygons: a stack of boxes that hide one another (what
+ * area subdivision is for).
  */
 #ifndef BENCH_RENDER3D_H
 #define BENCH_RENDER3D_H
@@ -21,8 +23,9 @@
 #define R3D_AMBIENT_Q8 72
 #define R3D_BACKGROUND 0x30343Cu
 
-typedef enum { R3D_TEAPOT = 0, R3D_THOM = 1 } r3d_kind_t;
-#define R3D_KINDS 2
+typedef enum { R3D_TEAPOT = 0, R3D_THOM = 1, R3D_BLOCKS = 2 } r3d_kind_t;
+#define R3D_KINDS 3
+#define R3D_BLOCKS_COUNT 40u     /* boxes of the large-polygon scene */
 
 /** A scene: the model as a mesh pack in memory, its texture (the teapot's), the light. */
 typedef struct {
@@ -49,14 +52,17 @@ void r3d_frame_view(const r3d_scene_t *s, unsigned k, unsigned frames, psc_3d_dr
 typedef struct {
     double ms_per_frame;    /* best of the passes */
     double pixels_written;  /* per frame, when the renderer reports it (0 otherwise) */
+    double depth_tests;     /* per frame, Periscope's */
     bool ok;
 } r3d_result_t;
 
-/** How Periscope draws: tile side (0 = full-screen depth), the A-buffer's bytes (0 = off), Phong shading. */
+/** How Periscope draws: tile side (0 = full-screen depth), the A-buffer's bytes (0 = off), Phong shading, the
+ * hidden-surface method (psc_3d_hsr_t). */
 typedef struct {
     uint16_t tile;
     size_t abuffer_bytes;
     bool phong;
+    uint8_t hsr;
 } r3d_options_t;
 
 /** Periscope: frames at w x h RGB565; writes the last frame into last (w*h). */

@@ -3,17 +3,14 @@
  * psc_3d_render.c - the frame loop of the 3D pipeline (psc_3d_render.h).
  */
 #include "3d/psc_3d_render.h"
+#include "3d/psc_3d_tile.h"
 #include "base/psc_fixed.h"
 #include "base/psc_pixel.h"
 
-/* One transformed vertex. */
-typedef struct {
-    psc_clip_vertex_t cv;     /* camera position and attributes */
-    psc_raster_vertex_t rv;   /* projected (valid when outcode == 0) */
-    uint8_t outcode;          /* PSC_CLIP_* bits, or CACHE_BAD */
-} vcache_t;
-
-#define CACHE_BAD 0x80u
+typedef psc_3d_vcache_t vcache_t;
+typedef psc_3d_bin_t bin_t;
+typedef psc_3d_tile_t tile_ctx_t;
+#define CACHE_BAD PSC_3D_CACHE_BAD
 
 _Static_assert(sizeof(vcache_t) <= PSC_3D_VERTEX_CACHE_BYTES, "vertex cache entry larger than documented");
 
@@ -30,7 +27,7 @@ static bool config_ok(const psc_3d_config_t *c)
     if (c->near_q16 <= 0 || (int64_t)c->far_q16 < 2 * (int64_t)c->near_q16 ||
         (int64_t)c->far_q16 > (int64_t)c->near_q16 * PSC_3D_FAR_NEAR_RATIO_MAX)
         return false;
-    return c->max_vertices <= (1u << 24);
+    return c->max_vertices <= (1u << 24) && c->hsr <= PSC_3D_HSR_AREA;
 }
 
 size_t psc_3d_depth_bytes(const psc_3d_config_t *c)
@@ -56,6 +53,12 @@ static bool tiled(const psc_3d_config_t *c)
     return c->tile_width != 0 && (c->tile_width < c->width || c->tile_height < c->height);
 }
 
+/* Rows of tiles list their triangles (bins): in tile mode, and for area subdivision (the screen one tile without). */
+static bool binned(const psc_3d_config_t *c)
+{
+    return tiled(c) || c->hsr == PSC_3D_HSR_AREA;
+}
+
 /* Tile mode: entries of a row of tiles' triangle list, 4 x max_vertices shared among the rows (a mesh has about
  * 2 triangles a vertex, and a triangle may reach two rows). */
 static uint32_t bin_capacity(const psc_3d_config_t *c)
@@ -65,12 +68,21 @@ static uint32_t bin_capacity(const psc_3d_config_t *c)
     return (uint32_t)((uint64_t)c->max_vertices * 4u / rows) + 256u;
 }
 
+/* Area subdivision: the triangles a tile's areas sort at most. */
+static uint32_t area_capacity(const psc_3d_config_t *c)
+{
+    uint32_t b = bin_capacity(c);
+    return b < PSC_3D_AREA_TRIANGLES_MAX ? b : PSC_3D_AREA_TRIANGLES_MAX;
+}
+
 size_t psc_3d_workspace_size(const psc_3d_config_t *c)
 {
     if (!config_ok(c))
         return 0;
     return align8(psc_3d_depth_bytes(c)) + (size_t)c->max_vertices * sizeof(vcache_t) +
-           (tiled(c) ? (size_t)bin_capacity(c) * PSC_3D_BIN_BYTES : 0);
+           (binned(c) ? align8((size_t)bin_capacity(c) * PSC_3D_BIN_BYTES) : 0) +
+           (c->hsr == PSC_3D_HSR_AREA ? (size_t)area_capacity(c) * PSC_3D_AREA_BYTES +
+                                            (size_t)PSC_3D_AREA_CLIPPED_MAX * PSC_3D_AREA_CLIPPED_BYTES : 0);
 }
 
 psc_status_t psc_3d_init(psc_3d_t *r, const psc_3d_config_t *cfg, void *ws, size_t ws_size)
@@ -88,7 +100,15 @@ psc_status_t psc_3d_init(psc_3d_t *r, const psc_3d_config_t *cfg, void *ws, size
     r->depth_bytes = psc_3d_depth_bytes(cfg);
     r->depth = ws;
     r->cache = (uint8_t *)ws + align8(r->depth_bytes);
-    r->bins = tiled(cfg) ? (uint8_t *)r->cache + (size_t)cfg->max_vertices * sizeof(vcache_t) : NULL;
+    r->bins = binned(cfg) ? (uint8_t *)r->cache + (size_t)cfg->max_vertices * sizeof(vcache_t) : NULL;
+    if (cfg->hsr == PSC_3D_HSR_AREA) {
+        /* the entries (8-byte fields) first, then the lists and the clipped polygons */
+        r->area_capacity = area_capacity(cfg);
+        r->area_entries = (uint8_t *)r->bins + align8((size_t)bin_capacity(cfg) * PSC_3D_BIN_BYTES);
+        r->areas = (uint32_t *)(void *)((uint8_t *)r->area_entries +
+                                        (size_t)r->area_capacity * (PSC_3D_AREA_BYTES - 2u * sizeof(uint32_t)));
+        r->clipped = (uint8_t *)r->area_entries + (size_t)r->area_capacity * PSC_3D_AREA_BYTES;
+    }
     /* f = (W/2) / tan(hfov/2) in Q24.8. */
     int32_t s30, c30;
     psc_sincos(cfg->hfov / 2u, &s30, &c30);
@@ -275,15 +295,6 @@ static int64_t area2_of(const psc_raster_vertex_t *a, const psc_raster_vertex_t 
            ((int64_t)c->x_q4 - a->x_q4) * ((int64_t)b->y_q4 - a->y_q4);
 }
 
-typedef struct {
-    const psc_3d_t *r;
-    psc_raster_target_t target;
-    psc_raster_state_t state;
-    int32_t rect_q4[4];       /* tile in raster units: x0, y0, x1, y1 (pixel edges) */
-    psc_3d_stats_t *stats;
-    bool count_once;          /* first tile: count per-triangle statistics */
-} tile_ctx_t;
-
 static bool outside_tile(const tile_ctx_t *t, const psc_raster_vertex_t *a, const psc_raster_vertex_t *b,
                          const psc_raster_vertex_t *c)
 {
@@ -294,12 +305,33 @@ static bool outside_tile(const tile_ctx_t *t, const psc_raster_vertex_t *a, cons
            (a->y_q4 > t->rect_q4[3] && b->y_q4 > t->rect_q4[3] && c->y_q4 > t->rect_q4[3]);
 }
 
-static void draw_clipped(tile_ctx_t *t, const psc_3d_draw_t *d, const vcache_t *a, const vcache_t *b,
-                         const vcache_t *c, unsigned planes)
+unsigned psc_3d_clip_project(const psc_3d_t *r, const vcache_t *a, const vcache_t *b, const vcache_t *c,
+                             unsigned planes, psc_raster_vertex_t rv[PSC_3D_CLIP_MAX_VERTICES], int64_t *area)
 {
     psc_clip_vertex_t in[3] = {a->cv, b->cv, c->cv}, poly[PSC_3D_CLIP_MAX_VERTICES];
+    unsigned n = psc_clip_polygon(&r->vol, planes, in, 3, poly);
+    *area = 0;
+    if (n < 3)
+        return n;
+    for (unsigned i = 0; i < n; i++)
+        project(r, &poly[i], &rv[i]);
+    for (unsigned i = 1; i + 1 < n; i++)
+        *area += area2_of(&rv[0], &rv[i], &rv[i + 1]);
+    return n;
+}
+
+bool psc_3d_fan_piece_drawn(const psc_raster_vertex_t *rv, unsigned i, int64_t area)
+{
+    int64_t ai = area2_of(&rv[0], &rv[i], &rv[i + 1]);
+    return ai != 0 && (ai < 0) == (area < 0);
+}
+
+void psc_3d_tile_clipped(tile_ctx_t *t, const psc_3d_draw_t *d, const vcache_t *a, const vcache_t *b,
+                         const vcache_t *c, unsigned planes, bool draw)
+{
     psc_raster_vertex_t rv[PSC_3D_CLIP_MAX_VERTICES];
-    unsigned n = psc_clip_polygon(&t->r->vol, planes, in, 3, poly);
+    int64_t area;
+    unsigned n = psc_3d_clip_project(t->r, a, b, c, planes, rv, &area);
     if (t->count_once)
         t->stats->clipped++;
     if (n < 3) {
@@ -307,23 +339,17 @@ static void draw_clipped(tile_ctx_t *t, const psc_3d_draw_t *d, const vcache_t *
             t->stats->outside++;
         return;
     }
-    for (unsigned i = 0; i < n; i++)
-        project(t->r, &poly[i], &rv[i]);
     /* The flat colour stays the original first vertex's (the provoking vertex). */
     uint32_t flat = ((uint32_t)a->cv.r << 16) | ((uint32_t)a->cv.g << 8) | (uint32_t)a->cv.b;
-    int64_t area = 0;
-    for (unsigned i = 1; i + 1 < n; i++)
-        area += area2_of(&rv[0], &rv[i], &rv[i + 1]);
     if (area == 0 || (d->cull_back && area < 0)) {
         if (t->count_once)
             *(area == 0 ? &t->stats->outside : &t->stats->culled) += 1;
         return;
     }
-    for (unsigned i = 1; i + 1 < n; i++) {
+    for (unsigned i = 1; draw && i + 1 < n; i++) {
         /* A fan piece whose winding disagrees with the polygon's is a
          * rounding sliver of a degenerate polygon: skip it. */
-        int64_t ai = area2_of(&rv[0], &rv[i], &rv[i + 1]);
-        if (ai == 0 || (ai < 0) != (area < 0))
+        if (!psc_3d_fan_piece_drawn(rv, i, area))
             continue;
         psc_raster_vertex_t p0 = rv[0];
         if (d->shade == PSC_SHADE_FLAT)
@@ -345,7 +371,7 @@ static void draw_mesh(tile_ctx_t *t, const psc_3d_draw_t *d, const vcache_t *cac
             continue;
         }
         if ((oa | ob | oc) != 0) {
-            draw_clipped(t, d, a, b, c, oa | ob | oc);
+            psc_3d_tile_clipped(t, d, a, b, c, oa | ob | oc, true);
             continue;
         }
         /* After the first tile (which counts the statistics) the cheap box test goes first. */
@@ -379,8 +405,7 @@ static void phong_state(const psc_3d_draw_t *d, psc_raster_state_t *st)
     st->shininess = d->shininess;
 }
 
-/* How the rasterizer draws d's triangles. */
-static void draw_state(const psc_3d_draw_t *d, psc_raster_state_t *st)
+void psc_3d_tile_state(const psc_3d_draw_t *d, psc_raster_state_t *st)
 {
     *st = (psc_raster_state_t){
         .shade = d->shade,
@@ -403,14 +428,34 @@ static void draw_state(const psc_3d_draw_t *d, psc_raster_state_t *st)
 
 /* ---- tile mode: binning -------------------------------------------------------------- */
 
-/* A triangle that reaches a row of tiles: which, and the pixel columns its box spans. */
-typedef struct {
-    uint32_t tri;
-    uint32_t draw;
-    uint16_t px0, px1;
-} bin_t;
-
 _Static_assert(sizeof(bin_t) <= PSC_3D_BIN_BYTES, "bin entry larger than documented");
+_Static_assert(sizeof(psc_3d_clipped_t) <= PSC_3D_AREA_CLIPPED_BYTES, "clipped polygon larger than documented");
+
+/* Area subdivision: the frame's first PSC_3D_AREA_CLIPPED_MAX triangles that cross the clip volume, clipped and
+ * projected once (bin_row meets them in the same order). */
+static void keep_clipped(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, const vcache_t *cache)
+{
+    psc_3d_clipped_t *kept = r->clipped;
+    r->clipped_n = 0;
+    size_t base = 0;
+    for (unsigned i = 0; i < n && r->clipped_n < PSC_3D_AREA_CLIPPED_MAX; i++) {
+        const psc_mesh_t *m = draws[i].mesh;
+        const vcache_t *vc = cache + base;
+        base += m->vertex_count;
+        for (uint32_t k = 0; k < m->triangle_count && r->clipped_n < PSC_3D_AREA_CLIPPED_MAX; k++) {
+            const vcache_t *a = &vc[m->index[3u * k]], *b = &vc[m->index[3u * k + 1]], *c = &vc[m->index[3u * k + 2]];
+            unsigned oa = a->outcode, ob = b->outcode, oc = c->outcode;
+            if (((oa | ob | oc) & CACHE_BAD) || (oa & ob & oc) != 0 || (oa | ob | oc) == 0)
+                continue;
+            psc_3d_clipped_t *p = &kept[r->clipped_n++];
+            int64_t area;
+            p->n = psc_3d_clip_project(r, a, b, c, oa | ob | oc, p->rv, &area);
+            if (area == 0 || (draws[i].cull_back && area < 0))
+                p->n = 0;
+            p->sign = area < 0 ? -1 : 1;
+        }
+    }
+}
 
 /*
  * The triangles of every draw that can reach pixel rows [y0, y1): culled and
@@ -421,21 +466,26 @@ static bool bin_row(const psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, c
                     uint32_t y1, bin_t *bins, uint32_t cap, uint32_t *count, psc_3d_stats_t *stats, bool count_stats)
 {
     psc_3d_stats_t before = *stats;
+    uint32_t clip = 0; /* the frame's clipped triangles, in the order keep_clipped met them */
     int32_t ylo = (int32_t)y0 * 16, yhi = (int32_t)y1 * 16, wq = (int32_t)r->cfg.width * 16;
     uint32_t c = 0;
     size_t base = 0;
     for (unsigned i = 0; i < n; i++) {
         const psc_mesh_t *m = draws[i].mesh;
         const vcache_t *vc = cache + base;
+        size_t base_i = base;
         base += m->vertex_count;
         for (uint32_t k = 0; k < m->triangle_count; k++) {
             const vcache_t *a = &vc[m->index[3u * k]], *b = &vc[m->index[3u * k + 1]], *cc = &vc[m->index[3u * k + 2]];
             unsigned oa = a->outcode, ob = b->outcode, oc = cc->outcode;
             uint16_t px0 = 0, px1 = r->cfg.width;
+            uint32_t kept = 0;
             if (((oa | ob | oc) & CACHE_BAD) || (oa & ob & oc) != 0) {
                 stats->outside += count_stats;
                 continue;
             }
+            if ((oa | ob | oc) != 0 && clip++ < r->clipped_n)
+                kept = clip;
             if ((oa | ob | oc) == 0) {
                 const psc_raster_vertex_t *va = &a->rv, *vb = &b->rv, *vcc = &cc->rv;
                 int64_t area = area2_of(va, vb, vcc);
@@ -459,7 +509,7 @@ static bool bin_row(const psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, c
                 *stats = before;
                 return false;
             }
-            bins[c++] = (bin_t){k, i, px0, px1};
+            bins[c++] = (bin_t){k, i, (uint32_t)base_i, px0, px1, kept};
         }
     }
     *count = c;
@@ -471,31 +521,26 @@ static void draw_binned(tile_ctx_t *t, const psc_3d_draw_t *draws, const vcache_
                         uint32_t count, uint16_t x0, uint16_t x1)
 {
     uint32_t cur = UINT32_MAX;
-    size_t base = 0;
-    const psc_mesh_t *m = NULL;
     for (uint32_t e = 0; e < count; e++) {
         const bin_t *b = &bins[e];
         if (b->px1 < x0 || b->px0 > x1)
             continue;
         if (b->draw != cur) {
-            for (uint32_t i = cur == UINT32_MAX ? 0 : cur; i < b->draw; i++)
-                base += draws[i].mesh->vertex_count;
             cur = b->draw;
-            m = draws[cur].mesh;
-            draw_state(&draws[cur], &t->state);
+            psc_3d_tile_state(&draws[cur], &t->state);
             if (t->target.abuf)
                 t->target.abuf->surface = (uint16_t)(cur + 1u); /* fragments of one draw merge */
         }
-        const vcache_t *va = &cache[base + m->index[3u * b->tri]], *vb = &cache[base + m->index[3u * b->tri + 1]],
-                       *vc = &cache[base + m->index[3u * b->tri + 2]];
-        unsigned o = (unsigned)va->outcode | vb->outcode | vc->outcode;
+        const vcache_t *v[3];
+        psc_3d_bin_vertices(b, draws, cache, v);
+        unsigned o = (unsigned)v[0]->outcode | v[1]->outcode | v[2]->outcode;
         if (o != 0) {
-            draw_clipped(t, &draws[cur], va, vb, vc, o);
+            psc_3d_tile_clipped(t, &draws[cur], v[0], v[1], v[2], o, true);
             continue;
         }
-        if (outside_tile(t, &va->rv, &vb->rv, &vc->rv))
+        if (outside_tile(t, &v[0]->rv, &v[1]->rv, &v[2]->rv))
             continue;
-        t->stats->pixels += psc_raster_triangle(&t->target, &t->state, &va->rv, &vb->rv, &vc->rv);
+        t->stats->pixels += psc_raster_triangle(&t->target, &t->state, &v[0]->rv, &v[1]->rv, &v[2]->rv);
     }
 }
 
@@ -616,14 +661,16 @@ psc_status_t psc_3d_render(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, 
         stats->triangles += draws[i].mesh->triangle_count;
     }
 
+    if (r->clipped && !r->aa)
+        keep_clipped(r, draws, n, cache);
     uint16_t tw = r->cfg.tile_width, th = r->cfg.tile_height;
     bool first = true;
     bin_t *bins = r->bins;
     for (uint32_t ty = 0; ty < r->cfg.height; ty += th) {
-        uint32_t binned = 0;
+        uint32_t listed = 0;
         bool row_binned = bins &&
                           bin_row(r, draws, n, cache, ty, ty + th > r->cfg.height ? r->cfg.height : ty + th, bins,
-                                  bin_capacity(&r->cfg), &binned, stats, first);
+                                  bin_capacity(&r->cfg), &listed, stats, first);
         for (uint32_t tx = 0; tx < r->cfg.width; tx += tw) {
             uint16_t x0 = (uint16_t)tx, y0 = (uint16_t)ty;
             uint16_t x1 = (uint16_t)(tx + tw > r->cfg.width ? r->cfg.width : tx + tw);
@@ -634,17 +681,19 @@ psc_status_t psc_3d_render(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, 
             tile_ctx_t t = {
                 .r = r,
                 .target = {out, r->depth, (uint32_t)(x1 - x0) * (r->cfg.depth_bits / 8u), r->cfg.depth_bits, x0, y0,
-                           x1, y1, r->aa ? &r->abuf : NULL},
+                           x1, y1, r->aa ? &r->abuf : NULL, &stats->depth_tests},
                 .rect_q4 = {(int32_t)x0 * 16, (int32_t)y0 * 16, (int32_t)x1 * 16, (int32_t)y1 * 16},
                 .stats = stats,
-                .count_once = first, /* (a binned row counted its culled triangles; draw_clipped the clipped) */
+                .count_once = first, /* (a binned row counted its culled triangles; the clipped are counted as drawn) */
             };
-            if (row_binned) {
-                draw_binned(&t, draws, cache, bins, binned, x0, x1);
+            if (row_binned && r->areas && !r->aa && psc_3d_area_tile(&t, draws, cache, bins, listed)) {
+                /* drawn by areas */
+            } else if (row_binned) {
+                draw_binned(&t, draws, cache, bins, listed, x0, x1);
             } else {
                 base = 0;
                 for (unsigned i = 0; i < n; i++) {
-                    draw_state(&draws[i], &t.state);
+                    psc_3d_tile_state(&draws[i], &t.state);
                     r->abuf.surface = (uint16_t)(i + 1u); /* fragments of one draw merge */
                     draw_mesh(&t, &draws[i], cache + base);
                     base += draws[i].mesh->vertex_count;

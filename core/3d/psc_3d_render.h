@@ -29,10 +29,39 @@
  * Because every value a pixel gets depends only on the triangle and the
  * pixel (psc_raster.h), tile mode writes the same bytes as full-buffer mode.
  *
+ * Hidden surfaces (cfg.hsr): PSC_3D_HSR_ZBUFFER draws every triangle of a
+ * tile through the depth buffer. PSC_3D_HSR_AREA is area subdivision
+ * (Warnock's method, seed 004): each tile (the screen without tiles) is an
+ * area; its triangles are classified against it as outside, overlapping or
+ * surrounding, by their box and then exactly by the rasterizer's own edge
+ * functions at the area's corner pixel centres (psc_raster_edges). An area is
+ * done when no triangle is left in it, when one is left (drawn alone), or
+ * when a surrounding triangle is in front of every other one there: the
+ * greatest depth of its plane over the area (psc_raster_depth_plane_range, at the
+ * corners) below the least depth of each other's (their nearest vertex, or
+ * their plane at the corners), compared at the depth buffer's precision, so
+ * that the depth buffer would have kept it at every pixel whatever the
+ * order; it alone is drawn. Otherwise the area is halved across its longer
+ * side, down to areas of PSC_3D_AREA_LEAF pixels a side, which the depth
+ * buffer finishes with the area's triangles in submission order. Only opaque
+ * triangles (depth-tested, replacing, not view textures, not clipped) can be
+ * the surrounding one; a triangle drawn without the depth test, blended or
+ * clipped in an area keeps it from finishing early. The result is the
+ * z-buffer's bytes (colour and depth) with fewer depth tests where large
+ * triangles cover areas whole (psc_3d_stats_t counts both). With the
+ * A-buffer (edges are fragments, whose pool a skipped triangle would not
+ * have used) tiles are drawn through the depth buffer.
+ *
  * Memory (all from the caller's workspace, sized by psc_3d_workspace_size):
  *  - depth: tile_width x tile_height (or width x height) x 2 or 4 bytes;
  *  - vertex cache: PSC_3D_VERTEX_CACHE_BYTES per vertex of a frame;
- *  - tile mode: a row's triangle list (above);
+ *  - tile mode and area subdivision: a row's triangle list (above);
+ *  - area subdivision: PSC_3D_AREA_BYTES for each of the row list's entries
+ *    up to PSC_3D_AREA_TRIANGLES_MAX (a tile beyond is drawn through the
+ *    depth buffer, as is an area that finds no room for its list), and
+ *    PSC_3D_AREA_CLIPPED_MAX clipped polygons of
+ *    PSC_3D_AREA_CLIPPED_BYTES (the frame's first ones; later ones keep the
+ *    areas they reach from finishing early);
  *  - optionally the A-buffer (psc_3d_set_abuffer): a budget of its own,
  *    4 bytes a pixel of a tile plus 16 a fragment; edges are anti-aliased
  *    tile by tile, so tiles bring it down as they do the depth buffer.
@@ -53,6 +82,15 @@
 /* far / near may be at most 2^16 (keeps the perspective weight q >= 2^12). */
 #define PSC_3D_FAR_NEAR_RATIO_MAX 65536
 
+/* Hidden-surface method (psc_3d_config_t.hsr; above). */
+typedef enum {
+    PSC_3D_HSR_ZBUFFER = 0,
+    PSC_3D_HSR_AREA = 1
+} psc_3d_hsr_t;
+
+/* Area subdivision stops halving at areas this many pixels a side (or less). */
+#define PSC_3D_AREA_LEAF 8u
+
 typedef struct {
     uint16_t width, height;           /* output, 1..PSC_MAX_OUT_DIM */
     uint16_t tile_width, tile_height; /* 0, 0: one full-screen depth buffer */
@@ -60,6 +98,7 @@ typedef struct {
     psc_bam_t hfov;                   /* horizontal field of view */
     int32_t near_q16, far_q16;        /* 0 < near, 2 near <= far <= 2^16 near */
     uint32_t max_vertices;            /* vertices of all draws of one frame together */
+    uint8_t hsr;                      /* psc_3d_hsr_t (0: the z-buffer) */
 } psc_3d_config_t;
 
 /** One mesh drawn with one transform and one state. */
@@ -101,6 +140,9 @@ typedef struct {
     uint32_t outside;       /* wholly outside a plane, zero-area, or unrepresentable */
     uint32_t clipped;       /* needed clipping (counted once) */
     uint64_t pixels;        /* pixels written after the depth test */
+    uint64_t depth_tests;   /* pixels depth-tested */
+    uint32_t areas_whole;   /* area subdivision: areas finished by one triangle (alone, or in front of the rest) */
+    uint32_t areas_leaf;    /* area subdivision: areas the depth buffer finished */
     uint32_t fragments_peak;     /* A-buffer: most fragments held at once in a tile */
     uint32_t fragments_overflow; /* A-buffer: partly covered pixels that found no room (drawn aliased) */
 } psc_3d_stats_t;
@@ -108,7 +150,15 @@ typedef struct {
 /* Bytes of vertex cache per vertex. */
 #define PSC_3D_VERTEX_CACHE_BYTES 128u
 /* Tile mode: bytes an entry of a row of tiles' triangle list (psc_3d_render.h's step 2). */
-#define PSC_3D_BIN_BYTES 12u
+#define PSC_3D_BIN_BYTES 20u
+/* Area subdivision: the triangles of a tile it sorts at most (a tile with more reaching its row of tiles is drawn
+ * through the depth buffer), and the bytes each takes (what classification needs of it, and two list entries). */
+#define PSC_3D_AREA_TRIANGLES_MAX 4096u
+#define PSC_3D_AREA_BYTES 152u
+/* Area subdivision: triangles crossing the clip volume kept a frame as projected polygons (the rest are drawn
+ * through the depth buffer wherever they reach), and the bytes of one. */
+#define PSC_3D_AREA_CLIPPED_MAX 64u
+#define PSC_3D_AREA_CLIPPED_BYTES 512u
 
 typedef struct {
     psc_3d_config_t cfg;
@@ -117,7 +167,12 @@ typedef struct {
     void *depth;             /* tile or screen depth buffer */
     size_t depth_bytes;
     void *cache;             /* max_vertices entries */
-    void *bins;              /* tile mode: a row of tiles' triangle list; else NULL */
+    void *bins;              /* tile mode, area subdivision: a row of tiles' triangle list; else NULL */
+    uint32_t *areas;         /* area subdivision: the areas' triangle lists; else NULL */
+    void *area_entries;      /* area subdivision: a tile's triangles as classification needs them */
+    uint32_t area_capacity;  /* area subdivision: how many */
+    void *clipped;           /* area subdivision: PSC_3D_AREA_CLIPPED_MAX clipped polygons; else NULL */
+    uint32_t clipped_n;      /* kept this frame */
     uint16_t *depth_out;     /* optional: width x height receives the final depth (top 16 bits) */
     bool aa;                 /* psc_3d_set_abuffer given */
     psc_abuffer_t abuf;      /* over one tile (the screen without tiles) */

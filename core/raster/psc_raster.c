@@ -74,14 +74,21 @@ static PSC_ALWAYS_INLINE int64_t plane_value(uint64_t v, unsigned f)
  * the raster point (cx, cy); rcp = floor(2^62 / doubled area). The gradients
  * n 2^f / area come as n 2^f rcp / 2^62 (one division a triangle, not two a
  * plane): within 2 units of 2^-f of the exact quotient, since n 2^f < 2^63. */
-static void plane_setup(plane_t *p, const int64_t val[3], const int64_t x[3], const int64_t y[3], uint64_t rcp,
-                        unsigned f, int64_t cx, int64_t cy)
+static void plane_gradients(const int64_t val[3], const int64_t x[3], const int64_t y[3], uint64_t rcp, unsigned f,
+                            int64_t *a, int64_t *b)
 {
     int64_t d1 = val[1] - val[0], d2 = val[2] - val[0];
     int64_t dx1 = x[1] - x[0], dy1 = y[1] - y[0], dx2 = x[2] - x[0], dy2 = y[2] - y[0];
     int64_t na = d1 * dy2 - d2 * dy1, nb = d2 * dx1 - d1 * dx2;
-    int64_t a = psc_mul_rcp62(na * ((int64_t)1 << f), rcp);
-    int64_t b = psc_mul_rcp62(nb * ((int64_t)1 << f), rcp);
+    *a = psc_mul_rcp62(na * ((int64_t)1 << f), rcp);
+    *b = psc_mul_rcp62(nb * ((int64_t)1 << f), rcp);
+}
+
+static void plane_setup(plane_t *p, const int64_t val[3], const int64_t x[3], const int64_t y[3], uint64_t rcp,
+                        unsigned f, int64_t cx, int64_t cy)
+{
+    int64_t a, b;
+    plane_gradients(val, x, y, rcp, f, &a, &b);
     p->base = (uint64_t)val[0] * ((uint64_t)1 << f) + (uint64_t)a * (uint64_t)(cx - x[0]) +
               (uint64_t)b * (uint64_t)(cy - y[0]);
     p->step_x = (uint64_t)a * (uint64_t)PSC_RASTER_SUBPIXEL_ONE;
@@ -331,7 +338,7 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
     const bool mod = st->modulate;
     const uint32_t wmask = tex ? tex->width - 1u : 0, hmask = tex ? tex->height - 1u : 0;
     const int64_t tw = tex ? tex->width : 0, th = tex ? tex->height : 0;
-    uint32_t written = 0;
+    uint32_t written = 0, tested = 0;
     int64_t e0r = s->e[0], e1r = s->e[1], e2r = s->e[2];
     uint64_t dr = s->depth.base, rr = s->r.base, gr = s->g.base, br = s->b.base;
     uint64_t qr = s->q.base, ur = s->uq.base, vr = s->vq.base, lr = s->light.base;
@@ -377,6 +384,7 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
                     }
                 }
                 if (zbits) {
+                    tested++;
                     z = (uint32_t)clamp64(plane_value(pd, DEPTH_F), 0, INT64_C(0xFFFFFFFF));
                     if (zbits == 16) {
                         uint16_t *zp = (uint16_t *)(void *)zrow + (x - t->x0);
@@ -481,6 +489,8 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
         if (zbits)
             zrow += t->depth_stride;
     }
+    if (t->tested)
+        *t->tested += tested;
     return written;
 }
 
@@ -590,7 +600,7 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
     /* Without the A-buffer a pixel needs half the weight; with it, what the ramp below turns into one sample. */
     const uint32_t enough = aa ? 30720u : 32768u;
     const bool relit = st->view_normals[0] != NULL;
-    uint32_t written = 0;
+    uint32_t written = 0, tested = 0;
     int64_t e0r = s->e[0], e1r = s->e[1], e2r = s->e[2];
     uint64_t dr = s->depth.base, qr = s->q.base, ur[3], vr[3];
     for (unsigned k = 0; k < 3; k++) {
@@ -638,6 +648,7 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                     }
                 }
                 if (zbits) {
+                    tested++;
                     z = (uint32_t)clamp64(plane_value(pd, DEPTH_F), 0, INT64_C(0xFFFFFFFF));
                     limit = zbits == 16 ? (uint32_t)((uint16_t *)(void *)zrow)[x - t->x0] << 16
                                         : ((uint32_t *)(void *)zrow)[x - t->x0];
@@ -731,6 +742,8 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
         if (zbits)
             zrow += t->depth_stride;
     }
+    if (t->tested)
+        *t->tested += tested;
     return written;
 }
 
@@ -826,22 +839,23 @@ static bool state_ok(const psc_raster_target_t *t, const psc_raster_state_t *st)
     return st->shade <= PSC_SHADE_PHONG;
 }
 
-uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_state_t *st,
-                             const psc_raster_vertex_t *v0, const psc_raster_vertex_t *v1,
-                             const psc_raster_vertex_t *v2)
+/* The vertices in the order the rasterizer takes them, interior positive (v1 and v2 swapped when the doubled area
+ * is negative; v0 stays the provoking vertex), and their coordinates: the doubled area, 0 for none or coordinates
+ * out of range. */
+static int64_t orient(const psc_raster_vertex_t *v0, const psc_raster_vertex_t *v1, const psc_raster_vertex_t *v2,
+                      const psc_raster_vertex_t *v[3], int64_t x[3], int64_t y[3])
 {
-    if (!t || !st || !v0 || !v1 || !v2 || !state_ok(t, st) || !coord_ok(v0) || !coord_ok(v1) || !coord_ok(v2))
+    if (!coord_ok(v0) || !coord_ok(v1) || !coord_ok(v2))
         return 0;
-    const psc_raster_vertex_t *v[3] = {v0, v1, v2};
-    int64_t x[3], y[3];
+    v[0] = v0;
+    v[1] = v1;
+    v[2] = v2;
     for (unsigned i = 0; i < 3; i++) {
         x[i] = v[i]->x_q4;
         y[i] = v[i]->y_q4;
     }
     int64_t area2 = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
-    if (area2 == 0)
-        return 0;
-    if (area2 < 0) { /* make the interior positive: swap v1 and v2 (v0 stays the provoking vertex) */
+    if (area2 < 0) {
         const psc_raster_vertex_t *tv = v[1];
         v[1] = v[2];
         v[2] = tv;
@@ -852,6 +866,85 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
         y[2] = ty;
         area2 = -area2;
     }
+    return area2;
+}
+
+/* Edge k of an oriented triangle: the edge function at pixel centre (cx, cy) is a cx + b cy + c, the top-left rule
+ * folded into c (a centre is inside when all three are >= 0). */
+static void edge_of(const int64_t x[3], const int64_t y[3], unsigned k, psc_raster_edge_t *e)
+{
+    unsigned a = k, b = (k + 1u) % 3u;
+    int64_t dx = x[b] - x[a], dy = y[b] - y[a];
+    bool top_left = dy < 0 || (dy == 0 && dx > 0);
+    e->a = -dy;
+    e->b = dx;
+    e->c = dy * x[a] - dx * y[a] - (top_left ? 0 : 1);
+}
+
+bool psc_raster_edges(const psc_raster_vertex_t *v0, const psc_raster_vertex_t *v1, const psc_raster_vertex_t *v2,
+                      psc_raster_edge_t e[3])
+{
+    const psc_raster_vertex_t *v[3];
+    int64_t x[3], y[3];
+    if (!v0 || !v1 || !v2 || !e || orient(v0, v1, v2, v, x, y) == 0)
+        return false;
+    for (unsigned k = 0; k < 3; k++)
+        edge_of(x, y, k, &e[k]);
+    return true;
+}
+
+/* Depth (as the loops round and clamp it) of the plane base + a dx + b dy at offset (dx, dy) from its base point;
+ * on overflow (the plane far outside a thin triangle) `extreme`, which the caller makes a safe bound. */
+static uint32_t depth_at(int64_t base, int64_t a, int64_t dx, int64_t b, int64_t dy, uint32_t extreme)
+{
+    int64_t p, q, r;
+    if (__builtin_mul_overflow(a, dx, &p) || __builtin_mul_overflow(b, dy, &q) || __builtin_add_overflow(p, q, &r) ||
+        __builtin_add_overflow(r, base, &r) || __builtin_add_overflow(r, (int64_t)1 << (DEPTH_F - 1u), &r))
+        return extreme;
+    return (uint32_t)clamp64(r >> DEPTH_F, 0, INT64_C(0xFFFFFFFF));
+}
+
+bool psc_raster_depth_plane(const psc_raster_vertex_t *v0, const psc_raster_vertex_t *v1,
+                            const psc_raster_vertex_t *v2, psc_raster_depth_plane_t *p)
+{
+    const psc_raster_vertex_t *v[3];
+    int64_t x[3], y[3];
+    if (!v0 || !v1 || !v2 || !p)
+        return false;
+    int64_t area2 = orient(v0, v1, v2, v, x, y);
+    if (area2 == 0)
+        return false;
+    const uint64_t rcp = (UINT64_C(1) << 62) / (uint64_t)area2;
+    const int64_t val[3] = {v[0]->depth_q32, v[1]->depth_q32, v[2]->depth_q32};
+    plane_gradients(val, x, y, rcp, DEPTH_F, &p->a, &p->b);
+    p->base = val[0] * ((int64_t)1 << DEPTH_F);
+    p->x0 = (int32_t)x[0];
+    p->y0 = (int32_t)y[0];
+    return true;
+}
+
+void psc_raster_depth_plane_range(const psc_raster_depth_plane_t *p, int32_t x0_q4, int32_t y0_q4, int32_t x1_q4,
+                                  int32_t y1_q4, uint32_t *zmin, uint32_t *zmax)
+{
+    /* the loops' value at (cx, cy) is base + a (cx - x0) + b (cy - y0), exact where the triangle draws: affine, so
+     * its extremes over the rectangle are at the corners a gradient's signs pick */
+    int64_t lo_x = (int64_t)(p->a >= 0 ? x0_q4 : x1_q4) - p->x0, hi_x = (int64_t)(p->a >= 0 ? x1_q4 : x0_q4) - p->x0;
+    int64_t lo_y = (int64_t)(p->b >= 0 ? y0_q4 : y1_q4) - p->y0, hi_y = (int64_t)(p->b >= 0 ? y1_q4 : y0_q4) - p->y0;
+    *zmin = depth_at(p->base, p->a, lo_x, p->b, lo_y, 0);
+    *zmax = depth_at(p->base, p->a, hi_x, p->b, hi_y, 0xFFFFFFFFu);
+}
+
+uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_state_t *st,
+                             const psc_raster_vertex_t *v0, const psc_raster_vertex_t *v1,
+                             const psc_raster_vertex_t *v2)
+{
+    if (!t || !st || !v0 || !v1 || !v2 || !state_ok(t, st))
+        return 0;
+    const psc_raster_vertex_t *v[3];
+    int64_t x[3], y[3];
+    int64_t area2 = orient(v0, v1, v2, v, x, y);
+    if (area2 == 0)
+        return 0;
 
     setup_t s;
     /* Pixels whose centres 16i + 8 can lie in [min, max], inside the target. */
@@ -884,12 +977,12 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
     int64_t cx = px0 * 16 + 8, cy = py0 * 16 + 8;
 
     for (unsigned k = 0; k < 3; k++) {
-        unsigned a = k, b = (k + 1u) % 3u;
-        int64_t dx = x[b] - x[a], dy = y[b] - y[a];
-        bool top_left = dy < 0 || (dy == 0 && dx > 0);
-        s.e[k] = dx * (cy - y[a]) - dy * (cx - x[a]) - (top_left ? 0 : 1);
-        s.ex[k] = -dy * PSC_RASTER_SUBPIXEL_ONE;
-        s.ey[k] = dx * PSC_RASTER_SUBPIXEL_ONE;
+        psc_raster_edge_t e;
+        edge_of(x, y, k, &e);
+        int64_t dx = e.b, dy = -e.a;
+        s.e[k] = e.a * cx + e.b * cy + e.c;
+        s.ex[k] = e.a * PSC_RASTER_SUBPIXEL_ONE;
+        s.ey[k] = e.b * PSC_RASTER_SUBPIXEL_ONE;
         if (aa) {
             s.am[k] = 6 * ((dy < 0 ? -dy : dy) + (dx < 0 ? -dx : dx));
             for (unsigned i = 0; i < 4; i++) {

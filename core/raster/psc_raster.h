@@ -193,6 +193,7 @@ typedef struct {
     psc_abuffer_t *abuf;           /* NULL, or the A-buffer over the rectangle (heads row by row, x1 - x0 a row):
                                     * depth-tested PSC_BLEND_REPLACE triangles then give partly covered pixels
                                     * fragments (psc_abuffer.h) */
+    uint64_t *tested;              /* NULL, or counts the pixels depth-tested (what hidden-surface methods save) */
 } psc_raster_target_t;
 
 /**
@@ -204,5 +205,45 @@ typedef struct {
 uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_state_t *st,
                              const psc_raster_vertex_t *v0, const psc_raster_vertex_t *v1,
                              const psc_raster_vertex_t *v2);
+
+/** An edge function: pixel centre (cx, cy) (raster units) lies on the triangle's side when a cx + b cy + c >= 0. */
+typedef struct {
+    int64_t a, b, c;
+} psc_raster_edge_t;
+
+/**
+ * The three edge functions by which psc_raster_triangle decides which pixel
+ * centres a triangle covers (the top-left rule folded into c): a centre is
+ * drawn exactly when all three are >= 0. Being affine, over a rectangle of
+ * centres each takes its extremes at corners, so whether a triangle covers
+ * every centre of a rectangle, or none, is exact from four values an edge.
+ * false for zero area or coordinates out of range (nothing is drawn).
+ */
+bool psc_raster_edges(const psc_raster_vertex_t *v0, const psc_raster_vertex_t *v1, const psc_raster_vertex_t *v2,
+                      psc_raster_edge_t e[3]);
+
+/** The depth plane of a triangle exactly as the loops evaluate it (psc_raster_depth_plane_range). */
+typedef struct {
+    int64_t a, b;       /* per raster unit, 2^-8 depth units */
+    int64_t base;       /* the first vertex's depth, 2^-8 units */
+    int32_t x0, y0;     /* the first vertex (raster units) */
+} psc_raster_depth_plane_t;
+
+/** A triangle's depth plane: false for zero area or coordinates out of range (nothing is drawn). */
+bool psc_raster_depth_plane(const psc_raster_vertex_t *v0, const psc_raster_vertex_t *v1,
+                            const psc_raster_vertex_t *v2, psc_raster_depth_plane_t *p);
+
+/**
+ * Bounds of the depth the rasterizer gives a triangle's pixels whose
+ * centres lie in [x0_q4, x1_q4] x [y0_q4, y1_q4] (raster units): its depth
+ * plane, exactly as the loops evaluate it, at the rectangle's corners (the
+ * plane extended beyond the triangle; affine, so its extremes are there).
+ * Every pixel of the rectangle the triangle draws gets a depth within
+ * [*zmin, *zmax] (an anti-aliased fragment too, when the rectangle reaches
+ * its samples); where the extended plane overflows, the bound widens to 0 or
+ * 0xFFFFFFFF.
+ */
+void psc_raster_depth_plane_range(const psc_raster_depth_plane_t *p, int32_t x0_q4, int32_t y0_q4, int32_t x1_q4,
+                                  int32_t y1_q4, uint32_t *zmin, uint32_t *zmax);
 
 #endif

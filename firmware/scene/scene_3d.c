@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* scene_3d.c - tiles and the A-buffer of the 3D scenes (scene_3d.h). */
+/* scene_3d.c - tiles, hidden surfaces and the A-buffer of the 3D scenes (scene_3d.h). */
 #include "scene/scene_3d.h"
 #include "base/psc_fixed.h"
 
@@ -13,6 +13,7 @@ psc_scene3d_look_t psc_scene3d_look(const psc_board_config_t *b)
     psc_scene3d_look_t l = {0};
     if (b) {
         l.tile = (uint16_t)b->render3d_tile;
+        l.hsr = b->render3d_hsr;
         l.abuffer_bytes = (size_t)b->render3d_abuffer_kb * 1024u;
         l.relight = b->render3d_relight;
         l.light_azimuth_mdeg = b->render3d_light_azimuth_mdeg;
@@ -37,10 +38,11 @@ void psc_scene3d_light_at(const psc_scene3d_look_t *look, uint64_t t_us, int32_t
     toward_q16[2] = (int32_t)psc_shr_round64((int64_t)ce * ca, 44);
 }
 
-void psc_scene3d_tiles(psc_3d_config_t *c, const psc_scene3d_look_t *look)
+void psc_scene3d_method(psc_3d_config_t *c, const psc_scene3d_look_t *look)
 {
     uint16_t t = look ? look->tile : 0;
     c->tile_width = c->tile_height = t;
+    c->hsr = look ? look->hsr : PSC_3D_HSR_ZBUFFER;
 }
 
 size_t psc_scene3d_workspace_size(const psc_3d_config_t *c, const psc_scene3d_look_t *look)

@@ -1,10 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * scene_3d.h - what the 3D scenes (object, character, proxy) take from the
- * board: tiles and the A-buffer (core/raster/psc_abuffer.h).
+ * board: tiles, hidden surfaces and the A-buffer (core/raster/psc_abuffer.h).
  *
  *   render3d_tile = N          draw in N x N tiles: the depth buffer, and the
  *                              A-buffer's heads, a tile's size (0: the screen)
+ *   render3d_hsr = area        hidden surfaces by area subdivision (the same
+ *                              frames; fewer depth tests where large polygons
+ *                              hide others) instead of the depth buffer alone
  *   render3d_abuffer_kb = K    anti-aliased edges from an A-buffer of K KB a
  *                              tile (0: aliased edges); when a frame's edges
  *                              do not fit, the rest are drawn aliased
@@ -26,6 +29,7 @@
 
 typedef struct {
     uint16_t tile;            /* tile side in pixels, 0 = the whole screen */
+    uint8_t hsr;              /* psc_3d_hsr_t */
     size_t abuffer_bytes;     /* 0 = no anti-aliasing */
     bool relight;             /* lit by the light below (proxies), not as baked */
     int32_t light_azimuth_mdeg, light_elevation_mdeg, light_turn_mdeg;   /* turn: degrees a second */
@@ -39,8 +43,8 @@ void psc_scene3d_light_at(const psc_scene3d_look_t *look, uint64_t t_us, int32_t
 /** The board's look for 3D scenes (b may be NULL: the whole screen, aliased edges). */
 psc_scene3d_look_t psc_scene3d_look(const psc_board_config_t *b);
 
-/** c with the look's tiles (look may be NULL). */
-void psc_scene3d_tiles(psc_3d_config_t *c, const psc_scene3d_look_t *look);
+/** c with the look's tiles and hidden-surface method (look may be NULL: the whole screen, the depth buffer). */
+void psc_scene3d_method(psc_3d_config_t *c, const psc_scene3d_look_t *look);
 
 /** Bytes of the renderer's workspace and the A-buffer together (0 for an invalid configuration). */
 size_t psc_scene3d_workspace_size(const psc_3d_config_t *c, const psc_scene3d_look_t *look);

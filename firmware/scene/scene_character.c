@@ -32,7 +32,7 @@ static const psc_patch_limits_t character_limits = {
 static psc_3d_config_t character_config(uint16_t width, uint16_t height, psc_bam_t hfov)
 {
     /* near/far are set per view by the orbit; these placeholders only size the workspace */
-    psc_3d_config_t c = {width, height, 0, 0, 16, hfov, PSC_Q16_ONE, 4 * PSC_Q16_ONE, PSC_CHARACTER_MAX_VERTICES};
+    psc_3d_config_t c = {width, height, 0, 0, 16, hfov, PSC_Q16_ONE, 4 * PSC_Q16_ONE, PSC_CHARACTER_MAX_VERTICES, PSC_3D_HSR_ZBUFFER};
     return c;
 }
 
@@ -57,7 +57,7 @@ size_t psc_scene_character_workspace_size(const psc_patch_model_t *m, const psc_
                                           uint16_t height, const psc_scene3d_look_t *look)
 {
     psc_3d_config_t c = character_config(width, height, PSC_OBJECT_DEFAULT_HFOV);
-    psc_scene3d_tiles(&c, look);
+    psc_scene3d_method(&c, look);
     size_t a = psc_patch_workspace_size(m, &character_limits), b = psc_scene3d_workspace_size(&c, look);
     return a && b ? align_up(sizeof(state_t)) + align_up(a) + shadow_bytes(sm, m) + b : 0;
 }
@@ -81,7 +81,7 @@ psc_status_t psc_scene_character_draw(const psc_patch_model_t *m, const psc_shad
     if (first && sm && (s = psc_shadow_init(&st->s, sm, m, bytes + head + patch_bytes, shade)) != PSC_OK)
         return s;
     psc_3d_config_t c = character_config(out->width, out->height, view->hfov);
-    psc_scene3d_tiles(&c, look);
+    psc_scene3d_method(&c, look);
     psc_vec3_q16_t lo = {m->lo_q16[0], m->lo_q16[1], m->lo_q16[2]}, hi = {m->hi_q16[0], m->hi_q16[1], m->hi_q16[2]};
     psc_patch_camera_t cam = {0};
     if ((s = psc_3d_orbit(lo, hi, view->yaw, view->pitch, PSC_CHARACTER_ORBIT_DIST_Q16, &cam.camera_from_object,

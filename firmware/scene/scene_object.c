@@ -18,7 +18,7 @@ typedef struct {
 static psc_3d_config_t object_config(const psc_mesh_t *m, uint16_t width, uint16_t height, psc_bam_t hfov)
 {
     /* near/far are set per view by the orbit; these placeholders only size the workspace. */
-    psc_3d_config_t c = {width, height, 0, 0, 16, hfov, PSC_Q16_ONE, 4 * PSC_Q16_ONE, m->vertex_count};
+    psc_3d_config_t c = {width, height, 0, 0, 16, hfov, PSC_Q16_ONE, 4 * PSC_Q16_ONE, m->vertex_count, PSC_3D_HSR_ZBUFFER};
     return c;
 }
 
@@ -26,7 +26,7 @@ size_t psc_scene_object_workspace_size(const psc_mesh_t *m, uint16_t width, uint
                                        const psc_scene3d_look_t *look)
 {
     psc_3d_config_t c = object_config(m, width, height, PSC_OBJECT_DEFAULT_HFOV);
-    psc_scene3d_tiles(&c, look);
+    psc_scene3d_method(&c, look);
     return psc_scene3d_workspace_size(&c, look);
 }
 
@@ -34,7 +34,7 @@ psc_status_t psc_scene_object_draw(const psc_mesh_t *m, const psc_view_t *view, 
                                    const psc_surface_t *out, const psc_scene3d_look_t *look)
 {
     psc_3d_config_t c = object_config(m, out->width, out->height, view->hfov);
-    psc_scene3d_tiles(&c, look);
+    psc_scene3d_method(&c, look);
     psc_3d_draw_t d;
     psc_vec3_q16_t lo, hi;
     psc_3d_t r;

@@ -36,7 +36,7 @@ static size_t align_up(size_t v)
 static psc_3d_config_t proxy_config(const psc_proxy_model_t *m, uint16_t width, uint16_t height, psc_bam_t hfov)
 {
     /* near/far are set per view by the orbit; these placeholders only size the workspace */
-    psc_3d_config_t c = {width, height, 0, 0, 16, hfov, PSC_Q16_ONE, 4 * PSC_Q16_ONE, psc_proxy_max_vertices(m)};
+    psc_3d_config_t c = {width, height, 0, 0, 16, hfov, PSC_Q16_ONE, 4 * PSC_Q16_ONE, psc_proxy_max_vertices(m), PSC_3D_HSR_ZBUFFER};
     return c;
 }
 
@@ -44,7 +44,7 @@ size_t psc_scene_proxy_workspace_size(const psc_proxy_model_t *m, uint16_t width
                                       const psc_scene3d_look_t *look)
 {
     psc_3d_config_t c = proxy_config(m, width, height, PSC_OBJECT_DEFAULT_HFOV);
-    psc_scene3d_tiles(&c, look);
+    psc_scene3d_method(&c, look);
     size_t a = psc_proxy_workspace_size(m), b = psc_scene3d_workspace_size(&c, look);
     return a && b ? align_up(sizeof(state_t)) + align_up((size_t)m->joint_count * sizeof(psc_mat4_q16_t)) +
                         align_up(a) + b
@@ -73,7 +73,7 @@ psc_status_t psc_scene_proxy_draw(const psc_proxy_model_t *m, uint64_t t_us, con
         psc_proxy_rest_bounds(m, &st->lo, &st->hi);
     }
     psc_3d_config_t c = proxy_config(m, out->width, out->height, view->hfov);
-    psc_scene3d_tiles(&c, look);
+    psc_scene3d_method(&c, look);
     psc_mat4_q16_t cam;
     if ((s = psc_3d_orbit(st->lo, st->hi, view->yaw, view->pitch, PSC_PROXY_SCENE_ORBIT_DIST_Q16, &cam, &c.near_q16,
                           &c.far_q16)) != PSC_OK)

@@ -218,6 +218,7 @@ static int render_patch_view(const psc_patch_model_t *m, psc_patch_t *p, psc_sha
     for (char *tok = strtok(spec, ","); tok && n < 7; tok = strtok(NULL, ","))
         field[n++] = tok;
     bool phong = n == 7 && strstr(field[6], "phong") != NULL, aa = n == 7 && strstr(field[6], "aa") != NULL;
+    bool area = n == 7 && strstr(field[6], "area") != NULL;
     if ((n != 6 && n != 7) || (strcmp(field[0], "rgb565") != 0 && strcmp(field[0], "xrgb8888") != 0) ||
         parse_i32(field[1], &action) != 0 || parse_u32(field[2], &time_ms) != 0 || parse_u32(field[3], &yaw) != 0 ||
         parse_i32(field[4], &pitch) != 0 || parse_i32(field[5], &tol) != 0 || tol <= 0) {
@@ -226,8 +227,9 @@ static int render_patch_view(const psc_patch_model_t *m, psc_patch_t *p, psc_sha
     }
     format = strcmp(field[0], "rgb565") == 0 ? PSC_PIX_RGB565 : PSC_PIX_XRGB8888;
     psc_bam_t hfov = 0x238E38E4u;   /* 50 degrees */
-    psc_3d_config_t cfg = {PATCH_W, PATCH_H, aa ? 32 : 0, aa ? 32 : 0, 32, hfov, 0, 0,
-                           PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES};
+    psc_3d_config_t cfg = {PATCH_W, PATCH_H, aa || area ? 32 : 0, aa || area ? 32 : 0, 32, hfov, 0, 0,
+                           PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES,
+                           area ? PSC_3D_HSR_AREA : PSC_3D_HSR_ZBUFFER};
     psc_vec3_q16_t lo = {m->lo_q16[0], m->lo_q16[1], m->lo_q16[2]}, hi = {m->hi_q16[0], m->hi_q16[1], m->hi_q16[2]};
     psc_patch_camera_t cam = {0};
     psc_status_t s = psc_3d_orbit(lo, hi, yaw, pitch, 5 * PSC_Q16_ONE / 2, &cam.camera_from_object, &cfg.near_q16,
@@ -279,9 +281,9 @@ static int render_patch(const void *buf, size_t len, const void *sbuf, size_t sl
     psc_patch_model_t m;
     psc_container_error_t e;
     psc_patch_limits_t lim = {PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES, 1u << 20, PSC_PATCH_MAX_DEPTH};
-    /* sized for tiles too (the aa views use them) */
+    /* sized for tiles and area subdivision too (the aa and area views use them) */
     psc_3d_config_t cfg = {PATCH_W, PATCH_H, 32, 32, 32, 0x238E38E4u, PSC_Q16_ONE, 4 * PSC_Q16_ONE,
-                           PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES};
+                           PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES, PSC_3D_HSR_AREA};
     psc_patch_t p;
     void *ws = NULL, *ws3d = NULL, *pixels = NULL, *abuf = NULL;
     int rc = 1;
@@ -320,7 +322,7 @@ static int render_proxy(const void *buf, size_t len, FILE *out, char **specs, in
         return fail("not a valid proxy pack", e.what);
     size_t np = psc_proxy_workspace_size(&m);
     psc_3d_config_t cfg = {PATCH_W, PATCH_H, 0, 0, 32, 0x238E38E4u, PSC_Q16_ONE, 4 * PSC_Q16_ONE,
-                           psc_proxy_max_vertices(&m)};
+                           psc_proxy_max_vertices(&m), PSC_3D_HSR_ZBUFFER};
     size_t n3 = psc_3d_workspace_size(&cfg);
     void *ws = NULL, *ws3d = NULL, *pixels = NULL;
     psc_mat4_q16_t *skin = malloc(m.joint_count * sizeof *skin);

@@ -132,11 +132,11 @@ echo "portability: $board ($arch): psc-render-raw: $frames frames of three map f
     { cat "$tmp/patch.log"; die "periscope-patch failed"; }
 "$build/bin/periscope-shadow" build "$tmp/thom.ppk" -o "$tmp/thom.pao" >"$tmp/shadow.log" 2>&1 ||
     { cat "$tmp/shadow.log"; die "periscope-shadow failed"; }
-# the last three: Phong shading, the A-buffer in 32-pixel tiles, both
+# then: Phong shading, the A-buffer in 32-pixel tiles, both; the fourth view by area subdivision (the same bytes)
 pspecs="rgb565,-1,0,2386092942,119304647,32768 xrgb8888,0,300,0,0,65536 rgb565,0,800,1073741824,-119304647,16384
         xrgb8888,1,1100,2386092942,59652323,32768 rgb565,1,1900,3221225472,0,131072
         xrgb8888,1,1100,2386092942,59652323,32768,phong rgb565,0,800,1073741824,-119304647,32768,aa
-        xrgb8888,1,1500,536870912,89478485,32768,phong+aa"
+        xrgb8888,1,1500,536870912,89478485,32768,phong+aa xrgb8888,1,1100,2386092942,59652323,32768,area"
 # shellcheck disable=SC2086
 "$build/portability/psc-render-raw" "$tmp/thom.ppk,$tmp/thom.pao" "$tmp/ref-thom.raw" $pspecs || die "the x86-64 patch frames failed"
 p0=$(head -c 38400 "$tmp/ref-thom.raw" | cksum)
@@ -148,7 +148,9 @@ cmp "$tmp/ref-thom.raw" "$tmp/$board-thom.raw" || die "patch frames: $board's by
 p3=$(head -c 230400 "$tmp/ref-thom.raw" | tail -c 76800 | cksum)
 p5=$(head -c 345600 "$tmp/ref-thom.raw" | tail -c 76800 | cksum)
 [ "$p3" != "$p5" ] || die "the x86-64 Phong frame equals the Gouraud one of the same view: the probe is broken"
-echo "portability: $board ($arch): psc-render-raw: 8 self-shadowed patch frames of Thom (Phong, the A-buffer) equal to x86-64's ($(wc -c <"$tmp/ref-thom.raw") bytes)"
+p8=$(head -c 537600 "$tmp/ref-thom.raw" | tail -c 76800 | cksum)
+[ "$p3" = "$p8" ] || die "the x86-64 frame by area subdivision differs from the depth buffer's"
+echo "portability: $board ($arch): psc-render-raw: 9 self-shadowed patch frames of Thom (Phong, the A-buffer, area subdivision) equal to x86-64's ($(wc -c <"$tmp/ref-thom.raw") bytes)"
 
 # the proxy animator: the skinned bar baked once here, drawn by core as proxies, full mesh and billboard
 "$build/bin/periscope-proxy" bake tests/data/gltf/animation_with_skeleton.gltf --views 9 --tex 32 \

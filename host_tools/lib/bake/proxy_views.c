@@ -242,8 +242,8 @@ static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *con
     memset(hi, 0, (size_t)n * n * 2u);   /* PSC_VIEW_TEXEL_EMPTY */
     for (size_t i = 0; i < (size_t)n * n; i++)
         depth[i] = pdepth[i] = 0xFFFFFFFFu;
-    psc_raster_target_t t = {&sf, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL};
-    psc_raster_target_t pt = {&ps, pdepth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL};
+    psc_raster_target_t t = {&sf, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL, NULL};
+    psc_raster_target_t pt = {&ps, pdepth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL, NULL};
     for (unsigned k = 0; k < n_all; k++)
         if (may_show(all[k], o))
             draw_shape(all[k], o, &t);
@@ -260,7 +260,7 @@ static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *con
     downsample(hi, view->tex, texels);
     if (normals) {   /* the same shapes again, their normals for colours: the same samples win the depth test */
         psc_surface_t ns = {(uint16_t)n, (uint16_t)n, n * 4u, PSC_PIX_XRGB8888, nhi};
-        psc_raster_target_t nt = {&ns, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL};
+        psc_raster_target_t nt = {&ns, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL, NULL};
         for (size_t i = 0; i < (size_t)n * n; i++)
             depth[i] = 0xFFFFFFFFu;
         for (unsigned k = 0; k < n_all; k++)
@@ -327,7 +327,7 @@ int psc_bake_proxy_billboard(const psc_proxy_shape_t *shapes, unsigned n, const 
         memset(hi, 0, (size_t)hn * hn * 2u);
         for (size_t i = 0; i < (size_t)hn * hn; i++)
             depth[i] = 0xFFFFFFFFu;
-        psc_raster_target_t tg = {&sf, depth, hn * 4u, 32, 0, 0, (uint16_t)hn, (uint16_t)hn, NULL};
+        psc_raster_target_t tg = {&sf, depth, hn * 4u, 32, 0, 0, (uint16_t)hn, (uint16_t)hn, NULL, NULL};
         for (unsigned s = 0; s < n; s++)
             draw_shape(&shapes[s], &so, &tg);
         downsample(hi, tex, texels + (size_t)k * tex * tex);

@@ -273,7 +273,7 @@ int psc_render_gltf_main(const char *prog, int argc, char **argv)
     psc_3d_draw_t d;
     psc_3d_draw_defaults(&d, &p.mesh);
     d.cull_back = vw->cull;
-    psc_3d_config_t cfg = {vw->width, vw->height, 0, 0, 32, psc_io_bam_from_deg(vw->hfov), 0, 0, p.mesh.vertex_count};
+    psc_3d_config_t cfg = {vw->width, vw->height, 0, 0, 32, psc_io_bam_from_deg(vw->hfov), 0, 0, p.mesh.vertex_count, vw->hsr};
     if (psc_render_view_orbit(vw, lo, hi, &d.camera_from_object, &cfg.near_q16, &cfg.far_q16) != PSC_OK) {
         fprintf(stderr, "%s: %s: the orbit view does not fit the fixed-point range\n", prog, a.model);
         goto done;

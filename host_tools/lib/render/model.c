@@ -214,7 +214,7 @@ int psc_render_model_main(const char *prog, int argc, char **argv)
     psc_vec3_q16_t lo, hi;
     psc_mesh_bounds_q16(&mf.mesh, &lo, &hi);
     psc_3d_config_t cfg = {vw->width, vw->height, (uint16_t)a.tile, (uint16_t)a.tile, (uint8_t)a.depth_bits,
-                           psc_io_bam_from_deg(vw->hfov), 0, 0, mf.mesh.vertex_count};
+                           psc_io_bam_from_deg(vw->hfov), 0, 0, mf.mesh.vertex_count, vw->hsr};
     if (psc_render_view_orbit(vw, lo, hi, &d.camera_from_object, &cfg.near_q16, &cfg.far_q16) != PSC_OK) {
         fprintf(stderr, "%s: %s: the orbit view does not fit the fixed-point range\n", prog, a.model);
         goto done;

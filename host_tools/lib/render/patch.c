@@ -364,7 +364,7 @@ int psc_render_patch_main(const char *prog, int argc, char **argv)
     psc_status_t s;
     double t_tess = 0.0, t_draw = 0.0;
     psc_3d_config_t cfg = {vw->width, vw->height, (uint16_t)a.tile, (uint16_t)a.tile, 32, psc_io_bam_from_deg(vw->hfov),
-                           near_q16, far_q16, PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES};
+                           near_q16, far_q16, PSC_PATCH_MAX_BATCHES * PSC_PATCH_BATCH_VERTICES, vw->hsr};
     psc_3d_stats_t drawn = {0};
     if (psc_render_target_open_view(&rt, &cfg, vw, a.depth != NULL, a.model, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);

@@ -319,7 +319,7 @@ int psc_render_proxy_main(const char *prog, int argc, char **argv)
     psc_proxy_rest_bounds(m, &lo, &hi);
     psc_mat4_q16_t cam;
     psc_3d_config_t cfg = {vw->width, vw->height, (uint16_t)a.tile, (uint16_t)a.tile, 32, psc_io_bam_from_deg(vw->hfov),
-                           0, 0, psc_proxy_max_vertices(m)};
+                           0, 0, psc_proxy_max_vertices(m), vw->hsr};
     if (psc_render_view_orbit(vw, lo, hi, &cam, &cfg.near_q16, &cfg.far_q16) != PSC_OK) {
         fprintf(stderr, "%s: %s: the orbit view does not fit the fixed-point range\n", prog, a.pack);
         goto done;

@@ -14,7 +14,7 @@
 psc_render_view_t psc_render_view_defaults(double yaw, double pitch, double dist, double hfov)
 {
     return (psc_render_view_t){yaw, pitch, dist, hfov, 640, 480, true, PSC_PIX_RGB565, 1, -1, 90, 24, 0,
-                               {false, PSC_DITHER_MONO, PSC_DITHER_ORDERED}};
+                               {false, PSC_DITHER_MONO, PSC_DITHER_ORDERED}, PSC_3D_HSR_ZBUFFER};
 }
 
 int psc_render_view_option(const char *prog, const char *name, const char *v, psc_render_view_t *o)
@@ -68,6 +68,10 @@ int psc_render_view_option(const char *prog, const char *name, const char *v, ps
         if (psc_io_levels_parse(v, &o->levels) != 0)
             return psc_io_cli_usage_error(prog, "--dither '%s': expected mono, grey4 or pal8, optionally :ordered, "
                                           ":halftone or :none", v);
+    } else if (strcmp(name, "--hsr") == 0) {
+        if (strcmp(v, "zbuffer") != 0 && strcmp(v, "area") != 0)
+            return psc_io_cli_usage_error(prog, "--hsr '%s': expected zbuffer or area", v);
+        o->hsr = strcmp(v, "area") == 0 ? PSC_3D_HSR_AREA : PSC_3D_HSR_ZBUFFER;
     } else if (strcmp(name, "--repeat") == 0) {
         if (psc_cli_parse_uint(v, 1, PSC_RENDER_MAX_REPEAT, &o->repeat) != 0)
             return psc_io_cli_usage_error(prog, "--repeat '%s': expected a count of 1..%lu", v, PSC_RENDER_MAX_REPEAT);
