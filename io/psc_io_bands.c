@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* psc_io_bands.c - the viewer's worker pool (psc_io_bands.h). */
+/* psc_io_bands.c - the worker pool of the viewer and the 3D pipeline (psc_io_bands.h). */
 #include "psc_io_bands.h"
 #include "psc_io_error.h"
 
@@ -26,7 +26,9 @@ struct psc_io_bands {
     unsigned long generation;   /* one per frame: a worker runs when it changes */
     unsigned pending;           /* workers still drawing this frame */
     bool quit;
-    /* this frame */
+    /* this frame: the job every thread runs */
+    void (*job)(void *ctx, unsigned k, unsigned threads);
+    void *ctx;
     const psc_viewer_t *v;
     const psc_view_t *view;
     const psc_surface_t *out;
@@ -40,8 +42,10 @@ unsigned psc_io_online_cpus(void)
 }
 
 /* Thread k's rows: chunks k, k + threads, k + 2 threads, ... */
-static void render_share(psc_io_bands_t *b, unsigned k)
+static void render_share(void *ctx, unsigned k, unsigned threads)
 {
+    psc_io_bands_t *b = ctx;
+    (void)threads;
     unsigned h = b->v->out_height, step = b->threads * PSC_IO_BANDS_CHUNK;
     psc_status_t s = PSC_OK;
     for (unsigned y0 = k * PSC_IO_BANDS_CHUNK; y0 < h && s == PSC_OK; y0 += step) {
@@ -66,7 +70,7 @@ static void *worker(void *arg)
         }
         seen = b->generation;
         pthread_mutex_unlock(&b->lock);
-        render_share(b, k);
+        b->job(b->ctx, k, b->threads);
         pthread_mutex_lock(&b->lock);
         if (--b->pending == 0)
             pthread_cond_signal(&b->done);
@@ -117,6 +121,22 @@ unsigned psc_io_bands_threads(const psc_io_bands_t *b)
     return b ? b->threads : 0;
 }
 
+void psc_io_bands_run(psc_io_bands_t *b, void (*job)(void *ctx, unsigned k, unsigned threads), void *ctx)
+{
+    b->job = job;
+    b->ctx = ctx;
+    pthread_mutex_lock(&b->lock);
+    b->pending = b->threads - 1u;
+    b->generation++;
+    pthread_cond_broadcast(&b->go);
+    pthread_mutex_unlock(&b->lock);
+    job(ctx, 0, b->threads);
+    pthread_mutex_lock(&b->lock);
+    while (b->pending > 0)
+        pthread_cond_wait(&b->done, &b->lock);
+    pthread_mutex_unlock(&b->lock);
+}
+
 psc_status_t psc_io_bands_render(psc_io_bands_t *b, psc_viewer_t *v, const psc_view_t *view, const psc_surface_t *out)
 {
     if (!b || !v || v->out_width > b->out_width)
@@ -129,16 +149,7 @@ psc_status_t psc_io_bands_render(psc_io_bands_t *b, psc_viewer_t *v, const psc_v
     b->out = out;
     for (unsigned k = 0; k < b->threads; k++)   /* a tiled viewer's misses: this frame's alone */
         psc_viewer_band_requests_clear(b->scratch[k], v->out_width);
-    pthread_mutex_lock(&b->lock);
-    b->pending = b->threads - 1u;
-    b->generation++;
-    pthread_cond_broadcast(&b->go);
-    pthread_mutex_unlock(&b->lock);
-    render_share(b, 0);
-    pthread_mutex_lock(&b->lock);
-    while (b->pending > 0)
-        pthread_cond_wait(&b->done, &b->lock);
-    pthread_mutex_unlock(&b->lock);
+    psc_io_bands_run(b, render_share, b);
     for (unsigned k = 0; k < b->threads; k++)
         if (b->status[k] != PSC_OK)
             return b->status[k];

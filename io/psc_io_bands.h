@@ -3,6 +3,7 @@
  * psc_io_bands.h - the viewer on several cores: a small pool of worker
  * threads (POSIX threads), each rendering bands of output rows with its own
  * scratch through core's psc_viewer_render_band (core knows no threads).
+ * The 3D pipeline runs its rows of tiles on the same pool (psc_io_bands_run).
  * The device program and periscope-render use it; every frame's bytes equal
  * psc_viewer_render's whatever the number of threads.
  *
@@ -36,6 +37,13 @@ psc_io_bands_t *psc_io_bands_start(unsigned threads, uint16_t out_width, char *e
 
 /** The pool's thread count. */
 unsigned psc_io_bands_threads(const psc_io_bands_t *b);
+
+/**
+ * Run job(ctx, k, threads) once on each thread of the pool, k = 0 (the
+ * calling thread) to threads - 1, and return when all have (the 3D
+ * pipeline's rows, psc_io_render3d.h; one job at a time).
+ */
+void psc_io_bands_run(psc_io_bands_t *b, void (*job)(void *ctx, unsigned k, unsigned threads), void *ctx);
 
 /** Render view into out on every thread of the pool (psc_viewer_prepare, then the bands). */
 psc_status_t psc_io_bands_render(psc_io_bands_t *b, psc_viewer_t *v, const psc_view_t *view, const psc_surface_t *out);

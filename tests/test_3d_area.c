@@ -347,10 +347,11 @@ static void test_config(void **state)
     size_t z = psc_3d_workspace_size(&c);
     c.hsr = PSC_3D_HSR_AREA;
     size_t a = psc_3d_workspace_size(&c);
-    /* the one row's list (4 x 3000 + 256 entries) and, for the first PSC_3D_AREA_TRIANGLES_MAX of them, what
-     * classification needs; the clipped polygons */
-    assert_int_equal(a - z, (size_t)(4u * 3000u + 256u) * PSC_3D_BIN_BYTES +
-                                (size_t)PSC_3D_AREA_TRIANGLES_MAX * PSC_3D_AREA_BYTES +
+    /* the one row's list and the frame's (4 x 3000 + 256 entries each, the depth buffer's full screen has neither)
+     * with its parts' counts and, for the first PSC_3D_AREA_TRIANGLES_MAX of them, what classification needs; the
+     * clipped polygons */
+    assert_int_equal(a - z, (size_t)(4u * 3000u + 256u) * (PSC_3D_BIN_BYTES + PSC_3D_LIST_BYTES) +
+                                PSC_3D_FRAME_PARTS_MAX * 4u + (size_t)PSC_3D_AREA_TRIANGLES_MAX * PSC_3D_AREA_BYTES +
                                 PSC_3D_AREA_CLIPPED_MAX * PSC_3D_AREA_CLIPPED_BYTES);
     c.hsr = 2;
     assert_int_equal(psc_3d_workspace_size(&c), 0);

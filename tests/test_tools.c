@@ -848,9 +848,18 @@ static void check_patch_look(const char *ppk, const char *plain, const char *out
     assert_true(tsup_same_file(plain, out));
     const char *bad_hsr[] = {VIEW, "--hsr", "painter", "-o", out, NULL}, *bad_hsr_said[] = {"--hsr 'painter'", NULL};
     expect_run("periscope-render", bad_hsr, 2, bad_hsr_said);
+    const char *threads[] = {VIEW, "--threads", "3", "-o", out, NULL};
+    expect_run("periscope-render", threads, 0, NULL);
+    assert_true(tsup_same_file(plain, out));
+    const char *threads_aa[] = {VIEW, "--threads", "2", "--aa", "abuffer:64", "--tiles", "32", "-o", out, NULL};
+    expect_run("periscope-render", threads_aa, 0, NULL);
+    assert_true(tsup_same_file(full, out));
+    const char *bad_threads[] = {VIEW, "--threads", "17", "-o", out, NULL},
+               *bad_threads_said[] = {"--threads '17'", NULL};
+    expect_run("periscope-render", bad_threads, 2, bad_threads_said);
 #undef VIEW
     printf("  3D looks: --shade phong, --aa abuffer (tiles give the same bytes; a small budget is said), --dither, "
-           "--hsr area (the same bytes)\n");
+           "--hsr area and --threads (the same bytes)\n");
     unlink(full);
 }
 

@@ -46,15 +46,18 @@ typedef struct {
 } row_spec_t;
 
 static const row_spec_t rows[] = {
-    {"periscope", NULL, {0, 0, false, PSC_3D_HSR_ZBUFFER}, 5, false},
-    {"periscope tiles 64x64", NULL, {64, 0, false, PSC_3D_HSR_ZBUFFER}, 5, false},
-    {"periscope area subdivision", NULL, {0, 0, false, PSC_3D_HSR_AREA}, 5, false},
-    {"periscope area, tiles 64", NULL, {64, 0, false, PSC_3D_HSR_AREA}, 5, false},
-    {"periscope A-buffer 4 MB", NULL, {0, ABUF_BYTES, false, PSC_3D_HSR_ZBUFFER}, 5, false},
-    {"periscope A-buf tiles 64", NULL, {64, 256u << 10, false, PSC_3D_HSR_ZBUFFER}, 5, false},
-    {"periscope phong", NULL, {0, 0, true, PSC_3D_HSR_ZBUFFER}, 5, true},
-    {"mesa softpipe", "softpipe", {0, 0, false, PSC_3D_HSR_ZBUFFER}, 2, false},
-    {"mesa llvmpipe 1 thread", "llvmpipe", {0, 0, false, PSC_3D_HSR_ZBUFFER}, 5, false},
+    {"periscope", NULL, {0, 0, false, PSC_3D_HSR_ZBUFFER, 1}, 5, false},
+    {"periscope tiles 64x64", NULL, {64, 0, false, PSC_3D_HSR_ZBUFFER, 1}, 5, false},
+    {"periscope area subdivision", NULL, {0, 0, false, PSC_3D_HSR_AREA, 1}, 5, false},
+    {"periscope area, tiles 64", NULL, {64, 0, false, PSC_3D_HSR_AREA, 1}, 5, false},
+    {"periscope A-buffer 4 MB", NULL, {0, ABUF_BYTES, false, PSC_3D_HSR_ZBUFFER, 1}, 5, false},
+    {"periscope A-buf tiles 64", NULL, {64, 256u << 10, false, PSC_3D_HSR_ZBUFFER, 1}, 5, false},
+    {"periscope phong", NULL, {0, 0, true, PSC_3D_HSR_ZBUFFER, 1}, 5, true},
+    {"periscope 2 threads", NULL, {0, 0, false, PSC_3D_HSR_ZBUFFER, 2}, 5, false},
+    {"periscope A-buf t64 2 thr", NULL, {64, 256u << 10, false, PSC_3D_HSR_ZBUFFER, 2}, 5, false},
+    {"mesa softpipe", "softpipe", {0, 0, false, PSC_3D_HSR_ZBUFFER, 1}, 2, false},
+    {"mesa llvmpipe 1 thread", "llvmpipe", {0, 0, false, PSC_3D_HSR_ZBUFFER, 1}, 5, false},
+    {"mesa llvmpipe 2 threads", "llvmpipe", {0, 0, false, PSC_3D_HSR_ZBUFFER, 2}, 5, false},
 };
 #define NROWS (sizeof rows / sizeof rows[0])
 
@@ -109,7 +112,8 @@ static int run_scene(const char *self, const char *out_dir, r3d_kind_t kind, FIL
                 if ((rows[r].thom_only && kind != R3D_THOM) || round >= rows[r].passes)
                     continue;
                 uint16_t *dst = r == 0 ? ours : theirs;
-                r3d_result_t x = rows[r].driver ? r3d_run_mesa(self, rows[r].driver, kind, w, h, FRAMES, 1, dst)
+                r3d_result_t x = rows[r].driver ? r3d_run_mesa(self, rows[r].driver, kind, w, h, rows[r].o.threads,
+                                                               FRAMES, 1, dst)
                                                 : r3d_run_periscope(&s, w, h, &rows[r].o, FRAMES, 1, dst);
                 if (!x.ok) {
                     fprintf(stderr, "render3d bench: %s at %ux%u did not run\n", rows[r].label, (unsigned)w,
@@ -122,7 +126,7 @@ static int run_scene(const char *self, const char *out_dir, r3d_kind_t kind, FIL
                     continue;
                 /* the row's last pass: its frame against Periscope's, and the picture */
                 psnr[z][r] = r == 0 ? 99.0 : frame_psnr(ours, dst, (size_t)w * h);
-                if (rows[r].o.tile == 0 && rows[r].o.hsr == PSC_3D_HSR_ZBUFFER) {
+                if (rows[r].o.tile == 0 && rows[r].o.hsr == PSC_3D_HSR_ZBUFFER && rows[r].o.threads <= 1) {
                     char png[1024], err[512];
                     psc_surface_t sf = {w, h, (uint32_t)w * 2, PSC_PIX_RGB565, dst};
                     const char *who = rows[r].driver ? rows[r].driver
@@ -230,7 +234,7 @@ static int run_table(const char *self, const char *out_dir)
 /* The workload counted: CG_FRAMES frames at 320x240, full buffer. noinline: callgrind toggles on it. */
 __attribute__((noinline)) static void cg_workload(r3d_scene_t *s, uint16_t *frame, double *pixels)
 {
-    r3d_options_t o = {0, 0, false, PSC_3D_HSR_ZBUFFER};
+    r3d_options_t o = {0, 0, false, PSC_3D_HSR_ZBUFFER, 1};
     r3d_result_t r = r3d_run_periscope(s, 320, 240, &o, CG_FRAMES, 1, frame);
     *pixels = r.pixels_written;
 }
@@ -296,13 +300,14 @@ static int run_callgrind(const char *self, const char *out_dir)
 
 /* Periscope alone, `frames` frames of scene kind at w x h (with an A-buffer of abuf bytes, hidden surfaces by hsr):
  * for `perf record` and callgrind. */
-static int profile_run(r3d_kind_t kind, uint16_t w, uint16_t h, size_t abuf, uint8_t hsr, unsigned frames)
+static int profile_run(r3d_kind_t kind, uint16_t w, uint16_t h, size_t abuf, uint8_t hsr, unsigned frames,
+                       unsigned threads)
 {
     r3d_scene_t s;
     if (r3d_scene_make(&s, kind) != 0 || w == 0 || h == 0 || w > 4096 || h > 4096)
         return 1;
     uint16_t *frame = malloc((size_t)w * h * 2);
-    r3d_options_t o = {0, abuf, false, hsr};
+    r3d_options_t o = {0, abuf, false, hsr, threads};
     r3d_result_t r = r3d_run_periscope(&s, w, h, &o, frames, 1, frame);
     printf("%.3f ms per frame\n", r.ms_per_frame);
     free(frame);
@@ -321,10 +326,11 @@ int main(int argc, char **argv)
                                   argv[i + 6]);
         if (strcmp(argv[i], "--callgrind-child") == 0)
             return cg_child();
-        if (strcmp(argv[i], "--profile") == 0 && i + 4 < argc) /* Periscope alone: SCENE W H ABUF_KB [HSR [FRAMES]] */
+        if (strcmp(argv[i], "--profile") == 0 && i + 4 < argc) /* Periscope alone: SCENE W H ABUF_KB [HSR [FRAMES [THREADS]]] */
             return profile_run((r3d_kind_t)atoi(argv[i + 1]), (uint16_t)atoi(argv[i + 2]), (uint16_t)atoi(argv[i + 3]),
                                (size_t)atoi(argv[i + 4]) * 1024u, i + 5 < argc ? (uint8_t)atoi(argv[i + 5]) : 0,
-                               i + 6 < argc ? (unsigned)atoi(argv[i + 6]) : 360u);
+                               i + 6 < argc ? (unsigned)atoi(argv[i + 6]) : 360u,
+                               i + 7 < argc ? (unsigned)atoi(argv[i + 7]) : 1u);
         if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
             out = argv[++i];
         } else if (strcmp(argv[i], "--callgrind") == 0) {

@@ -154,7 +154,7 @@ int r3d_mesa_child(r3d_kind_t kind, uint16_t w, uint16_t h, unsigned frames, uns
 }
 
 r3d_result_t r3d_run_mesa(const char *self, const char *driver, r3d_kind_t kind, uint16_t w, uint16_t h,
-                          unsigned frames, unsigned passes, uint16_t *last)
+                          unsigned threads, unsigned frames, unsigned passes, uint16_t *last)
 {
     r3d_result_t res = {0, 0, 0, false};
     char frame[] = "/tmp/periscope-render3d-XXXXXX";
@@ -163,8 +163,8 @@ r3d_result_t r3d_run_mesa(const char *self, const char *driver, r3d_kind_t kind,
         return res;
     close(fd);
     char cmd[1024];
-    snprintf(cmd, sizeof cmd, "GALLIUM_DRIVER=%s LP_NUM_THREADS=0 '%s' --mesa-child %u %u %u %u %u '%s'", driver, self,
-             (unsigned)kind, (unsigned)w, (unsigned)h, frames, passes, frame);
+    snprintf(cmd, sizeof cmd, "GALLIUM_DRIVER=%s LP_NUM_THREADS=%u '%s' --mesa-child %u %u %u %u %u '%s'", driver,
+             threads > 1 ? threads : 0u, self, (unsigned)kind, (unsigned)w, (unsigned)h, frames, passes, frame);
     FILE *p = popen(cmd, "r");
     if (!p)
         return res;

@@ -57,21 +57,23 @@ typedef struct {
 } r3d_result_t;
 
 /** How Periscope draws: tile side (0 = full-screen depth), the A-buffer's bytes (0 = off), Phong shading, the
- * hidden-surface method (psc_3d_hsr_t). */
+ * hidden-surface method (psc_3d_hsr_t), the threads (0 or 1: one; more through io/psc_io_render3d.h). */
 typedef struct {
     uint16_t tile;
     size_t abuffer_bytes;
     bool phong;
     uint8_t hsr;
+    unsigned threads;
 } r3d_options_t;
 
 /** Periscope: frames at w x h RGB565; writes the last frame into last (w*h). */
 r3d_result_t r3d_run_periscope(const r3d_scene_t *s, uint16_t w, uint16_t h, const r3d_options_t *o, unsigned frames,
                                unsigned passes, uint16_t *last);
 
-/** Mesa through a child process with GALLIUM_DRIVER=driver, LP_NUM_THREADS=0; last frame into last. */
+/** Mesa through a child process with GALLIUM_DRIVER=driver and LP_NUM_THREADS=threads (0 or 1: none, the
+ * rasterizer in the calling thread); last frame into last. */
 r3d_result_t r3d_run_mesa(const char *self, const char *driver, r3d_kind_t kind, uint16_t w, uint16_t h,
-                          unsigned frames, unsigned passes, uint16_t *last);
+                          unsigned threads, unsigned frames, unsigned passes, uint16_t *last);
 
 /** The child side: render with OSMesa and print "ms <best ms per frame>"; the last frame to frame_path. */
 int r3d_mesa_child(r3d_kind_t kind, uint16_t w, uint16_t h, unsigned frames, unsigned passes, const char *frame_path);

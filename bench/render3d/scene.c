@@ -10,6 +10,7 @@
 #include "import/model.h"
 #include "3d/psc_3d_orbit.h"
 #include "psc_io_load.h"
+#include "psc_io_render3d.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -131,6 +132,7 @@ r3d_result_t r3d_run_periscope(const r3d_scene_t *s, uint16_t w, uint16_t h, con
     r3d_frame_view(s, 0, frames, &d, &near_q16, &far_q16);
     psc_3d_config_t cfg = {w, h, tile, tile, 16, PSC_BAM_FROM_MDEG((int64_t)(R3D_HFOV_DEG * 1000)), near_q16,
                            far_q16, s->mesh.vertex_count, o->hsr};
+    psc_io_render3d_config(&cfg, o->threads, o->abuffer_bytes != 0);
     size_t n = psc_3d_workspace_size(&cfg);
     void *ws = NULL;
     psc_surface_t out = {w, h, (uint32_t)w * 2, PSC_PIX_RGB565, last};
@@ -139,6 +141,16 @@ r3d_result_t r3d_run_periscope(const r3d_scene_t *s, uint16_t w, uint16_t h, con
     if (n == 0 || posix_memalign(&ws, 64, n) != 0 || psc_3d_init(&r, &cfg, ws, n) != PSC_OK ||
         (o->abuffer_bytes && (posix_memalign(&abuf, 64, o->abuffer_bytes) != 0 ||
                               psc_3d_set_abuffer(&r, abuf, o->abuffer_bytes) != PSC_OK))) {
+        free(ws);
+        free(abuf);
+        return res;
+    }
+    char err[256];
+    psc_io_bands_t *pool = o->threads > 1 ? psc_io_bands_start(o->threads, w, err, sizeof err) : NULL;
+    psc_io_render3d_t *threads = pool ? psc_io_render3d_start(pool, &cfg, o->abuffer_bytes, err, sizeof err) : NULL;
+    if (o->threads > 1 && !threads) {
+        fprintf(stderr, "render3d bench: %s\n", err);
+        psc_io_bands_stop(pool);
         free(ws);
         free(abuf);
         return res;
@@ -157,7 +169,9 @@ r3d_result_t r3d_run_periscope(const r3d_scene_t *s, uint16_t w, uint16_t h, con
                 d.specular_q8 = 90;
                 d.shininess = 24;
             }
-            if (psc_3d_render(&r, &d, 1, &bg, &out, &st) != PSC_OK) {
+            if (psc_io_render3d_frame(threads, &r, &d, 1, &bg, &out, &st) != PSC_OK) {
+                psc_io_render3d_stop(threads);
+                psc_io_bands_stop(pool);
                 free(ws);
                 free(abuf);
                 return res;
@@ -168,6 +182,8 @@ r3d_result_t r3d_run_periscope(const r3d_scene_t *s, uint16_t w, uint16_t h, con
         double ms = (bench_now_ms() - t0) / frames;
         best = ms < best ? ms : best;
     }
+    psc_io_render3d_stop(threads);
+    psc_io_bands_stop(pool);
     free(ws);
     free(abuf);
     res.ms_per_frame = best;

@@ -404,9 +404,10 @@ bool psc_3d_area_tile(psc_3d_tile_t *t, const psc_3d_draw_t *draws, const psc_3d
                       const psc_3d_bin_t *bins, uint32_t count)
 {
     const psc_3d_t *r = t->r;
-    if (count > r->area_capacity)
+    const psc_3d_worker_t *w = t->w;
+    if (count > w->area_capacity)
         return false;
-    area_t a = {t, draws, cache, bins, r->area_entries, r->areas, 2u * r->area_capacity, 0, UINT32_MAX,
+    area_t a = {t, draws, cache, bins, w->area_entries, w->areas, 2u * w->area_capacity, 0, UINT32_MAX,
                 r->cfg.depth_bits == 16 ? 0xFFFFu : 0xFFFFFFFFu, t->target};
     rect_t rect = {t->target.x0, t->target.y0, t->target.x1, t->target.y1};
     bool count_once = t->count_once;

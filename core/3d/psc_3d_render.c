@@ -75,14 +75,58 @@ static uint32_t area_capacity(const psc_3d_config_t *c)
     return b < PSC_3D_AREA_TRIANGLES_MAX ? b : PSC_3D_AREA_TRIANGLES_MAX;
 }
 
+/* A worker's bytes: a tile's depth buffer, a row's triangle list, area subdivision's entries and lists. */
+static size_t worker_bytes(const psc_3d_config_t *c)
+{
+    return align8(psc_3d_depth_bytes(c)) + (binned(c) ? align8((size_t)bin_capacity(c) * PSC_3D_BIN_BYTES) : 0) +
+           (c->hsr == PSC_3D_HSR_AREA ? (size_t)area_capacity(c) * PSC_3D_AREA_BYTES : 0);
+}
+
+size_t psc_3d_worker_bytes(const psc_3d_config_t *c)
+{
+    return config_ok(c) ? worker_bytes(c) : 0;
+}
+
+psc_status_t psc_3d_worker_init(psc_3d_worker_t *w, const psc_3d_config_t *cfg, void *mem, size_t bytes)
+{
+    if (!w || !config_ok(cfg) || !mem || ((uintptr_t)mem & 7u) != 0)
+        return PSC_ERR_ARG;
+    if (bytes < worker_bytes(cfg))
+        return PSC_ERR_NOMEM;
+    *w = (psc_3d_worker_t){0};
+    w->depth = mem;
+    uint8_t *p = (uint8_t *)mem + align8(psc_3d_depth_bytes(cfg));
+    if (binned(cfg)) {
+        w->bins = p;
+        p += align8((size_t)bin_capacity(cfg) * PSC_3D_BIN_BYTES);
+    }
+    if (cfg->hsr == PSC_3D_HSR_AREA) {
+        /* the entries (8-byte fields) first, then the lists */
+        w->area_capacity = area_capacity(cfg);
+        w->area_entries = p;
+        w->areas = (uint32_t *)(void *)(p + (size_t)w->area_capacity * (PSC_3D_AREA_BYTES - 2u * sizeof(uint32_t)));
+    }
+    return PSC_OK;
+}
+
+/* The frame's triangle list: as many entries as one row of a full screen's would take. */
+static uint32_t list_capacity(const psc_3d_config_t *c)
+{
+    return binned(c) ? (uint32_t)((uint64_t)c->max_vertices * 4u) + 256u : 0;
+}
+
+static size_t shared_bytes(const psc_3d_config_t *c)
+{
+    return (size_t)c->max_vertices * sizeof(vcache_t) +
+           (c->hsr == PSC_3D_HSR_AREA ? (size_t)PSC_3D_AREA_CLIPPED_MAX * PSC_3D_AREA_CLIPPED_BYTES : 0) +
+           align8((size_t)list_capacity(c) * PSC_3D_LIST_BYTES) + (binned(c) ? PSC_3D_FRAME_PARTS_MAX * 4u : 0);
+}
+
 size_t psc_3d_workspace_size(const psc_3d_config_t *c)
 {
     if (!config_ok(c))
         return 0;
-    return align8(psc_3d_depth_bytes(c)) + (size_t)c->max_vertices * sizeof(vcache_t) +
-           (binned(c) ? align8((size_t)bin_capacity(c) * PSC_3D_BIN_BYTES) : 0) +
-           (c->hsr == PSC_3D_HSR_AREA ? (size_t)area_capacity(c) * PSC_3D_AREA_BYTES +
-                                            (size_t)PSC_3D_AREA_CLIPPED_MAX * PSC_3D_AREA_CLIPPED_BYTES : 0);
+    return worker_bytes(c) + shared_bytes(c);
 }
 
 psc_status_t psc_3d_init(psc_3d_t *r, const psc_3d_config_t *cfg, void *ws, size_t ws_size)
@@ -98,16 +142,19 @@ psc_status_t psc_3d_init(psc_3d_t *r, const psc_3d_config_t *cfg, void *ws, size
     if (r->cfg.tile_height == 0 || r->cfg.tile_height > cfg->height)
         r->cfg.tile_height = cfg->height;
     r->depth_bytes = psc_3d_depth_bytes(cfg);
-    r->depth = ws;
-    r->cache = (uint8_t *)ws + align8(r->depth_bytes);
-    r->bins = binned(cfg) ? (uint8_t *)r->cache + (size_t)cfg->max_vertices * sizeof(vcache_t) : NULL;
+    (void)psc_3d_worker_init(&r->own, cfg, ws, worker_bytes(cfg));
+    uint8_t *p = (uint8_t *)ws + worker_bytes(cfg);
+    r->cache = p;
+    p += (size_t)cfg->max_vertices * sizeof(vcache_t);
     if (cfg->hsr == PSC_3D_HSR_AREA) {
-        /* the entries (8-byte fields) first, then the lists and the clipped polygons */
-        r->area_capacity = area_capacity(cfg);
-        r->area_entries = (uint8_t *)r->bins + align8((size_t)bin_capacity(cfg) * PSC_3D_BIN_BYTES);
-        r->areas = (uint32_t *)(void *)((uint8_t *)r->area_entries +
-                                        (size_t)r->area_capacity * (PSC_3D_AREA_BYTES - 2u * sizeof(uint32_t)));
-        r->clipped = (uint8_t *)r->area_entries + (size_t)r->area_capacity * PSC_3D_AREA_BYTES;
+        r->clipped = p;
+        p += (size_t)PSC_3D_AREA_CLIPPED_MAX * PSC_3D_AREA_CLIPPED_BYTES;
+    }
+    if (binned(cfg)) {
+        r->list = p;
+        r->list_capacity = list_capacity(cfg);
+        p += align8((size_t)r->list_capacity * PSC_3D_LIST_BYTES);
+        r->list_count = (uint32_t *)(void *)p;
     }
     /* f = (W/2) / tan(hfov/2) in Q24.8. */
     int32_t s30, c30;
@@ -135,19 +182,24 @@ size_t psc_3d_abuffer_bytes(const psc_3d_config_t *cfg, uint32_t fragments)
     return psc_abuffer_bytes(tile_pixels(cfg), fragments);
 }
 
-psc_status_t psc_3d_set_abuffer(psc_3d_t *r, void *mem, size_t bytes)
+psc_status_t psc_3d_worker_set_abuffer(psc_3d_worker_t *w, const psc_3d_config_t *cfg, void *mem, size_t bytes)
 {
-    if (!r || ((uintptr_t)mem & 7u) != 0)
+    if (!w || !config_ok(cfg) || ((uintptr_t)mem & 7u) != 0)
         return PSC_ERR_ARG;
-    r->aa = false;
+    w->aa = false;
     if (!mem)
         return PSC_OK;
-    uint32_t px = tile_pixels(&r->cfg), n = psc_abuffer_fragments_for(px, bytes);
+    uint32_t px = tile_pixels(cfg), n = psc_abuffer_fragments_for(px, bytes);
     if (n == 0)
         return PSC_ERR_NOMEM;
-    psc_abuffer_init(&r->abuf, mem, px, n);
-    r->aa = true;
+    psc_abuffer_init(&w->abuf, mem, px, n);
+    w->aa = true;
     return PSC_OK;
+}
+
+psc_status_t psc_3d_set_abuffer(psc_3d_t *r, void *mem, size_t bytes)
+{
+    return r ? psc_3d_worker_set_abuffer(&r->own, &r->cfg, mem, bytes) : PSC_ERR_ARG;
 }
 
 void psc_3d_draw_defaults(psc_3d_draw_t *d, const psc_mesh_t *mesh)
@@ -239,10 +291,11 @@ static int32_t light_of(const psc_3d_draw_t *d, const psc_mesh_t *m, uint32_t i)
     return amb + (int32_t)psc_shr_round64((int64_t)(256 - amb) * dot, 16);
 }
 
-static void transform_draw(const psc_3d_t *r, const psc_3d_draw_t *d, vcache_t *out)
+/* Vertices [i0, i1) of draw d into out (its cache entries). */
+static void transform_draw(const psc_3d_t *r, const psc_3d_draw_t *d, vcache_t *out, uint32_t i0, uint32_t i1)
 {
     const psc_mesh_t *m = d->mesh;
-    for (uint32_t i = 0; i < m->vertex_count; i++) {
+    for (uint32_t i = i0; i < i1; i++) {
         vcache_t *c = &out[i];
         psc_vec3_q16_t p, cam;
         if (m->position_q15)
@@ -431,6 +484,14 @@ void psc_3d_tile_state(const psc_3d_draw_t *d, psc_raster_state_t *st)
 _Static_assert(sizeof(bin_t) <= PSC_3D_BIN_BYTES, "bin entry larger than documented");
 _Static_assert(sizeof(psc_3d_clipped_t) <= PSC_3D_AREA_CLIPPED_BYTES, "clipped polygon larger than documented");
 
+/* An entry of the frame's triangle list: the bin a row copies, and the rows of the box (raster units). */
+typedef struct {
+    bin_t bin;
+    int32_t ymin_q4, ymax_q4;
+} listed_t;
+
+_Static_assert(sizeof(listed_t) <= PSC_3D_LIST_BYTES, "list entry larger than documented");
+
 /* Area subdivision: the frame's first PSC_3D_AREA_CLIPPED_MAX triangles that cross the clip volume, clipped and
  * projected once (bin_row meets them in the same order). */
 static void keep_clipped(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, const vcache_t *cache)
@@ -448,6 +509,8 @@ static void keep_clipped(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, co
             if (((oa | ob | oc) & CACHE_BAD) || (oa & ob & oc) != 0 || (oa | ob | oc) == 0)
                 continue;
             psc_3d_clipped_t *p = &kept[r->clipped_n++];
+            p->draw = i;
+            p->tri = k;
             int64_t area;
             p->n = psc_3d_clip_project(r, a, b, c, oa | ob | oc, p->rv, &area);
             if (area == 0 || (draws[i].cull_back && area < 0))
@@ -602,14 +665,14 @@ static void fill_cells(void *p, size_t n, unsigned size, uint32_t v)
     }
 }
 
-static void clear_tile(const psc_3d_t *r, const psc_surface_t *out, const uint32_t *clear, uint16_t x0, uint16_t y0,
-                       uint16_t x1, uint16_t y1)
+static void clear_tile(const psc_3d_t *r, void *depth, const psc_surface_t *out, const uint32_t *clear, uint16_t x0,
+                       uint16_t y0, uint16_t x1, uint16_t y1)
 {
     size_t zn = (size_t)(x1 - x0) * (y1 - y0);
     if (r->cfg.depth_bits == 16)
-        fill_cells(r->depth, zn, 2, 0xFFFFu);
+        fill_cells(depth, zn, 2, 0xFFFFu);
     else
-        fill_cells(r->depth, zn, 4, 0xFFFFFFFFu);
+        fill_cells(depth, zn, 4, 0xFFFFFFFFu);
     if (!clear)
         return;
     for (uint32_t y = y0; y < y1; y++) {
@@ -621,25 +684,24 @@ static void clear_tile(const psc_3d_t *r, const psc_surface_t *out, const uint32
     }
 }
 
-static void export_depth(const psc_3d_t *r, uint16_t x0, uint16_t y0, uint16_t x1, uint16_t y1)
+static void export_depth(const psc_3d_t *r, const void *depth, uint16_t x0, uint16_t y0, uint16_t x1, uint16_t y1)
 {
     uint32_t tw = (uint32_t)(x1 - x0);
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = x0; x < x1; x++) {
             size_t i = (size_t)(y - y0) * tw + (x - x0);
             r->depth_out[(size_t)y * r->cfg.width + x] =
-                r->cfg.depth_bits == 16 ? ((const uint16_t *)r->depth)[i]
-                                        : (uint16_t)(((const uint32_t *)r->depth)[i] >> 16);
+                r->cfg.depth_bits == 16 ? ((const uint16_t *)depth)[i] : (uint16_t)(((const uint32_t *)depth)[i] >> 16);
         }
 }
 
-psc_status_t psc_3d_render(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, const uint32_t *clear_xrgb,
-                           const psc_surface_t *out, psc_3d_stats_t *stats)
+psc_status_t psc_3d_frame_begin(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, const uint32_t *clear_xrgb,
+                                const psc_surface_t *out, psc_3d_stats_t *stats)
 {
-    psc_3d_stats_t local;
-    if (!stats)
-        stats = &local;
-    *stats = (psc_3d_stats_t){0};
+    if (stats)
+        *stats = (psc_3d_stats_t){0};
+    if (r)
+        r->out = NULL;
     if (!r || (!draws && n > 0) || !out || !out->pixels || out->width != r->cfg.width ||
         out->height != r->cfg.height || (out->format != PSC_PIX_RGB565 && out->format != PSC_PIX_XRGB8888) ||
         out->stride < (uint32_t)out->width * psc_pixfmt_bytes(out->format))
@@ -653,63 +715,226 @@ psc_status_t psc_3d_render(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, 
     if (total > r->cfg.max_vertices)
         return PSC_ERR_NOMEM;
 
-    vcache_t *cache = r->cache;
-    size_t base = 0;
+    r->vertex_count = r->triangle_count = 0;
+    r->listed = false;
     for (unsigned i = 0; i < n; i++) {
-        transform_draw(r, &draws[i], cache + base);
-        base += draws[i].mesh->vertex_count;
-        stats->triangles += draws[i].mesh->triangle_count;
+        r->vertex_count += draws[i].mesh->vertex_count;
+        r->triangle_count += draws[i].mesh->triangle_count;
     }
+    if (stats)
+        stats->triangles = r->triangle_count;
+    r->draws = draws;
+    r->draw_count = n;
+    r->clear = clear_xrgb;
+    r->out = out;
+    return PSC_OK;
+}
 
-    if (r->clipped && !r->aa)
-        keep_clipped(r, draws, n, cache);
-    uint16_t tw = r->cfg.tile_width, th = r->cfg.tile_height;
-    bool first = true;
-    bin_t *bins = r->bins;
-    for (uint32_t ty = 0; ty < r->cfg.height; ty += th) {
-        uint32_t listed = 0;
-        bool row_binned = bins &&
-                          bin_row(r, draws, n, cache, ty, ty + th > r->cfg.height ? r->cfg.height : ty + th, bins,
-                                  bin_capacity(&r->cfg), &listed, stats, first);
-        for (uint32_t tx = 0; tx < r->cfg.width; tx += tw) {
-            uint16_t x0 = (uint16_t)tx, y0 = (uint16_t)ty;
-            uint16_t x1 = (uint16_t)(tx + tw > r->cfg.width ? r->cfg.width : tx + tw);
-            uint16_t y1 = (uint16_t)(ty + th > r->cfg.height ? r->cfg.height : ty + th);
-            clear_tile(r, out, clear_xrgb, x0, y0, x1, y1);
-            if (r->aa)
-                psc_abuffer_clear(&r->abuf, (uint32_t)(x1 - x0) * (y1 - y0));
-            tile_ctx_t t = {
-                .r = r,
-                .target = {out, r->depth, (uint32_t)(x1 - x0) * (r->cfg.depth_bits / 8u), r->cfg.depth_bits, x0, y0,
-                           x1, y1, r->aa ? &r->abuf : NULL, &stats->depth_tests},
-                .rect_q4 = {(int32_t)x0 * 16, (int32_t)y0 * 16, (int32_t)x1 * 16, (int32_t)y1 * 16},
-                .stats = stats,
-                .count_once = first, /* (a binned row counted its culled triangles; the clipped are counted as drawn) */
-            };
-            if (row_binned && r->areas && !r->aa && psc_3d_area_tile(&t, draws, cache, bins, listed)) {
-                /* drawn by areas */
-            } else if (row_binned) {
-                draw_binned(&t, draws, cache, bins, listed, x0, x1);
-            } else {
-                base = 0;
-                for (unsigned i = 0; i < n; i++) {
-                    psc_3d_tile_state(&draws[i], &t.state);
-                    r->abuf.surface = (uint16_t)(i + 1u); /* fragments of one draw merge */
-                    draw_mesh(&t, &draws[i], cache + base);
-                    base += draws[i].mesh->vertex_count;
-                }
+void psc_3d_frame_vertices(const psc_3d_t *r, unsigned part, unsigned parts)
+{
+    if (!r || !r->out || parts == 0 || part >= parts)
+        return;
+    /* the frame's vertices, every draw's in turn, cut into equal parts */
+    uint32_t v0 = (uint32_t)((uint64_t)r->vertex_count * part / parts);
+    uint32_t v1 = (uint32_t)((uint64_t)r->vertex_count * (part + 1u) / parts);
+    vcache_t *cache = r->cache;
+    uint32_t base = 0;
+    for (unsigned i = 0; i < r->draw_count && base < v1; i++) {
+        uint32_t nv = r->draws[i].mesh->vertex_count;
+        uint32_t a = v0 > base ? v0 - base : 0, b = v1 - base < nv ? v1 - base : nv;
+        if (a < b)
+            transform_draw(r, &r->draws[i], cache + base, a, b);
+        base += nv;
+    }
+}
+
+void psc_3d_frame_ready(psc_3d_t *r, unsigned parts)
+{
+    if (!r || !r->out)
+        return;
+    r->clipped_n = 0;
+    if (r->clipped && !r->own.aa)
+        keep_clipped(r, r->draws, r->draw_count, r->cache);
+    r->parts = parts < 1 ? 1 : parts > PSC_3D_FRAME_PARTS_MAX ? PSC_3D_FRAME_PARTS_MAX : parts;
+    r->listed = r->list && r->triangle_count <= r->list_capacity;
+    for (unsigned k = 0; r->listed && k < r->parts; k++)
+        r->list_count[k] = 0;
+}
+
+/* The kept clipped polygon of triangle k of draw i (its index + 1), or 0. */
+static uint32_t kept_clip(const psc_3d_t *r, unsigned i, uint32_t k)
+{
+    const psc_3d_clipped_t *kept = r->clipped;
+    for (uint32_t j = 0; j < r->clipped_n; j++)
+        if (kept[j].draw == i && kept[j].tri == k)
+            return j + 1u;
+    return 0;
+}
+
+void psc_3d_frame_triangles(const psc_3d_t *r, unsigned part, psc_3d_stats_t *stats)
+{
+    if (!r || !r->out || !r->listed || part >= r->parts || !stats)
+        return;
+    /* the part's triangles, every draw's in turn, written from the part's first triangle's place on: parts never
+     * overlap, and the rows read them part by part, in submission order */
+    uint32_t t0 = (uint32_t)((uint64_t)r->triangle_count * part / r->parts);
+    uint32_t t1 = (uint32_t)((uint64_t)r->triangle_count * (part + 1u) / r->parts);
+    listed_t *out = (listed_t *)r->list + t0;
+    const vcache_t *cache = r->cache;
+    int32_t wq = (int32_t)r->cfg.width * 16;
+    psc_3d_tile_t counter = {.r = r, .stats = stats, .count_once = true};
+    uint32_t c = 0, first = 0, base = 0;
+    for (unsigned i = 0; i < r->draw_count && first < t1; i++) {
+        const psc_3d_draw_t *d = &r->draws[i];
+        const psc_mesh_t *m = d->mesh;
+        uint32_t k0 = t0 > first ? t0 - first : 0, k1 = t1 - first < m->triangle_count ? t1 - first : m->triangle_count;
+        for (uint32_t k = k0; k < k1; k++) {
+            const vcache_t *a = &cache[base + m->index[3u * k]], *b = &cache[base + m->index[3u * k + 1]],
+                           *cc = &cache[base + m->index[3u * k + 2]];
+            unsigned oa = a->outcode, ob = b->outcode, oc = cc->outcode;
+            if (((oa | ob | oc) & CACHE_BAD) || (oa & ob & oc) != 0) {
+                stats->outside++;
+                continue;
             }
-            if (r->aa) {
-                psc_abuffer_resolve(&r->abuf, out, x0, y0, x1, y1, r->depth, (uint32_t)(x1 - x0) * (r->cfg.depth_bits / 8u),
-                                    r->cfg.depth_bits);
-                if (r->abuf.peak > stats->fragments_peak)
-                    stats->fragments_peak = r->abuf.peak;
-                stats->fragments_overflow += r->abuf.overflow;
+            if ((oa | ob | oc) != 0) { /* counted as the first tile would, drawn wherever rows reach */
+                psc_3d_tile_clipped(&counter, d, a, b, cc, oa | ob | oc, false);
+                out[c++] = (listed_t){{k, i, base, 0, r->cfg.width, kept_clip(r, i, k)}, INT32_MIN, INT32_MAX};
+                continue;
             }
-            if (r->depth_out)
-                export_depth(r, x0, y0, x1, y1);
-            first = false;
+            const psc_raster_vertex_t *va = &a->rv, *vb = &b->rv, *vcc = &cc->rv;
+            int64_t area = area2_of(va, vb, vcc);
+            if (area == 0 || (d->cull_back && area < 0)) {
+                *(area == 0 ? &stats->outside : &stats->culled) += 1;
+                continue;
+            }
+            int32_t ymin = va->y_q4 < vb->y_q4 ? va->y_q4 : vb->y_q4, ymax = va->y_q4 > vb->y_q4 ? va->y_q4 : vb->y_q4;
+            int32_t xmin = va->x_q4 < vb->x_q4 ? va->x_q4 : vb->x_q4, xmax = va->x_q4 > vb->x_q4 ? va->x_q4 : vb->x_q4;
+            ymin = vcc->y_q4 < ymin ? vcc->y_q4 : ymin;
+            ymax = vcc->y_q4 > ymax ? vcc->y_q4 : ymax;
+            xmin = vcc->x_q4 < xmin ? vcc->x_q4 : xmin;
+            xmax = vcc->x_q4 > xmax ? vcc->x_q4 : xmax;
+            if (xmax < 0 || xmin > wq)
+                continue;
+            uint16_t px0 = (uint16_t)(xmin < 0 ? 0 : xmin >> 4);
+            uint16_t px1 = (uint16_t)((xmax + 15) >> 4 > (int32_t)r->cfg.width ? r->cfg.width : (xmax + 15) >> 4);
+            out[c++] = (listed_t){{k, i, base, px0, px1, 0}, ymin, ymax};
+        }
+        first += m->triangle_count;
+        base += m->vertex_count;
+    }
+    r->list_count[part] = c;
+}
+
+/* A row's bins from the frame's list: the entries whose box reaches pixel rows [y0, y1), in order. false when more
+ * than cap do. */
+static bool bin_row_listed(const psc_3d_t *r, uint32_t y0, uint32_t y1, bin_t *bins, uint32_t cap, uint32_t *count)
+{
+    int32_t ylo = (int32_t)y0 * 16, yhi = (int32_t)y1 * 16;
+    uint32_t c = 0;
+    for (unsigned k = 0; k < r->parts; k++) {
+        const listed_t *l = (const listed_t *)r->list + (uint32_t)((uint64_t)r->triangle_count * k / r->parts);
+        for (uint32_t e = 0, n = r->list_count[k]; e < n; e++) {
+            if (l[e].ymax_q4 < ylo || l[e].ymin_q4 > yhi)
+                continue; /* as outside_tile: the box misses the rows' pixel edges */
+            if (c == cap)
+                return false;
+            bins[c++] = l[e].bin;
         }
     }
+    *count = c;
+    return true;
+}
+
+uint32_t psc_3d_frame_rows(const psc_3d_t *r)
+{
+    return r && r->out ? (r->cfg.height + r->cfg.tile_height - 1u) / r->cfg.tile_height : 0;
+}
+
+void psc_3d_frame_row(const psc_3d_t *r, psc_3d_worker_t *w, uint32_t row, psc_3d_stats_t *stats)
+{
+    if (!r || !w || !stats || row >= psc_3d_frame_rows(r))
+        return;
+    const psc_3d_draw_t *draws = r->draws;
+    const psc_surface_t *out = r->out;
+    unsigned n = r->draw_count;
+    const vcache_t *cache = r->cache;
+    uint16_t tw = r->cfg.tile_width, th = r->cfg.tile_height;
+    uint32_t ty = row * th, listed = 0;
+    bin_t *bins = w->bins;
+    uint32_t ty1 = ty + th > r->cfg.height ? r->cfg.height : ty + th;
+    bool row_binned = bins && (r->listed ? bin_row_listed(r, ty, ty1, bins, bin_capacity(&r->cfg), &listed)
+                                         : bin_row(r, draws, n, cache, ty, ty1, bins, bin_capacity(&r->cfg), &listed,
+                                                   stats, row == 0));
+    for (uint32_t tx = 0; tx < r->cfg.width; tx += tw) {
+        uint16_t x0 = (uint16_t)tx, y0 = (uint16_t)ty;
+        uint16_t x1 = (uint16_t)(tx + tw > r->cfg.width ? r->cfg.width : tx + tw);
+        uint16_t y1 = (uint16_t)(ty + th > r->cfg.height ? r->cfg.height : ty + th);
+        clear_tile(r, w->depth, out, r->clear, x0, y0, x1, y1);
+        if (w->aa)
+            psc_abuffer_clear(&w->abuf, (uint32_t)(x1 - x0) * (y1 - y0));
+        tile_ctx_t t = {
+            .r = r,
+            .w = w,
+            .target = {out, w->depth, (uint32_t)(x1 - x0) * (r->cfg.depth_bits / 8u), r->cfg.depth_bits, x0, y0, x1,
+                       y1, w->aa ? &w->abuf : NULL, &stats->depth_tests},
+            .rect_q4 = {(int32_t)x0 * 16, (int32_t)y0 * 16, (int32_t)x1 * 16, (int32_t)y1 * 16},
+            .stats = stats,
+            /* the frame's first tile counts each triangle once (a binned row counted its culled ones; the clipped
+             * are counted as drawn), unless the list did */
+            .count_once = row == 0 && tx == 0 && !r->listed,
+        };
+        if (row_binned && w->areas && !w->aa && psc_3d_area_tile(&t, draws, cache, bins, listed)) {
+            /* drawn by areas */
+        } else if (row_binned) {
+            draw_binned(&t, draws, cache, bins, listed, x0, x1);
+        } else {
+            size_t base = 0;
+            for (unsigned i = 0; i < n; i++) {
+                psc_3d_tile_state(&draws[i], &t.state);
+                w->abuf.surface = (uint16_t)(i + 1u); /* fragments of one draw merge */
+                draw_mesh(&t, &draws[i], cache + base);
+                base += draws[i].mesh->vertex_count;
+            }
+        }
+        if (w->aa) {
+            psc_abuffer_resolve(&w->abuf, out, x0, y0, x1, y1, w->depth, (uint32_t)(x1 - x0) * (r->cfg.depth_bits / 8u),
+                                r->cfg.depth_bits);
+            if (w->abuf.peak > stats->fragments_peak)
+                stats->fragments_peak = w->abuf.peak;
+            stats->fragments_overflow += w->abuf.overflow;
+        }
+        if (r->depth_out)
+            export_depth(r, w->depth, x0, y0, x1, y1);
+    }
+}
+
+void psc_3d_stats_merge(psc_3d_stats_t *into, const psc_3d_stats_t *from)
+{
+    into->triangles += from->triangles;
+    into->culled += from->culled;
+    into->outside += from->outside;
+    into->clipped += from->clipped;
+    into->pixels += from->pixels;
+    into->depth_tests += from->depth_tests;
+    into->areas_whole += from->areas_whole;
+    into->areas_leaf += from->areas_leaf;
+    into->fragments_peak = from->fragments_peak > into->fragments_peak ? from->fragments_peak : into->fragments_peak;
+    into->fragments_overflow += from->fragments_overflow;
+}
+
+psc_status_t psc_3d_render(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, const uint32_t *clear_xrgb,
+                           const psc_surface_t *out, psc_3d_stats_t *stats)
+{
+    psc_3d_stats_t local;
+    if (!stats)
+        stats = &local;
+    psc_status_t s = psc_3d_frame_begin(r, draws, n, clear_xrgb, out, stats);
+    if (s != PSC_OK)
+        return s;
+    psc_3d_frame_vertices(r, 0, 1);
+    psc_3d_frame_ready(r, 1);
+    psc_3d_frame_triangles(r, 0, stats);
+    for (uint32_t row = 0, rows = psc_3d_frame_rows(r); row < rows; row++)
+        psc_3d_frame_row(r, &r->own, row, stats);
     return PSC_OK;
 }

@@ -158,24 +158,50 @@ typedef struct {
 /* Area subdivision: triangles crossing the clip volume kept a frame as projected polygons (the rest are drawn
  * through the depth buffer wherever they reach), and the bytes of one. */
 #define PSC_3D_AREA_CLIPPED_MAX 64u
-#define PSC_3D_AREA_CLIPPED_BYTES 512u
+#define PSC_3D_AREA_CLIPPED_BYTES 528u
+/* Tile mode, area subdivision: the frame's triangle list (each triangle's screen box, culled once for every row),
+ * up to 4 x max_vertices + 256 entries of this many bytes (a frame with more bins row by row). */
+#define PSC_3D_LIST_BYTES 28u
+/* The most parts a frame's vertices and triangles are cut into (threads). */
+#define PSC_3D_FRAME_PARTS_MAX 16u
+
+/**
+ * What one thread needs to draw rows of tiles of a frame: a tile's depth
+ * buffer, a row's triangle list, area subdivision's entries and lists, and
+ * optionally an A-buffer. A renderer has its own (psc_3d_init); more let
+ * other threads draw other rows of the same frame (psc_3d_frame_row).
+ */
+typedef struct {
+    void *depth;             /* a tile's depth buffer (the screen's without tiles) */
+    void *bins;              /* tile mode, area subdivision: a row of tiles' triangle list; else NULL */
+    uint32_t *areas;         /* area subdivision: the areas' triangle lists; else NULL */
+    void *area_entries;      /* area subdivision: a tile's triangles as classification needs them */
+    uint32_t area_capacity;  /* area subdivision: how many */
+    bool aa;                 /* an A-buffer given */
+    psc_abuffer_t abuf;      /* over one tile (the screen without tiles) */
+} psc_3d_worker_t;
 
 typedef struct {
     psc_3d_config_t cfg;
     psc_clip_volume_t vol;
     int64_t depth_k_q30;     /* far / (far - near), Q2.30 */
-    void *depth;             /* tile or screen depth buffer */
     size_t depth_bytes;
     void *cache;             /* max_vertices entries */
-    void *bins;              /* tile mode, area subdivision: a row of tiles' triangle list; else NULL */
-    uint32_t *areas;         /* area subdivision: the areas' triangle lists; else NULL */
-    void *area_entries;      /* area subdivision: a tile's triangles as classification needs them */
-    uint32_t area_capacity;  /* area subdivision: how many */
     void *clipped;           /* area subdivision: PSC_3D_AREA_CLIPPED_MAX clipped polygons; else NULL */
     uint32_t clipped_n;      /* kept this frame */
     uint16_t *depth_out;     /* optional: width x height receives the final depth (top 16 bits) */
-    bool aa;                 /* psc_3d_set_abuffer given */
-    psc_abuffer_t abuf;      /* over one tile (the screen without tiles) */
+    psc_3d_worker_t own;     /* the renderer's own thread's memory */
+    void *list;              /* tile mode, area subdivision: the frame's triangle list; else NULL */
+    uint32_t list_capacity;
+    uint32_t *list_count;    /* entries each part listed */
+    /* the frame begun (psc_3d_frame_begin) */
+    const psc_3d_draw_t *draws;
+    unsigned draw_count;
+    uint32_t vertex_count, triangle_count;
+    bool listed;             /* the rows take their triangles from the list (psc_3d_frame_ready) */
+    unsigned parts;          /* the list's parts */
+    const uint32_t *clear;
+    const psc_surface_t *out;
 } psc_3d_t;
 
 /** Workspace bytes for a configuration (0 if it is invalid). */
@@ -200,6 +226,55 @@ psc_status_t psc_3d_init(psc_3d_t *r, const psc_3d_config_t *cfg, void *ws, size
  * mem NULL turns anti-aliasing off.
  */
 psc_status_t psc_3d_set_abuffer(psc_3d_t *r, void *mem, size_t bytes);
+
+/*
+ * A frame on several threads. psc_3d_render is psc_3d_frame_begin (checks),
+ * psc_3d_frame_vertices (every vertex transformed: threads may take a part
+ * each), psc_3d_frame_ready (once, after all parts), psc_3d_frame_triangles
+ * (the triangle list rows of tiles take their triangles from, culled once:
+ * a part each again), then psc_3d_frame_row for each row of tiles with the
+ * renderer's own worker. Rows are independent: other threads may
+ * draw other rows at once, each with a worker of its own (its memory
+ * psc_3d_worker_bytes, the same A-buffer budget as the renderer's) and
+ * statistics of its own, merged after (psc_3d_stats_merge). A pixel's bytes
+ * depend only on its tile, so the frame is the same whichever thread draws
+ * which row. Without tiles the screen is one row: give tiles (full-width
+ * bands, say) to share a frame.
+ */
+
+/** Bytes of a worker's memory for a configuration (0 if it is invalid). */
+size_t psc_3d_worker_bytes(const psc_3d_config_t *cfg);
+
+/** A worker in `bytes` at mem (aligned to 8): PSC_ERR_ARG, PSC_ERR_NOMEM when short. */
+psc_status_t psc_3d_worker_init(psc_3d_worker_t *w, const psc_3d_config_t *cfg, void *mem, size_t bytes);
+
+/** A worker's A-buffer (psc_3d_set_abuffer; every worker of a frame must have one, or none). */
+psc_status_t psc_3d_worker_set_abuffer(psc_3d_worker_t *w, const psc_3d_config_t *cfg, void *mem, size_t bytes);
+
+/** Begin a frame (psc_3d_render's arguments and errors); stats (may be NULL) receives the triangles submitted. */
+psc_status_t psc_3d_frame_begin(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, const uint32_t *clear_xrgb,
+                                const psc_surface_t *out, psc_3d_stats_t *stats);
+
+/** Transform part `part` of `parts` equal parts of the frame's vertices (each writes its own cache entries). */
+void psc_3d_frame_vertices(const psc_3d_t *r, unsigned part, unsigned parts);
+
+/** After every part's vertices: what the rows share (area subdivision's clipped polygons); the triangles will be
+ * listed in `parts` parts (1..PSC_3D_FRAME_PARTS_MAX). */
+void psc_3d_frame_ready(psc_3d_t *r, unsigned parts);
+
+/** List part `part` of the frame's triangles (after psc_3d_frame_ready), counting culled, clipped and outside ones
+ * into stats. */
+void psc_3d_frame_triangles(const psc_3d_t *r, unsigned part, psc_3d_stats_t *stats);
+
+/** Rows of tiles of the frame begun (0 when none is). */
+uint32_t psc_3d_frame_rows(const psc_3d_t *r);
+
+/** Draw row `row` of the frame begun with worker w, adding to stats (without the list, row 0 counts culled,
+ * clipped and outside). */
+void psc_3d_frame_row(const psc_3d_t *r, psc_3d_worker_t *w, uint32_t row, psc_3d_stats_t *stats);
+
+/** Add a worker's statistics to a frame's (the peak the greater). */
+void psc_3d_stats_merge(psc_3d_stats_t *into, const psc_3d_stats_t *from);
 
 /** Bytes for the A-buffer of a configuration with `fragments` fragments a tile (0 if the configuration is invalid). */
 size_t psc_3d_abuffer_bytes(const psc_3d_config_t *cfg, uint32_t fragments);

@@ -35,11 +35,13 @@ typedef struct {
 typedef struct {
     uint32_t n;
     int32_t sign;                                           /* of the polygon's doubled area */
+    uint32_t draw, tri;                                     /* which triangle */
     psc_raster_vertex_t rv[PSC_3D_CLIP_MAX_VERTICES];
 } psc_3d_clipped_t;
 
 typedef struct {
     const psc_3d_t *r;
+    psc_3d_worker_t *w;       /* the thread's memory: depth, lists */
     psc_raster_target_t target;
     psc_raster_state_t state;
     int32_t rect_q4[4];       /* tile in raster units: x0, y0, x1, y1 (pixel edges) */

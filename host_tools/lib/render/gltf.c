@@ -301,7 +301,7 @@ int psc_render_gltf_main(const char *prog, int argc, char **argv)
         if (d.shade != PSC_SHADE_PHONG)
             light(&p);
         uint32_t bg = BACKGROUND;
-        psc_status_t s = psc_3d_render(&rt.r, &d, 1, &bg, &rt.out, &st);
+        psc_status_t s = psc_render_target_frame(&rt, &d, 1, bg, &st);
         if (s != PSC_OK) {
             fprintf(stderr, "%s: %s: drawing failed: %s\n", prog, a.model, psc_status_str(s));
             goto done;

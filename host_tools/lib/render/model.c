@@ -239,7 +239,7 @@ int psc_render_model_main(const char *prog, int argc, char **argv)
     double best = 1e30, total = 0;
     for (unsigned long k = 0; k < vw->repeat; k++) {
         double t0 = psc_render_seconds();
-        s = psc_3d_render(&rt.r, &d, 1, &bg, &rt.out, &st);
+        s = psc_render_target_frame(&rt, &d, 1, bg, &st);
         double dt = psc_render_seconds() - t0;
         total += dt;
         best = dt < best ? dt : best;

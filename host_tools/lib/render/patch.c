@@ -390,7 +390,7 @@ int psc_render_patch_main(const char *prog, int argc, char **argv)
             goto done;
         }
         uint32_t bg = BACKGROUND;
-        if ((s = psc_3d_render(&rt.r, d, n, &bg, &rt.out, &drawn)) != PSC_OK) {
+        if ((s = psc_render_target_frame(&rt, d, n, bg, &drawn)) != PSC_OK) {
             fprintf(stderr, "%s: %s: drawing failed: %s\n", prog, a.model, psc_status_str(s));
             goto done;
         }

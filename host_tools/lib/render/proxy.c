@@ -262,7 +262,7 @@ static psc_status_t draw(psc_proxy_t *px, psc_render_target_t *rt, const psc_mat
     if (lod == PSC_PROXY_LOD_FULL && !ids && psc_render_view_shade(vw, px->draws, n, "", why, sizeof why) != 0)
         return PSC_ERR_ARG;
     uint32_t bg = ids ? 0u : BACKGROUND;
-    return psc_3d_render(&rt->r, cd, n, &bg, &rt->out, st);
+    return psc_render_target_frame(rt, cd, n, bg, st);
 }
 
 int psc_render_proxy_main(const char *prog, int argc, char **argv)

@@ -6,6 +6,7 @@
 #include "psc_io_angle.h"
 #include "3d/psc_3d_orbit.h"
 #include "3d/psc_3d_render.h"
+#include "psc_io_bands.h"
 #include "psc_io_error.h"
 
 #include <math.h>
@@ -14,7 +15,7 @@
 psc_render_view_t psc_render_view_defaults(double yaw, double pitch, double dist, double hfov)
 {
     return (psc_render_view_t){yaw, pitch, dist, hfov, 640, 480, true, PSC_PIX_RGB565, 1, -1, 90, 24, 0,
-                               {false, PSC_DITHER_MONO, PSC_DITHER_ORDERED}, PSC_3D_HSR_ZBUFFER};
+                               {false, PSC_DITHER_MONO, PSC_DITHER_ORDERED}, PSC_3D_HSR_ZBUFFER, 0};
 }
 
 int psc_render_view_option(const char *prog, const char *name, const char *v, psc_render_view_t *o)
@@ -72,6 +73,12 @@ int psc_render_view_option(const char *prog, const char *name, const char *v, ps
         if (strcmp(v, "zbuffer") != 0 && strcmp(v, "area") != 0)
             return psc_io_cli_usage_error(prog, "--hsr '%s': expected zbuffer or area", v);
         o->hsr = strcmp(v, "area") == 0 ? PSC_3D_HSR_AREA : PSC_3D_HSR_ZBUFFER;
+    } else if (strcmp(name, "--threads") == 0) {
+        unsigned long n;
+        if (psc_cli_parse_uint(v, 0, PSC_IO_BANDS_MAX_THREADS, &n) != 0)
+            return psc_io_cli_usage_error(prog, "--threads '%s': expected 0 (the processors online) .. %u", v,
+                                          PSC_IO_BANDS_MAX_THREADS);
+        o->threads = (unsigned)n;
     } else if (strcmp(name, "--repeat") == 0) {
         if (psc_cli_parse_uint(v, 1, PSC_RENDER_MAX_REPEAT, &o->repeat) != 0)
             return psc_io_cli_usage_error(prog, "--repeat '%s': expected a count of 1..%lu", v, PSC_RENDER_MAX_REPEAT);

@@ -3,7 +3,7 @@
  * view.h - the view options periscope-render's 3D modes (models,
  * patch characters, glTF models, proxy packs) share: --orbit, --hfov,
  * --size, --cull, --format and --repeat, and how the frame looks: --shade,
- * --specular, --shininess, --aa, --dither and --hsr; each read and checked in one
+ * --specular, --shininess, --aa, --dither, --hsr and --threads; each read and checked in one
  * place with one message.
  */
 #ifndef PSC_RENDER_VIEW_H
@@ -26,7 +26,8 @@
 #define PSC_RENDER_VIEW_LOOK_OPTIONS                                                              \
     {"shade", required_argument, NULL, 1}, {"specular", required_argument, NULL, 1},              \
         {"shininess", required_argument, NULL, 1}, {"aa", required_argument, NULL, 1},            \
-        {"dither", required_argument, NULL, 1}, {"hsr", required_argument, NULL, 1}
+        {"dither", required_argument, NULL, 1}, {"hsr", required_argument, NULL, 1},              \
+        {"threads", required_argument, NULL, 1}
 
 /* Their lines of --help. */
 #define PSC_RENDER_VIEW_LOOK_HELP                                                                      \
@@ -39,7 +40,9 @@
     "                      grey4 (4-bit grey) or pal8 (6x7x6 colours); M ordered (default),\n"       \
     "                      halftone or none\n"                                                        \
     "  --hsr zbuffer|area  hidden surfaces by the depth buffer (default) or by area subdivision:\n"  \
-    "                      the same picture, fewer depth tests where large polygons hide others\n"
+    "                      the same picture, fewer depth tests where large polygons hide others\n"  \
+    "  --threads N         draw on N threads, rows of tiles or bands each (default: the\n"           \
+    "                      processors online); the same bytes for any N\n"
 
 typedef struct {
     double yaw, pitch, dist;     /* --orbit Y,P,D (degrees, degrees, units of R) */
@@ -54,6 +57,7 @@ typedef struct {
     size_t abuffer_bytes;        /* 0: no anti-aliasing */
     psc_io_levels_t levels;      /* --dither */
     uint8_t hsr;                 /* --hsr: a psc_3d_hsr_t */
+    unsigned threads;            /* --threads: 0 = the processors online */
 } psc_render_view_t;
 
 /** The defaults: the orbit given, a 640x480 RGB565 view, back faces culled, drawn once. */

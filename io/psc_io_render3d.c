@@ -1,0 +1,125 @@
+/* SPDX-License-Identifier: MIT */
+/* psc_io_render3d.c - the 3D pipeline's rows on the worker pool (psc_io_render3d.h). */
+#include "psc_io_render3d.h"
+#include "psc_io_error.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+_Static_assert(PSC_IO_BANDS_MAX_THREADS <= PSC_3D_FRAME_PARTS_MAX, "a pool's threads each list a part");
+
+struct psc_io_render3d {
+    psc_io_bands_t *pool;
+    unsigned threads;
+    psc_3d_worker_t worker[PSC_IO_BANDS_MAX_THREADS];   /* [0] unused: the renderer's own */
+    void *mem[PSC_IO_BANDS_MAX_THREADS], *abuf[PSC_IO_BANDS_MAX_THREADS];
+    /* this frame */
+    psc_3d_t *r;
+    psc_3d_stats_t stats[PSC_IO_BANDS_MAX_THREADS];
+};
+
+void psc_io_render3d_config(psc_3d_config_t *cfg, unsigned threads, bool aa)
+{
+    if (threads <= 1 || aa || (cfg->tile_width != 0 && (cfg->tile_width < cfg->width || cfg->tile_height < cfg->height)))
+        return;
+    uint32_t bands = threads * PSC_IO_RENDER3D_BANDS_PER_THREAD, h = (cfg->height + bands - 1u) / bands;
+    h = (h + 7u) & ~7u;
+    cfg->tile_width = cfg->width;
+    cfg->tile_height = (uint16_t)(h < cfg->height ? h : cfg->height);
+}
+
+psc_io_render3d_t *psc_io_render3d_start(psc_io_bands_t *pool, const psc_3d_config_t *cfg, size_t abuf_bytes,
+                                         char *err, size_t errlen)
+{
+    size_t bytes = psc_3d_worker_bytes(cfg);
+    if (bytes == 0) {
+        psc_io_errorf(err, errlen, "3D threads", "the renderer's configuration is invalid");
+        return NULL;
+    }
+    psc_io_render3d_t *t = calloc(1, sizeof *t);
+    if (!t) {
+        psc_io_errorf(err, errlen, "3D threads", "out of memory");
+        return NULL;
+    }
+    uint16_t th = cfg->tile_height && cfg->tile_height < cfg->height ? cfg->tile_height : cfg->height;
+    unsigned rows = (cfg->height + th - 1u) / th, threads = pool ? psc_io_bands_threads(pool) : 1u;
+    t->pool = pool;
+    t->threads = rows < threads ? rows : threads;
+    for (unsigned k = 1; k < t->threads; k++) {
+        if (posix_memalign(&t->mem[k], 64, bytes) != 0 || (abuf_bytes && posix_memalign(&t->abuf[k], 64, abuf_bytes) != 0) ||
+            psc_3d_worker_init(&t->worker[k], cfg, t->mem[k], bytes) != PSC_OK ||
+            (abuf_bytes && psc_3d_worker_set_abuffer(&t->worker[k], cfg, t->abuf[k], abuf_bytes) != PSC_OK)) {
+            psc_io_render3d_stop(t);
+            psc_io_errorf(err, errlen, "3D threads", "out of memory for thread %u's %zu KB", k + 1u,
+                          (bytes + abuf_bytes + 1023u) / 1024u);
+            return NULL;
+        }
+    }
+    return t;
+}
+
+unsigned psc_io_render3d_threads(const psc_io_render3d_t *t)
+{
+    return t ? t->threads : 1u;
+}
+
+/* Thread k's part of the vertices (every thread of the pool takes one). */
+static void vertices_job(void *ctx, unsigned k, unsigned pool_threads)
+{
+    psc_io_render3d_t *t = ctx;
+    psc_3d_frame_vertices(t->r, k, pool_threads);
+}
+
+/* Thread k's part of the triangle list. */
+static void triangles_job(void *ctx, unsigned k, unsigned pool_threads)
+{
+    psc_io_render3d_t *t = ctx;
+    (void)pool_threads;
+    t->stats[k] = (psc_3d_stats_t){0};
+    psc_3d_frame_triangles(t->r, k, &t->stats[k]);
+}
+
+/* Thread k's rows: k, k + threads, ... (threads beyond the renderer's share draw nothing). */
+static void rows_job(void *ctx, unsigned k, unsigned pool_threads)
+{
+    psc_io_render3d_t *t = ctx;
+    (void)pool_threads;
+    if (k >= t->threads)
+        return;
+    psc_3d_worker_t *w = k == 0 ? &t->r->own : &t->worker[k];
+    for (uint32_t row = k, rows = psc_3d_frame_rows(t->r); row < rows; row += t->threads)
+        psc_3d_frame_row(t->r, w, row, &t->stats[k]);
+}
+
+psc_status_t psc_io_render3d_frame(psc_io_render3d_t *t, psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n,
+                                   const uint32_t *clear_xrgb, const psc_surface_t *out, psc_3d_stats_t *stats)
+{
+    if (!t || t->threads <= 1 || !t->pool)
+        return psc_3d_render(r, draws, n, clear_xrgb, out, stats);
+    psc_3d_stats_t local;
+    if (!stats)
+        stats = &local;
+    psc_status_t s = psc_3d_frame_begin(r, draws, n, clear_xrgb, out, stats);
+    if (s != PSC_OK)
+        return s;
+    t->r = r;
+    unsigned parts = psc_io_bands_threads(t->pool);
+    psc_io_bands_run(t->pool, vertices_job, t);
+    psc_3d_frame_ready(r, parts);
+    psc_io_bands_run(t->pool, triangles_job, t);
+    psc_io_bands_run(t->pool, rows_job, t);
+    for (unsigned k = 0; k < parts; k++)
+        psc_3d_stats_merge(stats, &t->stats[k]);
+    return PSC_OK;
+}
+
+void psc_io_render3d_stop(psc_io_render3d_t *t)
+{
+    if (!t)
+        return;
+    for (unsigned k = 0; k < PSC_IO_BANDS_MAX_THREADS; k++) {
+        free(t->mem[k]);
+        free(t->abuf[k]);
+    }
+    free(t);
+}
