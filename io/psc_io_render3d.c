@@ -11,8 +11,8 @@ _Static_assert(PSC_IO_BANDS_MAX_THREADS <= PSC_3D_FRAME_PARTS_MAX, "a pool's thr
 struct psc_io_render3d {
     psc_io_bands_t *pool;
     unsigned threads;
+    bool owned;                                          /* psc_io_render3d_start allocated it */
     psc_3d_worker_t worker[PSC_IO_BANDS_MAX_THREADS];   /* [0] unused: the renderer's own */
-    void *mem[PSC_IO_BANDS_MAX_THREADS], *abuf[PSC_IO_BANDS_MAX_THREADS];
     /* this frame */
     psc_3d_t *r;
     psc_3d_stats_t stats[PSC_IO_BANDS_MAX_THREADS];
@@ -28,33 +28,63 @@ void psc_io_render3d_config(psc_3d_config_t *cfg, unsigned threads, bool aa)
     cfg->tile_height = (uint16_t)(h < cfg->height ? h : cfg->height);
 }
 
+static size_t align64(size_t v)
+{
+    return (v + 63u) & ~(size_t)63u;
+}
+
+/* The threads that draw a frame of cfg on the pool: its rows, at most. */
+static unsigned threads_for(const psc_io_bands_t *pool, const psc_3d_config_t *cfg)
+{
+    uint16_t th = cfg->tile_height && cfg->tile_height < cfg->height ? cfg->tile_height : cfg->height;
+    unsigned rows = (cfg->height + th - 1u) / th, threads = pool ? psc_io_bands_threads(pool) : 1u;
+    return rows < threads ? rows : threads;
+}
+
+size_t psc_io_render3d_bytes(const psc_io_bands_t *pool, const psc_3d_config_t *cfg, size_t abuf_bytes)
+{
+    size_t w = psc_3d_worker_bytes(cfg);
+    if (w == 0)
+        return 0;
+    return align64(sizeof(psc_io_render3d_t)) + (threads_for(pool, cfg) - 1u) * (align64(w) + align64(abuf_bytes));
+}
+
+psc_io_render3d_t *psc_io_render3d_init(void *mem, size_t bytes, psc_io_bands_t *pool, const psc_3d_config_t *cfg,
+                                        size_t abuf_bytes)
+{
+    size_t need = psc_io_render3d_bytes(pool, cfg, abuf_bytes), w = psc_3d_worker_bytes(cfg);
+    if (need == 0 || !mem || bytes < need || ((uintptr_t)mem & 7u) != 0)
+        return NULL;
+    psc_io_render3d_t *t = mem;
+    memset(t, 0, sizeof *t);
+    t->pool = pool;
+    t->threads = threads_for(pool, cfg);
+    uint8_t *p = (uint8_t *)mem + align64(sizeof *t);
+    for (unsigned k = 1; k < t->threads; k++) {
+        if (psc_3d_worker_init(&t->worker[k], cfg, p, w) != PSC_OK ||
+            (abuf_bytes && psc_3d_worker_set_abuffer(&t->worker[k], cfg, p + align64(w), abuf_bytes) != PSC_OK))
+            return NULL;
+        p += align64(w) + align64(abuf_bytes);
+    }
+    return t;
+}
+
 psc_io_render3d_t *psc_io_render3d_start(psc_io_bands_t *pool, const psc_3d_config_t *cfg, size_t abuf_bytes,
                                          char *err, size_t errlen)
 {
-    size_t bytes = psc_3d_worker_bytes(cfg);
+    size_t bytes = psc_io_render3d_bytes(pool, cfg, abuf_bytes);
     if (bytes == 0) {
         psc_io_errorf(err, errlen, "3D threads", "the renderer's configuration is invalid");
         return NULL;
     }
-    psc_io_render3d_t *t = calloc(1, sizeof *t);
-    if (!t) {
-        psc_io_errorf(err, errlen, "3D threads", "out of memory");
+    void *mem = NULL;
+    psc_io_render3d_t *t = NULL;
+    if (posix_memalign(&mem, 64, bytes) != 0 || !(t = psc_io_render3d_init(mem, bytes, pool, cfg, abuf_bytes))) {
+        free(mem);
+        psc_io_errorf(err, errlen, "3D threads", "out of memory for %zu KB of workers", (bytes + 1023u) / 1024u);
         return NULL;
     }
-    uint16_t th = cfg->tile_height && cfg->tile_height < cfg->height ? cfg->tile_height : cfg->height;
-    unsigned rows = (cfg->height + th - 1u) / th, threads = pool ? psc_io_bands_threads(pool) : 1u;
-    t->pool = pool;
-    t->threads = rows < threads ? rows : threads;
-    for (unsigned k = 1; k < t->threads; k++) {
-        if (posix_memalign(&t->mem[k], 64, bytes) != 0 || (abuf_bytes && posix_memalign(&t->abuf[k], 64, abuf_bytes) != 0) ||
-            psc_3d_worker_init(&t->worker[k], cfg, t->mem[k], bytes) != PSC_OK ||
-            (abuf_bytes && psc_3d_worker_set_abuffer(&t->worker[k], cfg, t->abuf[k], abuf_bytes) != PSC_OK)) {
-            psc_io_render3d_stop(t);
-            psc_io_errorf(err, errlen, "3D threads", "out of memory for thread %u's %zu KB", k + 1u,
-                          (bytes + abuf_bytes + 1023u) / 1024u);
-            return NULL;
-        }
-    }
+    t->owned = true;
     return t;
 }
 
@@ -115,11 +145,6 @@ psc_status_t psc_io_render3d_frame(psc_io_render3d_t *t, psc_3d_t *r, const psc_
 
 void psc_io_render3d_stop(psc_io_render3d_t *t)
 {
-    if (!t)
-        return;
-    for (unsigned k = 0; k < PSC_IO_BANDS_MAX_THREADS; k++) {
-        free(t->mem[k]);
-        free(t->abuf[k]);
-    }
-    free(t);
+    if (t && t->owned)
+        free(t);
 }

@@ -47,6 +47,14 @@ void psc_io_render3d_config(psc_3d_config_t *cfg, unsigned threads, bool aa);
 psc_io_render3d_t *psc_io_render3d_start(psc_io_bands_t *pool, const psc_3d_config_t *cfg, size_t abuf_bytes,
                                          char *err, size_t errlen);
 
+/** The bytes psc_io_render3d_init takes for cfg on the pool (pool NULL: one thread); 0 if cfg is invalid. */
+size_t psc_io_render3d_bytes(const psc_io_bands_t *pool, const psc_3d_config_t *cfg, size_t abuf_bytes);
+
+/** psc_io_render3d_start in the caller's memory (bytes from psc_io_render3d_bytes, aligned to 8): nothing is
+ * allocated, and stop frees nothing (a scene's workspace). NULL when short or cfg is invalid. */
+psc_io_render3d_t *psc_io_render3d_init(void *mem, size_t bytes, psc_io_bands_t *pool, const psc_3d_config_t *cfg,
+                                        size_t abuf_bytes);
+
 /** The threads that draw a frame. */
 unsigned psc_io_render3d_threads(const psc_io_render3d_t *t);
 

@@ -597,6 +597,17 @@ static void test_object_scene(void **state)
     assert_memory_not_equal(s1.pixels, s2.pixels, 96 * 64 * 2);
     /* A short workspace is refused. */
     assert_int_equal(psc_scene_object_draw(&mesh, &v, ws, n - 8, &s1, NULL), PSC_ERR_NOMEM);
+    /* On two threads (the board's render_threads): the same bytes. */
+    char err[256];
+    psc_io_bands_t *pool = psc_io_bands_start(2, 96, err, sizeof err);
+    assert_non_null(pool);
+    psc_scene3d_look_t look = {.pool = pool};
+    size_t tn = psc_scene_object_workspace_size(&mesh, 96, 64, &look);
+    void *tws = aligned_alloc(64, (tn + 63) / 64 * 64);
+    assert_int_equal(psc_scene_object_draw(&mesh, &v, tws, tn, &s1, &look), PSC_OK);
+    assert_memory_equal(s1.pixels, s2.pixels, 96 * 64 * 2);
+    free(tws);
+    psc_io_bands_stop(pool);
     tsup_surface_free(&s1);
     tsup_surface_free(&s2);
     free(ws);

@@ -1039,6 +1039,16 @@ static void test_scene_draw(void **state)
     assert_int_equal(psc_scene_proxy_draw(&f.m, 0, &v, false, ws, n, &sa, NULL, &look), PSC_OK);
     assert_memory_equal(px, a, sizeof a);
     free(ws);
+    /* on two threads (render_threads): the same bytes */
+    char err[256];
+    psc_scene3d_look_t threaded = {.pool = psc_io_bands_start(2, 160, err, sizeof err)};
+    assert_non_null(threaded.pool);
+    size_t tn = psc_scene_proxy_workspace_size(&f.m, 160, 120, &threaded);
+    assert_int_equal(posix_memalign(&ws, 64, tn), 0);
+    assert_int_equal(psc_scene_proxy_draw(&f.m, 0, &v, true, ws, tn, &sa, NULL, &threaded), PSC_OK);
+    assert_memory_equal(px, a, sizeof a);
+    free(ws);
+    psc_io_bands_stop(threaded.pool);
     fixture_free(&f);
 }
 

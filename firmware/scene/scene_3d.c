@@ -43,24 +43,38 @@ void psc_scene3d_method(psc_3d_config_t *c, const psc_scene3d_look_t *look)
     uint16_t t = look ? look->tile : 0;
     c->tile_width = c->tile_height = t;
     c->hsr = look ? look->hsr : PSC_3D_HSR_ZBUFFER;
+    if (look && look->pool)
+        psc_io_render3d_config(c, psc_io_bands_threads(look->pool), look->abuffer_bytes != 0);
+}
+
+/* The other threads' workers (none without a pool). */
+static size_t threads_bytes(const psc_3d_config_t *c, const psc_scene3d_look_t *look)
+{
+    return look && look->pool ? align8(psc_io_render3d_bytes(look->pool, c, look->abuffer_bytes)) : 0;
 }
 
 size_t psc_scene3d_workspace_size(const psc_3d_config_t *c, const psc_scene3d_look_t *look)
 {
     size_t a = psc_3d_workspace_size(c);
-    return a ? align8(a) + (look ? align8(look->abuffer_bytes) : 0) : 0;
+    return a ? align8(a) + (look ? align8(look->abuffer_bytes) : 0) + threads_bytes(c, look) : 0;
 }
 
 psc_status_t psc_scene3d_init(psc_3d_t *r, const psc_3d_config_t *c, const psc_scene3d_look_t *look, void *ws,
-                              size_t ws_size)
+                              size_t ws_size, psc_io_render3d_t **threads)
 {
     size_t a = align8(psc_3d_workspace_size(c)), need = psc_scene3d_workspace_size(c, look);
+    size_t ab = look ? align8(look->abuffer_bytes) : 0;
     psc_status_t s;
+    *threads = NULL;
     if (need == 0 || ws_size < need)
         return PSC_ERR_NOMEM;
     if ((s = psc_3d_init(r, c, ws, a)) != PSC_OK)
         return s;
-    if (look && look->abuffer_bytes)
-        return psc_3d_set_abuffer(r, (uint8_t *)ws + a, look->abuffer_bytes);
+    if (look && look->abuffer_bytes && (s = psc_3d_set_abuffer(r, (uint8_t *)ws + a, look->abuffer_bytes)) != PSC_OK)
+        return s;
+    if (look && look->pool &&
+        !(*threads = psc_io_render3d_init((uint8_t *)ws + a + ab, threads_bytes(c, look), look->pool, c,
+                                          look->abuffer_bytes)))
+        return PSC_ERR_NOMEM;
     return PSC_OK;
 }

@@ -105,13 +105,14 @@ psc_status_t psc_scene_character_draw(const psc_patch_model_t *m, const psc_shad
         psc_shadow_apply(&st->s, p, PSC_SHADOW_STRENGTH_Q16, NULL);
     }
     psc_3d_t r;
+    psc_io_render3d_t *threads;
     size_t used = head + patch_bytes + shade;
-    if ((s = psc_scene3d_init(&r, &c, look, bytes + used, ws_size - used)) != PSC_OK)
+    if ((s = psc_scene3d_init(&r, &c, look, bytes + used, ws_size - used, &threads)) != PSC_OK)
         return s;
     psc_3d_draw_t d[PSC_PATCH_MAX_BATCHES];
     unsigned n = psc_patch_draws(p, &cam, d);
     uint32_t bg = PSC_OBJECT_BACKGROUND;
-    return psc_3d_render(&r, d, n, &bg, out, NULL);
+    return psc_io_render3d_frame(threads, &r, d, n, &bg, out, NULL);
 }
 
 /* ---- which action plays when ------------------------------------------------------------------------------ */
@@ -181,6 +182,7 @@ static size_t character_workspace_size(const psc_scene_t *s, const psc_scene_env
     const character_scene_t *c = s->state;
 
     psc_scene3d_look_t look = psc_scene3d_look(env->board);
+    look.pool = env->bands;
     return psc_scene_character_workspace_size(&c->file.model, c->shaded ? &c->shadow.model : NULL, env->width,
                                               env->height, &look);
 }
@@ -213,6 +215,7 @@ static psc_status_t character_render(psc_scene_t *s, const psc_view_t *view, con
     uint32_t time_ms;
     int action = action_at(&c->file.model, (s->env->now_us - c->start_us) / 1000u, &time_ms);
     psc_scene3d_look_t look = psc_scene3d_look(s->env->board);
+    look.pool = s->env->bands;
     psc_status_t st = psc_scene_character_draw(&c->file.model, c->shaded ? &c->shadow.model : NULL, action, time_ms,
                                                view, c->first, c->ws, c->ws_size, out, NULL, &look);
 

@@ -38,6 +38,7 @@ psc_status_t psc_scene_object_draw(const psc_mesh_t *m, const psc_view_t *view, 
     psc_3d_draw_t d;
     psc_vec3_q16_t lo, hi;
     psc_3d_t r;
+    psc_io_render3d_t *threads;
     psc_status_t s;
     uint32_t bg = PSC_OBJECT_BACKGROUND;
 
@@ -47,14 +48,14 @@ psc_status_t psc_scene_object_draw(const psc_mesh_t *m, const psc_view_t *view, 
                      &c.far_q16);
     if (s != PSC_OK)
         return s;
-    if ((s = psc_scene3d_init(&r, &c, look, ws, ws_size)) != PSC_OK)
+    if ((s = psc_scene3d_init(&r, &c, look, ws, ws_size, &threads)) != PSC_OK)
         return s;
     d.shade = m->has_texture ? PSC_SHADE_TEXTURE : PSC_SHADE_GOURAUD;
     d.filter = view->filter == PSC_FILTER_NEAREST ? PSC_TEX_NEAREST : PSC_TEX_BILINEAR;
     d.lit = m->normal_q14 != NULL;
     d.light_dir = psc_vec3_normalize((psc_vec3_q16_t){-26000, 39000, -45000});
     d.ambient_q8 = 72;
-    return psc_3d_render(&r, &d, 1, &bg, out, NULL);
+    return psc_io_render3d_frame(threads, &r, &d, 1, &bg, out, NULL);
 }
 
 /* ---- the ops -------------------------------------------------------------------------------- */
@@ -77,6 +78,7 @@ static size_t object_workspace_size(const psc_scene_t *s, const psc_scene_env_t 
     const object_scene_t *o = s->state;
 
     psc_scene3d_look_t look = psc_scene3d_look(env->board);
+    look.pool = env->bands;
     return psc_scene_object_workspace_size(&o->file.mesh, env->width, env->height, &look);
 }
 
@@ -107,6 +109,7 @@ static psc_status_t object_render(psc_scene_t *s, const psc_view_t *view, const 
     object_scene_t *o = s->state;
 
     psc_scene3d_look_t look = psc_scene3d_look(s->env->board);
+    look.pool = s->env->bands;
     return psc_scene_object_draw(&o->file.mesh, view, o->ws, o->ws_size, out, &look);
 }
 

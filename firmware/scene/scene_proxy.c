@@ -89,8 +89,9 @@ psc_status_t psc_scene_proxy_draw(const psc_proxy_model_t *m, uint64_t t_us, con
     /* a pack without normals draws as baked (periscope-board(5) says so) */
     (void)psc_proxy_set_light(&st->p, look && look->relight ? toward : NULL, look ? look->light_ambient_q14 : 0);
     psc_3d_t r;
+    psc_io_render3d_t *threads;
     size_t used = head + skin_bytes + prx;
-    if ((s = psc_scene3d_init(&r, &c, look, bytes + used, ws_size - used)) != PSC_OK)
+    if ((s = psc_scene3d_init(&r, &c, look, bytes + used, ws_size - used, &threads)) != PSC_OK)
         return s;
     const psc_3d_draw_t *d;
     unsigned n;
@@ -100,7 +101,7 @@ psc_status_t psc_scene_proxy_draw(const psc_proxy_model_t *m, uint64_t t_us, con
         *lod_out = lod;
     uint32_t bg = PSC_OBJECT_BACKGROUND;
     psc_3d_stats_t stats;
-    if ((s = psc_3d_render(&r, d, n, &bg, out, &stats)) != PSC_OK)
+    if ((s = psc_io_render3d_frame(threads, &r, d, n, &bg, out, &stats)) != PSC_OK)
         return s;
     psc_proxy_observe(&st->p, &stats);   /* what it wrote corrects the next frame's estimate of both levels */
     return PSC_OK;
@@ -126,6 +127,7 @@ static size_t proxy_workspace_size(const psc_scene_t *s, const psc_scene_env_t *
     const proxy_scene_t *o = s->state;
 
     psc_scene3d_look_t look = psc_scene3d_look(env->board);
+    look.pool = env->bands;
     return psc_scene_proxy_workspace_size(&o->file.model, env->width, env->height, &look);
 }
 
@@ -155,6 +157,7 @@ static psc_status_t proxy_render(psc_scene_t *s, const psc_view_t *view, const p
 {
     proxy_scene_t *o = s->state;
     psc_scene3d_look_t look = psc_scene3d_look(s->env->board);
+    look.pool = s->env->bands;
     psc_status_t st = psc_scene_proxy_draw(&o->file.model, s->env->now_us - o->start_us, view, o->first, o->ws,
                                            o->ws_size, out, NULL, &look);
 
