@@ -59,6 +59,7 @@ FUZZ_MAX_LEN_jpeg := 16384
 FUZZ_MAX_LEN_image_rows := 16384
 FUZZ_MAX_LEN_mjpeg := 16384
 FUZZ_MAX_LEN_xmp := 16384
+FUZZ_MAX_LEN_gltf := 16384
 fuzz_targets = $(foreach n,$(1),$(n):$(or $(FUZZ_MAX_LEN_$(n)),4096))
 
 # What a harness links: the layers' libraries of this build (the linker takes what the harness uses).

@@ -8,6 +8,8 @@
 int psc_anim_patch_pose_check(const psc_patch_model_t *m, const psc_pose_file_t *pf, const char *path, char *err,
                          size_t errlen)
 {
+    if (pf->has_weights)
+        return psc_io_errorf(err, errlen, path, "weights: a patch character has no blend shapes (morph targets)");
     for (unsigned k = 0; k < pf->count; k++)
         if (pf->nodes[k].index < 0 || pf->nodes[k].index >= (long)m->bone_count)
             return psc_io_errorf(err, errlen, path, "node '%s': a patch character's bones are given by number, "

@@ -84,6 +84,102 @@ static void add_weight(uint16_t *joint, double *weight, uint32_t j, double w)
     joint[at] = (uint16_t)j;
 }
 
+/* Point p and normal n of vertex i of mesh am (hung from joint j) in model space, as at rest: through its node, or
+ * through each bone's bind (offset) and node, weighed; the normal not normalised. */
+static void to_model(const psc_gltf_t *g, const struct aiMesh *am, uint32_t j, const double (*rest_world)[12],
+                     uint32_t i, const double p[3], const double n[3], double acc[3], double nacc[3])
+{
+    for (unsigned k = 0; k < 3; k++)
+        acc[k] = nacc[k] = 0;
+    if (am->mNumBones == 0) {
+        psc_gltf_mat_point(rest_world[j], p, acc);
+        psc_gltf_mat_dir(rest_world[j], n, nacc);
+        return;
+    }
+    double total = 0;
+    for (unsigned bi = 0; bi < am->mNumBones; bi++) {
+        const struct aiBone *bone = am->mBones[bi];
+        double wsum = 0;
+        for (unsigned w2 = 0; w2 < bone->mNumWeights; w2++)
+            if (bone->mWeights[w2].mVertexId == i)
+                wsum += bone->mWeights[w2].mWeight;
+        if (wsum <= 0)
+            continue;
+        total += wsum;
+        double off[12], bind[12], q[3], qn[3];
+        from_ai(&bone->mOffsetMatrix, off);
+        psc_gltf_mat_mul(rest_world[psc_gltf_joint_named(g, bone->mName.data)], off, bind);
+        psc_gltf_mat_point(bind, p, q);
+        psc_gltf_mat_dir(bind, n, qn);
+        for (unsigned k = 0; k < 3; k++) {
+            acc[k] += wsum * q[k];
+            nacc[k] += wsum * qn[k];
+        }
+    }
+    for (unsigned k = 0; k < 3 && total > 0; k++) {
+        acc[k] /= total;
+        nacc[k] /= total;
+    }
+}
+
+/* Mesh am's blend shapes (libassimp gives each target's positions and normals whole, not as deltas): their deltas
+ * in model space, the mesh's weights. */
+static int add_targets(psc_gltf_t *g, const struct aiMesh *am, uint32_t j, const double (*rest_world)[12],
+                       uint32_t v0, const char *path, char *err, size_t errlen)
+{
+    uint32_t nt = 0, nv = am->mNumVertices;
+    for (unsigned k = 0; k < am->mNumAnimMeshes; k++)
+        nt += am->mAnimMeshes[k] && am->mAnimMeshes[k]->mVertices && am->mAnimMeshes[k]->mNumVertices == nv;
+    if (nt == 0)
+        return 0;
+    if (g->target_count + nt > PSC_GLTF_MAX_TARGETS)
+        return psc_io_errorf(err, errlen, path, "mesh '%s': more than %u morph targets", am->mName.data,
+                             PSC_GLTF_MAX_TARGETS);
+    void *grown = realloc(g->morphs, (g->morph_count + 1u) * sizeof *g->morphs);
+    if (!grown)
+        return psc_io_errorf(err, errlen, path, "out of memory");
+    g->morphs = grown;
+    psc_gltf_morph_t *mo = &g->morphs[g->morph_count++];
+    memset(mo, 0, sizeof *mo);
+    mo->v0 = v0;
+    mo->nv = nv;
+    mo->target_count = nt;
+    mo->joint = (int32_t)j;
+    mo->dpos = calloc((size_t)nt * nv * 3u, sizeof *mo->dpos);
+    mo->dnrm = am->mNormals ? calloc((size_t)nt * nv * 3u, sizeof *mo->dnrm) : NULL;
+    mo->weight = calloc(nt, sizeof *mo->weight);
+    if (!mo->dpos || (am->mNormals && !mo->dnrm) || !mo->weight)
+        return psc_io_errorf(err, errlen, path, "out of memory");
+    uint32_t t = 0;
+    for (unsigned k = 0; k < am->mNumAnimMeshes; k++) {
+        const struct aiAnimMesh *a = am->mAnimMeshes[k];
+        if (!a || !a->mVertices || a->mNumVertices != nv)
+            continue;
+        mo->weight[t] = a->mWeight;
+        for (uint32_t i = 0; i < nv; i++) {
+            double p[3] = {am->mVertices[i].x, am->mVertices[i].y, am->mVertices[i].z};
+            double q[3] = {a->mVertices[i].x, a->mVertices[i].y, a->mVertices[i].z}, n[3] = {0, 0, 1}, tn[3];
+            if (am->mNormals)
+                n[0] = am->mNormals[i].x, n[1] = am->mNormals[i].y, n[2] = am->mNormals[i].z;
+            memcpy(tn, n, sizeof tn);
+            if (am->mNormals && a->mNormals)
+                tn[0] = a->mNormals[i].x, tn[1] = a->mNormals[i].y, tn[2] = a->mNormals[i].z;
+            double bp[3], bn[3], tp[3], tnm[3];
+            to_model(g, am, j, rest_world, i, p, n, bp, bn);
+            to_model(g, am, j, rest_world, i, q, tn, tp, tnm);
+            double l = sqrt(bn[0] * bn[0] + bn[1] * bn[1] + bn[2] * bn[2]);
+            for (unsigned c = 0; c < 3; c++) {
+                mo->dpos[((size_t)t * nv + i) * 3u + c] = tp[c] - bp[c];
+                if (mo->dnrm) /* against the unit base normal the model keeps */
+                    mo->dnrm[((size_t)t * nv + i) * 3u + c] = l > 0 ? (tnm[c] - bn[c]) / l : 0;
+            }
+        }
+        t++;
+    }
+    g->target_count += nt;
+    return 0;
+}
+
 /* Append the vertices and triangles of mesh mi hung from joint j. */
 static int add_mesh(build_t *b, const struct aiScene *sc, unsigned mi, uint32_t j, const double (*rest_world)[12],
                     const char *path, char *err, size_t errlen)
@@ -149,45 +245,16 @@ static int add_mesh(build_t *b, const struct aiScene *sc, unsigned mi, uint32_t 
         double p[3] = {am->mVertices[i].x, am->mVertices[i].y, am->mVertices[i].z}, n[3] = {0, 0, 1};
         if (am->mNormals)
             n[0] = am->mNormals[i].x, n[1] = am->mNormals[i].y, n[2] = am->mNormals[i].z;
-        double acc[3] = {0, 0, 0}, nacc[3] = {0, 0, 0};
-        if (am->mNumBones == 0) {
-            psc_gltf_mat_point(rest_world[j], p, acc);
-            psc_gltf_mat_dir(rest_world[j], n, nacc);
-        } else {
-            for (unsigned bi = 0; bi < am->mNumBones; bi++) {
-                const struct aiBone *bone = am->mBones[bi];
-                double wsum = 0;
-                for (unsigned w2 = 0; w2 < bone->mNumWeights; w2++)
-                    if (bone->mWeights[w2].mVertexId == i)
-                        wsum += bone->mWeights[w2].mWeight;
-                if (wsum <= 0)
-                    continue;
-                double off[12], bind[12], q[3], qn[3];
-                from_ai(&bone->mOffsetMatrix, off);
-                psc_gltf_mat_mul(rest_world[psc_gltf_joint_named(g, bone->mName.data)], off, bind);
-                psc_gltf_mat_point(bind, p, q);
-                psc_gltf_mat_dir(bind, n, qn);
-                for (unsigned k = 0; k < 3; k++) {
-                    acc[k] += wsum * q[k];
-                    nacc[k] += wsum * qn[k];
-                }
-            }
-            double total = 0;
-            for (unsigned bi = 0; bi < am->mNumBones; bi++)
-                for (unsigned w2 = 0; w2 < am->mBones[bi]->mNumWeights; w2++)
-                    if (am->mBones[bi]->mWeights[w2].mVertexId == i)
-                        total += am->mBones[bi]->mWeights[w2].mWeight;
-            for (unsigned k = 0; k < 3 && total > 0; k++) {
-                acc[k] /= total;
-                nacc[k] /= total;
-            }
-        }
+        double acc[3], nacc[3];
+        to_model(g, am, j, rest_world, i, p, n, acc, nacc);
         double l = sqrt(nacc[0] * nacc[0] + nacc[1] * nacc[1] + nacc[2] * nacc[2]);
         for (unsigned k = 0; k < 3; k++) {
             m->pos[3 * (v0 + i) + k] = acc[k];
             m->normal[3 * (v0 + i) + k] = l > 0 ? nacc[k] / l : (k == 2);
         }
     }
+    if (add_targets(g, am, j, rest_world, v0, path, err, errlen) != 0)
+        return -1;
     uint32_t t0 = m->triangle_count;
     for (unsigned f = 0; f < am->mNumFaces; f++) {
         if (am->mFaces[f].mNumIndices != 3)
@@ -248,6 +315,46 @@ static int add_channels(psc_gltf_t *g, const struct aiScene *sc, const char *pat
     return 0;
 }
 
+/* The first animation's weights channels (by the node a mesh hangs from): each morph's keys, the weights its keys
+ * do not name its own. */
+static int add_weight_channels(psc_gltf_t *g, const struct aiScene *sc, const char *path, char *err, size_t errlen)
+{
+    if (sc->mNumAnimations == 0 || g->morph_count == 0)
+        return 0;
+    const struct aiAnimation *a = sc->mAnimations[0];
+    double tps = a->mTicksPerSecond > 0 ? a->mTicksPerSecond : 25.0;
+    for (unsigned c = 0; c < a->mNumMorphMeshChannels; c++) {
+        const struct aiMeshMorphAnim *ch = a->mMorphMeshChannels[c];
+        if (!ch || ch->mNumKeys == 0)
+            continue;
+        int32_t j = psc_gltf_joint_named(g, ch->mName.data);
+        for (uint32_t k = 0; k < g->morph_count; k++) {
+            psc_gltf_morph_t *mo = &g->morphs[k];
+            if (mo->joint != j || mo->key_count)
+                continue;
+            mo->key_time = calloc(ch->mNumKeys, sizeof *mo->key_time);
+            mo->key_weight = calloc((size_t)ch->mNumKeys * mo->target_count, sizeof *mo->key_weight);
+            if (!mo->key_time || !mo->key_weight)
+                return psc_io_errorf(err, errlen, path, "out of memory");
+            for (unsigned kk = 0; kk < ch->mNumKeys; kk++) {
+                const struct aiMeshMorphKey *key = &ch->mKeys[kk];
+                double *w = &mo->key_weight[(size_t)kk * mo->target_count];
+                memcpy(w, mo->weight, mo->target_count * sizeof *w);
+                for (unsigned v = 0; v < key->mNumValuesAndWeights; v++)
+                    if (key->mValues[v] < mo->target_count)
+                        w[key->mValues[v]] = key->mWeights[v];
+                mo->key_time[kk] = key->mTime / tps;
+                if (kk > 0 && mo->key_time[kk] < mo->key_time[kk - 1u])
+                    return psc_io_errorf(err, errlen, path, "a weights channel's keys go back in time");
+            }
+            mo->key_count = ch->mNumKeys;
+            if (g->duration < mo->key_time[ch->mNumKeys - 1u])
+                g->duration = mo->key_time[ch->mNumKeys - 1u];
+        }
+    }
+    return 0;
+}
+
 int psc_assimp_load(const char *path, psc_gltf_t *out, char *note, size_t notelen, char *err, size_t errlen)
 {
     memset(out, 0, sizeof *out);
@@ -290,11 +397,14 @@ int psc_assimp_load(const char *path, psc_gltf_t *out, char *note, size_t notele
         psc_io_errorf(err, errlen, path, "no triangles");
         goto done;
     }
-    if (add_channels(out, sc, path, err, errlen) != 0)
+    if (add_channels(out, sc, path, err, errlen) != 0 || add_weight_channels(out, sc, path, err, errlen) != 0)
         goto done;
     psc_note_add(note, notelen, "%u vertices, %u triangles, %u nodes, %s, %s", out->mesh.vertex_count,
                  out->mesh.triangle_count, out->joint_count, out->skinned ? "skinned" : "rigid parts",
-                 out->channel_count ? "animated" : "no animation");
+                 out->channel_count || out->duration > 0 ? "animated" : "no animation");
+    if (out->target_count)
+        psc_note_add(note, notelen, "%u morph targets in %u mesh%s", out->target_count, out->morph_count,
+                     out->morph_count > 1 ? "es" : "");
     if (b.turned)
         psc_note_add(note, notelen, "%u closed mesh%s faced inwards: turned outward", b.turned, b.turned > 1 ? "es" : "");
     rc = 0;

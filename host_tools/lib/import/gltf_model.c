@@ -209,7 +209,39 @@ void psc_gltf_free(psc_gltf_t *g)
         free(g->channels[c].s);
     }
     free(g->channels);
+    for (uint32_t k = 0; k < g->morph_count; k++) {
+        free(g->morphs[k].dpos);
+        free(g->morphs[k].dnrm);
+        free(g->morphs[k].weight);
+        free(g->morphs[k].key_time);
+        free(g->morphs[k].key_weight);
+    }
+    free(g->morphs);
     memset(g, 0, sizeof *g);
+}
+
+void psc_gltf_weights(const psc_gltf_t *g, double t, double *w)
+{
+    for (uint32_t k = 0; k < g->morph_count; k++) {
+        const psc_gltf_morph_t *m = &g->morphs[k];
+        if (t < 0 || m->key_count == 0) {
+            memcpy(w, m->weight, m->target_count * sizeof *w);
+        } else {
+            uint32_t i = 0;
+            while (i + 1u < m->key_count && m->key_time[i + 1u] <= t)
+                i++;
+            double f = 0;
+            if (i + 1u < m->key_count && t > m->key_time[i]) {
+                double span = m->key_time[i + 1u] - m->key_time[i];
+                f = span > 0 ? (t - m->key_time[i]) / span : 0;
+            }
+            const double *a = &m->key_weight[(size_t)i * m->target_count];
+            const double *b = i + 1u < m->key_count ? a + m->target_count : a;
+            for (uint32_t c = 0; c < m->target_count; c++)
+                w[c] = a[c] + (b[c] - a[c]) * f;
+        }
+        w += m->target_count;
+    }
 }
 
 void psc_gltf_quantize(const psc_gltf_t *g, const double centre[3], double r, const double *pos, const double *nrm,

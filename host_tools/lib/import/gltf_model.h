@@ -50,6 +50,20 @@ typedef struct {
     int32_t node;                /* its index in a glTF file's "nodes" array; -1: not a glTF file, or the importer's */
 } psc_gltf_joint_t;
 
+/* The blend shapes (morph targets) of one of the file's meshes: vertices [v0, v0 + nv) of the model. */
+typedef struct {
+    uint32_t v0, nv, target_count;
+    double *dpos;                /* target_count x nv x 3: each target's position deltas, model space */
+    double *dnrm;                /* the same for the normals (unnormalised deltas), or NULL */
+    double *weight;              /* target_count: the mesh's own weights (at rest, and without a channel) */
+    int32_t joint;               /* the node the mesh hangs from: the animation's weights channel names it */
+    uint32_t key_count;          /* the first animation's weights, by time */
+    double *key_time;            /* key_count, seconds */
+    double *key_weight;          /* key_count x target_count */
+} psc_gltf_morph_t;
+
+#define PSC_GLTF_MAX_TARGETS 256u
+
 typedef struct {
     psc_model_t mesh;            /* at rest, model space; normals unit; colours the materials' base colours */
     uint16_t (*joint)[PSC_GLTF_WEIGHTS];   /* per vertex */
@@ -60,6 +74,9 @@ typedef struct {
     uint32_t channel_count;
     double duration;             /* seconds (0: no animation) */
     bool skinned;                /* some vertex weighs on more than one joint */
+    psc_gltf_morph_t *morphs;    /* the meshes with blend shapes */
+    uint32_t morph_count;
+    uint32_t target_count;       /* theirs together (a pose's weights, in this order) */
 } psc_gltf_t;
 
 /**
@@ -103,6 +120,10 @@ typedef struct {
  *  adjust[joint] (NULL: none): posed world x rest world^-1. skin: joint_count x 12 doubles. */
 void psc_gltf_skin(const psc_gltf_t *g, const psc_gltf_trs_t *local, const psc_gltf_adjust_t *adjust,
                    double (*skin)[12]);
+
+/** Every target's weight at time t (< 0: the meshes' own; else the first animation's channels, linear between
+ *  keys, clamped at the ends), into w[0..g->target_count). */
+void psc_gltf_weights(const psc_gltf_t *g, double t, double *w);
 
 /** The rest mesh's vertices moved by skin: pos and normal (unit) each 3 per vertex. */
 void psc_gltf_deform(const psc_gltf_t *g, const double (*skin)[12], double *pos, double *normal);

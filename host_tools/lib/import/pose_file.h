@@ -4,11 +4,15 @@
  * --pose: the time into the animation, and adjustments of named or numbered
  * nodes (bones) on top of it:
  *
- *   {"time": T, "nodes": {"NAME or INDEX": {"rotate": [ax, ay, az, degrees], "translate": [x, y, z]}}}
+ *   {"time": T, "nodes": {"NAME or INDEX": {"rotate": [ax, ay, az, degrees], "translate": [x, y, z]}},
+ *    "weights": [w0, w1, ...]}
  *
  * meaning local' = T . local . R for each node named (R the rotation by
  * degrees about the axis, T the translation, in the node's parent's units);
- * no "time": the rest pose. Read with json-c (Debian's libjson-c).
+ * no "time": the rest pose. "weights" sets the model's blend-shape (morph
+ * target) weights by hand, every target of every mesh in the file's order,
+ * each within -16..16, instead of the animation's. Read with json-c
+ * (Debian's libjson-c).
  */
 #ifndef PSC_IMPORT_POSE_FILE_H
 #define PSC_IMPORT_POSE_FILE_H
@@ -17,6 +21,7 @@
 #include <stddef.h>
 
 #define PSC_POSE_MAX_NODES 1024u
+#define PSC_POSE_MAX_WEIGHTS 256u
 
 typedef struct {
     char name[128];              /* the key as written */
@@ -30,6 +35,9 @@ typedef struct {
     double time;                 /* seconds; < 0: the rest pose */
     psc_pose_node_t *nodes;
     unsigned count;
+    double weights[PSC_POSE_MAX_WEIGHTS];
+    unsigned weight_count;       /* 0: the animation's (or the meshes' own) */
+    bool has_weights;
 } psc_pose_file_t;
 
 /** Whether --pose's value names a file (not rest, not t=SECONDS). */

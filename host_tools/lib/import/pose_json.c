@@ -104,7 +104,7 @@ int psc_pose_file_load(const char *path, psc_pose_file_t *out, char *err, size_t
     }
     int rc = -1;
     if (!json_object_is_type(root, json_type_object)) {
-        psc_io_errorf(err, errlen, path, "expected an object {\"time\": T, \"nodes\": {...}}");
+        psc_io_errorf(err, errlen, path, "expected an object {\"time\": T, \"nodes\": {...}, \"weights\": [...]}");
         goto done;
     }
     out->nodes = calloc(PSC_POSE_MAX_NODES, sizeof *out->nodes);
@@ -134,8 +134,26 @@ int psc_pose_file_load(const char *path, psc_pose_file_t *out, char *err, size_t
                     goto done;
                 out->count++;
             }
+        } else if (strcmp(key, "weights") == 0) {
+            size_t n = json_object_is_type(val, json_type_array) ? json_object_array_length(val) : 0;
+            if (!json_object_is_type(val, json_type_array) || n > PSC_POSE_MAX_WEIGHTS) {
+                psc_io_errorf(err, errlen, path, "weights: expected an array of at most %u numbers",
+                              PSC_POSE_MAX_WEIGHTS);
+                goto done;
+            }
+            for (size_t i = 0; i < n; i++) {
+                json_object *w = json_object_array_get_idx(val, i);
+                if ((!json_object_is_type(w, json_type_double) && !json_object_is_type(w, json_type_int)) ||
+                    !(json_object_get_double(w) >= -16 && json_object_get_double(w) <= 16)) {
+                    psc_io_errorf(err, errlen, path, "weights[%zu]: expected a number in -16..16", i);
+                    goto done;
+                }
+                out->weights[i] = json_object_get_double(w);
+            }
+            out->weight_count = (unsigned)n;
+            out->has_weights = true;
         } else {
-            psc_io_errorf(err, errlen, path, "unknown key '%s' (time, nodes)", key);
+            psc_io_errorf(err, errlen, path, "unknown key '%s' (time, nodes, weights)", key);
             goto done;
         }
     }

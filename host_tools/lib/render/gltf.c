@@ -11,6 +11,7 @@
 #include "psc_io_angle.h"
 #include "util/cli_values.h"
 #include "import/pose_file.h"
+#include "anim/gltf_morph.h"
 #include "render/target.h"
 #include "render/cli.h"
 #include "render/view.h"
@@ -52,7 +53,8 @@ static void usage(const char *prog, FILE *f)
             "  --size WxH          output size (default 640x480)\n"
             "  --pose P            rest (default), t=T (T seconds into the first animation) or POSE.json:\n"
             "                      {\"time\": T, \"nodes\": {\"NAME or INDEX\": {\"rotate\": [ax, ay, az, deg],\n"
-            "                      \"translate\": [x, y, z]}}}, local' = T local R on top of the animation\n"
+            "                      \"translate\": [x, y, z]}}, \"weights\": [w, ...]}, local' = T local R on\n"
+            "                      top of the animation; weights: the blend shapes' (morph targets'), by hand\n"
             "  --shadow M.pao      self-shadowing from the model's sphere-occluder tables\n"
             "                      (periscope-shadow build MODEL)\n"
             "  --dump-ao AO.csv    with --shadow: x,y,z,nx,ny,nz,occlusion of every vertex\n"
@@ -112,6 +114,11 @@ typedef struct {
     uint16_t *index;
     uint32_t *ao;
     psc_mesh_t mesh;
+    /* blend shapes (g->target_count > 0): the core morph, the morphed rest mesh, the weights (a pose file's when
+     * it gives them) */
+    psc_gltf_morpher_t morph;
+    double *rest_pos, *rest_nrm, *weights, *anim_weights;
+    bool weights_given;
 } posed_t;
 
 static int posed_new(posed_t *p, const psc_gltf_t *g, const char *name, char *err, size_t errlen)
@@ -134,6 +141,16 @@ static int posed_new(posed_t *p, const psc_gltf_t *g, const char *name, char *er
         !p->index || !p->ao)
         return psc_io_errorf(err, errlen, name, "out of memory");
     psc_gltf_frame(g, p->c, &p->r);
+    if (g->target_count) {
+        p->rest_pos = malloc(nv * 3u * sizeof *p->rest_pos);
+        p->rest_nrm = malloc(nv * 3u * sizeof *p->rest_nrm);
+        p->weights = calloc(g->target_count, sizeof *p->weights);
+        p->anim_weights = calloc(g->target_count, sizeof *p->anim_weights);
+        if (!p->rest_pos || !p->rest_nrm || !p->weights || !p->anim_weights)
+            return psc_io_errorf(err, errlen, name, "out of memory");
+        if (psc_gltf_morpher_new(&p->morph, g, p->c, p->r, name, err, errlen) != 0)
+            return -1;
+    }
     for (uint32_t i = 0; i < 3u * g->mesh.triangle_count; i++)
         p->index[i] = (uint16_t)g->mesh.index[i];
     p->mesh = (psc_mesh_t){.vertex_count = nv, .triangle_count = g->mesh.triangle_count, .position_q16 = p->pos_q16,
@@ -153,14 +170,30 @@ static void posed_free(posed_t *p)
     free(p->color);
     free(p->index);
     free(p->ao);
+    free(p->rest_pos);
+    free(p->rest_nrm);
+    free(p->weights);
+    free(p->anim_weights);
+    psc_gltf_morpher_free(&p->morph);
 }
 
-/* Pose at time t (< 0: rest), adjusted (NULL: not): the mesh in the device's formats, and the skin in units of R. */
+/* Pose at time t (< 0: rest), adjusted (NULL: not): the mesh in the device's formats, and the skin in units of R.
+ * Blend shapes first (by core, glTF's order), then the skin. */
 static void pose(posed_t *p, const psc_gltf_t *g, double t, const psc_gltf_adjust_t *adjust)
 {
     psc_gltf_pose(g, t, p->local);
     psc_gltf_skin(g, p->local, adjust, p->skin);
-    psc_gltf_deform(g, (const double(*)[12])p->skin, p->pos, p->nrm);
+    if (g->target_count) {
+        if (!p->weights_given)
+            psc_gltf_weights(g, t, p->anim_weights);
+        psc_gltf_morph_rest(&p->morph, g, p->weights_given ? p->weights : p->anim_weights, p->rest_pos, p->rest_nrm);
+        psc_gltf_t morphed = *g;
+        morphed.mesh.pos = p->rest_pos;
+        morphed.mesh.normal = p->rest_nrm;
+        psc_gltf_deform(&morphed, (const double(*)[12])p->skin, p->pos, p->nrm);
+    } else {
+        psc_gltf_deform(g, (const double(*)[12])p->skin, p->pos, p->nrm);
+    }
     psc_gltf_quantize(g, p->c, p->r, p->pos, p->nrm, (const double(*)[12])p->skin, p->pos_q16, p->nrm_q14, p->skin_q16);
     memcpy(p->color, g->mesh.color, g->mesh.vertex_count * sizeof *p->color);
 }
@@ -196,11 +229,22 @@ static int write_ao(const posed_t *p, const char *path, char *err, size_t errlen
 }
 
 /* --pose POSE.json: its time into a->time, its nodes as the joints' adjustments (*adjust, joint_count of them). */
-static int pose_from_file(gltf_args_t *a, const psc_gltf_t *g, psc_gltf_adjust_t **adjust, char *err, size_t errlen)
+static int pose_from_file(gltf_args_t *a, const psc_gltf_t *g, posed_t *p, psc_gltf_adjust_t **adjust, char *err,
+                          size_t errlen)
 {
     psc_pose_file_t pf;
     if (psc_pose_file_load(a->pose_file, &pf, err, errlen) != 0)
         return -1;
+    if (pf.has_weights && pf.weight_count != g->target_count) {
+        unsigned given = pf.weight_count;
+        psc_pose_file_free(&pf);
+        return psc_io_errorf(err, errlen, a->pose_file, "weights: %u given, %s has %u morph targets", given,
+                             a->model, (unsigned)g->target_count);
+    }
+    if (pf.has_weights && g->target_count) {
+        memcpy(p->weights, pf.weights, g->target_count * sizeof *p->weights);
+        p->weights_given = true;
+    }
     *adjust = malloc((g->joint_count ? g->joint_count : 1u) * sizeof **adjust);
     if (*adjust == NULL) {
         psc_pose_file_free(&pf);
@@ -245,7 +289,7 @@ int psc_render_gltf_main(const char *prog, int argc, char **argv)
     psc_render_target_t rt = {0};
     psc_gltf_adjust_t *adjust = NULL;
     if (posed_new(&p, &g, a.model, err, sizeof err) != 0 ||
-        (a.pose_file && pose_from_file(&a, &g, &adjust, err, sizeof err) != 0)) {
+        (a.pose_file && pose_from_file(&a, &g, &p, &adjust, err, sizeof err) != 0)) {
         fprintf(stderr, "%s: %s\n", prog, err);
         goto done;
     }
@@ -262,8 +306,11 @@ int psc_render_gltf_main(const char *prog, int argc, char **argv)
             goto done;
         }
     }
-    /* the camera: on the rest pose's box, in units of R */
+    /* the camera: on the rest pose's box, in units of R (the meshes' own weights) */
+    bool given = p.weights_given;
+    p.weights_given = false;
     pose(&p, &g, -1.0, NULL);
+    p.weights_given = given;
     psc_vec3_q16_t lo = {INT32_MAX, INT32_MAX, INT32_MAX}, hi = {INT32_MIN, INT32_MIN, INT32_MIN};
     for (uint32_t i = 0; i < p.mesh.vertex_count; i++) {
         const int32_t *v = &p.pos_q16[3 * i];

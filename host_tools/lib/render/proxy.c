@@ -210,6 +210,10 @@ static int pose_from_file(proxy_args_t *a, const psc_proxy_model_t *m, double (*
     psc_pose_file_t pf;
     if (psc_pose_file_load(a->pose_file, &pf, err, errlen) != 0)
         return -1;
+    if (pf.has_weights) {
+        psc_pose_file_free(&pf);
+        return psc_io_errorf(err, errlen, a->pose_file, "weights: a proxy pack holds no blend shapes (morph targets)");
+    }
     *pre = malloc(m->joint_count * sizeof **pre);
     *post = malloc(m->joint_count * sizeof **post);
     if (!*pre || !*post) {

@@ -1,0 +1,269 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * test_gltf_morph.c - glTF blend shapes (morph targets) from file to frame: a
+ * glTF written here (a 5 x 5 grid on a node scaled by 2 and turned, two
+ * targets with position and normal deltas, the mesh's own weights, an
+ * animation of the weights) read through libassimp and drawn through core's
+ * morph (host_tools/lib/anim/gltf_morph.h, core/morph).
+ *
+ *  - The import: two targets, their deltas in model space (the node's scale
+ *    and turn applied), the mesh's weights at rest, the animation's weights
+ *    at its keys and linearly between them.
+ *  - The morph against glTF's definition in double: every vertex within
+ *    1e-4 R of node (base + sum w delta) at 40 random weight pairs, -2..2.
+ *  - periscope-render: t=1 (the first target whole) differs from the rest;
+ *    a pose file giving weights [1, 0] draws t=1's bytes; a wrong number of
+ *    weights, or weights for a model without targets, is refused naming the
+ *    file.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "anim/gltf_morph.h"
+#include "import/gltf_model.h"
+#include "psc_testsupport.h"
+#include "tsup_files.h"
+#include "tsup_tool.h"
+
+#define N 5
+#define NV (N * N)
+#define NT (2 * (N - 1) * (N - 1))
+
+/* The file's binary buffer. */
+typedef struct {
+    float pos[NV][3], nrm[NV][3];
+    uint16_t idx[NT * 3];
+    uint16_t pad;
+    float t0pos[NV][3], t0nrm[NV][3], t1pos[NV][3];
+    float time[3], weights[6];
+} buffer_t;
+
+static void fill(buffer_t *b)
+{
+    memset(b, 0, sizeof *b);
+    for (int y = 0; y < N; y++)
+        for (int x = 0; x < N; x++) {
+            int v = y * N + x;
+            b->pos[v][0] = (float)x / (N - 1) - 0.5f;
+            b->pos[v][1] = (float)y / (N - 1) - 0.5f;
+            b->nrm[v][2] = 1;
+            /* target 0: a bump in the middle, its normals tipped toward +x; target 1: the right edge pulled out */
+            float bump = (x >= 1 && x <= 3 && y >= 1 && y <= 3) ? 0.25f : 0;
+            b->t0pos[v][2] = bump;
+            b->t0nrm[v][0] = bump > 0 ? 0.6f : 0;
+            b->t0nrm[v][2] = bump > 0 ? -0.2f : 0;
+            b->t1pos[v][0] = x == N - 1 ? 0.3f : 0;
+        }
+    int k = 0;
+    for (int y = 0; y < N - 1; y++)
+        for (int x = 0; x < N - 1; x++) {
+            uint16_t a = (uint16_t)(y * N + x), bb = (uint16_t)(a + 1), c = (uint16_t)(a + N), d = (uint16_t)(c + 1);
+            uint16_t q[6] = {a, bb, d, a, d, c};
+            memcpy(&b->idx[k], q, sizeof q);
+            k += 6;
+        }
+    float t[3] = {0, 1, 2}, w[6] = {0, 0, 1, 0, 0, 1};
+    memcpy(b->time, t, sizeof t);
+    memcpy(b->weights, w, sizeof w);
+}
+
+static void base64(const uint8_t *in, size_t n, FILE *f)
+{
+    static const char tab[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    for (size_t i = 0; i < n; i += 3) {
+        uint32_t v = (uint32_t)in[i] << 16 | (i + 1 < n ? (uint32_t)in[i + 1] << 8 : 0) | (i + 2 < n ? in[i + 2] : 0);
+        fputc(tab[v >> 18 & 63], f);
+        fputc(tab[v >> 12 & 63], f);
+        fputc(i + 1 < n ? tab[v >> 6 & 63] : '=', f);
+        fputc(i + 2 < n ? tab[v & 63] : '=', f);
+    }
+}
+
+/* Write the model: the node scaled by 2 and turned 90 degrees about z. */
+static void write_model(const char *path, const buffer_t *b)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    size_t o_pos = offsetof(buffer_t, pos), o_nrm = offsetof(buffer_t, nrm), o_idx = offsetof(buffer_t, idx);
+    size_t o_t0p = offsetof(buffer_t, t0pos), o_t0n = offsetof(buffer_t, t0nrm), o_t1p = offsetof(buffer_t, t1pos);
+    size_t o_time = offsetof(buffer_t, time), o_w = offsetof(buffer_t, weights);
+    fprintf(f, "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [0]}],\n"
+               " \"nodes\": [{\"name\": \"face\", \"mesh\": 0, \"scale\": [2, 2, 2],"
+               " \"rotation\": [0, 0, 0.70710678, 0.70710678]}],\n"
+               " \"meshes\": [{\"name\": \"grid\", \"weights\": [0.25, 0], \"primitives\": [{\"attributes\": "
+               "{\"POSITION\": 0, \"NORMAL\": 1}, \"indices\": 2, \"targets\": [{\"POSITION\": 3, \"NORMAL\": 4}, "
+               "{\"POSITION\": 5}]}]}],\n"
+               " \"animations\": [{\"channels\": [{\"sampler\": 0, \"target\": {\"node\": 0, \"path\": \"weights\"}}],"
+               " \"samplers\": [{\"input\": 6, \"output\": 7, \"interpolation\": \"LINEAR\"}]}],\n");
+    fprintf(f, " \"accessors\": [\n"
+               "  {\"bufferView\": 0, \"componentType\": 5126, \"count\": %d, \"type\": \"VEC3\", \"min\": [-0.5, -0.5, 0],"
+               " \"max\": [0.5, 0.5, 0]},\n"
+               "  {\"bufferView\": 1, \"componentType\": 5126, \"count\": %d, \"type\": \"VEC3\"},\n"
+               "  {\"bufferView\": 2, \"componentType\": 5123, \"count\": %d, \"type\": \"SCALAR\"},\n"
+               "  {\"bufferView\": 3, \"componentType\": 5126, \"count\": %d, \"type\": \"VEC3\", \"min\": [0, 0, 0],"
+               " \"max\": [0, 0, 0.25]},\n"
+               "  {\"bufferView\": 4, \"componentType\": 5126, \"count\": %d, \"type\": \"VEC3\"},\n"
+               "  {\"bufferView\": 5, \"componentType\": 5126, \"count\": %d, \"type\": \"VEC3\", \"min\": [0, 0, 0],"
+               " \"max\": [0.3, 0, 0]},\n"
+               "  {\"bufferView\": 6, \"componentType\": 5126, \"count\": 3, \"type\": \"SCALAR\", \"min\": [0],"
+               " \"max\": [2]},\n"
+               "  {\"bufferView\": 7, \"componentType\": 5126, \"count\": 6, \"type\": \"SCALAR\"}],\n",
+            NV, NV, NT * 3, NV, NV, NV);
+    fprintf(f, " \"bufferViews\": [{\"buffer\": 0, \"byteOffset\": %zu, \"byteLength\": %zu},"
+               " {\"buffer\": 0, \"byteOffset\": %zu, \"byteLength\": %zu}, {\"buffer\": 0, \"byteOffset\": %zu,"
+               " \"byteLength\": %zu}, {\"buffer\": 0, \"byteOffset\": %zu, \"byteLength\": %zu}, {\"buffer\": 0,"
+               " \"byteOffset\": %zu, \"byteLength\": %zu}, {\"buffer\": 0, \"byteOffset\": %zu, \"byteLength\": %zu},"
+               " {\"buffer\": 0, \"byteOffset\": %zu, \"byteLength\": 12}, {\"buffer\": 0, \"byteOffset\": %zu,"
+               " \"byteLength\": 24}],\n",
+            o_pos, sizeof b->pos, o_nrm, sizeof b->nrm, o_idx, sizeof b->idx, o_t0p, sizeof b->t0pos, o_t0n,
+            sizeof b->t0nrm, o_t1p, sizeof b->t1pos, o_time, o_w);
+    fprintf(f, " \"buffers\": [{\"byteLength\": %zu, \"uri\": \"data:application/octet-stream;base64,", sizeof *b);
+    base64((const uint8_t *)b, sizeof *b, f);
+    fprintf(f, "\"}]}\n");
+    assert_int_equal(fclose(f), 0);
+}
+
+/* A point of the grid's plane (x, y, z) through the node: scaled by 2, turned 90 degrees about z. */
+static void node_point(const double p[3], double out[3])
+{
+    out[0] = -2 * p[1];
+    out[1] = 2 * p[0];
+    out[2] = 2 * p[2];
+}
+
+static void test_import_and_morph(void **state)
+{
+    (void)state;
+    static buffer_t b;
+    fill(&b);
+    char path[512], err[512], note[512] = "";
+    tsup_tmp_path(path, sizeof path, "test_gltf_morph", "grid.gltf");
+    write_model(path, &b);
+    psc_gltf_t g;
+    if (psc_gltf_load(path, &g, note, sizeof note, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    print_message("  %s\n", note);
+    assert_int_equal(g.target_count, 2);
+    assert_int_equal(g.morph_count, 1);
+    double w[2];
+    psc_gltf_weights(&g, -1, w);
+    assert_true(fabs(w[0] - 0.25) < 1e-6 && fabs(w[1]) < 1e-6);
+    psc_gltf_weights(&g, 1.0, w);
+    assert_true(fabs(w[0] - 1) < 1e-6 && fabs(w[1]) < 1e-6);
+    psc_gltf_weights(&g, 1.5, w);
+    assert_true(fabs(w[0] - 0.5) < 1e-6 && fabs(w[1] - 0.5) < 1e-6);
+    psc_gltf_weights(&g, 7.0, w); /* after the last key: the last */
+    assert_true(fabs(w[0]) < 1e-6 && fabs(w[1] - 1) < 1e-6);
+    /* the core morph against glTF's definition, in model space */
+    double c[3], r;
+    psc_gltf_frame(&g, c, &r);
+    psc_gltf_morpher_t mm;
+    if (psc_gltf_morpher_new(&mm, &g, c, r, path, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    double pos[NV * 3], nrm[NV * 3], worst = 0;
+    tsup_rng_t rng;
+    tsup_rng_seed(&rng, 9);
+    for (unsigned k = 0; k < 40; k++) {
+        w[0] = tsup_rng_range(&rng, -2, 2);
+        w[1] = tsup_rng_range(&rng, -2, 2);
+        psc_gltf_morph_rest(&mm, &g, w, pos, nrm);
+        for (uint32_t i = 0; i < g.mesh.vertex_count; i++) {
+            /* the vertex's grid point: assimp may reorder; find it by the rest position */
+            int found = -1;
+            for (int v = 0; v < NV && found < 0; v++) {
+                double q[3], pb[3] = {b.pos[v][0], b.pos[v][1], b.pos[v][2]};
+                node_point(pb, q);
+                if (fabs(q[0] - g.mesh.pos[3 * i]) < 1e-5 && fabs(q[1] - g.mesh.pos[3 * i + 1]) < 1e-5 &&
+                    fabs(q[2] - g.mesh.pos[3 * i + 2]) < 1e-5)
+                    found = v;
+            }
+            assert_true(found >= 0);
+            double p[3], q[3];
+            for (int a = 0; a < 3; a++)
+                p[a] = b.pos[found][a] + w[0] * b.t0pos[found][a] + w[1] * b.t1pos[found][a];
+            node_point(p, q);
+            for (int a = 0; a < 3; a++) {
+                double e = fabs(pos[3 * i + a] - q[a]) / r;
+                worst = e > worst ? e : worst;
+            }
+        }
+    }
+    print_message("  40 random weight pairs: the core morph within %.2e R of glTF's definition in double\n", worst);
+    assert_true(worst < 1e-4);
+    psc_gltf_morpher_free(&mm);
+    psc_gltf_free(&g);
+    unlink(path);
+}
+
+static void expect(const char *const *args, int status, const char *mention)
+{
+    tsup_tool_run_t r = tsup_run_tool("test_gltf_morph", "periscope-render", args);
+    if (r.status != status || (mention && !strstr(r.output, mention)))
+        fail_msg("periscope-render exited %d (expected %d), said:\n%s", r.status, status, r.output);
+    free(r.output);
+}
+
+static void test_render(void **state)
+{
+    (void)state;
+    static buffer_t b;
+    fill(&b);
+    char model[512], rest[512], t1[512], byhand[512], json[512], bad[512];
+    tsup_tmp_path(model, sizeof model, "test_gltf_morph", "grid.gltf");
+    tsup_tmp_path(rest, sizeof rest, "test_gltf_morph", "rest.png");
+    tsup_tmp_path(t1, sizeof t1, "test_gltf_morph", "t1.png");
+    tsup_tmp_path(byhand, sizeof byhand, "test_gltf_morph", "byhand.png");
+    tsup_tmp_path(json, sizeof json, "test_gltf_morph", "pose.json");
+    tsup_tmp_path(bad, sizeof bad, "test_gltf_morph", "bad.json");
+    write_model(model, &b);
+#define VIEW model, "--orbit", "20,30,2.2", "--size", "96x72", "--cull", "none"
+    const char *a_rest[] = {VIEW, "-o", rest, NULL}, *a_t1[] = {VIEW, "--pose", "t=1", "-o", t1, NULL};
+    expect(a_rest, 0, NULL);
+    expect(a_t1, 0, NULL);
+    assert_false(tsup_same_file(rest, t1));
+    FILE *f = fopen(json, "w");
+    assert_non_null(f);
+    fputs("{\"weights\": [1, 0]}", f);
+    fclose(f);
+    const char *a_hand[] = {VIEW, "--pose", json, "-o", byhand, NULL};
+    expect(a_hand, 0, NULL);
+    assert_true(tsup_same_file(t1, byhand));
+    f = fopen(bad, "w");
+    assert_non_null(f);
+    fputs("{\"weights\": [1, 0, 0]}", f);
+    fclose(f);
+    const char *a_bad[] = {VIEW, "--pose", bad, "-o", byhand, NULL};
+    expect(a_bad, 1, "weights: 3 given");
+    f = fopen(bad, "w");
+    assert_non_null(f);
+    fputs("{\"weights\": [1, 99]}", f);
+    fclose(f);
+    expect(a_bad, 1, "weights[1]: expected a number in -16..16");
+#undef VIEW
+    print_message("  periscope-render: t=1 moves the mesh; a pose file's weights [1, 0] draw t=1's bytes; wrong "
+                  "weights refused\n");
+    unlink(model);
+    unlink(rest);
+    unlink(t1);
+    unlink(byhand);
+    unlink(json);
+    unlink(bad);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_import_and_morph),
+        cmocka_unit_test(test_render),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
