@@ -30,6 +30,7 @@
 
 #include "anim/gltf_morph.h"
 #include "import/gltf_model.h"
+#include "psc_io_image.h"
 #include "psc_testsupport.h"
 #include "tsup_files.h"
 #include "tsup_tool.h"
@@ -88,8 +89,9 @@ static void base64(const uint8_t *in, size_t n, FILE *f)
     }
 }
 
-/* Write the model: the node scaled by 2 and turned 90 degrees about z. */
-static void write_model(const char *path, const buffer_t *b)
+/* Write the model: the node scaled by 2 and turned 90 degrees about z; translucent: its material's alphaMode BLEND,
+ * base colour (1, 0.2, 0.2, 0.5); else (0.8, 0.8, 0.8) opaque. */
+static void write_model_as(const char *path, const buffer_t *b, bool translucent)
 {
     FILE *f = fopen(path, "w");
     assert_non_null(f);
@@ -99,11 +101,13 @@ static void write_model(const char *path, const buffer_t *b)
     fprintf(f, "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [0]}],\n"
                " \"nodes\": [{\"name\": \"face\", \"mesh\": 0, \"scale\": [2, 2, 2],"
                " \"rotation\": [0, 0, 0.70710678, 0.70710678]}],\n"
+               " \"materials\": [{\"pbrMetallicRoughness\": {\"baseColorFactor\": %s}, \"alphaMode\": \"%s\"}],\n"
                " \"meshes\": [{\"name\": \"grid\", \"weights\": [0.25, 0], \"primitives\": [{\"attributes\": "
-               "{\"POSITION\": 0, \"NORMAL\": 1}, \"indices\": 2, \"targets\": [{\"POSITION\": 3, \"NORMAL\": 4}, "
-               "{\"POSITION\": 5}]}]}],\n"
+               "{\"POSITION\": 0, \"NORMAL\": 1}, \"indices\": 2, \"material\": 0, \"targets\": [{\"POSITION\": 3, "
+               "\"NORMAL\": 4}, {\"POSITION\": 5}]}]}],\n"
                " \"animations\": [{\"channels\": [{\"sampler\": 0, \"target\": {\"node\": 0, \"path\": \"weights\"}}],"
-               " \"samplers\": [{\"input\": 6, \"output\": 7, \"interpolation\": \"LINEAR\"}]}],\n");
+               " \"samplers\": [{\"input\": 6, \"output\": 7, \"interpolation\": \"LINEAR\"}]}],\n",
+            translucent ? "[1, 0.2, 0.2, 0.5]" : "[1, 0.2, 0.2, 1]", translucent ? "BLEND" : "OPAQUE");
     fprintf(f, " \"accessors\": [\n"
                "  {\"bufferView\": 0, \"componentType\": 5126, \"count\": %d, \"type\": \"VEC3\", \"min\": [-0.5, -0.5, 0],"
                " \"max\": [0.5, 0.5, 0]},\n"
@@ -130,6 +134,11 @@ static void write_model(const char *path, const buffer_t *b)
     base64((const uint8_t *)b, sizeof *b, f);
     fprintf(f, "\"}]}\n");
     assert_int_equal(fclose(f), 0);
+}
+
+static void write_model(const char *path, const buffer_t *b)
+{
+    write_model_as(path, b, false);
 }
 
 /* A point of the grid's plane (x, y, z) through the node: scaled by 2, turned 90 degrees about z. */
@@ -259,11 +268,52 @@ static void test_render(void **state)
     unlink(bad);
 }
 
+/* A material with alphaMode BLEND draws translucent: through the A-buffer, each pixel the grid covers whole is
+ * halfway between the opaque grid's colour and the background (opacity 0.5), within 2 levels. */
+static void test_translucent_material(void **state)
+{
+    (void)state;
+    static buffer_t b;
+    fill(&b);
+    char model[512], solid[512], glass[512];
+    tsup_tmp_path(model, sizeof model, "test_gltf_morph", "glass.gltf");
+    tsup_tmp_path(solid, sizeof solid, "test_gltf_morph", "solid.png");
+    tsup_tmp_path(glass, sizeof glass, "test_gltf_morph", "glass.png");
+    const char *a_solid[] = {model, "--orbit", "0,0,2.2", "--size", "64x48", "--cull", "none", "--format", "xrgb8888",
+                             "--aa", "abuffer", "-o", solid, NULL};
+    const char *a_glass[] = {model, "--orbit", "0,0,2.2", "--size", "64x48", "--cull", "none", "--format", "xrgb8888",
+                             "--aa", "abuffer", "-o", glass, NULL};
+    write_model_as(model, &b, false);
+    expect(a_solid, 0, NULL);
+    write_model_as(model, &b, true);
+    expect(a_glass, 0, NULL);
+    psc_image_t s, g;
+    char err[512];
+    if (psc_io_image_load(solid, &s, err, sizeof err) != 0 || psc_io_image_load(glass, &g, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    /* the background: a corner pixel of the opaque frame; the grid's centre */
+    uint32_t bg = s.xrgb[0], c = s.xrgb[24 * 64 + 32], t = g.xrgb[24 * 64 + 32];
+    assert_true(c != bg);
+    for (unsigned sh = 0; sh < 24; sh += 8) {
+        double want = ((c >> sh & 255) + (bg >> sh & 255)) / 2.0, got = t >> sh & 255;
+        if (fabs(got - want) > 2.0)
+            fail_msg("channel %u: the translucent grid's centre is %.0f, halfway is %.1f", sh / 8, got, want);
+    }
+    print_message("  a glTF material of alphaMode BLEND, opacity 0.5: the grid's centre halfway between it opaque "
+                  "and the background\n");
+    psc_io_image_free(&s);
+    psc_io_image_free(&g);
+    unlink(model);
+    unlink(solid);
+    unlink(glass);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_import_and_morph),
         cmocka_unit_test(test_render),
+        cmocka_unit_test(test_translucent_material),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -210,6 +210,7 @@ void psc_3d_draw_defaults(psc_3d_draw_t *d, const psc_mesh_t *mesh)
     d->shade = PSC_SHADE_GOURAUD;
     d->filter = PSC_TEX_BILINEAR;
     d->blend = PSC_BLEND_REPLACE;
+    d->opacity_q8 = 256;
     d->cull_back = true;
     d->depth_test = true;
     d->light_dir = (psc_vec3_q16_t){0, 0, -PSC_Q16_ONE};
@@ -465,6 +466,7 @@ void psc_3d_tile_state(const psc_3d_draw_t *d, psc_raster_state_t *st)
         .filter = d->filter,
         .blend = d->blend,
         .depth_test = d->depth_test,
+        .opacity_q8 = d->opacity_q8,
         .modulate = d->shade == PSC_SHADE_TEXTURE && d->lit,
         .texture = d->texture ? d->texture : &d->mesh->texture,
         .view_tex = {d->view_tex[0], d->view_tex[1], d->view_tex[2]},
@@ -612,7 +614,8 @@ static void draw_binned(tile_ctx_t *t, const psc_3d_draw_t *draws, const vcache_
 static bool draw_ok(const psc_3d_draw_t *d)
 {
     const psc_mesh_t *m = d->mesh;
-    if (!m || !m->index || (!m->position_q15 && !m->position_q16) || d->shade > PSC_SHADE_PHONG)
+    if (!m || !m->index || (!m->position_q15 && !m->position_q16) || d->shade > PSC_SHADE_PHONG ||
+        d->blend > PSC_BLEND_ALPHA || d->opacity_q8 > 256)
         return false;
     if (d->shade == PSC_SHADE_PHONG &&
         (!m->normal_q14 || d->ambient_q8 < 0 || d->ambient_q8 > 256 || d->specular_q8 > 256 ||

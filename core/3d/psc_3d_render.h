@@ -107,7 +107,8 @@ typedef struct {
     psc_mat4_q16_t camera_from_object;  /* linear part within +-256.0 */
     psc_shade_t shade;
     psc_tex_filter_t filter;
-    psc_blend_t blend;
+    psc_blend_t blend;                /* PSC_BLEND_ALPHA: translucent (psc_raster.h), opacity_q8 */
+    uint16_t opacity_q8;              /* PSC_BLEND_ALPHA: 0..256 (default 256, opaque) */
     bool cull_back;                   /* drop triangles whose projected winding is negative */
     bool depth_test;
     bool lit;                         /* Lambert lighting from the mesh's normals (PHONG: always lit) */

@@ -128,11 +128,86 @@ bool psc_abuffer_add(psc_abuffer_t *a, uint32_t pixel, uint16_t mask, bool centr
     return false;
 }
 
+bool psc_abuffer_add_translucent(psc_abuffer_t *a, uint32_t pixel, uint16_t mask, bool centre, uint32_t limit,
+                                 uint32_t zslack, uint32_t depth, uint32_t color, uint32_t opacity_q7)
+{
+    uint32_t z = depth, c = color & 0xFFFFFFu;
+    uint32_t clear = (128u - (opacity_q7 < 1u ? 1u : opacity_q7 > 128u ? 128u : opacity_q7)) << PSC_ABUF_CLEAR_SHIFT;
+    if (z >= limit)
+        return false;
+    uint32_t *link = &a->head[pixel];
+    while (*link != 0) {
+        uint32_t ref = *link;
+        psc_abuf_fragment_t *f = &a->pool[ref - 1u];
+        if (f->depth_q32 >= limit) {
+            *link = f->next;
+            give_back(a, ref);
+            continue;
+        }
+        uint32_t dz = f->depth_q32 > z ? f->depth_q32 - z : z - f->depth_q32;
+        if (f->surface == a->surface && (f->mask & mask) == 0 && dz <= zslack) {
+            /* the same sheet across a triangle edge: one fragment, not two layers */
+            uint32_t flags = (f->color | (centre ? PSC_ABUF_CENTRE : 0u)) & PSC_ABUF_CENTRE;
+            if (centre || (!(f->color & PSC_ABUF_CENTRE) && z < f->depth_q32))
+                f->depth_q32 = z;
+            f->color = weighted(f->color, popcount16(f->mask), c, popcount16(mask)) | flags | clear;
+            f->mask = (uint16_t)(f->mask | mask);
+            return false;
+        }
+        link = &f->next;
+    }
+    uint32_t ref = take(a);
+    if (ref == 0) {
+        a->overflow++;
+        return popcount16(mask) >= PSC_ABUF_SAMPLES / 2u;
+    }
+    psc_abuf_fragment_t *f = &a->pool[ref - 1u];
+    *f = (psc_abuf_fragment_t){a->head[pixel], z, mask, a->surface, c | (centre ? PSC_ABUF_CENTRE : 0u) | clear};
+    a->head[pixel] = ref;
+    return false;
+}
+
 static uint32_t read_xrgb(const uint8_t *row, uint32_t x, bool fmt565)
 {
     if (fmt565)
         return psc_rgb565_to_xrgb(((const uint16_t *)(const void *)row)[x]) & 0xFFFFFFu;
     return ((const uint32_t *)(const void *)row)[x] & 0xFFFFFFu;
+}
+
+/*
+ * A pixel with translucent fragments, sample by sample: each sample's transmittance T (Q14, 1.0 at first) lets
+ * each fragment covering it, front to back, add T x opacity x its colour and keeps T x (1 - opacity); the stored
+ * colour gets what is left. The sum over the 16 samples, in units of 2^21 a sample (Q14 x Q7), is divided once,
+ * rounded: an opaque fragment (opacity 1) gives the samples it covers its colour exactly as the plain resolve.
+ */
+static uint32_t composite_pixel(const psc_abuf_fragment_t *const *near, unsigned n, uint32_t behind)
+{
+    uint32_t t[PSC_ABUF_SAMPLES];
+    uint64_t acc[3] = {0, 0, 0};
+    for (unsigned s = 0; s < PSC_ABUF_SAMPLES; s++)
+        t[s] = 16384u;
+    for (unsigned i = 0; i < n; i++) {
+        uint32_t o = 128u - (near[i]->color >> PSC_ABUF_CLEAR_SHIFT), m = near[i]->mask, sum = 0;
+        for (unsigned s = 0; s < PSC_ABUF_SAMPLES; s++) {
+            if (!(m >> s & 1u) || t[s] == 0)
+                continue;
+            sum += t[s];                           /* the light this fragment's samples still pass, Q14 */
+            t[s] = (t[s] * (128u - o) + 64u) >> 7; /* what passes on behind it */
+        }
+        for (unsigned c = 0; c < 3; c++)
+            acc[c] += (uint64_t)sum * o * ((near[i]->color >> (16u - 8u * c)) & 255u);
+    }
+    uint32_t left = 0;
+    for (unsigned s = 0; s < PSC_ABUF_SAMPLES; s++)
+        left += t[s];
+    uint32_t out = 0;
+    const uint64_t unit = (uint64_t)PSC_ABUF_SAMPLES << 21; /* 16 samples of Q14 x Q7 */
+    for (unsigned c = 0; c < 3; c++) {
+        uint64_t v = acc[c] + (uint64_t)left * 128u * ((behind >> (16u - 8u * c)) & 255u);
+        uint64_t q = (v + unit / 2u) / unit;
+        out = out << 8 | (uint32_t)(q > 255u ? 255u : q);
+    }
+    return out;
 }
 
 /* The pixel's visible fragments (depth < limit), the nearest PSC_ABUF_RESOLVE_MAX, front to back, blended over
@@ -155,6 +230,11 @@ static uint32_t resolve_pixel(const psc_abuffer_t *a, uint32_t ref, uint32_t lim
             near[i] = near[i - 1u];
         near[i] = f;
     }
+    bool translucent = false;
+    for (unsigned i = 0; i < n; i++)
+        translucent = translucent || (near[i]->color >> PSC_ABUF_CLEAR_SHIFT) != 0;
+    if (translucent)
+        return composite_pixel(near, n, behind);
     uint32_t covered = 0, acc[3] = {0, 0, 0};
     for (unsigned i = 0; i < n && covered != PSC_ABUF_FULL; i++) {
         uint32_t m = near[i]->mask & ~covered & PSC_ABUF_FULL;

@@ -40,8 +40,15 @@
  * without the A-buffer and a smaller one is dropped (counted in overflow):
  * the frame degrades to aliased edges, it never fails.
  *
+ * Translucent surfaces (psc_abuffer_add_translucent) leave the stored
+ * colour and depth alone and give every pixel they reach a fragment with
+ * their opacity; a pixel with one is resolved sample by sample, front to
+ * back: each sample takes each fragment covering it by what light is left
+ * (its transmittance), then the stored colour by what remains -- sorted
+ * alpha compositing with the coverage, in any drawing order.
+ *
  * Intersecting surfaces are not anti-aliased (one depth per fragment), nor
- * are blended (PSC_BLEND_ADD) draws or draws without the depth test.
+ * are added (PSC_BLEND_ADD) draws or draws without the depth test.
  */
 #ifndef PSC_ABUFFER_H
 #define PSC_ABUFFER_H
@@ -63,6 +70,9 @@ typedef struct {
 } psc_abuf_fragment_t;
 
 #define PSC_ABUF_CENTRE 0x01000000u
+/* A translucent fragment's transparency, bits 25..31 of its colour word: t in 0..127 (0 for an opaque one),
+ * its opacity (128 - t) / 128. */
+#define PSC_ABUF_CLEAR_SHIFT 25u
 
 #define PSC_ABUF_FRAGMENT_BYTES 16u
 #define PSC_ABUF_HEAD_BYTES 4u
@@ -101,6 +111,18 @@ void psc_abuffer_clear(psc_abuffer_t *a, uint32_t pixels);
  */
 bool psc_abuffer_add(psc_abuffer_t *a, uint32_t pixel, uint16_t mask, bool centre, uint32_t limit, uint32_t zslack,
                      uint32_t *depth, uint32_t *color);
+
+/**
+ * A translucent surface's fragment for head `pixel` (any non-empty mask,
+ * whole pixels too: what is behind shows through), of opacity
+ * opacity_q7 / 128 (1..128), merged with its own surface's as
+ * psc_abuffer_add does but never becoming the stored colour, or dropped
+ * when the stored surface hides it. Returns true when the pool is full and
+ * the mask covers at least half the samples: the caller is to blend
+ * *color over the pixel instead (the frame degrades, counted in overflow).
+ */
+bool psc_abuffer_add_translucent(psc_abuffer_t *a, uint32_t pixel, uint16_t mask, bool centre, uint32_t limit,
+                                 uint32_t zslack, uint32_t depth, uint32_t color, uint32_t opacity_q7);
 
 /**
  * Blend every pixel that has fragments into the surface rectangle

@@ -182,14 +182,27 @@ static PSC_ALWAYS_INLINE uint32_t add_sat(uint32_t a, uint32_t b)
     return out;
 }
 
-static PSC_ALWAYS_INLINE void put_pixel(uint8_t *row, int32_t x, int out565, psc_blend_t blend, uint32_t c)
+/* c over d with opacity o / 256 (0..256), each channel rounded. */
+static PSC_ALWAYS_INLINE uint32_t over(uint32_t c, uint32_t d, uint32_t o)
+{
+    uint32_t out = 0;
+    for (unsigned s = 0; s < 24; s += 8)
+        out |= ((((c >> s) & 255u) * o + ((d >> s) & 255u) * (256u - o) + 128u) >> 8) << s;
+    return out;
+}
+
+static PSC_ALWAYS_INLINE void put_pixel(uint8_t *row, int32_t x, int out565, psc_blend_t blend, uint32_t c,
+                                        uint32_t opacity_q8)
 {
     if (out565) {
         uint16_t *p = (uint16_t *)(void *)row + x;
-        *p = psc_xrgb_to_rgb565(blend == PSC_BLEND_ADD ? add_sat(psc_rgb565_to_xrgb(*p), c) : c);
+        uint32_t d = blend == PSC_BLEND_REPLACE ? 0 : psc_rgb565_to_xrgb(*p);
+        *p = psc_xrgb_to_rgb565(blend == PSC_BLEND_ADD ? add_sat(d, c) : blend == PSC_BLEND_ALPHA ? over(c, d, opacity_q8) : c);
     } else {
         uint32_t *p = (uint32_t *)(void *)row + x;
-        *p = 0xFF000000u | (blend == PSC_BLEND_ADD ? add_sat(*p, c) : c);
+        *p = 0xFF000000u | (blend == PSC_BLEND_ADD     ? add_sat(*p, c)
+                            : blend == PSC_BLEND_ALPHA ? over(c, *p, opacity_q8)
+                                                       : c);
     }
 }
 
@@ -335,6 +348,8 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
     const uint32_t head_w = (uint32_t)(t->x1 - t->x0);
     const psc_texture_t *tex = st->texture;
     const psc_blend_t blend = st->blend;
+    const bool translucent = blend == PSC_BLEND_ALPHA;
+    const uint32_t opacity = st->opacity_q8 > 256u ? 256u : st->opacity_q8;
     const bool mod = st->modulate;
     const uint32_t wmask = tex ? tex->width - 1u : 0, hmask = tex ? tex->height - 1u : 0;
     const int64_t tw = tex ? tex->width : 0, th = tex ? tex->height : 0;
@@ -391,13 +406,13 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
                         uint16_t z16 = (uint16_t)(z >> 16);
                         draw = z16 < *zp;
                         limit = (uint32_t)*zp << 16;
-                        if (draw && cover == PSC_ABUF_FULL)
+                        if (draw && cover == PSC_ABUF_FULL && !translucent) /* a translucent surface hides nothing */
                             *zp = z16;
                     } else {
                         uint32_t *zp = (uint32_t *)(void *)zrow + (x - t->x0);
                         draw = z < *zp;
                         limit = *zp;
-                        if (draw && cover == PSC_ABUF_FULL)
+                        if (draw && cover == PSC_ABUF_FULL && !translucent)
                             *zp = z;
                     }
                 }
@@ -440,11 +455,16 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
                         if (mod)
                             c = modulate(c, (uint32_t)clamp64(plane_value(pl, LIGHT_F), 0, 256));
                     }
-                    if (aa && cover != PSC_ABUF_FULL)
+                    if (aa && translucent) /* every pixel a fragment: what is behind shows through, resolved later */
+                        draw = psc_abuffer_add_translucent(t->abuf, (uint32_t)(y - t->y0) * head_w +
+                                                                        (uint32_t)(x - t->x0),
+                                                           (uint16_t)cover, centre, limit, s->zslack, z, c,
+                                                           (opacity + 1u) >> 1);
+                    else if (aa && cover != PSC_ABUF_FULL)
                         draw = partial(t, (uint32_t)(y - t->y0) * head_w + (uint32_t)(x - t->x0), zrow, x, zbits,
                                        cover, centre, limit, s->zslack, z, &c);
                     if (draw) {
-                        put_pixel(srow, x, out565, blend, c);
+                        put_pixel(srow, x, out565, blend, c, opacity);
                         written++;
                     }
                 }
@@ -713,7 +733,7 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                         else if (zbits)
                             ((uint32_t *)(void *)zrow)[x - t->x0] = z;
                         if (put) {
-                            put_pixel(srow, x, out565, st->blend, c);
+                            put_pixel(srow, x, out565, st->blend, c, 256u);
                             written++;
                         }
                     }
@@ -952,7 +972,8 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
     int64_t xmax = x[0] > x[1] ? (x[0] > x[2] ? x[0] : x[2]) : (x[1] > x[2] ? x[1] : x[2]);
     int64_t ymin = y[0] < y[1] ? (y[0] < y[2] ? y[0] : y[2]) : (y[1] < y[2] ? y[1] : y[2]);
     int64_t ymax = y[0] > y[1] ? (y[0] > y[2] ? y[0] : y[2]) : (y[1] > y[2] ? y[1] : y[2]);
-    const int aa = t->abuf != NULL && st->depth_test && st->blend == PSC_BLEND_REPLACE;
+    const int aa = t->abuf != NULL && st->depth_test &&
+                   (st->blend == PSC_BLEND_REPLACE || (st->blend == PSC_BLEND_ALPHA && st->shade != PSC_SHADE_VIEWS));
     int64_t px0 = (xmin + 7) >> 4, px1 = (xmax - 8) >> 4, py0 = (ymin + 7) >> 4, py1 = (ymax - 8) >> 4;
     if (aa) { /* pixels with a sample (16i + 2 .. 16i + 14) in the box */
         px0 = (xmin + 1) >> 4;

@@ -125,7 +125,10 @@ typedef enum {
 
 typedef enum {
     PSC_BLEND_REPLACE = 0, /* the pixel becomes the colour */
-    PSC_BLEND_ADD = 1      /* per-channel saturating add (counts writes in tests) */
+    PSC_BLEND_ADD = 1,     /* per-channel saturating add (counts writes in tests) */
+    PSC_BLEND_ALPHA = 2    /* translucent, opacity_q8: tested against the depth, never written to it; with the
+                            * A-buffer a fragment composited in depth order at the resolve (psc_abuffer.h), without
+                            * it blended over the pixel in drawing order (draw such surfaces last, far to near) */
 } psc_blend_t;
 
 /* The texel of a view texture where the surface is not (RGB565 black; content black is stored as 0x0020). */
@@ -165,6 +168,7 @@ typedef struct {
     psc_tex_filter_t filter;
     psc_blend_t blend;
     bool depth_test;          /* test against and write the depth buffer */
+    uint16_t opacity_q8;      /* PSC_BLEND_ALPHA: 0..256 (256 opaque) */
     bool modulate;            /* TEXTURE: multiply texels by the interpolated light_q8 */
     const psc_texture_t *texture;  /* TEXTURE only */
     const psc_texture_t *view_tex[3];  /* VIEWS: RGB565, same size */

@@ -6,6 +6,7 @@
 #include "util/note_text.h"
 
 #include <assimp/cimport.h>
+#include <assimp/GltfMaterial.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
@@ -180,6 +181,29 @@ static int add_targets(psc_gltf_t *g, const struct aiMesh *am, uint32_t j, const
     return 0;
 }
 
+/* A material's opacity, 0..256: a glTF material's base-colour alpha when its alphaMode is BLEND (OPAQUE and MASK
+ * draw opaque), another format's opacity (an OBJ's d or 1 - Tr, read by libassimp). */
+static uint16_t material_opacity(const struct aiScene *sc, unsigned mi)
+{
+    if (mi >= sc->mNumMaterials)
+        return 256;
+    const struct aiMaterial *mat = sc->mMaterials[mi];
+    struct aiString mode;
+    float o = 1.0f;
+    if (aiGetMaterialString(mat, AI_MATKEY_GLTF_ALPHAMODE, &mode) == AI_SUCCESS) {
+        struct aiColor4D c = {1, 1, 1, 1};
+        if (strcmp(mode.data, "BLEND") != 0)
+            return 256;
+        if (aiGetMaterialColor(mat, AI_MATKEY_BASE_COLOR, &c) == AI_SUCCESS)
+            o = c.a;
+        else if (aiGetMaterialFloat(mat, AI_MATKEY_OPACITY, &o) != AI_SUCCESS)
+            o = 1.0f;
+    } else if (aiGetMaterialFloat(mat, AI_MATKEY_OPACITY, &o) != AI_SUCCESS) {
+        o = 1.0f;
+    }
+    return (uint16_t)lround(fmin(fmax(o, 0.0), 1.0) * 256.0);
+}
+
 /* Append the vertices and triangles of mesh mi hung from joint j. */
 static int add_mesh(build_t *b, const struct aiScene *sc, unsigned mi, uint32_t j, const double (*rest_world)[12],
                     const char *path, char *err, size_t errlen)
@@ -209,8 +233,12 @@ static int add_mesh(build_t *b, const struct aiScene *sc, unsigned mi, uint32_t 
     void *p5 = p4 ? realloc(m->index, ((size_t)m->triangle_count + nt) * 3 * sizeof *m->index) : NULL;
     if (p5)
         m->index = p5;
-    if (!p5)
+    void *p6 = p5 ? realloc(g->tri_opacity_q8, ((size_t)m->triangle_count + nt) * sizeof *g->tri_opacity_q8) : NULL;
+    if (p6)
+        g->tri_opacity_q8 = p6;
+    if (!p6)
         return psc_io_errorf(err, errlen, path, "out of memory");
+    uint16_t opacity = material_opacity(sc, am->mMaterialIndex);
     uint32_t col = material_color(sc, am->mMaterialIndex);
     for (uint32_t i = 0; i < nv; i++) {
         memset(g->joint[v0 + i], 0, sizeof g->joint[0]);
@@ -266,6 +294,7 @@ static int add_mesh(build_t *b, const struct aiScene *sc, unsigned mi, uint32_t 
                                      vi, nv);
             m->index[3 * m->triangle_count + k] = v0 + vi;
         }
+        g->tri_opacity_q8[m->triangle_count] = opacity;
         m->triangle_count++;
     }
     m->vertex_count += nv;

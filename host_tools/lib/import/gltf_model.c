@@ -217,6 +217,7 @@ void psc_gltf_free(psc_gltf_t *g)
         free(g->morphs[k].key_weight);
     }
     free(g->morphs);
+    free(g->tri_opacity_q8);
     memset(g, 0, sizeof *g);
 }
 

@@ -74,6 +74,8 @@ typedef struct {
     uint32_t channel_count;
     double duration;             /* seconds (0: no animation) */
     bool skinned;                /* some vertex weighs on more than one joint */
+    uint16_t *tri_opacity_q8;    /* per triangle, its material's opacity 0..256 (256: opaque; glTF alphaMode BLEND's
+                                  * base-colour alpha), or NULL: all opaque */
     psc_gltf_morph_t *morphs;    /* the meshes with blend shapes */
     uint32_t morph_count;
     uint32_t target_count;       /* theirs together (a pose's weights, in this order) */

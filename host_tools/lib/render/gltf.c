@@ -26,6 +26,8 @@
 #include <time.h>
 
 #define BACKGROUND 0x30343Cu   /* (48, 52, 60) */
+/* The opaque triangles' draw and at most this many less one translucent opacities (more: the nearest kept). */
+#define PSC_GLTF_DRAWS_MAX 16u
 
 typedef struct {
     const char *model, *out, *shadow, *dump_ao, *pose_file;
@@ -114,6 +116,10 @@ typedef struct {
     uint16_t *index;
     uint32_t *ao;
     psc_mesh_t mesh;
+    /* the draws: the opaque triangles, then one a translucent opacity (their indices grouped in index) */
+    psc_mesh_t part[PSC_GLTF_DRAWS_MAX];
+    uint16_t part_opacity_q8[PSC_GLTF_DRAWS_MAX];
+    unsigned parts;
     /* blend shapes (g->target_count > 0): the core morph, the morphed rest mesh, the weights (a pose file's when
      * it gives them) */
     psc_gltf_morpher_t morph;
@@ -151,10 +157,37 @@ static int posed_new(posed_t *p, const psc_gltf_t *g, const char *name, char *er
         if (psc_gltf_morpher_new(&p->morph, g, p->c, p->r, name, err, errlen) != 0)
             return -1;
     }
-    for (uint32_t i = 0; i < 3u * g->mesh.triangle_count; i++)
-        p->index[i] = (uint16_t)g->mesh.index[i];
     p->mesh = (psc_mesh_t){.vertex_count = nv, .triangle_count = g->mesh.triangle_count, .position_q16 = p->pos_q16,
                            .normal_q14 = p->nrm_q14, .color = p->color, .index = p->index};
+    /* the opaque triangles first, then each translucent opacity's: a draw each, the translucent ones after */
+    p->part_opacity_q8[p->parts++] = 256;
+    for (uint32_t t = 0; g->tri_opacity_q8 && t < g->mesh.triangle_count; t++) {
+        uint16_t o = g->tri_opacity_q8[t];
+        unsigned k = 0;
+        while (k < p->parts && p->part_opacity_q8[k] != o)
+            k++;
+        if (k == p->parts && p->parts < PSC_GLTF_DRAWS_MAX)
+            p->part_opacity_q8[p->parts++] = o;
+    }
+    uint32_t at = 0;
+    for (unsigned k = 0; k < p->parts; k++) {
+        uint32_t first = at;
+        for (uint32_t t = 0; t < g->mesh.triangle_count; t++) {
+            uint16_t o = g->tri_opacity_q8 ? g->tri_opacity_q8[t] : 256;
+            unsigned home = 0; /* an opacity beyond the draws' goes with the nearest one kept */
+            for (unsigned q = 1; q < p->parts; q++)
+                if (abs((int)p->part_opacity_q8[q] - (int)o) < abs((int)p->part_opacity_q8[home] - (int)o))
+                    home = q;
+            if (home != k)
+                continue;
+            for (unsigned c = 0; c < 3; c++)
+                p->index[3u * at + c] = (uint16_t)g->mesh.index[3u * t + c];
+            at++;
+        }
+        p->part[k] = p->mesh;
+        p->part[k].index = &p->index[3u * first];
+        p->part[k].triangle_count = at - first;
+    }
     return 0;
 }
 
@@ -317,10 +350,13 @@ int psc_render_gltf_main(const char *prog, int argc, char **argv)
         lo = (psc_vec3_q16_t){v[0] < lo.x ? v[0] : lo.x, v[1] < lo.y ? v[1] : lo.y, v[2] < lo.z ? v[2] : lo.z};
         hi = (psc_vec3_q16_t){v[0] > hi.x ? v[0] : hi.x, v[1] > hi.y ? v[1] : hi.y, v[2] > hi.z ? v[2] : hi.z};
     }
-    psc_3d_draw_t d;
+    psc_3d_draw_t dd[PSC_GLTF_DRAWS_MAX], d;
+    unsigned nd = 0;
     psc_3d_draw_defaults(&d, &p.mesh);
     d.cull_back = vw->cull;
-    psc_3d_config_t cfg = {vw->width, vw->height, 0, 0, 32, psc_io_bam_from_deg(vw->hfov), 0, 0, p.mesh.vertex_count, vw->hsr};
+    /* every draw names all the vertices: the frame transforms them once a draw */
+    psc_3d_config_t cfg = {vw->width, vw->height, 0, 0, 32, psc_io_bam_from_deg(vw->hfov), 0, 0,
+                           p.mesh.vertex_count * p.parts, vw->hsr};
     if (psc_render_view_orbit(vw, lo, hi, &d.camera_from_object, &cfg.near_q16, &cfg.far_q16) != PSC_OK) {
         fprintf(stderr, "%s: %s: the orbit view does not fit the fixed-point range\n", prog, a.model);
         goto done;
@@ -333,6 +369,17 @@ int psc_render_gltf_main(const char *prog, int argc, char **argv)
     if (d.shade == PSC_SHADE_PHONG) { /* the light of light() below, per pixel instead of baked into the colours */
         d.light_dir = psc_vec3_normalize(psc_mat4_apply_dir(&d.camera_from_object, (psc_vec3_q16_t){26214, 52429, 29491}));
         d.ambient_q8 = 115;
+    }
+    for (unsigned k = 0; k < p.parts; k++) {
+        if (p.part[k].triangle_count == 0)
+            continue;
+        dd[nd] = d;
+        dd[nd].mesh = &p.part[k];
+        if (p.part_opacity_q8[k] < 256) { /* translucent: composited by the A-buffer (--aa), else blended in order */
+            dd[nd].blend = PSC_BLEND_ALPHA;
+            dd[nd].opacity_q8 = p.part_opacity_q8[k];
+        }
+        nd++;
     }
     psc_3d_stats_t st = {0};
     double t_shade = 0;
@@ -348,7 +395,7 @@ int psc_render_gltf_main(const char *prog, int argc, char **argv)
         if (d.shade != PSC_SHADE_PHONG)
             light(&p);
         uint32_t bg = BACKGROUND;
-        psc_status_t s = psc_render_target_frame(&rt, &d, 1, bg, &st);
+        psc_status_t s = psc_render_target_frame(&rt, dd, nd, bg, &st);
         if (s != PSC_OK) {
             fprintf(stderr, "%s: %s: drawing failed: %s\n", prog, a.model, psc_status_str(s));
             goto done;
