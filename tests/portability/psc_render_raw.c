@@ -35,6 +35,7 @@
  */
 #include "3d/psc_3d_orbit.h"
 #include "3d/psc_3d_render.h"
+#include "morph/psc_morph.h"
 #include "pack/psc_pack.h"
 #include "patch/psc_patch_frame.h"
 #include "proxy/psc_proxy.h"
@@ -382,6 +383,151 @@ done:
     return rc;
 }
 
+/* ---- the 3D pipeline's newer parts: blend shapes, translucency, area subdivision, rows by several workers ---- */
+
+#define FEAT_W 96
+#define FEAT_H 72
+#define FEAT_SHEETS 6
+#define FEAT_NV 200
+#define FEAT_NT 5
+
+static uint32_t lcg(uint32_t *s)
+{
+    *s = *s * 1664525u + 1013904223u;
+    return *s >> 8;
+}
+
+/* Blend shapes on pseudo-random sparse targets and weights: the positions and normals, raw. */
+static int feature_morph(FILE *out)
+{
+    static int32_t base[3 * FEAT_NV], dpos[FEAT_NT][3 * FEAT_NV], dn[FEAT_NT][3 * FEAT_NV], pos[3 * FEAT_NV],
+        sum[3 * FEAT_NV];
+    static int16_t nb[3 * FEAT_NV], nrm[3 * FEAT_NV];
+    static uint32_t vert[FEAT_NT][FEAT_NV];
+    psc_morph_target_t t[FEAT_NT];
+    int32_t w[FEAT_NT];
+    uint32_t seed = 7;
+    for (unsigned i = 0; i < 3 * FEAT_NV; i++) {
+        base[i] = (int32_t)(lcg(&seed) % 524288u) - 262144;
+        nb[i] = (int16_t)((int32_t)(lcg(&seed) % 16384u) - 8192);
+    }
+    for (unsigned k = 0; k < FEAT_NT; k++) {
+        uint32_t c = 0;
+        for (uint32_t v = 0; v < FEAT_NV; v++)
+            if (lcg(&seed) % 3u == 0) {
+                vert[k][c] = v;
+                for (unsigned a = 0; a < 3; a++) {
+                    dpos[k][3 * c + a] = (int32_t)(lcg(&seed) % 131072u) - 65536;
+                    dn[k][3 * c + a] = (int32_t)(lcg(&seed) % 16384u) - 8192;
+                }
+                c++;
+            }
+        t[k] = (psc_morph_target_t){c, vert[k], dpos[k], dn[k]};
+        w[k] = (int32_t)(lcg(&seed) % 196608u) - 98304;
+    }
+    psc_morph_t m = {FEAT_NV, base, nb, FEAT_NT, t};
+    if (psc_morph_check(&m) != PSC_OK || psc_morph_apply(&m, w, pos, nrm, sum) != PSC_OK)
+        return fail("--features", "the morph failed");
+    fwrite(pos, sizeof pos, 1, out);
+    fwrite(nrm, sizeof nrm, 1, out);
+    return 0;
+}
+
+/* Sheets at random depths, some translucent, in a frame: hsr, tiles, A-buffer, and the rows split between two
+ * workers (core's frame steps, as the threads call them) when split. */
+static int feature_frame(FILE *out, uint8_t hsr, uint16_t tile, bool aa, bool split, uint32_t *pixels)
+{
+    static int32_t pos[FEAT_SHEETS][4][3];
+    static uint32_t col[FEAT_SHEETS][4];
+    static uint16_t idx[FEAT_SHEETS][6];
+    static psc_mesh_t mesh[FEAT_SHEETS];
+    psc_3d_draw_t d[FEAT_SHEETS];
+    uint32_t seed = 99;
+    for (unsigned k = 0; k < FEAT_SHEETS; k++) {
+        int32_t z = (int32_t)(65536 + lcg(&seed) % 262144u), x0 = (int32_t)(lcg(&seed) % 65536u) - 49152,
+                y0 = (int32_t)(lcg(&seed) % 65536u) - 49152, wd = (int32_t)(20000 + lcg(&seed) % 60000u);
+        int32_t xs[4] = {x0, x0 + wd, x0 + wd, x0}, ys[4] = {y0, y0, y0 + wd, y0 + wd};
+        for (unsigned v = 0; v < 4; v++) {
+            pos[k][v][0] = (int32_t)((int64_t)xs[v] * z >> 16);
+            pos[k][v][1] = (int32_t)((int64_t)ys[v] * z >> 16);
+            pos[k][v][2] = z + (int32_t)(v * 3000u);
+            col[k][v] = lcg(&seed) & 0xFFFFFFu;
+        }
+        static const uint16_t q[6] = {0, 1, 2, 0, 2, 3};
+        memcpy(idx[k], q, sizeof q);
+        mesh[k] = (psc_mesh_t){.vertex_count = 4, .triangle_count = 2, .position_q16 = &pos[k][0][0],
+                               .color = col[k], .index = idx[k]};
+        psc_3d_draw_defaults(&d[k], &mesh[k]);
+        d[k].cull_back = false;
+        if (k % 2u == 1u) {
+            d[k].blend = PSC_BLEND_ALPHA;
+            d[k].opacity_q8 = (uint16_t)(40u + lcg(&seed) % 200u);
+        }
+    }
+    psc_3d_config_t cfg = {FEAT_W, FEAT_H, tile, tile, 16, 0x238E38E4u, PSC_Q16_ONE / 8, 16 * PSC_Q16_ONE,
+                           4 * FEAT_SHEETS, hsr};
+    size_t n = psc_3d_workspace_size(&cfg), wn = psc_3d_worker_bytes(&cfg), ab = psc_3d_abuffer_bytes(&cfg, 4000);
+    void *ws = NULL, *wws = NULL, *abuf = NULL, *abuf2 = NULL;
+    psc_3d_t r;
+    psc_3d_worker_t w2;
+    psc_surface_t sf = {FEAT_W, FEAT_H, FEAT_W * 4, PSC_PIX_XRGB8888, pixels};
+    uint32_t bg = 0x203040;
+    psc_3d_stats_t st = {0}, st2 = {0};
+    int rc = 0;
+    if (posix_memalign(&ws, 64, n) != 0 || posix_memalign(&wws, 64, wn) != 0 || posix_memalign(&abuf, 64, ab) != 0 ||
+        posix_memalign(&abuf2, 64, ab) != 0 || psc_3d_init(&r, &cfg, ws, n) != PSC_OK ||
+        psc_3d_worker_init(&w2, &cfg, wws, wn) != PSC_OK ||
+        (aa && (psc_3d_set_abuffer(&r, abuf, ab) != PSC_OK || psc_3d_worker_set_abuffer(&w2, &cfg, abuf2, ab) != PSC_OK))) {
+        rc = fail("--features", "cannot set up the renderer");
+    } else if (!split) {
+        if (psc_3d_render(&r, d, FEAT_SHEETS, &bg, &sf, &st) != PSC_OK)
+            rc = fail("--features", "rendering failed");
+    } else if (psc_3d_frame_begin(&r, d, FEAT_SHEETS, &bg, &sf, &st) != PSC_OK) {
+        rc = fail("--features", "rendering failed");
+    } else {
+        psc_3d_frame_vertices(&r, 1, 2); /* the parts in another order than one thread's */
+        psc_3d_frame_vertices(&r, 0, 2);
+        psc_3d_frame_ready(&r, 2);
+        psc_3d_frame_triangles(&r, 1, &st2);
+        psc_3d_frame_triangles(&r, 0, &st);
+        for (uint32_t row = psc_3d_frame_rows(&r); row-- > 0;)
+            psc_3d_frame_row(&r, row % 2u ? &w2 : &r.own, row, row % 2u ? &st2 : &st);
+    }
+    if (rc == 0)
+        fwrite(pixels, (size_t)FEAT_W * FEAT_H * 4u, 1, out);
+    free(ws), free(wws), free(abuf), free(abuf2);
+    return rc;
+}
+
+/* --features OUT.raw: the morph, then frames: z-buffer, area, tiles + A-buffer, the same split between two
+ * workers, area + A-buffer in tiles split (each pair of frames must match: checked here, and across machines by
+ * the caller's comparison of the whole file). */
+static int render_features(const char *path)
+{
+    FILE *out = fopen(path, "wb");
+    if (!out)
+        return fail(path, strerror(errno));
+    static uint32_t a[FEAT_W * FEAT_H], b[FEAT_W * FEAT_H];
+    int rc = feature_morph(out);
+    if (rc == 0)
+        rc = feature_frame(out, PSC_3D_HSR_ZBUFFER, 0, false, false, a);
+    if (rc == 0)
+        rc = feature_frame(out, PSC_3D_HSR_AREA, 0, false, false, b);
+    if (rc == 0 && memcmp(a, b, sizeof a) != 0)
+        rc = fail("--features", "area subdivision differs from the z-buffer");
+    if (rc == 0)
+        rc = feature_frame(out, PSC_3D_HSR_ZBUFFER, 16, true, false, a);
+    if (rc == 0)
+        rc = feature_frame(out, PSC_3D_HSR_ZBUFFER, 16, true, true, b);
+    if (rc == 0 && memcmp(a, b, sizeof a) != 0)
+        rc = fail("--features", "rows split between two workers differ");
+    if (rc == 0)
+        rc = feature_frame(out, PSC_3D_HSR_AREA, 24, false, true, b);
+    if (fclose(out) != 0 && rc == 0)
+        rc = fail(path, strerror(errno));
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     psc_container_error_t perr;
@@ -391,6 +537,8 @@ int main(int argc, char **argv)
     FILE *out;
     int rc;
 
+    if (argc == 3 && strcmp(argv[1], "--features") == 0)
+        return render_features(argv[2]);
     if (argc < 4) {
         fprintf(stderr, "usage: " PROG " PACK OUT.raw FORMAT,FILTER,SPAN_LOG2,YAW,PITCH,HFOV...\n");
         return 2;

@@ -172,6 +172,14 @@ $runner "$probe" "$tmp/bar.ppx" "$tmp/$board-bar.raw" $xspecs || die "$probe (pr
 cmp "$tmp/ref-bar.raw" "$tmp/$board-bar.raw" || die "proxy frames: $board's bytes differ from x86-64's (first difference above)"
 echo "portability: $board ($arch): psc-render-raw: 8 proxy frames of the skinned bar (proxies, full, billboard; 3 relit) equal to x86-64's ($(wc -c <"$tmp/ref-bar.raw") bytes)"
 
+# the 3D pipeline's newer parts: blend shapes, translucent sheets in the A-buffer, area subdivision, rows of a
+# frame drawn by two workers (the probe checks its pairs of frames equal; here every byte against x86-64's)
+"$build/portability/psc-render-raw" --features "$tmp/ref-features.raw" || die "the x86-64 feature frames failed"
+$runner "$probe" --features "$tmp/$board-features.raw" || die "$probe --features under ${runner:-the host} failed"
+cmp "$tmp/ref-features.raw" "$tmp/$board-features.raw" ||
+    die "blend shapes, translucency, area subdivision, split rows: $board's bytes differ from x86-64's"
+echo "portability: $board ($arch): psc-render-raw: blend shapes and 5 frames (translucent sheets, area subdivision, the A-buffer, rows split between workers) equal to x86-64's ($(wc -c <"$tmp/ref-features.raw") bytes)"
+
 if [ ! -x "$tool" ]; then
     echo "portability: $board ($arch): periscope-render not cross-built (no $arch image libraries: sh scripts/cross-deps $board): the core probe above stands alone"
     exit 0
