@@ -494,6 +494,26 @@ typedef struct {
 
 _Static_assert(sizeof(listed_t) <= PSC_3D_LIST_BYTES, "list entry larger than documented");
 
+/* A projected triangle's box: the pixel columns [px0, px1) it may reach and its rows in raster units; false when it
+ * misses the screen's columns. */
+static bool screen_box(const psc_3d_t *r, const psc_raster_vertex_t *va, const psc_raster_vertex_t *vb,
+                       const psc_raster_vertex_t *vc, uint16_t *px0, uint16_t *px1, int32_t *ymin, int32_t *ymax)
+{
+    int32_t y0 = va->y_q4 < vb->y_q4 ? va->y_q4 : vb->y_q4, y1 = va->y_q4 > vb->y_q4 ? va->y_q4 : vb->y_q4;
+    int32_t x0 = va->x_q4 < vb->x_q4 ? va->x_q4 : vb->x_q4, x1 = va->x_q4 > vb->x_q4 ? va->x_q4 : vb->x_q4;
+    y0 = vc->y_q4 < y0 ? vc->y_q4 : y0;
+    y1 = vc->y_q4 > y1 ? vc->y_q4 : y1;
+    x0 = vc->x_q4 < x0 ? vc->x_q4 : x0;
+    x1 = vc->x_q4 > x1 ? vc->x_q4 : x1;
+    if (x1 < 0 || x0 > (int32_t)r->cfg.width * 16)
+        return false;
+    *px0 = (uint16_t)(x0 < 0 ? 0 : x0 >> 4);
+    *px1 = (uint16_t)((x1 + 15) >> 4 > (int32_t)r->cfg.width ? r->cfg.width : (x1 + 15) >> 4);
+    *ymin = y0;
+    *ymax = y1;
+    return true;
+}
+
 /* Area subdivision: the frame's first PSC_3D_AREA_CLIPPED_MAX triangles that cross the clip volume, clipped and
  * projected once (bin_row meets them in the same order). */
 static void keep_clipped(psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, const vcache_t *cache)
@@ -532,7 +552,7 @@ static bool bin_row(const psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, c
 {
     psc_3d_stats_t before = *stats;
     uint32_t clip = 0; /* the frame's clipped triangles, in the order keep_clipped met them */
-    int32_t ylo = (int32_t)y0 * 16, yhi = (int32_t)y1 * 16, wq = (int32_t)r->cfg.width * 16;
+    int32_t ylo = (int32_t)y0 * 16, yhi = (int32_t)y1 * 16;
     uint32_t c = 0;
     size_t base = 0;
     for (unsigned i = 0; i < n; i++) {
@@ -559,16 +579,9 @@ static bool bin_row(const psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n, c
                         *(area == 0 ? &stats->outside : &stats->culled) += 1;
                     continue;
                 }
-                int32_t ymin = va->y_q4 < vb->y_q4 ? va->y_q4 : vb->y_q4, ymax = va->y_q4 > vb->y_q4 ? va->y_q4 : vb->y_q4;
-                int32_t xmin = va->x_q4 < vb->x_q4 ? va->x_q4 : vb->x_q4, xmax = va->x_q4 > vb->x_q4 ? va->x_q4 : vb->x_q4;
-                ymin = vcc->y_q4 < ymin ? vcc->y_q4 : ymin;
-                ymax = vcc->y_q4 > ymax ? vcc->y_q4 : ymax;
-                xmin = vcc->x_q4 < xmin ? vcc->x_q4 : xmin;
-                xmax = vcc->x_q4 > xmax ? vcc->x_q4 : xmax;
-                if (ymax < ylo || ymin > yhi || xmax < 0 || xmin > wq)
+                int32_t ymin, ymax;
+                if (!screen_box(r, va, vb, vcc, &px0, &px1, &ymin, &ymax) || ymax < ylo || ymin > yhi)
                     continue; /* as outside_tile: the box misses the rows' pixel edges */
-                px0 = (uint16_t)(xmin < 0 ? 0 : xmin >> 4);
-                px1 = (uint16_t)((xmax + 15) >> 4 > (int32_t)r->cfg.width ? r->cfg.width : (xmax + 15) >> 4);
             }
             if (c == cap) {
                 *stats = before;
@@ -784,7 +797,6 @@ void psc_3d_frame_triangles(const psc_3d_t *r, unsigned part, psc_3d_stats_t *st
     uint32_t t1 = (uint32_t)((uint64_t)r->triangle_count * (part + 1u) / r->parts);
     listed_t *out = (listed_t *)r->list + t0;
     const vcache_t *cache = r->cache;
-    int32_t wq = (int32_t)r->cfg.width * 16;
     psc_3d_tile_t counter = {.r = r, .stats = stats, .count_once = true};
     uint32_t c = 0, first = 0, base = 0;
     for (unsigned i = 0; i < r->draw_count && first < t1; i++) {
@@ -810,17 +822,10 @@ void psc_3d_frame_triangles(const psc_3d_t *r, unsigned part, psc_3d_stats_t *st
                 *(area == 0 ? &stats->outside : &stats->culled) += 1;
                 continue;
             }
-            int32_t ymin = va->y_q4 < vb->y_q4 ? va->y_q4 : vb->y_q4, ymax = va->y_q4 > vb->y_q4 ? va->y_q4 : vb->y_q4;
-            int32_t xmin = va->x_q4 < vb->x_q4 ? va->x_q4 : vb->x_q4, xmax = va->x_q4 > vb->x_q4 ? va->x_q4 : vb->x_q4;
-            ymin = vcc->y_q4 < ymin ? vcc->y_q4 : ymin;
-            ymax = vcc->y_q4 > ymax ? vcc->y_q4 : ymax;
-            xmin = vcc->x_q4 < xmin ? vcc->x_q4 : xmin;
-            xmax = vcc->x_q4 > xmax ? vcc->x_q4 : xmax;
-            if (xmax < 0 || xmin > wq)
-                continue;
-            uint16_t px0 = (uint16_t)(xmin < 0 ? 0 : xmin >> 4);
-            uint16_t px1 = (uint16_t)((xmax + 15) >> 4 > (int32_t)r->cfg.width ? r->cfg.width : (xmax + 15) >> 4);
-            out[c++] = (listed_t){{k, i, base, px0, px1, 0}, ymin, ymax};
+            uint16_t px0, px1;
+            int32_t ymin, ymax;
+            if (screen_box(r, va, vb, vcc, &px0, &px1, &ymin, &ymax))
+                out[c++] = (listed_t){{k, i, base, px0, px1, 0}, ymin, ymax};
         }
         first += m->triangle_count;
         base += m->vertex_count;

@@ -83,13 +83,10 @@ static uint32_t weighted(uint32_t c0, unsigned n0, uint32_t c1, unsigned n1)
     return out;
 }
 
-bool psc_abuffer_add(psc_abuffer_t *a, uint32_t pixel, uint16_t mask, bool centre, uint32_t limit, uint32_t zslack,
-                     uint32_t *depth, uint32_t *color)
+/* Walk pixel's list: drop what the stored surface hides (depth >= limit), and return the link to this surface's
+ * fragment that a piece of coverage mask at depth z merges into (disjoint samples, depth within zslack), or NULL. */
+static uint32_t *walk(psc_abuffer_t *a, uint32_t pixel, uint16_t mask, uint32_t z, uint32_t limit, uint32_t zslack)
 {
-    uint32_t z = *depth, c = *color & 0xFFFFFFu;
-    if (z >= limit)
-        return false;
-    /* Walk the list: drop what the stored surface hides, merge into this surface's fragment next to it. */
     uint32_t *link = &a->head[pixel];
     while (*link != 0) {
         uint32_t ref = *link;
@@ -100,31 +97,60 @@ bool psc_abuffer_add(psc_abuffer_t *a, uint32_t pixel, uint16_t mask, bool centr
             continue;
         }
         uint32_t dz = f->depth_q32 > z ? f->depth_q32 - z : z - f->depth_q32;
-        if (f->surface == a->surface && (f->mask & mask) == 0 && dz <= zslack) {
-            uint32_t flags = (f->color | (centre ? PSC_ABUF_CENTRE : 0u)) & PSC_ABUF_CENTRE;
-            if (centre || (!(f->color & PSC_ABUF_CENTRE) && z < f->depth_q32))
-                f->depth_q32 = z;  /* the centre's depth, as without the A-buffer; else the nearest */
-            f->color = weighted(f->color, popcount16(f->mask), c, popcount16(mask)) | flags;
-            f->mask = (uint16_t)(f->mask | mask);
-            if (f->mask != PSC_ABUF_FULL)
-                return false;
-            /* The surface now covers the pixel: it becomes the stored colour and depth. */
-            *depth = f->depth_q32;
-            *color = f->color & 0xFFFFFFu;
-            *link = f->next;
-            give_back(a, ref);
-            return true;
-        }
+        if (f->surface == a->surface && (f->mask & mask) == 0 && dz <= zslack)
+            return link;
         link = &f->next;
     }
+    return NULL;
+}
+
+/* Merge a piece (mask, depth z, colour c) into fragment f of its surface: colours weighted by their samples, the
+ * depth the centre's (as without the A-buffer), else the nearest. */
+static void merge(psc_abuf_fragment_t *f, uint16_t mask, bool centre, uint32_t z, uint32_t c)
+{
+    uint32_t flags = (f->color | (centre ? PSC_ABUF_CENTRE : 0u)) & PSC_ABUF_CENTRE;
+    uint32_t clear = f->color & ~(PSC_ABUF_CENTRE | 0xFFFFFFu);
+    if (centre || (!(f->color & PSC_ABUF_CENTRE) && z < f->depth_q32))
+        f->depth_q32 = z;
+    f->color = weighted(f->color, popcount16(f->mask), c, popcount16(mask)) | flags | clear;
+    f->mask = (uint16_t)(f->mask | mask);
+}
+
+/* A new fragment at the head of pixel's list; false when the pool is full (counted). */
+static bool push(psc_abuffer_t *a, uint32_t pixel, uint16_t mask, uint32_t z, uint32_t color_and_flags)
+{
     uint32_t ref = take(a);
     if (ref == 0) {
         a->overflow++;
-        return popcount16(mask) >= PSC_ABUF_SAMPLES / 2u;
+        return false;
     }
-    psc_abuf_fragment_t *f = &a->pool[ref - 1u];
-    *f = (psc_abuf_fragment_t){a->head[pixel], z, mask, a->surface, c | (centre ? PSC_ABUF_CENTRE : 0u)};
+    a->pool[ref - 1u] = (psc_abuf_fragment_t){a->head[pixel], z, mask, a->surface, color_and_flags};
     a->head[pixel] = ref;
+    return true;
+}
+
+bool psc_abuffer_add(psc_abuffer_t *a, uint32_t pixel, uint16_t mask, bool centre, uint32_t limit, uint32_t zslack,
+                     uint32_t *depth, uint32_t *color)
+{
+    uint32_t z = *depth, c = *color & 0xFFFFFFu;
+    if (z >= limit)
+        return false;
+    uint32_t *link = walk(a, pixel, mask, z, limit, zslack);
+    if (link) {
+        uint32_t ref = *link;
+        psc_abuf_fragment_t *f = &a->pool[ref - 1u];
+        merge(f, mask, centre, z, c);
+        if (f->mask != PSC_ABUF_FULL)
+            return false;
+        /* The surface now covers the pixel: it becomes the stored colour and depth. */
+        *depth = f->depth_q32;
+        *color = f->color & 0xFFFFFFu;
+        *link = f->next;
+        give_back(a, ref);
+        return true;
+    }
+    if (!push(a, pixel, mask, z, c | (centre ? PSC_ABUF_CENTRE : 0u)))
+        return popcount16(mask) >= PSC_ABUF_SAMPLES / 2u;
     return false;
 }
 
@@ -135,35 +161,13 @@ bool psc_abuffer_add_translucent(psc_abuffer_t *a, uint32_t pixel, uint16_t mask
     uint32_t clear = (128u - (opacity_q7 < 1u ? 1u : opacity_q7 > 128u ? 128u : opacity_q7)) << PSC_ABUF_CLEAR_SHIFT;
     if (z >= limit)
         return false;
-    uint32_t *link = &a->head[pixel];
-    while (*link != 0) {
-        uint32_t ref = *link;
-        psc_abuf_fragment_t *f = &a->pool[ref - 1u];
-        if (f->depth_q32 >= limit) {
-            *link = f->next;
-            give_back(a, ref);
-            continue;
-        }
-        uint32_t dz = f->depth_q32 > z ? f->depth_q32 - z : z - f->depth_q32;
-        if (f->surface == a->surface && (f->mask & mask) == 0 && dz <= zslack) {
-            /* the same sheet across a triangle edge: one fragment, not two layers */
-            uint32_t flags = (f->color | (centre ? PSC_ABUF_CENTRE : 0u)) & PSC_ABUF_CENTRE;
-            if (centre || (!(f->color & PSC_ABUF_CENTRE) && z < f->depth_q32))
-                f->depth_q32 = z;
-            f->color = weighted(f->color, popcount16(f->mask), c, popcount16(mask)) | flags | clear;
-            f->mask = (uint16_t)(f->mask | mask);
-            return false;
-        }
-        link = &f->next;
+    uint32_t *link = walk(a, pixel, mask, z, limit, zslack);
+    if (link) { /* the same sheet across a triangle edge: one fragment, not two layers; never the stored colour */
+        merge(&a->pool[*link - 1u], mask, centre, z, c);
+        return false;
     }
-    uint32_t ref = take(a);
-    if (ref == 0) {
-        a->overflow++;
+    if (!push(a, pixel, mask, z, c | (centre ? PSC_ABUF_CENTRE : 0u) | clear))
         return popcount16(mask) >= PSC_ABUF_SAMPLES / 2u;
-    }
-    psc_abuf_fragment_t *f = &a->pool[ref - 1u];
-    *f = (psc_abuf_fragment_t){a->head[pixel], z, mask, a->surface, c | (centre ? PSC_ABUF_CENTRE : 0u) | clear};
-    a->head[pixel] = ref;
     return false;
 }
 
