@@ -11,6 +11,8 @@
  *    at its keys and linearly between them.
  *  - The morph against glTF's definition in double: every vertex within
  *    1e-4 R of node (base + sum w delta) at 40 random weight pairs, -2..2.
+ *  - Khronos's AnimatedMorphCube (CC0, held out): both targets found, the
+ *    animation moves it, a pose file of the animation's weights draws its bytes.
  *  - periscope-render: t=1 (the first target whole) differs from the rest;
  *    a pose file giving weights [1, 0] draws t=1's bytes; a wrong number of
  *    weights, or weights for a model without targets, is refused naming the
@@ -308,12 +310,57 @@ static void test_translucent_material(void **state)
     unlink(glass);
 }
 
+/* A model nobody tuned for: Khronos's AnimatedMorphCube (CC0, tests/data/gltf/SOURCES.md), two targets and an
+ * animation of their weights. The importer finds both; the animation moves the cube; a pose file giving the
+ * animation's own weights at a time (printed to 17 digits) draws that time's bytes. */
+static void test_held_out_cube(void **state)
+{
+    (void)state;
+    const char *model = "tests/data/gltf/AnimatedMorphCube.gltf";
+    char err[512], note[512] = "";
+    psc_gltf_t g;
+    if (psc_gltf_load(model, &g, note, sizeof note, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    print_message("  %s: %s\n", model, note);
+    assert_int_equal(g.target_count, 2);
+    assert_true(g.duration > 4.0);
+    double w[2];
+    psc_gltf_weights(&g, 1.3, w);
+    assert_true(w[0] > 0 || w[1] > 0);
+    char t13[512], byhand[512], rest[512], json[512];
+    tsup_tmp_path(t13, sizeof t13, "test_gltf_morph", "cube-t13.png");
+    tsup_tmp_path(byhand, sizeof byhand, "test_gltf_morph", "cube-hand.png");
+    tsup_tmp_path(rest, sizeof rest, "test_gltf_morph", "cube-rest.png");
+    tsup_tmp_path(json, sizeof json, "test_gltf_morph", "cube.json");
+    FILE *f = fopen(json, "w");
+    assert_non_null(f);
+    fprintf(f, "{\"weights\": [%.17g, %.17g]}", w[0], w[1]);
+    fclose(f);
+#define VIEW model, "--orbit", "30,20,2.5", "--size", "96x72"
+    const char *a_rest[] = {VIEW, "-o", rest, NULL}, *a_t[] = {VIEW, "--pose", "t=1.3", "-o", t13, NULL},
+               *a_hand[] = {VIEW, "--pose", json, "-o", byhand, NULL};
+    expect(a_rest, 0, NULL);
+    expect(a_t, 0, NULL);
+    expect(a_hand, 0, NULL);
+#undef VIEW
+    assert_false(tsup_same_file(rest, t13));
+    assert_true(tsup_same_file(t13, byhand));
+    print_message("  weights at 1.3 s (%.3f, %.3f): the cube moved, a pose file of those weights the same bytes\n",
+                  w[0], w[1]);
+    psc_gltf_free(&g);
+    unlink(t13);
+    unlink(byhand);
+    unlink(rest);
+    unlink(json);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_import_and_morph),
         cmocka_unit_test(test_render),
         cmocka_unit_test(test_translucent_material),
+        cmocka_unit_test(test_held_out_cube),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
