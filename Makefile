@@ -303,11 +303,18 @@ test: deps
 		check-man-board check-fuzz-corpus
 	$(Q)sh tests/run_all.sh $(BUILD) $(QUICK_TESTS)
 
+# CHECK_PRUNE=1 (.ci/run sets it): a stage's own build folder goes once the stage has passed, so that a small
+# disk holds the system tests' packages and images without the clang and sanitizer builds beside them (2 GB).
+CHECK_PRUNE ?=
+check_prune = $(if $(CHECK_PRUNE),rm -rf $(1),true)
 check: deps
 	$(Q)sh scripts/timed "make test" $(MAKE) --no-print-directory test
 	$(Q)sh scripts/timed "clang build" $(MAKE) --no-print-directory check-clang
+	$(Q)$(call check_prune,$(BUILD)/clang)
 	$(Q)sh scripts/timed "sanitizers (gcc)" $(MAKE) --no-print-directory check-sanitize
+	$(Q)$(call check_prune,$(SAN_BUILD))
 	$(Q)sh scripts/timed "sanitizers (clang)" $(MAKE) --no-print-directory check-sanitize SAN_CC=clang
+	$(Q)$(call check_prune,$(BUILD)/sanitize-clang)
 	$(Q)sh scripts/timed "valgrind" $(MAKE) --no-print-directory check-memcheck
 	$(Q)sh scripts/timed "system tests" $(MAKE) --no-print-directory check-system
 

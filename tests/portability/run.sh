@@ -182,6 +182,7 @@ echo "portability: $board ($arch): psc-render-raw: blend shapes and 5 frames (tr
 
 if [ ! -x "$tool" ]; then
     echo "portability: $board ($arch): periscope-render not cross-built (no $arch image libraries: sh scripts/cross-deps $board): the core probe above stands alone"
+    rm -rf "$tmp"
     exit 0
 fi
 # the real tool; the target's libraries come from Debian multiarch (/usr/lib/<triplet>)
@@ -206,3 +207,4 @@ for map in rgb565 xrgb8888; do
     done
 done
 echo "portability: $board ($arch): periscope-render: $pngs PNG files equal to x86-64's"
+rm -rf "$tmp"
