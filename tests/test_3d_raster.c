@@ -586,11 +586,100 @@ static void test_config_and_memory(void **state)
     free(ws);
 }
 
+/* ---- row spans ------------------------------------------------------------------------ */
+
+/* A random coordinate in 1/16 pixel: mostly near the target, sometimes far outside (up to the raster's range). */
+static int32_t span_coord(tsup_rng_t *rng, int32_t size_px)
+{
+    switch (tsup_rng_below(rng, 6)) {
+    case 0: /* anywhere the rasterizer takes */
+        return (int32_t)tsup_rng_range(rng, -PSC_RASTER_COORD_MAX_Q4 + 1, PSC_RASTER_COORD_MAX_Q4 - 1);
+    case 1: /* on a pixel centre or a pixel edge, exactly */
+        return (int32_t)tsup_rng_below(rng, (uint32_t)size_px * 2u + 1u) * 8 - 8 * (int32_t)tsup_rng_below(rng, 2);
+    default:
+        return (int32_t)tsup_rng_range(rng, -4 * 16, (size_px + 4) * 16);
+    }
+}
+
+/* The rows a triangle draws are exactly the pixel centres its three edge functions (psc_raster_edges) put inside,
+ * within the target rectangle: narrow boxes (walked), wide ones (divided), slivers, huge and vertex-on-centre
+ * triangles, 20 000 of them, flat and Gouraud, without and with a depth buffer (every depth nearer than the
+ * cleared buffer's, so that the depth test passes everywhere). */
+static void test_spans_follow_edge_functions(void **state)
+{
+    (void)state;
+    enum { W = 157, H = 61 };
+    tsup_rng_t rng;
+    tsup_rng_seed(&rng, 2611);
+    psc_surface_t s = tsup_surface_new(W, H, PSC_PIX_XRGB8888);
+    uint16_t *depth = malloc((size_t)W * H * sizeof *depth);
+    unsigned drawn_total = 0, wide = 0;
+    for (int trial = 0; trial < 20000; trial++) {
+        psc_raster_vertex_t v[3];
+        memset(v, 0, sizeof v);
+        int32_t scale = tsup_rng_below(&rng, 4) == 0 ? 1 : 16; /* tiny triangles: coordinates within a pixel or two */
+        for (int k = 0; k < 3; k++) {
+            v[k].x_q4 = scale == 1 ? (int32_t)tsup_rng_range(&rng, 0, W * 16) : span_coord(&rng, W);
+            v[k].y_q4 = scale == 1 ? (int32_t)tsup_rng_range(&rng, 0, H * 16) : span_coord(&rng, H);
+            v[k].depth_q32 = tsup_rng_u32(&rng) >> 1;
+            v[k].q_q28 = PSC_RASTER_Q_ONE;
+            v[k].color = tsup_rng_u32(&rng) & 0xFFFFFFu;
+            v[k].light_q8 = 256;
+        }
+        if (scale == 1) /* a tiny one: the other two vertices within 2 pixels of the first */
+            for (int k = 1; k < 3; k++) {
+                v[k].x_q4 = v[0].x_q4 + (int32_t)tsup_rng_range(&rng, -32, 32);
+                v[k].y_q4 = v[0].y_q4 + (int32_t)tsup_rng_range(&rng, -32, 32);
+            }
+        psc_raster_edge_t e[3];
+        bool some = psc_raster_edges(&v[0], &v[1], &v[2], e);
+        uint16_t x0 = (uint16_t)tsup_rng_below(&rng, W / 3), y0 = (uint16_t)tsup_rng_below(&rng, H / 3);
+        uint16_t x1 = (uint16_t)(W - tsup_rng_below(&rng, W / 3)), y1 = (uint16_t)(H - tsup_rng_below(&rng, H / 3));
+        bool use_depth = tsup_rng_below(&rng, 2);
+        psc_raster_state_t st = {0};
+        st.shade = tsup_rng_below(&rng, 2) ? PSC_SHADE_GOURAUD : PSC_SHADE_FLAT;
+        st.blend = PSC_BLEND_REPLACE;
+        st.depth_test = use_depth;
+        st.opacity_q8 = 256;
+        memset(s.pixels, 0, (size_t)s.stride * H);
+        for (size_t i = 0; i < (size_t)W * H; i++)
+            depth[i] = 0xFFFF;
+        psc_raster_target_t t = {&s, use_depth ? depth + (size_t)y0 * W + x0 : NULL, W * sizeof *depth, 16,
+                                 x0, y0, x1, y1, NULL, NULL};
+        uint32_t drawn = psc_raster_triangle(&t, &st, &v[0], &v[1], &v[2]);
+        unsigned inside = 0, bad = 0;
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++) {
+                int64_t cx = 16 * x + 8, cy = 16 * y + 8;
+                bool in = some && x >= x0 && x < x1 && y >= y0 && y < y1;
+                for (int k = 0; k < 3 && in; k++)
+                    in = e[k].a * cx + e[k].b * cy + e[k].c >= 0;
+                /* a drawn pixel is opaque (even black), and every depth is nearer than the cleared buffer's */
+                bool lit = ((uint32_t *)s.pixels)[(size_t)y * (s.stride / 4) + x] != 0;
+                if (in != lit)
+                    bad++;
+                inside += in;
+            }
+        if (bad)
+            fail_msg("trial %d: %u pixels differ from the edge functions' (%d,%d) (%d,%d) (%d,%d)", trial, bad,
+                     v[0].x_q4, v[0].y_q4, v[1].x_q4, v[1].y_q4, v[2].x_q4, v[2].y_q4);
+        assert_int_equal(drawn, inside);
+        drawn_total += drawn;
+        wide += inside > 0 && (x1 - x0) > 16;
+    }
+    /* the cases reached: many triangles drew, wide boxes among them */
+    assert_true(drawn_total > 1000000u);
+    assert_true(wide > 2000u);
+    free(depth);
+    tsup_surface_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_watertight_closed_meshes),
         cmocka_unit_test(test_shared_edges_drawn_once),
+        cmocka_unit_test(test_spans_follow_edge_functions),
         cmocka_unit_test(test_tiles_identical),
         cmocka_unit_test(test_depth_order_interpenetrating),
         cmocka_unit_test(test_near_plane_extremes),

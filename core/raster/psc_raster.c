@@ -341,170 +341,399 @@ static bool partial(const psc_raster_target_t *t, uint32_t head, uint8_t *zrow, 
     return true;
 }
 
+/* A pixel's colour from its planes' values there (or at its covered samples' centroid). */
+typedef struct {
+    uint64_t r, g, b, q, u, v, l, nx, ny, nz;
+} pix_planes_t;
+
+/* A texture's fields as locals of the loop: the pixel stores could alias its 16-bit sizes, so that read through the
+ * texture they would be loaded again at every pixel. */
+typedef struct {
+    psc_texture_t tex;
+    uint32_t wmask, hmask;
+    int64_t tw, th;
+    bool modulate;
+} tex_view_t;
+
+static PSC_ALWAYS_INLINE tex_view_t tex_view(const psc_raster_state_t *st)
+{
+    tex_view_t v = {{0}, 0, 0, 0, 0, st->modulate};
+    if (st->texture) {
+        v.tex = *st->texture;
+        v.wmask = v.tex.width - 1u;
+        v.hmask = v.tex.height - 1u;
+        v.tw = v.tex.width;
+        v.th = v.tex.height;
+    }
+    return v;
+}
+
+static PSC_ALWAYS_INLINE uint32_t shade_pixel(const setup_t *s, const psc_raster_state_t *st, const tex_view_t *tv,
+                                              const int shade, const int bilinear, const int tex565,
+                                              const pix_planes_t *p)
+{
+    const psc_texture_t *tex = &tv->tex;
+    const uint32_t wmask = tv->wmask, hmask = tv->hmask;
+    const int64_t tw = tv->tw, th = tv->th;
+    const uint64_t pr = p->r, pg = p->g, pb = p->b, pq = p->q, pu = p->u, pv = p->v, pl = p->l;
+    const uint64_t pnx = p->nx, pny = p->ny, pnz = p->nz;
+    uint32_t c;
+    if (shade == PSC_SHADE_FLAT) {
+        c = s->flat;
+    } else if (shade == PSC_SHADE_GOURAUD || shade == PSC_SHADE_PHONG) {
+        uint32_t cr = (uint32_t)clamp64(plane_value(pr, COLOR_F), 0, 255);
+        uint32_t cg = (uint32_t)clamp64(plane_value(pg, COLOR_F), 0, 255);
+        uint32_t cb = (uint32_t)clamp64(plane_value(pb, COLOR_F), 0, 255);
+        c = (cr << 16) | (cg << 8) | cb;
+        if (shade == PSC_SHADE_PHONG) {
+            const int32_t n[3] = {normal_value(pnx), normal_value(pny), normal_value(pnz)};
+            c = phong(st, c, n);
+        }
+    } else {
+        int64_t uu, vv;
+        if (s->affine) {
+            uu = plane_value(pu, UV_F);
+            vv = plane_value(pv, UV_F);
+        } else { /* one division per pixel: 1/q, then u = (u/w) / (1/w) */
+            int64_t qq = clamp64(plane_value(pq, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
+            int64_t inv = recip40(qq); /* 2^12 .. 2^28 */
+            uu = psc_shr_round64(plane_value(pu, UV_F) * inv, 24);
+            vv = psc_shr_round64(plane_value(pv, UV_F) * inv, 24);
+        }
+        if (bilinear) {
+            int64_t tx = (uu * tw >> 8) - 128, ty = (vv * th >> 8) - 128;
+            uint32_t fx = (uint32_t)tx & 255u, fy = (uint32_t)ty & 255u;
+            uint32_t ix = (uint32_t)(tx >> 8), iy = (uint32_t)(ty >> 8);
+            uint32_t x0 = ix & wmask, x1 = (ix + 1u) & wmask;
+            uint32_t y0 = iy & hmask, y1 = (iy + 1u) & hmask;
+            c = psc_blend4_xrgb(texel(tex, tex565, x0, y0), texel(tex, tex565, x1, y0),
+                                texel(tex, tex565, x0, y1), texel(tex, tex565, x1, y1), fx, fy);
+        } else {
+            c = texel(tex, tex565, (uint32_t)(uu * tw >> 16) & wmask,
+                      (uint32_t)(vv * th >> 16) & hmask);
+        }
+        if (tv->modulate)
+            c = modulate(c, (uint32_t)clamp64(plane_value(pl, LIGHT_F), 0, 256));
+    }
+    return c;
+}
+
+/* The pixel centres of row offset-from-px0 range [*lo, *hi] inside all three edges, whose values at the row's first
+ * centre are e[]: exactly the centres the per-pixel test takes. Narrow boxes walk the edges (a few additions a
+ * pixel); wide ones divide (three divisions a row instead of a test at every pixel of the box). False if none. */
+static PSC_ALWAYS_INLINE bool row_span(const setup_t *s, const int64_t e[3], int32_t *lo, int32_t *hi)
+{
+    const int32_t last = s->px1 - s->px0;
+    if (last < 16) {
+        int64_t a = e[0], b = e[1], c = e[2];
+        int32_t i = 0;
+        while (i <= last && (a | b | c) < 0) {
+            a += s->ex[0];
+            b += s->ex[1];
+            c += s->ex[2];
+            i++;
+        }
+        *lo = i;
+        while (i <= last && (a | b | c) >= 0) {
+            a += s->ex[0];
+            b += s->ex[1];
+            c += s->ex[2];
+            i++;
+        }
+        *hi = i - 1;
+        return *lo <= *hi;
+    }
+    int64_t l = 0, h = last;
+    for (unsigned k = 0; k < 3; k++) {
+        const int64_t ex = s->ex[k], v = e[k];
+        if (ex > 0) { /* v + ex i >= 0 from i = ceil(-v / ex) on */
+            if (v < 0) {
+                if (-v > ex * h)
+                    return false;
+                int64_t i = (-v + ex - 1) / ex;
+                l = i > l ? i : l;
+            }
+        } else if (ex < 0) { /* v + ex i >= 0 up to i = floor(v / -ex) */
+            if (v < 0)
+                return false;
+            if (v < -ex * h)
+                h = v / -ex;
+        } else if (v < 0) {
+            return false;
+        }
+    }
+    *lo = (int32_t)l;
+    *hi = (int32_t)h;
+    return l <= h;
+}
+
+/* A run of n inside pixel centres of a flat or Gouraud surface drawn over what is there, whose planes stay in range
+ * over the run (checked at its ends: a plane is linear along it), so that no value needs its clamp: the loop the
+ * large polygons of a scene spend their time in. The same arithmetic as the general loop, so the same bytes. */
+static PSC_ALWAYS_INLINE uint32_t span_plain(uint8_t *orow, uint8_t *zrow, int32_t n, const int out565,
+                                             const int zbits, const int gouraud, uint32_t flat, uint64_t d,
+                                             uint64_t sd, uint64_t r, uint64_t sr, uint64_t g, uint64_t sg,
+                                             uint64_t b, uint64_t sb)
+{
+    const uint64_t half_d = (uint64_t)1 << (DEPTH_F - 1u), half_c = (uint64_t)1 << (COLOR_F - 1u);
+    uint16_t *o16 = (uint16_t *)(void *)orow;
+    uint32_t *o32 = (uint32_t *)(void *)orow;
+    uint16_t *z16 = (uint16_t *)(void *)zrow;
+    uint32_t *z32 = (uint32_t *)(void *)zrow;
+    uint16_t flat565 = psc_xrgb_to_rgb565(flat);
+    uint32_t written = 0;
+    r += half_c;
+    g += half_c;
+    b += half_c;
+    d += half_d;
+    for (int32_t i = 0; i < n; i++) {
+        if (zbits == 16) {
+            uint16_t z = (uint16_t)(d >> (DEPTH_F + 16u));
+            d += sd;
+            if (z >= z16[i])
+                goto next;
+            z16[i] = z;
+        } else if (zbits == 32) {
+            uint32_t z = (uint32_t)(d >> DEPTH_F);
+            d += sd;
+            if (z >= z32[i])
+                goto next;
+            z32[i] = z;
+        }
+        if (gouraud) {
+            uint32_t cr = (uint32_t)(r >> COLOR_F), cg = (uint32_t)(g >> COLOR_F), cb = (uint32_t)(b >> COLOR_F);
+            if (out565)
+                o16[i] = (uint16_t)(((cr * 249u + 1014u) >> 11) << 11 | ((cg * 253u + 505u) >> 10) << 5 |
+                                    (cb * 249u + 1014u) >> 11);
+            else
+                o32[i] = 0xFF000000u | cr << 16 | cg << 8 | cb;
+        } else if (out565) {
+            o16[i] = flat565;
+        } else {
+            o32[i] = 0xFF000000u | flat;
+        }
+        written++;
+    next:
+        if (gouraud) {
+            r += sr;
+            g += sg;
+            b += sb;
+        }
+    }
+    return written;
+}
+
+/* Whether a plane's rounded value stays within [lo, hi] over n pixels from v (steps sx): its ends tell. */
+static PSC_ALWAYS_INLINE bool plane_in_range(uint64_t v, uint64_t sx, int32_t n, unsigned f, int64_t lo, int64_t hi)
+{
+    int64_t a = plane_value(v, f), b = plane_value(v + (uint64_t)(n - 1) * sx, f);
+    return a >= lo && a <= hi && b >= lo && b <= hi;
+}
+
 static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster_target_t *t,
                                               const psc_raster_state_t *st, const int shade, const int out565,
                                               const int zbits, const int bilinear, const int tex565, const int aa)
 {
     const uint32_t head_w = (uint32_t)(t->x1 - t->x0);
-    const psc_texture_t *tex = st->texture;
     const psc_blend_t blend = st->blend;
     const bool translucent = blend == PSC_BLEND_ALPHA;
     const uint32_t opacity = st->opacity_q8 > 256u ? 256u : st->opacity_q8;
-    const bool mod = st->modulate;
-    const uint32_t wmask = tex ? tex->width - 1u : 0, hmask = tex ? tex->height - 1u : 0;
-    const int64_t tw = tex ? tex->width : 0, th = tex ? tex->height : 0;
+    const bool gouraud = shade == PSC_SHADE_GOURAUD || shade == PSC_SHADE_PHONG, phong = shade == PSC_SHADE_PHONG;
+    const bool textured = shade == PSC_SHADE_TEXTURE;
+    const tex_view_t tv = tex_view(st);
     uint32_t written = 0, tested = 0;
-    int64_t e0r = s->e[0], e1r = s->e[1], e2r = s->e[2];
-    uint64_t dr = s->depth.base, rr = s->r.base, gr = s->g.base, br = s->b.base;
-    uint64_t qr = s->q.base, ur = s->uq.base, vr = s->vq.base, lr = s->light.base;
-    uint64_t nxr = s->nx.base, nyr = s->ny.base, nzr = s->nz.base;
+    int64_t er[3] = {s->e[0], s->e[1], s->e[2]};
+    uint64_t dr = s->depth.base;
+    pix_planes_t row = {s->r.base, s->g.base, s->b.base, s->q.base, s->uq.base, s->vq.base, s->light.base,
+                        s->nx.base, s->ny.base, s->nz.base};
     uint8_t *srow = (uint8_t *)t->surface->pixels + (size_t)s->py0 * t->surface->stride;
     uint8_t *zrow = zbits ? (uint8_t *)t->depth + (size_t)(s->py0 - t->y0) * t->depth_stride : 0;
 
     for (int32_t y = s->py0; y <= s->py1; y++) {
-        int64_t e0 = e0r, e1 = e1r, e2 = e2r;
-        uint64_t d = dr, r = rr, g = gr, b = br, q = qr, u = ur, v = vr, l = lr;
-        uint64_t nx = nxr, ny = nyr, nz = nzr;
-        bool entered = false;
-        for (int32_t x = s->px0; x <= s->px1; x++) {
-            uint32_t cover = aa ? sample_mask(s, e0, e1, e2) : (e0 | e1 | e2) >= 0 ? PSC_ABUF_FULL : 0;
-            if (!aa && cover == 0 && entered)
-                break; /* the pixel centres of a row inside a triangle are one run: the rest is outside */
-            if (cover != 0) {
-                entered = true;
-                int draw = 1;
-                uint32_t z = 0, limit = 0;
-                uint64_t pd = d, pr = r, pg = g, pb = b, pq = q, pu = u, pv = v, pl = l, pnx = nx, pny = ny, pnz = nz;
-                const bool centre = (e0 | e1 | e2) >= 0;
-                if (aa && cover != PSC_ABUF_FULL) {
-                    int64_t ox, oy;
-                    covered_centroid(cover, &ox, &oy);
-                    if (!centre) /* a triangle covering the centre keeps the centre's depth, as without the A-buffer */
-                        pd = plane_at(&s->depth, pd, ox, oy);
-                    if (shade == PSC_SHADE_GOURAUD || shade == PSC_SHADE_PHONG) {
-                        pr = plane_at(&s->r, pr, ox, oy);
-                        pg = plane_at(&s->g, pg, ox, oy);
-                        pb = plane_at(&s->b, pb, ox, oy);
-                    }
-                    if (shade == PSC_SHADE_PHONG) {
-                        pnx = plane_at(&s->nx, pnx, ox, oy);
-                        pny = plane_at(&s->ny, pny, ox, oy);
-                        pnz = plane_at(&s->nz, pnz, ox, oy);
-                    }
-                    if (shade == PSC_SHADE_TEXTURE) {
-                        pq = plane_at(&s->q, pq, ox, oy);
-                        pu = plane_at(&s->uq, pu, ox, oy);
-                        pv = plane_at(&s->vq, pv, ox, oy);
-                        pl = plane_at(&s->light, pl, ox, oy);
-                    }
+        if (!aa) {
+            /* Without coverage a pixel is its centre: the row's inside centres are one run, found first, then
+             * drawn with no test but the depth's. */
+            int32_t lo, hi;
+            if (row_span(s, er, &lo, &hi)) {
+                const uint64_t k = (uint64_t)lo;
+                uint64_t d = dr + k * s->depth.step_x;
+                pix_planes_t p = row;
+                if (gouraud) {
+                    p.r += k * s->r.step_x;
+                    p.g += k * s->g.step_x;
+                    p.b += k * s->b.step_x;
                 }
-                if (zbits) {
-                    tested++;
-                    z = (uint32_t)clamp64(plane_value(pd, DEPTH_F), 0, INT64_C(0xFFFFFFFF));
-                    if (zbits == 16) {
-                        uint16_t *zp = (uint16_t *)(void *)zrow + (x - t->x0);
-                        uint16_t z16 = (uint16_t)(z >> 16);
-                        draw = z16 < *zp;
-                        limit = (uint32_t)*zp << 16;
-                        if (draw && cover == PSC_ABUF_FULL && !translucent) /* a translucent surface hides nothing */
-                            *zp = z16;
-                    } else {
-                        uint32_t *zp = (uint32_t *)(void *)zrow + (x - t->x0);
-                        draw = z < *zp;
-                        limit = *zp;
-                        if (draw && cover == PSC_ABUF_FULL && !translucent)
-                            *zp = z;
-                    }
+                if (phong) {
+                    p.nx += k * s->nx.step_x;
+                    p.ny += k * s->ny.step_x;
+                    p.nz += k * s->nz.step_x;
                 }
-                if (draw) {
-                    uint32_t c;
-                    if (shade == PSC_SHADE_FLAT) {
-                        c = s->flat;
-                    } else if (shade == PSC_SHADE_GOURAUD || shade == PSC_SHADE_PHONG) {
-                        uint32_t cr = (uint32_t)clamp64(plane_value(pr, COLOR_F), 0, 255);
-                        uint32_t cg = (uint32_t)clamp64(plane_value(pg, COLOR_F), 0, 255);
-                        uint32_t cb = (uint32_t)clamp64(plane_value(pb, COLOR_F), 0, 255);
-                        c = (cr << 16) | (cg << 8) | cb;
-                        if (shade == PSC_SHADE_PHONG) {
-                            const int32_t n[3] = {normal_value(pnx), normal_value(pny), normal_value(pnz)};
-                            c = phong(st, c, n);
-                        }
-                    } else {
-                        int64_t uu, vv;
-                        if (s->affine) {
-                            uu = plane_value(pu, UV_F);
-                            vv = plane_value(pv, UV_F);
-                        } else { /* one division per pixel: 1/q, then u = (u/w) / (1/w) */
-                            int64_t qq = clamp64(plane_value(pq, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
-                            int64_t inv = recip40(qq); /* 2^12 .. 2^28 */
-                            uu = psc_shr_round64(plane_value(pu, UV_F) * inv, 24);
-                            vv = psc_shr_round64(plane_value(pv, UV_F) * inv, 24);
-                        }
-                        if (bilinear) {
-                            int64_t tx = (uu * tw >> 8) - 128, ty = (vv * th >> 8) - 128;
-                            uint32_t fx = (uint32_t)tx & 255u, fy = (uint32_t)ty & 255u;
-                            uint32_t ix = (uint32_t)(tx >> 8), iy = (uint32_t)(ty >> 8);
-                            uint32_t x0 = ix & wmask, x1 = (ix + 1u) & wmask;
-                            uint32_t y0 = iy & hmask, y1 = (iy + 1u) & hmask;
-                            c = psc_blend4_xrgb(texel(tex, tex565, x0, y0), texel(tex, tex565, x1, y0),
-                                                texel(tex, tex565, x0, y1), texel(tex, tex565, x1, y1), fx, fy);
+                if (textured) {
+                    p.q += k * s->q.step_x;
+                    p.u += k * s->uq.step_x;
+                    p.v += k * s->vq.step_x;
+                    p.l += k * s->light.step_x;
+                }
+                const int32_t n = hi - lo + 1;
+                if (zbits)
+                    tested += (uint32_t)n;
+                if ((shade == PSC_SHADE_FLAT || shade == PSC_SHADE_GOURAUD) && blend == PSC_BLEND_REPLACE &&
+                    (!zbits || plane_in_range(d, s->depth.step_x, n, DEPTH_F, 0, INT64_C(0xFFFFFFFF))) &&
+                    (shade == PSC_SHADE_FLAT || (plane_in_range(p.r, s->r.step_x, n, COLOR_F, 0, 255) &&
+                                                 plane_in_range(p.g, s->g.step_x, n, COLOR_F, 0, 255) &&
+                                                 plane_in_range(p.b, s->b.step_x, n, COLOR_F, 0, 255)))) {
+                    const int32_t x = s->px0 + lo;
+                    written += span_plain(srow + (size_t)x * (out565 ? 2u : 4u),
+                                          zbits ? zrow + (size_t)(x - t->x0) * (unsigned)(zbits / 8) : 0, n, out565,
+                                          zbits, shade == PSC_SHADE_GOURAUD, s->flat, d, s->depth.step_x, p.r,
+                                          s->r.step_x, p.g, s->g.step_x, p.b, s->b.step_x);
+                    goto row_done;
+                }
+                for (int32_t x = s->px0 + lo; x <= s->px0 + hi; x++) {
+                    bool draw = true;
+                    if (zbits) {
+                        uint32_t z = (uint32_t)clamp64(plane_value(d, DEPTH_F), 0, INT64_C(0xFFFFFFFF));
+                        if (zbits == 16) {
+                            uint16_t *zp = (uint16_t *)(void *)zrow + (x - t->x0);
+                            uint16_t z16 = (uint16_t)(z >> 16);
+                            draw = z16 < *zp;
+                            if (draw && !translucent)
+                                *zp = z16;
                         } else {
-                            c = texel(tex, tex565, (uint32_t)(uu * tw >> 16) & wmask,
-                                      (uint32_t)(vv * th >> 16) & hmask);
+                            uint32_t *zp = (uint32_t *)(void *)zrow + (x - t->x0);
+                            draw = z < *zp;
+                            if (draw && !translucent)
+                                *zp = z;
                         }
-                        if (mod)
-                            c = modulate(c, (uint32_t)clamp64(plane_value(pl, LIGHT_F), 0, 256));
+                        d += s->depth.step_x;
                     }
-                    if (aa && translucent) /* every pixel a fragment: what is behind shows through, resolved later */
-                        draw = psc_abuffer_add_translucent(t->abuf, (uint32_t)(y - t->y0) * head_w +
-                                                                        (uint32_t)(x - t->x0),
-                                                           (uint16_t)cover, centre, limit, s->zslack, z, c,
-                                                           (opacity + 1u) >> 1);
-                    else if (aa && cover != PSC_ABUF_FULL)
-                        draw = partial(t, (uint32_t)(y - t->y0) * head_w + (uint32_t)(x - t->x0), zrow, x, zbits,
-                                       cover, centre, limit, s->zslack, z, &c);
                     if (draw) {
-                        put_pixel(srow, x, out565, blend, c, opacity);
+                        put_pixel(srow, x, out565, blend, shade_pixel(s, st, &tv, shade, bilinear, tex565, &p), opacity);
                         written++;
                     }
+                    if (gouraud) {
+                        p.r += s->r.step_x;
+                        p.g += s->g.step_x;
+                        p.b += s->b.step_x;
+                    }
+                    if (phong) {
+                        p.nx += s->nx.step_x;
+                        p.ny += s->ny.step_x;
+                        p.nz += s->nz.step_x;
+                    }
+                    if (textured) {
+                        p.q += s->q.step_x;
+                        p.u += s->uq.step_x;
+                        p.v += s->vq.step_x;
+                        p.l += s->light.step_x;
+                    }
                 }
             }
-            e0 += s->ex[0];
-            e1 += s->ex[1];
-            e2 += s->ex[2];
-            if (zbits)
-                d += s->depth.step_x;
-            if (shade == PSC_SHADE_GOURAUD || shade == PSC_SHADE_PHONG) {
-                r += s->r.step_x;
-                g += s->g.step_x;
-                b += s->b.step_x;
-            }
-            if (shade == PSC_SHADE_PHONG) {
-                nx += s->nx.step_x;
-                ny += s->ny.step_x;
-                nz += s->nz.step_x;
-            }
-            if (shade == PSC_SHADE_TEXTURE) {
-                q += s->q.step_x;
-                u += s->uq.step_x;
-                v += s->vq.step_x;
-                l += s->light.step_x;
+        } else {
+            int64_t e0 = er[0], e1 = er[1], e2 = er[2];
+            uint64_t d = dr;
+            pix_planes_t p = row;
+            for (int32_t x = s->px0; x <= s->px1; x++) {
+                uint32_t cover = sample_mask(s, e0, e1, e2);
+                if (cover != 0) {
+                    int draw = 1;
+                    uint32_t z = 0, limit = 0;
+                    uint64_t pd = d;
+                    pix_planes_t at = p;
+                    const bool centre = (e0 | e1 | e2) >= 0;
+                    if (cover != PSC_ABUF_FULL) {
+                        int64_t ox, oy;
+                        covered_centroid(cover, &ox, &oy);
+                        if (!centre) /* a triangle covering the centre keeps the centre's depth, as without the A-buffer */
+                            pd = plane_at(&s->depth, pd, ox, oy);
+                        if (gouraud) {
+                            at.r = plane_at(&s->r, at.r, ox, oy);
+                            at.g = plane_at(&s->g, at.g, ox, oy);
+                            at.b = plane_at(&s->b, at.b, ox, oy);
+                        }
+                        if (phong) {
+                            at.nx = plane_at(&s->nx, at.nx, ox, oy);
+                            at.ny = plane_at(&s->ny, at.ny, ox, oy);
+                            at.nz = plane_at(&s->nz, at.nz, ox, oy);
+                        }
+                        if (textured) {
+                            at.q = plane_at(&s->q, at.q, ox, oy);
+                            at.u = plane_at(&s->uq, at.u, ox, oy);
+                            at.v = plane_at(&s->vq, at.v, ox, oy);
+                            at.l = plane_at(&s->light, at.l, ox, oy);
+                        }
+                    }
+                    if (zbits) {
+                        tested++;
+                        z = (uint32_t)clamp64(plane_value(pd, DEPTH_F), 0, INT64_C(0xFFFFFFFF));
+                        if (zbits == 16) {
+                            uint16_t *zp = (uint16_t *)(void *)zrow + (x - t->x0);
+                            uint16_t z16 = (uint16_t)(z >> 16);
+                            draw = z16 < *zp;
+                            limit = (uint32_t)*zp << 16;
+                            if (draw && cover == PSC_ABUF_FULL && !translucent) /* a translucent surface hides nothing */
+                                *zp = z16;
+                        } else {
+                            uint32_t *zp = (uint32_t *)(void *)zrow + (x - t->x0);
+                            draw = z < *zp;
+                            limit = *zp;
+                            if (draw && cover == PSC_ABUF_FULL && !translucent)
+                                *zp = z;
+                        }
+                    }
+                    if (draw) {
+                        uint32_t c = shade_pixel(s, st, &tv, shade, bilinear, tex565, &at);
+                        if (translucent) /* every pixel a fragment: what is behind shows through, resolved later */
+                            draw = psc_abuffer_add_translucent(t->abuf, (uint32_t)(y - t->y0) * head_w +
+                                                                            (uint32_t)(x - t->x0),
+                                                               (uint16_t)cover, centre, limit, s->zslack, z, c,
+                                                               (opacity + 1u) >> 1);
+                        else if (cover != PSC_ABUF_FULL)
+                            draw = partial(t, (uint32_t)(y - t->y0) * head_w + (uint32_t)(x - t->x0), zrow, x,
+                                           zbits, cover, centre, limit, s->zslack, z, &c);
+                        if (draw) {
+                            put_pixel(srow, x, out565, blend, c, opacity);
+                            written++;
+                        }
+                    }
+                }
+                e0 += s->ex[0];
+                e1 += s->ex[1];
+                e2 += s->ex[2];
+                if (zbits)
+                    d += s->depth.step_x;
+                if (gouraud) {
+                    p.r += s->r.step_x;
+                    p.g += s->g.step_x;
+                    p.b += s->b.step_x;
+                }
+                if (phong) {
+                    p.nx += s->nx.step_x;
+                    p.ny += s->ny.step_x;
+                    p.nz += s->nz.step_x;
+                }
+                if (textured) {
+                    p.q += s->q.step_x;
+                    p.u += s->uq.step_x;
+                    p.v += s->vq.step_x;
+                    p.l += s->light.step_x;
+                }
             }
         }
-        e0r += s->ey[0];
-        e1r += s->ey[1];
-        e2r += s->ey[2];
+    row_done:
+        for (unsigned k = 0; k < 3; k++)
+            er[k] += s->ey[k];
         dr += s->depth.step_y;
-        rr += s->r.step_y;
-        gr += s->g.step_y;
-        br += s->b.step_y;
-        qr += s->q.step_y;
-        ur += s->uq.step_y;
-        vr += s->vq.step_y;
-        lr += s->light.step_y;
-        nxr += s->nx.step_y;
-        nyr += s->ny.step_y;
-        nzr += s->nz.step_y;
+        row.r += s->r.step_y;
+        row.g += s->g.step_y;
+        row.b += s->b.step_y;
+        row.q += s->q.step_y;
+        row.u += s->uq.step_y;
+        row.v += s->vq.step_y;
+        row.l += s->light.step_y;
+        row.nx += s->nx.step_y;
+        row.ny += s->ny.step_y;
+        row.nz += s->nz.step_y;
         srow += t->surface->stride;
         if (zbits)
             zrow += t->depth_stride;
