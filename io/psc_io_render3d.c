@@ -3,6 +3,7 @@
 #include "psc_io_render3d.h"
 #include "psc_io_error.h"
 
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -15,6 +16,7 @@ struct psc_io_render3d {
     psc_3d_worker_t worker[PSC_IO_BANDS_MAX_THREADS];   /* [0] unused: the renderer's own */
     /* this frame */
     psc_3d_t *r;
+    atomic_uint next_row;                                /* the next row a free worker takes */
     psc_3d_stats_t stats[PSC_IO_BANDS_MAX_THREADS];
 };
 
@@ -109,7 +111,9 @@ static void triangles_job(void *ctx, unsigned k, unsigned pool_threads)
     psc_3d_frame_triangles(t->r, k, &t->stats[k]);
 }
 
-/* Thread k's rows: k, k + threads, ... (threads beyond the renderer's share draw nothing). */
+/* Thread k's rows: whichever row is next when it is free (threads beyond the renderer's share draw nothing). A row's
+ * pixels depend on the row alone, so whoever draws it, the bytes are the same; taking them as they come keeps both
+ * cores busy to the end of the frame where a character leaves some rows nearly empty. */
 static void rows_job(void *ctx, unsigned k, unsigned pool_threads)
 {
     psc_io_render3d_t *t = ctx;
@@ -117,7 +121,7 @@ static void rows_job(void *ctx, unsigned k, unsigned pool_threads)
     if (k >= t->threads)
         return;
     psc_3d_worker_t *w = k == 0 ? &t->r->own : &t->worker[k];
-    for (uint32_t row = k, rows = psc_3d_frame_rows(t->r); row < rows; row += t->threads)
+    for (uint32_t row, rows = psc_3d_frame_rows(t->r); (row = atomic_fetch_add(&t->next_row, 1u)) < rows;)
         psc_3d_frame_row(t->r, w, row, &t->stats[k]);
 }
 
@@ -137,6 +141,7 @@ psc_status_t psc_io_render3d_frame(psc_io_render3d_t *t, psc_3d_t *r, const psc_
     psc_io_bands_run(t->pool, vertices_job, t);
     psc_3d_frame_ready(r, parts);
     psc_io_bands_run(t->pool, triangles_job, t);
+    atomic_store(&t->next_row, 0u);
     psc_io_bands_run(t->pool, rows_job, t);
     for (unsigned k = 0; k < parts; k++)
         psc_3d_stats_merge(stats, &t->stats[k]);

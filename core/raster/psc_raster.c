@@ -165,6 +165,39 @@ static PSC_ALWAYS_INLINE uint32_t texel(const psc_texture_t *t, int fmt565, uint
     return ((const uint32_t *)(const void *)row)[x];
 }
 
+/* RGB565 texel p's red and blue as psc_rgb565_to_xrgb gives them (r << 3 | r >> 2 = r * 33 >> 2), in the lanes
+ * psc_blend4_xrgb masks (0xFF00FF): the red lane's spare low bits fall below bit 16, outside the mask. */
+static PSC_ALWAYS_INLINE uint32_t rb_lanes_565(uint32_t p)
+{
+    return ((((p & 0xF800u) << 5) | (p & 0x1Fu)) * 33u >> 2) & 0xFF00FFu;
+}
+
+/* Its green as psc_rgb565_to_xrgb gives it (g << 2 | g >> 4 = g * 65 >> 4). */
+static PSC_ALWAYS_INLINE uint32_t g_lane_565(uint32_t p)
+{
+    return (p & 0x7E0u) * 65u >> 9;
+}
+
+/* psc_blend4_xrgb of four RGB565 texels, without making them XRGB first: the same arithmetic on the same lanes. */
+static PSC_ALWAYS_INLINE uint32_t blend4_565(uint32_t p00, uint32_t p01, uint32_t p10, uint32_t p11, uint32_t fx,
+                                             uint32_t fy)
+{
+    uint32_t ix = 256u - fx, iy = 256u - fy;
+    uint32_t rb0 = rb_lanes_565(p00) * ix + rb_lanes_565(p01) * fx;
+    uint32_t rb1 = rb_lanes_565(p10) * ix + rb_lanes_565(p11) * fx;
+    uint32_t g0 = g_lane_565(p00) * ix + g_lane_565(p01) * fx;
+    uint32_t g1 = g_lane_565(p10) * ix + g_lane_565(p11) * fx;
+    uint32_t r = (((rb0 >> 16) & 0xFFFFu) * iy + ((rb1 >> 16) & 0xFFFFu) * fy + 32768u) >> 16;
+    uint32_t b = ((rb0 & 0xFFFFu) * iy + (rb1 & 0xFFFFu) * fy + 32768u) >> 16;
+    uint32_t g = (g0 * iy + g1 * fy + 32768u) >> 16;
+    return 0xFF000000u | (r << 16) | (g << 8) | b;
+}
+
+static PSC_ALWAYS_INLINE uint32_t texel565_raw(const psc_texture_t *t, uint32_t x, uint32_t y)
+{
+    return ((const uint16_t *)(const void *)((const uint8_t *)t->pixels + (size_t)y * t->stride))[x];
+}
+
 static PSC_ALWAYS_INLINE uint32_t modulate(uint32_t c, uint32_t l)
 {
     uint32_t rb = ((c & 0xFF00FFu) * l + 0x800080u) >> 8 & 0xFF00FFu; /* l <= 256: lanes stay apart */
@@ -406,8 +439,12 @@ static PSC_ALWAYS_INLINE uint32_t shade_pixel(const setup_t *s, const psc_raster
             uint32_t ix = (uint32_t)(tx >> 8), iy = (uint32_t)(ty >> 8);
             uint32_t x0 = ix & wmask, x1 = (ix + 1u) & wmask;
             uint32_t y0 = iy & hmask, y1 = (iy + 1u) & hmask;
-            c = psc_blend4_xrgb(texel(tex, tex565, x0, y0), texel(tex, tex565, x1, y0),
-                                texel(tex, tex565, x0, y1), texel(tex, tex565, x1, y1), fx, fy);
+            if (tex565)
+                c = blend4_565(texel565_raw(tex, x0, y0), texel565_raw(tex, x1, y0), texel565_raw(tex, x0, y1),
+                               texel565_raw(tex, x1, y1), fx, fy);
+            else
+                c = psc_blend4_xrgb(texel(tex, 0, x0, y0), texel(tex, 0, x1, y0), texel(tex, 0, x0, y1),
+                                    texel(tex, 0, x1, y1), fx, fy);
         } else {
             c = texel(tex, tex565, (uint32_t)(uu * tw >> 16) & wmask,
                       (uint32_t)(vv * th >> 16) & hmask);
