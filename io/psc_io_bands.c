@@ -4,10 +4,17 @@
 #include "psc_io_error.h"
 
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
+
+/* How long a thread that has finished its share polls for the next job (or for the others to finish) before it
+ * sleeps: a 3D frame hands work out three times, and waking a sleeping core (on a virtual machine, a sleeping
+ * virtual CPU) can cost more than a share of a small phase. Bounded, so an idle kiosk still sleeps. */
+#define SPIN_NS 60000L
 
 typedef struct {
     psc_io_bands_t *b;
@@ -23,8 +30,8 @@ struct psc_io_bands {
     uint16_t out_width;         /* the widest output the scratches serve */
     pthread_mutex_t lock;
     pthread_cond_t go, done;
-    unsigned long generation;   /* one per frame: a worker runs when it changes */
-    unsigned pending;           /* workers still drawing this frame */
+    atomic_ulong generation;    /* one per job: a worker runs when it changes (written under the lock) */
+    atomic_uint pending;        /* workers still running this job (written under the lock) */
     bool quit;
     /* this frame: the job every thread runs */
     void (*job)(void *ctx, unsigned k, unsigned threads);
@@ -55,12 +62,55 @@ static void render_share(void *ctx, unsigned k, unsigned threads)
     b->status[k] = s;
 }
 
+static void spin_pause(void)
+{
+#if defined(__x86_64__) || defined(__i386__)
+    __asm__ __volatile__("pause");
+#elif defined(__aarch64__) || (defined(__arm__) && defined(__ARM_ARCH) && __ARM_ARCH >= 7)
+    __asm__ __volatile__("yield");
+#endif
+}
+
+static long now_ns(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return t.tv_sec * 1000000000L + t.tv_nsec;
+}
+
+/* Poll until *v differs from `from` (true), or SPIN_NS has passed (false: sleep on the lock's condition). */
+static bool spin_while_ulong(const atomic_ulong *v, unsigned long from)
+{
+    long until = now_ns() + SPIN_NS;
+    for (unsigned i = 1;; i++) {
+        if (atomic_load_explicit(v, memory_order_acquire) != from)
+            return true;
+        spin_pause();
+        if (i % 64u == 0 && now_ns() > until)
+            return false;
+    }
+}
+
+/* Poll until *v is 0 (true), or SPIN_NS has passed (false). */
+static bool spin_until_zero(const atomic_uint *v)
+{
+    long until = now_ns() + SPIN_NS;
+    for (unsigned i = 1;; i++) {
+        if (atomic_load_explicit(v, memory_order_acquire) == 0)
+            return true;
+        spin_pause();
+        if (i % 64u == 0 && now_ns() > until)
+            return false;
+    }
+}
+
 static void *worker(void *arg)
 {
     psc_io_bands_t *b = ((worker_arg_t *)arg)->b;
     unsigned k = ((worker_arg_t *)arg)->k;
     unsigned long seen = 0;
     for (;;) {
+        spin_while_ulong(&b->generation, seen); /* the lock below decides either way */
         pthread_mutex_lock(&b->lock);
         while (b->generation == seen && !b->quit)
             pthread_cond_wait(&b->go, &b->lock);
@@ -131,6 +181,8 @@ void psc_io_bands_run(psc_io_bands_t *b, void (*job)(void *ctx, unsigned k, unsi
     pthread_cond_broadcast(&b->go);
     pthread_mutex_unlock(&b->lock);
     job(ctx, 0, b->threads);
+    if (spin_until_zero(&b->pending))
+        return; /* every worker done: its decrement (under the lock) released what it wrote */
     pthread_mutex_lock(&b->lock);
     while (b->pending > 0)
         pthread_cond_wait(&b->done, &b->lock);

@@ -26,7 +26,7 @@
 
 /* Bands a thread gets when a frame without tiles is shared (rows near the model cost more: several each even the
  * threads' shares out). */
-#define PSC_IO_RENDER3D_BANDS_PER_THREAD 6u
+#define PSC_IO_RENDER3D_BANDS_PER_THREAD 4u
 
 typedef struct psc_io_render3d psc_io_render3d_t;
 

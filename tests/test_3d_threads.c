@@ -240,7 +240,7 @@ static void test_threads_share(void **state)
     psc_3d_config_t banded = cfg;
     psc_io_render3d_config(&banded, 2, false);
     assert_int_equal(banded.tile_width, 800);
-    assert_int_equal(banded.tile_height, 40); /* 480 / (2 x 6 bands), a multiple of 8 */
+    assert_int_equal(banded.tile_height, 64); /* 480 / (2 x 4 bands) = 60, up to a multiple of 8 */
     psc_io_render3d_t *t = psc_io_render3d_start(pool, &banded, 0, err, sizeof err);
     assert_non_null(t);
     assert_int_equal(psc_io_render3d_threads(t), 2);

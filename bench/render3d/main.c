@@ -32,7 +32,7 @@
 #include <time.h>
 
 #define FRAMES 36u
-#define ROUNDS 5u
+#define ROUNDS 9u /* the rows compared with each other most (one and two threads, llvmpipe) take them all */
 #define CG_FRAMES 4u
 
 #define ABUF_BYTES (4u << 20)
@@ -46,18 +46,18 @@ typedef struct {
 } row_spec_t;
 
 static const row_spec_t rows[] = {
-    {"periscope", NULL, {0, 0, false, PSC_3D_HSR_ZBUFFER, 1}, 5, false},
+    {"periscope", NULL, {0, 0, false, PSC_3D_HSR_ZBUFFER, 1}, 9, false},
     {"periscope tiles 64x64", NULL, {64, 0, false, PSC_3D_HSR_ZBUFFER, 1}, 5, false},
     {"periscope area subdivision", NULL, {0, 0, false, PSC_3D_HSR_AREA, 1}, 5, false},
     {"periscope area, tiles 64", NULL, {64, 0, false, PSC_3D_HSR_AREA, 1}, 5, false},
     {"periscope A-buffer 4 MB", NULL, {0, ABUF_BYTES, false, PSC_3D_HSR_ZBUFFER, 1}, 5, false},
     {"periscope A-buf tiles 64", NULL, {64, 256u << 10, false, PSC_3D_HSR_ZBUFFER, 1}, 5, false},
     {"periscope phong", NULL, {0, 0, true, PSC_3D_HSR_ZBUFFER, 1}, 5, true},
-    {"periscope 2 threads", NULL, {0, 0, false, PSC_3D_HSR_ZBUFFER, 2}, 5, false},
+    {"periscope 2 threads", NULL, {0, 0, false, PSC_3D_HSR_ZBUFFER, 2}, 9, false},
     {"periscope A-buf t64 2 thr", NULL, {64, 256u << 10, false, PSC_3D_HSR_ZBUFFER, 2}, 5, false},
     {"mesa softpipe", "softpipe", {0, 0, false, PSC_3D_HSR_ZBUFFER, 1}, 2, false},
-    {"mesa llvmpipe 1 thread", "llvmpipe", {0, 0, false, PSC_3D_HSR_ZBUFFER, 1}, 5, false},
-    {"mesa llvmpipe 2 threads", "llvmpipe", {0, 0, false, PSC_3D_HSR_ZBUFFER, 2}, 5, false},
+    {"mesa llvmpipe 1 thread", "llvmpipe", {0, 0, false, PSC_3D_HSR_ZBUFFER, 1}, 9, false},
+    {"mesa llvmpipe 2 threads", "llvmpipe", {0, 0, false, PSC_3D_HSR_ZBUFFER, 2}, 9, false},
 };
 #define NROWS (sizeof rows / sizeof rows[0])
 
