@@ -616,6 +616,137 @@ static void test_object_scene(void **state)
     psc_model_free(&m);
 }
 
+/* OBJ materials with an opacity (d, else 1 - Tr; "d -halo v" too) give triangles an opacity; a mesh pack keeps them
+ * as TOPQ groups (the opaque triangles first) that its parser checks; the device's object scene draws each group,
+ * the translucent ones blended: exactly over(opaque colour, what is behind, opacity) where the surface is in front. */
+static void test_obj_opacity(void **state)
+{
+    (void)state;
+    const char *dir = getenv("PSC_TEST_TMPDIR");
+    char obj[512], mtl[512];
+    snprintf(obj, sizeof obj, "%s/3d_glass.obj", dir && *dir ? dir : "/tmp");
+    snprintf(mtl, sizeof mtl, "%s/3d_glass.mtl", dir && *dir ? dir : "/tmp");
+    FILE *f = fopen(mtl, "w");
+    assert_non_null(f);
+    fprintf(f, "newmtl glass\nKd 0.2 0.3 0.9\nd 0.5\nnewmtl solid\nKd 0.9 0.3 0.2\nnewmtl tinted\nTr 0.25\n"
+               "newmtl halo\nd -halo 0.25\nTr 0.9\n");
+    fclose(f);
+    f = fopen(obj, "w");
+    assert_non_null(f);
+    /* a pane of glass in front of (z 0.6) and to the right of a solid square, both sides of each (double winding) */
+    fprintf(f, "mtllib 3d_glass.mtl\n"
+               "v -0.2 -0.8 0.6\nv 1.4 -0.8 0.6\nv 1.4 0.8 0.6\nv -0.2 0.8 0.6\n"
+               "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
+               "usemtl glass\nf 1 2 3\nf 1 3 4\nf 3 2 1\nf 4 3 1\n"
+               "usemtl solid\nf 5 6 7\nf 5 7 8\nf 7 6 5\nf 8 7 5\n"
+               "usemtl tinted\nf 5 6 8\nusemtl halo\nf 6 7 8\n");
+    fclose(f);
+    psc_model_t m;
+    char err[256], note[256] = "";
+    if (psc_obj_load(obj, &m, note, sizeof note, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_non_null(m.tri_opacity_q8);
+    static const uint16_t want[10] = {128, 128, 128, 128, 256, 256, 256, 256, 192, 64};
+    assert_int_equal(m.triangle_count, 10);
+    assert_memory_equal(m.tri_opacity_q8, want, sizeof want);
+
+    /* the pack: the opaque four first, then each opacity's triangles in the order they first appear */
+    uint8_t *buf;
+    size_t len;
+    build(&m, NULL, &buf, &len);
+    uint8_t *b = exact_copy(buf, len);
+    psc_mesh_t mesh;
+    assert_int_equal(psc_mesh_parse(b, len, &mesh, NULL), PSC_OK);
+    assert_int_equal(mesh.version_minor, PSC_MESH_VERSION_MINOR);
+    assert_int_equal(mesh.opacity_groups, 4);
+    static const psc_mesh_opacity_t groups[4] = {{0, 4, 256}, {4, 4, 128}, {8, 1, 192}, {9, 1, 64}};
+    for (unsigned k = 0; k < 4; k++) {
+        assert_int_equal(mesh.opacity[k].first, groups[k].first);
+        assert_int_equal(mesh.opacity[k].count, groups[k].count);
+        assert_int_equal(mesh.opacity[k].opacity_q8, groups[k].opacity_q8);
+    }
+    static const uint32_t order[10] = {4, 5, 6, 7, 0, 1, 2, 3, 8, 9};
+    for (unsigned t = 0; t < 10; t++)
+        for (unsigned c = 0; c < 3; c++)
+            assert_int_equal(mesh.index[3 * t + c], m.index[3 * order[t] + c]);
+    free(b);
+
+    /* bad groups are refused */
+    uint8_t *q = malloc(len);
+    uint8_t *sec;
+#define OPQ_RESET() (memcpy(q, buf, len), sec = q + tsup_rd32(entry_of(q, PSC_SECTION_MESH_OPACITY) + 4))
+    OPQ_RESET(); tsup_wr32(sec, 0); expect(q, len, 1, PSC_ERR_CORRUPT, "no opacity group");
+    OPQ_RESET(); tsup_wr32(sec, 9); expect(q, len, 1, PSC_ERR_CORRUPT, "9 opacity groups");
+    OPQ_RESET(); tsup_wr32(sec, 3); expect(q, len, 1, PSC_ERR_CORRUPT, "groups fewer than the section holds");
+    OPQ_RESET(); tsup_wr32(sec + 4, 0); expect(q, len, 1, PSC_ERR_CORRUPT, "an empty group");
+    OPQ_RESET(); tsup_wr32(sec + 4, 3); expect(q, len, 1, PSC_ERR_CORRUPT, "groups short of the triangles");
+    OPQ_RESET(); tsup_wr32(sec + 4, 5); expect(q, len, 1, PSC_ERR_CORRUPT, "groups beyond the triangles");
+    OPQ_RESET(); tsup_wr32(sec + 4, 0xFFFFFFFFu); expect(q, len, 1, PSC_ERR_CORRUPT, "a group's count wraps");
+    OPQ_RESET(); tsup_wr16(sec + 16, 0); expect(q, len, 1, PSC_ERR_CORRUPT, "opacity 0");
+    OPQ_RESET(); tsup_wr16(sec + 16, 257); expect(q, len, 1, PSC_ERR_CORRUPT, "opacity 257");
+    OPQ_RESET(); tsup_wr32(entry_of(q, PSC_SECTION_MESH_OPACITY), PSC_FOURCC('X', 'O', 'P', 'Q'));
+    expect(q, len, 1, PSC_OK, "a 1.0 reader's view: no groups");
+#undef OPQ_RESET
+
+    /* drawn by the object scene: A all opaque (TOPQ unknown), B as packed, C with the glass made degenerate */
+    uint8_t *pa = exact_copy(buf, len), *pb = exact_copy(buf, len), *pc = exact_copy(buf, len);
+    tsup_wr32(entry_of(pa, PSC_SECTION_MESH_OPACITY), PSC_FOURCC('X', 'O', 'P', 'Q'));
+    fix_crc(pa, len);
+    uint8_t *idx = pc + tsup_rd32(entry_of(pc, PSC_SECTION_MESH_INDEX) + 4);
+    memset(idx + 4 * 6, 0, 4 * 6);
+    fix_crc(pc, len);
+    psc_mesh_t ma, mb, mc;
+    assert_int_equal(psc_mesh_parse(pa, len, &ma, NULL), PSC_OK);
+    assert_int_equal(psc_mesh_parse(pb, len, &mb, NULL), PSC_OK);
+    assert_int_equal(psc_mesh_parse(pc, len, &mc, NULL), PSC_OK);
+    assert_int_equal(ma.opacity_groups, 0);
+    enum { W = 120, H = 90 };
+    size_t n = psc_scene_object_workspace_size(&mb, W, H, NULL);
+    void *ws = aligned_alloc(64, (n + 63) / 64 * 64);
+    psc_surface_t sa = tsup_surface_new(W, H, PSC_PIX_XRGB8888), sb = tsup_surface_new(W, H, PSC_PIX_XRGB8888),
+                  sc = tsup_surface_new(W, H, PSC_PIX_XRGB8888);
+    psc_view_t v = {PSC_BAM_180, 0, PSC_OBJECT_DEFAULT_HFOV, PSC_FILTER_BILINEAR, 2}; /* the glass nearer */
+    assert_int_equal(psc_scene_object_draw(&ma, &v, ws, n, &sa, NULL), PSC_OK);
+    assert_int_equal(psc_scene_object_draw(&mb, &v, ws, n, &sb, NULL), PSC_OK);
+    assert_int_equal(psc_scene_object_draw(&mc, &v, ws, n, &sc, NULL), PSC_OK);
+    unsigned same = 0, over_bg = 0, over_solid = 0;
+    const uint32_t bg = 0xFF000000u | PSC_OBJECT_BACKGROUND;
+    for (unsigned y = 0; y < H; y++)
+        for (unsigned x = 0; x < W; x++) {
+            uint32_t a = ((uint32_t *)sa.pixels)[y * (sa.stride / 4) + x];
+            uint32_t pbx = ((uint32_t *)sb.pixels)[y * (sb.stride / 4) + x];
+            uint32_t c = ((uint32_t *)sc.pixels)[y * (sc.stride / 4) + x];
+            if (a == c) { /* no glass in front here: translucency changes nothing */
+                assert_int_equal(pbx, a);
+                same++;
+                continue;
+            }
+            uint32_t w = 0xFF000000u;
+            for (unsigned sh = 0; sh < 24; sh += 8)
+                w |= ((((a >> sh) & 255u) * 128u + ((c >> sh) & 255u) * 128u + 128u) >> 8) << sh;
+            if (pbx != w)
+                fail_msg("(%u, %u): %06x, expected %06x (glass %06x over %06x)", x, y, pbx & 0xFFFFFFu,
+                         w & 0xFFFFFFu, a & 0xFFFFFFu, c & 0xFFFFFFu);
+            if (c == bg)
+                over_bg++;
+            else
+                over_solid++;
+        }
+    printf("  opacity 0.5: %u pixels over the background, %u over the solid square, %u unchanged\n", over_bg,
+           over_solid, same);
+    assert_true(over_bg > 300 && over_solid > 300 && same > 300);
+    tsup_surface_free(&sa);
+    tsup_surface_free(&sb);
+    tsup_surface_free(&sc);
+    free(ws);
+    free(pa);
+    free(pb);
+    free(pc);
+    free(q);
+    free(buf);
+    psc_model_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -625,6 +756,7 @@ int main(void)
         cmocka_unit_test(test_fuzz),
         cmocka_unit_test(test_obj_reads),
         cmocka_unit_test(test_obj_material),
+        cmocka_unit_test(test_obj_opacity),
         cmocka_unit_test(test_obj_parts),
         cmocka_unit_test(test_obj_errors),
         cmocka_unit_test(test_obj_fuzz),

@@ -363,7 +363,7 @@ static void test_depth_order_interpenetrating(void **state)
         }
         uint32_t idx[6] = {0, 1, 2, 3, 4, 5};
         uint32_t colors[6] = {0xFF0000, 0xFF0000, 0xFF0000, 0x00FF00, 0x00FF00, 0x00FF00};
-        psc_model_t g = {pos, NULL, NULL, colors, idx, 6, 2, NULL};
+        psc_model_t g = {pos, NULL, NULL, colors, idx, 6, 2, NULL, NULL};
         tsup_mesh_t m;
         assert_int_equal(tsup_mesh_from_geom(&m, &g, 0), 0);
         psc_3d_config_t cfg = config(128, 96, 90, 6);
@@ -482,7 +482,7 @@ static void test_near_plane_extremes(void **state)
         if (k % 3 == 0)
             pos[2] = tsup_rng_range(&rng, -1e-3, 1e-3); /* a vertex on the camera plane */
         uint32_t idx[3] = {0, 1, 2}, col[3] = {0xFF0000, 0x00FF00, 0x0000FF};
-        psc_model_t tri = {pos, NULL, NULL, col, idx, 3, 1, NULL};
+        psc_model_t tri = {pos, NULL, NULL, col, idx, 3, 1, NULL, NULL};
         tsup_mesh_t tm;
         assert_int_equal(tsup_mesh_from_geom(&tm, &tri, 0), 0);
         psc_3d_config_t c2 = config(128, 96, tsup_rng_range(&rng, 20, 160), 3);

@@ -219,6 +219,29 @@ void psc_3d_draw_defaults(psc_3d_draw_t *d, const psc_mesh_t *mesh)
     d->color = mesh ? mesh->base_color : 0xFFFFFFu;
 }
 
+unsigned psc_3d_draw_by_opacity(const psc_3d_draw_t *d, psc_mesh_t parts[PSC_MESH_MAX_OPACITY_GROUPS],
+                                psc_3d_draw_t out[PSC_MESH_MAX_OPACITY_GROUPS])
+{
+    const psc_mesh_t *m = d->mesh;
+    out[0] = *d;
+    if (!m || m->opacity_groups == 0 || m->opacity_groups > PSC_MESH_MAX_OPACITY_GROUPS)
+        return 1;
+    for (unsigned k = 0; k < m->opacity_groups; k++) {
+        const psc_mesh_opacity_t *g = &m->opacity[k];
+        parts[k] = *m;
+        parts[k].index = m->index + 3u * g->first;
+        parts[k].triangle_count = g->count;
+        parts[k].opacity_groups = 0;
+        out[k] = *d;
+        out[k].mesh = &parts[k];
+        if (g->opacity_q8 < 256u) {
+            out[k].blend = PSC_BLEND_ALPHA;
+            out[k].opacity_q8 = g->opacity_q8;
+        }
+    }
+    return m->opacity_groups;
+}
+
 /* ---- vertices ------------------------------------------------------------------- */
 
 static int32_t clamp_q14(int32_t v)

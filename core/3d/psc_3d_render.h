@@ -134,6 +134,15 @@ typedef struct {
 /** A draw with the defaults: Gouraud, back faces culled, depth tested, unlit, the mesh's colours. */
 void psc_3d_draw_defaults(psc_3d_draw_t *d, const psc_mesh_t *mesh);
 
+/**
+ * d as one draw per opacity group of its mesh (psc_mesh_t.opacity: a pack's TOPQ), in the pack's order (the
+ * opaque first): each group's triangles as a mesh of its own in parts[], and its draw in out[], the translucent
+ * ones blended with their opacity (PSC_BLEND_ALPHA: composited by the A-buffer where there is one, over what is
+ * drawn before them otherwise). A mesh without groups gives d alone. Returns the number of draws (at least 1).
+ */
+unsigned psc_3d_draw_by_opacity(const psc_3d_draw_t *d, psc_mesh_t parts[PSC_MESH_MAX_OPACITY_GROUPS],
+                                psc_3d_draw_t out[PSC_MESH_MAX_OPACITY_GROUPS]);
+
 /** What a frame did. */
 typedef struct {
     uint32_t triangles;     /* submitted (each counted once, not per tile) */

@@ -21,7 +21,7 @@ typedef struct {
     bool present;
 } section_t;
 
-enum { S_INFO, S_POS, S_NORMAL, S_UV, S_COLOR, S_INDEX, S_TEXTURE, S_COUNT };
+enum { S_INFO, S_POS, S_NORMAL, S_UV, S_COLOR, S_INDEX, S_TEXTURE, S_OPACITY, S_COUNT };
 
 static int section_kind(uint32_t type)
 {
@@ -33,6 +33,7 @@ static int section_kind(uint32_t type)
     case PSC_SECTION_MESH_COLOR: return S_COLOR;
     case PSC_SECTION_MESH_INDEX: return S_INDEX;
     case PSC_SECTION_MESH_TEXTURE: return S_TEXTURE;
+    case PSC_SECTION_MESH_OPACITY: return S_OPACITY;
     default: return -1;
     }
 }
@@ -41,6 +42,35 @@ static psc_status_t check_size(const section_t *s, uint64_t want, const char *wh
 {
     if (s->present && s->size != want)
         return fail(err, PSC_ERR_CORRUPT, what, s->entry + 8);
+    return PSC_OK;
+}
+
+/* The opacity groups: consecutive runs covering every triangle exactly once. */
+static psc_status_t parse_opacity(const uint8_t *b, const section_t *s, psc_mesh_t *m, psc_container_error_t *err)
+{
+    if (s->size < 4u)
+        return fail(err, PSC_ERR_TRUNCATED, "TOPQ section shorter than its count", s->off);
+    uint32_t n = rd32(b + s->off);
+    if (n == 0 || n > PSC_MESH_MAX_OPACITY_GROUPS)
+        return fail(err, PSC_ERR_CORRUPT, "TOPQ group count outside 1..PSC_MESH_MAX_OPACITY_GROUPS", s->off);
+    if (s->size != 4u + 8u * n)
+        return fail(err, PSC_ERR_CORRUPT, "TOPQ size is not 4 + 8 bytes a group", s->entry + 8);
+    uint32_t first = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        const uint8_t *g = b + s->off + 4u + 8u * i;
+        uint32_t count = rd32(g);
+        uint16_t opacity = rd16(g + 4);
+        if (count == 0 || count > m->triangle_count - first)
+            return fail(err, PSC_ERR_CORRUPT, "TOPQ group's triangles empty or beyond the triangle count",
+                        s->off + 4u + 8u * i);
+        if (opacity == 0 || opacity > 256u)
+            return fail(err, PSC_ERR_CORRUPT, "TOPQ opacity outside 1..256", s->off + 8u + 8u * i);
+        m->opacity[i] = (psc_mesh_opacity_t){first, count, opacity};
+        first += count;
+    }
+    if (first != m->triangle_count)
+        return fail(err, PSC_ERR_CORRUPT, "TOPQ groups do not cover every triangle", s->off);
+    m->opacity_groups = (uint8_t)n;
     return PSC_OK;
 }
 
@@ -145,6 +175,8 @@ psc_status_t psc_mesh_parse(const void *buf, size_t len, psc_mesh_t *out, psc_co
                 return fail(err, PSC_ERR_CORRUPT, "vertex outside the recorded bounding box",
                             sec[S_POS].off + 6u * i + 2u * a);
         }
+    if (sec[S_OPACITY].present && (s = parse_opacity(b, &sec[S_OPACITY], out, err)) != PSC_OK)
+        return s;
     if (sec[S_TEXTURE].present) {
         if (!out->uv_q12)
             return fail(err, PSC_ERR_CORRUPT, "TEXR section without texture coordinates (VTEX)",

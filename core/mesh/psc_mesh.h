@@ -33,7 +33,13 @@
  *           RGB565 or XRGB8888), 11 bytes reserved} then height rows of
  *           width texels, no padding; powers of two up to PSC_TEXTURE_MAX_DIM
  *           optional (needs VTEX)
- * Unknown section types are skipped.
+ *   "TOPQ"  (1.1) the triangles' opacities: u32 group count n
+ *           (1..PSC_MESH_MAX_OPACITY_GROUPS), then n groups of 8 bytes
+ *           {u32 triangle count (>= 1), u16 opacity_q8 (1..256; 256 opaque),
+ *           u16 reserved}: consecutive runs of TIDX from triangle 0, together
+ *           all of them; the opaque first is the writer's order, so that
+ *           translucent surfaces draw over what they show      optional
+ * Unknown section types are skipped (a 1.0 reader draws a 1.1 pack opaque).
  */
 #ifndef PSC_MESH_H
 #define PSC_MESH_H
@@ -44,7 +50,7 @@
 
 #define PSC_MESH_MAGIC "PSCMESH\x1a"
 #define PSC_MESH_VERSION_MAJOR 1u
-#define PSC_MESH_VERSION_MINOR 0u
+#define PSC_MESH_VERSION_MINOR 1u
 #define PSC_MESH_MAX_SECTIONS 16u
 #define PSC_MESH_MAX_VERTICES 65535u
 #define PSC_MESH_MAX_TRIANGLES (1u << 20)
@@ -61,6 +67,14 @@ extern const psc_container_format_t psc_mesh_format;
 #define PSC_SECTION_MESH_COLOR PSC_FOURCC('V', 'C', 'O', 'L')
 #define PSC_SECTION_MESH_INDEX PSC_FOURCC('T', 'I', 'D', 'X')
 #define PSC_SECTION_MESH_TEXTURE PSC_FOURCC('T', 'E', 'X', 'R')
+#define PSC_SECTION_MESH_OPACITY PSC_FOURCC('T', 'O', 'P', 'Q')
+#define PSC_MESH_MAX_OPACITY_GROUPS 8u
+
+/** A run of triangles drawn with one opacity (OBJ d / Tr, glTF BLEND materials). */
+typedef struct {
+    uint32_t first, count;         /* triangles [first, first + count) of the index list */
+    uint16_t opacity_q8;           /* 1..256 (256 opaque) */
+} psc_mesh_opacity_t;
 
 /** A mesh: arrays the caller (or a parsed pack) owns. */
 typedef struct {
@@ -77,6 +91,8 @@ typedef struct {
     bool has_texture;
     psc_texture_t texture;
     uint16_t version_minor;
+    uint8_t opacity_groups;        /* 0: every triangle opaque; else the runs in opacity[] */
+    psc_mesh_opacity_t opacity[PSC_MESH_MAX_OPACITY_GROUPS];
 } psc_mesh_t;
 
 /**

@@ -18,7 +18,10 @@ typedef struct {
 static psc_3d_config_t object_config(const psc_mesh_t *m, uint16_t width, uint16_t height, psc_bam_t hfov)
 {
     /* near/far are set per view by the orbit; these placeholders only size the workspace. */
-    psc_3d_config_t c = {width, height, 0, 0, 16, hfov, PSC_Q16_ONE, 4 * PSC_Q16_ONE, m->vertex_count, PSC_3D_HSR_ZBUFFER};
+    /* each opacity group a draw of its own, with every vertex of the mesh (psc_3d_draw_by_opacity) */
+    uint32_t draws = m->opacity_groups ? m->opacity_groups : 1u;
+    psc_3d_config_t c = {width, height, 0, 0, 16, hfov, PSC_Q16_ONE, 4 * PSC_Q16_ONE, m->vertex_count * draws,
+                         PSC_3D_HSR_ZBUFFER};
     return c;
 }
 
@@ -55,7 +58,10 @@ psc_status_t psc_scene_object_draw(const psc_mesh_t *m, const psc_view_t *view, 
     d.lit = m->normal_q14 != NULL;
     d.light_dir = psc_vec3_normalize((psc_vec3_q16_t){-26000, 39000, -45000});
     d.ambient_q8 = 72;
-    return psc_io_render3d_frame(threads, &r, &d, 1, &bg, out, NULL);
+    psc_mesh_t parts[PSC_MESH_MAX_OPACITY_GROUPS];
+    psc_3d_draw_t draws[PSC_MESH_MAX_OPACITY_GROUPS];
+    unsigned nd = psc_3d_draw_by_opacity(&d, parts, draws); /* translucent materials last, blended */
+    return psc_io_render3d_frame(threads, &r, draws, nd, &bg, out, NULL);
 }
 
 /* ---- the ops -------------------------------------------------------------------------------- */

@@ -4,7 +4,8 @@
  * writes (docs/testing.md, "Fuzzing"): JPEG files of each kind the decoders
  * meet (baseline 4:2:0, 4:4:4, progressive, greyscale, Adobe CMYK, an odd
  * size, restart markers) for the jpeg and mjpeg corpora, and mesh packs with
- * the host tools' writer (a cube with colours, a textured cube, a sphere)
+ * the host tools' writer (a cube with colours, a textured cube, a sphere,
+ * a cube with translucent faces)
  * for the mesh corpus. Run once by hand:
  *   make BUILD=build/fuzz-replay build/fuzz-replay/fuzz-replay/fuzz_make_seeds
  *   build/fuzz-replay/fuzz-replay/fuzz_make_seeds tests/fuzz/corpus
@@ -123,6 +124,12 @@ static int write_meshes(const char *dir)
     }
     if (cube.uv)
         rc |= write_mesh(dir, "cube-textured.pmesh", &cube, &tex);
+    /* its faces of three opacities: a TOPQ section of three groups */
+    cube.tri_opacity_q8 = malloc(cube.triangle_count * sizeof *cube.tri_opacity_q8);
+    for (uint32_t t = 0; cube.tri_opacity_q8 && t < cube.triangle_count; t++)
+        cube.tri_opacity_q8[t] = t % 3 == 0 ? 256 : t % 3 == 1 ? 128 : 40;
+    if (cube.tri_opacity_q8)
+        rc |= write_mesh(dir, "cube-translucent.pmesh", &cube, NULL);
     psc_model_free(&cube);
     psc_model_free(&sphere);
     return rc;

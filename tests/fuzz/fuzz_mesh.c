@@ -38,6 +38,12 @@ static void check_parsed(const uint8_t *buf, size_t len, const psc_mesh_t *m)
         check_inside(buf, len, m->uv_q12, (size_t)m->vertex_count * 4u);
     if (m->color)
         check_inside(buf, len, m->color, (size_t)m->vertex_count * 4u);
+    FUZZ_REQUIRE(m->opacity_groups <= PSC_MESH_MAX_OPACITY_GROUPS);
+    for (uint32_t k = 0, first = 0; k < m->opacity_groups; first += m->opacity[k++].count) {
+        FUZZ_REQUIRE(m->opacity[k].first == first && m->opacity[k].count >= 1);
+        FUZZ_REQUIRE(m->opacity[k].opacity_q8 >= 1 && m->opacity[k].opacity_q8 <= 256);
+        FUZZ_REQUIRE(k + 1u < m->opacity_groups || first + m->opacity[k].count == m->triangle_count);
+    }
     if (m->has_texture) {
         FUZZ_REQUIRE(m->uv_q12 != NULL);
         check_inside(buf, len, m->texture.pixels, (size_t)m->texture.stride * m->texture.height);

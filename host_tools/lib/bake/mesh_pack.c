@@ -136,7 +136,7 @@ int psc_bake_mesh_pack(const psc_model_t *m, const psc_image_t *texture, const p
             return psc_io_errorf(err, errlen, name, "triangle %zu uses vertex %u of %u", i / 3 + 1,
                               (unsigned)m->index[i] + 1, (unsigned)nv);
 
-    part_t parts[8];
+    part_t parts[9];     /* INFO POS NRM UV COL IDX OPQ TEXR */
     unsigned np = 0;
     memset(parts, 0, sizeof parts);
     int rc = -1;
@@ -216,12 +216,55 @@ int psc_bake_mesh_pack(const psc_model_t *m, const psc_image_t *texture, const p
             psc_put_le32(p->data + 4 * v, m->color[v] & 0xFFFFFFu);
     }
     {
+        /* Triangles by opacity: the opaque ones, then each translucent material's in the order they first appear
+         * (an opacity beyond the pack's groups joins the nearest one kept), and a TOPQ section saying where. */
+        uint16_t group[PSC_MESH_MAX_OPACITY_GROUPS];
+        uint32_t count[PSC_MESH_MAX_OPACITY_GROUPS] = {0};
+        unsigned ng = 0;
+        group[ng++] = 256;
+        for (uint32_t t = 0; m->tri_opacity_q8 && t < nt; t++) {
+            uint16_t op = m->tri_opacity_q8[t] == 0 ? 1 : m->tri_opacity_q8[t] > 256 ? 256 : m->tri_opacity_q8[t];
+            unsigned k = 0;
+            while (k < ng && group[k] != op)
+                k++;
+            if (k == ng && ng < PSC_MESH_MAX_OPACITY_GROUPS)
+                group[ng++] = op;
+        }
         part_t *p = &parts[np++];
         *p = (part_t){PSC_SECTION_MESH_INDEX, zalloc((size_t)nt * 6), nt * 6};
         if (!p->data)
             goto oom;
-        for (size_t i = 0; i < (size_t)nt * 3; i++)
-            psc_put_le16(p->data + 2 * i, (uint16_t)m->index[i]);
+        size_t at = 0;
+        for (unsigned k = 0; k < ng; k++)
+            for (uint32_t t = 0; t < nt; t++) {
+                unsigned home = 0;
+                if (m->tri_opacity_q8) {
+                    int op = m->tri_opacity_q8[t] == 0 ? 1 : m->tri_opacity_q8[t] > 256 ? 256 : m->tri_opacity_q8[t];
+                    for (unsigned q = 1; q < ng; q++)
+                        if (abs((int)group[q] - op) < abs((int)group[home] - op))
+                            home = q;
+                }
+                if (home != k)
+                    continue;
+                for (unsigned c = 0; c < 3; c++)
+                    psc_put_le16(p->data + 2 * at++, (uint16_t)m->index[3u * t + c]);
+                count[k]++;
+            }
+        if (ng > 1) {
+            unsigned kept = 0;
+            part_t *q = &parts[np++];
+            *q = (part_t){PSC_SECTION_MESH_OPACITY, zalloc(4u + 8u * ng), 4u + 8u * ng};
+            if (!q->data)
+                goto oom;
+            for (unsigned k = 0; k < ng; k++)
+                if (count[k]) {
+                    psc_put_le32(q->data + 4u + 8u * kept, count[k]);
+                    psc_put_le16(q->data + 8u + 8u * kept, group[k]);
+                    kept++;
+                }
+            psc_put_le32(q->data, kept);
+            q->size = 4u + 8u * kept;
+        }
     }
     if (texture) {
         if (build_texture(texture, &o, name, &parts[np], err, errlen) != 0)
@@ -229,7 +272,7 @@ int psc_bake_mesh_pack(const psc_model_t *m, const psc_image_t *texture, const p
         np++;
     }
 
-    psc_container_part_t out_parts[8];
+    psc_container_part_t out_parts[sizeof parts / sizeof parts[0]];
     for (unsigned i = 0; i < np; i++)
         out_parts[i] = (psc_container_part_t){parts[i].type, parts[i].data, parts[i].size};
     uint8_t *b;

@@ -23,6 +23,7 @@ typedef struct {
     uint32_t *index;        /* 3 per triangle */
     uint32_t vertex_count, triangle_count;
     char *texture_path;     /* the texture a material named (malloc'd), or NULL */
+    uint16_t *tri_opacity_q8; /* per triangle, its material's opacity 1..256 (OBJ d, 1 - Tr), or NULL: all opaque */
 } psc_model_t;
 
 /** Free every array (the struct is zeroed; NULL arrays are fine). */

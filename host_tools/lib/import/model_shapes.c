@@ -39,6 +39,7 @@ void psc_model_free(psc_model_t *g)
     free(g->color);
     free(g->index);
     free(g->texture_path);
+    free(g->tri_opacity_q8);
     memset(g, 0, sizeof *g);
 }
 

@@ -148,6 +148,8 @@ typedef struct {
     char (*part_name)[PSC_OBJ_NAME_MAX], (*mat_name)[PSC_OBJ_NAME_MAX];
     size_t parts, part_cap, mats, mat_cap;
     uvec_t vertex_part, vertex_mat;   /* per vertex */
+    uint32_t cur_mat;    /* the material faces use now (named in mat_name whether parts are asked or not), or NONE */
+    uvec_t tri_mat;      /* per triangle: its material, for its opacity */
 } obj_t;
 
 static int obj_fail(obj_t *o, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -287,7 +289,8 @@ static int parse_face(obj_t *o, const char *p, const char *end)
         if (k == 0) {
             first = vtx;
         } else if (k >= 2) {
-            if (upush(&o->tris, first) || upush(&o->tris, prev) || upush(&o->tris, vtx))
+            if (upush(&o->tris, first) || upush(&o->tris, prev) || upush(&o->tris, vtx) ||
+                upush(&o->tri_mat, o->cur_mat))
                 return obj_fail(o, "out of memory");
             if (o->tris.n / 3 > OBJ_MAX_ELEMENTS)
                 return obj_fail(o, "more than %u triangles", OBJ_MAX_ELEMENTS);
@@ -361,12 +364,11 @@ static int parse_line(obj_t *o, const char *p, const char *end)
     } else if (n == 6 && memcmp(s, "usemtl", 6) == 0) {
         if (o->usemtl[0] == '\0')
             copy_token(o->usemtl, sizeof o->usemtl, p, end);
-        if (o->want_parts) {
-            char name[PSC_OBJ_NAME_MAX];
-            copy_token(name, sizeof name, p, end);
-            if ((o->mat = name_index(&o->mat_name, &o->mats, &o->mat_cap, name)) == NONE)
-                return obj_fail(o, "more than %u materials, or out of memory", PSC_OBJ_MAX_PARTS);
-        }
+        char name[PSC_OBJ_NAME_MAX];
+        copy_token(name, sizeof name, p, end);
+        o->cur_mat = name_index(&o->mat_name, &o->mats, &o->mat_cap, name);
+        if (o->want_parts && (o->mat = o->cur_mat) == NONE)
+            return obj_fail(o, "more than %u materials, or out of memory", PSC_OBJ_MAX_PARTS);
     } else if (n == 1 && (*s == 'g' || *s == 'o') && o->want_parts) {
         /* a group or object: a part of its own (the first name of a "g a b" line) */
         const char *ns, *ne;
@@ -439,6 +441,10 @@ static void read_material(obj_t *o, psc_model_t *m, char *note, size_t notelen)
     if (o->want_parts && o->mats > 0 && (kd = malloc(o->mats * 3 * sizeof *kd)) != NULL)
         for (size_t i = 0; i < 3 * o->mats; i++)
             kd[i] = -1.0;
+    /* per material of o: its opacity from d (dissolve, 1 opaque) or else 1 - Tr; -1 where neither is given */
+    double *dis = o->mats > 0 ? malloc(o->mats * 2 * sizeof *dis) : NULL;
+    for (size_t i = 0; dis && i < 2 * o->mats; i++)
+        dis[i] = -1.0;
     while (fgets(line, sizeof line, f)) {
         size_t n = strcspn(line, "\r\n");
         line[n] = '\0';
@@ -453,6 +459,17 @@ static void read_material(obj_t *o, psc_model_t *m, char *note, size_t notelen)
                 if (strcmp(o->mat_name[i], cur) == 0 && sscanf(p, "%lf %lf %lf", &c[0], &c[1], &c[2]) == 3)
                     for (unsigned k = 0; k < 3; k++)
                         kd[3 * i + k] = isfinite(c[k]) ? fmin(fmax(c[k], 0.0), 1.0) : -1.0;
+        } else if (dis && (((size_t)(e - s) == 1 && *s == 'd') || ((size_t)(e - s) == 2 && memcmp(s, "Tr", 2) == 0))) {
+            bool tr = *s == 'T';
+            const char *ts, *te, *num = NULL;
+            while (next_token(&p, end, &ts, &te)) /* "d -halo 0.5": the number is the last token */
+                num = ts;
+            char *after;
+            double v = num ? strtod(num, &after) : NAN;
+            if (num && after != num && isfinite(v))
+                for (size_t i = 0; i < o->mats; i++)
+                    if (strcmp(o->mat_name[i], cur) == 0)
+                        dis[2 * i + tr] = fmin(fmax(tr ? 1.0 - v : v, 0.0), 1.0);
         } else if ((size_t)(e - s) == 6 && memcmp(s, "map_Kd", 6) == 0) {
             /* Options (-s, -o ...) come first; the file name is the last token. */
             const char *last = NULL, *ts, *te;
@@ -480,6 +497,21 @@ static void read_material(obj_t *o, psc_model_t *m, char *note, size_t notelen)
             m->color[v] = rgb;
         }
     free(kd);
+    /* the triangles' opacities, when a material they use is not opaque (OBJ d, else 1 - Tr) */
+    bool translucent = false;
+    for (uint32_t t = 0; dis && t < m->triangle_count && t < o->tri_mat.n; t++) {
+        uint32_t mi = o->tri_mat.v[t];
+        double op = mi == NONE ? 1.0 : dis[2 * mi] >= 0 ? dis[2 * mi] : dis[2 * mi + 1] >= 0 ? dis[2 * mi + 1] : 1.0;
+        translucent |= op < 1.0;
+    }
+    if (translucent && (m->tri_opacity_q8 = malloc(m->triangle_count * sizeof *m->tri_opacity_q8)) != NULL)
+        for (uint32_t t = 0; t < m->triangle_count; t++) {
+            uint32_t mi = t < o->tri_mat.n ? o->tri_mat.v[t] : NONE;
+            double op = mi == NONE ? 1.0 : dis[2 * mi] >= 0 ? dis[2 * mi] : dis[2 * mi + 1] >= 0 ? dis[2 * mi + 1] : 1.0;
+            long q = lround(op * 256.0);
+            m->tri_opacity_q8[t] = (uint16_t)(q < 1 ? 1 : q > 256 ? 256 : q);
+        }
+    free(dis);
     const char *pick = used_map[0] ? used_map : first_map;
     if (pick[0] && !stays_beside(pick)) {
         if (note && notelen)
@@ -560,6 +592,7 @@ int psc_obj_parse_parts(const char *name, const char *text, size_t len, psc_mode
     o.errlen = errlen;
     o.want_parts = parts != NULL;
     o.mat = NONE;
+    o.cur_mat = NONE;
     if (o.want_parts && (o.part = name_index(&o.part_name, &o.parts, &o.part_cap, "default")) == NONE) {
         psc_io_errorf(err, errlen, o.name, "out of memory");
         return -1;
@@ -633,6 +666,7 @@ done:
     free(o.mat_name);
     free(o.vertex_part.v);
     free(o.vertex_mat.v);
+    free(o.tri_mat.v);
     free(o.pos.v);
     free(o.tex.v);
     free(o.nrm.v);

@@ -167,7 +167,7 @@ static int override_texture(const model_args_t *a, psc_io_mesh_t *mf, psc_io_mes
         return -1;
     double pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0}, uv[6] = {0, 0, 1, 0, 0, 1};
     uint32_t idx[3] = {0, 1, 2};
-    psc_model_t tri = {pos, NULL, uv, NULL, idx, 3, 1, NULL};
+    psc_model_t tri = {pos, NULL, uv, NULL, idx, 3, 1, NULL, NULL};
     uint8_t *bytes;
     size_t len;
     int rc = psc_bake_mesh_pack(&tri, &img, NULL, a->texture, &bytes, &len, err, errlen);
@@ -214,7 +214,8 @@ int psc_render_model_main(const char *prog, int argc, char **argv)
     psc_vec3_q16_t lo, hi;
     psc_mesh_bounds_q16(&mf.mesh, &lo, &hi);
     psc_3d_config_t cfg = {vw->width, vw->height, (uint16_t)a.tile, (uint16_t)a.tile, (uint8_t)a.depth_bits,
-                           psc_io_bam_from_deg(vw->hfov), 0, 0, mf.mesh.vertex_count, vw->hsr};
+                           psc_io_bam_from_deg(vw->hfov), 0, 0,
+                           mf.mesh.vertex_count * (mf.mesh.opacity_groups ? mf.mesh.opacity_groups : 1u), vw->hsr};
     if (psc_render_view_orbit(vw, lo, hi, &d.camera_from_object, &cfg.near_q16, &cfg.far_q16) != PSC_OK) {
         fprintf(stderr, "%s: %s: the orbit view does not fit the fixed-point range\n", prog, a.model);
         goto done;
@@ -237,9 +238,12 @@ int psc_render_model_main(const char *prog, int argc, char **argv)
     uint32_t bg = 0x30343C;
     psc_3d_stats_t st;
     double best = 1e30, total = 0;
+    psc_mesh_t parts[PSC_MESH_MAX_OPACITY_GROUPS];
+    psc_3d_draw_t draws[PSC_MESH_MAX_OPACITY_GROUPS];
+    unsigned nd = psc_3d_draw_by_opacity(&d, parts, draws); /* OBJ d / Tr materials: translucent draws last */
     for (unsigned long k = 0; k < vw->repeat; k++) {
         double t0 = psc_render_seconds();
-        s = psc_render_target_frame(&rt, &d, 1, bg, &st);
+        s = psc_render_target_frame(&rt, draws, nd, bg, &st);
         double dt = psc_render_seconds() - t0;
         total += dt;
         best = dt < best ? dt : best;
