@@ -13,6 +13,9 @@
  *    1e-4 R of node (base + sum w delta) at 40 random weight pairs, -2..2.
  *  - Khronos's AnimatedMorphCube (CC0, held out): both targets found, the
  *    animation moves it, a pose file of the animation's weights draws its bytes.
+ *  - three.js's RobotExpressive (CC0, held out): skinned, its face's three
+ *    expressions by name on its three face meshes, mid-dance: the face alone
+ *    changes, the same bytes as the weights by position.
  *  - periscope-render: t=1 (the first target whole) differs from the rest;
  *    a pose file giving weights [1, 0] draws t=1's bytes; a wrong number of
  *    weights, or weights for a model without targets, is refused naming the
@@ -259,6 +262,16 @@ static void test_render(void **state)
     fputs("{\"weights\": [1, 99]}", f);
     fclose(f);
     expect(a_bad, 1, "weights[1]: expected a number in -16..16");
+    f = fopen(bad, "w");
+    assert_non_null(f);
+    fputs("{\"weights\": {\"thin\": \"much\"}}", f);
+    fclose(f);
+    expect(a_bad, 1, "weights \"thin\": expected a number in -16..16");
+    f = fopen(bad, "w");
+    assert_non_null(f);
+    fputs("{\"weights\": {\"thin\": 1}}", f); /* this grid's targets have no names */
+    fclose(f);
+    expect(a_bad, 1, "no morph target of");
 #undef VIEW
     print_message("  periscope-render: t=1 moves the mesh; a pose file's weights [1, 0] draw t=1's bytes; wrong "
                   "weights refused\n");
@@ -354,6 +367,103 @@ static void test_held_out_cube(void **state)
     unlink(json);
 }
 
+/* A skinned character with a face nobody tuned for: three.js's RobotExpressive (CC0, tests/data/gltf/SOURCES.md),
+ * 4 skins, 14 animations, and three expressions as morph targets on each of the three meshes of its face, named in
+ * glTF's extras.targetNames. Mid-dance, {"weights": {"Surprised": 1}} changes the face alone, and draws the bytes
+ * of the positional weights that set those three targets (the rest at the animation's own); an unknown name is
+ * refused with the model's names. */
+static void test_held_out_robot_face(void **state)
+{
+    (void)state;
+    const char *model = "tests/data/gltf/RobotExpressive.glb";
+    char err[512], note[512] = "";
+    psc_gltf_t g;
+    if (psc_gltf_load(model, &g, note, sizeof note, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_int_equal(g.target_count, 9);
+    assert_true(g.joint_count > 10);
+    assert_true(g.duration > 0.5);
+    assert_non_null(g.target_name);
+    static const char *const names[3] = {"Angry", "Surprised", "Sad"};
+    unsigned named[3] = {0};
+    for (uint32_t i = 0; i < g.target_count; i++)
+        for (unsigned k = 0; k < 3; k++)
+            named[k] += strcmp(g.target_name[i], names[k]) == 0;
+    assert_int_equal(named[0], 3);
+    assert_int_equal(named[1], 3);
+    assert_int_equal(named[2], 3);
+    double w[9];
+    psc_gltf_weights(&g, 0.5, w);
+    char dance[512], face[512], flat[512], jface[512], jflat[512], jbad[512];
+    tsup_tmp_path(dance, sizeof dance, "test_gltf_morph", "robot-dance.png");
+    tsup_tmp_path(face, sizeof face, "test_gltf_morph", "robot-surprised.png");
+    tsup_tmp_path(flat, sizeof flat, "test_gltf_morph", "robot-flat.png");
+    tsup_tmp_path(jface, sizeof jface, "test_gltf_morph", "robot-surprised.json");
+    tsup_tmp_path(jflat, sizeof jflat, "test_gltf_morph", "robot-flat.json");
+    tsup_tmp_path(jbad, sizeof jbad, "test_gltf_morph", "robot-bad.json");
+    FILE *f = fopen(jface, "w");
+    assert_non_null(f);
+    fputs("{\"time\": 0.5, \"weights\": {\"Surprised\": 1}}", f);
+    fclose(f);
+    f = fopen(jflat, "w");
+    assert_non_null(f);
+    fputs("{\"time\": 0.5, \"weights\": [", f);
+    for (uint32_t i = 0; i < 9; i++)
+        fprintf(f, "%s%.17g", i ? ", " : "", strcmp(g.target_name[i], "Surprised") == 0 ? 1.0 : w[i]);
+    fputs("]}", f);
+    fclose(f);
+    f = fopen(jbad, "w");
+    assert_non_null(f);
+    fputs("{\"weights\": {\"Grumpy\": 1}}", f);
+    fclose(f);
+#define VIEW model, "--orbit", "180,10,2.4", "--size", "160x120", "--format", "xrgb8888"
+    const char *a_dance[] = {VIEW, "--pose", "t=0.5", "-o", dance, NULL},
+               *a_face[] = {VIEW, "--pose", jface, "-o", face, NULL},
+               *a_flat[] = {VIEW, "--pose", jflat, "-o", flat, NULL},
+               *a_bad[] = {VIEW, "--pose", jbad, "-o", flat, NULL};
+    expect(a_dance, 0, NULL);
+    expect(a_face, 0, NULL);
+    expect(a_flat, 0, NULL);
+    expect(a_bad, 1, "no morph target of tests/data/gltf/RobotExpressive.glb is named \"Grumpy\" (its names: "
+                     "\"Angry\", \"Surprised\", \"Sad\")");
+#undef VIEW
+    assert_true(tsup_same_file(face, flat));
+    psc_image_t a, b;
+    if (psc_io_image_load(dance, &a, err, sizeof err) != 0 || psc_io_image_load(face, &b, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    /* the face moved, nothing else: few pixels, all in the head (the upper part of the figure's rows) */
+    uint32_t bg = a.xrgb[0];
+    unsigned figure = 0, changed = 0, top = a.height, bottom = 0, lowest_change = 0;
+    for (unsigned y = 0; y < a.height; y++)
+        for (unsigned x = 0; x < a.width; x++) {
+            uint32_t pa = a.xrgb[y * a.width + x], pb = b.xrgb[y * a.width + x];
+            if (pa != bg) {
+                figure++;
+                top = y < top ? y : top;
+                bottom = y > bottom ? y : bottom;
+            }
+            if (pa != pb) {
+                changed++;
+                lowest_change = y > lowest_change ? y : lowest_change;
+            }
+        }
+    print_message("  RobotExpressive 0.5 s into its first animation, \"Surprised\" by name: %u of the figure's %u "
+                  "pixels changed, the lowest on row %u of its rows %u..%u; the same bytes as the 9 weights by "
+                  "position\n", changed, figure, lowest_change, top, bottom);
+    assert_true(figure > 2000);
+    assert_true(changed > 20 && changed < figure / 10);
+    assert_true(lowest_change < top + (bottom - top) / 2);
+    psc_io_image_free(&a);
+    psc_io_image_free(&b);
+    psc_gltf_free(&g);
+    unlink(dance);
+    unlink(face);
+    unlink(flat);
+    unlink(jface);
+    unlink(jflat);
+    unlink(jbad);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -361,6 +471,7 @@ int main(void)
         cmocka_unit_test(test_render),
         cmocka_unit_test(test_translucent_material),
         cmocka_unit_test(test_held_out_cube),
+        cmocka_unit_test(test_held_out_robot_face),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

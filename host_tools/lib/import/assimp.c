@@ -149,7 +149,10 @@ static int add_targets(psc_gltf_t *g, const struct aiMesh *am, uint32_t j, const
     mo->dpos = calloc((size_t)nt * nv * 3u, sizeof *mo->dpos);
     mo->dnrm = am->mNormals ? calloc((size_t)nt * nv * 3u, sizeof *mo->dnrm) : NULL;
     mo->weight = calloc(nt, sizeof *mo->weight);
-    if (!mo->dpos || (am->mNormals && !mo->dnrm) || !mo->weight)
+    void *names = realloc(g->target_name, ((size_t)g->target_count + nt) * sizeof *g->target_name);
+    if (names)
+        g->target_name = names;
+    if (!mo->dpos || (am->mNormals && !mo->dnrm) || !mo->weight || !names)
         return psc_io_errorf(err, errlen, path, "out of memory");
     uint32_t t = 0;
     for (unsigned k = 0; k < am->mNumAnimMeshes; k++) {
@@ -157,6 +160,9 @@ static int add_targets(psc_gltf_t *g, const struct aiMesh *am, uint32_t j, const
         if (!a || !a->mVertices || a->mNumVertices != nv)
             continue;
         mo->weight[t] = a->mWeight;
+        snprintf(g->target_name[g->target_count + t], sizeof g->target_name[0], "%.*s",
+                 (int)(a->mName.length < sizeof g->target_name[0] ? a->mName.length : sizeof g->target_name[0] - 1),
+                 a->mName.data);
         for (uint32_t i = 0; i < nv; i++) {
             double p[3] = {am->mVertices[i].x, am->mVertices[i].y, am->mVertices[i].z};
             double q[3] = {a->mVertices[i].x, a->mVertices[i].y, a->mVertices[i].z}, n[3] = {0, 0, 1}, tn[3];

@@ -218,6 +218,7 @@ void psc_gltf_free(psc_gltf_t *g)
     }
     free(g->morphs);
     free(g->tri_opacity_q8);
+    free(g->target_name);
     memset(g, 0, sizeof *g);
 }
 

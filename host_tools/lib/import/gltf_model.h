@@ -79,6 +79,7 @@ typedef struct {
     psc_gltf_morph_t *morphs;    /* the meshes with blend shapes */
     uint32_t morph_count;
     uint32_t target_count;       /* theirs together (a pose's weights, in this order) */
+    char (*target_name)[64];     /* target_count: each target's name (glTF "extras": {"targetNames"}), or "" */
 } psc_gltf_t;
 
 /**

@@ -5,14 +5,16 @@
  * nodes (bones) on top of it:
  *
  *   {"time": T, "nodes": {"NAME or INDEX": {"rotate": [ax, ay, az, degrees], "translate": [x, y, z]}},
- *    "weights": [w0, w1, ...]}
+ *    "weights": [w0, w1, ...] or {"TARGET NAME": w, ...}}
  *
  * meaning local' = T . local . R for each node named (R the rotation by
  * degrees about the axis, T the translation, in the node's parent's units);
  * no "time": the rest pose. "weights" sets the model's blend-shape (morph
- * target) weights by hand, every target of every mesh in the file's order,
- * each within -16..16, instead of the animation's. Read with json-c
- * (Debian's libjson-c).
+ * target) weights by hand: as an array, every target of every mesh in the
+ * file's order, instead of the animation's; as an object, the targets of
+ * those names (glTF's mesh "extras": {"targetNames"}, e.g. a face's "Smile"
+ * on every mesh that has it), the others keeping the animation's. Each
+ * within -16..16. Read with json-c (Debian's libjson-c).
  */
 #ifndef PSC_IMPORT_POSE_FILE_H
 #define PSC_IMPORT_POSE_FILE_H
@@ -38,6 +40,8 @@ typedef struct {
     double weights[PSC_POSE_MAX_WEIGHTS];
     unsigned weight_count;       /* 0: the animation's (or the meshes' own) */
     bool has_weights;
+    bool weights_named;          /* weights[i] is for the targets named weight_name[i] */
+    char weight_name[PSC_POSE_MAX_WEIGHTS][64];
 } psc_pose_file_t;
 
 /** Whether --pose's value names a file (not rest, not t=SECONDS). */

@@ -134,10 +134,29 @@ int psc_pose_file_load(const char *path, psc_pose_file_t *out, char *err, size_t
                     goto done;
                 out->count++;
             }
+        } else if (strcmp(key, "weights") == 0 && json_object_is_type(val, json_type_object)) {
+            unsigned n = 0;
+            json_object_object_foreach(val, wk, wv) {
+                if (n >= PSC_POSE_MAX_WEIGHTS || strlen(wk) >= sizeof out->weight_name[0] || !wk[0]) {
+                    psc_io_errorf(err, errlen, path, "weights: at most %u target names, each 1..%zu bytes",
+                                  PSC_POSE_MAX_WEIGHTS, sizeof out->weight_name[0] - 1);
+                    goto done;
+                }
+                if ((!json_object_is_type(wv, json_type_double) && !json_object_is_type(wv, json_type_int)) ||
+                    !(json_object_get_double(wv) >= -16 && json_object_get_double(wv) <= 16)) {
+                    psc_io_errorf(err, errlen, path, "weights \"%s\": expected a number in -16..16", wk);
+                    goto done;
+                }
+                snprintf(out->weight_name[n], sizeof out->weight_name[n], "%s", wk);
+                out->weights[n++] = json_object_get_double(wv);
+            }
+            out->weight_count = n;
+            out->has_weights = true;
+            out->weights_named = true;
         } else if (strcmp(key, "weights") == 0) {
             size_t n = json_object_is_type(val, json_type_array) ? json_object_array_length(val) : 0;
             if (!json_object_is_type(val, json_type_array) || n > PSC_POSE_MAX_WEIGHTS) {
-                psc_io_errorf(err, errlen, path, "weights: expected an array of at most %u numbers",
+                psc_io_errorf(err, errlen, path, "weights: expected an array of at most %u numbers, or an object of target names",
                               PSC_POSE_MAX_WEIGHTS);
                 goto done;
             }

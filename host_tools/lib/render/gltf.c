@@ -55,8 +55,9 @@ static void usage(const char *prog, FILE *f)
             "  --size WxH          output size (default 640x480)\n"
             "  --pose P            rest (default), t=T (T seconds into the first animation) or POSE.json:\n"
             "                      {\"time\": T, \"nodes\": {\"NAME or INDEX\": {\"rotate\": [ax, ay, az, deg],\n"
-            "                      \"translate\": [x, y, z]}}, \"weights\": [w, ...]}, local' = T local R on\n"
-            "                      top of the animation; weights: the blend shapes' (morph targets'), by hand\n"
+            "                      \"translate\": [x, y, z]}}, \"weights\": [w, ...] or {\"NAME\": w}}, local' =\n"
+            "                      T local R on top of the animation; weights: the blend shapes' (morph\n"
+            "                      targets'), by hand, all in order or by their names\n"
             "  --shadow M.pao      self-shadowing from the model's sphere-occluder tables\n"
             "                      (periscope-shadow build MODEL)\n"
             "  --dump-ao AO.csv    with --shadow: x,y,z,nx,ny,nz,occlusion of every vertex\n"
@@ -125,6 +126,7 @@ typedef struct {
     psc_gltf_morpher_t morph;
     double *rest_pos, *rest_nrm, *weights, *anim_weights;
     bool weights_given;
+    bool *weight_set;            /* weights_given by name: the targets named (the others the animation's) */
 } posed_t;
 
 static int posed_new(posed_t *p, const psc_gltf_t *g, const char *name, char *err, size_t errlen)
@@ -152,7 +154,8 @@ static int posed_new(posed_t *p, const psc_gltf_t *g, const char *name, char *er
         p->rest_nrm = malloc(nv * 3u * sizeof *p->rest_nrm);
         p->weights = calloc(g->target_count, sizeof *p->weights);
         p->anim_weights = calloc(g->target_count, sizeof *p->anim_weights);
-        if (!p->rest_pos || !p->rest_nrm || !p->weights || !p->anim_weights)
+        p->weight_set = calloc(g->target_count, sizeof *p->weight_set);
+        if (!p->rest_pos || !p->rest_nrm || !p->weights || !p->anim_weights || !p->weight_set)
             return psc_io_errorf(err, errlen, name, "out of memory");
         if (psc_gltf_morpher_new(&p->morph, g, p->c, p->r, name, err, errlen) != 0)
             return -1;
@@ -207,6 +210,7 @@ static void posed_free(posed_t *p)
     free(p->rest_nrm);
     free(p->weights);
     free(p->anim_weights);
+    free(p->weight_set);
     psc_gltf_morpher_free(&p->morph);
 }
 
@@ -217,9 +221,11 @@ static void pose(posed_t *p, const psc_gltf_t *g, double t, const psc_gltf_adjus
     psc_gltf_pose(g, t, p->local);
     psc_gltf_skin(g, p->local, adjust, p->skin);
     if (g->target_count) {
-        if (!p->weights_given)
-            psc_gltf_weights(g, t, p->anim_weights);
-        psc_gltf_morph_rest(&p->morph, g, p->weights_given ? p->weights : p->anim_weights, p->rest_pos, p->rest_nrm);
+        psc_gltf_weights(g, t, p->anim_weights);
+        for (uint32_t i = 0; p->weights_given && i < g->target_count; i++)
+            if (p->weight_set[i])
+                p->anim_weights[i] = p->weights[i];
+        psc_gltf_morph_rest(&p->morph, g, p->anim_weights, p->rest_pos, p->rest_nrm);
         psc_gltf_t morphed = *g;
         morphed.mesh.pos = p->rest_pos;
         morphed.mesh.normal = p->rest_nrm;
@@ -268,14 +274,44 @@ static int pose_from_file(gltf_args_t *a, const psc_gltf_t *g, posed_t *p, psc_g
     psc_pose_file_t pf;
     if (psc_pose_file_load(a->pose_file, &pf, err, errlen) != 0)
         return -1;
-    if (pf.has_weights && pf.weight_count != g->target_count) {
+    if (pf.has_weights && !pf.weights_named && pf.weight_count != g->target_count) {
         unsigned given = pf.weight_count;
         psc_pose_file_free(&pf);
         return psc_io_errorf(err, errlen, a->pose_file, "weights: %u given, %s has %u morph targets", given,
                              a->model, (unsigned)g->target_count);
     }
-    if (pf.has_weights && g->target_count) {
+    if (pf.has_weights && pf.weights_named) { /* by name: every target of that name, in every mesh */
+        for (unsigned k = 0; k < pf.weight_count; k++) {
+            unsigned found = 0;
+            for (uint32_t i = 0; i < g->target_count; i++)
+                if (g->target_name && strcmp(g->target_name[i], pf.weight_name[k]) == 0) {
+                    p->weights[i] = pf.weights[k];
+                    p->weight_set[i] = true;
+                    found++;
+                }
+            if (!found) {
+                char known[256] = "";
+                size_t at = 0;
+                for (uint32_t i = 0; i < g->target_count && g->target_name && at + 1 < sizeof known; i++) {
+                    bool seen = false;
+                    for (uint32_t j = 0; j < i; j++)
+                        seen |= strcmp(g->target_name[j], g->target_name[i]) == 0;
+                    if (!seen && g->target_name[i][0])
+                        at += (size_t)snprintf(known + at, sizeof known - at, "%s\"%s\"", at ? ", " : "",
+                                               g->target_name[i]);
+                }
+                psc_io_errorf(err, errlen, a->pose_file, "weights: no morph target of %s is named \"%s\" (%s%s)",
+                              a->model, pf.weight_name[k], known[0] ? "its names: " : "its targets have no names",
+                              known);
+                psc_pose_file_free(&pf);
+                return -1;
+            }
+        }
+        p->weights_given = true;
+    } else if (pf.has_weights && g->target_count) {
         memcpy(p->weights, pf.weights, g->target_count * sizeof *p->weights);
+        for (uint32_t i = 0; i < g->target_count; i++)
+            p->weight_set[i] = true;
         p->weights_given = true;
     }
     *adjust = malloc((g->joint_count ? g->joint_count : 1u) * sizeof **adjust);
