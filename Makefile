@@ -153,7 +153,7 @@ TESTS := $(patsubst tests/%.c,$(BUILD)/tests/%,$(TEST_MAINS))
 # Objects reached through pattern rules would count as intermediate files and be
 # deleted after each link; keep them so a second build compiles nothing.
 .SECONDARY:
-.PHONY: all deps run test check check-system check-self-contained check-architecture soak check-memcheck vm-test check-core-nofloat \
+.PHONY: all deps run test check check-bench-build check-system check-self-contained check-architecture soak check-memcheck vm-test check-core-nofloat \
 	check-layers check-clang check-sanitize install clean bench bench-callgrind FORCE
 .DEFAULT_GOAL := all
 
@@ -311,6 +311,7 @@ check: deps
 	$(Q)sh scripts/timed "make test" $(MAKE) --no-print-directory test
 	$(Q)sh scripts/timed "clang build" $(MAKE) --no-print-directory check-clang
 	$(Q)$(call check_prune,$(BUILD)/clang)
+	$(Q)sh scripts/timed "benchmarks' build" $(MAKE) --no-print-directory check-bench-build
 	$(Q)sh scripts/timed "sanitizers (gcc)" $(MAKE) --no-print-directory check-sanitize
 	$(Q)$(call check_prune,$(SAN_BUILD))
 	$(Q)sh scripts/timed "sanitizers (clang)" $(MAKE) --no-print-directory check-sanitize SAN_CC=clang
@@ -456,6 +457,13 @@ bench:
 	$(Q)$(MAKE) --no-print-directory all $(BENCH_PROGS)
 	$(Q)mkdir -p bench/results
 	$(Q)for b in $(BENCH_PROGS); do echo "==== $$b"; $$b --out bench/results || exit 1; done
+
+# The benchmarks built, not run (part of `make check`: a change to an interface must not leave `make bench`
+# broken until someone runs it).
+check-bench-build:
+	$(Q)sh scripts/install-deps.sh $(BENCH_PACKAGES)
+	@echo "  CHECK   the benchmarks build: $(notdir $(BENCH_PROGS))"
+	$(Q)$(MAKE) $(PAR) --no-print-directory all $(BENCH_PROGS)
 
 # Instruction counts (repeatable on a noisy machine): each bench program's --callgrind mode under valgrind.
 bench-callgrind:

@@ -138,7 +138,8 @@ static void view(const bench_t *b, unsigned k, double tol_px, psc_patch_camera_t
 {
     const psc_patch_model_t *m = &b->pf.model;
     psc_vec3_q16_t lo = {m->lo_q16[0], m->lo_q16[1], m->lo_q16[2]}, hi = {m->hi_q16[0], m->hi_q16[1], m->hi_q16[2]};
-    *cfg = (psc_3d_config_t){W, H, 0, 0, 16, 0x238E38E4u, 0, 0, limits.max_vertices};
+    *cfg = (psc_3d_config_t){W, H, 0, 0, 16, 0x238E38E4u, 0, 0, limits.max_vertices,
+                             PSC_3D_HSR_ZBUFFER};
     *cam = (psc_patch_camera_t){0};
     psc_bam_t yaw = (psc_bam_t)(0x8E38E38Eu + k * 0x2222222u);   /* from 200 degrees, 3 degrees a frame */
     psc_3d_orbit(lo, hi, yaw, 0x071C71C7 / 16, 5 * PSC_Q16_ONE / 2, &cam->camera_from_object, &cfg->near_q16,

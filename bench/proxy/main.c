@@ -223,7 +223,8 @@ static int cg_camera(const psc_proxy_model_t *m, unsigned w, unsigned h, double 
 {
     psc_vec3_q16_t lo, hi;
     psc_proxy_rest_bounds(m, &lo, &hi);
-    *cfg = (psc_3d_config_t){(uint16_t)w, (uint16_t)h, 0, 0, 16, 0x238E38E4u, 0, 0, psc_proxy_max_vertices(m)};
+    *cfg = (psc_3d_config_t){(uint16_t)w, (uint16_t)h, 0, 0, 16, 0x238E38E4u, 0, 0,
+                             psc_proxy_max_vertices(m), PSC_3D_HSR_ZBUFFER};
     return psc_3d_orbit(lo, hi, 0, (int32_t)0x0E38E38E, (int32_t)lround(dist * 65536), cam, &cfg->near_q16,
                         &cfg->far_q16) == PSC_OK ? 0 : -1;
 }

@@ -25,7 +25,7 @@ static void blocks_model(psc_model_t *out)
     uint32_t nv = box.vertex_count, nt = box.triangle_count, n = R3D_BLOCKS_COUNT;
     *out = (psc_model_t){malloc(sizeof(double) * 3 * nv * n), box.normal ? malloc(sizeof(double) * 3 * nv * n) : NULL,
                          NULL, malloc(sizeof(uint32_t) * nv * n), malloc(sizeof(uint32_t) * 3 * nt * n), nv * n, nt * n,
-                         NULL};
+                         NULL, NULL};
     uint32_t seed = 12345u;
     for (uint32_t b = 0; b < n; b++) {
         double r[6];
