@@ -9,6 +9,14 @@
 
 _Static_assert(PSC_IO_BANDS_MAX_THREADS <= PSC_3D_FRAME_PARTS_MAX, "a pool's threads each list a part");
 
+/* A thread's counts, on cache lines no other thread's share (two lines apart, wherever the memory starts): they
+ * change at every triangle, and two cores writing one line pass it between them each time. */
+typedef struct {
+    psc_3d_stats_t s;
+    uint8_t gap[128 - sizeof(psc_3d_stats_t)];
+} thread_stats_t;
+_Static_assert(sizeof(psc_3d_stats_t) <= 64, "a thread's counts fit a cache line");
+
 struct psc_io_render3d {
     psc_io_bands_t *pool;
     unsigned threads;
@@ -17,7 +25,7 @@ struct psc_io_render3d {
     /* this frame */
     psc_3d_t *r;
     atomic_uint next_row;                                /* the next row a free worker takes */
-    psc_3d_stats_t stats[PSC_IO_BANDS_MAX_THREADS];
+    thread_stats_t stats[PSC_IO_BANDS_MAX_THREADS];
 };
 
 void psc_io_render3d_config(psc_3d_config_t *cfg, unsigned threads, bool aa)
@@ -107,8 +115,8 @@ static void triangles_job(void *ctx, unsigned k, unsigned pool_threads)
 {
     psc_io_render3d_t *t = ctx;
     (void)pool_threads;
-    t->stats[k] = (psc_3d_stats_t){0};
-    psc_3d_frame_triangles(t->r, k, &t->stats[k]);
+    t->stats[k].s = (psc_3d_stats_t){0};
+    psc_3d_frame_triangles(t->r, k, &t->stats[k].s);
 }
 
 /* Thread k's rows: whichever row is next when it is free (threads beyond the renderer's share draw nothing). A row's
@@ -122,7 +130,7 @@ static void rows_job(void *ctx, unsigned k, unsigned pool_threads)
         return;
     psc_3d_worker_t *w = k == 0 ? &t->r->own : &t->worker[k];
     for (uint32_t row, rows = psc_3d_frame_rows(t->r); (row = atomic_fetch_add(&t->next_row, 1u)) < rows;)
-        psc_3d_frame_row(t->r, w, row, &t->stats[k]);
+        psc_3d_frame_row(t->r, w, row, &t->stats[k].s);
 }
 
 psc_status_t psc_io_render3d_frame(psc_io_render3d_t *t, psc_3d_t *r, const psc_3d_draw_t *draws, unsigned n,
@@ -144,7 +152,7 @@ psc_status_t psc_io_render3d_frame(psc_io_render3d_t *t, psc_3d_t *r, const psc_
     atomic_store(&t->next_row, 0u);
     psc_io_bands_run(t->pool, rows_job, t);
     for (unsigned k = 0; k < parts; k++)
-        psc_3d_stats_merge(stats, &t->stats[k]);
+        psc_3d_stats_merge(stats, &t->stats[k].s);
     return PSC_OK;
 }
 
