@@ -351,21 +351,30 @@ static void test_obj_reads(void **state)
     psc_model_free(&m);
 }
 
-static void test_obj_material(void **state)
+/* STEM.obj and STEM.mtl in the tests' scratch folder: their paths in obj and mtl (512 bytes each), their texts. */
+static void write_obj_mtl(const char *stem, char obj[512], char mtl[512], const char *obj_text, const char *mtl_text)
 {
-    (void)state;
     const char *dir = getenv("PSC_TEST_TMPDIR");
-    char obj[512], mtl[512];
-    snprintf(obj, sizeof obj, "%s/3d_mat.obj", dir && *dir ? dir : "/tmp");
-    snprintf(mtl, sizeof mtl, "%s/3d_mat.mtl", dir && *dir ? dir : "/tmp");
+    snprintf(obj, 512, "%s/%s.obj", dir && *dir ? dir : "/tmp", stem);
+    snprintf(mtl, 512, "%s/%s.mtl", dir && *dir ? dir : "/tmp", stem);
     FILE *f = fopen(mtl, "w");
     assert_non_null(f);
-    fprintf(f, "newmtl first\nmap_Kd one.png\nnewmtl second\nKd 1 1 1\nmap_Kd -s 1 1 1 two.png\n");
+    fputs(mtl_text, f);
     fclose(f);
     f = fopen(obj, "w");
     assert_non_null(f);
-    fprintf(f, "mtllib 3d_mat.mtl\nusemtl second\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n");
+    fputs(obj_text, f);
     fclose(f);
+}
+
+static void test_obj_material(void **state)
+{
+    (void)state;
+    char obj[512], mtl[512];
+    write_obj_mtl("3d_mat", obj, mtl,
+                  "mtllib 3d_mat.mtl\nusemtl second\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n",
+                  "newmtl first\nmap_Kd one.png\nnewmtl second\nKd 1 1 1\nmap_Kd -s 1 1 1 two.png\n");
+    FILE *f;
     psc_model_t m;
     char err[256], note[256];
     if (psc_obj_load(obj, &m, note, sizeof note, err, sizeof err) != 0)
@@ -622,25 +631,17 @@ static void test_object_scene(void **state)
 static void test_obj_opacity(void **state)
 {
     (void)state;
-    const char *dir = getenv("PSC_TEST_TMPDIR");
     char obj[512], mtl[512];
-    snprintf(obj, sizeof obj, "%s/3d_glass.obj", dir && *dir ? dir : "/tmp");
-    snprintf(mtl, sizeof mtl, "%s/3d_glass.mtl", dir && *dir ? dir : "/tmp");
-    FILE *f = fopen(mtl, "w");
-    assert_non_null(f);
-    fprintf(f, "newmtl glass\nKd 0.2 0.3 0.9\nd 0.5\nnewmtl solid\nKd 0.9 0.3 0.2\nnewmtl tinted\nTr 0.25\n"
-               "newmtl halo\nd -halo 0.25\nTr 0.9\n");
-    fclose(f);
-    f = fopen(obj, "w");
-    assert_non_null(f);
     /* a pane of glass in front of (z 0.6) and to the right of a solid square, both sides of each (double winding) */
-    fprintf(f, "mtllib 3d_glass.mtl\n"
-               "v -0.2 -0.8 0.6\nv 1.4 -0.8 0.6\nv 1.4 0.8 0.6\nv -0.2 0.8 0.6\n"
-               "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
-               "usemtl glass\nf 1 2 3\nf 1 3 4\nf 3 2 1\nf 4 3 1\n"
-               "usemtl solid\nf 5 6 7\nf 5 7 8\nf 7 6 5\nf 8 7 5\n"
-               "usemtl tinted\nf 5 6 8\nusemtl halo\nf 6 7 8\n");
-    fclose(f);
+    write_obj_mtl("3d_glass", obj, mtl,
+                  "mtllib 3d_glass.mtl\n"
+                  "v -0.2 -0.8 0.6\nv 1.4 -0.8 0.6\nv 1.4 0.8 0.6\nv -0.2 0.8 0.6\n"
+                  "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
+                  "usemtl glass\nf 1 2 3\nf 1 3 4\nf 3 2 1\nf 4 3 1\n"
+                  "usemtl solid\nf 5 6 7\nf 5 7 8\nf 7 6 5\nf 8 7 5\n"
+                  "usemtl tinted\nf 5 6 8\nusemtl halo\nf 6 7 8\n",
+                  "newmtl glass\nKd 0.2 0.3 0.9\nd 0.5\nnewmtl solid\nKd 0.9 0.3 0.2\nnewmtl tinted\nTr 0.25\n"
+                  "newmtl halo\nd -halo 0.25\nTr 0.9\n");
     psc_model_t m;
     char err[256], note[256] = "";
     if (psc_obj_load(obj, &m, note, sizeof note, err, sizeof err) != 0)

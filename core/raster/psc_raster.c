@@ -455,6 +455,27 @@ static PSC_ALWAYS_INLINE uint32_t shade_pixel(const setup_t *s, const psc_raster
     return c;
 }
 
+/* The planes k pixels to the right (k = 1: the next pixel; the multiplications fold away). */
+static PSC_ALWAYS_INLINE void planes_right(pix_planes_t *p, const setup_t *s, const int shade, uint64_t k)
+{
+    if (shade == PSC_SHADE_GOURAUD || shade == PSC_SHADE_PHONG) {
+        p->r += k * s->r.step_x;
+        p->g += k * s->g.step_x;
+        p->b += k * s->b.step_x;
+    }
+    if (shade == PSC_SHADE_PHONG) {
+        p->nx += k * s->nx.step_x;
+        p->ny += k * s->ny.step_x;
+        p->nz += k * s->nz.step_x;
+    }
+    if (shade == PSC_SHADE_TEXTURE) {
+        p->q += k * s->q.step_x;
+        p->u += k * s->uq.step_x;
+        p->v += k * s->vq.step_x;
+        p->l += k * s->light.step_x;
+    }
+}
+
 /* The pixel centres of row offset-from-px0 range [*lo, *hi] inside all three edges, whose values at the row's first
  * centre are e[]: exactly the centres the per-pixel test takes. Narrow boxes walk the edges (a few additions a
  * pixel); wide ones divide (three divisions a row instead of a test at every pixel of the box). False if none. */
@@ -595,22 +616,7 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
                 const uint64_t k = (uint64_t)lo;
                 uint64_t d = dr + k * s->depth.step_x;
                 pix_planes_t p = row;
-                if (gouraud) {
-                    p.r += k * s->r.step_x;
-                    p.g += k * s->g.step_x;
-                    p.b += k * s->b.step_x;
-                }
-                if (phong) {
-                    p.nx += k * s->nx.step_x;
-                    p.ny += k * s->ny.step_x;
-                    p.nz += k * s->nz.step_x;
-                }
-                if (textured) {
-                    p.q += k * s->q.step_x;
-                    p.u += k * s->uq.step_x;
-                    p.v += k * s->vq.step_x;
-                    p.l += k * s->light.step_x;
-                }
+                planes_right(&p, s, shade, k);
                 const int32_t n = hi - lo + 1;
                 if (zbits)
                     tested += (uint32_t)n;
@@ -648,22 +654,7 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
                         put_pixel(srow, x, out565, blend, shade_pixel(s, st, &tv, shade, bilinear, tex565, &p), opacity);
                         written++;
                     }
-                    if (gouraud) {
-                        p.r += s->r.step_x;
-                        p.g += s->g.step_x;
-                        p.b += s->b.step_x;
-                    }
-                    if (phong) {
-                        p.nx += s->nx.step_x;
-                        p.ny += s->ny.step_x;
-                        p.nz += s->nz.step_x;
-                    }
-                    if (textured) {
-                        p.q += s->q.step_x;
-                        p.u += s->uq.step_x;
-                        p.v += s->vq.step_x;
-                        p.l += s->light.step_x;
-                    }
+                    planes_right(&p, s, shade, 1);
                 }
             }
         } else {
@@ -739,22 +730,7 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
                 e2 += s->ex[2];
                 if (zbits)
                     d += s->depth.step_x;
-                if (gouraud) {
-                    p.r += s->r.step_x;
-                    p.g += s->g.step_x;
-                    p.b += s->b.step_x;
-                }
-                if (phong) {
-                    p.nx += s->nx.step_x;
-                    p.ny += s->ny.step_x;
-                    p.nz += s->nz.step_x;
-                }
-                if (textured) {
-                    p.q += s->q.step_x;
-                    p.u += s->uq.step_x;
-                    p.v += s->vq.step_x;
-                    p.l += s->light.step_x;
-                }
+                planes_right(&p, s, shade, 1);
             }
         }
     row_done:
