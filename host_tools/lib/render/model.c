@@ -129,6 +129,10 @@ static int load_mesh(const model_args_t *a, psc_io_mesh_t *mf, char *err, size_t
         goto done;
     if (tex_path && !m.uv)
         fprintf(stderr, "note: %s has no texture coordinates: texture %s not used\n", a->model, tex_path);
+    if (!tex.xrgb && m.uv) { /* coordinates without a texture to read (tiling ones, say): nothing to keep */
+        free(m.uv);
+        m.uv = NULL;
+    }
     uint8_t *bytes = NULL;
     size_t len = 0;
     if (psc_bake_mesh_pack(&m, tex.xrgb ? &tex : NULL, NULL, a->model, &bytes, &len, err, errlen) != 0)
