@@ -260,6 +260,12 @@ typedef enum {
     PSC_PROXY_LOD_BILLBOARD = 2    /* a quad facing the camera with the billboard's nearest view (far; rest pose) */
 } psc_proxy_lod_t;
 
+/** A bone of a joint strip and its vertices' weights on it, summed (Q0.15 x vertices). */
+typedef struct {
+    uint32_t joint;
+    uint32_t weight;
+} psc_proxy_bone_t;
+
 /** A model's drawing state; everything in the caller's workspace. */
 typedef struct {
     const psc_proxy_model_t *m;
@@ -292,6 +298,8 @@ typedef struct {
     psc_texture_t *normal_tex;     /* (packs with normals) 3 per draw: the views' normals */
     int32_t *joint_light_q14;      /* (packs with normals) per joint, this frame: the light in its rest frame (Q2.14) */
     uint32_t blended_vertices;     /* full-mesh vertices that follow more than one joint (relit, they cost more) */
+    uint32_t *strip_first;         /* part_count + 1: part i's bones are strip_bones[strip_first[i] .. [i + 1]) */
+    psc_proxy_bone_t *strip_bones; /* a joint strip's bones, for its M3 */
 } psc_proxy_t;
 
 /* The level of detail's cost model, in instructions (callgrind, x86-64, gcc -O2): `build/bench/proxy --callgrind`

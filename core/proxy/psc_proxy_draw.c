@@ -22,18 +22,28 @@ static bool rigid(const psc_proxy_part_raw_t *p)
 
 /* Sizes of the workspace's pieces. */
 typedef struct {
-    uint64_t posed, proxy_posed, draws;
+    uint64_t posed, proxy_posed, draws, strip_joints;
 } counts_t;
+
+/* A joint strip's bones at most: one a weight of its vertices', and no more than the skeleton's. */
+static uint64_t strip_joint_bound(const psc_proxy_model_t *m, const psc_proxy_part_raw_t *p)
+{
+    if (p->kind != PSC_PROXY_KIND_JOINT)
+        return 0;
+    uint64_t n = 4u * (uint64_t)p->proxy_vertex_count;
+    return n < m->joint_count ? n : m->joint_count;
+}
 
 static counts_t count(const psc_proxy_model_t *m)
 {
-    counts_t c = {0, 0, 0};
+    counts_t c = {0, 0, 0, 0};
     for (uint32_t i = 0; i < m->part_count; i++) {
         const psc_proxy_part_raw_t *p = &m->parts[i];
         if (!rigid(p)) {
             c.posed += p->vertex_count;
             c.proxy_posed += p->proxy_vertex_count;
         }
+        c.strip_joints += strip_joint_bound(m, p);
     }
     c.draws = m->part_count;
     return c;
@@ -54,6 +64,8 @@ static size_t relight_bytes(const psc_proxy_model_t *m)
            align8((size_t)m->joint_count * 3u * sizeof(int32_t));
 }
 
+static void strip_bones(psc_proxy_t *p);
+
 size_t psc_proxy_workspace_size(const psc_proxy_model_t *m)
 {
     if (!m || !m->parts)
@@ -62,6 +74,7 @@ size_t psc_proxy_workspace_size(const psc_proxy_model_t *m)
     return align8((size_t)c.posed * 12u) + align8((size_t)c.proxy_posed * 12u) +
            align8((size_t)c.draws * sizeof(psc_mesh_t)) + align8((size_t)c.draws * 3u * sizeof(psc_texture_t)) +
            align8((size_t)c.draws * sizeof(psc_3d_draw_t)) + align8((size_t)m->bb_view_count * sizeof(uint32_t)) +
+           align8((size_t)(c.draws + 1u) * sizeof(uint32_t)) + align8((size_t)c.strip_joints * sizeof(psc_proxy_bone_t)) +
            relight_bytes(m);
 }
 
@@ -99,6 +112,11 @@ psc_status_t psc_proxy_init(psc_proxy_t *p, const psc_proxy_model_t *m, void *ws
     w += align8((size_t)c.draws * sizeof(psc_3d_draw_t));
     p->view_area_r2_q16 = (uint32_t *)(void *)w;   /* the billboard's views' silhouettes (psc_proxy_lod_prepare) */
     w += align8((size_t)m->bb_view_count * sizeof(uint32_t));
+    p->strip_first = (uint32_t *)(void *)w;
+    w += align8((size_t)(c.draws + 1u) * sizeof(uint32_t));
+    p->strip_bones = (psc_proxy_bone_t *)(void *)w;
+    w += align8((size_t)c.strip_joints * sizeof(psc_proxy_bone_t));
+    strip_bones(p);
     if (m->tex_normals) {
         p->relit_color = (uint32_t *)(void *)w;
         w += align8((size_t)m->vertex_count * 4u);
@@ -169,21 +187,47 @@ static void unit_q16(const int64_t v[3], int32_t out[3])
         out[a] = len ? (int32_t)psc_div_round64(s[a] * 65536, len) : 0;
 }
 
+/* Each joint strip's bones and their weights summed over its vertices (what its M3 blends: a sum of products is
+ * the product of the sums, so a frame adds a few matrices instead of every vertex's). At most 65 535 vertices of
+ * 32 768 each: a sum stays within 2^31. */
+static void strip_bones(psc_proxy_t *p)
+{
+    const psc_proxy_model_t *m = p->m;
+    uint32_t at = 0;
+    for (uint32_t i = 0; i < m->part_count; i++) {
+        const psc_proxy_part_raw_t *pr = &m->parts[i];
+        p->strip_first[i] = at;
+        if (pr->kind != PSC_PROXY_KIND_JOINT)
+            continue;
+        const psc_proxy_skin_raw_t *sk = m->proxy_skin + pr->first_proxy_vertex;
+        uint32_t first = at;
+        for (uint32_t v = 0; v < pr->proxy_vertex_count; v++)
+            for (unsigned k = 0; k < 4; k++) {
+                if (sk[v].weight_q15[k] == 0)
+                    continue;
+                uint32_t b = first;
+                while (b < at && p->strip_bones[b].joint != sk[v].joint[k])
+                    b++;
+                if (b == at)
+                    p->strip_bones[at++] = (psc_proxy_bone_t){sk[v].joint[k], 0};
+                p->strip_bones[b].weight += sk[v].weight_q15[k];
+            }
+    }
+    p->strip_first[m->part_count] = at;
+}
+
 /* M3 of a joint strip: the rotation its bones' skin matrices make, weighted as its vertices weigh on them (their
  * linear parts summed, then made orthonormal: the first column's direction, the third at right angles to it and the
- * second's). Q16.16 x Q0.15 summed in int64: at most 65 535 x 4 terms of 2^20 x 2^15. */
-static void strip_m3(const psc_mat4_q16_t *skin, const psc_proxy_skin_raw_t *sk, uint32_t n, psc_mat4_q16_t *m3)
+ * second's). Its bones' weights sum to its vertices' count x 32 768 < 2^31, times |Q16.16| < 2^24 in int64. */
+static void strip_m3(const psc_mat4_q16_t *skin, const psc_proxy_bone_t *bone, uint32_t n, psc_mat4_q16_t *m3)
 {
     int64_t acc[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-    for (uint32_t i = 0; i < n; i++)
-        for (unsigned k = 0; k < 4; k++) {
-            if (sk[i].weight_q15[k] == 0)
-                continue;
-            const psc_mat4_q16_t *s = &skin[sk[i].joint[k]];
-            for (unsigned r = 0; r < 3; r++)
-                for (unsigned c = 0; c < 3; c++)
-                    acc[r][c] += (int64_t)s->m[r][c] * sk[i].weight_q15[k];
-        }
+    for (uint32_t i = 0; i < n; i++) {
+        const psc_mat4_q16_t *s = &skin[bone[i].joint];
+        for (unsigned r = 0; r < 3; r++)
+            for (unsigned c = 0; c < 3; c++)
+                acc[r][c] += (int64_t)s->m[r][c] * bone[i].weight;
+    }
     int64_t c0[3] = {acc[0][0], acc[1][0], acc[2][0]}, c1[3] = {acc[0][1], acc[1][1], acc[2][1]}, x[3];
     int32_t u[3], w[3], v[3];
     psc_mat4_identity(m3);
@@ -481,8 +525,9 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
     for (uint32_t i = 0; i < m->part_count; i++) {
         const psc_proxy_part_raw_t *pr = &m->parts[i];
         const psc_mat4_q16_t *js = &skin[pr->joint];
-        psc_mat4_q16_t cam_part;
-        psc_mat4_mul(&cam_part, cam, js);
+        psc_mat4_q16_t cam_part;   /* a rigid part's camera: its joint's motion then the camera's */
+        if (rigid(pr))
+            psc_mat4_mul(&cam_part, cam, js);
         part_tex_t pt = {texels, psc_proxy_part_tex(m, i), 0, NULL, bake_light};
         texels += (size_t)pt.t.chain * m->view_count;
         if (relit) {
@@ -527,13 +572,13 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
             pposed_at += pr->proxy_vertex_count;
         }
         const uint16_t *idx = m->proxy_index + 3u * (size_t)pr->first_proxy_triangle;
-        {   /* the mip level, by the depth of its posed centre */
+        int32_t centre[3];   /* the posed centre: its depth picks the mip level, and a part's views look at it */
+        {
             int64_t c[3], e[3];
-            int32_t cc[3];
             apply(js, pr->centre_q16, c);
             for (unsigned a = 0; a < 3; a++)
-                cc[a] = (int32_t)c[a];
-            apply(cam, cc, e);
+                centre[a] = (int32_t)c[a];
+            apply(cam, centre, e);
             pt.level = mip_level(&pt.t, e[2], pr->radius_q16, p->focal_px_q16);
         }
         if (pr->kind == PSC_PROXY_KIND_PART) {
@@ -543,13 +588,8 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
             psc_3d_draw_t *d = &p->draws[nd];
             draw_base(d, mesh, rigid(pr) ? &cam_part : cam, ids, i);
             /* Ds: from the eye to the part's posed centre */
-            int64_t c[3];
-            int32_t cc[3];
-            apply(js, pr->centre_q16, c);
-            for (unsigned a = 0; a < 3; a++)
-                cc[a] = (int32_t)c[a];
             psc_proxy_pick_t pick;
-            psc_proxy_view_pick_at(m->view_side, cc, cam, js, &pick);
+            psc_proxy_view_pick_at(m->view_side, centre, cam, js, &pick);
             const uint16_t *const uv[3] = {part_uv(m, pr, pick.view[0]), part_uv(m, pr, pick.view[1]),
                                            part_uv(m, pr, pick.view[2])};
             set_views(d, &p->textures[3u * nd], p->normal_tex ? &p->normal_tex[3u * nd] : NULL, &pt, &pick, uv,
@@ -560,7 +600,7 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
         /* a joint strip: one draw, its M3 the rotation of its bones (the seed gives each joint triangle its own;
          * a strip cut from the simplified mesh is a ring of a few triangles between two parts) */
         psc_mat4_q16_t m3;
-        strip_m3(skin, m->proxy_skin + pr->first_proxy_vertex, pr->proxy_vertex_count, &m3);
+        strip_m3(skin, p->strip_bones + p->strip_first[i], p->strip_first[i + 1] - p->strip_first[i], &m3);
         int64_t sum[3] = {0, 0, 0};
         int32_t cc[3];
         for (uint32_t v = 0; v < pr->proxy_vertex_count; v++)

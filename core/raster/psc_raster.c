@@ -864,40 +864,47 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
     const bool relit = st->view_normals[0] != NULL;
     uint32_t written = 0, tested = 0;
     int64_t e0r = s->e[0], e1r = s->e[1], e2r = s->e[2];
-    uint64_t dr = s->depth.base, qr = s->q.base, ur[3], vr[3];
-    for (unsigned k = 0; k < 3; k++) {
-        ur[k] = s->vu[k].base;
-        vr[k] = s->vv[k].base;
-    }
     uint8_t *srow = (uint8_t *)t->surface->pixels + (size_t)s->py0 * t->surface->stride;
     uint8_t *zrow = zbits ? (uint8_t *)t->depth + (size_t)(s->py0 - t->y0) * t->depth_stride : 0;
 
-    for (int32_t y = s->py0; y <= s->py1; y++) {
+    /* A proxy's triangles are often slivers a pixel or two wide: most of their rows hold no pixel centre. The
+     * planes are therefore evaluated where a row's run starts (the same sums, modulo 2^64, as a step a pixel and a
+     * row), not carried row to row. */
+    for (int32_t y = s->py0; y <= s->py1; y++, e0r += s->ey[0], e1r += s->ey[1], e2r += s->ey[2],
+                 srow += t->surface->stride, zrow = zbits ? zrow + t->depth_stride : zrow) {
         int64_t e0 = e0r, e1 = e1r, e2 = e2r;
-        int32_t x = s->px0;
-        /* the row's pixels before the triangle: its edges alone, the planes then moved over them at once (the same
-         * sums, modulo 2^64, as a step a pixel); a small triangle's box is half empty */
-        while (x <= s->px1 && (aa ? sample_mask(s, e0, e1, e2) == 0 : (e0 | e1 | e2) < 0)) {
-            e0 += s->ex[0];
-            e1 += s->ex[1];
-            e2 += s->ex[2];
-            x++;
+        int32_t x = s->px0, xend = s->px1;
+        if (!aa) {   /* the run of pixel centres inside the three edges, found at once */
+            const int64_t er[3] = {e0r, e1r, e2r};
+            int32_t lo, hi;
+            if (!row_span(s, er, &lo, &hi))
+                continue;
+            x = s->px0 + lo;
+            xend = s->px0 + hi;
+        } else {   /* the row's pixels before the triangle's samples: its edges alone */
+            while (x <= s->px1 && sample_mask(s, e0, e1, e2) == 0) {
+                e0 += s->ex[0];
+                e1 += s->ex[1];
+                e2 += s->ex[2];
+                x++;
+            }
+            if (x > s->px1)
+                continue;
         }
-        uint64_t skip = (uint64_t)(int64_t)(x - s->px0);
-        uint64_t d = dr + skip * s->depth.step_x, q = qr + skip * s->q.step_x, u[3], v[3];
+        uint64_t skip = (uint64_t)(int64_t)(x - s->px0), rows = (uint64_t)(int64_t)(y - s->py0);
+        uint64_t d = s->depth.base + skip * s->depth.step_x + rows * s->depth.step_y;
+        uint64_t q = s->q.base + skip * s->q.step_x + rows * s->q.step_y, u[3], v[3];
         for (unsigned k = 0; k < 3; k++) {
-            u[k] = ur[k] + skip * s->vu[k].step_x;
-            v[k] = vr[k] + skip * s->vv[k].step_x;
+            u[k] = s->vu[k].base + skip * s->vu[k].step_x + rows * s->vu[k].step_y;
+            v[k] = s->vv[k].base + skip * s->vv[k].step_x + rows * s->vv[k].step_y;
         }
-        for (; x <= s->px1; x++) {
-            uint32_t cover = aa ? sample_mask(s, e0, e1, e2) : (e0 | e1 | e2) >= 0 ? PSC_ABUF_FULL : 0;
-            if (cover == 0 && !aa)
-                break;   /* three half-planes cross a row once: past the triangle, nothing more on it */
+        for (; x <= xend; x++) {
+            uint32_t cover = aa ? sample_mask(s, e0, e1, e2) : PSC_ABUF_FULL;
             if (cover != 0) {
                 uint32_t z = 0, limit = 0xFFFFFFFFu;
                 int draw = 1;
                 uint64_t pd = d, pq = q, pu[3] = {u[0], u[1], u[2]}, pv[3] = {v[0], v[1], v[2]};
-                const bool centre = (e0 | e1 | e2) >= 0;
+                const bool centre = !aa || (e0 | e1 | e2) >= 0;   /* (the edges are followed with the A-buffer alone) */
                 if (aa && cover != PSC_ABUF_FULL) {
                     int64_t ox, oy;
                     covered_centroid(cover, &ox, &oy);
@@ -981,9 +988,11 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                     }
                 }
             }
-            e0 += s->ex[0];
-            e1 += s->ex[1];
-            e2 += s->ex[2];
+            if (aa) {
+                e0 += s->ex[0];
+                e1 += s->ex[1];
+                e2 += s->ex[2];
+            }
             d += s->depth.step_x;
             q += s->q.step_x;
             for (unsigned k = 0; k < 3; k++) {
@@ -991,18 +1000,6 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                 v[k] += s->vv[k].step_x;
             }
         }
-        e0r += s->ey[0];
-        e1r += s->ey[1];
-        e2r += s->ey[2];
-        dr += s->depth.step_y;
-        qr += s->q.step_y;
-        for (unsigned k = 0; k < 3; k++) {
-            ur[k] += s->vu[k].step_y;
-            vr[k] += s->vv[k].step_y;
-        }
-        srow += t->surface->stride;
-        if (zbits)
-            zrow += t->depth_stride;
     }
     if (t->tested)
         *t->tested += tested;
@@ -1320,8 +1317,11 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
         }
         /* Perspective changes u across such a triangle by under 1/256 of its span: interpolate u, v directly. */
         s.affine = (qmax - qmin) * 256 <= qmin;
-        plane_setup(&s.q, q, x, y, rcp, Q_F, cx, cy);
+        if (!s.affine)
+            plane_setup(&s.q, q, x, y, rcp, Q_F, cx, cy);
         for (unsigned k = 0; k < 3; k++) {
+            if (st->view_w_q8[k] == 0)
+                continue;   /* a view of no weight is never read */
             for (unsigned i = 0; i < 3; i++) {
                 int32_t uu = k == 0 ? v[i]->u_q16 : k == 1 ? v[i]->u1_q16 : v[i]->u2_q16;
                 int32_t vv = k == 0 ? v[i]->v_q16 : k == 1 ? v[i]->v1_q16 : v[i]->v2_q16;
