@@ -275,7 +275,8 @@ typedef struct {
     psc_texture_t *textures;       /* 3 per draw */
     psc_3d_draw_t *draws;
     uint32_t max_draws;
-    psc_tex_filter_t filter;       /* of the view textures: nearest (psc_proxy_init's; the bench's 1.7x over bilinear) */
+    psc_tex_filter_t filter;       /* of the view textures: PSC_TEX_EDGES (psc_proxy_init's: nearest, bilinear at the
+                                    * silhouette's texels: the held-out human's IoU 0.942 -> 0.958 at 6 R for 7 % more instructions) */
     int32_t bb_pos_q16[12];        /* the billboard's corners this frame */
     uint16_t bb_uv[3][8];          /* and their coordinates in its three views */
     psc_proxy_lod_t lod;           /* psc_proxy_lod_pick's last choice */

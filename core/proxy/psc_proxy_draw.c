@@ -124,7 +124,7 @@ psc_status_t psc_proxy_init(psc_proxy_t *p, const psc_proxy_model_t *m, void *ws
         w += align8((size_t)c.draws * 3u * sizeof(psc_texture_t));
         p->joint_light_q14 = (int32_t *)(void *)w;
     }
-    p->filter = PSC_TEX_NEAREST;
+    p->filter = PSC_TEX_EDGES;
     p->lod = PSC_PROXY_LOD_PROXIES;
     p->full_px = 0;
     p->billboard_px = 40;

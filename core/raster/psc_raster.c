@@ -854,6 +854,38 @@ uint32_t psc_lambert_relight(const psc_lambert_q14_t *now, const psc_lambert_q14
     return out;
 }
 
+/* A pixel's three views sampled at its planes' values (pu, pv; inv the perspective's reciprocal unless affine):
+ * the covered weight (Q0.16) in *cov, weight x channel in acc, and where relit the normal of the heaviest view that
+ * covers it. */
+static PSC_ALWAYS_INLINE void views_sample(const psc_raster_state_t *st, const uint64_t pu[3], const uint64_t pv[3],
+                                           int64_t inv, const int affine, const int bilinear, uint32_t enough,
+                                           bool relit, uint32_t *cov_out, uint32_t acc[3], int32_t nrm[3])
+{
+    uint32_t cov = 0, left = 65536u;
+    acc[0] = acc[1] = acc[2] = 0;
+    nrm[0] = nrm[1] = nrm[2] = 0;
+    for (unsigned k = 0; k < 3; k++) {
+        uint32_t wk = st->view_w_q8[k];
+        /* the heaviest views come first: stop once the rest cannot reach enough */
+        if (cov + left < enough)
+            break;
+        if (wk == 0)
+            continue;
+        left -= wk << 8;
+        int64_t uu = affine ? plane_value(pu[k], UV_F) : psc_shr_round64(plane_value(pu[k], UV_F) * inv, 24);
+        int64_t vv = affine ? plane_value(pv[k], UV_F) : psc_shr_round64(plane_value(pv[k], UV_F) * inv, 24);
+        uint32_t before = cov;
+        uu = clamp64(uu, 0, 65536);
+        vv = clamp64(vv, 0, 65536);
+        view_sample(st->view_tex[k], uu, vv, wk, bilinear, &cov, acc);
+        /* the normal from the heaviest view that covers the pixel: the views see one surface, so their normals agree
+         * but where a view's texels blur an edge (a third of the work) */
+        if (relit && cov != before && (nrm[0] | nrm[1] | nrm[2]) == 0)
+            normal_sample(st->view_normals[k], uu, vv, 65536u, nrm);
+    }
+    *cov_out = cov;
+}
+
 static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_target_t *t,
                                              const psc_raster_state_t *st, const int out565, const int zbits,
                                              const int bilinear, const int affine, const int aa)
@@ -861,7 +893,7 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
     const uint32_t head_w = (uint32_t)(t->x1 - t->x0);
     /* Without the A-buffer a pixel needs half the weight; with it, what the ramp below turns into one sample. */
     const uint32_t enough = aa ? 30720u : 32768u;
-    const bool relit = st->view_normals[0] != NULL;
+    const bool relit = st->view_normals[0] != NULL, edges = st->filter == PSC_TEX_EDGES;
     uint32_t written = 0, tested = 0;
     int64_t e0r = s->e[0], e1r = s->e[1], e2r = s->e[2];
     uint8_t *srow = (uint8_t *)t->surface->pixels + (size_t)s->py0 * t->surface->stride;
@@ -929,27 +961,11 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                         int64_t qq = clamp64(plane_value(pq, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
                         inv = recip40(qq);
                     }
-                    uint32_t cov = 0, acc[3] = {0, 0, 0}, left = 65536u;
-                    int32_t nrm[3] = {0, 0, 0};
-                    for (unsigned k = 0; k < 3; k++) {
-                        uint32_t wk = st->view_w_q8[k];
-                        /* the heaviest views come first: stop once the rest cannot reach enough */
-                        if (cov + left < enough)
-                            break;
-                        if (wk == 0)
-                            continue;
-                        left -= wk << 8;
-                        int64_t uu = affine ? plane_value(pu[k], UV_F) : psc_shr_round64(plane_value(pu[k], UV_F) * inv, 24);
-                        int64_t vv = affine ? plane_value(pv[k], UV_F) : psc_shr_round64(plane_value(pv[k], UV_F) * inv, 24);
-                        uint32_t before = cov;
-                        uu = clamp64(uu, 0, 65536);
-                        vv = clamp64(vv, 0, 65536);
-                        view_sample(st->view_tex[k], uu, vv, wk, bilinear, &cov, acc);
-                        /* the normal from the heaviest view that covers the pixel: the views see one surface, so
-                         * their normals agree but where a view's texels blur an edge (a third of the work) */
-                        if (relit && cov != before && (nrm[0] | nrm[1] | nrm[2]) == 0)
-                            normal_sample(st->view_normals[k], uu, vv, 65536u, nrm);
-                    }
+                    uint32_t cov, acc[3];
+                    int32_t nrm[3];
+                    views_sample(st, pu, pv, inv, affine, bilinear, enough, relit, &cov, acc, nrm);
+                    if (!bilinear && edges && cov != 65536u)   /* an empty texel: an edge, found to a texel's part */
+                        views_sample(st, pu, pv, inv, affine, 1, enough, relit, &cov, acc, nrm);
                     if (aa) { /* alpha to coverage, ramped 16x steeper about the alpha test's one half */
                         int32_t ramp = ((int32_t)cov - 32768) * 16 + 32768;
                         ramp = ramp < 0 ? 0 : ramp > 65536 ? 65536 : ramp;

@@ -839,12 +839,14 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
         size_t nrm_n = normals ? (size_t)side * side * PSC_PROXY_NORMAL_SIDE(ts) * PSC_PROXY_NORMAL_SIDE(ts) : 0;
         uint16_t *nx = nrm_n ? buf_add(&pk.tnrm, nrm_n * 2u) : NULL;
         uint16_t *level0 = malloc(((size_t)side * side * ts * ts + 1u) * sizeof *level0);
-        int rv = !uv || (chain && !tx) || (nrm_n && !nx) || !level0 ? -1 : 0;
+        psc_bake_cover_t *cov0 = malloc(((size_t)side * side * ts * ts + 1u) * sizeof *cov0);
+        int rv = !uv || (chain && !tx) || (nrm_n && !nx) || !level0 || !cov0 ? -1 : 0;
         if (rv == 0 && ts > 0)
-            rv = psc_bake_proxy_views(&shapes[k], near_shapes, nn, side, ts, level0, nx, uv);
+            rv = psc_bake_proxy_views(&shapes[k], near_shapes, nn, side, ts, level0, cov0, nx, uv);
         for (unsigned v = 0; rv == 0 && v < side * side && ts > 0; v++)
-            psc_bake_proxy_mips(level0 + (size_t)v * ts * ts, ts, levels, tx + (size_t)v * chain);
-        free(level0);
+            rv = psc_bake_proxy_mips(level0 + (size_t)v * ts * ts, cov0 + (size_t)v * ts * ts, ts, levels,
+                                     tx + (size_t)v * chain);
+        free(level0), free(cov0);
         if (rv != 0) {
             psc_io_errorf(err, errlen, name, "out of memory");
             goto done;

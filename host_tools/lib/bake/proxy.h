@@ -100,16 +100,25 @@ typedef struct {
     double reach;                    /* the model's surface within this of the proxy is the proxy's (units of R) */
 } psc_proxy_shape_t;
 
-/** Render shape s's view textures (view_count x tex^2 RGB565), their normals unless NULL (view_count x (tex / 2)^2
+/** A view texel's samples (of 16): those that show the model, and those of them kept on the proxy (its reach). */
+typedef struct {
+    uint8_t model, kept;
+} psc_bake_cover_t;
+
+/** Render shape s's view textures (view_count x tex^2 RGB565: each texel its kept samples' mean, empty with none;
+ *  psc_bake_proxy_mips decides which are drawn) and their samples' counts (cov, as many), their normals unless NULL (view_count x (tex / 2)^2
  *  psc_oct16 codes) and its proxy's coordinates (view_count x prx_vertices x 2) for a grid of side x side views:
  *  the shapes near[0..n_near) (s and its neighbours) at rest, where their surface lies within s->reach of s's proxy;
  *  elsewhere the texels stay empty. 0, or -1 out of memory. */
 int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *const *near, unsigned n_near,
-                         unsigned side, unsigned tex, uint16_t *texels, uint16_t *normals, uint16_t *uv);
+                         unsigned side, unsigned tex, uint16_t *texels, psc_bake_cover_t *cov, uint16_t *normals,
+                         uint16_t *uv);
 
-/** A view texture's mip chain: level 0 (side^2 texels) copied, then each level the 2 x 2 reduction of the one
- *  before (a texel covered where two of its four are, their mean colour), `levels` in all, into chain. */
-void psc_bake_proxy_mips(const uint16_t *level0, unsigned side, unsigned levels, uint16_t *chain);
+/** A view texture's mip chain, `levels` in all, into chain: level l the (2^l)^2 texels of level 0 (side^2, with
+ *  their counts cov0) as one, the mean of their kept samples, covered where a quarter of its samples are kept and
+ *  half show the model (a quarter for a feature thinner than a texel). 0, or -1 out of memory. */
+int psc_bake_proxy_mips(const uint16_t *level0, const psc_bake_cover_t *cov0, unsigned side, unsigned levels,
+                        uint16_t *chain);
 
 /** The billboard (the far level of detail): every shape drawn, at rest, into side x side views of tex^2 fitted to
  *  the sphere (centre, radius); axes_q16 receives each view's right and up (Q16.16). 0, or -1 out of memory. */

@@ -129,17 +129,28 @@ static bool may_show(const psc_proxy_shape_t *b, const ortho_t *o)
 
 #define BEHIND 4.0   /* how much further behind the proxy than in front of it its surface may lie (times its reach) */
 
-/* Views are drawn at SS x SS samples a texel: a texel is non-empty when a quarter of its samples are (so a feature
- * thinner than a texel, a rod or an antenna, keeps a line of texels), its colour their mean. */
+/* Views are drawn at SS x SS samples a texel. What a texel keeps is decided from two counts of its samples: those
+ * that show the model at all (`model`) and those of them kept on the proxy (`kept`, within its reach). A texel is
+ * covered when half of its samples show the model, so the silhouette is neither grown nor shrunk, and any of them is
+ * kept (where a part's surface passes under its neighbour's proxy, both proxies keep it: the seam stays closed); a
+ * feature thinner than a texel, a rod or an antenna (a quarter of the samples, no neighbour three quarters shown),
+ * keeps a line of texels. Every mip level decides from its own counts (a rule applied to the level below would
+ * compound: the quarter rule used before grew each silhouette by a quarter texel at level 0, more above). */
 #define SS 4u
 
-/* The k x k texels from p (rows `stride` apart) as one: covered when at least `need` are, their mean colour (content
- * black kept apart from empty). */
-static uint16_t block_mean(const uint16_t *p, size_t stride, unsigned k, unsigned need)
+static bool texel_covered(uint32_t model, uint32_t kept, uint32_t total, bool bulk_beside)
 {
-    unsigned count = 0, acc[3] = {0, 0, 0};
+    return kept * 16u >= total && (model * 2u >= total || (model * 4u >= total && !bulk_beside));
+}
+
+/* The mean colour of the kept samples of the k x k block at p (rows `stride` apart) and their counts (content black
+ * kept apart from empty); `model` counts the samples whose depth was written. */
+static uint16_t block_mean(const uint16_t *p, const uint32_t *depth, size_t stride, unsigned k, psc_bake_cover_t *cov)
+{
+    unsigned count = 0, model = 0, acc[3] = {0, 0, 0};
     for (unsigned j = 0; j < k; j++)
         for (unsigned i = 0; i < k; i++) {
+            model += depth[j * stride + i] != 0xFFFFFFFFu;
             uint16_t c = p[j * stride + i];
             if (c == PSC_VIEW_TEXEL_EMPTY)
                 continue;
@@ -147,7 +158,8 @@ static uint16_t block_mean(const uint16_t *p, size_t stride, unsigned k, unsigne
             acc[0] += xr >> 16 & 255u, acc[1] += xr >> 8 & 255u, acc[2] += xr & 255u;
             count++;
         }
-    if (count == 0 || count < need)
+    *cov = (psc_bake_cover_t){(uint8_t)model, (uint8_t)count};
+    if (count == 0)
         return PSC_VIEW_TEXEL_EMPTY;
     uint32_t c = (acc[0] + count / 2) / count << 16 | (acc[1] + count / 2) / count << 8 | (acc[2] + count / 2) / count;
     uint16_t t = psc_xrgb_to_rgb565(c);
@@ -220,19 +232,41 @@ static void normals_down(const uint16_t *hi, const uint32_t *nhi, unsigned tex, 
     free(v), free(have);
 }
 
-static void downsample(const uint16_t *hi, unsigned n, uint16_t *out)
+/* The n x n texels of SS n x SS n samples: each its kept samples' mean colour and its counts. */
+static void downsample(const uint16_t *hi, const uint32_t *depth, unsigned n, uint16_t *out, psc_bake_cover_t *cov)
 {
     for (unsigned y = 0; y < n; y++)
-        for (unsigned x = 0; x < n; x++)
-            out[(size_t)y * n + x] = block_mean(hi + (size_t)y * SS * n * SS + x * SS, (size_t)n * SS, SS, SS * SS / 4u);
+        for (unsigned x = 0; x < n; x++) {
+            size_t at = (size_t)y * SS * n * SS + x * SS;
+            out[(size_t)y * n + x] = block_mean(hi + at, depth + at, (size_t)n * SS, SS, &cov[(size_t)y * n + x]);
+        }
+}
+
+/* Texels of side n, each over `total` samples of which model[] show the model and kept[] are kept on the proxy,
+ * emptied where texel_covered says so. */
+static void decide(uint16_t *t, const uint32_t *model, const uint32_t *kept, unsigned n, uint32_t total)
+{
+    static const int dx[4] = {-1, 1, 0, 0}, dy[4] = {0, 0, -1, 1};
+    for (unsigned y = 0; y < n; y++)
+        for (unsigned x = 0; x < n; x++) {
+            bool bulk = false;   /* a neighbour three quarters shown: this texel is a bulk's edge, not a thin feature */
+            for (unsigned k = 0; k < 4; k++) {
+                int xx = (int)x + dx[k], yy = (int)y + dy[k];
+                if (xx >= 0 && yy >= 0 && xx < (int)n && yy < (int)n && model[(size_t)yy * n + xx] * 4u >= total * 3u)
+                    bulk = true;
+            }
+            size_t at = (size_t)y * n + x;
+            if (!texel_covered(model[at], kept[at], total, bulk))
+                t[at] = PSC_VIEW_TEXEL_EMPTY;
+        }
 }
 
 /* The view into hi (SS n x SS n samples), then into texels (n x n): the shapes given (s and its neighbours) at rest,
  * kept where their surface lies within s's reach of its proxy's front (the proxy carries what is on it: wherever
  * the simplified proxy spans, the surface under it, and nothing of a part in front of it). */
 static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *const *all, unsigned n_all, const ortho_t *view,
-                        uint16_t *texels, uint16_t *normals, uint16_t *hi, uint32_t *depth, uint16_t *scratch,
-                        uint32_t *pdepth, uint32_t *nhi)
+                        uint16_t *texels, psc_bake_cover_t *cov, uint16_t *normals, uint16_t *hi, uint32_t *depth,
+                        uint16_t *scratch, uint32_t *pdepth, uint32_t *nhi)
 {
     ortho_t so = *view;
     const ortho_t *o = &so;
@@ -257,7 +291,7 @@ static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *con
         if (pd == 0xFFFFFFFFu || (d < pd && pd - d > reach) || (d >= pd && d - pd > behind))
             hi[i] = PSC_VIEW_TEXEL_EMPTY;
     }
-    downsample(hi, view->tex, texels);
+    downsample(hi, depth, view->tex, texels, cov);
     if (normals) {   /* the same shapes again, their normals for colours: the same samples win the depth test */
         psc_surface_t ns = {(uint16_t)n, (uint16_t)n, n * 4u, PSC_PIX_XRGB8888, nhi};
         psc_raster_target_t nt = {&ns, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL, NULL};
@@ -284,7 +318,8 @@ static int samples_alloc(unsigned tex, uint32_t **depth, uint16_t **hi, uint32_t
 }
 
 int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *const *near, unsigned n_near,
-                         unsigned side, unsigned tex, uint16_t *texels, uint16_t *normals, uint16_t *uv)
+                         unsigned side, unsigned tex, uint16_t *texels, psc_bake_cover_t *cov, uint16_t *normals,
+                         uint16_t *uv)
 {
     uint32_t *depth, *nhi;
     uint16_t *hi;
@@ -293,7 +328,7 @@ int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *co
     for (unsigned k = 0; k < side * side; k++) {
         ortho_t o;
         ortho_for(s, side, k, tex, &o);
-        render_view(s, near, n_near, &o, texels + (size_t)k * tex * tex,
+        render_view(s, near, n_near, &o, texels + (size_t)k * tex * tex, cov + (size_t)k * tex * tex,
                     normals ? normals + (size_t)k * PSC_PROXY_NORMAL_SIDE(tex) * PSC_PROXY_NORMAL_SIDE(tex) : NULL, hi, depth,
                     hi + (size_t)tex * tex * SS * SS, depth + (size_t)tex * tex * SS * SS, nhi);
         uint16_t *kuv = uv + (size_t)k * s->prx_vertices * 2u;
@@ -313,8 +348,12 @@ int psc_bake_proxy_billboard(const psc_proxy_shape_t *shapes, unsigned n, const 
 {
     uint32_t *depth, *nhi;
     uint16_t *hi;
-    if (samples_alloc(tex, &depth, &hi, &nhi) != 0)
+    psc_bake_cover_t *bb_cov = malloc((size_t)tex * tex * sizeof *bb_cov);
+    uint16_t *bb_raw = malloc((size_t)tex * tex * sizeof *bb_raw);
+    if (!bb_cov || !bb_raw || samples_alloc(tex, &depth, &hi, &nhi) != 0) {
+        free(bb_cov), free(bb_raw);
         return -1;
+    }
     psc_proxy_shape_t whole = {0};
     memcpy(whole.centre, centre, sizeof whole.centre);
     whole.radius = radius;
@@ -330,7 +369,11 @@ int psc_bake_proxy_billboard(const psc_proxy_shape_t *shapes, unsigned n, const 
         psc_raster_target_t tg = {&sf, depth, hn * 4u, 32, 0, 0, (uint16_t)hn, (uint16_t)hn, NULL, NULL};
         for (unsigned s = 0; s < n; s++)
             draw_shape(&shapes[s], &so, &tg);
-        downsample(hi, tex, texels + (size_t)k * tex * tex);
+        /* a texel covered when a quarter of its samples are: the billboard is drawn small, where a thin part kept
+         * whole matters more than its silhouette's last quarter texel */
+        downsample(hi, depth, tex, bb_raw, bb_cov);
+        for (size_t i = 0; i < (size_t)tex * tex; i++)
+            texels[(size_t)k * tex * tex + i] = bb_cov[i].kept * 4u >= SS * SS ? bb_raw[i] : PSC_VIEW_TEXEL_EMPTY;
         if (normals) {
             psc_surface_t ns = {(uint16_t)hn, (uint16_t)hn, hn * 4u, PSC_PIX_XRGB8888, nhi};
             tg.surface = &ns;
@@ -345,22 +388,50 @@ int psc_bake_proxy_billboard(const psc_proxy_shape_t *shapes, unsigned n, const 
             axes_q16[6 * k + 3 + a] = (int32_t)lround(o.up[a] * 65536.0);
         }
     }
-    free(depth), free(hi), free(nhi);
+    free(depth), free(hi), free(nhi), free(bb_cov), free(bb_raw);
     return 0;
 }
 
-void psc_bake_proxy_mips(const uint16_t *level0, unsigned side, unsigned levels, uint16_t *chain)
+int psc_bake_proxy_mips(const uint16_t *level0, const psc_bake_cover_t *cov0, unsigned side, unsigned levels,
+                        uint16_t *chain)
 {
-    memcpy(chain, level0, (size_t)side * side * sizeof *chain);
-    const uint16_t *src = chain;
-    uint16_t *dst = chain + (size_t)side * side;
-    for (unsigned l = 1; l < levels; l++, side /= 2u) {
-        unsigned half = side / 2u;
-        /* covered when half its texels are: the coverage rule of the views' blend */
-        for (unsigned y = 0; y < half; y++)
-            for (unsigned x = 0; x < half; x++)
-                dst[(size_t)y * half + x] = block_mean(src + (size_t)2u * y * side + 2u * x, side, 2u, 2u);
-        src = dst;
-        dst += (size_t)half * half;
+    uint32_t *model = malloc(((size_t)side * side + 1u) * sizeof *model);
+    uint32_t *kept = malloc(((size_t)side * side + 1u) * sizeof *kept);
+    if (!model || !kept) {
+        free(model), free(kept);
+        return -1;
     }
+    uint16_t *dst = chain;
+    /* level l from level 0's texels b x b at a time (b = 2^l): its counts their sums, its colour the mean of their
+     * kept samples (each texel's mean weighed by its count), then emptied by the rule from its own counts */
+    for (unsigned l = 0; l < levels; l++) {
+        unsigned n = side >> l, b = 1u << l;
+        for (unsigned y = 0; y < n; y++)
+            for (unsigned x = 0; x < n; x++) {
+                uint32_t acc[3] = {0, 0, 0}, m = 0, k = 0;
+                for (unsigned j = 0; j < b; j++)
+                    for (unsigned i = 0; i < b; i++) {
+                        size_t at = (size_t)(y * b + j) * side + x * b + i;
+                        m += cov0[at].model;
+                        if (level0[at] == PSC_VIEW_TEXEL_EMPTY || cov0[at].kept == 0)
+                            continue;
+                        uint32_t xr = psc_rgb565_to_xrgb(level0[at]), w = cov0[at].kept;
+                        k += w;
+                        acc[0] += w * (xr >> 16 & 255u), acc[1] += w * (xr >> 8 & 255u), acc[2] += w * (xr & 255u);
+                    }
+                uint16_t t = PSC_VIEW_TEXEL_EMPTY;
+                if (k > 0) {
+                    uint32_t c = (acc[0] + k / 2) / k << 16 | (acc[1] + k / 2) / k << 8 | (acc[2] + k / 2) / k;
+                    t = psc_xrgb_to_rgb565(c);
+                    t = t == PSC_VIEW_TEXEL_EMPTY ? 0x0020u : t;
+                }
+                dst[(size_t)y * n + x] = t;
+                model[(size_t)y * n + x] = m;
+                kept[(size_t)y * n + x] = k;
+            }
+        decide(dst, model, kept, n, SS * SS * b * b);
+        dst += (size_t)n * n;
+    }
+    free(model), free(kept);
+    return 0;
 }
