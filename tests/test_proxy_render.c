@@ -512,7 +512,7 @@ static void test_truck_quality(void **state)
         assert_true(q.ids >= 0.99);
     }
     print_message("  truck mean: IoU %.3f, PSNR %.1f dB, front part %.3f\n", iou, psnr, ids);
-    assert_true(iou >= 0.98);   /* measured 0.985 */
+    assert_true(iou >= 0.98);   /* measured 0.989 */
     /* the billboard, far: its rest-pose views on a quad facing the camera */
     static const shot_t far[] = {{40, 15, 12, -1, 0, PSC_PROXY_LOD_BILLBOARD}, {230, -10, 12, -1, 0, PSC_PROXY_LOD_BILLBOARD}};
     for (unsigned k = 0; k < 2; k++) {
@@ -567,10 +567,10 @@ static void test_machine_quality(void **state)
     for (unsigned k = 0; k < sizeof shots / sizeof shots[0]; k++) {
         quality_t q = measure(&f, &shots[k], "machine");
         iou += q.iou / 5;
-        assert_true(q.iou >= 0.935);   /* measured 0.947..0.956 */
+        assert_true(q.iou >= 0.945);   /* measured 0.953..0.962 */
     }
     print_message("  machine mean: IoU %.3f\n", iou);
-    assert_true(iou >= 0.945);         /* measured 0.951 */
+    assert_true(iou >= 0.95);          /* measured 0.958 */
     fixture_free(&f);
 }
 
@@ -774,14 +774,14 @@ static void test_human_quality(void **state)
         quality_t q = measure(&f, &shots[k], "human");
         unsigned far = shots[k].dist > 3;
         iou[far] += q.iou / 5, psnr[far] += q.psnr / 5;
-        assert_true(q.iou >= 0.92);    /* measured 0.930..0.947 */
-        assert_true(q.psnr >= 28.0);   /* measured 28.3..37.8 dB */
+        assert_true(q.iou >= 0.94);    /* measured 0.953..0.968 (the goal: 0.92 at every view, 0.95 on average) */
+        assert_true(q.psnr >= 28.0);   /* measured 30.2..39.2 dB */
         assert_true(q.ids >= 0.98);
     }
     print_message("  human mean: near IoU %.3f, PSNR %.1f dB; middle distance IoU %.3f, PSNR %.1f dB\n", iou[0], psnr[0],
                   iou[1], psnr[1]);
-    assert_true(iou[0] >= 0.93 && iou[1] >= 0.93);     /* measured 0.940, 0.935 */
-    assert_true(psnr[0] >= 30.0 && psnr[1] >= 30.0);   /* measured 32.3, 30.6 dB */
+    assert_true(iou[0] >= 0.95 && iou[1] >= 0.95);     /* measured 0.960, 0.958 */
+    assert_true(psnr[0] >= 30.0 && psnr[1] >= 30.0);   /* measured 33.2, 32.8 dB */
     relight_quality(&f, shots, sizeof shots / sizeof shots[0], "human", 30.0, 27.0);   /* measured 31.2..34.3, 28.2..29.2 */
     fixture_free(&f);
 }
