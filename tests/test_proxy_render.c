@@ -85,7 +85,7 @@ static void test_views_rule(void **state)
         psc_surface_t sf = {64, 64, 64 * 4, PSC_PIX_XRGB8888, out};
         for (unsigned i = 0; i < 64 * 64; i++)
             out[i] = 0xFF000000u;
-        psc_raster_target_t tg = {&sf, NULL, 0, 0, 0, 0, 64, 64, NULL, NULL};
+        psc_raster_target_t tg = {&sf, NULL, 0, 0, 0, 0, 64, 64, NULL, NULL, 0};
         /* a triangle with affine coordinates (q = 1): each view's (u, v) a different affine map of the pixel */
         psc_raster_vertex_t v[3];
         double uv[3][3][2];
@@ -786,6 +786,84 @@ static void test_human_quality(void **state)
     fixture_free(&f);
 }
 
+/* Depth offsets (XTDP): each proxy pixel takes the depth of the surface its views show, not its proxy's. The depth
+ * the human's proxies leave in the buffer against the full mesh's (the same projection: its depth is the surface's
+ * to the buffer's rounding), over the pixels both cover, at the quality shots' views and poses: with the offsets
+ * and with them taken away. A proxy pushed out over a bulge, or cutting a hollow, is as deep as that surface. */
+static void test_depth_offsets(void **state)
+{
+    (void)state;
+    fixture_t f = {0};
+    bake(&f, TSUP_DATA_ASSIMP "BCN_Epileptic.X", 64, PSC_BAKE_PROXY_TEX);
+    assert_non_null(f.m.tex_depth);
+    const int8_t *offsets = f.m.tex_depth;
+    size_t nonzero = 0, n = 0;
+    for (uint32_t i = 0; i < f.m.part_count; i++) {
+        uint32_t half = PSC_PROXY_NORMAL_SIDE(psc_proxy_part_tex(&f.m, i).side);
+        n += (size_t)half * half * f.m.view_count;
+    }
+    for (size_t i = 0; i < n; i++)
+        nonzero += offsets[i] != 0;
+    assert_true(nonzero > n / 4);   /* the surface is seldom exactly on its proxy */
+    static const struct {
+        double yaw, pitch, dist, t;
+    } shots[] = {{20, 10, 2.5, 0.2}, {95, 25, 2.5, 0.8}, {170, -10, 2.5, 1.6}, {260, 15, 2.5, 2.5}, {50, 5, 6, 0.5},
+                 {140, 20, 6, 1.3}};
+    static uint16_t dp[W * H], df[W * H];
+    static uint32_t rgb[W * H];
+    psc_mat4_q16_t *skin = malloc(f.m.joint_count * sizeof *skin), cam;
+    assert_non_null(skin);
+    double err[2] = {0, 0};
+    for (int with = 1; with >= 0; with--) {
+        f.m.tex_depth = with ? offsets : NULL;   /* (psc_proxy_t reads the model it was given each frame) */
+        unsigned count = 0;
+        double sum = 0;
+        for (unsigned k = 0; k < sizeof shots / sizeof shots[0]; k++) {
+            psc_3d_config_t cfg = {W, H, 0, 0, 32, tsup_bam_from_deg(50), 0, 0, psc_proxy_max_vertices(&f.m),
+                                   PSC_3D_HSR_ZBUFFER};
+            assert_int_equal(psc_3d_orbit(f.lo, f.hi, tsup_bam_from_deg(shots[k].yaw),
+                                          (int32_t)tsup_bam_from_deg(shots[k].pitch),
+                                          (int32_t)lround(shots[k].dist * 65536), &cam, &cfg.near_q16, &cfg.far_q16),
+                             PSC_OK);
+            psc_proxy_pose_at(&f.m, (int64_t)llround(shots[k].t * 1e6), skin);
+            size_t wn = psc_3d_workspace_size(&cfg);
+            void *ws3d;
+            assert_int_equal(posix_memalign(&ws3d, 64, wn), 0);
+            psc_3d_t r;
+            assert_int_equal(psc_3d_init(&r, &cfg, ws3d, wn), PSC_OK);
+            psc_proxy_set_focal(&f.px, psc_proxy_focal_px_q16(W, cfg.hfov));
+            for (int full = 0; full < 2; full++) {
+                const psc_3d_draw_t *d;
+                unsigned nd;
+                uint32_t bg = 0;
+                psc_surface_t sf = {W, H, W * 4, PSC_PIX_XRGB8888, rgb};
+                r.depth_out = full ? df : dp;
+                assert_int_equal(psc_proxy_frame(&f.px, skin, &cam, full ? PSC_PROXY_LOD_FULL : PSC_PROXY_LOD_PROXIES,
+                                                 false, &d, &nd), PSC_OK);
+                assert_int_equal(psc_3d_render(&r, d, nd, &bg, &sf, NULL), PSC_OK);
+            }
+            /* the buffer's depth D (of 65536) is (1 - near/z) far/(far - near): z = near / (1 - D (far - near)/far) */
+            double near = cfg.near_q16 / 65536.0, far = cfg.far_q16 / 65536.0;
+            for (unsigned i = 0; i < W * H; i++) {
+                if (dp[i] == 0xFFFFu || df[i] == 0xFFFFu)
+                    continue;
+                double zp = near / (1 - (dp[i] + 0.5) / 65536.0 * (far - near) / far);
+                double zf = near / (1 - (df[i] + 0.5) / 65536.0 * (far - near) / far);
+                sum += fabs(zp - zf);
+                count++;
+            }
+            free(ws3d);
+        }
+        err[with] = sum / count;
+    }
+    f.m.tex_depth = offsets;
+    print_message("  the proxies' depth against the full mesh's where both cover: %.4f R on average with the depth "
+                  "offsets, %.4f R without\n", err[1], err[0]);
+    assert_true(err[1] <= 0.6 * err[0]);
+    free(skin);
+    fixture_free(&f);
+}
+
 /* Joint strips stay attached to both parts they join, however far the pose bends them: every joint proxy corner
  * that sits on a part proxy's vertex at rest sits on it posed (both are cut from one simplified mesh and skinned by
  * its vertices' weights), at the animation's time and bent 90 degrees at every third joint. */
@@ -1293,8 +1371,9 @@ static void test_model_fuzz(void **state)
 
 /* ---- fuzzing ------------------------------------------------------------------------------------- */
 
-/* A pack's normals (1.3) come with XINF's flag or not at all: the flag without the sections, or the sections without
- * the flag, is refused with a message; --no-normals bakes the 1.2 layout, which draws as baked and refuses a light. */
+/* A pack's normals (1.3) and depth offsets (1.4) come with XINF's flags or not at all: a flag without its sections,
+ * or sections without the flag, are refused with a message; a pack of an earlier layout parses; --no-normals bakes
+ * no normals, which draws as baked and refuses a light. */
 static void test_normals_sections(void **state)
 {
     (void)state;
@@ -1329,8 +1408,43 @@ static void test_normals_sections(void **state)
         print_message("  normals %s: %s\n", k == 0 ? "without the flag" : "flag without a section", e.what);
         free(b);
     }
+    /* the depth offsets (1.4) the same way; both taken away, the 1.3 layout: drawn at the proxies' own depth */
+    static const uint32_t dtypes[2] = {PSC_SECTION_PROXY_INFO, PSC_SECTION_PROXY_TEX_DEPTH};
+    assert_int_equal(psc_container_collect(&c, dtypes, 2, sec, present, &e), PSC_OK);
+    assert_true(present[0] && present[1]);
+    for (unsigned k = 0; k < 3; k++) {   /* 0: the flag cleared; 1: the section renamed away; 2: both */
+        uint8_t *b;
+        assert_int_equal(posix_memalign((void **)&b, 64, f.len), 0);
+        memcpy(b, f.pack, f.len);
+        if (k != 1)
+            b[sec[0].offset + offsetof(psc_proxy_info_raw_t, flags)] &= (uint8_t)~PSC_PROXY_DEPTH;
+        if (k != 0)
+            b[sec[1].entry] = 'Z';
+        tsup_wr32(b + PSC_CONTAINER_CRC_OFFSET, 0);
+        tsup_wr32(b + PSC_CONTAINER_CRC_OFFSET, psc_crc32(0, b, f.len));
+        psc_proxy_model_t m;
+        e = (psc_container_error_t){NULL, 0};
+        psc_status_t st = psc_proxy_parse(b, f.len, &m, &e);
+        if (k < 2) {
+            assert_int_equal(st, PSC_ERR_CORRUPT);
+            print_message("  depth offsets %s: %s\n", k == 0 ? "without the flag" : "flag without the section", e.what);
+        } else {
+            assert_int_equal(st, PSC_OK);
+            assert_null(m.tex_depth);
+        }
+        free(b);
+    }
     fixture_free(&f);
-    /* --no-normals: the 1.2 layout */
+    {   /* a 1.2 pack of an earlier build (the fuzz corpus' seed) still parses */
+        size_t n;
+        uint8_t *b = tsup_read_bytes("tests/fuzz/corpus/proxy/two-cubes-atlas.ppx", &n);   /* (malloc: aligned) */
+        assert_non_null(b);
+        psc_proxy_model_t m;
+        assert_int_equal(psc_proxy_parse(b, n, &m, NULL), PSC_OK);
+        assert_true(m.atlas && !m.tex_normals && !m.tex_depth);
+        free(b);
+    }
+    /* --no-normals: no normals */
     psc_gltf_t g;
     char note[256], err[512];
     assert_int_equal(psc_gltf_load(GLTF_DIR "animation_with_skeleton.gltf", &g, note, sizeof note, err, sizeof err), 0);
@@ -1367,7 +1481,7 @@ static void test_normals_sections(void **state)
     nt_null = nt_ok;
     nt_null.pixels = NULL;
     psc_surface_t sf = {32, 32, 64, PSC_PIX_RGB565, px};
-    psc_raster_target_t t = {&sf, NULL, 0, 0, 0, 0, 32, 32, NULL, NULL};
+    psc_raster_target_t t = {&sf, NULL, 0, 0, 0, 0, 32, 32, NULL, NULL, 0};
     psc_raster_vertex_t v[3] = {{.x_q4 = 16, .y_q4 = 16, .q_q28 = PSC_RASTER_Q_ONE},
                                 {.x_q4 = 500, .y_q4 = 16, .q_q28 = PSC_RASTER_Q_ONE, .u1_q16 = 65536, .u2_q16 = 65536,
                                  .u_q16 = 65536},
@@ -1465,6 +1579,7 @@ int main(void)
         cmocka_unit_test(test_truck_quality),
         cmocka_unit_test(test_bar_quality),
         cmocka_unit_test(test_human_quality),
+        cmocka_unit_test(test_depth_offsets),
         cmocka_unit_test(test_machine_quality),
         cmocka_unit_test(test_joints_attached),
         cmocka_unit_test(test_lod_auto),

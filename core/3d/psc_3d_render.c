@@ -165,6 +165,10 @@ psc_status_t psc_3d_init(psc_3d_t *r, const psc_3d_config_t *cfg, void *ws, size
     r->vol.near_q16 = cfg->near_q16;
     r->vol.far_q16 = cfg->far_q16;
     r->depth_k_q30 = psc_div_round64((int64_t)cfg->far_q16 << 30, (int64_t)cfg->far_q16 - cfg->near_q16);
+    {   /* the depth's slope at the near plane for 1/256 unit (256 in Q16): far / (far - near) / near, of 2^32 */
+        int64_t step = psc_div_round64(r->depth_k_q30 * 1024, cfg->near_q16);
+        r->depth_step = step > (INT64_C(1) << 35) ? (UINT64_C(1) << 35) : (uint64_t)step;
+    }
     return PSC_OK;
 }
 
@@ -498,6 +502,8 @@ void psc_3d_tile_state(const psc_3d_draw_t *d, psc_raster_state_t *st)
         .view_normals = {d->view_normals[0], d->view_normals[1], d->view_normals[2]},
         .view_light = d->view_light,
         .view_bake_light = d->view_bake_light,
+        .view_depth = d->view_depth,
+        .view_depth_side = d->view_depth_side,
         .mask_color = d->color,
     };
     if (d->shade == PSC_SHADE_PHONG)
@@ -907,7 +913,7 @@ void psc_3d_frame_row(const psc_3d_t *r, psc_3d_worker_t *w, uint32_t row, psc_3
             .r = r,
             .w = w,
             .target = {out, w->depth, (uint32_t)(x1 - x0) * (r->cfg.depth_bits / 8u), r->cfg.depth_bits, x0, y0, x1,
-                       y1, w->aa ? &w->abuf : NULL, &stats->depth_tests},
+                       y1, w->aa ? &w->abuf : NULL, &stats->depth_tests, r->depth_step},
             .rect_q4 = {(int32_t)x0 * 16, (int32_t)y0 * 16, (int32_t)x1 * 16, (int32_t)y1 * 16},
             .stats = stats,
             /* the frame's first tile counts each triangle once (a binned row counted its culled ones; the clipped

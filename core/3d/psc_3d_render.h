@@ -129,6 +129,10 @@ typedef struct {
      * the normals' frame (the caller's: the pipeline does not rotate them) */
     const psc_texture_t *view_normals[3];
     psc_lambert_q14_t view_light, view_bake_light;
+    /* VIEWS with depth (psc_raster.h): the heaviest view's depth offsets, view_depth_side^2 int8, each 1/256 of a
+     * camera unit behind the surface drawn (NULL: the surface's own depth) */
+    const int8_t *view_depth;
+    uint16_t view_depth_side;
 } psc_3d_draw_t;
 
 /** A draw with the defaults: Gouraud, back faces culled, depth tested, unlit, the mesh's colours. */
@@ -195,6 +199,7 @@ typedef struct {
     psc_3d_config_t cfg;
     psc_clip_volume_t vol;
     int64_t depth_k_q30;     /* far / (far - near), Q2.30 */
+    uint64_t depth_step;     /* the depth's change for 1/256 unit further at the near plane (psc_raster.h) */
     size_t depth_bytes;
     void *cache;             /* max_vertices entries */
     void *clipped;           /* area subdivision: PSC_3D_AREA_CLIPPED_MAX clipped polygons; else NULL */

@@ -83,6 +83,12 @@
  *   The colours stay lit by the bake's light (PSC_PROXY_BAKE_LIGHT_*), so a
  *   frame lit by it needs no normals; another light relights them by the
  *   ratio of the two lights' Lambert terms (psc_raster.h).
+ *   With PSC_PROXY_DEPTH (1.4; needs PSC_PROXY_ATLAS):
+ *   "XTDP"  per part, per view, (side / 2)^2 int8: how far the surface a
+ *           texel shows lies behind its proxy's front along the view, in
+ *           1/256 R (clamped to +-127), at half the level 0's side like the
+ *           normals: each pixel of a proxy takes its depth from the surface,
+ *           so proxies that cross composite as their surfaces do.
  */
 #ifndef PSC_PROXY_H
 #define PSC_PROXY_H
@@ -93,8 +99,8 @@
 
 #define PSC_PROXY_MAGIC "PSCPRXY\x1a"
 #define PSC_PROXY_VERSION_MAJOR 1u
-#define PSC_PROXY_VERSION_MINOR 3u   /* 1: the optional XNOD; 2: per-part texture sizes and mips (PSC_PROXY_ATLAS);
-                                      * 3: normals (PSC_PROXY_NORMALS) */
+#define PSC_PROXY_VERSION_MINOR 4u   /* 1: the optional XNOD; 2: per-part texture sizes and mips (PSC_PROXY_ATLAS);
+                                      * 3: normals (PSC_PROXY_NORMALS); 4: depth offsets (PSC_PROXY_DEPTH) */
 #define PSC_PROXY_MAX_SECTIONS 24u
 #define PSC_PROXY_MAX_JOINTS 1024u
 #define PSC_PROXY_MAX_PARTS 4096u
@@ -108,6 +114,8 @@
 #define PSC_PROXY_TEX_LEVEL_MIN 4u            /* a mip chain ends at 4 x 4 texels or before */
 #define PSC_PROXY_ATLAS 1u                    /* XINF flags: per-part texture sizes and mip levels (1.2) */
 #define PSC_PROXY_NORMALS 2u                  /* XINF flags: XVNM, XTNM (and XBBN): relightable (1.3) */
+#define PSC_PROXY_DEPTH 4u                    /* XINF flags: XTDP, each texel's depth from its proxy (1.4) */
+#define PSC_PROXY_DEPTH_STEPS_PER_R 256       /* XTDP's unit: 1/256 R */
 #define PSC_PROXY_NORMAL_SHIFT 1u             /* a view texture's normals: its level 0's side >> this */
 #define PSC_PROXY_NORMAL_SIDE(side) ((side) >> PSC_PROXY_NORMAL_SHIFT)
 /* The light the pack's colours were baked with, model space: base x (0.45 + 0.55 max(0, n.L)), L toward the light,
@@ -141,6 +149,7 @@ extern const psc_container_format_t psc_proxy_format;
 #define PSC_SECTION_PROXY_VNORMALS PSC_FOURCC('X', 'V', 'N', 'M')
 #define PSC_SECTION_PROXY_TEX_NORMALS PSC_FOURCC('X', 'T', 'N', 'M')
 #define PSC_SECTION_PROXY_BB_NORMALS PSC_FOURCC('X', 'B', 'B', 'N')
+#define PSC_SECTION_PROXY_TEX_DEPTH PSC_FOURCC('X', 'T', 'D', 'P')
 #define PSC_PROXY_MAX_NODE (1 << 24)   /* a glTF file's node index, at most */
 
 /** "XINF", 64 bytes. */
@@ -153,7 +162,8 @@ typedef struct {
     uint32_t model_r_um;                               /* R in the model's units x 10^6 (information) */
     uint16_t bb_side, bb_tex;                          /* the billboard's views: bb_side^2 of bb_tex^2 (0: none) */
     int32_t bb_centre_q16[3], bb_radius_q16;           /* the sphere its views are fitted to */
-    uint8_t flags;                                     /* PSC_PROXY_ATLAS (1.2; 0 before), PSC_PROXY_NORMALS (1.3) */
+    uint8_t flags;                                     /* PSC_PROXY_ATLAS (1.2; 0 before), PSC_PROXY_NORMALS (1.3),
+                                                        * PSC_PROXY_DEPTH (1.4) */
     uint8_t reserved[3];
 } psc_proxy_info_raw_t;
 
@@ -221,6 +231,7 @@ typedef struct {
     const uint16_t *vertex_normals;                    /* PSC_PROXY_NORMALS: XVNM, XTNM, XBBN (NULL without) */
     const uint16_t *tex_normals;
     const uint16_t *bb_normals;
+    const int8_t *tex_depth;                           /* PSC_PROXY_DEPTH: XTDP (NULL without) */
 } psc_proxy_model_t;
 
 /**

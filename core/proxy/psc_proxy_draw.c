@@ -349,6 +349,7 @@ typedef struct {
     uint32_t level;
     const uint16_t *normals;
     psc_lambert_q14_t light;
+    const int8_t *depth;   /* its views' depth offsets' run (NULL: none) */
 } part_tex_t;
 
 /* Draw d relit: normal textures ntex[k] of side `side` (the run `normals`, per view side^2) for the picked views
@@ -387,6 +388,11 @@ static void set_views(psc_3d_draw_t *d, psc_texture_t *tex, psc_texture_t *ntex,
     }
     if (pt->normals)
         set_normals(d, ntex, pt->normals, PSC_PROXY_NORMAL_SIDE(pt->t.side), pick->view, &pt->light);
+    if (pt->depth) {   /* the heaviest view's: the surface it shows most */
+        uint32_t half = PSC_PROXY_NORMAL_SIDE(pt->t.side);
+        d->view_depth = pt->depth + (size_t)pick->view[0] * half * half;
+        d->view_depth_side = (uint16_t)half;
+    }
 }
 
 /* The mip level for a part of radius r_q16 (units of R) whose centre lies z_q16 deep in front of a camera of focal
@@ -522,13 +528,14 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
             light_in_q14(p, &skin[j], &p->joint_light_q14[3u * j]);
     const uint16_t *texels = m->texels;   /* part i's run of the atlas */
     const uint16_t *normals = m->tex_normals;   /* and of its normals */
+    const int8_t *depth = m->tex_depth;          /* and of its depth offsets */
     for (uint32_t i = 0; i < m->part_count; i++) {
         const psc_proxy_part_raw_t *pr = &m->parts[i];
         const psc_mat4_q16_t *js = &skin[pr->joint];
         psc_mat4_q16_t cam_part;   /* a rigid part's camera: its joint's motion then the camera's */
         if (rigid(pr))
             psc_mat4_mul(&cam_part, cam, js);
-        part_tex_t pt = {texels, psc_proxy_part_tex(m, i), 0, NULL, bake_light};
+        part_tex_t pt = {texels, psc_proxy_part_tex(m, i), 0, NULL, bake_light, depth};
         texels += (size_t)pt.t.chain * m->view_count;
         if (relit) {
             pt.normals = normals;
@@ -536,6 +543,8 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
         }
         if (normals)
             normals += (size_t)PSC_PROXY_NORMAL_SIDE(pt.t.side) * PSC_PROXY_NORMAL_SIDE(pt.t.side) * m->view_count;
+        if (depth)
+            depth += (size_t)PSC_PROXY_NORMAL_SIDE(pt.t.side) * PSC_PROXY_NORMAL_SIDE(pt.t.side) * m->view_count;
         if (lod == PSC_PROXY_LOD_FULL) {
             if (pr->triangle_count == 0)
                 continue;

@@ -12,7 +12,7 @@ const psc_container_format_t psc_proxy_format = {
 
 enum {
     S_INFO, S_JOINTS, S_ANIM, S_PARTS, S_VPOS, S_VCOL, S_VSKIN, S_IDX, S_PPOS, S_PSKIN, S_PIDX, S_PUV, S_TEX, S_BBB, S_BBT,
-    S_NODES, S_VNRM, S_TNRM, S_BBN, S_COUNT
+    S_NODES, S_VNRM, S_TNRM, S_BBN, S_TDP, S_COUNT
 };
 
 static const uint32_t section_type[S_COUNT] = {
@@ -20,7 +20,7 @@ static const uint32_t section_type[S_COUNT] = {
     PSC_SECTION_PROXY_VPOS,  PSC_SECTION_PROXY_VCOLOR, PSC_SECTION_PROXY_VSKIN,  PSC_SECTION_PROXY_INDEX,
     PSC_SECTION_PROXY_PPOS,  PSC_SECTION_PROXY_PSKIN,  PSC_SECTION_PROXY_PINDEX, PSC_SECTION_PROXY_PUV,
     PSC_SECTION_PROXY_TEXTURES, PSC_SECTION_PROXY_BB_BASES, PSC_SECTION_PROXY_BB_TEXTURES, PSC_SECTION_PROXY_NODES,
-    PSC_SECTION_PROXY_VNORMALS, PSC_SECTION_PROXY_TEX_NORMALS, PSC_SECTION_PROXY_BB_NORMALS,
+    PSC_SECTION_PROXY_VNORMALS, PSC_SECTION_PROXY_TEX_NORMALS, PSC_SECTION_PROXY_BB_NORMALS, PSC_SECTION_PROXY_TEX_DEPTH,
 };
 
 static bool pos_ok(const int32_t *p, uint64_t n)
@@ -130,7 +130,7 @@ psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out
         return st;
     for (unsigned k = 0; k < S_COUNT; k++)
         if (!present[k] && k != S_ANIM && k != S_BBB && k != S_BBT && k != S_NODES && k != S_VNRM && k != S_TNRM &&
-            k != S_BBN)
+            k != S_BBN && k != S_TDP)
             return fail(err, PSC_ERR_CORRUPT, "a required section is missing (all of XINF..XTEX but XANM)",
                         c.header_size);
     if (f[S_INFO].size != sizeof(psc_proxy_info_raw_t))
@@ -155,7 +155,7 @@ psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out
         m.proxy_triangle_count > PSC_PROXY_MAX_PROXY_TRIANGLES || m.frame_count > PSC_PROXY_MAX_FRAMES ||
         (m.frame_count > 0 && (m.frame_period_us == 0 || m.frame_period_us > 10000000u)))
         return fail(err, PSC_ERR_TOO_LARGE, "a count is zero or beyond its limit", f[S_INFO].offset);
-    if ((info->flags & ~(PSC_PROXY_ATLAS | PSC_PROXY_NORMALS)) != 0)
+    if ((info->flags & ~(PSC_PROXY_ATLAS | PSC_PROXY_NORMALS | PSC_PROXY_DEPTH)) != 0)
         return fail(err, PSC_ERR_UNSUPPORTED, "XINF names a feature this build does not know (a newer pack?)",
                     f[S_INFO].offset + 60);
     m.atlas = (info->flags & PSC_PROXY_ATLAS) != 0;
@@ -241,6 +241,21 @@ psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out
         m.vertex_normals = AT(S_VNRM, uint16_t);
         m.tex_normals = AT(S_TNRM, uint16_t);
         m.bb_normals = m.bb_side ? AT(S_BBN, uint16_t) : NULL;
+    }
+    /* (1.4) depth offsets: exactly with the flag, over an atlas, at the normals' side */
+    bool depth = (info->flags & PSC_PROXY_DEPTH) != 0;
+    if (depth != present[S_TDP] || (depth && !m.atlas))
+        return fail(err, PSC_ERR_CORRUPT, "the depth offsets' section (XTDP) does not match XINF's flags",
+                    f[S_INFO].offset + 60);
+    if (depth) {
+        uint64_t n = 0;
+        for (uint32_t i = 0; i < m.part_count; i++) {
+            uint64_t half = PSC_PROXY_NORMAL_SIDE(m.parts[i].tex_size);   /* checked with the atlas, below */
+            n += half * half * m.view_count;
+        }
+        if (f[S_TDP].size != n)
+            return fail(err, PSC_ERR_CORRUPT, "XTDP's size does not match the view textures", f[S_TDP].entry + 8);
+        m.tex_depth = AT(S_TDP, int8_t);
     }
 #undef AT
     for (uint32_t j = 0; j < m.joint_count; j++) {

@@ -42,6 +42,7 @@ typedef struct {
     int64_t am[3];               /* A-buffer: the most a sample's edge value lies below the centre's */
     int64_t acol[3][4], arow[3][4]; /* A-buffer: edge value offsets of the sample columns and rows */
     uint32_t zslack;             /* A-buffer: four times the depth change across one pixel (fragments that merge) */
+    int64_t zstep;               /* VIEWS with depth: a depth offset step's change of depth here (0: none) */
     int32_t px0, py0, px1, py1;  /* inclusive pixel bounds, inside the target */
     uint32_t flat;
 } setup_t;
@@ -854,6 +855,17 @@ uint32_t psc_lambert_relight(const psc_lambert_q14_t *now, const psc_lambert_q14
     return out;
 }
 
+/* The heaviest view's depth offset (nearest) at a pixel's planes' values pu, pv (inv as for its colours). */
+static PSC_ALWAYS_INLINE int32_t view_depth_at(const psc_raster_state_t *st, uint64_t pu, uint64_t pv, int64_t inv,
+                                               const int affine)
+{
+    int64_t uu = affine ? plane_value(pu, UV_F) : psc_shr_round64(plane_value(pu, UV_F) * inv, 24);
+    int64_t vv = affine ? plane_value(pv, UV_F) : psc_shr_round64(plane_value(pv, UV_F) * inv, 24);
+    const int64_t n = st->view_depth_side;
+    int64_t x = clamp64(clamp64(uu, 0, 65536) * n >> 16, 0, n - 1), y = clamp64(clamp64(vv, 0, 65536) * n >> 16, 0, n - 1);
+    return st->view_depth[y * n + x];
+}
+
 /* A pixel's three views sampled at its planes' values (pu, pv; inv the perspective's reciprocal unless affine):
  * the covered weight (Q0.16) in *cov, weight x channel in acc, and where relit the normal of the heaviest view that
  * covers it. */
@@ -948,16 +960,23 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                         pv[k] = plane_at(&s->vv[k], pv[k], ox, oy);
                     }
                 }
+                int64_t inv = 0;
+                if (!affine && (s->zstep != 0 || !zbits)) {
+                    int64_t qq = clamp64(plane_value(pq, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
+                    inv = recip40(qq);
+                }
                 if (zbits) {
                     tested++;
-                    z = (uint32_t)clamp64(plane_value(pd, DEPTH_F), 0, INT64_C(0xFFFFFFFF));
+                    int64_t zz = plane_value(pd, DEPTH_F);
+                    if (s->zstep != 0)   /* the surface's depth: the proxy's and the heaviest view's offset */
+                        zz += view_depth_at(st, pu[0], pv[0], inv, affine) * s->zstep;
+                    z = (uint32_t)clamp64(zz, 0, INT64_C(0xFFFFFFFF));
                     limit = zbits == 16 ? (uint32_t)((uint16_t *)(void *)zrow)[x - t->x0] << 16
                                         : ((uint32_t *)(void *)zrow)[x - t->x0];
                     draw = zbits == 16 ? (z >> 16) < (limit >> 16) : z < limit;
                 }
                 if (draw) {
-                    int64_t inv = 0;
-                    if (!affine) {
+                    if (!affine && s->zstep == 0 && zbits) {
                         int64_t qq = clamp64(plane_value(pq, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
                         inv = recip40(qq);
                     }
@@ -1347,6 +1366,19 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
             plane_setup(&s.vu[k], a, x, y, rcp, UV_F, cx, cy);
             plane_setup(&s.vv[k], b, x, y, rcp, UV_F, cx, cy);
         }
+    }
+    s.zstep = 0;
+    if (st->shade == PSC_SHADE_VIEWS && st->view_depth && st->view_depth_side > 0 && t->depth_step > 0 &&
+        st->depth_test) {
+        /* depth_step q^2 at the triangle's mean q (Q28): (q^2 >> 28) <= 2^28 times depth_step <= 2^35 */
+        int64_t qm = 0;
+        for (unsigned i = 0; i < 3; i++)
+            qm += clamp64(v[i]->q_q28, PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
+        qm = (qm + 1) / 3;
+        uint64_t q2 = ((uint64_t)qm * (uint64_t)qm + (UINT64_C(1) << 27)) >> 28;
+        uint64_t step = t->depth_step < (UINT64_C(1) << 35) ? t->depth_step : (UINT64_C(1) << 35);
+        uint64_t zs = (q2 * step + (UINT64_C(1) << 27)) >> 28;
+        s.zstep = (int64_t)(zs < (UINT64_C(1) << 24) ? zs : (UINT64_C(1) << 24));   /* 127 steps stay within 2^31 */
     }
     if (aa) {
         int64_t sx = (int64_t)s.depth.step_x, sy = (int64_t)s.depth.step_y;

@@ -71,6 +71,12 @@
  *    (Q2.14, the ratio in Q16.16, each channel rounded and saturated): the
  *    texels hold the colour lit by the bake's light L0, so the ratio is the
  *    albedo lit by L without storing the albedo.
+ *  - View depth offsets (view_depth set, target depth_step non-zero): a
+ *    pixel's depth is the proxy's plus its offset, the heaviest view's
+ *    texel at its (u, v) (nearest), times the depth change of a step at the
+ *    triangle's mean perspective weight q (depth_step q^2: the buffer's
+ *    depth is (1 - near/z) far/(far - near), whose slope is q^2 / near),
+ *    clamped to the buffer: tested and written as the surface's depth.
  *  - Phong shading (PSC_SHADE_PHONG): the vertex colours (unlit) and the
  *    vertex normals n_q14 are planes, linear on the screen like Gouraud's
  *    colours; each pixel renormalises its normal N (one 2^30/sqrt(|N|^2),
@@ -181,6 +187,9 @@ typedef struct {
      * the light they are lit by now and the one their texels were baked with, both in the normals' frame */
     const psc_texture_t *view_normals[3];
     psc_lambert_q14_t view_light, view_bake_light;
+    /* VIEWS with depth (below): the heaviest view's depth offsets, side^2 int8 row-major at its (u, v) (NULL: none) */
+    const int8_t *view_depth;
+    uint16_t view_depth_side;
     uint32_t mask_color;
     /* PHONG: one directional light and a viewer far along -z (camera space). */
     int16_t light_q14[3];     /* toward the light, unit length */
@@ -201,6 +210,9 @@ typedef struct {
                                     * depth-tested PSC_BLEND_REPLACE triangles then give partly covered pixels
                                     * fragments (psc_abuffer.h) */
     uint64_t *tested;              /* NULL, or counts the pixels depth-tested (what hidden-surface methods save) */
+    uint64_t depth_step;           /* VIEWS with depth: the depth buffer's change (of 2^32) for a view depth step
+                                    * (1/256 of a camera unit further) at the near plane, at most 2^35 (0: no
+                                    * offsets) */
 } psc_raster_target_t;
 
 /**

@@ -116,14 +116,14 @@ static bool vertex_rigid(const psc_gltf_t *g, uint32_t v, uint16_t joint)
 
 /* Everything the pack holds, gathered section by section. */
 typedef struct {
-    buf_t parts, vpos, vcol, vskin, idx, ppos, pskin, pidx, puv, tex, vnrm, tnrm;
+    buf_t parts, vpos, vcol, vskin, idx, ppos, pskin, pidx, puv, tex, vnrm, tnrm, tdep;
     uint32_t vertices, triangles, pvertices, ptriangles, nparts;
 } pack_t;
 
 static void pack_free(pack_t *p)
 {
     buf_t *b[] = {&p->parts, &p->vpos,  &p->vcol, &p->vskin, &p->idx,  &p->ppos,
-                  &p->pskin, &p->pidx, &p->puv,  &p->tex,   &p->vnrm, &p->tnrm};
+                  &p->pskin, &p->pidx, &p->puv,  &p->tex,   &p->vnrm, &p->tnrm, &p->tdep};
     for (unsigned i = 0; i < sizeof b / sizeof b[0]; i++)
         free(b[i]->p);
 }
@@ -616,7 +616,8 @@ static double tex_cost(unsigned side, unsigned views, bool normals)
 {
     size_t chain;
     tex_levels(side, &chain);
-    return 2.0 * views * (chain + (normals ? (double)PSC_PROXY_NORMAL_SIDE(side) * PSC_PROXY_NORMAL_SIDE(side) : 0.0));
+    double quarter = (double)PSC_PROXY_NORMAL_SIDE(side) * PSC_PROXY_NORMAL_SIDE(side);   /* + a byte of depth each */
+    return 2.0 * views * (chain + (normals ? quarter : 0.0)) + views * quarter;
 }
 
 static const double *want_key;
@@ -838,11 +839,13 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
         uint16_t *tx = buf_add(&pk.tex, (size_t)side * side * chain * 2u);
         size_t nrm_n = normals ? (size_t)side * side * PSC_PROXY_NORMAL_SIDE(ts) * PSC_PROXY_NORMAL_SIDE(ts) : 0;
         uint16_t *nx = nrm_n ? buf_add(&pk.tnrm, nrm_n * 2u) : NULL;
+        size_t dep_n = (size_t)side * side * PSC_PROXY_NORMAL_SIDE(ts) * PSC_PROXY_NORMAL_SIDE(ts);
+        int8_t *dx = dep_n ? buf_add(&pk.tdep, dep_n) : NULL;
         uint16_t *level0 = malloc(((size_t)side * side * ts * ts + 1u) * sizeof *level0);
         psc_bake_cover_t *cov0 = malloc(((size_t)side * side * ts * ts + 1u) * sizeof *cov0);
-        int rv = !uv || (chain && !tx) || (nrm_n && !nx) || !level0 || !cov0 ? -1 : 0;
+        int rv = !uv || (chain && !tx) || (nrm_n && !nx) || (dep_n && !dx) || !level0 || !cov0 ? -1 : 0;
         if (rv == 0 && ts > 0)
-            rv = psc_bake_proxy_views(&shapes[k], near_shapes, nn, side, ts, level0, cov0, nx, uv);
+            rv = psc_bake_proxy_views(&shapes[k], near_shapes, nn, side, ts, level0, cov0, nx, dx, uv);
         for (unsigned v = 0; rv == 0 && v < side * side && ts > 0; v++)
             rv = psc_bake_proxy_mips(level0 + (size_t)v * ts * ts, cov0 + (size_t)v * ts * ts, ts, levels,
                                      tx + (size_t)v * chain);
@@ -904,7 +907,7 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     info.frame_period_us = period_us;
     info.view_side = (uint16_t)side;
     info.tex_size = (uint16_t)(max_side ? max_side : PSC_PROXY_TEX_LEVEL_MIN);
-    info.flags = (uint8_t)(PSC_PROXY_ATLAS | (normals ? PSC_PROXY_NORMALS : 0u));
+    info.flags = (uint8_t)(PSC_PROXY_ATLAS | PSC_PROXY_DEPTH | (normals ? PSC_PROXY_NORMALS : 0u));
     info.model_r_um = r * 1e6 < 4e9 ? (uint32_t)lround(r * 1e6) : UINT32_MAX;
     info.bb_side = (uint16_t)bbs;
     info.bb_tex = (uint16_t)bbt;
@@ -925,6 +928,7 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
         {PSC_SECTION_PROXY_TEXTURES, pk.tex.p, pk.tex.n},
         {PSC_SECTION_PROXY_BB_BASES, bb_axes, (size_t)bbs * bbs * 24u},
         {PSC_SECTION_PROXY_BB_TEXTURES, bb_tex, (size_t)bbs * bbs * bbt * bbt * 2u},
+        {PSC_SECTION_PROXY_TEX_DEPTH, pk.tdep.p, pk.tdep.n},
         {PSC_SECTION_PROXY_VNORMALS, pk.vnrm.p, pk.vnrm.n},   /* the normals: left out without them */
         {PSC_SECTION_PROXY_TEX_NORMALS, pk.tnrm.p, pk.tnrm.n},
         {PSC_SECTION_PROXY_BB_NORMALS, bb_nrm, (size_t)bbs * bbs * PSC_PROXY_NORMAL_SIDE(bbt) * PSC_PROXY_NORMAL_SIDE(bbt) * 2u},
@@ -947,8 +951,12 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     if (psc_io_container_write(&psc_proxy_format, parts, nparts, out, len, name, err, errlen) != 0)
         goto done;
     char normal_note[128];
-    snprintf(normal_note, sizeof normal_note, normals ? ": %.1f MB RGB565 colours, %.1f MB normals at half their side, "
-             "relightable" : ", RGB565 colours: not relightable (--no-normals)", pk.tex.n / 1048576.0, pk.tnrm.n / 1048576.0);
+    if (normals)
+        snprintf(normal_note, sizeof normal_note, ": %.1f MB RGB565 colours, %.1f MB normals and %.1f MB depth offsets "
+                 "at half their side, relightable", pk.tex.n / 1048576.0, pk.tnrm.n / 1048576.0, pk.tdep.n / 1048576.0);
+    else
+        snprintf(normal_note, sizeof normal_note, ": %.1f MB RGB565 colours, %.1f MB depth offsets at half their side, "
+                 "not relightable (--no-normals)", pk.tex.n / 1048576.0, pk.tdep.n / 1048576.0);
     uint32_t nparts_only = 0;
     for (uint32_t k = 0; k < pk.nparts; k++)
         nparts_only += ((const psc_proxy_part_raw_t *)(const void *)pk.parts.p)[k].kind == PSC_PROXY_KIND_PART;
@@ -958,7 +966,7 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
              nparts_only, pk.nparts - nparts_only, pk.ptriangles, pk.triangles,
              psc_bake_simplify_available() ? "" : " (built without libmeshoptimizer: not simplified)", side * side,
              density, sides_lo == UINT32_MAX ? 0 : sides_lo, sides_lo == UINT32_MAX ? 0 : sides_lo, max_side, max_side,
-             (pk.tex.n + pk.tnrm.n) / 1048576.0, normal_note, frames);
+             (pk.tex.n + pk.tnrm.n + pk.tdep.n) / 1048576.0, normal_note, frames);
     rc = 0;
 done:
     for (uint32_t k = 0; k < nshapes; k++)

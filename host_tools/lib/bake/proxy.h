@@ -106,13 +106,14 @@ typedef struct {
 } psc_bake_cover_t;
 
 /** Render shape s's view textures (view_count x tex^2 RGB565: each texel its kept samples' mean, empty with none;
- *  psc_bake_proxy_mips decides which are drawn) and their samples' counts (cov, as many), their normals unless NULL (view_count x (tex / 2)^2
+ *  psc_bake_proxy_mips decides which are drawn) and their samples' counts (cov, as many), their depth offsets unless
+ *  NULL (view_count x (tex / 2)^2, XTDP's: psc_proxy.h), their normals unless NULL (view_count x (tex / 2)^2
  *  psc_oct16 codes) and its proxy's coordinates (view_count x prx_vertices x 2) for a grid of side x side views:
  *  the shapes near[0..n_near) (s and its neighbours) at rest, where their surface lies within s->reach of s's proxy;
  *  elsewhere the texels stay empty. 0, or -1 out of memory. */
 int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *const *near, unsigned n_near,
                          unsigned side, unsigned tex, uint16_t *texels, psc_bake_cover_t *cov, uint16_t *normals,
-                         uint16_t *uv);
+                         int8_t *offsets, uint16_t *uv);
 
 /** A view texture's mip chain, `levels` in all, into chain: level l the (2^l)^2 texels of level 0 (side^2, with
  *  their counts cov0) as one, the mean of their kept samples, covered where a quarter of its samples are kept and

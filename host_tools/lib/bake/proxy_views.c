@@ -233,6 +233,71 @@ static void normals_down(const uint16_t *hi, const uint32_t *nhi, unsigned tex, 
 }
 
 /* The n x n texels of SS n x SS n samples: each its kept samples' mean colour and its counts. */
+/* The depth offsets of a view at half its texels' side (as its normals): each the mean, over the kept samples it
+ * covers (2 SS x 2 SS), of how far the surface lies behind the proxy's front, in 1/256 R (depths are of 2^32 across
+ * 2 rho); one over no kept sample takes its covered neighbours' mean, a ring a pass, else 0 (the proxy's own). */
+static void depth_down(const uint16_t *hi, const uint32_t *depth, const uint32_t *pdepth, unsigned tex, double rho,
+                       int8_t *out)
+{
+    unsigned half = PSC_PROXY_NORMAL_SIDE(tex), k = tex / half * SS, n = tex * SS;
+    double *v = calloc((size_t)half * half + 1u, sizeof *v);
+    uint8_t *have = calloc((size_t)half * half + 1u, 1);
+    if (!v || !have) {   /* (bounded, small; should it fail, the proxy's own depth) */
+        memset(out, 0, (size_t)half * half);
+        free(v), free(have);
+        return;
+    }
+    const double steps = 2.0 * rho / 4294967295.0 * PSC_PROXY_DEPTH_STEPS_PER_R;
+    for (unsigned y = 0; y < half; y++)
+        for (unsigned x = 0; x < half; x++) {
+            double acc = 0;
+            unsigned count = 0;
+            for (unsigned j = 0; j < k; j++)
+                for (unsigned i = 0; i < k; i++) {
+                    size_t at = (size_t)(y * k + j) * n + x * k + i;
+                    if (hi[at] == PSC_VIEW_TEXEL_EMPTY)
+                        continue;
+                    acc += ((double)depth[at] - (double)pdepth[at]) * steps;
+                    count++;
+                }
+            if (count) {
+                v[(size_t)y * half + x] = acc / count;
+                have[(size_t)y * half + x] = 1;
+            }
+        }
+    for (unsigned pass = 0; pass < half; pass++) {
+        bool grew = false;
+        for (unsigned y = 0; y < half; y++)
+            for (unsigned x = 0; x < half; x++) {
+                size_t at = (size_t)y * half + x;
+                if (have[at])
+                    continue;
+                double acc = 0;
+                unsigned count = 0;
+                for (int dy = -1; dy <= 1; dy++)
+                    for (int dx = -1; dx <= 1; dx++) {
+                        int yy = (int)y + dy, xx = (int)x + dx;
+                        if (yy < 0 || xx < 0 || yy >= (int)half || xx >= (int)half || have[(size_t)yy * half + xx] != 1)
+                            continue;
+                        acc += v[(size_t)yy * half + xx];
+                        count++;
+                    }
+                if (count) {
+                    v[at] = acc / count;
+                    have[at] = 2;   /* this pass's: a neighbour from the next */
+                    grew = true;
+                }
+            }
+        for (size_t i = 0; i < (size_t)half * half; i++)
+            have[i] = have[i] ? 1 : 0;
+        if (!grew)
+            break;
+    }
+    for (size_t i = 0; i < (size_t)half * half; i++)
+        out[i] = (int8_t)lround(fmin(fmax(v[i], -127.0), 127.0));
+    free(v), free(have);
+}
+
 static void downsample(const uint16_t *hi, const uint32_t *depth, unsigned n, uint16_t *out, psc_bake_cover_t *cov)
 {
     for (unsigned y = 0; y < n; y++)
@@ -265,8 +330,8 @@ static void decide(uint16_t *t, const uint32_t *model, const uint32_t *kept, uns
  * kept where their surface lies within s's reach of its proxy's front (the proxy carries what is on it: wherever
  * the simplified proxy spans, the surface under it, and nothing of a part in front of it). */
 static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *const *all, unsigned n_all, const ortho_t *view,
-                        uint16_t *texels, psc_bake_cover_t *cov, uint16_t *normals, uint16_t *hi, uint32_t *depth,
-                        uint16_t *scratch, uint32_t *pdepth, uint32_t *nhi)
+                        uint16_t *texels, psc_bake_cover_t *cov, uint16_t *normals, int8_t *offsets, uint16_t *hi,
+                        uint32_t *depth, uint16_t *scratch, uint32_t *pdepth, uint32_t *nhi)
 {
     ortho_t so = *view;
     const ortho_t *o = &so;
@@ -276,8 +341,8 @@ static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *con
     memset(hi, 0, (size_t)n * n * 2u);   /* PSC_VIEW_TEXEL_EMPTY */
     for (size_t i = 0; i < (size_t)n * n; i++)
         depth[i] = pdepth[i] = 0xFFFFFFFFu;
-    psc_raster_target_t t = {&sf, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL, NULL};
-    psc_raster_target_t pt = {&ps, pdepth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL, NULL};
+    psc_raster_target_t t = {&sf, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL, NULL, 0};
+    psc_raster_target_t pt = {&ps, pdepth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL, NULL, 0};
     for (unsigned k = 0; k < n_all; k++)
         if (may_show(all[k], o))
             draw_shape(all[k], o, &t);
@@ -292,9 +357,11 @@ static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *con
             hi[i] = PSC_VIEW_TEXEL_EMPTY;
     }
     downsample(hi, depth, view->tex, texels, cov);
+    if (offsets)
+        depth_down(hi, depth, pdepth, view->tex, o->rho, offsets);
     if (normals) {   /* the same shapes again, their normals for colours: the same samples win the depth test */
         psc_surface_t ns = {(uint16_t)n, (uint16_t)n, n * 4u, PSC_PIX_XRGB8888, nhi};
-        psc_raster_target_t nt = {&ns, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL, NULL};
+        psc_raster_target_t nt = {&ns, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL, NULL, 0};
         for (size_t i = 0; i < (size_t)n * n; i++)
             depth[i] = 0xFFFFFFFFu;
         for (unsigned k = 0; k < n_all; k++)
@@ -319,7 +386,7 @@ static int samples_alloc(unsigned tex, uint32_t **depth, uint16_t **hi, uint32_t
 
 int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *const *near, unsigned n_near,
                          unsigned side, unsigned tex, uint16_t *texels, psc_bake_cover_t *cov, uint16_t *normals,
-                         uint16_t *uv)
+                         int8_t *offsets, uint16_t *uv)
 {
     uint32_t *depth, *nhi;
     uint16_t *hi;
@@ -328,8 +395,9 @@ int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *co
     for (unsigned k = 0; k < side * side; k++) {
         ortho_t o;
         ortho_for(s, side, k, tex, &o);
+        size_t quarter = (size_t)k * PSC_PROXY_NORMAL_SIDE(tex) * PSC_PROXY_NORMAL_SIDE(tex);
         render_view(s, near, n_near, &o, texels + (size_t)k * tex * tex, cov + (size_t)k * tex * tex,
-                    normals ? normals + (size_t)k * PSC_PROXY_NORMAL_SIDE(tex) * PSC_PROXY_NORMAL_SIDE(tex) : NULL, hi, depth,
+                    normals ? normals + quarter : NULL, offsets ? offsets + quarter : NULL, hi, depth,
                     hi + (size_t)tex * tex * SS * SS, depth + (size_t)tex * tex * SS * SS, nhi);
         uint16_t *kuv = uv + (size_t)k * s->prx_vertices * 2u;
         for (uint32_t i = 0; i < s->prx_vertices; i++) {
@@ -366,7 +434,7 @@ int psc_bake_proxy_billboard(const psc_proxy_shape_t *shapes, unsigned n, const 
         memset(hi, 0, (size_t)hn * hn * 2u);
         for (size_t i = 0; i < (size_t)hn * hn; i++)
             depth[i] = 0xFFFFFFFFu;
-        psc_raster_target_t tg = {&sf, depth, hn * 4u, 32, 0, 0, (uint16_t)hn, (uint16_t)hn, NULL, NULL};
+        psc_raster_target_t tg = {&sf, depth, hn * 4u, 32, 0, 0, (uint16_t)hn, (uint16_t)hn, NULL, NULL, 0};
         for (unsigned s = 0; s < n; s++)
             draw_shape(&shapes[s], &so, &tg);
         /* a texel covered when a quarter of its samples are: the billboard is drawn small, where a thin part kept
