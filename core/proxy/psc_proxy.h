@@ -298,9 +298,13 @@ typedef struct {
     uint32_t texels_per_r;         /* the views' texel density (texels per R, the parts weighing as their areas):
                                     * nearer than a radius of that many pixels, the views are magnified */
     uint32_t area_r2_q16;          /* the model's silhouette in R^2 (Q16): its billboard's covered share */
-    uint32_t area_gain_q8;         /* pixels written per pixel of silhouette (Q8): psc_proxy_observe's */
+    uint32_t area_gain_q8;         /* pixels the full mesh writes per pixel of silhouette (Q8): psc_proxy_observe's */
+    uint32_t proxy_gain_q8;        /* and the proxies (their own overlaps and alpha-tested edges); until a frame of
+                                    * each has been seen, the other's */
+    uint8_t gains_seen;            /* bit 0: the full mesh's gain observed, bit 1: the proxies' */
     uint32_t silhouette_px;        /* the last pick's silhouette on the screen, for psc_proxy_observe (0: none) */
-    bool area_seen;                /* a frame has set area_gain_q8 */
+    bool area_seen;                /* a frame has set a gain */
+    psc_proxy_lod_t observed_lod;  /* the level psc_proxy_observe's next frame was drawn at (psc_proxy_lod_pick's) */
     uint32_t *view_area_r2_q16;    /* the silhouette's area in R^2 (Q16) from each billboard view */
     uint32_t screen_w, screen_h;   /* psc_proxy_set_screen's (0: the area is not clipped) */
     bool relit;                    /* psc_proxy_set_light given: lit by `light` (else as baked) */
@@ -319,12 +323,12 @@ typedef struct {
  * error 4 % rms for the proxies, 8 % for the full mesh). A level costs its vertices (posing, projection), its
  * triangles (set-up), the rows its triangles span (about sqrt(area x triangles / 2): half face the camera) and its
  * pixels: a view-textured pixel samples three textures; a full-mesh pixel costs little beyond its row's loop. */
-#define PSC_PROXY_COST_VERTEX 1174u
-#define PSC_PROXY_COST_TRIANGLE 320u
-#define PSC_PROXY_COST_ROW 525u
-#define PSC_PROXY_COST_PIXEL 659u
-#define PSC_PROXY_COST_FULL_VERTEX 732u
-#define PSC_PROXY_COST_FULL_ROW 714u
+#define PSC_PROXY_COST_VERTEX 819u
+#define PSC_PROXY_COST_TRIANGLE 488u
+#define PSC_PROXY_COST_ROW 743u
+#define PSC_PROXY_COST_PIXEL 786u
+#define PSC_PROXY_COST_FULL_VERTEX 827u
+#define PSC_PROXY_COST_FULL_ROW 564u
 #define PSC_PROXY_COST_SCREEN_PIXEL 3u   /* either level: the frame's clear, a pixel of the screen */
 /* Relit (psc_proxy_set_light; the bench's "relit" lines): a proxy pixel reads a normal (four texels) and divides; a
  * full-mesh vertex is relit, one that blends joints renormalises its light as well. */
@@ -337,7 +341,8 @@ typedef struct {
 typedef struct {
     uint64_t proxies, full;
     int32_t radius_px;
-    uint32_t area_px;         /* the pixels a frame writes: the silhouette's times the gain frames have shown */
+    uint32_t area_px;         /* the pixels a frame writes at the level last picked: the silhouette's times the gain frames
+                               * of that level have shown */
     uint32_t silhouette_px;   /* the silhouette's, from the billboard, clipped by the screen */
 } psc_proxy_cost_t;
 

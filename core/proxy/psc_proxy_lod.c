@@ -97,7 +97,8 @@ void psc_proxy_lod_prepare(psc_proxy_t *p)
     uint64_t share = total ? (halves * 32768u + total / 2u) / total : AREA_SHARE_DEFAULT_Q16;
     uint64_t area = (square * share + 32768u) >> 16;
     p->area_r2_q16 = area > UINT32_MAX ? UINT32_MAX : (uint32_t)area;
-    p->area_gain_q8 = AREA_GAIN_PRIOR_Q8;
+    p->area_gain_q8 = p->proxy_gain_q8 = AREA_GAIN_PRIOR_Q8;
+    p->gains_seen = 0;
     p->area_seen = false;
     p->silhouette_px = 0;
     /* the views' texel density, texels per R, each part weighing as its area: D^2 = sum side^2 / sum (2.04 r)^2
@@ -140,6 +141,15 @@ static uint32_t on_screen_q16(int64_t cx, int64_t cy, int64_t s, uint32_t w, uin
     return (uint32_t)(((x1 - x0) * (y1 - y0) * 65536) / (4 * s * s));
 }
 
+/* The pixels a level writes: the silhouette's area (pixels) times its gain (Q8, under 2^11), at most the screen. */
+static uint64_t written(uint64_t area, uint32_t gain_q8, uint64_t screen)
+{
+    area = (area * gain_q8 + 128u) >> 8;
+    if (screen != 0 && area > screen)
+        area = screen;
+    return area > AREA_PX_MAX ? AREA_PX_MAX : area;   /* more than any screen; its rows times triangles stay in 63 bits */
+}
+
 psc_proxy_cost_t psc_proxy_cost(const psc_proxy_t *p, const psc_mat4_q16_t *cam, int32_t focal_px_q16)
 {
     const psc_proxy_model_t *m = p->m;
@@ -168,18 +178,16 @@ psc_proxy_cost_t psc_proxy_cost(const psc_proxy_t *p, const psc_mat4_q16_t *cam,
     if (screen != 0 && area > screen)
         area = screen;
     c.silhouette_px = area > UINT32_MAX ? UINT32_MAX : (uint32_t)area;
-    area = (area * p->area_gain_q8 + 128u) >> 8;   /* (the gain under 2^11) */
-    if (screen != 0 && area > screen)
-        area = screen;
-    area = area > AREA_PX_MAX ? AREA_PX_MAX : area;   /* more than any screen; its rows times triangles stay in 63 bits */
-    c.area_px = area > UINT32_MAX ? UINT32_MAX : (uint32_t)area;
-    uint64_t rows_p = psc_isqrt64(area * m->proxy_triangle_count / 2u);
-    uint64_t rows_f = psc_isqrt64(area * m->triangle_count / 2u);
+    /* each level's pixels: the silhouette times what that level has been seen to write a silhouette pixel */
+    uint64_t area_f = written(area, p->area_gain_q8, screen), area_p = written(area, p->proxy_gain_q8, screen);
+    c.area_px = (uint32_t)(p->lod == PSC_PROXY_LOD_FULL ? area_f : area_p);
+    uint64_t rows_p = psc_isqrt64(area_p * m->proxy_triangle_count / 2u);
+    uint64_t rows_f = psc_isqrt64(area_f * m->triangle_count / 2u);
     c.proxies = (uint64_t)PSC_PROXY_COST_VERTEX * m->proxy_vertex_count + (uint64_t)PSC_PROXY_COST_TRIANGLE * m->proxy_triangle_count +
-                PSC_PROXY_COST_ROW * rows_p + (uint64_t)PSC_PROXY_COST_PIXEL * area;
+                PSC_PROXY_COST_ROW * rows_p + (uint64_t)PSC_PROXY_COST_PIXEL * area_p;
     c.full = (uint64_t)PSC_PROXY_COST_FULL_VERTEX * m->vertex_count + PSC_PROXY_COST_FULL_ROW * rows_f;
     if (p->relit) {   /* (under 2^10 x 2^31 and 2^10 x 2^22 x 2) */
-        c.proxies += (uint64_t)PSC_PROXY_COST_RELIT_PIXEL * area;
+        c.proxies += (uint64_t)PSC_PROXY_COST_RELIT_PIXEL * area_p;
         c.full += (uint64_t)PSC_PROXY_COST_RELIT_VERTEX * m->vertex_count +
                   (uint64_t)PSC_PROXY_COST_RELIT_BLEND * p->blended_vertices;
     }
@@ -210,6 +218,7 @@ psc_proxy_lod_t psc_proxy_lod_pick(psc_proxy_t *p, const psc_mat4_q16_t *cam, in
         }
     }
     p->lod = l;
+    p->observed_lod = l;
     p->focal_px_q16 = focal_px_q16;
     p->silhouette_px = l == PSC_PROXY_LOD_BILLBOARD ? 0 : c.silhouette_px;
     return l;
@@ -221,9 +230,14 @@ void psc_proxy_observe(psc_proxy_t *p, const psc_3d_stats_t *st)
         return;   /* the billboard, or too small to tell */
     uint64_t g = (st->pixels * 256u + p->silhouette_px / 2u) / p->silhouette_px;
     g = g < AREA_GAIN_MIN_Q8 ? AREA_GAIN_MIN_Q8 : g > AREA_GAIN_MAX_Q8 ? AREA_GAIN_MAX_Q8 : g;
-    /* the first frame's is the model's; then a quarter of the way each frame: a pose that covers more settles in a
-     * few frames, one frame's odd view moves the estimate little */
-    p->area_gain_q8 = p->area_seen ? (uint32_t)((3u * p->area_gain_q8 + g + 2u) / 4u) : (uint32_t)g;
+    /* the first frame's is the model's, for both levels until the other is seen; then a quarter of the way each
+     * frame: a pose that covers more settles in a few frames, one frame's odd view moves the estimate little */
+    unsigned bit = p->observed_lod == PSC_PROXY_LOD_FULL ? 1u : 2u;
+    uint32_t *gain = bit == 1u ? &p->area_gain_q8 : &p->proxy_gain_q8, *other = bit == 1u ? &p->proxy_gain_q8 : &p->area_gain_q8;
+    *gain = (p->gains_seen & bit) ? (uint32_t)((3u * *gain + g + 2u) / 4u) : (uint32_t)g;
+    if (!(p->gains_seen & (3u ^ bit)))
+        *other = *gain;
+    p->gains_seen |= (uint8_t)bit;
     p->area_seen = true;
     p->silhouette_px = 0;
 }
