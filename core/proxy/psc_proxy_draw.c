@@ -150,6 +150,15 @@ static void skin_points(const psc_mat4_q16_t *skin, const int32_t *pos, const ps
 {
     for (uint32_t i = 0; i < n; i++) {
         int64_t acc[3] = {0, 0, 0}, q[3];
+        if (sk[i].weight_q15[0] == 32768u) {   /* one joint wholly: its matrix alone (the same rounding: w q >> 15 = q) */
+            apply(&skin[sk[i].joint[0]], &pos[3u * i], q);
+            for (unsigned a = 0; a < 3; a++) {
+                int64_t v = q[a];
+                out[3u * i + a] = (int32_t)(v > PSC_PROXY_POS_MAX_Q16 * 4 ? PSC_PROXY_POS_MAX_Q16 * 4
+                                            : v < -PSC_PROXY_POS_MAX_Q16 * 4 ? -PSC_PROXY_POS_MAX_Q16 * 4 : v);
+            }
+            continue;
+        }
         for (unsigned k = 0; k < 4; k++) {
             if (sk[i].weight_q15[k] == 0)
                 continue;
