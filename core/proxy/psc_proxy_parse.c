@@ -59,6 +59,18 @@ static bool range_ok(uint32_t first, uint32_t count, uint32_t total)
     return (uint64_t)first + count <= total;
 }
 
+/* Texels of every part's every view at half its level 0's side (the normals', the depth offsets'). The atlas checks
+ * the sides later; unchecked, a uint16 side's half squared is under 2^30, times 4 096 views and parts each under 2^54. */
+static uint64_t half_side_texels(const psc_proxy_model_t *m)
+{
+    uint64_t n = 0;
+    for (uint32_t i = 0; i < m->part_count; i++) {
+        uint64_t half = PSC_PROXY_NORMAL_SIDE(m->parts[i].tex_size);
+        n += half * half * m->view_count;
+    }
+    return n;
+}
+
 static psc_status_t check_parts(const psc_proxy_model_t *m, uint32_t at, psc_container_error_t *err)
 {
     for (uint32_t i = 0; i < m->part_count; i++, at += (uint32_t)sizeof(psc_proxy_part_raw_t)) {
@@ -229,11 +241,7 @@ psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out
         return fail(err, PSC_ERR_CORRUPT, "the normals' sections (XVNM, XTNM, XBBN) do not match XINF's flags",
                     f[S_INFO].offset + 60);
     if (normals) {
-        uint64_t tn = 0;
-        for (uint32_t i = 0; i < m.part_count; i++) {
-            uint64_t half = PSC_PROXY_NORMAL_SIDE(m.parts[i].tex_size);   /* checked with the atlas, below */
-            tn += half * half * m.view_count;
-        }
+        uint64_t tn = half_side_texels(&m);
         if (f[S_VNRM].size != (uint64_t)m.vertex_count * 2u || f[S_TNRM].size != tn * 2u ||
             (m.bb_side && f[S_BBN].size != (uint64_t)m.bb_view_count * PSC_PROXY_NORMAL_SIDE(m.bb_tex) * PSC_PROXY_NORMAL_SIDE(m.bb_tex) * 2u))
             return fail(err, PSC_ERR_CORRUPT, "a normals section's size does not match its mesh or textures",
@@ -248,12 +256,7 @@ psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out
         return fail(err, PSC_ERR_CORRUPT, "the depth offsets' section (XTDP) does not match XINF's flags",
                     f[S_INFO].offset + 60);
     if (depth) {
-        uint64_t n = 0;
-        for (uint32_t i = 0; i < m.part_count; i++) {
-            uint64_t half = PSC_PROXY_NORMAL_SIDE(m.parts[i].tex_size);   /* checked with the atlas, below */
-            n += half * half * m.view_count;
-        }
-        if (f[S_TDP].size != n)
+        if (f[S_TDP].size != half_side_texels(&m))
             return fail(err, PSC_ERR_CORRUPT, "XTDP's size does not match the view textures", f[S_TDP].entry + 8);
         m.tex_depth = AT(S_TDP, int8_t);
     }

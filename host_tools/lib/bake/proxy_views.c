@@ -166,9 +166,46 @@ static uint16_t block_mean(const uint16_t *p, const uint32_t *depth, size_t stri
     return t == PSC_VIEW_TEXEL_EMPTY ? 0x0020u : t;
 }
 
+/* The texels of a half x half grid of `dims` values each (v) that have none (have[] 0) take their neighbours': a ring
+ * a pass, each the mean of its 8-neighbours that had one before the pass (a unit vector: their sum renormalised),
+ * until no gap borders a value (a mip level's coarser texel may reach past the samples level 0 covered). */
+static void grow_into_gaps(double *v, unsigned dims, uint8_t *have, unsigned half, bool unit)
+{
+    for (unsigned pass = 0; pass < half; pass++) {
+        bool grew = false;
+        for (unsigned y = 0; y < half; y++)
+            for (unsigned x = 0; x < half; x++) {
+                size_t at = (size_t)y * half + x;
+                if (have[at])
+                    continue;
+                double acc[3] = {0, 0, 0};
+                unsigned count = 0;
+                for (int dy = -1; dy <= 1; dy++)
+                    for (int dx = -1; dx <= 1; dx++) {
+                        int yy = (int)y + dy, xx = (int)x + dx;
+                        if (yy < 0 || xx < 0 || yy >= (int)half || xx >= (int)half || have[(size_t)yy * half + xx] != 1)
+                            continue;
+                        for (unsigned a = 0; a < dims; a++)
+                            acc[a] += v[((size_t)yy * half + xx) * dims + a];
+                        count++;
+                    }
+                double l = unit ? sqrt(acc[0] * acc[0] + acc[1] * acc[1] + acc[2] * acc[2]) : count;
+                if (count && l > 1e-9) {
+                    for (unsigned a = 0; a < dims; a++)
+                        v[at * dims + a] = acc[a] / l;
+                    have[at] = 2;   /* this pass's: a neighbour from the next */
+                    grew = true;
+                }
+            }
+        for (size_t i = 0; i < (size_t)half * half; i++)
+            have[i] = have[i] ? 1 : 0;
+        if (!grew)
+            break;
+    }
+}
+
 /* The normals of a view at half its texels' side: each the mean of the normals drawn (nhi, XRGB-coded) at the samples
- * hi covers (2 SS x 2 SS of them), renormalised and coded; one over no covered sample takes the mean of its covered
- * neighbours', a ring a pass (a mip level's coarser texel may reach past the samples the level 0 covered). */
+ * hi covers (2 SS x 2 SS of them), renormalised and coded; one over no covered sample takes its neighbours'. */
 static void normals_down(const uint16_t *hi, const uint32_t *nhi, unsigned tex, uint16_t *out)
 {
     unsigned half = PSC_PROXY_NORMAL_SIDE(tex), k = tex / half * SS, n = tex * SS;
@@ -198,35 +235,7 @@ static void normals_down(const uint16_t *hi, const uint32_t *nhi, unsigned tex, 
                 have[(size_t)y * half + x] = 1;
             }
         }
-    for (unsigned pass = 0; pass < half; pass++) {
-        bool grew = false;
-        for (unsigned y = 0; y < half; y++)
-            for (unsigned x = 0; x < half; x++) {
-                size_t at = (size_t)y * half + x;
-                if (have[at])
-                    continue;
-                double acc[3] = {0, 0, 0};
-                for (int dy = -1; dy <= 1; dy++)
-                    for (int dx = -1; dx <= 1; dx++) {
-                        int yy = (int)y + dy, xx = (int)x + dx;
-                        if (yy < 0 || xx < 0 || yy >= (int)half || xx >= (int)half || have[(size_t)yy * half + xx] != 1)
-                            continue;
-                        for (unsigned a = 0; a < 3; a++)
-                            acc[a] += v[(size_t)yy * half + xx][a];
-                    }
-                double l = sqrt(acc[0] * acc[0] + acc[1] * acc[1] + acc[2] * acc[2]);
-                if (l > 1e-9) {
-                    for (unsigned a = 0; a < 3; a++)
-                        v[at][a] = acc[a] / l;
-                    have[at] = 2;   /* this pass's: a neighbour from the next */
-                    grew = true;
-                }
-            }
-        for (size_t i = 0; i < (size_t)half * half; i++)
-            have[i] = have[i] ? 1 : 0;
-        if (!grew)
-            break;
-    }
+    grow_into_gaps(&v[0][0], 3, have, half, true);
     for (size_t i = 0; i < (size_t)half * half; i++)
         out[i] = have[i] ? psc_bake_proxy_oct16(v[i]) : psc_bake_proxy_oct16((const double[3]){0, 1, 0});
     free(v), free(have);
@@ -235,7 +244,7 @@ static void normals_down(const uint16_t *hi, const uint32_t *nhi, unsigned tex, 
 /* The n x n texels of SS n x SS n samples: each its kept samples' mean colour and its counts. */
 /* The depth offsets of a view at half its texels' side (as its normals): each the mean, over the kept samples it
  * covers (2 SS x 2 SS), of how far the surface lies behind the proxy's front, in 1/256 R (depths are of 2^32 across
- * 2 rho); one over no kept sample takes its covered neighbours' mean, a ring a pass, else 0 (the proxy's own). */
+ * 2 rho); one over no kept sample takes its neighbours', else 0 (the proxy's own). */
 static void depth_down(const uint16_t *hi, const uint32_t *depth, const uint32_t *pdepth, unsigned tex, double rho,
                        int8_t *out)
 {
@@ -265,34 +274,7 @@ static void depth_down(const uint16_t *hi, const uint32_t *depth, const uint32_t
                 have[(size_t)y * half + x] = 1;
             }
         }
-    for (unsigned pass = 0; pass < half; pass++) {
-        bool grew = false;
-        for (unsigned y = 0; y < half; y++)
-            for (unsigned x = 0; x < half; x++) {
-                size_t at = (size_t)y * half + x;
-                if (have[at])
-                    continue;
-                double acc = 0;
-                unsigned count = 0;
-                for (int dy = -1; dy <= 1; dy++)
-                    for (int dx = -1; dx <= 1; dx++) {
-                        int yy = (int)y + dy, xx = (int)x + dx;
-                        if (yy < 0 || xx < 0 || yy >= (int)half || xx >= (int)half || have[(size_t)yy * half + xx] != 1)
-                            continue;
-                        acc += v[(size_t)yy * half + xx];
-                        count++;
-                    }
-                if (count) {
-                    v[at] = acc / count;
-                    have[at] = 2;   /* this pass's: a neighbour from the next */
-                    grew = true;
-                }
-            }
-        for (size_t i = 0; i < (size_t)half * half; i++)
-            have[i] = have[i] ? 1 : 0;
-        if (!grew)
-            break;
-    }
+    grow_into_gaps(v, 1, have, half, false);
     for (size_t i = 0; i < (size_t)half * half; i++)
         out[i] = (int8_t)lround(fmin(fmax(v[i], -127.0), 127.0));
     free(v), free(have);
