@@ -191,9 +191,10 @@ static void unit_q16(const int64_t v[3], int32_t out[3])
         s[a] = v[a] >> sh;
         len2 += s[a] * s[a];
     }
-    int64_t len = psc_isqrt64((uint64_t)len2);
+    /* s / |s| in Q16.16 as s x (2^46 / |s|) >> 30 (within 2^-17 of it): |s[a]| x that <= 2^46, no division */
+    uint64_t inv = len2 != 0 ? psc_rsqrt46((uint64_t)len2) : 0;
     for (unsigned a = 0; a < 3; a++)
-        out[a] = len ? (int32_t)psc_div_round64(s[a] * 65536, len) : 0;
+        out[a] = (int32_t)psc_shr_round64(s[a] * (int64_t)inv, 30);
 }
 
 /* Each joint strip's bones and their weights summed over its vertices (what its M3 blends: a sum of products is
@@ -249,10 +250,12 @@ static void strip_m3(const psc_mat4_q16_t *skin, const psc_proxy_bone_t *bone, u
     x[1] = u[2] * n1[0] - u[0] * n1[2];
     x[2] = u[0] * n1[1] - u[1] * n1[0];
     unit_q16(x, w);
+    /* w and u are unit and at right angles: their cross product is unit already */
     x[0] = (int64_t)w[1] * u[2] - (int64_t)w[2] * u[1];
     x[1] = (int64_t)w[2] * u[0] - (int64_t)w[0] * u[2];
     x[2] = (int64_t)w[0] * u[1] - (int64_t)w[1] * u[0];
-    unit_q16(x, v);
+    for (unsigned a = 0; a < 3; a++)
+        v[a] = (int32_t)psc_shr_round64(x[a], 16);
     for (unsigned r = 0; r < 3; r++) {
         m3->m[r][0] = u[r];
         m3->m[r][1] = v[r];

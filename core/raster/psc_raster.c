@@ -37,7 +37,11 @@ typedef struct {
     int64_t e[3], ex[3], ey[3];  /* biased edge values at the first pixel centre, steps */
     plane_t depth, r, g, b, q, uq, vq, light;
     plane_t nx, ny, nz;          /* PHONG: the normal, Q2.14 */
-    plane_t vu[3], vv[3];        /* VIEWS: u/w and v/w of each view (u and v when affine) */
+    /* VIEWS: the corners' q (Q28) and each view's u, v there, differences from corner 0 at 1 and 2: a pixel's values
+     * are sums over its (perspective-correct) barycentric weights (a proxy's triangle covers a few pixels: seven
+     * planes would cost more to set up than to use) */
+    int64_t q0, dq[2], q12[2], vu0[3], dvu[3][2], vv0[3], dvv[3][2];
+    int64_t area2, bw_rcp;       /* VIEWS: doubled area, 2^60 / it (a corner's weight is its edge value x bw_rcp) */
     bool affine;                 /* TEXTURE, VIEWS: perspective moves u, v too little to matter: no division a pixel */
     int64_t am[3];               /* A-buffer: the most a sample's edge value lies below the centre's */
     int64_t acol[3][4], arow[3][4]; /* A-buffer: edge value offsets of the sample columns and rows */
@@ -47,6 +51,19 @@ typedef struct {
     uint32_t flat;
 } setup_t;
 
+/* log2 of a power of two (textures are set up for every part drawn, every frame) */
+static uint8_t pow2_log2(uint32_t v)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    return (uint8_t)__builtin_ctz(v);
+#else
+    uint8_t l = 0;
+    while ((1u << l) < v)
+        l++;
+    return l;
+#endif
+}
+
 psc_status_t psc_texture_init(psc_texture_t *t, uint16_t width, uint16_t height, psc_pixfmt_t format,
                               uint32_t stride, const void *pixels)
 {
@@ -55,12 +72,7 @@ psc_status_t psc_texture_init(psc_texture_t *t, uint16_t width, uint16_t height,
         (format != PSC_PIX_RGB565 && format != PSC_PIX_XRGB8888) ||
         stride < (uint32_t)width * psc_pixfmt_bytes(format))
         return PSC_ERR_ARG;
-    uint8_t wl = 0, hl = 0;
-    while ((1u << wl) < width)
-        wl++;
-    while ((1u << hl) < height)
-        hl++;
-    *t = (psc_texture_t){width, height, wl, hl, format, stride, pixels};
+    *t = (psc_texture_t){width, height, pow2_log2(width), pow2_log2(height), format, stride, pixels};
     return PSC_OK;
 }
 
@@ -759,36 +771,31 @@ static PSC_ALWAYS_INLINE uint32_t raster_loop(const setup_t *s, const psc_raster
 
 /* ---- view textures (PSC_SHADE_VIEWS) ---------------------------------------- */
 
-/* Add one view's sample at (uu, vv) (Q16.16 in [0, 1]) with weight w_q8: the
- * non-empty texels' weights (Q0.16 overall) to *cov and weight x channel to acc. */
-static PSC_ALWAYS_INLINE void view_sample(const psc_texture_t *t, int64_t uu, int64_t vv, uint32_t w_q8,
-                                          const int bilinear, uint32_t *cov, uint32_t acc[3])
+/* A view texture's fields as locals of the loop (the pixel stores could alias its 16-bit sizes, see tex_view). */
+typedef struct {
+    const uint8_t *pixels;
+    uint32_t stride, width, height;
+} view_tex_t;
+
+/* Add one view's bilinear sample at (uu, vv) (Q16.16 in [0, 1]) with weight w_q8: the non-empty texels' weights
+ * (Q0.16 overall) to *cov and weight x channel to acc. */
+static PSC_ALWAYS_INLINE void view_sample(const view_tex_t *t, int64_t uu, int64_t vv, uint32_t w_q8, uint32_t *cov,
+                                          uint32_t acc[3])
 {
     const int64_t tw = t->width, th = t->height;
-    uint32_t x[2], y[2], wx[2], wy[2];
-    unsigned n;
-    if (bilinear) {
-        int64_t tx = (uu * tw >> 8) - 128, ty = (vv * th >> 8) - 128;
-        int64_t ix = tx >> 8, iy = ty >> 8;
-        wx[1] = (uint32_t)tx & 255u;
-        wy[1] = (uint32_t)ty & 255u;
-        wx[0] = 256u - wx[1];
-        wy[0] = 256u - wy[1];
-        /* clamp to the edge: the borders are empty anyway */
-        x[0] = (uint32_t)clamp64(ix, 0, tw - 1);
-        x[1] = (uint32_t)clamp64(ix + 1, 0, tw - 1);
-        y[0] = (uint32_t)clamp64(iy, 0, th - 1);
-        y[1] = (uint32_t)clamp64(iy + 1, 0, th - 1);
-        n = 2;
-    } else {
-        x[0] = (uint32_t)clamp64(uu * tw >> 16, 0, tw - 1);
-        y[0] = (uint32_t)clamp64(vv * th >> 16, 0, th - 1);
-        wx[0] = wy[0] = 256u;
-        n = 1;
-    }
-    for (unsigned j = 0; j < n; j++) {
-        const uint16_t *row = (const uint16_t *)(const void *)((const uint8_t *)t->pixels + (size_t)y[j] * t->stride);
-        for (unsigned i = 0; i < n; i++) {
+    int64_t tx = (uu * tw >> 8) - 128, ty = (vv * th >> 8) - 128;
+    int64_t ix = tx >> 8, iy = ty >> 8;
+    uint32_t wx[2], wy[2];
+    wx[1] = (uint32_t)tx & 255u;
+    wy[1] = (uint32_t)ty & 255u;
+    wx[0] = 256u - wx[1];
+    wy[0] = 256u - wy[1];
+    /* clamp to the edge: the borders are empty anyway */
+    uint32_t x[2] = {(uint32_t)clamp64(ix, 0, tw - 1), (uint32_t)clamp64(ix + 1, 0, tw - 1)};
+    uint32_t y[2] = {(uint32_t)clamp64(iy, 0, th - 1), (uint32_t)clamp64(iy + 1, 0, th - 1)};
+    for (unsigned j = 0; j < 2; j++) {
+        const uint16_t *row = (const uint16_t *)(const void *)(t->pixels + (size_t)y[j] * t->stride);
+        for (unsigned i = 0; i < 2; i++) {
             uint16_t c = row[x[i]];
             if (c == PSC_VIEW_TEXEL_EMPTY)
                 continue;
@@ -800,6 +807,16 @@ static PSC_ALWAYS_INLINE void view_sample(const psc_texture_t *t, int64_t uu, in
             acc[2] += w * (xrgb & 255u);
         }
     }
+}
+
+/* The texel nearest (uu, vv) (Q16.16 in [0, 1]): uu * width / 2^16 lies in [0, width], the last texel's right
+ * edge the only value past it. */
+static PSC_ALWAYS_INLINE uint32_t view_texel(const view_tex_t *t, int64_t uu, int64_t vv)
+{
+    uint32_t x = (uint32_t)((uint64_t)uu * t->width >> 16), y = (uint32_t)((uint64_t)vv * t->height >> 16);
+    x = x < t->width ? x : t->width - 1u;
+    y = y < t->height ? y : t->height - 1u;
+    return ((const uint16_t *)(const void *)(t->pixels + (size_t)y * t->stride))[x];
 }
 
 /* Add view texture t's normal at (uu, vv), weighted by w (Q0.16), to n[3]: bilinear whatever the colours' filter
@@ -855,47 +872,135 @@ uint32_t psc_lambert_relight(const psc_lambert_q14_t *now, const psc_lambert_q14
     return out;
 }
 
-/* The heaviest view's depth offset (nearest) at a pixel's planes' values pu, pv (inv as for its colours). */
-static PSC_ALWAYS_INLINE int32_t view_depth_at(const psc_raster_state_t *st, uint64_t pu, uint64_t pv, int64_t inv,
-                                               const int affine)
+/* A corner attribute's value at a point of weights b1, b2 (Q0.16) for corners 1 and 2: v0 + b1 d1 + b2 d2. */
+static PSC_ALWAYS_INLINE int64_t bary(int64_t v0, const int64_t d[2], int64_t b1, int64_t b2)
 {
-    int64_t uu = affine ? plane_value(pu, UV_F) : psc_shr_round64(plane_value(pu, UV_F) * inv, 24);
-    int64_t vv = affine ? plane_value(pv, UV_F) : psc_shr_round64(plane_value(pv, UV_F) * inv, 24);
-    const int64_t n = st->view_depth_side;
-    int64_t x = clamp64(clamp64(uu, 0, 65536) * n >> 16, 0, n - 1), y = clamp64(clamp64(vv, 0, 65536) * n >> 16, 0, n - 1);
-    return st->view_depth[y * n + x];
+    return v0 + ((b1 * d[0] + b2 * d[1] + 32768) >> 16);
 }
 
-/* A pixel's three views sampled at its planes' values (pu, pv; inv the perspective's reciprocal unless affine):
- * the covered weight (Q0.16) in *cov, weight x channel in acc, and where relit the normal of the heaviest view that
- * covers it. */
-static PSC_ALWAYS_INLINE void views_sample(const psc_raster_state_t *st, const uint64_t pu[3], const uint64_t pv[3],
-                                           int64_t inv, const int affine, const int bilinear, uint32_t enough,
-                                           bool relit, uint32_t *cov_out, uint32_t acc[3], int32_t nrm[3])
+/* A pixel's coordinates in view k (Q16.16, clamped to [0, 1]) at perspective-correct corner weights w1, w2: a mean of
+ * the corners' but for the weights' rounding. */
+static PSC_ALWAYS_INLINE void view_uv(const setup_t *s, unsigned k, int64_t w1, int64_t w2, int64_t *uu, int64_t *vv)
+{
+    *uu = clamp64(bary(s->vu0[k], s->dvu[k], w1, w2), 0, 65536);
+    *vv = clamp64(bary(s->vv0[k], s->dvv[k], w1, w2), 0, 65536);
+}
+
+/* The screen-space corner weights b1, b2 (Q0.16) made perspective-correct: b_i q_i / q at the pixel, whose q is
+ * their sum (Q28; 2^40 / q < 2^28, so the products stay within 2^56); unchanged where the triangle is affine. */
+static PSC_ALWAYS_INLINE void persp_weights(const setup_t *s, const int affine, int64_t *b1, int64_t *b2)
+{
+    if (!affine) {
+        int64_t inv = recip40(clamp64(bary(s->q0, s->dq, *b1, *b2), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE));
+        *b1 = psc_shr_round64(((*b1 * s->q12[0] + 32768) >> 16) * inv, 24);
+        *b2 = psc_shr_round64(((*b2 * s->q12[1] + 32768) >> 16) * inv, 24);
+    }
+}
+
+/* The heaviest view's depth offset (nearest) at its coordinates (uu, vv). */
+static PSC_ALWAYS_INLINE int32_t view_depth_at(const int8_t *depth, int64_t side, int64_t uu, int64_t vv)
+{
+    int64_t x = uu * side >> 16, y = vv * side >> 16;
+    x = x < side ? x : side - 1;
+    y = y < side ? y : side - 1;
+    return depth[y * side + x];
+}
+
+/* The views' nearest texels at a pixel's coordinates (uu[k], vv[k]), weighted by w_q8[k]: the covered weight in
+ * Q0.8 (returned), weight x channel in the lanes rb (red and blue, as rb_lanes_565) and g, and a bit per view that
+ * covers the pixel. The sums stay within 16 bits a lane (255 x 256). Once the rest cannot reach `enough` (Q0.8)
+ * the views left are not read: the pixel is not drawn then whatever they hold. */
+static PSC_ALWAYS_INLINE uint32_t views_nearest(const view_tex_t vt[3], const uint32_t w_q8[3], const int64_t uu[3],
+                                                const int64_t vv[3], uint32_t enough, uint32_t *rb, uint32_t *g,
+                                                unsigned *covering)
+{
+    uint32_t cov = 0, left = 256u, arb = 0, ag = 0;
+    unsigned bits = 0;
+    for (unsigned k = 0; k < 3; k++) {
+        uint32_t wk = w_q8[k];
+        if (cov + left < enough)
+            break;
+        if (wk == 0)
+            continue;
+        left -= wk;
+        uint32_t c = view_texel(&vt[k], uu[k], vv[k]);
+        if (c == PSC_VIEW_TEXEL_EMPTY)
+            continue;
+        bits |= 1u << k;
+        cov += wk;
+        arb += wk * rb_lanes_565(c);
+        ag += wk * g_lane_565(c);
+    }
+    *rb = arb;
+    *g = ag;
+    *covering = bits;
+    return cov;
+}
+
+/* A pixel's three views sampled bilinearly at its coordinates (uu[k], vv[k]): the covered weight (Q0.16) in *cov,
+ * weight x channel in acc, and the views that cover it as bits. */
+static PSC_ALWAYS_INLINE uint32_t views_bilinear(const view_tex_t vt[3], const uint32_t w_q8[3], const int64_t uu[3],
+                                                 const int64_t vv[3], uint32_t enough, uint32_t acc[3],
+                                                 unsigned *covering)
 {
     uint32_t cov = 0, left = 65536u;
+    unsigned bits = 0;
     acc[0] = acc[1] = acc[2] = 0;
-    nrm[0] = nrm[1] = nrm[2] = 0;
     for (unsigned k = 0; k < 3; k++) {
-        uint32_t wk = st->view_w_q8[k];
+        uint32_t wk = w_q8[k];
         /* the heaviest views come first: stop once the rest cannot reach enough */
         if (cov + left < enough)
             break;
         if (wk == 0)
             continue;
         left -= wk << 8;
-        int64_t uu = affine ? plane_value(pu[k], UV_F) : psc_shr_round64(plane_value(pu[k], UV_F) * inv, 24);
-        int64_t vv = affine ? plane_value(pv[k], UV_F) : psc_shr_round64(plane_value(pv[k], UV_F) * inv, 24);
         uint32_t before = cov;
-        uu = clamp64(uu, 0, 65536);
-        vv = clamp64(vv, 0, 65536);
-        view_sample(st->view_tex[k], uu, vv, wk, bilinear, &cov, acc);
-        /* the normal from the heaviest view that covers the pixel: the views see one surface, so their normals agree
-         * but where a view's texels blur an edge (a third of the work) */
-        if (relit && cov != before && (nrm[0] | nrm[1] | nrm[2]) == 0)
-            normal_sample(st->view_normals[k], uu, vv, 65536u, nrm);
+        view_sample(&vt[k], uu[k], vv[k], wk, &cov, acc);
+        bits |= (cov != before ? 1u : 0u) << k;
     }
-    *cov_out = cov;
+    *covering = bits;
+    return cov;
+}
+
+/* The views' bilinear coverage alone (Q0.16), for a pixel whose nearest texels are partly empty: the silhouette
+ * found to a texel's part, without blending colours the nearest texels already gave. */
+static PSC_ALWAYS_INLINE uint32_t views_coverage(const view_tex_t vt[3], const uint32_t w_q8[3], const int64_t uu[3],
+                                                 const int64_t vv[3], uint32_t enough)
+{
+    uint32_t cov = 0, left = 65536u;
+    for (unsigned k = 0; k < 3; k++) {
+        uint32_t wk = w_q8[k];
+        if (cov + left < enough)
+            break;
+        if (wk == 0)
+            continue;
+        left -= wk << 8;
+        const view_tex_t *t = &vt[k];
+        const int64_t tw = t->width, th = t->height;
+        int64_t tx = (uu[k] * tw >> 8) - 128, ty = (vv[k] * th >> 8) - 128;
+        int64_t ix = tx >> 8, iy = ty >> 8;
+        uint32_t fx = (uint32_t)tx & 255u, fy = (uint32_t)ty & 255u;
+        uint32_t x0 = (uint32_t)clamp64(ix, 0, tw - 1), x1 = (uint32_t)clamp64(ix + 1, 0, tw - 1);
+        uint32_t y0 = (uint32_t)clamp64(iy, 0, th - 1), y1 = (uint32_t)clamp64(iy + 1, 0, th - 1);
+        const uint16_t *r0 = (const uint16_t *)(const void *)(t->pixels + (size_t)y0 * t->stride);
+        const uint16_t *r1 = (const uint16_t *)(const void *)(t->pixels + (size_t)y1 * t->stride);
+        /* the filled texels' share of the pixel, Q0.8 a side */
+        uint32_t top = (r0[x0] != PSC_VIEW_TEXEL_EMPTY ? 256u - fx : 0u) + (r0[x1] != PSC_VIEW_TEXEL_EMPTY ? fx : 0u);
+        uint32_t bottom = (r1[x0] != PSC_VIEW_TEXEL_EMPTY ? 256u - fx : 0u) + (r1[x1] != PSC_VIEW_TEXEL_EMPTY ? fx : 0u);
+        cov += ((top * (256u - fy) + bottom * fy) * wk + 128u) >> 8;
+    }
+    return cov;
+}
+
+/* Where relit, the normal of the first view in `covering` whose normal is not nil: the views see one surface, so
+ * their normals agree but where a view's texels blur an edge (a third of the work). */
+static PSC_ALWAYS_INLINE void views_normal(const psc_raster_state_t *st, const int64_t uu[3], const int64_t vv[3],
+                                           unsigned covering, int32_t nrm[3])
+{
+    nrm[0] = nrm[1] = nrm[2] = 0;
+    for (unsigned k = 0; k < 3 && (nrm[0] | nrm[1] | nrm[2]) == 0; k++)
+        if (covering >> k & 1u)
+            normal_sample(st->view_normals[k], uu[k], vv[k], 65536u, nrm);
 }
 
 static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_target_t *t,
@@ -907,6 +1012,16 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
     const uint32_t enough = aa ? 30720u : 32768u;
     const bool relit = st->view_normals[0] != NULL, edges = st->filter == PSC_TEX_EDGES;
     uint32_t written = 0, tested = 0;
+    view_tex_t vt[3] = {{0}};
+    uint32_t w_q8[3];
+    for (unsigned k = 0; k < 3; k++) {
+        w_q8[k] = st->view_w_q8[k];
+        if (w_q8[k] != 0)
+            vt[k] = (view_tex_t){(const uint8_t *)st->view_tex[k]->pixels, st->view_tex[k]->stride,
+                                 st->view_tex[k]->width, st->view_tex[k]->height};
+    }
+    const int8_t *view_depth = st->view_depth;
+    const int64_t depth_side = st->view_depth_side;
     int64_t e0r = s->e[0], e1r = s->e[1], e2r = s->e[2];
     uint8_t *srow = (uint8_t *)t->surface->pixels + (size_t)s->py0 * t->surface->stride;
     uint8_t *zrow = zbits ? (uint8_t *)t->depth + (size_t)(s->py0 - t->y0) * t->depth_stride : 0;
@@ -937,54 +1052,74 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
         }
         uint64_t skip = (uint64_t)(int64_t)(x - s->px0), rows = (uint64_t)(int64_t)(y - s->py0);
         uint64_t d = s->depth.base + skip * s->depth.step_x + rows * s->depth.step_y;
-        uint64_t q = s->q.base + skip * s->q.step_x + rows * s->q.step_y, u[3], v[3];
-        for (unsigned k = 0; k < 3; k++) {
-            u[k] = s->vu[k].base + skip * s->vu[k].step_x + rows * s->vu[k].step_y;
-            v[k] = s->vv[k].base + skip * s->vv[k].step_x + rows * s->vv[k].step_y;
+        if (!aa) {   /* the edges at the run's first pixel: its corners' weights */
+            e0 += (int64_t)skip * s->ex[0];
+            e1 += (int64_t)skip * s->ex[1];
+            e2 += (int64_t)skip * s->ex[2];
         }
         for (; x <= xend; x++) {
             uint32_t cover = aa ? sample_mask(s, e0, e1, e2) : PSC_ABUF_FULL;
             if (cover != 0) {
                 uint32_t z = 0, limit = 0xFFFFFFFFu;
                 int draw = 1;
-                uint64_t pd = d, pq = q, pu[3] = {u[0], u[1], u[2]}, pv[3] = {v[0], v[1], v[2]};
+                uint64_t pd = d;
+                /* the weights of corners 1 and 2 come from the edges facing them (2 and 0) */
+                int64_t w1 = e2, w2 = e0;
                 const bool centre = !aa || (e0 | e1 | e2) >= 0;   /* (the edges are followed with the A-buffer alone) */
                 if (aa && cover != PSC_ABUF_FULL) {
                     int64_t ox, oy;
                     covered_centroid(cover, &ox, &oy);
                     if (!centre)
                         pd = plane_at(&s->depth, pd, ox, oy);
-                    pq = plane_at(&s->q, pq, ox, oy);
-                    for (unsigned k = 0; k < 3; k++) {
-                        pu[k] = plane_at(&s->vu[k], pu[k], ox, oy);
-                        pv[k] = plane_at(&s->vv[k], pv[k], ox, oy);
-                    }
+                    /* a centroid of covered samples lies inside but for its rounding: held to the triangle */
+                    w1 = clamp64(w1 + (s->ex[2] >> 4) * ox + (s->ey[2] >> 4) * oy, 0, s->area2);
+                    w2 = clamp64(w2 + (s->ex[0] >> 4) * ox + (s->ey[0] >> 4) * oy, 0, s->area2);
                 }
-                int64_t inv = 0;
-                if (!affine && (s->zstep != 0 || !zbits)) {
-                    int64_t qq = clamp64(plane_value(pq, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
-                    inv = recip40(qq);
-                }
+                /* Q0.16; a centre drawn lies inside the three edges, whose values sum to the doubled area (less their
+                 * biases): each in [0, area2], so that w x bw_rcp <= 2^60 */
+                int64_t b1 = (w1 * s->bw_rcp + (INT64_C(1) << 43)) >> 44;
+                int64_t b2 = (w2 * s->bw_rcp + (INT64_C(1) << 43)) >> 44;
+                /* the heaviest view's coordinates first: its depth offset moves the depth tested */
+                int64_t uu[3] = {0, 0, 0}, vv[3] = {0, 0, 0};
+                const bool offsets = zbits && s->zstep != 0;
+                if (offsets || !zbits)
+                    persp_weights(s, affine, &b1, &b2);
+                if (offsets)
+                    view_uv(s, 0, b1, b2, &uu[0], &vv[0]);
                 if (zbits) {
                     tested++;
                     int64_t zz = plane_value(pd, DEPTH_F);
-                    if (s->zstep != 0)   /* the surface's depth: the proxy's and the heaviest view's offset */
-                        zz += view_depth_at(st, pu[0], pv[0], inv, affine) * s->zstep;
+                    if (offsets)   /* the surface's depth: the proxy's and the heaviest view's offset */
+                        zz += view_depth_at(view_depth, depth_side, uu[0], vv[0]) * s->zstep;
                     z = (uint32_t)clamp64(zz, 0, INT64_C(0xFFFFFFFF));
                     limit = zbits == 16 ? (uint32_t)((uint16_t *)(void *)zrow)[x - t->x0] << 16
                                         : ((uint32_t *)(void *)zrow)[x - t->x0];
                     draw = zbits == 16 ? (z >> 16) < (limit >> 16) : z < limit;
                 }
                 if (draw) {
-                    if (!affine && s->zstep == 0 && zbits) {
-                        int64_t qq = clamp64(plane_value(pq, Q_F), PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
-                        inv = recip40(qq);
+                    if (!offsets && zbits)
+                        persp_weights(s, affine, &b1, &b2);
+                    for (unsigned k = offsets ? 1u : 0u; k < 3; k++)
+                        if (w_q8[k] != 0)
+                            view_uv(s, k, b1, b2, &uu[k], &vv[k]);
+                    /* cov: the pixel's coverage; the colour is acc / tint (weights Q0.16) */
+                    uint32_t cov, tint, acc[3], full = 0;
+                    unsigned covering = 0;
+                    bool nearest = false;
+                    if (!bilinear) {
+                        uint32_t rb, g;
+                        cov = tint = views_nearest(vt, w_q8, uu, vv, enough >> 8, &rb, &g, &covering) << 8;
+                        nearest = cov != 0 || !edges;
+                        if (cov == 65536u)   /* every texel there: the weights sum to one, no division */
+                            full = ((rb + 0x800080u) >> 8 & 0xFF00FFu) | ((g + 128u) & 0xFF00u);
+                        else if (edges && cov != 0)   /* an empty texel: an edge, found to a texel's part */
+                            cov = views_coverage(vt, w_q8, uu, vv, enough);
+                        acc[0] = (rb >> 16) << 8;
+                        acc[1] = g << 8;
+                        acc[2] = (rb & 0xFFFFu) << 8;
                     }
-                    uint32_t cov, acc[3];
-                    int32_t nrm[3];
-                    views_sample(st, pu, pv, inv, affine, bilinear, enough, relit, &cov, acc, nrm);
-                    if (!bilinear && edges && cov != 65536u)   /* an empty texel: an edge, found to a texel's part */
-                        views_sample(st, pu, pv, inv, affine, 1, enough, relit, &cov, acc, nrm);
+                    if (!nearest)   /* (with edges: no nearest texel there, the bilinear ones give the colour) */
+                        cov = tint = views_bilinear(vt, w_q8, uu, vv, enough, acc, &covering);
                     if (aa) { /* alpha to coverage, ramped 16x steeper about the alpha test's one half */
                         int32_t ramp = ((int32_t)cov - 32768) * 16 + 32768;
                         ramp = ramp < 0 ? 0 : ramp > 65536 ? 65536 : ramp;
@@ -994,20 +1129,25 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                         cover = 0;
                     if (cover != 0) {
                         uint32_t c = st->mask_color & 0xFFFFFFu;
-                        if (!st->views_mask && cov == 65536u) {   /* every texel there: no division */
+                        if (!st->views_mask && nearest && tint == 65536u) {
+                            c = full;
+                        } else if (!st->views_mask && tint == 65536u) {   /* every texel there: no division */
                             c = 0;
                             for (unsigned k = 0; k < 3; k++)
                                 c = c << 8 | ((acc[k] + 32768u) >> 16);
                         } else if (!st->views_mask) {
-                            uint64_t rcp = ((UINT64_C(1) << 40) + cov / 2u) / cov;
+                            uint64_t rcp = ((UINT64_C(1) << 40) + tint / 2u) / tint;
                             c = 0;
                             for (unsigned k = 0; k < 3; k++) {
                                 uint64_t ch = (acc[k] * rcp + (UINT64_C(1) << 39)) >> 40;
                                 c = c << 8 | (uint32_t)(ch > 255u ? 255u : ch);
                             }
                         }
-                        if (relit && !st->views_mask)
+                        if (relit && !st->views_mask) {
+                            int32_t nrm[3];
+                            views_normal(st, uu, vv, covering, nrm);
                             c = psc_lambert_relight(&st->view_light, &st->view_bake_light, nrm, c);
+                        }
                         bool put = true;
                         if (aa && cover != PSC_ABUF_FULL)
                             put = partial(t, (uint32_t)(y - t->y0) * head_w + (uint32_t)(x - t->x0), zrow, x, zbits,
@@ -1023,17 +1163,10 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                     }
                 }
             }
-            if (aa) {
-                e0 += s->ex[0];
-                e1 += s->ex[1];
-                e2 += s->ex[2];
-            }
+            e0 += s->ex[0];
+            e1 += s->ex[1];
+            e2 += s->ex[2];
             d += s->depth.step_x;
-            q += s->q.step_x;
-            for (unsigned k = 0; k < 3; k++) {
-                u[k] += s->vu[k].step_x;
-                v[k] += s->vv[k].step_x;
-            }
         }
     }
     if (t->tested)
@@ -1352,20 +1485,29 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
         }
         /* Perspective changes u across such a triangle by under 1/256 of its span: interpolate u, v directly. */
         s.affine = (qmax - qmin) * 256 <= qmin;
-        if (!s.affine)
-            plane_setup(&s.q, q, x, y, rcp, Q_F, cx, cy);
+        s.q0 = q[0];
+        s.dq[0] = q[1] - q[0];
+        s.dq[1] = q[2] - q[0];
+        s.q12[0] = q[1];
+        s.q12[1] = q[2];
         for (unsigned k = 0; k < 3; k++) {
             if (st->view_w_q8[k] == 0)
                 continue;   /* a view of no weight is never read */
             for (unsigned i = 0; i < 3; i++) {
                 int32_t uu = k == 0 ? v[i]->u_q16 : k == 1 ? v[i]->u1_q16 : v[i]->u2_q16;
                 int32_t vv = k == 0 ? v[i]->v_q16 : k == 1 ? v[i]->v1_q16 : v[i]->v2_q16;
-                a[i] = s.affine ? clamp64(uu, 0, 65536) : psc_shr_round64(clamp64(uu, 0, 65536) * q[i], 16);
-                b[i] = s.affine ? clamp64(vv, 0, 65536) : psc_shr_round64(clamp64(vv, 0, 65536) * q[i], 16);
+                a[i] = clamp64(uu, 0, 65536);
+                b[i] = clamp64(vv, 0, 65536);
             }
-            plane_setup(&s.vu[k], a, x, y, rcp, UV_F, cx, cy);
-            plane_setup(&s.vv[k], b, x, y, rcp, UV_F, cx, cy);
+            s.vu0[k] = a[0];
+            s.dvu[k][0] = a[1] - a[0];
+            s.dvu[k][1] = a[2] - a[0];
+            s.vv0[k] = b[0];
+            s.dvv[k][0] = b[1] - b[0];
+            s.dvv[k][1] = b[2] - b[0];
         }
+        s.area2 = area2;
+        s.bw_rcp = (int64_t)((UINT64_C(1) << 60) / (uint64_t)area2);
     }
     s.zstep = 0;
     if (st->shade == PSC_SHADE_VIEWS && st->view_depth && st->view_depth_side > 0 && t->depth_step > 0 &&
