@@ -1099,9 +1099,10 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                 if (draw) {
                     if (!offsets && zbits)
                         persp_weights(s, affine, &b1, &b2);
-                    for (unsigned k = offsets ? 1u : 0u; k < 3; k++)
-                        if (w_q8[k] != 0)
-                            view_uv(s, k, b1, b2, &uu[k], &vv[k]);
+                    if (!offsets)
+                        view_uv(s, 0, b1, b2, &uu[0], &vv[0]);
+                    view_uv(s, 1, b1, b2, &uu[1], &vv[1]);
+                    view_uv(s, 2, b1, b2, &uu[2], &vv[2]);
                     /* cov: the pixel's coverage; the colour is acc / tint (weights Q0.16) */
                     uint32_t cov, tint, acc[3], full = 0;
                     unsigned covering = 0;
@@ -1361,6 +1362,24 @@ void psc_raster_depth_plane_range(const psc_raster_depth_plane_t *p, int32_t x0_
     *zmax = depth_at(p->base, p->a, hi_x, p->b, hi_y, 0xFFFFFFFFu);
 }
 
+/* View k's coordinates at the three corners (clamped to [0, 1]) into s: corner 0's, and 1's and 2's differences
+ * from it; zeros for a view of no weight. */
+static PSC_ALWAYS_INLINE void view_corners(setup_t *s, unsigned k, uint32_t w_q8, int32_t u0, int32_t v0, int32_t u1,
+                                           int32_t v1, int32_t u2, int32_t v2)
+{
+    int64_t a0 = 0, a1 = 0, a2 = 0, b0 = 0, b1 = 0, b2 = 0;
+    if (w_q8 != 0) {
+        a0 = clamp64(u0, 0, 65536), a1 = clamp64(u1, 0, 65536), a2 = clamp64(u2, 0, 65536);
+        b0 = clamp64(v0, 0, 65536), b1 = clamp64(v1, 0, 65536), b2 = clamp64(v2, 0, 65536);
+    }
+    s->vu0[k] = a0;
+    s->dvu[k][0] = a1 - a0;
+    s->dvu[k][1] = a2 - a0;
+    s->vv0[k] = b0;
+    s->dvv[k][0] = b1 - b0;
+    s->dvv[k][1] = b2 - b0;
+}
+
 uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_state_t *st,
                              const psc_raster_vertex_t *v0, const psc_raster_vertex_t *v1,
                              const psc_raster_vertex_t *v2)
@@ -1476,8 +1495,8 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
                    clamp64(v[2]->light_q8, 0, 256), x, y, rcp, LIGHT_F, cx, cy);
     }
     if (st->shade == PSC_SHADE_VIEWS) {
-        /* Coordinates in [0, 1]: u/w and v/w planes per view, no shift needed. */
-        int64_t q[3], a[3], b[3], qmin = PSC_RASTER_Q_ONE, qmax = 0;
+        /* Coordinates in [0, 1]: no shift needed. */
+        int64_t q[3], qmin = PSC_RASTER_Q_ONE, qmax = 0;
         for (unsigned i = 0; i < 3; i++) {
             q[i] = clamp64(v[i]->q_q28, PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE);
             qmin = q[i] < qmin ? q[i] : qmin;
@@ -1490,22 +1509,13 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
         s.dq[1] = q[2] - q[0];
         s.q12[0] = q[1];
         s.q12[1] = q[2];
-        for (unsigned k = 0; k < 3; k++) {
-            if (st->view_w_q8[k] == 0)
-                continue;   /* a view of no weight is never read */
-            for (unsigned i = 0; i < 3; i++) {
-                int32_t uu = k == 0 ? v[i]->u_q16 : k == 1 ? v[i]->u1_q16 : v[i]->u2_q16;
-                int32_t vv = k == 0 ? v[i]->v_q16 : k == 1 ? v[i]->v1_q16 : v[i]->v2_q16;
-                a[i] = clamp64(uu, 0, 65536);
-                b[i] = clamp64(vv, 0, 65536);
-            }
-            s.vu0[k] = a[0];
-            s.dvu[k][0] = a[1] - a[0];
-            s.dvu[k][1] = a[2] - a[0];
-            s.vv0[k] = b[0];
-            s.dvv[k][0] = b[1] - b[0];
-            s.dvv[k][1] = b[2] - b[0];
-        }
+        /* a view of no weight is never read: zeros, which the loop may interpolate without a test */
+        view_corners(&s, 0, st->view_w_q8[0], v[0]->u_q16, v[0]->v_q16, v[1]->u_q16, v[1]->v_q16, v[2]->u_q16,
+                     v[2]->v_q16);
+        view_corners(&s, 1, st->view_w_q8[1], v[0]->u1_q16, v[0]->v1_q16, v[1]->u1_q16, v[1]->v1_q16, v[2]->u1_q16,
+                     v[2]->v1_q16);
+        view_corners(&s, 2, st->view_w_q8[2], v[0]->u2_q16, v[0]->v2_q16, v[1]->u2_q16, v[1]->v2_q16, v[2]->u2_q16,
+                     v[2]->v2_q16);
         s.area2 = area2;
         s.bw_rcp = (int64_t)((UINT64_C(1) << 60) / (uint64_t)area2);
     }
