@@ -908,21 +908,17 @@ static PSC_ALWAYS_INLINE int32_t view_depth_at(const int8_t *depth, int64_t side
 
 /* The views' nearest texels at a pixel's coordinates (uu[k], vv[k]), weighted by w_q8[k]: the covered weight in
  * Q0.8 (returned), weight x channel in the lanes rb (red and blue, as rb_lanes_565) and g, and a bit per view that
- * covers the pixel. The sums stay within 16 bits a lane (255 x 256). Once the rest cannot reach `enough` (Q0.8)
- * the views left are not read: the pixel is not drawn then whatever they hold. */
+ * covers the pixel. The sums stay within 16 bits a lane (255 x 256). All three are read: most pixels drawn are
+ * inside every view's silhouette, where a test to stop early costs more than it saves. */
 static PSC_ALWAYS_INLINE uint32_t views_nearest(const view_tex_t vt[3], const uint32_t w_q8[3], const int64_t uu[3],
-                                                const int64_t vv[3], uint32_t enough, uint32_t *rb, uint32_t *g,
-                                                unsigned *covering)
+                                                const int64_t vv[3], uint32_t *rb, uint32_t *g, unsigned *covering)
 {
-    uint32_t cov = 0, left = 256u, arb = 0, ag = 0;
+    uint32_t cov = 0, arb = 0, ag = 0;
     unsigned bits = 0;
     for (unsigned k = 0; k < 3; k++) {
         uint32_t wk = w_q8[k];
-        if (cov + left < enough)
-            break;
         if (wk == 0)
             continue;
-        left -= wk;
         uint32_t c = view_texel(&vt[k], uu[k], vv[k]);
         if (c == PSC_VIEW_TEXEL_EMPTY)
             continue;
@@ -1080,7 +1076,7 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                 int64_t b1 = (w1 * s->bw_rcp + (INT64_C(1) << 43)) >> 44;
                 int64_t b2 = (w2 * s->bw_rcp + (INT64_C(1) << 43)) >> 44;
                 /* the heaviest view's coordinates first: its depth offset moves the depth tested */
-                int64_t uu[3] = {0, 0, 0}, vv[3] = {0, 0, 0};
+                int64_t uu[3], vv[3];
                 const bool offsets = zbits && s->zstep != 0;
                 if (offsets || !zbits)
                     persp_weights(s, affine, &b1, &b2);
@@ -1109,7 +1105,7 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                     bool nearest = false;
                     if (!bilinear) {
                         uint32_t rb, g;
-                        cov = tint = views_nearest(vt, w_q8, uu, vv, enough >> 8, &rb, &g, &covering) << 8;
+                        cov = tint = views_nearest(vt, w_q8, uu, vv, &rb, &g, &covering) << 8;
                         nearest = cov != 0 || !edges;
                         if (cov == 65536u)   /* every texel there: the weights sum to one, no division */
                             full = ((rb + 0x800080u) >> 8 & 0xFF00FFu) | ((g + 128u) & 0xFF00u);
