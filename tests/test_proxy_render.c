@@ -157,6 +157,151 @@ static void test_views_rule(void **state)
     assert_true(colour_off * 200u <= pixels);
 }
 
+/* The coordinates' perspective: a pixel's (u, v) are the corners' weighted by b_i q_i / sum b_j q_j (b its screen
+ * barycentric weights). Each texel of a view a colour of its own, one view weighing all: every pixel well inside the
+ * triangle and away from a texel's border shows the texel the double-precision rule names. */
+static void test_views_perspective(void **state)
+{
+    (void)state;
+    tsup_rng_t r;
+    tsup_rng_seed(&r, 29);
+    enum { T = 32 };
+    static uint16_t tex[T * T];
+    static uint32_t out[64 * 64];
+    for (unsigned i = 0; i < T * T; i++)
+        tex[i] = (uint16_t)(((i % T) << 11) | ((i / T) << 5) | 0x10u);   /* red the column, green the row */
+    psc_texture_t t;
+    assert_int_equal(psc_texture_init(&t, T, T, PSC_PIX_RGB565, T * 2, tex), PSC_OK);
+    unsigned checked = 0, wrong = 0, perspective = 0;
+    for (unsigned trial = 0; trial < 100; trial++) {
+        psc_raster_state_t st = {.shade = PSC_SHADE_VIEWS, .filter = PSC_TEX_NEAREST, .view_tex = {&t, &t, &t},
+                                 .view_w_q8 = {256, 0, 0}};
+        psc_surface_t sf = {64, 64, 64 * 4, PSC_PIX_XRGB8888, out};
+        for (unsigned i = 0; i < 64 * 64; i++)
+            out[i] = 0;
+        psc_raster_target_t tg = {&sf, NULL, 0, 0, 0, 0, 64, 64, NULL, NULL, 0};
+        double px[3][2], q[3], uv[3][2];
+        psc_raster_vertex_t v[3];
+        for (unsigned i = 0; i < 3; i++) {
+            px[i][0] = tsup_rng_below(&r, 64 * 16) / 16.0, px[i][1] = tsup_rng_below(&r, 64 * 16) / 16.0;
+            /* a depth range of up to 8 to 1 across the triangle */
+            int32_t qq = PSC_RASTER_Q_ONE / 8 + (int32_t)tsup_rng_below(&r, PSC_RASTER_Q_ONE - PSC_RASTER_Q_ONE / 8);
+            q[i] = qq;
+            uv[i][0] = tsup_rng_below(&r, 65536) / 65536.0, uv[i][1] = tsup_rng_below(&r, 65536) / 65536.0;
+            v[i] = (psc_raster_vertex_t){.x_q4 = (int32_t)lround(px[i][0] * 16), .y_q4 = (int32_t)lround(px[i][1] * 16),
+                                         .q_q28 = qq, .u_q16 = (int32_t)lround(uv[i][0] * 65536),
+                                         .v_q16 = (int32_t)lround(uv[i][1] * 65536)};
+            px[i][0] = v[i].x_q4 / 16.0, px[i][1] = v[i].y_q4 / 16.0;
+            uv[i][0] = v[i].u_q16 / 65536.0, uv[i][1] = v[i].v_q16 / 65536.0;
+        }
+        double area = (px[1][0] - px[0][0]) * (px[2][1] - px[0][1]) - (px[2][0] - px[0][0]) * (px[1][1] - px[0][1]);
+        if (fabs(area) < 40)
+            continue;
+        psc_raster_triangle(&tg, &st, &v[0], &v[1], &v[2]);
+        for (int y = 0; y < 64; y++)
+            for (int x = 0; x < 64; x++) {
+                double cx = x + 0.5, cy = y + 0.5, b[3];
+                b[1] = ((cx - px[0][0]) * (px[2][1] - px[0][1]) - (px[2][0] - px[0][0]) * (cy - px[0][1])) / area;
+                b[2] = ((px[1][0] - px[0][0]) * (cy - px[0][1]) - (cx - px[0][0]) * (px[1][1] - px[0][1])) / area;
+                b[0] = 1 - b[1] - b[2];
+                if (b[0] < 0.02 || b[1] < 0.02 || b[2] < 0.02)
+                    continue;
+                double sum = b[0] * q[0] + b[1] * q[1] + b[2] * q[2], u = 0, vv = 0, ua = 0;
+                for (unsigned i = 0; i < 3; i++) {
+                    u += b[i] * q[i] / sum * uv[i][0], vv += b[i] * q[i] / sum * uv[i][1];
+                    ua += b[i] * uv[i][0];
+                }
+                double fx = u * T, fy = vv * T;
+                if (fabs(fx - lround(fx)) < 0.02 || fabs(fy - lround(fy)) < 0.02)
+                    continue;   /* on a texel's border: a rounding either way */
+                int ix = (int)floor(fx), iy = (int)floor(fy);
+                ix = ix > T - 1 ? T - 1 : ix, iy = iy > T - 1 ? T - 1 : iy;
+                uint32_t want = psc_rgb565_to_xrgb(tex[iy * T + ix]) & 0xFFFFFFu, got = out[y * 64 + x] & 0xFFFFFFu;
+                checked++;
+                wrong += got != want;
+                perspective += (int)floor(ua * T) != ix;   /* where affine coordinates would have named another */
+            }
+    }
+    print_message("  perspective: %u pixels checked, %u showing another texel (affine coordinates would at %u)\n",
+                  checked, wrong, perspective);
+    assert_true(checked > 20000 && perspective > checked / 10);
+    assert_int_equal(wrong, 0);
+}
+
+/* The views' arithmetic at its range's limits (run under the sanitizers by `make check`): triangles from slivers to
+ * the coordinates' bounds, q from PSC_RASTER_Q_MIN to one, coordinates outside [0, 1], each filter, with and
+ * without the A-buffer and the depth offsets; every pixel drawn lies inside the target, and nothing overflows. */
+static void test_views_limits(void **state)
+{
+    (void)state;
+    tsup_rng_t r;
+    tsup_rng_seed(&r, 31);
+    enum { T = 16, S = 48 };
+    static uint16_t tex[3][T * T];
+    static uint16_t depth[S * S];
+    static uint32_t out[S * S];
+    static int8_t offsets[(T / 2) * (T / 2)];
+    static uint8_t abuf_mem[1 << 20];
+    for (unsigned i = 0; i < (T / 2) * (T / 2); i++)
+        offsets[i] = (int8_t)(tsup_rng_below(&r, 256) - 128);
+    psc_texture_t t[3];
+    for (unsigned k = 0; k < 3; k++) {
+        for (unsigned i = 0; i < T * T; i++)
+            tex[k][i] = tsup_rng_below(&r, 4) == 0 ? PSC_VIEW_TEXEL_EMPTY : (uint16_t)(tsup_rng_u32(&r) | 0x20u);
+        assert_int_equal(psc_texture_init(&t[k], T, T, PSC_PIX_RGB565, T * 2, tex[k]), PSC_OK);
+    }
+    assert_true(psc_abuffer_bytes(S * S, 4096) <= sizeof abuf_mem);
+    psc_abuffer_t ab;
+    uint64_t drawn = 0;
+    for (unsigned trial = 0; trial < 4000; trial++) {
+        uint32_t w[3] = {tsup_rng_below(&r, 257), 0, 0};   /* heaviest first, summing to 256 */
+        w[1] = tsup_rng_below(&r, 257 - w[0]), w[2] = 256 - w[0] - w[1];
+        for (unsigned a = 0; a < 3; a++)
+            for (unsigned b = a + 1; b < 3; b++)
+                if (w[b] > w[a]) {
+                    uint32_t x = w[a];
+                    w[a] = w[b], w[b] = x;
+                }
+        static const psc_tex_filter_t filters[3] = {PSC_TEX_NEAREST, PSC_TEX_BILINEAR, PSC_TEX_EDGES};
+        psc_raster_state_t st = {.shade = PSC_SHADE_VIEWS, .filter = filters[tsup_rng_below(&r, 3)],
+                                 .view_tex = {&t[0], &t[1], &t[2]},
+                                 .view_w_q8 = {(uint16_t)w[0], (uint16_t)w[1], (uint16_t)w[2]}, .depth_test = true};
+        if (tsup_rng_below(&r, 2))
+            st.view_depth = offsets, st.view_depth_side = T / 2;
+        psc_surface_t sf = {S, S, S * 4, PSC_PIX_XRGB8888, out};
+        bool aa = tsup_rng_below(&r, 2) != 0;
+        if (aa)
+            psc_abuffer_init(&ab, abuf_mem, S * S, 4096);
+        for (unsigned i = 0; i < S * S; i++)
+            depth[i] = 0xFFFFu;
+        uint64_t steps[3] = {0, 1u << 20, UINT64_C(1) << 35};
+        psc_raster_target_t tg = {&sf, depth, S * 2, 16, 0, 0, S, S, aa ? &ab : NULL, NULL,
+                                  steps[tsup_rng_below(&r, 3)]};
+        psc_raster_vertex_t v[3];
+        /* a third of the triangles reach the coordinates' bounds, a third are slivers, a third are small */
+        unsigned kind = tsup_rng_below(&r, 3);
+        for (unsigned i = 0; i < 3; i++) {
+            int32_t lim = kind == 0 ? PSC_RASTER_COORD_MAX_Q4 : S * 16;
+            int32_t x = (int32_t)tsup_rng_below(&r, 2u * (uint32_t)lim + 1u) - (kind == 0 ? lim : 0);
+            int32_t y = (int32_t)tsup_rng_below(&r, 2u * (uint32_t)lim + 1u) - (kind == 0 ? lim : 0);
+            if (kind == 1 && i == 2)   /* nearly on the line through the first two */
+                x = (v[0].x_q4 + v[1].x_q4) / 2 + (int32_t)tsup_rng_below(&r, 3) - 1,
+                y = (v[0].y_q4 + v[1].y_q4) / 2 + (int32_t)tsup_rng_below(&r, 3) - 1;
+            int32_t qs[3] = {PSC_RASTER_Q_MIN, PSC_RASTER_Q_ONE, PSC_RASTER_Q_MIN + (int32_t)tsup_rng_below(&r, PSC_RASTER_Q_ONE)};
+            v[i] = (psc_raster_vertex_t){.x_q4 = x, .y_q4 = y, .q_q28 = qs[tsup_rng_below(&r, 3)],
+                                         .depth_q32 = tsup_rng_u32(&r)};
+            int32_t *c[6] = {&v[i].u_q16, &v[i].v_q16, &v[i].u1_q16, &v[i].v1_q16, &v[i].u2_q16, &v[i].v2_q16};
+            for (unsigned a = 0; a < 6; a++)   /* [-2, 3]: outside the views too */
+                *c[a] = (int32_t)tsup_rng_below(&r, 5u * 65536u + 1u) - 2 * 65536;
+        }
+        uint32_t n = psc_raster_triangle(&tg, &st, &v[0], &v[1], &v[2]);
+        assert_true(n <= S * S);
+        drawn += n;
+    }
+    print_message("  %llu pixels drawn in 4000 triangles at the limits\n", (unsigned long long)drawn);
+    assert_true(drawn > 100000);
+}
+
 /* ---- quality against the full mesh -------------------------------------------------------------- */
 
 typedef struct {
@@ -1577,6 +1722,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_views_rule),
+        cmocka_unit_test(test_views_perspective),
+        cmocka_unit_test(test_views_limits),
         cmocka_unit_test(test_mip_coverage),
         cmocka_unit_test(test_truck_quality),
         cmocka_unit_test(test_bar_quality),

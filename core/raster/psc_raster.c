@@ -777,7 +777,7 @@ typedef struct {
     uint32_t stride, width, height;
 } view_tex_t;
 
-/* Add one view's bilinear sample at (uu, vv) (Q16.16 in [0, 1]) with weight w_q8: the non-empty texels' weights
+/* Add one view's bilinear sample at (uu, vv) (Q16.16 in [0, 1)) with weight w_q8: the non-empty texels' weights
  * (Q0.16 overall) to *cov and weight x channel to acc. */
 static PSC_ALWAYS_INLINE void view_sample(const view_tex_t *t, int64_t uu, int64_t vv, uint32_t w_q8, uint32_t *cov,
                                           uint32_t acc[3])
@@ -809,13 +809,10 @@ static PSC_ALWAYS_INLINE void view_sample(const view_tex_t *t, int64_t uu, int64
     }
 }
 
-/* The texel nearest (uu, vv) (Q16.16 in [0, 1]): uu * width / 2^16 lies in [0, width], the last texel's right
- * edge the only value past it. */
+/* The texel nearest (uu, vv) (Q16.16 in [0, 1)). */
 static PSC_ALWAYS_INLINE uint32_t view_texel(const view_tex_t *t, int64_t uu, int64_t vv)
 {
     uint32_t x = (uint32_t)((uint64_t)uu * t->width >> 16), y = (uint32_t)((uint64_t)vv * t->height >> 16);
-    x = x < t->width ? x : t->width - 1u;
-    y = y < t->height ? y : t->height - 1u;
     return ((const uint16_t *)(const void *)(t->pixels + (size_t)y * t->stride))[x];
 }
 
@@ -878,12 +875,13 @@ static PSC_ALWAYS_INLINE int64_t bary(int64_t v0, const int64_t d[2], int64_t b1
     return v0 + ((b1 * d[0] + b2 * d[1] + 32768) >> 16);
 }
 
-/* A pixel's coordinates in view k (Q16.16, clamped to [0, 1]) at perspective-correct corner weights w1, w2: a mean of
- * the corners' but for the weights' rounding. */
+/* A pixel's coordinates in view k (Q16.16) at perspective-correct corner weights w1, w2: a mean of the corners' but
+ * for the weights' rounding, clamped to [0, 1) (1 itself is the last texel's far edge, an empty border: a texel's
+ * index then needs no clamp). */
 static PSC_ALWAYS_INLINE void view_uv(const setup_t *s, unsigned k, int64_t w1, int64_t w2, int64_t *uu, int64_t *vv)
 {
-    *uu = clamp64(bary(s->vu0[k], s->dvu[k], w1, w2), 0, 65536);
-    *vv = clamp64(bary(s->vv0[k], s->dvv[k], w1, w2), 0, 65536);
+    *uu = clamp64(bary(s->vu0[k], s->dvu[k], w1, w2), 0, 65535);
+    *vv = clamp64(bary(s->vv0[k], s->dvv[k], w1, w2), 0, 65535);
 }
 
 /* The screen-space corner weights b1, b2 (Q0.16) made perspective-correct: b_i q_i / q at the pixel, whose q is
@@ -897,13 +895,10 @@ static PSC_ALWAYS_INLINE void persp_weights(const setup_t *s, const int affine, 
     }
 }
 
-/* The heaviest view's depth offset (nearest) at its coordinates (uu, vv). */
+/* The heaviest view's depth offset (nearest) at its coordinates (uu, vv) in [0, 1). */
 static PSC_ALWAYS_INLINE int32_t view_depth_at(const int8_t *depth, int64_t side, int64_t uu, int64_t vv)
 {
-    int64_t x = uu * side >> 16, y = vv * side >> 16;
-    x = x < side ? x : side - 1;
-    y = y < side ? y : side - 1;
-    return depth[y * side + x];
+    return depth[(vv * side >> 16) * side + (uu * side >> 16)];
 }
 
 /* The views' nearest texels at a pixel's coordinates (uu[k], vv[k]), weighted by w_q8[k]: the covered weight in

@@ -127,9 +127,10 @@ typedef enum {
 typedef enum {
     PSC_TEX_NEAREST = 0,
     PSC_TEX_BILINEAR = 1,
-    PSC_TEX_EDGES = 2      /* (PSC_SHADE_VIEWS) nearest where every texel sampled is filled, bilinear where one is
-                            * empty: an alpha-tested silhouette placed to a fraction of a texel for the price of
-                            * nearest inside it; elsewhere nearest */
+    PSC_TEX_EDGES = 2      /* (PSC_SHADE_VIEWS) nearest where every texel sampled is filled; where one is empty
+                            * the coverage bilinear (the colour the nearest texels', or the bilinear ones' where no
+                            * nearest texel is filled): an alpha-tested silhouette placed to a fraction of a texel
+                            * for the price of nearest inside it; elsewhere nearest */
 } psc_tex_filter_t;
 
 typedef enum {
