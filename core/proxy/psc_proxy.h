@@ -323,10 +323,10 @@ typedef struct {
  * error 4 % rms for the proxies, 8 % for the full mesh). A level costs its vertices (posing, projection), its
  * triangles (set-up), the rows its triangles span (about sqrt(area x triangles / 2): half face the camera) and its
  * pixels: a view-textured pixel samples three textures; a full-mesh pixel costs little beyond its row's loop. */
-#define PSC_PROXY_COST_VERTEX 846u
-#define PSC_PROXY_COST_TRIANGLE 293u
-#define PSC_PROXY_COST_ROW 443u
-#define PSC_PROXY_COST_PIXEL 615u
+#define PSC_PROXY_COST_VERTEX 837u
+#define PSC_PROXY_COST_TRIANGLE 297u
+#define PSC_PROXY_COST_ROW 455u
+#define PSC_PROXY_COST_PIXEL 680u
 #define PSC_PROXY_COST_FULL_VERTEX 826u
 #define PSC_PROXY_COST_FULL_ROW 553u
 #define PSC_PROXY_COST_SCREEN_PIXEL 3u   /* either level: the frame's clear, a pixel of the screen */

@@ -910,15 +910,11 @@ static PSC_ALWAYS_INLINE uint32_t views_nearest(const view_tex_t vt[3], const ui
 {
     uint32_t cov = 0, arb = 0, ag = 0;
     unsigned bits = 0;
-    for (unsigned k = 0; k < 3; k++) {
-        uint32_t wk = w_q8[k];
-        if (wk == 0)
-            continue;
-        uint32_t c = view_texel(&vt[k], uu[k], vv[k]);
-        if (c == PSC_VIEW_TEXEL_EMPTY)
-            continue;
-        bits |= 1u << k;
-        cov += wk;
+    for (unsigned k = 0; k < 3; k++) {   /* without a branch: an empty texel's lanes are zero */
+        uint32_t wk = w_q8[k], c = view_texel(&vt[k], uu[k], vv[k]);
+        uint32_t filled = c != PSC_VIEW_TEXEL_EMPTY;
+        bits |= filled << k;
+        cov += filled * wk;
         arb += wk * rb_lanes_565(c);
         ag += wk * g_lane_565(c);
     }
@@ -1003,13 +999,15 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
     const uint32_t enough = aa ? 30720u : 32768u;
     const bool relit = st->view_normals[0] != NULL, edges = st->filter == PSC_TEX_EDGES;
     uint32_t written = 0, tested = 0;
-    view_tex_t vt[3] = {{0}};
+    /* a view of no weight reads one empty texel (its coordinates are zeros): the pixel's loop tests nothing */
+    static const uint16_t no_view = PSC_VIEW_TEXEL_EMPTY;
+    view_tex_t vt[3];
     uint32_t w_q8[3];
     for (unsigned k = 0; k < 3; k++) {
         w_q8[k] = st->view_w_q8[k];
-        if (w_q8[k] != 0)
-            vt[k] = (view_tex_t){(const uint8_t *)st->view_tex[k]->pixels, st->view_tex[k]->stride,
-                                 st->view_tex[k]->width, st->view_tex[k]->height};
+        vt[k] = w_q8[k] != 0 ? (view_tex_t){(const uint8_t *)st->view_tex[k]->pixels, st->view_tex[k]->stride,
+                                            st->view_tex[k]->width, st->view_tex[k]->height}
+                             : (view_tex_t){(const uint8_t *)&no_view, 2, 1, 1};
     }
     const int8_t *view_depth = st->view_depth;
     const int64_t depth_side = st->view_depth_side;
@@ -1508,7 +1506,7 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
         view_corners(&s, 2, st->view_w_q8[2], v[0]->u2_q16, v[0]->v2_q16, v[1]->u2_q16, v[1]->v2_q16, v[2]->u2_q16,
                      v[2]->v2_q16);
         s.area2 = area2;
-        s.bw_rcp = (int64_t)((UINT64_C(1) << 60) / (uint64_t)area2);
+        s.bw_rcp = (int64_t)(rcp >> 2);   /* floor(floor(2^62 / a) / 4) = floor(2^60 / a): no second division */
     }
     s.zstep = 0;
     if (st->shade == PSC_SHADE_VIEWS && st->view_depth && st->view_depth_side > 0 && t->depth_step > 0 &&
