@@ -777,22 +777,28 @@ typedef struct {
     uint32_t stride, width, height;
 } view_tex_t;
 
+/* The four texels about (uu, vv) (Q16.16 in [0, 1)): columns x[0..1], rows y[0..1] (clamped to the edge: the borders
+ * are empty anyway) and the second column's and row's weights fx, fy (Q0.8). */
+static PSC_ALWAYS_INLINE void bilinear_texels(const view_tex_t *t, int64_t uu, int64_t vv, uint32_t x[2], uint32_t y[2],
+                                              uint32_t *fx, uint32_t *fy)
+{
+    const int64_t tw = t->width, th = t->height;
+    int64_t tx = (uu * tw >> 8) - 128, ty = (vv * th >> 8) - 128;
+    int64_t ix = tx >> 8, iy = ty >> 8;
+    *fx = (uint32_t)tx & 255u;
+    *fy = (uint32_t)ty & 255u;
+    x[0] = (uint32_t)clamp64(ix, 0, tw - 1), x[1] = (uint32_t)clamp64(ix + 1, 0, tw - 1);
+    y[0] = (uint32_t)clamp64(iy, 0, th - 1), y[1] = (uint32_t)clamp64(iy + 1, 0, th - 1);
+}
+
 /* Add one view's bilinear sample at (uu, vv) (Q16.16 in [0, 1)) with weight w_q8: the non-empty texels' weights
  * (Q0.16 overall) to *cov and weight x channel to acc. */
 static PSC_ALWAYS_INLINE void view_sample(const view_tex_t *t, int64_t uu, int64_t vv, uint32_t w_q8, uint32_t *cov,
                                           uint32_t acc[3])
 {
-    const int64_t tw = t->width, th = t->height;
-    int64_t tx = (uu * tw >> 8) - 128, ty = (vv * th >> 8) - 128;
-    int64_t ix = tx >> 8, iy = ty >> 8;
-    uint32_t wx[2], wy[2];
-    wx[1] = (uint32_t)tx & 255u;
-    wy[1] = (uint32_t)ty & 255u;
-    wx[0] = 256u - wx[1];
-    wy[0] = 256u - wy[1];
-    /* clamp to the edge: the borders are empty anyway */
-    uint32_t x[2] = {(uint32_t)clamp64(ix, 0, tw - 1), (uint32_t)clamp64(ix + 1, 0, tw - 1)};
-    uint32_t y[2] = {(uint32_t)clamp64(iy, 0, th - 1), (uint32_t)clamp64(iy + 1, 0, th - 1)};
+    uint32_t x[2], y[2], fx, fy;
+    bilinear_texels(t, uu, vv, x, y, &fx, &fy);
+    const uint32_t wx[2] = {256u - fx, fx}, wy[2] = {256u - fy, fy};
     for (unsigned j = 0; j < 2; j++) {
         const uint16_t *row = (const uint16_t *)(const void *)(t->pixels + (size_t)y[j] * t->stride);
         for (unsigned i = 0; i < 2; i++) {
@@ -807,6 +813,19 @@ static PSC_ALWAYS_INLINE void view_sample(const view_tex_t *t, int64_t uu, int64
             acc[2] += w * (xrgb & 255u);
         }
     }
+}
+
+/* One view's bilinear coverage alone at (uu, vv) with weight w_q8 (Q0.16): the filled texels' share. */
+static PSC_ALWAYS_INLINE uint32_t view_coverage(const view_tex_t *t, int64_t uu, int64_t vv, uint32_t w_q8)
+{
+    uint32_t x[2], y[2], fx, fy;
+    bilinear_texels(t, uu, vv, x, y, &fx, &fy);
+    const uint16_t *r0 = (const uint16_t *)(const void *)(t->pixels + (size_t)y[0] * t->stride);
+    const uint16_t *r1 = (const uint16_t *)(const void *)(t->pixels + (size_t)y[1] * t->stride);
+    /* Q0.8 a side */
+    uint32_t top = (r0[x[0]] != PSC_VIEW_TEXEL_EMPTY ? 256u - fx : 0u) + (r0[x[1]] != PSC_VIEW_TEXEL_EMPTY ? fx : 0u);
+    uint32_t bottom = (r1[x[0]] != PSC_VIEW_TEXEL_EMPTY ? 256u - fx : 0u) + (r1[x[1]] != PSC_VIEW_TEXEL_EMPTY ? fx : 0u);
+    return ((top * (256u - fy) + bottom * fy) * w_q8 + 128u) >> 8;
 }
 
 /* The texel nearest (uu, vv) (Q16.16 in [0, 1)). */
@@ -924,15 +943,18 @@ static PSC_ALWAYS_INLINE uint32_t views_nearest(const view_tex_t vt[3], const ui
     return cov;
 }
 
-/* A pixel's three views sampled bilinearly at its coordinates (uu[k], vv[k]): the covered weight (Q0.16) in *cov,
- * weight x channel in acc, and the views that cover it as bits. */
+/* A pixel's three views sampled bilinearly at its coordinates (uu[k], vv[k]): the covered weight (Q0.16), returned;
+ * with `colours` weight x channel in acc and the views that cover it as bits, without (a pixel whose nearest
+ * texels are partly empty, their colours already blended) the coverage alone: the silhouette found to a texel's
+ * part. */
 static PSC_ALWAYS_INLINE uint32_t views_bilinear(const view_tex_t vt[3], const uint32_t w_q8[3], const int64_t uu[3],
-                                                 const int64_t vv[3], uint32_t enough, uint32_t acc[3],
-                                                 unsigned *covering)
+                                                 const int64_t vv[3], uint32_t enough, const int colours,
+                                                 uint32_t acc[3], unsigned *covering)
 {
     uint32_t cov = 0, left = 65536u;
     unsigned bits = 0;
-    acc[0] = acc[1] = acc[2] = 0;
+    if (colours)
+        acc[0] = acc[1] = acc[2] = 0;
     for (unsigned k = 0; k < 3; k++) {
         uint32_t wk = w_q8[k];
         /* the heaviest views come first: stop once the rest cannot reach enough */
@@ -941,41 +963,16 @@ static PSC_ALWAYS_INLINE uint32_t views_bilinear(const view_tex_t vt[3], const u
         if (wk == 0)
             continue;
         left -= wk << 8;
-        uint32_t before = cov;
-        view_sample(&vt[k], uu[k], vv[k], wk, &cov, acc);
-        bits |= (cov != before ? 1u : 0u) << k;
+        if (colours) {
+            uint32_t before = cov;
+            view_sample(&vt[k], uu[k], vv[k], wk, &cov, acc);
+            bits |= (cov != before ? 1u : 0u) << k;
+        } else {
+            cov += view_coverage(&vt[k], uu[k], vv[k], wk);
+        }
     }
-    *covering = bits;
-    return cov;
-}
-
-/* The views' bilinear coverage alone (Q0.16), for a pixel whose nearest texels are partly empty: the silhouette
- * found to a texel's part, without blending colours the nearest texels already gave. */
-static PSC_ALWAYS_INLINE uint32_t views_coverage(const view_tex_t vt[3], const uint32_t w_q8[3], const int64_t uu[3],
-                                                 const int64_t vv[3], uint32_t enough)
-{
-    uint32_t cov = 0, left = 65536u;
-    for (unsigned k = 0; k < 3; k++) {
-        uint32_t wk = w_q8[k];
-        if (cov + left < enough)
-            break;
-        if (wk == 0)
-            continue;
-        left -= wk << 8;
-        const view_tex_t *t = &vt[k];
-        const int64_t tw = t->width, th = t->height;
-        int64_t tx = (uu[k] * tw >> 8) - 128, ty = (vv[k] * th >> 8) - 128;
-        int64_t ix = tx >> 8, iy = ty >> 8;
-        uint32_t fx = (uint32_t)tx & 255u, fy = (uint32_t)ty & 255u;
-        uint32_t x0 = (uint32_t)clamp64(ix, 0, tw - 1), x1 = (uint32_t)clamp64(ix + 1, 0, tw - 1);
-        uint32_t y0 = (uint32_t)clamp64(iy, 0, th - 1), y1 = (uint32_t)clamp64(iy + 1, 0, th - 1);
-        const uint16_t *r0 = (const uint16_t *)(const void *)(t->pixels + (size_t)y0 * t->stride);
-        const uint16_t *r1 = (const uint16_t *)(const void *)(t->pixels + (size_t)y1 * t->stride);
-        /* the filled texels' share of the pixel, Q0.8 a side */
-        uint32_t top = (r0[x0] != PSC_VIEW_TEXEL_EMPTY ? 256u - fx : 0u) + (r0[x1] != PSC_VIEW_TEXEL_EMPTY ? fx : 0u);
-        uint32_t bottom = (r1[x0] != PSC_VIEW_TEXEL_EMPTY ? 256u - fx : 0u) + (r1[x1] != PSC_VIEW_TEXEL_EMPTY ? fx : 0u);
-        cov += ((top * (256u - fy) + bottom * fy) * wk + 128u) >> 8;
-    }
+    if (colours)
+        *covering = bits;
     return cov;
 }
 
@@ -1103,13 +1100,13 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                         if (cov == 65536u)   /* every texel there: the weights sum to one, no division */
                             full = ((rb + 0x800080u) >> 8 & 0xFF00FFu) | ((g + 128u) & 0xFF00u);
                         else if (edges && cov != 0)   /* an empty texel: an edge, found to a texel's part */
-                            cov = views_coverage(vt, w_q8, uu, vv, enough);
+                            cov = views_bilinear(vt, w_q8, uu, vv, enough, 0, acc, &covering);
                         acc[0] = (rb >> 16) << 8;
                         acc[1] = g << 8;
                         acc[2] = (rb & 0xFFFFu) << 8;
                     }
                     if (!nearest)   /* (with edges: no nearest texel there, the bilinear ones give the colour) */
-                        cov = tint = views_bilinear(vt, w_q8, uu, vv, enough, acc, &covering);
+                        cov = tint = views_bilinear(vt, w_q8, uu, vv, enough, 1, acc, &covering);
                     if (aa) { /* alpha to coverage, ramped 16x steeper about the alpha test's one half */
                         int32_t ramp = ((int32_t)cov - 32768) * 16 + 32768;
                         ramp = ramp < 0 ? 0 : ramp > 65536 ? 65536 : ramp;
