@@ -197,6 +197,43 @@ static void test_rsqrt(void **state)
     print_message("  psc_rsqrt46 over 64-bit values: worst relative error %.2e\n", worst46);
 }
 
+/* psc_unit3_q16 against the double-precision direction: random vectors of every magnitude up to the 64-bit
+ * limits (INT64_MIN included), each component within 1.5 units of Q16.16 (the scaling's dropped bits and rsqrt46's
+ * 2^-16 together), zero kept zero. */
+static void test_unit3(void **state)
+{
+    (void)state;
+    tsup_rng_t rng;
+    tsup_rng_seed(&rng, 33);
+    int32_t out[3];
+    const int64_t zero[3] = {0, 0, 0};
+    psc_unit3_q16(zero, out);
+    assert_true(out[0] == 0 && out[1] == 0 && out[2] == 0);
+    double worst = 0;
+    for (int i = 0; i < 300000; i++) {
+        int64_t v[3];
+        unsigned bits = 1 + tsup_rng_below(&rng, 63);
+        for (unsigned a = 0; a < 3; a++) {
+            uint64_t m = tsup_rng_u64(&rng) >> (64 - bits);
+            v[a] = tsup_rng_below(&rng, 2) ? -(int64_t)(m >> 1) : (int64_t)(m >> 1);
+        }
+        if (i < 8)   /* the limits */
+            v[i % 3] = i < 4 ? INT64_MIN : INT64_MAX;
+        long double len = sqrtl((long double)v[0] * v[0] + (long double)v[1] * v[1] + (long double)v[2] * v[2]);
+        if (len == 0)
+            continue;
+        psc_unit3_q16(v, out);
+        for (unsigned a = 0; a < 3; a++) {
+            double err = fabs((double)((long double)v[a] / len * 65536.0L) - out[a]);
+            worst = err > worst ? err : worst;
+            if (err > 1.5)
+                fail_msg("psc_unit3_q16(%lld, %lld, %lld)[%u] = %d", (long long)v[0], (long long)v[1],
+                         (long long)v[2], a, out[a]);
+        }
+    }
+    print_message("  psc_unit3_q16: worst component error %.2f units of Q16.16\n", worst);
+}
+
 /* psc_mul_rcp62 against a 128-bit product, rounded half away from zero. */
 static void test_mul_rcp62(void **state)
 {
@@ -619,6 +656,7 @@ int main(void)
         cmocka_unit_test(test_isqrt_exhaustive_small),
         cmocka_unit_test(test_isqrt_limits_and_random),
         cmocka_unit_test(test_rsqrt),
+        cmocka_unit_test(test_unit3),
         cmocka_unit_test(test_mul_rcp62),
         cmocka_unit_test(test_div_round),
         cmocka_unit_test(test_sincos),

@@ -273,3 +273,25 @@ uint32_t psc_rsqrt_q30(uint32_t x)
         return UINT32_MAX;
     return (uint32_t)((psc_rsqrt46(x) + 32768u) >> 16); /* 2^46 / sqrt(x) <= 2^46: 2^30 / sqrt(x) fits */
 }
+
+void psc_unit3_q16(const int64_t v[3], int32_t out[3])
+{
+    uint64_t m = 0;
+    for (unsigned a = 0; a < 3; a++) {
+        uint64_t x = v[a] < 0 ? 0u - (uint64_t)v[a] : (uint64_t)v[a];
+        m = x > m ? x : m;
+    }
+    unsigned sh = 0;
+    while ((m >> sh) >= (UINT64_C(1) << 30))
+        sh++;
+    int64_t s[3];
+    uint64_t len2 = 0;   /* three squares under 2^60 */
+    for (unsigned a = 0; a < 3; a++) {
+        s[a] = v[a] >> sh;
+        len2 += (uint64_t)(s[a] * s[a]);
+    }
+    /* |s[a]| x 2^46 / |s| <= 2^46 */
+    uint64_t inv = len2 != 0 ? psc_rsqrt46(len2) : 0;
+    for (unsigned a = 0; a < 3; a++)
+        out[a] = (int32_t)psc_shr_round64(s[a] * (int64_t)inv, 30);
+}

@@ -73,6 +73,12 @@ uint64_t psc_rsqrt46(uint64_t v);
 /** 2^30 / sqrt(x), rounded (relative error below 2^-16; UINT32_MAX for 0): renormalising a normal a pixel. */
 uint32_t psc_rsqrt_q30(uint32_t x);
 
+/**
+ * v / |v| in Q16.16 for any 64-bit components (zero stays zero), within 2^-16 of it: v scaled below 2^30, then
+ * times psc_rsqrt46 of its squared length (no division; a direction found every frame).
+ */
+void psc_unit3_q16(const int64_t v[3], int32_t out[3]);
+
 /** Signed division of 64-bit values rounded to nearest (ties away from zero); d != 0
  * and the quotient must fit (not INT64_MIN / -1). */
 int64_t psc_div_round64(int64_t n, int64_t d);

@@ -174,29 +174,6 @@ static void skin_points(const psc_mat4_q16_t *skin, const int32_t *pos, const ps
     }
 }
 
-/* v scaled to unit length, Q16.16 (zero stays zero). */
-static void unit_q16(const int64_t v[3], int32_t out[3])
-{
-    int64_t m = 0;
-    for (unsigned a = 0; a < 3; a++) {
-        int64_t x = v[a] < 0 ? -v[a] : v[a];
-        if (x > m)
-            m = x;
-    }
-    unsigned sh = 0;
-    while ((m >> sh) >= (INT64_C(1) << 30))
-        sh++;
-    int64_t s[3], len2 = 0;
-    for (unsigned a = 0; a < 3; a++) {
-        s[a] = v[a] >> sh;
-        len2 += s[a] * s[a];
-    }
-    /* s / |s| in Q16.16 as s x (2^46 / |s|) >> 30 (within 2^-17 of it): |s[a]| x that <= 2^46, no division */
-    uint64_t inv = len2 != 0 ? psc_rsqrt46((uint64_t)len2) : 0;
-    for (unsigned a = 0; a < 3; a++)
-        out[a] = (int32_t)psc_shr_round64(s[a] * (int64_t)inv, 30);
-}
-
 /* Each joint strip's bones and their weights summed over its vertices (what its M3 blends: a sum of products is
  * the product of the sums, so a frame adds a few matrices instead of every vertex's). At most 65 535 vertices of
  * 32 768 each: a sum stays within 2^31. */
@@ -241,7 +218,7 @@ static void strip_m3(const psc_mat4_q16_t *skin, const psc_proxy_bone_t *bone, u
     int64_t c0[3] = {acc[0][0], acc[1][0], acc[2][0]}, c1[3] = {acc[0][1], acc[1][1], acc[2][1]}, x[3];
     int32_t u[3], w[3], v[3];
     psc_mat4_identity(m3);
-    unit_q16(c0, u);
+    psc_unit3_q16(c0, u);
     if (u[0] == 0 && u[1] == 0 && u[2] == 0)
         return;   /* no weight at all: the rest */
     /* scaled so the cross product stays in range (its direction is all that is used) */
@@ -249,7 +226,7 @@ static void strip_m3(const psc_mat4_q16_t *skin, const psc_proxy_bone_t *bone, u
     x[0] = u[1] * n1[2] - u[2] * n1[1];
     x[1] = u[2] * n1[0] - u[0] * n1[2];
     x[2] = u[0] * n1[1] - u[1] * n1[0];
-    unit_q16(x, w);
+    psc_unit3_q16(x, w);
     /* w and u are unit and at right angles: their cross product is unit already */
     x[0] = (int64_t)w[1] * u[2] - (int64_t)w[2] * u[1];
     x[1] = (int64_t)w[2] * u[0] - (int64_t)w[0] * u[2];
@@ -278,7 +255,7 @@ psc_status_t psc_proxy_set_light(psc_proxy_t *p, const int32_t *toward_q16, uint
     int64_t v[3] = {toward_q16[0], toward_q16[1], toward_q16[2]};
     if ((v[0] | v[1] | v[2]) == 0 || ambient_q14 > 16384)
         return PSC_ERR_ARG;
-    unit_q16(v, p->light_q16);
+    psc_unit3_q16(v, p->light_q16);
     p->ambient_q14 = ambient_q14;
     p->relit = true;
     return PSC_OK;
@@ -292,7 +269,7 @@ static void light_in_q14(const psc_proxy_t *p, const psc_mat4_q16_t *m, int32_t 
     for (unsigned c = 0; c < 3; c++)
         v[c] = (int64_t)m->m[0][c] * p->light_q16[0] + (int64_t)m->m[1][c] * p->light_q16[1] +
                (int64_t)m->m[2][c] * p->light_q16[2];
-    unit_q16(v, u);
+    psc_unit3_q16(v, u);
     for (unsigned a = 0; a < 3; a++)
         out[a] = psc_shr_round32(u[a], 2);
 }
@@ -333,7 +310,7 @@ static void relight_piece(const psc_proxy_t *p, const psc_proxy_part_raw_t *pr, 
                 for (unsigned a = 0; a < 3; a++)
                     l[a] += (int64_t)jl[a] * sk[i].weight_q15[k];
             }
-            unit_q16(l, u);
+            psc_unit3_q16(l, u);
             for (unsigned a = 0; a < 3; a++)
                 now.toward_q14[a] = (int16_t)psc_shr_round32(u[a], 2);
         }

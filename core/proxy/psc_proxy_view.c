@@ -120,21 +120,11 @@ psc_status_t psc_proxy_view_pick(unsigned side, const int32_t d[3], psc_proxy_pi
 
 void psc_proxy_view_for_part(const int32_t ds[3], const psc_mat4_q16_t *m1, const psc_mat4_q16_t *m2, int32_t dr[3])
 {
-    /* unit first, so that the two products stay in 64 bits: t = R1^T ds (Q32), dr = R2^T t (Q48), rounded once.
-     * Unit as ds x (2^46 / |ds|) >> 30, within 2^-17 (a part's every draw: no division); ds halved where a square
-     * could pass 2^62. */
-    int64_t d[3] = {ds[0], ds[1], ds[2]}, t[3];
-    unsigned sh = 0;
-    for (unsigned a = 0; a < 3; a++)
-        sh |= d[a] >= (INT64_C(1) << 30) || d[a] <= -(INT64_C(1) << 30);
-    uint64_t len2 = 0;
-    for (unsigned a = 0; a < 3; a++) {
-        d[a] >>= sh;
-        len2 += (uint64_t)(d[a] * d[a]);
-    }
-    uint64_t inv = len2 != 0 ? psc_rsqrt46(len2) : 0;
-    for (unsigned a = 0; a < 3; a++)
-        d[a] = psc_shr_round64(d[a] * (int64_t)inv, 30);
+    /* unit first, so that the two products stay in 64 bits: t = R1^T ds (Q32), dr = R2^T t (Q48), rounded once */
+    const int64_t v[3] = {ds[0], ds[1], ds[2]};
+    int32_t n[3];
+    psc_unit3_q16(v, n);   /* a part's every draw: no division */
+    int64_t d[3] = {n[0], n[1], n[2]}, t[3];
     for (unsigned r = 0; r < 3; r++)
         t[r] = (int64_t)m1->m[0][r] * d[0] + (int64_t)m1->m[1][r] * d[1] + (int64_t)m1->m[2][r] * d[2];
     for (unsigned r = 0; r < 3; r++)
