@@ -1012,9 +1012,9 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
     uint8_t *srow = (uint8_t *)t->surface->pixels + (size_t)s->py0 * t->surface->stride;
     uint8_t *zrow = zbits ? (uint8_t *)t->depth + (size_t)(s->py0 - t->y0) * t->depth_stride : 0;
 
-    /* A proxy's triangles are often slivers a pixel or two wide: most of their rows hold no pixel centre. The
-     * planes are therefore evaluated where a row's run starts (the same sums, modulo 2^64, as a step a pixel and a
-     * row), not carried row to row. */
+    /* A proxy's triangles are often slivers a pixel or two wide: most of their rows hold no pixel centre. The depth
+     * plane and the edges are therefore evaluated where a row's run starts (the same sums, modulo 2^64, as a step a
+     * pixel and a row), not carried row to row. */
     for (int32_t y = s->py0; y <= s->py1; y++, e0r += s->ey[0], e1r += s->ey[1], e2r += s->ey[2],
                  srow += t->surface->stride, zrow = zbits ? zrow + t->depth_stride : zrow) {
         int64_t e0 = e0r, e1 = e1r, e2 = e2r;
@@ -1067,15 +1067,12 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                 int64_t b2 = (w2 * s->bw_rcp + (INT64_C(1) << 43)) >> 44;
                 /* the heaviest view's coordinates first: its depth offset moves the depth tested */
                 int64_t uu[3], vv[3];
-                const bool offsets = zbits && s->zstep != 0;
-                if (offsets || !zbits)
-                    persp_weights(s, affine, &b1, &b2);
-                if (offsets)
-                    view_uv(s, 0, b1, b2, &uu[0], &vv[0]);
+                persp_weights(s, affine, &b1, &b2);
+                view_uv(s, 0, b1, b2, &uu[0], &vv[0]);
                 if (zbits) {
                     tested++;
                     int64_t zz = plane_value(pd, DEPTH_F);
-                    if (offsets)   /* the surface's depth: the proxy's and the heaviest view's offset */
+                    if (s->zstep != 0)   /* the surface's depth: the proxy's and the heaviest view's offset */
                         zz += view_depth_at(view_depth, depth_side, uu[0], vv[0]) * s->zstep;
                     z = (uint32_t)clamp64(zz, 0, INT64_C(0xFFFFFFFF));
                     limit = zbits == 16 ? (uint32_t)((uint16_t *)(void *)zrow)[x - t->x0] << 16
@@ -1083,10 +1080,6 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                     draw = zbits == 16 ? (z >> 16) < (limit >> 16) : z < limit;
                 }
                 if (draw) {
-                    if (!offsets && zbits)
-                        persp_weights(s, affine, &b1, &b2);
-                    if (!offsets)
-                        view_uv(s, 0, b1, b2, &uu[0], &vv[0]);
                     view_uv(s, 1, b1, b2, &uu[1], &vv[1]);
                     view_uv(s, 2, b1, b2, &uu[2], &vv[2]);
                     /* cov: the pixel's coverage; the colour is acc / tint (weights Q0.16) */
