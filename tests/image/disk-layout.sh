@@ -12,7 +12,7 @@
 #   - bootcode.bin (Pi 1-3), start.elf/fixup.dat (Pi 1-3), start4.elf/fixup4.dat (Pi 4);
 #   - config.txt: upstream_kernel=1, arm_64bit=1 exactly on arm64 boards, kernel=
 #     and initramfs; cmdline.txt one line without console= (the device tree's
-#     stdout-path is the console);
+#     stdout-path is the console), with periscope.boot=disk (as the EFI entry);
 #   - every `image.dtbs` pattern of the board matched by a device tree that
 #     starts with the FDT magic (d00dfeed);
 #   efi (image.disk = efi):
@@ -72,6 +72,7 @@ raspi)
     initrd=$(sed -n 's/^initramfs \([^ ]*\).*/\1/p' "$cfg")
     [ "$(wc -l <"$tmp/cmdline.txt")" = 1 ] || fail "cmdline.txt is not one line"
     ! grep -q 'console=' "$tmp/cmdline.txt" || fail "cmdline.txt names a console (the device tree's stdout-path should)"
+    grep -q 'periscope\.boot=disk' "$tmp/cmdline.txt" || fail "cmdline.txt lacks periscope.boot=disk (/init would give up on a slow card)"
     # device trees: each pattern matched, each file a flattened device tree
     mdir -b -i "$fat" :: 2>/dev/null | sed 's|^::/||' >"$tmp/files"
     dtbs=0
@@ -103,6 +104,7 @@ efi)
     get "loader/entries/$entry" entry.conf
     kernel=$(sed -n 's|^linux[[:space:]]*/*||p' "$tmp/entry.conf")
     initrd=$(sed -n 's|^initrd[[:space:]]*/*||p' "$tmp/entry.conf")
+    grep -q '^options.*periscope\.boot=disk' "$tmp/entry.conf" || fail "loader/entries/$entry lacks periscope.boot=disk (/init would give up on a slow stick)"
     what="GPT, EFI system partition at 4 MiB; systemd-boot as EFI/BOOT/$efi, entry $entry"
     ;;
 *) fail "boards/$board/board.conf: image.disk is '$disk_kind', neither raspi nor efi" ;;
