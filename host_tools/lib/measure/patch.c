@@ -201,6 +201,18 @@ static double to_triangle(const double x[3], const psc_patch_vtx_t *vt, const ui
     return point_triangle(x, a, b, c);
 }
 
+/* the face's triangles in order along one axis, for the search below */
+typedef struct {
+    double key;                  /* the bounding sphere's centre on the axis */
+    uint32_t t;
+} tri_key_t;
+
+static int key_cmp(const void *x, const void *y)
+{
+    double a = ((const tri_key_t *)x)->key, b = ((const tri_key_t *)y)->key;
+    return (a > b) - (a < b);
+}
+
 double psc_measure_chord_points(const psc_patch_t *p, uint32_t f, const double (*pts)[3], size_t n)
 {
     const psc_patch_vtx_t *vt;
@@ -212,15 +224,28 @@ double psc_measure_chord_points(const psc_patch_t *p, uint32_t f, const double (
     if (tn == 0)
         return 0.0;
     /* each triangle's bounding sphere (centroid, farthest corner): |x - c| - r bounds the distance from below, so
-     * most triangles are passed over without the exact test */
+     * most triangles are passed over without the exact test; and the spheres sorted along the axis their centres
+     * spread most on, so that a point looks only at those whose centre lies within (best + largest radius) of it
+     * on that axis, not at every triangle of the patch (a fine tessellation has thousands) */
     double (*sphere)[4] = malloc(tn * sizeof *sphere);
+    tri_key_t *order = malloc(tn * sizeof *order);
+    if (sphere == NULL || order == NULL) {
+        free(sphere);
+        free(order);
+        sphere = NULL;
+        order = NULL;
+    }
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, rmax = 0;
     for (uint32_t t = 0; sphere && t < tn; t++) {
         double v[3][3];
         for (unsigned k = 0; k < 3; k++)
             to_d(vt[ix[3 * t + k]].p, v[k]);
         double r2 = 0;
-        for (unsigned a = 0; a < 3; a++)
+        for (unsigned a = 0; a < 3; a++) {
             sphere[t][a] = (v[0][a] + v[1][a] + v[2][a]) / 3;
+            lo[a] = fmin(lo[a], sphere[t][a]);
+            hi[a] = fmax(hi[a], sphere[t][a]);
+        }
         for (unsigned k = 0; k < 3; k++) {
             double d2 = 0;
             for (unsigned a = 0; a < 3; a++)
@@ -228,28 +253,82 @@ double psc_measure_chord_points(const psc_patch_t *p, uint32_t f, const double (
             r2 = fmax(r2, d2);
         }
         sphere[t][3] = sqrt(r2);
+        rmax = fmax(rmax, sphere[t][3]);
+    }
+    unsigned axis = 0;
+    if (order) {
+        for (unsigned a = 1; a < 3; a++)
+            if (hi[a] - lo[a] > hi[axis] - lo[axis])
+                axis = a;
+        for (uint32_t t = 0; t < tn; t++)
+            order[t] = (tri_key_t){sphere[t][axis], t};
+        qsort(order, tn, sizeof *order, key_cmp);
     }
     for (size_t i = 0; i < n; i++) {
         /* the triangle nearest the last point first (the points come in rows): once a triangle is no further
          * than the worst so far, this point cannot raise the maximum, and the search stops */
         double best = to_triangle(pts[i], vt, ix, near);
-        for (uint32_t t = 0; t < tn && best > worst; t++) {
-            if (sphere) {
+        if (order == NULL) {
+            for (uint32_t t = 0; t < tn && best > worst; t++) {
+                double d = to_triangle(pts[i], vt, ix, t);
+                if (d < best) {
+                    best = d;
+                    near = t;
+                }
+            }
+            worst = best > worst ? best : worst;
+            continue;
+        }
+        /* outward from the point's place on the axis, both ways, while a centre can still be near enough */
+        double x = pts[i][axis];
+        uint32_t lo_i = 0, hi_i = tn;
+        while (lo_i < hi_i) {
+            uint32_t mid = lo_i + (hi_i - lo_i) / 2;
+            if (order[mid].key < x)
+                lo_i = mid + 1;
+            else
+                hi_i = mid;
+        }
+        uint32_t up = lo_i, down = lo_i;
+        int up_open = up < tn, down_open = down > 0;
+        while (best > worst && (up_open || down_open)) {
+            for (int side = 0; side < 2; side++) {
+                uint32_t t;
+                if (side == 0) {
+                    if (!up_open)
+                        continue;
+                    if (order[up].key - x >= best + rmax) {
+                        up_open = 0;
+                        continue;
+                    }
+                    t = order[up].t;
+                    up_open = ++up < tn;
+                } else {
+                    if (!down_open)
+                        continue;
+                    if (x - order[down - 1].key >= best + rmax) {
+                        down_open = 0;
+                        continue;
+                    }
+                    t = order[--down].t;
+                    down_open = down > 0;
+                }
                 double d2 = 0, reach = best + sphere[t][3];
                 for (unsigned a = 0; a < 3; a++)
                     d2 += (pts[i][a] - sphere[t][a]) * (pts[i][a] - sphere[t][a]);
                 if (d2 >= reach * reach)
                     continue;
-            }
-            double d = to_triangle(pts[i], vt, ix, t);
-            if (d < best) {
-                best = d;
-                near = t;
+                double d = to_triangle(pts[i], vt, ix, t);
+                if (d < best) {
+                    best = d;
+                    near = t;
+                }
             }
         }
         worst = best > worst ? best : worst;
     }
     free(sphere);
+    free(order);
     return worst;
 }
 

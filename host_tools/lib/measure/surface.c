@@ -85,20 +85,27 @@ static void dhalve(const dcurve_t c[4], unsigned i0, unsigned i1, unsigned j0, u
     }
 }
 
+/* the room a quad halved depth times each way takes */
+static size_t quad_vertices(unsigned depth)
+{
+    size_t n = ((size_t)1 << depth) + 1u;
+    return n * n;
+}
+
+static size_t quad_triangles(unsigned depth)
+{
+    size_t n = (size_t)1 << depth;
+    return 2u * n * n;
+}
+
+/* into the room psc_measure_surface_build set aside for every quad at once (growing the arrays quad by quad
+ * copied them once a patch: quadratic in the model's size) */
 static int add_quad(psc_measure_surface_t *r, const dcurve_t q[4], unsigned depth)
 {
     unsigned n = (1u << depth) + 1u;
     grid_t g = {malloc((size_t)n * n * sizeof *g.grid), n};
-    void *pv = realloc(r->pos, (r->vertex_count + (size_t)n * n) * sizeof *r->pos);
-    if (pv)
-        r->pos = pv;
-    void *pt = realloc(r->tri, (r->triangle_count + 2u * (n - 1u) * (n - 1u)) * sizeof *r->tri);
-    if (pt)
-        r->tri = pt;
-    if (!g.grid || !pv || !pt) {
-        free(g.grid);
+    if (!g.grid)
         return -1;
-    }
     dhalve(q, 0, n - 1u, 0, n - 1u, &g);
     uint32_t base = (uint32_t)r->vertex_count;
     memcpy(r->pos + r->vertex_count, g.grid, (size_t)n * n * sizeof *g.grid);
@@ -119,9 +126,22 @@ int psc_measure_surface_build(const psc_patch_t *p, unsigned depth, psc_measure_
     const psc_patch_model_t *m = p->m;
 
     memset(out, 0, sizeof *out);
-    out->face_first = malloc((m->face_count + 1u) * sizeof *out->face_first);
-    if (out->face_first == NULL)
+    if (depth < 1u || depth > 12u)   /* an n-sided patch's quads are one halving less; 2^12 a side is plenty */
         return -1;
+    /* a four-sided patch is one quad halved depth times; an n-sided one n quads halved depth - 1 times */
+    size_t vertices = 0, triangles = 0;
+    for (uint32_t fi = 0; fi < m->face_count; fi++) {
+        unsigned n = m->faces[fi].sides;
+        vertices += n == 4 ? quad_vertices(depth) : n * quad_vertices(depth - 1u);
+        triangles += n == 4 ? quad_triangles(depth) : n * quad_triangles(depth - 1u);
+    }
+    out->face_first = malloc((m->face_count + 1u) * sizeof *out->face_first);
+    out->pos = malloc((vertices ? vertices : 1u) * sizeof *out->pos);
+    out->tri = malloc((triangles ? triangles : 1u) * sizeof *out->tri);
+    if (out->face_first == NULL || out->pos == NULL || out->tri == NULL) {
+        psc_measure_surface_free(out);
+        return -1;
+    }
     for (uint32_t fi = 0; fi < m->face_count; fi++) {
         const psc_patch_face_t *f = &m->faces[fi];
         out->face_first[fi] = out->vertex_count;

@@ -28,8 +28,8 @@ typedef struct {
     size_t *face_first;          /* face f's vertices: pos[face_first[f] .. face_first[f + 1]) */
 } psc_measure_surface_t;
 
-/** The surface of p's current pose (after psc_patch_tangents), quads halved depth times each way. 0, or -1
- *  out of memory (out freed). */
+/** The surface of p's current pose (after psc_patch_tangents), quads halved depth (1..12) times each way. 0, or -1
+ *  out of memory or a depth out of range (out freed). */
 int psc_measure_surface_build(const psc_patch_t *p, unsigned depth, psc_measure_surface_t *out);
 void psc_measure_surface_free(psc_measure_surface_t *s);
 
