@@ -673,6 +673,14 @@ static double pick_sides(const psc_proxy_shape_t *shapes, uint32_t n, unsigned v
     return lo;
 }
 
+/* The view textures' budget for a grid of side x side views: tex_budget, and no more than leaves the pack within
+ * pack bytes once rest (all but the textures and the proxies' coordinates) and the coordinates (four bytes a proxy
+ * vertex a view) are in; at least 0.25 MB. */
+static double grid_budget(double tex_budget, double pack, double rest, size_t proxy_vertices, unsigned side)
+{
+    return fmax(fmin(tex_budget, pack - rest - (double)proxy_vertices * side * side * 4.0), 0.25 * 1048576.0);
+}
+
 /* A 3x4 model-space matrix in units of R from the centre: S'(x) = (S(x R + c) - c) / R. */
 static void mat_to_r(const double s[12], const double c[3], double r, bool point_map, int32_t out[12])
 {
@@ -808,21 +816,32 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     /* the textures' budget: --tex-mb, and no more than leaves the whole pack within --pack-mb (the full mesh, the
      * proxies and their coordinates, a set a view, come first) */
     const bool normals = !o->no_normals;
-    double budget = (o->tex_mb > 0 ? o->tex_mb : PSC_BAKE_PROXY_TEX_MB) * 1048576.0;
-    {
-        double rest = 4096.0 + (double)pk.parts.n + pk.vpos.n + pk.vcol.n + pk.vskin.n + pk.idx.n + pk.ppos.n +
-                      pk.pskin.n + pk.pidx.n + (double)pk.pvertices * side * side * 4.0 + g->joint_count * 100.0 +
-                      (g->duration > 0 ? (ceil(g->duration * PSC_BAKE_PROXY_FPS) + 1.0) * g->joint_count * 48.0 : 0) +
-                      PSC_BAKE_PROXY_BB_SIDE * PSC_BAKE_PROXY_BB_SIDE * (PSC_BAKE_PROXY_BB_TEX * PSC_BAKE_PROXY_BB_TEX * 2.5 + 24.0) +
-                      (normals ? pk.vnrm.n : 0);
-        double pack = (o->pack_mb > 0 ? o->pack_mb : PSC_BAKE_PROXY_PACK_MB) * 1048576.0;
-        budget = fmax(fmin(budget, pack - rest), 0.25 * 1048576.0);
-    }
+    const double tex_budget = (o->tex_mb > 0 ? o->tex_mb : PSC_BAKE_PROXY_TEX_MB) * 1048576.0;
+    const double pack = (o->pack_mb > 0 ? o->pack_mb : PSC_BAKE_PROXY_PACK_MB) * 1048576.0;
+    const double rest = 4096.0 + (double)pk.parts.n + pk.vpos.n + pk.vcol.n + pk.vskin.n + pk.idx.n + pk.ppos.n +
+                        pk.pskin.n + pk.pidx.n + g->joint_count * 100.0 +
+                        (g->duration > 0 ? (ceil(g->duration * PSC_BAKE_PROXY_FPS) + 1.0) * g->joint_count * 48.0 : 0) +
+                        PSC_BAKE_PROXY_BB_SIDE * PSC_BAKE_PROXY_BB_SIDE * (PSC_BAKE_PROXY_BB_TEX * PSC_BAKE_PROXY_BB_TEX * 2.5 + 24.0) +
+                        (normals ? pk.vnrm.n : 0);
     if (!(sides = malloc((nshapes + 1u) * sizeof *sides))) {
         psc_io_errorf(err, errlen, name, "out of memory");
         goto done;
     }
-    density = pick_sides(shapes, nshapes, side * side, normals, budget, o->tex, sides);
+    /* "at least K" views: the smallest grid that gives them, or the next while it holds the same texel density and
+     * no more than 2 K views (closer views blend less ghosting where a proxy cuts across a crease: the truck's
+     * windscreen under its hood, 23.2 dB at its worst view with 81 views, 24.7 with 121 at the same density) */
+    for (;;) {
+        density = pick_sides(shapes, nshapes, side * side, normals,
+                             grid_budget(tex_budget, pack, rest, pk.pvertices, side), o->tex, sides);
+        unsigned next = side + 2u;
+        if (next > 63u || next * next > 2u * o->views ||
+            pick_sides(shapes, nshapes, next * next, normals, grid_budget(tex_budget, pack, rest, pk.pvertices, next),
+                       o->tex, sides) < density)
+            break;
+        side = next;
+    }
+    density = pick_sides(shapes, nshapes, side * side, normals,
+                         grid_budget(tex_budget, pack, rest, pk.pvertices, side), o->tex, sides);
     for (uint32_t k = 0; k < nshapes; k++) {
         unsigned nn = 0, ts = sides[k];
         size_t chain;

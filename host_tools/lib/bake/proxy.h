@@ -57,7 +57,8 @@
 #define PSC_BAKE_PROXY_RIGID_FLOOR 2000.0   /*      or this many triangles if more: a light model loses nothing) */
 
 typedef struct {
-    unsigned views;                  /* at least this many: the grid side is the smallest odd one that gives them */
+    unsigned views;                  /* at least this many: the smallest odd grid side that gives them, or the next
+                                      * ones while the texel density holds and the views stay within twice this */
     unsigned tex;                    /* the largest view texture's side, a power of two */
     double simplify;                 /* the largest share of the model's triangles the proxies keep (0: the default) */
     double tex_mb;                   /* the view textures' budget in MB (0: the default) */
