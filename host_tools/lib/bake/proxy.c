@@ -813,8 +813,7 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
         psc_io_errorf(err, errlen, name, "out of memory");
         goto done;
     }
-    /* the textures' budget: --tex-mb, and no more than leaves the whole pack within --pack-mb (the full mesh, the
-     * proxies and their coordinates, a set a view, come first) */
+    /* the textures' budget: --tex-mb, and no more than leaves the whole pack within --pack-mb (grid_budget) */
     const bool normals = !o->no_normals;
     const double tex_budget = (o->tex_mb > 0 ? o->tex_mb : PSC_BAKE_PROXY_TEX_MB) * 1048576.0;
     const double pack = (o->pack_mb > 0 ? o->pack_mb : PSC_BAKE_PROXY_PACK_MB) * 1048576.0;
@@ -830,18 +829,21 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     /* "at least K" views: the smallest grid that gives them, or the next while it holds the same texel density and
      * no more than 2 K views (closer views blend less ghosting where a proxy cuts across a crease: the truck's
      * windscreen under its hood, 23.2 dB at its worst view with 81 views, 24.7 with 121 at the same density) */
-    for (;;) {
-        density = pick_sides(shapes, nshapes, side * side, normals,
-                             grid_budget(tex_budget, pack, rest, pk.pvertices, side), o->tex, sides);
-        unsigned next = side + 2u;
-        if (next > 63u || next * next > 2u * o->views ||
-            pick_sides(shapes, nshapes, next * next, normals, grid_budget(tex_budget, pack, rest, pk.pvertices, next),
-                       o->tex, sides) < density)
-            break;
-        side = next;
-    }
     density = pick_sides(shapes, nshapes, side * side, normals,
                          grid_budget(tex_budget, pack, rest, pk.pvertices, side), o->tex, sides);
+    unsigned tried = side;
+    for (unsigned next = side + 2u; next <= 63u && next * next <= 2u * o->views; next += 2u) {
+        tried = next;
+        double d = pick_sides(shapes, nshapes, next * next, normals,
+                              grid_budget(tex_budget, pack, rest, pk.pvertices, next), o->tex, sides);
+        if (d < density)
+            break;
+        side = next;
+        density = d;
+    }
+    if (tried != side)   /* sides holds the grid tried last, not the one kept */
+        pick_sides(shapes, nshapes, side * side, normals, grid_budget(tex_budget, pack, rest, pk.pvertices, side),
+                   o->tex, sides);
     for (uint32_t k = 0; k < nshapes; k++) {
         unsigned nn = 0, ts = sides[k];
         size_t chain;
