@@ -625,7 +625,7 @@ static quality_t measure(fixture_t *f, const shot_t *s, const char *name)
         for (unsigned i = 0; i < W * H; i++)
             ib[i] = ib[i] & 0xFFFFu ? 1u : 0u, ia[i] = ia[i] & 0xFFFFu ? 1u : 0u;
     quality_t q = compare(&f->m, a, ia, b, ib);
-    if (getenv("PSC_PROXY_SAVE")) {   /* the frames, to look at: proxies over the full mesh */
+    if (getenv("PSC_PROXY_SAVE")) {   /* the frames, to look at: proxies, reference, own full mesh */
         char path[96];
         static int shot;
         psc_surface_t sa = {W, H, W * 4, PSC_PIX_XRGB8888, a}, sb = {W, H, W * 4, PSC_PIX_XRGB8888, b};
@@ -633,6 +633,9 @@ static quality_t measure(fixture_t *f, const shot_t *s, const char *name)
         tsup_save_png(&sa, path);
         snprintf(path, sizeof path, "proxy-%s-%d-full.png", name, shot);
         tsup_save_png(&sb, path);
+        psc_surface_t sc = {W, H, W * 4, PSC_PIX_XRGB8888, c};
+        snprintf(path, sizeof path, "proxy-%s-%d-own.png", name, shot);
+        tsup_save_png(&sc, path);
         static uint32_t diff[W * H];   /* both grey, the proxies' alone red, the full mesh's alone blue */
         for (unsigned i = 0; i < W * H; i++) {
             bool pa = (ia[i] & 0xFFFFu) != 0, pb = (ib[i] & 0xFFFFu) != 0;
@@ -1788,5 +1791,7 @@ int main(void)
         cmocka_unit_test(test_normals_sections),
         cmocka_unit_test(test_pack_fuzz),
     };
+    if (getenv("PSC_PROXY_ONLY"))   /* one test while working on it, e.g. test_human_quality */
+        cmocka_set_test_filter(getenv("PSC_PROXY_ONLY"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

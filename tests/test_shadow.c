@@ -1038,5 +1038,7 @@ int main(void)
         cmocka_unit_test(test_armpits_darken),
         cmocka_unit_test(test_pack_fuzz),
     };
+    if (getenv("PSC_SHADOW_ONLY"))   /* one test while working on it, e.g. test_against_raycast */
+        cmocka_set_test_filter(getenv("PSC_SHADOW_ONLY"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
