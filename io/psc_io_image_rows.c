@@ -306,6 +306,11 @@ void psc_io_image_rows_size(const psc_io_image_rows_t *r, uint32_t *width, uint3
         *height = r ? r->height : 0;
 }
 
+bool psc_io_image_rows_is_jpeg(const psc_io_image_rows_t *r)
+{
+    return r && r->kind == ROWS_JPEG;
+}
+
 int psc_io_image_rows_next(psc_io_image_rows_t *r, uint32_t *xrgb, char *err, size_t errlen)
 {
     if (!r || !xrgb)

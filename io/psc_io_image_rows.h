@@ -17,6 +17,7 @@
 #define PSC_IO_IMAGE_ROWS_H
 
 #include <stddef.h>
+#include <stdbool.h>
 #include <stdint.h>
 
 /* The largest side read at all, whatever limits the caller gives: a row of it is 256 KiB. */
@@ -45,6 +46,9 @@ int psc_io_image_probe(const char *path, uint32_t *width, uint32_t *height, char
 
 /** The image's size in pixels. */
 void psc_io_image_rows_size(const psc_io_image_rows_t *r, uint32_t *width, uint32_t *height);
+
+/** Whether the image is a JPEG (a photograph already lossy: periscope-pack's tiles default to JPEG for it). */
+bool psc_io_image_rows_is_jpeg(const psc_io_image_rows_t *r);
 
 /**
  * The next row, top to bottom, as width 0xFFRRGGBB pixels into xrgb. 0, or

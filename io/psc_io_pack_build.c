@@ -40,6 +40,8 @@ void psc_io_pack_options_default(psc_pack_options_t *o)
     o->default_yaw_deg = 0.0;
     o->default_pitch_deg = 0.0;
     o->default_hfov_deg = 90.0;
+    o->tile_codec = PSC_TILE_CODEC_RAW;
+    o->tile_quality = PSC_IO_TILE_JPEG_QUALITY;
 }
 
 int psc_io_pack_options_set_lon_range(psc_pack_options_t *o, double lo, double hi)
@@ -463,6 +465,12 @@ int psc_io_pack_build_tiled_head(uint32_t width, uint32_t height, const psc_pack
     if (map.projection != PSC_PROJ_EQUIRECT && map.projection != PSC_PROJ_CYLINDER && map.projection != PSC_PROJ_SINE)
         return build_fail(err, errlen, "a tiled map must be in the equirect, cylinder or sine projection (this one: "
                           "%s)", psc_projection_name(map.projection));
+    if (opt->tile_codec != PSC_TILE_CODEC_RAW && opt->tile_codec != PSC_TILE_CODEC_JPEG)
+        return build_fail(err, errlen, "unknown tile codec %u", (unsigned)opt->tile_codec);
+    if (opt->tile_codec == PSC_TILE_CODEC_JPEG && map.format == PSC_PIX_PAL8)
+        return build_fail(err, errlen, "JPEG tiles hold true colour: a pal8 map's tiles must be raw");
+    if (opt->tile_codec == PSC_TILE_CODEC_JPEG && (opt->tile_quality < 1u || opt->tile_quality > 100u))
+        return build_fail(err, errlen, "JPEG tile quality %u: expected 1..100", (unsigned)opt->tile_quality);
     if (map_out)
         *map_out = map;
     if (!tiles->index)   /* the caller asked for the checks and the map alone */
@@ -487,7 +495,7 @@ int psc_io_pack_build_tiled_head(uint32_t width, uint32_t height, const psc_pack
     psc_put_le32(t + offsetof(psc_pack_tile_info_raw_t, height), height);
     t[offsetof(psc_pack_tile_info_raw_t, level_count)] = (uint8_t)tiles->level_count;
     t[offsetof(psc_pack_tile_info_raw_t, tile_log2)] = (uint8_t)PSC_TILE_LOG2;
-    t[offsetof(psc_pack_tile_info_raw_t, codec)] = (uint8_t)PSC_TILE_CODEC_RAW;
+    t[offsetof(psc_pack_tile_info_raw_t, codec)] = opt->tile_codec;
     psc_put_le32(t + offsetof(psc_pack_tile_info_raw_t, tile_count), tiles->tile_count);
     uint64_t store = (l.file_size + PSC_CONTAINER_ALIGN - 1u) & ~(uint64_t)(PSC_CONTAINER_ALIGN - 1u);
     psc_put_le32(t + offsetof(psc_pack_tile_info_raw_t, store_offset), (uint32_t)store);

@@ -26,9 +26,14 @@ typedef struct {
     uint16_t lut_rows, lut_cols;   /* 0 = psc_io_lut_default_size() */
     unsigned map_levels;           /* pyramid levels incl. the map itself: 0 = as many as the size
                                     * allows (full-turn equirect, cylinder and sine maps), 1 = none */
+    uint8_t tile_codec;            /* a tiled pack's tiles: PSC_TILE_CODEC_RAW (default) or PSC_TILE_CODEC_JPEG */
+    uint8_t tile_quality;          /* JPEG tiles: 1..100 (default PSC_IO_TILE_JPEG_QUALITY) */
     void (*progress)(const char *stage, unsigned percent, void *ctx);  /* may be NULL */
     void *progress_ctx;
 } psc_pack_options_t;
+
+/* JPEG tiles' default quality: see docs/viewer.md, "JPEG tiles", for the measurements behind it. */
+#define PSC_IO_TILE_JPEG_QUALITY 90u
 
 void psc_io_pack_options_default(psc_pack_options_t *o);
 

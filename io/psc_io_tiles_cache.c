@@ -37,24 +37,42 @@ static int read_at(int fd, void *buf, size_t len, uint64_t off)
     return 0;
 }
 
-int psc_io_tiled_read_tile(const psc_io_tiled_t *t, uint32_t i, uint32_t s, char *err, size_t errlen)
+int psc_io_tiled_read_tile(const psc_io_tiled_t *t, uint32_t i, uint32_t s, psc_io_tile_decoder_t *dec, char *err,
+                           size_t errlen)
 {
     const psc_pack_tile_raw_t *e = &t->pack.tile_index[i];
-    uint8_t *dst = t->slots + (size_t)s * t->pack.tiles.tile_bytes;
+    const psc_tiles_t *g = &t->pack.tiles;
+    uint8_t *dst = t->slots + (size_t)s * g->tile_bytes;
+    const bool jpeg = t->pack.tile_codec == PSC_TILE_CODEC_JPEG;
+    uint8_t *bytes = jpeg ? psc_io_tile_decoder_buffer(dec) : dst;   /* (the index bounds a JPEG tile's size) */
     uint64_t at = t->pack.store_offset + e->offset;
     const char *why = NULL;
+    char decode_why[256];
     if (at > t->file_size || t->file_size - at < e->size)
         why = "lies past the end of the file (a truncated pack)";
-    else if (read_at(t->fd, dst, e->size, at) != 0)
+    else if (read_at(t->fd, bytes, e->size, at) != 0)
         why = "cannot be read";
-    else if (psc_crc32(0, dst, e->size) != e->crc32)
+    else if (psc_crc32(0, bytes, e->size) != e->crc32)
         why = "fails its CRC-32 (a corrupt pack)";
+    else if (jpeg && psc_io_tile_jpeg_decode(dec, e->size, g->format, dst, g->tile_stride, decode_why,
+                                             sizeof decode_why) != 0)
+        why = decode_why;
     if (!why)
         return 0;
-    uint32_t k = psc_tiles_level_of(&t->pack.tiles, i), in_level = i - t->pack.tiles.level[k].first;
+    uint32_t k = psc_tiles_level_of(g, i), in_level = i - g->level[k].first;
     return psc_io_errorf(err, errlen, t->path, "tile %u (level %u, row %u, column %u) %s; the coarser level shows there",
-                         (unsigned)i, (unsigned)k, (unsigned)(in_level / t->pack.tiles.level[k].tiles_x),
-                         (unsigned)(in_level % t->pack.tiles.level[k].tiles_x), why);
+                         (unsigned)i, (unsigned)k, (unsigned)(in_level / g->level[k].tiles_x),
+                         (unsigned)(in_level % g->level[k].tiles_x), why);
+}
+
+psc_io_tile_decoder_t *psc_io_tiled_decoder_new(const psc_io_tiled_t *t, bool *failed)
+{
+    *failed = false;
+    if (t->pack.tile_codec != PSC_TILE_CODEC_JPEG)
+        return NULL;
+    psc_io_tile_decoder_t *d = psc_io_tile_decoder_new(PSC_TILE_JPEG_MAX_BYTES(t->pack.tiles.tile_bytes));
+    *failed = d == NULL;
+    return d;
 }
 
 /* A tile read into slot s (or not: ok false) made resident, or marked bad. */
@@ -76,7 +94,7 @@ void psc_io_tiled_settle(psc_io_tiled_t *t, uint32_t i, uint32_t s, bool ok)
 /* Tile i into slot s, now. 0, or -1 with err. */
 static int load_into(psc_io_tiled_t *t, uint32_t i, uint32_t s, char *err, size_t errlen)
 {
-    int rc = psc_io_tiled_read_tile(t, i, s, err, errlen);
+    int rc = psc_io_tiled_read_tile(t, i, s, t->decoder, err, errlen);
     psc_io_tiled_settle(t, i, s, rc == 0);
     return rc;
 }
@@ -167,8 +185,16 @@ int psc_io_tiled_open(const char *path, size_t budget, psc_io_tiled_t **out, cha
         t->slot_of[i] = NO_SLOT;
     for (uint32_t i = 0; i < nslots; i++)
         t->slot_tile[i] = NO_SLOT;
+    bool no_decoder;
+    t->decoder = psc_io_tiled_decoder_new(t, &no_decoder);
+    if (no_decoder) {
+        psc_io_tiled_close(t);
+        return psc_io_errorf(err, errlen, path, "out of memory for a JPEG tile decoder");
+    }
     t->pack.tiles.resident = t->resident;
     t->bytes = (size_t)nslots * g->tile_bytes + container_size + g->tile_count * (sizeof *t->resident + 5u);
+    if (t->decoder)   /* its buffer for a tile's bytes */
+        t->bytes += PSC_TILE_JPEG_MAX_BYTES(g->tile_bytes);
     /* the coarsest level, for good: a view always has something to show */
     for (uint32_t i = 0; i < t->pinned; i++)
         if (load_into(t, top->first + i, i, err, errlen) != 0) {
@@ -194,6 +220,7 @@ void psc_io_tiled_close(psc_io_tiled_t *t)
     free(t->slot_tile);
     free(t->slot_used);
     free(t->slot_busy);
+    psc_io_tile_decoder_free(t->decoder);
     free(t);
 }
 

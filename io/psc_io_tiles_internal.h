@@ -10,6 +10,7 @@
 #include <pthread.h>
 
 #include "psc_io_tiles.h"
+#include "psc_io_tiles_jpeg.h"
 
 #define NO_SLOT UINT32_MAX
 
@@ -30,11 +31,17 @@ struct psc_io_tiled {
     uint64_t clock, loaded, bad_count;
     size_t bytes;
     struct psc_io_tile_loader *loader;   /* the thread that reads tiles for frames (NULL: none) */
+    psc_io_tile_decoder_t *decoder;      /* JPEG tiles: the frame thread's own loads' (the loader has its own) */
 };
 
-/* Tile i into slot s: read, checked against its CRC-32. 0, or -1 with err (the caller marks it bad). Touches no
- * shared state: the loader thread runs it without the lock. */
-int psc_io_tiled_read_tile(const psc_io_tiled_t *t, uint32_t i, uint32_t s, char *err, size_t errlen);
+/* Tile i into slot s: read, checked against its CRC-32, and decoded (JPEG tiles: by dec, the calling thread's
+ * decoder). 0, or -1 with err (the caller marks it bad). Touches no shared state: the loader thread runs it without
+ * the lock. */
+int psc_io_tiled_read_tile(const psc_io_tiled_t *t, uint32_t i, uint32_t s, psc_io_tile_decoder_t *dec, char *err,
+                           size_t errlen);
+
+/* A decoder for a thread that reads t's tiles: NULL for raw tiles, or when out of memory (*failed set). */
+psc_io_tile_decoder_t *psc_io_tiled_decoder_new(const psc_io_tiled_t *t, bool *failed);
 
 /* Tile i, read into slot s (ok) or not, made resident or marked bad; the slot no longer reserved. The frame
  * thread's, between frames. */

@@ -39,6 +39,7 @@ struct psc_io_tile_loader {
     uint32_t done_n, cap;
     uint32_t in_flight;          /* taken by the thread, not yet done */
     uint8_t *asked;              /* per tile: queued or in flight */
+    psc_io_tile_decoder_t *decoder;   /* JPEG tiles: this thread's (NULL for raw tiles) */
     char err[512];               /* the first bad tile's message since the last publish */
 };
 
@@ -56,7 +57,8 @@ static void *loader_main(void *arg)
         l->in_flight++;
         pthread_mutex_unlock(&l->lock);
         char err[512] = "";
-        bool ok = psc_io_tiled_read_tile(t, j.tile, j.slot, err, sizeof err) == 0;   /* the slot is ours alone */
+        /* the slot is ours alone, and the decoder this thread's */
+        bool ok = psc_io_tiled_read_tile(t, j.tile, j.slot, l->decoder, err, sizeof err) == 0;
         pthread_mutex_lock(&l->lock);
         l->in_flight--;
         l->done[l->done_n] = j;
@@ -82,7 +84,10 @@ int psc_io_tiled_start_loader(psc_io_tiled_t *t, char *err, size_t errlen)
     l->done = malloc(l->cap * sizeof *l->done);
     l->done_ok = malloc(l->cap);
     l->asked = calloc(t->pack.tiles.tile_count, 1);
-    if (!l->todo || !l->done || !l->done_ok || !l->asked) {
+    bool no_decoder;
+    l->decoder = psc_io_tiled_decoder_new(t, &no_decoder);
+    if (!l->todo || !l->done || !l->done_ok || !l->asked || no_decoder) {
+        psc_io_tile_decoder_free(l->decoder);
         free(l->todo), free(l->done), free(l->done_ok), free(l->asked), free(l);
         return psc_io_errorf(err, errlen, t->path, "out of memory for the tile loader");
     }
@@ -95,9 +100,12 @@ int psc_io_tiled_start_loader(psc_io_tiled_t *t, char *err, size_t errlen)
         pthread_mutex_destroy(&l->lock);
         pthread_cond_destroy(&l->wake);
         pthread_cond_destroy(&l->idle);
+        psc_io_tile_decoder_free(l->decoder);
         free(l->todo), free(l->done), free(l->done_ok), free(l->asked), free(l);
         return psc_io_errorf(err, errlen, t->path, "cannot start the tile loader thread");
     }
+    if (l->decoder)   /* its buffer for a tile's bytes */
+        t->bytes += PSC_TILE_JPEG_MAX_BYTES(t->pack.tiles.tile_bytes);
     return 0;
 }
 
@@ -119,6 +127,7 @@ void psc_io_tiled_stop_loader(psc_io_tiled_t *t)
     pthread_mutex_destroy(&l->lock);
     pthread_cond_destroy(&l->wake);
     pthread_cond_destroy(&l->idle);
+    psc_io_tile_decoder_free(l->decoder);
     free(l->todo), free(l->done), free(l->done_ok), free(l->asked), free(l);
     t->loader = NULL;
 }

@@ -8,6 +8,11 @@
  * (with the index of where every tile went) is written over the
  * placeholder and the file renamed into place.
  *
+ * JPEG tiles (opt->tile_codec) keep the bands in XRGB8888, the image's 8 bits
+ * whatever the map's format: each tile is encoded from them, its level's last
+ * column and row repeated past the level's edges (so that no block mixes in
+ * pixels the level does not have), and the reader converts to the map's format.
+ *
  * Level k + 1's row y is the flat pyramid's (psc_io_image_halve): the
  * [1 3 3 1] filter across level k's columns (wrapping round the turn), then
  * down its rows 2y - 1 .. 2y + 2 (clamped at the poles), rounded once. Each
@@ -16,6 +21,7 @@
  */
 #include "psc_io_tiles.h"
 #include "psc_io_atomic.h"
+#include "psc_io_tiles_jpeg.h"
 #include "psc_io_le_bytes.h"
 #include "psc_io_map_convert.h"
 #include "psc_io_map_pyramid.h"
@@ -46,6 +52,10 @@ struct psc_io_tiles_writer {
     level_t level[PSC_TILES_MAX_LEVELS];
     psc_pack_tile_raw_t *index;  /* tile_count entries, filled as tiles are written */
     uint8_t *tile;               /* one tile's bytes */
+    psc_pixfmt_t band_format;    /* the map's, or XRGB8888 for JPEG tiles */
+    uint32_t *jpeg_tile;         /* JPEG tiles: one tile's pixels, its level's edges repeated */
+    uint8_t *jpeg_bytes;         /* and its encoding */
+    uint32_t jpeg_cap;
     uint32_t *child_row;         /* one row of the next level, XRGB8888 */
     uint64_t head_size, store_used, bytes, peak;
     bool failed;
@@ -87,6 +97,8 @@ static void free_all(psc_io_tiles_writer_t *w)
     }
     free(w->index);
     free(w->tile);
+    free(w->jpeg_tile);
+    free(w->jpeg_bytes);
     free(w->child_row);
     free(w);
 }
@@ -103,7 +115,7 @@ static uint32_t level_count(uint32_t width, uint32_t height, const psc_pack_opti
 /* A band row of level k: its tiles' texels side by side, as psc_io_map_convert lays out a row that wide. */
 static uint32_t band_row_bytes(const psc_io_tiles_writer_t *w, uint32_t k)
 {
-    return psc_pixfmt_row_bytes(w->geo.format, w->geo.level[k].tiles_x * PSC_TILE_SIDE);
+    return psc_pixfmt_row_bytes(w->band_format, w->geo.level[k].tiles_x * PSC_TILE_SIDE);
 }
 
 int psc_io_tiles_writer_open(const char *path, uint32_t width, uint32_t height, const psc_pack_options_t *opt,
@@ -130,6 +142,14 @@ int psc_io_tiles_writer_open(const char *path, uint32_t width, uint32_t height, 
     w->tile = counted_alloc(w, w->geo.tile_bytes);
     w->child_row = counted_alloc(w, (size_t)(width / 2u + 1u) * sizeof *w->child_row);
     bool ok = w->index && w->tile && w->child_row;
+    w->band_format = opt->format;
+    if (opt->tile_codec == PSC_TILE_CODEC_JPEG) {
+        w->band_format = PSC_PIX_XRGB8888;
+        w->jpeg_cap = PSC_TILE_JPEG_MAX_BYTES(w->geo.tile_bytes);
+        w->jpeg_tile = counted_alloc(w, (size_t)PSC_TILE_SIDE * PSC_TILE_SIDE * sizeof *w->jpeg_tile);
+        w->jpeg_bytes = counted_alloc(w, w->jpeg_cap);
+        ok = ok && w->jpeg_tile && w->jpeg_bytes;
+    }
     for (uint32_t k = 0; k < levels && ok; k++) {
         level_t *l = &w->level[k];
         l->width = w->geo.level[k].width;
@@ -162,9 +182,55 @@ int psc_io_tiles_writer_open(const char *path, uint32_t width, uint32_t height, 
     return 0;
 }
 
+/* Tile i's bytes appended to the store. */
+static int put_tile(psc_io_tiles_writer_t *w, uint32_t i, const uint8_t *bytes, uint32_t size, char *err, size_t errlen)
+{
+    w->index[i].offset = w->store_used;
+    w->index[i].size = size;
+    w->index[i].crc32 = psc_crc32(0, bytes, size);
+    if (psc_io_atomic_write(&w->file, bytes, size, err, errlen) != 0) {
+        w->failed = true;
+        return -1;
+    }
+    w->store_used += size;
+    return 0;
+}
+
+/* The band of level k cut into JPEG tiles: each tile's pixels, the level's last column and row repeated past its
+ * edges, encoded. */
+static int flush_band_jpeg(psc_io_tiles_writer_t *w, uint32_t k, char *err, size_t errlen)
+{
+    level_t *l = &w->level[k];
+    const psc_tile_level_t *g = &w->geo.level[k];
+    const uint32_t band_px = band_row_bytes(w, k) / 4u, ty = (l->rows_in - 1u) >> PSC_TILE_LOG2;
+    const uint32_t *band = (const uint32_t *)(const void *)l->band;
+    for (uint32_t tx = 0; tx < g->tiles_x; tx++) {
+        uint32_t x0 = tx * PSC_TILE_SIDE, cols = g->width - x0 < PSC_TILE_SIDE ? g->width - x0 : PSC_TILE_SIDE;
+        for (uint32_t r = 0; r < PSC_TILE_SIDE; r++) {
+            const uint32_t *src = band + (size_t)(r < l->band_rows ? r : l->band_rows - 1u) * band_px + x0;
+            uint32_t *dst = w->jpeg_tile + (size_t)r * PSC_TILE_SIDE;
+            memcpy(dst, src, cols * sizeof *dst);
+            for (uint32_t c = cols; c < PSC_TILE_SIDE; c++)
+                dst[c] = src[cols - 1u];
+        }
+        uint32_t size = psc_io_tile_jpeg_encode(w->jpeg_tile, w->opt.tile_quality, w->jpeg_bytes, w->jpeg_cap, err,
+                                                errlen);
+        if (size == 0) {
+            w->failed = true;
+            return -1;
+        }
+        if (put_tile(w, g->first + ty * g->tiles_x + tx, w->jpeg_bytes, size, err, errlen) != 0)
+            return -1;
+    }
+    l->band_rows = 0;
+    return 0;
+}
+
 /* The band of level k cut into tiles and appended to the store. */
 static int flush_band(psc_io_tiles_writer_t *w, uint32_t k, char *err, size_t errlen)
 {
+    if (w->jpeg_tile)
+        return flush_band_jpeg(w, k, err, errlen);
     level_t *l = &w->level[k];
     const psc_tile_level_t *g = &w->geo.level[k];
     const uint32_t stride = w->geo.tile_stride, band_stride = band_row_bytes(w, k);
@@ -174,15 +240,8 @@ static int flush_band(psc_io_tiles_writer_t *w, uint32_t k, char *err, size_t er
         memset(w->tile, 0, w->geo.tile_bytes);   /* rows past the level's end and RGB888's spare bytes: zeros */
         for (uint32_t r = 0; r < l->band_rows; r++)
             memcpy(w->tile + (size_t)r * stride, l->band + (size_t)r * band_stride + (size_t)tx * texels, texels);
-        uint32_t i = g->first + ty * g->tiles_x + tx;
-        w->index[i].offset = w->store_used;
-        w->index[i].size = w->geo.tile_bytes;
-        w->index[i].crc32 = psc_crc32(0, w->tile, w->geo.tile_bytes);
-        if (psc_io_atomic_write(&w->file, w->tile, w->geo.tile_bytes, err, errlen) != 0) {
-            w->failed = true;
+        if (put_tile(w, g->first + ty * g->tiles_x + tx, w->tile, w->geo.tile_bytes, err, errlen) != 0)
             return -1;
-        }
-        w->store_used += w->geo.tile_bytes;
     }
     l->band_rows = 0;
     return 0;
@@ -233,7 +292,7 @@ static int add_row(psc_io_tiles_writer_t *w, uint32_t k, const uint32_t *xrgb, c
     /* the map's format, as the flat pack converts it (one row as an image) */
     const psc_image_t row = {l->width, 1, (uint32_t *)(uintptr_t)xrgb};
     uint8_t *dst = l->band + (size_t)l->band_rows * band_row_bytes(w, k);
-    if (psc_io_map_convert(&row, w->opt.format, dst, NULL, NULL, NULL) != 0)
+    if (psc_io_map_convert(&row, w->band_format, dst, NULL, NULL, NULL) != 0)
         return fail(w, err, errlen, "cannot convert a row of level %u", (unsigned)k);
     l->band_rows++;
     if (l->band_rows == PSC_TILE_SIDE || l->rows_in == l->height)

@@ -9,7 +9,10 @@
  *    sharpen to the flat bytes as the tiles they ask for are loaded;
  *  - a corrupt tile gives a message naming the file and the tile, and the coarser level there; a truncated
  *    pack is refused at opening;
- *  - the streaming writer's memory does not grow with the image's height (counted, not timed).
+ *  - the streaming writer's memory does not grow with the image's height (counted, not timed);
+ *  - JPEG tiles: each tile and each frame within a stated PSNR of the raw tiles' (the JPEG's error alone), a
+ *    fraction of their bytes; the loader thread's decoder and the cache's give the same bytes; a tile that does
+ *    not decode (its CRC right) names the file and the tile and leaves the coarser level.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -26,6 +29,7 @@
 #include "psc_io_pack_build.h"
 #include "psc_io_pixfmt.h"
 #include "psc_io_tiles.h"
+#include "base/psc_crc32.h"
 #include "pack/psc_pack.h"
 #include "viewer/psc_viewer.h"
 #include "psc_testsupport.h"
@@ -923,6 +927,312 @@ static void test_corrupt_and_truncated(void **state)
     free(img.xrgb);
 }
 
+/* ---- JPEG tiles ---------------------------------------------------------------------------------------------- */
+
+/* A texel of a tile in format fmt as 0xRRGGBB (RGB565 widened by bit replication, as a display shows it). */
+static uint32_t texel_rgb(const uint8_t *row, uint32_t c, psc_pixfmt_t fmt)
+{
+    if (fmt == PSC_PIX_RGB565) {
+        uint32_t v = (uint32_t)row[2 * c] | (uint32_t)row[2 * c + 1] << 8;
+        uint32_t r = v >> 11, g = (v >> 5) & 63u, b = v & 31u;
+        return (r << 3 | r >> 2) << 16 | (g << 2 | g >> 4) << 8 | (b << 3 | b >> 2);
+    }
+    const uint8_t *p = row + (size_t)c * (fmt == PSC_PIX_RGB888 ? 3u : 4u);
+    return (uint32_t)p[2] << 16 | (uint32_t)p[1] << 8 | p[0];
+}
+
+static double psnr_of(double sq, double n)
+{
+    return sq > 0 ? 10.0 * log10(255.0 * 255.0 / (sq / n)) : 99.0;
+}
+
+/* A JPEG-tiled pack of img at path (quality q), opened with a cache of budget bytes. */
+static psc_io_tiled_t *jpeg_pack(const psc_image_t *img, psc_pixfmt_t fmt, unsigned q, const char *path, size_t budget)
+{
+    psc_pack_options_t o = pack_options(fmt);
+    o.tile_codec = PSC_TILE_CODEC_JPEG;
+    o.tile_quality = (uint8_t)q;
+    char err[512];
+    psc_io_tiled_t *t = NULL;
+    if (psc_io_tiles_write_image(path, img, &o, err, sizeof err) != 0 ||
+        psc_io_tiled_open(path, budget, &t, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    return t;
+}
+
+/* Every level's pixels of two tilings of one map (all resident): the PSNR of b against a over 8-bit RGB. */
+static double tiles_psnr(const psc_tiles_t *a, const psc_tiles_t *b)
+{
+    double sq = 0, n = 0;
+    for (uint32_t k = 0; k < a->level_count; k++)
+        for (uint32_t r = 0; r < a->level[k].height; r++)
+            for (uint32_t c = 0; c < a->level[k].width; c++) {
+                uint32_t i = psc_tiles_at(a, k, r, c), row = r % PSC_TILE_SIDE, col = c % PSC_TILE_SIDE;
+                uint32_t x = texel_rgb((const uint8_t *)a->resident[i] + (size_t)row * a->tile_stride, col, a->format);
+                uint32_t y = texel_rgb((const uint8_t *)b->resident[i] + (size_t)row * b->tile_stride, col, b->format);
+                for (int sh = 0; sh < 24; sh += 8) {
+                    double d = (double)((x >> sh) & 255u) - (double)((y >> sh) & 255u);
+                    sq += d * d;
+                }
+                n += 3;
+            }
+    return psnr_of(sq, n);
+}
+
+/* Two frames of one format: PSNR over 8-bit RGB. */
+static double frame_psnr(const psc_surface_t *a, const psc_surface_t *b)
+{
+    double sq = 0;
+    for (uint32_t y = 0; y < OUT_H; y++)
+        for (uint32_t x = 0; x < OUT_W; x++) {
+            uint32_t p = texel_rgb((const uint8_t *)a->pixels + (size_t)y * a->stride, x, a->format);
+            uint32_t q = texel_rgb((const uint8_t *)b->pixels + (size_t)y * b->stride, x, b->format);
+            for (int sh = 0; sh < 24; sh += 8) {
+                double d = (double)((p >> sh) & 255u) - (double)((q >> sh) & 255u);
+                sq += d * d;
+            }
+        }
+    return psnr_of(sq, 3.0 * OUT_W * OUT_H);
+}
+
+/* The sample panorama (a photograph, assets/), halved to 2048 x 1024 by 2 x 2 means. */
+static psc_image_t photo(void)
+{
+    psc_image_t full, half = {MAP_W, MAP_H, malloc((size_t)MAP_W * MAP_H * sizeof(uint32_t))};
+    char err[512];
+    if (psc_io_image_load("assets/pannellum-examplepano.jpg", &full, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    assert_int_equal(full.width, 2u * MAP_W);
+    assert_non_null(half.xrgb);
+    for (uint32_t y = 0; y < MAP_H; y++)
+        for (uint32_t x = 0; x < MAP_W; x++) {
+            uint32_t acc[3] = {0, 0, 0};
+            for (uint32_t k = 0; k < 4; k++) {
+                uint32_t p = full.xrgb[(size_t)(2u * y + k / 2u) * full.width + 2u * x + k % 2u];
+                for (int c = 0; c < 3; c++)
+                    acc[c] += (p >> (16 - 8 * c)) & 255u;
+            }
+            half.xrgb[(size_t)y * MAP_W + x] = 0xFF000000u | ((acc[0] + 2u) / 4u) << 16 | ((acc[1] + 2u) / 4u) << 8 |
+                                                ((acc[2] + 2u) / 4u);
+        }
+    psc_io_image_free(&full);
+    return half;
+}
+
+typedef struct {
+    double tiles, frame_lo, frame_sum, share;
+    unsigned frames;
+} jpeg_figures_t;
+
+/* One map's JPEG tiles against its raw ones in format fmt: every level's pixels, 20 random frames, the store's
+ * share; with `loader`, the loader thread's frames from a starved cache against the full cache's, byte for byte. */
+static jpeg_figures_t jpeg_against_raw(const psc_image_t *img, psc_pixfmt_t fmt, tsup_rng_t *rng, bool loader)
+{
+    packs_t p;
+    make_packs(&p, img, fmt, 256u << 20, "raw.pano");
+    psc_io_tiled_t *j = jpeg_pack(img, fmt, PSC_IO_TILE_JPEG_QUALITY, temp_path("jpeg.pano"), 256u << 20);
+    load_all(p.tiled);
+    load_all(j);
+    const psc_pack_t *pr = psc_io_tiled_pack(p.tiled), *pj = psc_io_tiled_pack(j);
+    assert_int_equal(pj->tile_codec, PSC_TILE_CODEC_JPEG);
+    assert_int_equal(pr->tile_codec, PSC_TILE_CODEC_RAW);
+    /* the memory the cache says it holds counts the decoder's buffer */
+    assert_true(psc_io_tiled_bytes(j) >= psc_io_tiled_bytes(p.tiled) + PSC_TILE_JPEG_MAX_BYTES(pj->tiles.tile_bytes));
+    jpeg_figures_t r = {tiles_psnr(psc_io_tiled_tiles(p.tiled), psc_io_tiled_tiles(j)), 99, 0,
+                        (double)pj->store_size / (double)pr->store_size, 0};
+    viewer_t a, b;
+    tiled_viewer(&a, p.tiled);
+    tiled_viewer(&b, j);
+    psc_surface_t sa, sb;
+    surface_pair(fmt == PSC_PIX_RGB565 ? PSC_PIX_RGB565 : PSC_PIX_XRGB8888, &sa, &sb);
+    for (unsigned i = 0; i < 20; i++) {
+        psc_view_t view = random_view(rng, &a.v);
+        assert_int_equal(psc_viewer_render(&a.v, &view, &sa), PSC_OK);
+        assert_int_equal(psc_viewer_render(&b.v, &view, &sb), PSC_OK);
+        assert_int_equal(psc_viewer_requests(&b.v, NULL, NULL), 0);
+        double fp = frame_psnr(&sa, &sb);
+        r.frame_lo = fmin(r.frame_lo, fp);
+        r.frame_sum += fp;
+        r.frames++;
+    }
+    if (loader) {
+        psc_io_tiled_t *s = jpeg_pack(img, fmt, PSC_IO_TILE_JPEG_QUALITY, temp_path("jpeg2.pano"), 0);
+        char err[512];
+        assert_int_equal(psc_io_tiled_start_loader(s, err, sizeof err), 0);
+        viewer_t c;
+        tiled_viewer(&c, s);
+        psc_surface_t sc = surface(sa.format);
+        for (unsigned i = 0; i < 6; i++) {
+            psc_view_t view = {tsup_bam_from_deg(60.0 * i), (int32_t)tsup_bam_from_deg(15), tsup_bam_from_deg(40),
+                               (psc_filter_t)(i % 3u), 2};
+            assert_int_equal(psc_viewer_render(&b.v, &view, &sb), PSC_OK);
+            for (unsigned round = 0;; round++) {
+                assert_true(round < 64);
+                psc_io_tiled_drain(s);
+                psc_io_tiled_publish(s, err, sizeof err);
+                assert_int_equal(psc_viewer_render(&c.v, &view, &sc), PSC_OK);
+                const uint32_t *want;
+                unsigned n = psc_viewer_requests(&c.v, &want, NULL);
+                if (n == 0)
+                    break;
+                psc_io_tiled_request(s, want, n);
+            }
+            assert_memory_equal(sb.pixels, sc.pixels, (size_t)sb.stride * OUT_H);
+        }
+        free(sc.pixels);
+        free(c.ws);
+        psc_io_tiled_close(s);
+        unlink(temp_path("jpeg2.pano"));
+    }
+    print_message("  %s: the store %.1f %% of raw tiles' (%.1f KB a tile on average), every level's pixels %.1f dB "
+                  "against the raw tiles', 20 random frames %.1f dB at least (mean %.1f)\n", psc_io_pixfmt_name(fmt),
+                  100.0 * r.share, pj->store_size / 1024.0 / pj->tiles.tile_count, r.tiles, r.frame_lo,
+                  r.frame_sum / r.frames);
+    free(sa.pixels);
+    free(sb.pixels);
+    free(a.ws);
+    free(b.ws);
+    psc_io_tiled_close(j);
+    unlink(temp_path("jpeg.pano"));
+    free_packs(&p);
+    return r;
+}
+
+/* JPEG tiles (the default quality) against raw ones of the same map: the sample photograph in each map format,
+ * and the test image (a hash of noise and one-pixel lines: the worst case for JPEG), each within a stated PSNR
+ * (over 8-bit RGB; measured figures beside the bounds) and a share of the raw tiles' bytes. */
+static void test_jpeg_tiles(void **state)
+{
+    (void)state;
+    tsup_rng_t rng;
+    tsup_rng_seed(&rng, 31);
+    psc_image_t img = photo();
+    static const psc_pixfmt_t fmts[] = {PSC_PIX_RGB888, PSC_PIX_XRGB8888, PSC_PIX_RGB565};
+    print_message("  the sample photograph, 2048x1024, JPEG quality %u:\n", PSC_IO_TILE_JPEG_QUALITY);
+    for (int f = 0; f < 3; f++) {
+        jpeg_figures_t r = jpeg_against_raw(&img, fmts[f], &rng, f == 0);
+        /* measured: 7.5 (xrgb8888), 10.0 (rgb888) and 15.0 % (rgb565) of the bytes; levels 38.6 dB (rgb565 36.6, its
+         * own rounding counted), frames 36.2, 39.9 and 34.1 dB at least (means 48.0, 51.5, 41.9) */
+        bool r565 = fmts[f] == PSC_PIX_RGB565;
+        assert_true(r.share <= (r565 ? 0.2 : 0.12));
+        assert_true(r.tiles >= (r565 ? 35.5 : 37.5));
+        assert_true(r.frame_lo >= (r565 ? 33.0 : 35.0));
+    }
+    free(img.xrgb);
+    img = test_image(MAP_W, MAP_H, 11);
+    print_message("  the test image (noise and one-pixel lines):\n");
+    jpeg_figures_t r = jpeg_against_raw(&img, PSC_PIX_RGB888, &rng, false);
+    /* measured: 13.2 % of the bytes, 33.5 dB, frames 32.2 dB and up */
+    assert_true(r.share <= 0.2);
+    assert_true(r.tiles >= 32.0);
+    assert_true(r.frame_lo >= 30.0);
+    free(img.xrgb);
+}
+
+/* Tile i of the tiled pack at path rewritten by change (its bytes and size), its CRC-32 and the container's CRC made
+ * right again: a tile that reads and checks but does not decode. */
+static void rewrite_tile(const char *path, uint32_t i, void (*change)(uint8_t *bytes, uint32_t *size))
+{
+    FILE *f = fopen(path, "r+b");
+    assert_non_null(f);
+    uint8_t head[PSC_CONTAINER_HEADER_SIZE];
+    assert_int_equal(fread(head, 1, sizeof head, f), sizeof head);
+    const uint8_t *at = head + PSC_CONTAINER_FILE_SIZE_OFFSET;   /* little-endian */
+    uint32_t len = (uint32_t)at[0] | (uint32_t)at[1] << 8 | (uint32_t)at[2] << 16 | (uint32_t)at[3] << 24;
+    uint8_t *c = aligned_alloc(64, (len + 63u) & ~63u);
+    assert_non_null(c);
+    assert_int_equal(fseek(f, 0, SEEK_SET), 0);
+    assert_int_equal(fread(c, 1, len, f), len);
+    psc_pack_t pk;
+    psc_container_error_t e = {0};
+    assert_int_equal(psc_pack_parse(c, len, &pk, &e), PSC_OK);
+    psc_pack_tile_raw_t *entry = (psc_pack_tile_raw_t *)(uintptr_t)&pk.tile_index[i];
+    uint8_t *bytes = malloc(entry->size);
+    assert_non_null(bytes);
+    assert_int_equal(fseek(f, (long)(pk.store_offset + entry->offset), SEEK_SET), 0);
+    assert_int_equal(fread(bytes, 1, entry->size, f), entry->size);
+    uint32_t size = entry->size;
+    change(bytes, &size);
+    assert_int_equal(fseek(f, (long)(pk.store_offset + entry->offset), SEEK_SET), 0);
+    assert_int_equal(fwrite(bytes, 1, size, f), size);
+    entry->size = size;   /* (a little-endian host, as the container) */
+    entry->crc32 = psc_crc32(0, bytes, size);
+    uint32_t crc = psc_container_crc(c, len);
+    for (unsigned k = 0; k < 4; k++)
+        c[PSC_CONTAINER_CRC_OFFSET + k] = (uint8_t)(crc >> (8 * k));
+    assert_int_equal(fseek(f, 0, SEEK_SET), 0);
+    assert_int_equal(fwrite(c, 1, len, f), len);
+    assert_int_equal(fclose(f), 0);
+    free(bytes);
+    free(c);
+}
+
+static void not_a_jpeg(uint8_t *bytes, uint32_t *size)
+{
+    (void)size;
+    bytes[0] = 0x00;   /* no SOI marker */
+}
+
+static void cut_short(uint8_t *bytes, uint32_t *size)
+{
+    (void)bytes;
+    *size /= 3;   /* the entropy-coded data ends a third of the way in */
+}
+
+static void wrong_size(uint8_t *bytes, uint32_t *size)
+{
+    /* the SOF0 frame header's height (two bytes after its length and precision) made 128 */
+    for (uint32_t k = 0; k + 8 < *size; k++)
+        if (bytes[k] == 0xFF && bytes[k + 1] == 0xC0) {
+            bytes[k + 5] = 0;
+            bytes[k + 6] = 128;
+            return;
+        }
+    fail_msg("no SOF0 marker in the tile");
+}
+
+/* A JPEG tile that does not decode, its CRC right (a writer's bug, a tool's): the message names the file, the tile
+ * and the problem, the tile stays absent and the frame shows the coarser level; the other tiles load. */
+static void test_jpeg_tile_does_not_decode(void **state)
+{
+    (void)state;
+    psc_image_t img = test_image(1024, 512, 12);
+    static void (*const changes[])(uint8_t *, uint32_t *) = {not_a_jpeg, cut_short, wrong_size};
+    static const char *const says[] = {"Not a JPEG file", "not a JPEG tile that decodes", "not a 256x256 tile"};
+    const char *path = temp_path("bad-jpeg.pano");
+    for (unsigned m = 0; m < 3; m++) {
+        psc_io_tiled_close(jpeg_pack(&img, PSC_PIX_RGB888, 80, path, 0));
+        rewrite_tile(path, 3, changes[m]);
+        char err[512];
+        psc_io_tiled_t *t;
+        if (psc_io_tiled_open(path, 256u << 20, &t, err, sizeof err) != 0)
+            fail_msg("%s", err);
+        uint32_t want[3] = {2, 3, 4};
+        assert_int_equal(psc_io_tiled_load(t, want, 3, err, sizeof err), -1);
+        print_message("  %s\n", err);
+        assert_non_null(strstr(err, path));
+        assert_non_null(strstr(err, "tile 3 "));
+        assert_non_null(strstr(err, says[m]));
+        assert_non_null(strstr(err, "the coarser level shows there"));
+        const psc_tiles_t *g = psc_io_tiled_tiles(t);
+        assert_null(g->resident[3]);
+        assert_non_null(g->resident[2]);
+        assert_non_null(g->resident[4]);
+        /* a view of tile 3's place draws, from the coarser level there */
+        viewer_t v;
+        tiled_viewer(&v, t);
+        psc_surface_t s = surface(PSC_PIX_XRGB8888);
+        psc_view_t view = {tsup_bam_from_deg(-180.0 + 3.5 * 256.0 * 360.0 / 1024.0), (int32_t)tsup_bam_from_deg(45),
+                           tsup_bam_from_deg(20), PSC_FILTER_BILINEAR, 2};
+        assert_int_equal(psc_viewer_render(&v.v, &view, &s), PSC_OK);
+        free(s.pixels);
+        free(v.ws);
+        psc_io_tiled_close(t);
+    }
+    unlink(path);
+    free(img.xrgb);
+}
+
 /* The streaming writer's memory: the same for an image four times as tall. */
 static void test_writer_memory_bounded(void **state)
 {
@@ -932,12 +1242,13 @@ static void test_writer_memory_bounded(void **state)
     o.format = PSC_PIX_XRGB8888;
     o.projection = PSC_PROJ_CYLINDER;   /* any height: a cylinder's coverage follows its proportions */
     o.map_levels = 4;                   /* the same levels for both heights */
-    uint64_t peak[2];
+    uint64_t peak[4];
     uint32_t *row = malloc(4096u * sizeof *row);
     for (uint32_t i = 0; i < 4096u; i++)
         row[i] = 0xFF000000u | i * 2654435761u;
-    for (int k = 0; k < 2; k++) {
-        uint32_t w = 4096u, h = k ? 4096u : 1024u;
+    for (int k = 0; k < 4; k++) {
+        uint32_t w = 4096u, h = k & 1 ? 4096u : 1024u;
+        o.tile_codec = k >= 2 ? PSC_TILE_CODEC_JPEG : PSC_TILE_CODEC_RAW;   /* JPEG tiles: XRGB8888 bands too */
         psc_io_tiles_writer_t *wr;
         char err[512];
         if (psc_io_tiles_writer_open(temp_path("memory.pano"), w, h, &o, &wr, err, sizeof err) != 0)
@@ -953,10 +1264,15 @@ static void test_writer_memory_bounded(void **state)
      * rows of filter sums for each (under twice level 0's: 4 x 2048 x 3 x 4 bytes), the index */
     uint64_t bound = 2u * 256u * 4096u * 4u + PSC_TILES_MAX_LEVELS * (256u * 256u * 4u) + 2u * 4u * 2048u * 12u +
                      (64u << 10);
-    print_message("  streaming writer, 4096 wide: %llu bytes at most for 1024 rows, %llu for 4096 (bound %llu)\n",
-                  (unsigned long long)peak[0], (unsigned long long)peak[1], (unsigned long long)bound);
+    print_message("  streaming writer, 4096 wide: %llu bytes at most for 1024 rows, %llu for 4096 (bound %llu); with "
+                  "JPEG tiles %llu and %llu\n", (unsigned long long)peak[0], (unsigned long long)peak[1],
+                  (unsigned long long)bound, (unsigned long long)peak[2], (unsigned long long)peak[3]);
     assert_true(peak[1] <= bound);
     assert_true(peak[1] <= peak[0] + (64u << 10));   /* the index grows with the height, nothing else */
+    /* JPEG tiles add one tile's pixels and its encoding's buffer */
+    uint64_t jpeg_extra = 256u * 256u * 4u + PSC_TILE_JPEG_MAX_BYTES(256u * 256u * 4u);
+    assert_true(peak[3] <= bound + jpeg_extra);
+    assert_true(peak[3] <= peak[2] + (64u << 10));
 }
 
 int main(void)
@@ -975,6 +1291,8 @@ int main(void)
         cmocka_unit_test(test_view_tiles_cover_the_frame),
         cmocka_unit_test(test_corrupt_and_truncated),
         cmocka_unit_test(test_writer_memory_bounded),
+        cmocka_unit_test(test_jpeg_tiles),
+        cmocka_unit_test(test_jpeg_tile_does_not_decode),
     };
     if (getenv("PSC_TILES_ONLY"))   /* one test, e.g. the loader's under helgrind (make check-memcheck) */
         cmocka_set_test_filter(getenv("PSC_TILES_ONLY"));

@@ -12,7 +12,9 @@
  *    photographs' widths are not powers of two): the vector kernels against
  *    the scalar spans, the tiled frame against the flat one.
  * 2. A 32768x16384 panorama generated here (a baseline JPEG written row by
- *    row): periscope-pack's time and peak memory (its resident set); the
+ *    row), packed with raw tiles and with JPEG tiles, each: periscope-pack's
+ *    time, peak memory (its resident set) and pack size; a tile's read (and
+ *    decode) into the cache; the
  *    time to the first, coarse frame (open, the coarsest level, one frame);
  *    periscope-render's and the device program's (`periscope --board sim`)
  *    resident sets with the default cache; and a pan across it as the
@@ -75,7 +77,8 @@ static int make_tmpdir(void)
 
 static void remove_tmpdir(void)
 {
-    static const char *const names[] = {"flat.pano", "tiled.pano", "big.jpg", "big.pano", "big.png", "render.png"};
+    static const char *const names[] = {"flat.pano",     "tiled.pano", "big.jpg",   "big-raw.pano",
+                                        "big-jpeg.pano", "big.png",    "render.png"};
     for (size_t i = 0; i < sizeof names / sizeof *names; i++)
         unlink(tmp_file(names[i]));
     rmdir(tmpdir);
@@ -378,69 +381,104 @@ static int cmp_double(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+/* Read n tiles of level 0 (from its middle row, the page cache warm from packing) into a fresh cache: ms a tile. */
+static double tile_read_ms(const char *path, unsigned n)
+{
+    char err[1024];
+    psc_io_tiled_t *t;
+    if (psc_io_tiled_open(path, (size_t)(n + 8u) << 18, &t, err, sizeof err) != 0) {
+        fprintf(stderr, "tiles bench: %s\n", err);
+        return -1;
+    }
+    const psc_tiles_t *g = psc_io_tiled_tiles(t);
+    uint32_t *ids = malloc(n * sizeof *ids);
+    if (!ids)
+        return -1;
+    for (unsigned k = 0; k < n; k++)
+        ids[k] = g->level[0].first + (g->level[0].tiles_y / 2u) * g->level[0].tiles_x + k % g->level[0].tiles_x +
+                 k / g->level[0].tiles_x * g->level[0].tiles_x;
+    double t0 = bench_now_ms();
+    int rc = psc_io_tiled_load(t, ids, n, err, sizeof err);
+    double ms = (bench_now_ms() - t0) / n;
+    free(ids);
+    psc_io_tiled_close(t);
+    return rc == 0 ? ms : -1;
+}
+
 static int table_gigapixel(void)
 {
-    printf("\nA %ux%u panorama generated here (baseline JPEG, quality 90):\n", BIG_W, BIG_H);
+    printf("\nA %ux%u panorama generated here (baseline JPEG, quality 90), its tiles raw and JPEG side by side:\n",
+           BIG_W, BIG_H);
     double t0 = bench_now_s();
     if (tsup_write_panorama_jpeg(tmp_file("big.jpg"), BIG_W, BIG_H, 90) != 0)
         return -1;
     printf("  written in %.1f s\n", bench_now_s() - t0);
-    double s, rss;
-    char *pack[] = {"build/bin/periscope-pack", (char *)tmp_file("big.jpg"), "-o", (char *)tmp_file("big.pano"),
-                    "--display", "800x480", "--quiet", NULL};
-    if (run_child(pack, &s, &rss) != 0)
-        return -1;
-    FILE *f = fopen(tmp_file("big.pano"), "rb");
-    long size = f && fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
-    if (f)
-        fclose(f);
-    printf("  periscope-pack (tiled, streaming): %.1f s, peak resident %.1f MiB (goal: at most 1024), pack %.1f MiB\n",
-           s, rss, size / 1048576.0);
-
-    /* the first, coarse frame: open (the container, the coarsest level), a viewer, one frame that waits for nothing */
-    t0 = bench_now_ms();
-    char err[1024];
-    psc_io_tiled_t *t;
-    if (psc_io_tiled_open(tmp_file("big.pano"), 64u << 20, &t, err, sizeof err) != 0) {
-        fprintf(stderr, "tiles bench: %s\n", err);
-        return -1;
-    }
-    view_t vw;
-    psc_view_t first = {0, 0, psc_io_bam_from_deg(90), PSC_FILTER_MIP, 2};
-    if (open_view(&vw, NULL, t, 800, 480) != 0 || psc_viewer_render(&vw.v, &first, &vw.out) != PSC_OK)
-        return -1;
-    printf("  the first frame (open, the coarsest level, one coarse 800x480 frame): %.1f ms (goal: under 1000)\n",
-           bench_now_ms() - t0);
-    close_view(&vw);
-    psc_io_tiled_close(t);
-
-    char *render[] = {"build/bin/periscope-render", (char *)tmp_file("big.pano"), "--yaw", "30", "--pitch", "20",
-                      "--hfov", "10", "--size", "800x480", "--filter", "mip", "-o", (char *)tmp_file("render.png"),
-                      NULL};
-    if (run_child(render, &s, &rss) != 0)
-        return -1;
-    printf("  periscope-render, 800x480 at hfov 10 (every tile it needs read): %.2f s, peak resident %.1f MiB "
-           "(goal: at most 128)\n", s, rss);
-    char *device[] = {"build/bin/periscope", "--board", "sim", "--scene", (char *)tmp_file("big.pano"), "--out",
-                      (char *)tmpdir, "--max-frames", "300", "--quiet", NULL};
-    if (run_child(device, &s, &rss) != 0)
-        return -1;
-    printf("  periscope --board sim, 300 frames of its tour: peak resident %.1f MiB (goal: at most 128)\n", rss);
-
-    for (int prefetch = 0; prefetch < 2; prefetch++) {
-        double ms[PAN_FRAMES];
-        unsigned coarse, slowest;
-        if (pan(tmp_file("big.pano"), prefetch, ms, &coarse, &slowest) != 0)
+    static const char *const codecs[] = {"raw", "jpeg"};
+    for (unsigned c = 0; c < 2; c++) {
+        char name[32];
+        snprintf(name, sizeof name, "big-%s.pano", codecs[c]);
+        const char *pano = tmp_file(name);
+        double s, rss;
+        char *pack[] = {"build/bin/periscope-pack", (char *)tmp_file("big.jpg"), "-o", (char *)pano, "--display",
+                        "800x480", "--tile-codec", (char *)codecs[c], "--quiet", NULL};
+        if (run_child(pack, &s, &rss) != 0)
             return -1;
-        const double first_ms = ms[0];
-        qsort(ms, PAN_FRAMES, sizeof *ms, cmp_double);
-        double med = ms[PAN_FRAMES / 2];
-        printf("  a pan (45 degrees a second, hfov 30, mip, 800x480, 60 Hz, the loader reading meanwhile), %s: %u "
-               "frames, %u of them with tiles still on their way;\n    frame ms: min %.2f, median %.2f, 90th %.2f, "
-               "99th %.2f, max %.2f (frame %u; the first %.2f); slowest / median %.2f (goal: at most 2)\n",
-               prefetch ? "prefetching 8 frames ahead" : "no prefetch", PAN_FRAMES, coarse, ms[0], med,
-               ms[PAN_FRAMES * 9 / 10], ms[PAN_FRAMES * 99 / 100], ms[PAN_FRAMES - 1], slowest, first_ms,
-               ms[PAN_FRAMES - 1] / med);
+        FILE *f = fopen(pano, "rb");
+        long size = f && fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+        if (f)
+            fclose(f);
+        printf("\n  --tile-codec %s%s:\n  periscope-pack (tiled, streaming): %.1f s, peak resident %.1f MiB (goal: at "
+               "most 1024), pack %.1f MiB\n", codecs[c], c ? " (the default for a JPEG image)" : "", s, rss,
+               size / 1048576.0);
+        printf("  a level-0 tile read (and decoded) into the cache, the page cache warm: %.2f ms\n",
+               tile_read_ms(pano, 256));
+
+        /* the first, coarse frame: open (the container, the coarsest level), a viewer, one frame that waits for
+         * nothing */
+        t0 = bench_now_ms();
+        char err[1024];
+        psc_io_tiled_t *t;
+        if (psc_io_tiled_open(pano, 64u << 20, &t, err, sizeof err) != 0) {
+            fprintf(stderr, "tiles bench: %s\n", err);
+            return -1;
+        }
+        view_t vw;
+        psc_view_t first = {0, 0, psc_io_bam_from_deg(90), PSC_FILTER_MIP, 2};
+        if (open_view(&vw, NULL, t, 800, 480) != 0 || psc_viewer_render(&vw.v, &first, &vw.out) != PSC_OK)
+            return -1;
+        printf("  the first frame (open, the coarsest level, one coarse 800x480 frame): %.1f ms (goal: under 1000)\n",
+               bench_now_ms() - t0);
+        close_view(&vw);
+        psc_io_tiled_close(t);
+
+        char *render[] = {"build/bin/periscope-render", (char *)pano, "--yaw", "30", "--pitch", "20", "--hfov", "10",
+                          "--size", "800x480", "--filter", "mip", "-o", (char *)tmp_file("render.png"), NULL};
+        if (run_child(render, &s, &rss) != 0)
+            return -1;
+        printf("  periscope-render, 800x480 at hfov 10 (every tile it needs read): %.2f s, peak resident %.1f MiB "
+               "(goal: at most 128)\n", s, rss);
+        char *device[] = {"build/bin/periscope", "--board", "sim", "--scene", (char *)pano, "--out", (char *)tmpdir,
+                          "--max-frames", "300", "--quiet", NULL};
+        if (run_child(device, &s, &rss) != 0)
+            return -1;
+        printf("  periscope --board sim, 300 frames of its tour: peak resident %.1f MiB (goal: at most 128)\n", rss);
+
+        for (int prefetch = 0; prefetch < 2; prefetch++) {
+            double ms[PAN_FRAMES];
+            unsigned coarse, slowest;
+            if (pan(pano, prefetch, ms, &coarse, &slowest) != 0)
+                return -1;
+            const double first_ms = ms[0];
+            qsort(ms, PAN_FRAMES, sizeof *ms, cmp_double);
+            double med = ms[PAN_FRAMES / 2];
+            printf("  a pan (45 degrees a second, hfov 30, mip, 800x480, 60 Hz, the loader reading meanwhile), %s: %u "
+                   "frames, %u of them with tiles still on their way;\n    frame ms: min %.2f, median %.2f, 90th "
+                   "%.2f, 99th %.2f, max %.2f (frame %u; the first %.2f); slowest / median %.2f (goal: at most 2)\n",
+                   prefetch ? "prefetching 8 frames ahead" : "no prefetch", PAN_FRAMES, coarse, ms[0], med,
+                   ms[PAN_FRAMES * 9 / 10], ms[PAN_FRAMES * 99 / 100], ms[PAN_FRAMES - 1], slowest, first_ms,
+                   ms[PAN_FRAMES - 1] / med);
+        }
+        unlink(pano);
     }
     return 0;
 }

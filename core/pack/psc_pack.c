@@ -82,8 +82,11 @@ static psc_status_t parse_tiles(const uint8_t *b, uint32_t off, const uint8_t *i
     uint64_t store_size = (uint64_t)rd32(p + 24) | (uint64_t)rd32(p + 28) << 32;
     if (p[9] != PSC_TILE_LOG2)
         return fail(err, PSC_ERR_CORRUPT, "tile size is not 256 x 256", off + 9);
-    if (p[10] != PSC_TILE_CODEC_RAW)
+    const uint8_t codec = p[10];
+    if (codec != PSC_TILE_CODEC_RAW && codec != PSC_TILE_CODEC_JPEG)
         return fail(err, PSC_ERR_UNSUPPORTED, "unknown tile codec", off + 10);
+    if (codec == PSC_TILE_CODEC_JPEG && out->map.format == PSC_PIX_PAL8)
+        return fail(err, PSC_ERR_CORRUPT, "JPEG tiles of a PAL8 map", off + 10);
     psc_status_t s = psc_tiles_init(&out->tiles, w, h, levels, out->map.format, out->map.palette);
     if (s == PSC_ERR_TOO_LARGE)
         return fail(err, s, "tiled map larger than 65536 x 32768", off);
@@ -101,7 +104,10 @@ static psc_status_t parse_tiles(const uint8_t *b, uint32_t off, const uint8_t *i
     const psc_pack_tile_raw_t *tiles = (const psc_pack_tile_raw_t *)(const void *)index;
     for (uint32_t i = 0; i < count; i++) {
         const psc_pack_tile_raw_t *e = &tiles[i];
-        if (e->size != out->tiles.tile_bytes || e->offset > store_size || store_size - e->offset < e->size)
+        bool size_ok = codec == PSC_TILE_CODEC_RAW
+                           ? e->size == out->tiles.tile_bytes
+                           : e->size >= 1u && e->size <= PSC_TILE_JPEG_MAX_BYTES(out->tiles.tile_bytes);
+        if (!size_ok || e->offset > store_size || store_size - e->offset < e->size)
             return fail(err, PSC_ERR_CORRUPT, "a tile lies outside the tile store or has the wrong size",
                         index_off + i * (uint32_t)sizeof *e);
     }
@@ -109,7 +115,7 @@ static psc_status_t parse_tiles(const uint8_t *b, uint32_t off, const uint8_t *i
     out->map.height = h;
     out->map.stride = 0;
     out->tiled = true;
-    out->tile_codec = p[10];
+    out->tile_codec = codec;
     out->tile_index = tiles;
     out->store_offset = store_off;
     out->store_size = store_size;

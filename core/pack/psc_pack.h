@@ -58,6 +58,11 @@ extern const psc_container_format_t psc_pack_format;
 #define PSC_SECTION_TILE_INDEX PSC_FOURCC('T', 'I', 'D', 'X')
 
 #define PSC_TILE_CODEC_RAW 0u   /* a tile is tile_bytes of map pixels, rows of PSC_TILE_SIDE */
+/* A tile is a baseline JPEG of PSC_TILE_SIDE x PSC_TILE_SIDE pixels (the level's edge pixels repeated past its
+ * right and bottom edges), decoded by the reader and converted to the map's format as a flat pack converts its
+ * image; at most PSC_TILE_JPEG_MAX_BYTES(tile_bytes) bytes. Not for PAL8 maps. */
+#define PSC_TILE_CODEC_JPEG 1u
+#define PSC_TILE_JPEG_MAX_BYTES(tile_bytes) (2u * (tile_bytes) + 4096u)
 
 /** "SCEN" payload, 52 bytes, little-endian, no implicit padding. */
 typedef struct {
@@ -105,7 +110,7 @@ typedef struct {
 /** A "TIDX" entry, 16 bytes: where tile i lies in the store. */
 typedef struct {
     uint64_t offset;              /* from the store's start */
-    uint32_t size;                /* bytes (raw: the tiles' tile_bytes) */
+    uint32_t size;                /* bytes (raw: the tiles' tile_bytes; JPEG: 1..PSC_TILE_JPEG_MAX_BYTES) */
     uint32_t crc32;               /* of those bytes */
 } psc_pack_tile_raw_t;
 

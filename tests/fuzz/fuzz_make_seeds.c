@@ -3,7 +3,9 @@
  * fuzz_make_seeds.c - writes the seeds of the corpora no command-line tool
  * writes (docs/testing.md, "Fuzzing"): JPEG files of each kind the decoders
  * meet (baseline 4:2:0, 4:4:4, progressive, greyscale, Adobe CMYK, an odd
- * size, restart markers) for the jpeg and mjpeg corpora, and mesh packs with
+ * size, restart markers) for the jpeg and mjpeg corpora, tiled packs' JPEG
+ * tiles as their writer encodes them (a picture at two qualities, a flat
+ * grey tile) and a greyscale 256 x 256 JPEG for the tile_jpeg corpus, and mesh packs with
  * the host tools' writer (a cube with colours, a textured cube, a sphere,
  * a cube with translucent faces)
  * for the mesh corpus. Run once by hand:
@@ -17,6 +19,8 @@
 #include <jpeglib.h>
 
 #include "psc_io_image.h"
+#include "psc_io_tiles_jpeg.h"
+#include "tiles/psc_tiles.h"
 #include "bake/mesh_pack.h"
 #include "import/model.h"
 
@@ -135,6 +139,38 @@ static int write_meshes(const char *dir)
     return rc;
 }
 
+/* Tiles as the tiled pack's writer encodes them: the seed picture at qualities 90 and 30, and one flat grey. */
+static int write_tile_jpegs(const char *dir)
+{
+    static uint32_t px[PSC_TILE_SIDE * PSC_TILE_SIDE];
+    static uint8_t out[PSC_TILE_SIDE * PSC_TILE_SIDE * 8u];
+    uint8_t *rgb = picture(PSC_TILE_SIDE, PSC_TILE_SIDE, 3);
+    if (rgb == NULL)
+        return -1;
+    int rc = 0;
+    static const struct {
+        const char *name;
+        unsigned quality;
+        int flat;
+    } tiles[] = {{"tile-q90.jpg", 90, 0}, {"tile-q30.jpg", 30, 0}, {"tile-flat.jpg", 90, 1}};
+    for (size_t t = 0; t < sizeof tiles / sizeof tiles[0]; t++) {
+        for (size_t i = 0; i < PSC_TILE_SIDE * PSC_TILE_SIDE; i++)
+            px[i] = tiles[t].flat ? 0xFF808080u
+                                  : 0xFF000000u | (uint32_t)rgb[3 * i] << 16 | (uint32_t)rgb[3 * i + 1] << 8 |
+                                        rgb[3 * i + 2];
+        char err[256];
+        uint32_t n = psc_io_tile_jpeg_encode(px, tiles[t].quality, out, sizeof out, err, sizeof err);
+        if (n == 0) {
+            fprintf(stderr, "%s\n", err);
+            rc = -1;
+            continue;
+        }
+        rc |= write_file(dir, "tile_jpeg", tiles[t].name, out, n);
+    }
+    free(rgb);
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     static const jpeg_seed_t jpegs[] = {
@@ -156,6 +192,9 @@ int main(int argc, char **argv)
         if (jpegs[i].space == JCS_RGB) /* a camera's frames are colour */
             rc |= write_jpeg(argv[1], "mjpeg", &jpegs[i]);
     }
+    static const jpeg_seed_t grey_tile = {"grey-256.jpg", PSC_TILE_SIDE, PSC_TILE_SIDE, JCS_GRAYSCALE, 1, 75, 0, 0, 0};
+    rc |= write_jpeg(argv[1], "tile_jpeg", &grey_tile);
+    rc |= write_tile_jpegs(argv[1]);
     rc |= write_meshes(argv[1]);
     return rc ? 1 : 0;
 }
