@@ -35,6 +35,7 @@
 #include "tsup_panorama.h"
 #include "viewer/psc_viewer.h"
 
+#include <dirent.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -61,7 +62,7 @@ static char tmpdir[512];
 
 static const char *tmp_file(const char *name)
 {
-    static char buf[8][700];
+    static char buf[8][800];   /* the directory (512) and a file name (255) */
     static unsigned k;
     char *p = buf[k++ & 7u];
     snprintf(p, sizeof buf[0], "%s/%s", tmpdir, name);
@@ -75,12 +76,15 @@ static int make_tmpdir(void)
     return mkdtemp(tmpdir) ? 0 : -1;
 }
 
+/* The temporary directory and everything in it (the packs, the device program's frames and contact sheet). */
 static void remove_tmpdir(void)
 {
-    static const char *const names[] = {"flat.pano",     "tiled.pano", "big.jpg",   "big-raw.pano",
-                                        "big-jpeg.pano", "big.png",    "render.png"};
-    for (size_t i = 0; i < sizeof names / sizeof *names; i++)
-        unlink(tmp_file(names[i]));
+    DIR *d = opendir(tmpdir);
+    for (struct dirent *e = d ? readdir(d) : NULL; e; e = readdir(d))
+        if (strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0)
+            unlink(tmp_file(e->d_name));
+    if (d)
+        closedir(d);
     rmdir(tmpdir);
 }
 
