@@ -34,7 +34,7 @@ static void print_usage(const char *prog, FILE *f)
             "and the full mesh as a proxy pack. OBJ groups are rigid parts.\n"
             "\n"
             "  --views K           at least K view directions: the smallest odd grid side whose square reaches\n"
-            "                      K (default 49: 7 x 7, octahedral), or a larger one while the texel\n"
+            "                      K (default 64: 9 x 9, octahedral), or a larger one while the texel\n"
             "                      density holds and the views stay within 2 K\n"
             "  --tex-mb M          the view textures' budget, mip levels included (default 12): one texel\n"
             "                      density for every proxy, the highest that fits, at most 256 texels per R\n"

@@ -700,22 +700,22 @@ static void test_truck_quality(void **state)
     for (unsigned k = 0; k < sizeof shots / sizeof shots[0]; k++) {
         quality_t q = measure(&f, &shots[k], "truck");
         iou += q.iou / 5, psnr += q.psnr / 5, ids += q.ids / 5;
-        /* the floor of what these proxies and 7 x 7 views give (measured IoU 0.987..0.991, 23.9..33.5 dB; 21.9..31.2
-         * against centre samples) */
+        /* the issue's goal at every view: the default --views 64, 121 views at 137 texels per R (measured IoU
+         * 0.984..0.992, 24.7..32.6 dB; with 7 x 7 views at 173 texels per R, 23.9..33.5) */
         assert_true(q.iou >= 0.97);
-        assert_true(q.psnr >= 22.0);
+        assert_true(q.psnr >= 24.0);
         assert_true(q.ids >= 0.99);
     }
     print_message("  truck mean: IoU %.3f, PSNR %.1f dB, front part %.3f\n", iou, psnr, ids);
     assert_true(iou >= 0.98);   /* measured 0.989 */
-    assert_true(psnr >= 26.0);  /* measured 27.9 dB (25.7 against centre samples) */
+    assert_true(psnr >= 26.0);  /* measured 27.8 dB (27.9 with 7 x 7 views; 25.7 against centre samples) */
     /* the billboard, far: its rest-pose views on a quad facing the camera */
     static const shot_t far[] = {{40, 15, 12, -1, 0, PSC_PROXY_LOD_BILLBOARD}, {230, -10, 12, -1, 0, PSC_PROXY_LOD_BILLBOARD}};
     for (unsigned k = 0; k < 2; k++) {
         quality_t q = measure(&f, &far[k], "truck");
         assert_true(q.iou >= 0.78);   /* measured 0.83, 0.85 */
     }
-    relight_quality(&f, shots, sizeof shots / sizeof shots[0], "truck", 23.0, 22.0);   /* measured 24.1..24.2, 23.0..23.9 */
+    relight_quality(&f, shots, sizeof shots / sizeof shots[0], "truck", 23.5, 22.5);   /* measured 24.3..25.2, 23.1..24.9 */
     relight_quality(&f, far, 2, "truck", 14.5, 12.5);   /* the billboard: measured 15.7..17.0, 13.6..15.9 */
     fixture_free(&f);
 }
@@ -731,10 +731,11 @@ static void test_bar_quality(void **state)
     };
     for (unsigned k = 0; k < sizeof shots / sizeof shots[0]; k++) {
         quality_t q = measure(&f, &shots[k], "bar");
-        /* the floor of what they give (IoU measured 0.78..0.96, holes 0.016..0.13, front part 0.99..0.997; baked with
-         * 81 views, the grid grown from 49 at the same texel density, 0.79..0.94 with 49): the bar
-         * is 32 times longer than thick, 8 pixels across here, and a pixel's shift at its edges costs 0.1 of IoU */
-        assert_true(q.iou >= 0.75);
+        /* the floor of what they give (the default --views 64: 121 views at 256 texels per R; IoU measured
+         * 0.929..0.953 at the animation's poses, 0.788 bent 45 degrees past it, holes 0.016..0.13, front part
+         * 0.99..0.997; 0.79..0.94 with 7 x 7 views): the bar is 32 times longer than thick, 8 pixels across here,
+         * and a pixel's shift at its edges costs 0.1 of IoU */
+        assert_true(q.iou >= (shots[k].bend ? 0.75 : 0.92));
         assert_true(q.hole <= 0.14);
         assert_true(q.ids >= 0.98);
     }

@@ -14,7 +14,7 @@
  *    triangles), baked with 64 views (9 x 9), its animation playing.
  * Each at 800x480 near and at the middle distance, and at 320x240 at the
  * middle distance (the model a third of the view).
- * Each is baked here with periscope-proxy's defaults (7 x 7 views, 12 MB of
+ * Each is baked here with periscope-proxy's defaults (at least 64 views, 12 MB of
  * view textures with their mips, one texel density).
  *
  *   build/bench/proxy --out bench/results     the table (`make bench`)

@@ -42,7 +42,7 @@
 
 #include "import/gltf_model.h"
 
-#define PSC_BAKE_PROXY_VIEWS 49u     /* a 7 x 7 grid */
+#define PSC_BAKE_PROXY_VIEWS 64u     /* at least 64: a 9 x 9 grid, or 11 x 11 where the texel density holds */
 #define PSC_BAKE_PROXY_TEX 256u     /* the largest view texture's side */
 #define PSC_BAKE_PROXY_TEX_MB 12.0  /* the view textures' budget, mips included ... */
 #define PSC_BAKE_PROXY_PACK_MB 15.0 /* ... and less if the pack would be larger (15 MiB: under 16 MB either way) */
