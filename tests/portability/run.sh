@@ -68,7 +68,8 @@ rm -rf "$tmp"
 mkdir -p "$tmp" || die "cannot create $tmp"
 
 # three packs of the bundled panorama, small enough for emulation: the map as RGB565, XRGB8888 and RGB888; and
-# three tiled ones (every tile resident: the tiled spans and kernels), RGB565, RGB888 and a partial turn
+# three tiled ones (every tile resident: the tiled spans and kernels), RGB565, RGB888 and a partial turn; raw tiles
+# (--tile-codec raw: the renderer reads the tile store as it lies, with core alone; a JPEG's tiles are JPEG by default)
 for fmt in rgb565 xrgb8888 rgb888; do
     "$build/bin/periscope-pack" assets/pannellum-examplepano.jpg -o "$tmp/$fmt.pano" --display 160x120 \
         --format "$fmt" --quiet >"$tmp/pack.log" 2>&1 || { cat "$tmp/pack.log"; die "periscope-pack $fmt failed"; }
@@ -88,7 +89,8 @@ for fmt in rgb565 rgb888 partial; do
     [ "$fmt" = partial ] && part="--lon-range -90:90 --lat-range 60:-30"
     # shellcheck disable=SC2086
     "$build/bin/periscope-pack" assets/pannellum-examplepano.jpg -o "$tmp/tiled-$fmt.pano" --display 160x120 \
-        --format "$( [ "$fmt" = partial ] && echo rgb888 || echo "$fmt")" --tiled $part --quiet >"$tmp/pack.log" 2>&1 ||
+        --format "$( [ "$fmt" = partial ] && echo rgb888 || echo "$fmt")" --tiled --tile-codec raw $part --quiet \
+        >"$tmp/pack.log" 2>&1 ||
         { cat "$tmp/pack.log"; die "periscope-pack --tiled $fmt failed"; }
 done
 
@@ -206,5 +208,20 @@ for map in rgb565 xrgb8888; do
             die "periscope-render $args on a $map map: the PNG differs from x86-64's"
     done
 done
-echo "portability: $board ($arch): periscope-render: $pngs PNG files equal to x86-64's"
+# a pack of JPEG tiles (a JPEG's default): the target's libjpeg-turbo decodes its tiles as the host's does
+"$build/bin/periscope-pack" assets/pannellum-examplepano.jpg -o "$tmp/tiled-jpeg.pano" --display 160x120 --tiled \
+    --quiet >"$tmp/pack.log" 2>&1 || { cat "$tmp/pack.log"; die "periscope-pack of JPEG tiles failed"; }
+for args in "--filter bilinear --format xrgb8888 --yaw 37.5 --pitch 10 --hfov 8" \
+            "--filter mip --format xrgb8888 --yaw -120 --pitch -60 --hfov 100"; do
+    pngs=$((pngs + 1))
+    # shellcheck disable=SC2086
+    "$build/bin/periscope-render" "$tmp/tiled-jpeg.pano" $args -o "$tmp/ref-$pngs.png" 2>"$tmp/render.log" ||
+        { cat "$tmp/render.log"; die "the x86-64 periscope-render failed ($args, JPEG tiles)"; }
+    # shellcheck disable=SC2086
+    ${runner:+$runner -L $libroot} "$tool" "$tmp/tiled-jpeg.pano" $args --threads 1 -o "$tmp/$board-$pngs.png" \
+        2>"$tmp/render.log" || { cat "$tmp/render.log"; die "$tool failed ($args, JPEG tiles)"; }
+    cmp "$tmp/ref-$pngs.png" "$tmp/$board-$pngs.png" ||
+        die "periscope-render $args on a pack of JPEG tiles: the PNG differs from x86-64's"
+done
+echo "portability: $board ($arch): periscope-render: $pngs PNG files equal to x86-64's (2 of them of JPEG tiles)"
 rm -rf "$tmp"
