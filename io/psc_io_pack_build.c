@@ -467,8 +467,6 @@ int psc_io_pack_build_tiled_head(uint32_t width, uint32_t height, const psc_pack
                           "%s)", psc_projection_name(map.projection));
     if (opt->tile_codec != PSC_TILE_CODEC_RAW && opt->tile_codec != PSC_TILE_CODEC_JPEG)
         return build_fail(err, errlen, "unknown tile codec %u", (unsigned)opt->tile_codec);
-    if (opt->tile_codec == PSC_TILE_CODEC_JPEG && map.format == PSC_PIX_PAL8)
-        return build_fail(err, errlen, "JPEG tiles hold true colour: a pal8 map's tiles must be raw");
     if (opt->tile_codec == PSC_TILE_CODEC_JPEG && (opt->tile_quality < 1u || opt->tile_quality > 100u))
         return build_fail(err, errlen, "JPEG tile quality %u: expected 1..100", (unsigned)opt->tile_quality);
     if (map_out)

@@ -190,38 +190,32 @@ fi
 # the real tool; the target's libraries come from Debian multiarch (/usr/lib/<triplet>)
 # or from the sysroot, which qemu's -L then names
 pngs=0
+# the pack $1 drawn with the options $2 by the host's periscope-render and the target's: the same PNG file
+render_both() {
+    pngs=$((pngs + 1))
+    # shellcheck disable=SC2086
+    "$build/bin/periscope-render" "$1" $2 -o "$tmp/ref-$pngs.png" 2>"$tmp/render.log" ||
+        { cat "$tmp/render.log"; die "the x86-64 periscope-render failed ($2 on $1)"; }
+    # the host draws on its threads (one per processor), the target on one: Debian 12's qemu-aarch64 (7.2)
+    # spins for ever in a guest's first pthread_create on this machine; the bands are proven equal natively
+    # shellcheck disable=SC2086
+    ${runner:+$runner -L $libroot} "$tool" "$1" $2 --threads 1 -o "$tmp/$board-$pngs.png" \
+        2>"$tmp/render.log" || { cat "$tmp/render.log"; die "$tool failed ($2 on $1)"; }
+    cmp "$tmp/ref-$pngs.png" "$tmp/$board-$pngs.png" ||
+        die "periscope-render $2 on $1: the PNG differs from x86-64's"
+}
 for map in rgb565 xrgb8888; do
     for args in "--filter nearest --format rgb565 --yaw 180 --pitch 0 --hfov 90" \
                 "--filter bilinear --format xrgb8888 --yaw 37.5 --pitch 90 --hfov 75" \
                 "--filter mip --format rgb565 --yaw -120 --pitch -90 --hfov 100" \
                 "--filter mip --format xrgb8888 --yaw 180 --pitch -33 --hfov 60 --span 1"; do
-        pngs=$((pngs + 1))
-        # shellcheck disable=SC2086
-        "$build/bin/periscope-render" "$tmp/$map.pano" $args -o "$tmp/ref-$pngs.png" 2>"$tmp/render.log" ||
-            { cat "$tmp/render.log"; die "the x86-64 periscope-render failed ($args)"; }
-        # the host draws on its threads (one per processor), the target on one: Debian 12's qemu-aarch64 (7.2)
-        # spins for ever in a guest's first pthread_create on this machine; the bands are proven equal natively
-        # shellcheck disable=SC2086
-        ${runner:+$runner -L $libroot} "$tool" "$tmp/$map.pano" $args --threads 1 -o "$tmp/$board-$pngs.png" \
-            2>"$tmp/render.log" || { cat "$tmp/render.log"; die "$tool failed ($args)"; }
-        cmp "$tmp/ref-$pngs.png" "$tmp/$board-$pngs.png" ||
-            die "periscope-render $args on a $map map: the PNG differs from x86-64's"
+        render_both "$tmp/$map.pano" "$args"
     done
 done
 # a pack of JPEG tiles (a JPEG's default): the target's libjpeg-turbo decodes its tiles as the host's does
 "$build/bin/periscope-pack" assets/pannellum-examplepano.jpg -o "$tmp/tiled-jpeg.pano" --display 160x120 --tiled \
     --quiet >"$tmp/pack.log" 2>&1 || { cat "$tmp/pack.log"; die "periscope-pack of JPEG tiles failed"; }
-for args in "--filter bilinear --format xrgb8888 --yaw 37.5 --pitch 10 --hfov 8" \
-            "--filter mip --format xrgb8888 --yaw -120 --pitch -60 --hfov 100"; do
-    pngs=$((pngs + 1))
-    # shellcheck disable=SC2086
-    "$build/bin/periscope-render" "$tmp/tiled-jpeg.pano" $args -o "$tmp/ref-$pngs.png" 2>"$tmp/render.log" ||
-        { cat "$tmp/render.log"; die "the x86-64 periscope-render failed ($args, JPEG tiles)"; }
-    # shellcheck disable=SC2086
-    ${runner:+$runner -L $libroot} "$tool" "$tmp/tiled-jpeg.pano" $args --threads 1 -o "$tmp/$board-$pngs.png" \
-        2>"$tmp/render.log" || { cat "$tmp/render.log"; die "$tool failed ($args, JPEG tiles)"; }
-    cmp "$tmp/ref-$pngs.png" "$tmp/$board-$pngs.png" ||
-        die "periscope-render $args on a pack of JPEG tiles: the PNG differs from x86-64's"
-done
+render_both "$tmp/tiled-jpeg.pano" "--filter bilinear --format xrgb8888 --yaw 37.5 --pitch 10 --hfov 8"
+render_both "$tmp/tiled-jpeg.pano" "--filter mip --format xrgb8888 --yaw -120 --pitch -60 --hfov 100"
 echo "portability: $board ($arch): periscope-render: $pngs PNG files equal to x86-64's (2 of them of JPEG tiles)"
 rm -rf "$tmp"
