@@ -366,8 +366,8 @@ check-memcheck: all $(SAMPLE_PACK) $(SAMPLE_CHARACTER) $(SAMPLE_TILED) $(BUILD)/
 	$(Q)$(MEMCHECK) $(FIRMWARE) --board sim --frames-every 0 --max-frames 90 --quiet
 	$(Q)$(MEMCHECK) $(FIRMWARE) --board sim --scene $(SAMPLE_TILED) --frames-every 0 --max-frames 60 --quiet
 	$(Q)$(MEMCHECK) $(FIRMWARE) --board sim --scene $(SAMPLE_CHARACTER) --frames-every 0 --max-frames 20 --quiet
-	@echo "  CHECK   valgrind helgrind: the tile loader thread reading while frames are drawn (test_tiles)"
-	$(Q)PSC_TILES_ONLY=test_loader_thread_sharpens valgrind -q --tool=helgrind --error-exitcode=99 \
+	@echo "  CHECK   valgrind helgrind: the tile loader thread, raw and JPEG tiles, while frames are drawn (test_tiles)"
+	$(Q)PSC_TILES_ONLY='*loader*' valgrind -q --tool=helgrind --error-exitcode=99 \
 		$(BUILD)/tests/test_tiles > /dev/null
 
 # A long run of the device program on the simulated board (tests/test_soak.c): 10^5 frames of a tour
