@@ -271,9 +271,10 @@ $(SAMPLE_CHARACTER): $(THOM)/Thom.mdl $(THOM)/Thom2.mdl $(THOM)/ResoluteWalk.act
 
 # ... and its self-shadowing: the character scene finds out/thom.pao beside out/thom.ppk.
 SAMPLE_SHADOW := out/thom.pao
-$(SAMPLE_SHADOW): $(THOM)/Thom.mdl $(THOM)/Thom2.mdl $(BUILD)/bin/periscope-shadow
+# From the character's pack, whose actions the correction through each action follows.
+$(SAMPLE_SHADOW): $(SAMPLE_CHARACTER) $(BUILD)/bin/periscope-shadow
 	@mkdir -p $(@D)
-	$(BUILD)/bin/periscope-shadow build $(THOM)/Thom.mdl --skin-from $(THOM)/Thom2.mdl -o $@
+	$(BUILD)/bin/periscope-shadow build $(SAMPLE_CHARACTER) -o $@
 
 run: deps
 	$(Q)$(MAKE) --no-print-directory all

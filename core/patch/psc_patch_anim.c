@@ -184,6 +184,8 @@ void psc_patch_pose_begin(psc_patch_t *p, int action, uint32_t time_ms)
     const psc_patch_model_t *m = p->m;
     const psc_patch_action_t *a = (action >= 0 && (uint32_t)action < m->action_count) ? &m->actions[action] : NULL;
     uint32_t t = a ? time_ms % a->duration_ms : 0;
+    p->pose_action = a ? action : -1;   /* (what the self-shadowing's correction through each action reads) */
+    p->pose_time_ms = t;
 
     for (uint32_t i = 0; i < m->point_count; i++)
         for (unsigned k = 0; k < 3; k++)

@@ -74,6 +74,8 @@ typedef struct {
     /* per point */
     int32_t (*pos)[3];                /* posed positions */
     int32_t (*prev_pos)[3];           /* last frame's */
+    int32_t pose_action;              /* the action psc_patch_pose_begin posed (-1: the rest pose) */
+    uint32_t pose_time_ms;            /* and its time within the action's duration */
     int32_t (*nrm)[3];                /* normals, unit Q16.16 */
     int32_t (*prev_nrm)[3];
     /* per CP: tangent handles as offsets from its point */

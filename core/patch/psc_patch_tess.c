@@ -100,6 +100,7 @@ psc_status_t psc_patch_init(psc_patch_t *p, const psc_patch_model_t *m, const ps
         return PSC_ERR_NOMEM;
     *p = (psc_patch_t){0};
     p->m = m;
+    p->pose_action = -1;   /* the rest pose until posed */
     p->lim = *lim;
     p->pos = (int32_t(*)[3])(void *)(b + l.pos);
     p->prev_pos = (int32_t(*)[3])(void *)(b + l.prev_pos);

@@ -31,7 +31,15 @@
  *    spheres stand for a body's surfaces, not for thin parts (legs, rims) nor
  *    for a part's inside (where another part runs into it, the reference's
  *    occlusion is 1): the correction carries what the rest pose knows, the
- *    spheres how the pose changes it.
+ *    spheres how the pose changes it;
+ *  - (version 1.2, optional, with the rest correction) the correction
+ *    through each action: for every action of the character, at phases
+ *    k / samples of its length, each point's reference less the gain times
+ *    the spheres in that pose (a point buried in it, where another part runs
+ *    through, made dark). A frame posed by an action takes it, interpolated
+ *    between the phases round its time, in place of the rest correction: the
+ *    average over poses cannot know that an arm passes through the shirt at
+ *    one moment of a wave and not at another.
  * Stage two (core, every frame, psc_shadow_run.c; the real-time module 73):
  * update (721) moves the spheres with the skeleton; composition (725) finds
  * the nearest spheres per level for a point, looks the tables up, merges
@@ -45,7 +53,9 @@
  * "SACC" (omega x theta x 2 uint16), "SCMP" (theta1 x theta2 x delta x
  * {uint16 theta3, int16 cos, int16 sin, uint16 reserved}), "SACO" (acos
  * table: PSC_SHADOW_ACOS_SIZE uint16, omega / pi at cos = -1 .. 1), and the
- * optional "SREF" (psc_shadow_rest_raw_t, then count int16, Q1.15).
+ * optional "SREF" (psc_shadow_rest_raw_t, then count int16, Q1.15) and
+ * "SRPH" (psc_shadow_phase_raw_t, then actions x samples x count int16,
+ * Q1.15: action a's phase k at [(a x samples + k) x count]).
  */
 #ifndef PSC_SHADOW_H
 #define PSC_SHADOW_H
@@ -55,7 +65,7 @@
 
 #define PSC_SHADOW_MAGIC "PSCSHAO\x1a"
 #define PSC_SHADOW_VERSION_MAJOR 1u
-#define PSC_SHADOW_VERSION_MINOR 1u   /* 1: the optional rest correction, SREF */
+#define PSC_SHADOW_VERSION_MINOR 2u   /* 1: the optional rest correction, SREF; 2: through each action, SRPH */
 #define PSC_SHADOW_MAX_SECTIONS 12u
 #define PSC_SHADOW_MAX_LEVELS 4u
 #define PSC_SHADOW_MAX_SPHERES 4096u
@@ -64,6 +74,8 @@
 #define PSC_SHADOW_NEAREST_COARSE 6u   /* of each level above: a sphere that stands for its children covers more */
 #define PSC_SHADOW_ACOS_SIZE 1025u
 #define PSC_SHADOW_MAX_REST (1u << 20)   /* points or vertices a rest correction covers */
+#define PSC_SHADOW_MAX_PHASE_ACTIONS 64u    /* actions SRPH covers */
+#define PSC_SHADOW_MAX_PHASES 64u           /* phases an action's correction is sampled at */
 #define PSC_SHADOW_REST_GAIN_MIN_Q16 (65536u / 4u)
 #define PSC_SHADOW_REST_GAIN_MAX_Q16 (65536u * 4u)
 
@@ -75,6 +87,7 @@ extern const psc_container_format_t psc_shadow_format;
 #define PSC_SECTION_SHADOW_COMPOSITE PSC_FOURCC('S', 'C', 'M', 'P')
 #define PSC_SECTION_SHADOW_ACOS PSC_FOURCC('S', 'A', 'C', 'O')
 #define PSC_SECTION_SHADOW_REST PSC_FOURCC('S', 'R', 'E', 'F')
+#define PSC_SECTION_SHADOW_PHASE PSC_FOURCC('S', 'R', 'P', 'H')
 
 /** "SINF", 32 bytes. */
 typedef struct {
@@ -116,7 +129,15 @@ typedef struct {
     uint32_t gain_q16;            /* the spheres' occlusion times this, then the correction added; 1/4..4 */
 } psc_shadow_rest_raw_t;
 
+/** "SRPH"'s head, 8 bytes, then actions x samples x count int16 (Q1.15, -1..1; count: SREF's). */
+typedef struct {
+    uint16_t actions;             /* the character's actions, in its order (1..PSC_SHADOW_MAX_PHASE_ACTIONS) */
+    uint16_t samples;             /* phases per action, k / samples of its length (1..PSC_SHADOW_MAX_PHASES) */
+    uint32_t count;               /* SREF's count */
+} psc_shadow_phase_raw_t;
+
 _Static_assert(sizeof(psc_shadow_info_raw_t) == 32, "SINF is 32 bytes");
+_Static_assert(sizeof(psc_shadow_phase_raw_t) == 8, "SRPH's head is 8 bytes");
 _Static_assert(sizeof(psc_shadow_rest_raw_t) == 8, "SREF's head is 8 bytes");
 _Static_assert(sizeof(psc_shadow_sphere_t) == 28, "a sphere is 28 bytes");
 _Static_assert(sizeof(psc_shadow_comp_t) == 8, "a composite entry is 8 bytes");
@@ -133,6 +154,8 @@ typedef struct {
     uint32_t rest_count;             /* the rest correction's entries, 0: none */
     uint32_t rest_gain_q16;          /* its gain on the spheres' occlusion (Q16.16) */
     const int16_t *rest_q15;         /* rest_count, Q1.15 */
+    uint32_t phase_actions, phase_samples;   /* the correction through each action (1.2), 0: none */
+    const int16_t *phase_q15;        /* phase_actions x phase_samples x rest_count, Q1.15 */
 } psc_shadow_model_t;
 
 /**

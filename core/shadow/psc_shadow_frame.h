@@ -55,6 +55,10 @@ typedef struct {
     int32_t angle_cos[PSC_SHADOW_ANGLE_TABLE];  /* cos of the occlusion angle (Q16.16), 1/256 steps of pi */
     int32_t mean_edge_q16;       /* the character's patches' mean edge at rest */
     bool at_corners;             /* compose at the patches' corners (small patches), else at every vertex */
+    /* this frame's correction through its action (the pack's SRPH, psc_shadow_update): the two phases round the
+     * action's time and the second's share (Q0.16); phase_a NULL: the rest correction (SREF) */
+    const int16_t *phase_a, *phase_b;
+    uint32_t phase_f_q16;
     uint32_t shaded;             /* vertices shaded by the last psc_shadow_apply */
     uint64_t occlusion_sum;      /* their occlusion, summed (Q0.16) */
 } psc_shadow_t;
@@ -72,7 +76,8 @@ psc_status_t psc_shadow_init(psc_shadow_t *s, const psc_shadow_model_t *m, const
 psc_status_t psc_shadow_init_mesh(psc_shadow_t *s, const psc_shadow_model_t *m, uint32_t bone_count, void *ws,
                                   size_t ws_size);
 
-/** The spheres posed as p's skeleton is this frame (after psc_patch_pose). */
+/** The spheres posed as p's skeleton is this frame (after psc_patch_pose); and, where the pack has a correction
+ *  through each action (SRPH) for as many actions as p's character, the phases round p's action's time. */
 void psc_shadow_update(psc_shadow_t *s, const psc_patch_t *p);
 
 /** The spheres posed by bone_skin[0..bone_count) (posed x rest^-1, units of R; nothing moves when bone_count

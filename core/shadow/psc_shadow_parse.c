@@ -9,12 +9,12 @@ const psc_container_format_t psc_shadow_format = {
     PSC_SHADOW_MAX_SECTIONS,
 };
 
-enum { S_INFO, S_SPHERES, S_ACCESS, S_COMP, S_ACOS, S_REST, S_COUNT };
-#define S_REQUIRED S_REST   /* the sections before it; SREF (1.1) is optional */
+enum { S_INFO, S_SPHERES, S_ACCESS, S_COMP, S_ACOS, S_REST, S_PHASE, S_COUNT };
+#define S_REQUIRED S_REST   /* the sections before it; SREF (1.1) and SRPH (1.2) are optional */
 
 static const uint32_t section_type[S_COUNT] = {
     PSC_SECTION_SHADOW_INFO, PSC_SECTION_SHADOW_SPHERES, PSC_SECTION_SHADOW_ACCESS, PSC_SECTION_SHADOW_COMPOSITE,
-    PSC_SECTION_SHADOW_ACOS, PSC_SECTION_SHADOW_REST,
+    PSC_SECTION_SHADOW_ACOS, PSC_SECTION_SHADOW_REST, PSC_SECTION_SHADOW_PHASE,
 };
 
 static psc_status_t check_spheres(const psc_shadow_model_t *m, uint32_t base, psc_container_error_t *err)
@@ -108,6 +108,24 @@ psc_status_t psc_shadow_parse(const void *buf, size_t len, psc_shadow_model_t *o
         m.rest_count = rh->count;
         m.rest_gain_q16 = rh->gain_q16;
         m.rest_q15 = (const int16_t *)(const void *)(c.base + r->offset + sizeof *rh);
+    }
+    if (present[S_PHASE]) {   /* the correction through each action (1.2), beside the rest correction */
+        const psc_section_t *r = &f[S_PHASE];
+        if (!present[S_REST])
+            return fail(err, PSC_ERR_CORRUPT, "SRPH without SREF", r->entry);
+        if (r->size < sizeof(psc_shadow_phase_raw_t))
+            return fail(err, PSC_ERR_CORRUPT, "SRPH is shorter than its head", r->entry + 8);
+        const psc_shadow_phase_raw_t *ph = (const psc_shadow_phase_raw_t *)(const void *)(c.base + r->offset);
+        if (ph->actions == 0 || ph->actions > PSC_SHADOW_MAX_PHASE_ACTIONS || ph->samples == 0 ||
+            ph->samples > PSC_SHADOW_MAX_PHASES)
+            return fail(err, PSC_ERR_TOO_LARGE, "SRPH's actions or phases are zero or beyond their limits", r->offset);
+        if (ph->count != m.rest_count)
+            return fail(err, PSC_ERR_CORRUPT, "SRPH's count is not SREF's", r->offset + 4);
+        if (r->size != sizeof *ph + (uint64_t)ph->actions * ph->samples * ph->count * 2u)
+            return fail(err, PSC_ERR_CORRUPT, "SRPH's size does not match its counts", r->offset);
+        m.phase_actions = ph->actions;
+        m.phase_samples = ph->samples;
+        m.phase_q15 = (const int16_t *)(const void *)(c.base + r->offset + sizeof *ph);
     }
     *out = m;
     return PSC_OK;

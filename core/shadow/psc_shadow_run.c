@@ -196,6 +196,20 @@ psc_status_t psc_shadow_init(psc_shadow_t *s, const psc_shadow_model_t *m, const
 void psc_shadow_update(psc_shadow_t *s, const psc_patch_t *p)
 {
     psc_shadow_update_bones(s, p->bone_skin, p->m->bone_count);
+    const psc_shadow_model_t *m = s->m;
+    const psc_patch_model_t *pm = p->m;
+    s->phase_a = s->phase_b = NULL;
+    s->phase_f_q16 = 0;
+    if (m->phase_q15 == NULL || m->phase_actions != pm->action_count || p->pose_action < 0 ||
+        (uint32_t)p->pose_action >= pm->action_count || pm->actions[p->pose_action].duration_ms == 0)
+        return;   /* the rest pose, or a pack made for other actions: the rest correction */
+    /* the phase in samples, Q16: time / duration x samples (time < duration < 2^32 ms, samples <= 64) */
+    uint32_t n = m->phase_samples, a = (uint32_t)p->pose_action;
+    uint64_t at = ((uint64_t)p->pose_time_ms * n << 16) / pm->actions[a].duration_ms;
+    uint32_t k = (uint32_t)(at >> 16) % n;
+    s->phase_a = m->phase_q15 + ((size_t)a * n + k) * m->rest_count;
+    s->phase_b = m->phase_q15 + ((size_t)a * n + (k + 1u) % n) * m->rest_count;   /* actions loop */
+    s->phase_f_q16 = (uint32_t)(at & 0xFFFFu);
 }
 
 void psc_shadow_update_bones(psc_shadow_t *s, const psc_mat4_q16_t *bone_skin, uint32_t bone_count)
@@ -526,11 +540,17 @@ static uint32_t rest_apply(const psc_shadow_model_t *m, uint32_t o, int32_t offs
 
 /* Occlusion o of point or vertex i of count with the pack's rest correction, when the pack has one for that many
  * (psc_shadow_init refuses a character whose point count differs; a mesh whose vertex count differs, say the same
- * model imported with other options, gets the spheres alone). */
-static uint32_t rest_corrected(const psc_shadow_model_t *m, uint32_t i, uint32_t count, uint32_t o)
+ * model imported with other options, gets the spheres alone); through the frame's action where the pack has that
+ * (between the two phases round its time, linearly). */
+static uint32_t rest_corrected(const psc_shadow_t *s, uint32_t i, uint32_t count, uint32_t o)
 {
+    const psc_shadow_model_t *m = s->m;
     if (m->rest_count != count || i >= count)
         return o;
+    if (s->phase_a) {
+        int32_t a = s->phase_a[i], b = s->phase_b[i];   /* Q1.15; the blend Q0.16 */
+        return rest_apply(m, o, 2 * a + (int32_t)psc_shr_round64((int64_t)(b - a) * s->phase_f_q16, 15));
+    }
     return rest_apply(m, o, 2 * (int32_t)m->rest_q15[i]);   /* Q1.15 to Q0.16 */
 }
 
@@ -544,8 +564,7 @@ static void face_corners(psc_shadow_t *s, const psc_patch_t *p, const psc_patch_
         psc_shadow_point_t *q = &s->point[pt];
         if (q->occ == PSC_SHADOW_UNSET) {
             int32_t bent[3];
-            q->occ = rest_corrected(s->m, pt, p->m->point_count, psc_shadow_occlusion_bent(s, p->pos[pt], p->nrm[pt],
-                                                                                              bent));
+            q->occ = rest_corrected(s, pt, p->m->point_count, psc_shadow_occlusion_bent(s, p->pos[pt], p->nrm[pt], bent));
             for (unsigned a = 0; a < 3; a++)
                 q->bend[a] = bent[a] - p->nrm[pt][a];
         }
@@ -603,7 +622,7 @@ void psc_shadow_apply_mesh(psc_shadow_t *s, const int32_t *pos_q16, int16_t *nrm
     s->occlusion_sum = 0;
     for (uint32_t i = 0; i < count; i++) {   /* the seed's way: composed at every vertex */
         int32_t n[3] = {nrm_q14[3 * i] * 4, nrm_q14[3 * i + 1] * 4, nrm_q14[3 * i + 2] * 4}, bent[3];
-        uint32_t o = rest_corrected(s->m, i, count, psc_shadow_occlusion_bent(s, &pos_q16[3 * i], n, bent));
+        uint32_t o = rest_corrected(s, i, count, psc_shadow_occlusion_bent(s, &pos_q16[3 * i], n, bent));
         shade_vertex(s, o, bent, &color[i], &nrm_q14[3 * i], strength_q16);
         if (occlusion)
             occlusion[i] = o;

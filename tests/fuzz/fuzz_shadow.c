@@ -11,7 +11,9 @@
  * differs only in taking the bone count from the patch pack): the spheres
  * posed (identity skins), occlusions at a few points within 0..1 (Q16);
  * a rest correction (SREF) within its count and gain limits, and applied to
- * a mesh of as many vertices (when small) with every occlusion within 0..1.
+ * a mesh of as many vertices (when small) with every occlusion within 0..1;
+ * a correction through each action (SRPH) only beside SREF, within its
+ * limits and of SREF's count.
  */
 #include <stdlib.h>
 
@@ -35,6 +37,13 @@ static void check_parsed(const psc_shadow_model_t *m)
         FUZZ_REQUIRE(m->rest_count <= PSC_SHADOW_MAX_REST && m->rest_q15 != NULL);
         FUZZ_REQUIRE(m->rest_gain_q16 >= PSC_SHADOW_REST_GAIN_MIN_Q16 &&
                      m->rest_gain_q16 <= PSC_SHADOW_REST_GAIN_MAX_Q16);
+    }
+    if (m->phase_q15) {
+        FUZZ_REQUIRE(m->rest_count != 0);
+        FUZZ_REQUIRE(m->phase_actions >= 1 && m->phase_actions <= PSC_SHADOW_MAX_PHASE_ACTIONS);
+        FUZZ_REQUIRE(m->phase_samples >= 1 && m->phase_samples <= PSC_SHADOW_MAX_PHASES);
+    } else {
+        FUZZ_REQUIRE(m->phase_actions == 0);
     }
 }
 

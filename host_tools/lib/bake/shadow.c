@@ -531,8 +531,12 @@ int psc_bake_shadow(const psc_patch_model_t *m, const psc_bake_shadow_opts_t *o,
         *out = NULL;
         return -1;
     }
-    if (rc == 0)
-        psc_note_add(note, notelen, "a rest correction for its %u points", (unsigned)m->point_count);
+    if (rc == 0 && m->action_count > 0 && m->action_count <= PSC_SHADOW_MAX_PHASE_ACTIONS)
+        psc_note_add(note, notelen, "a rest correction for its %u points, and through each of its %u actions at "
+                     "eight phases", (unsigned)m->point_count, (unsigned)m->action_count);
+    else if (rc == 0)
+        psc_note_add(note, notelen, "a rest correction for its %u points (no actions: none through them)",
+                     (unsigned)m->point_count);
     else
         psc_note_add(note, notelen, "no rest correction: its patches are large (the spheres composed at every vertex)");
     return 0;
