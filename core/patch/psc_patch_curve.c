@@ -195,6 +195,97 @@ void psc_curve_make_flat(psc_curve_t *c)
     }
 }
 
+/* v shifted right (rounding toward zero) until every component is within 2^bits: a direction kept, its length not. */
+static void shrink(int64_t v[3], unsigned bits)
+{
+    int64_t big = 0;
+    for (unsigned a = 0; a < 3; a++)
+        big |= v[a] < 0 ? -v[a] : v[a];
+    unsigned sh = 0;
+    while ((big >> sh) >= ((int64_t)1 << bits))
+        sh++;
+    for (unsigned a = 0; a < 3; a++)
+        v[a] /= (int64_t)1 << sh;
+}
+
+/* Whether c's tangent turns more than a right angle anywhere between its start, middle and end (the control
+ * polygon's legs compared, 2^-8 of their Q16.16 length: a curve smaller than that turns too little to matter). */
+static bool turns_back(const psc_curve_t *c)
+{
+    int64_t leg[3][3];
+    for (unsigned k = 0; k < 3; k++)
+        for (unsigned a = 0; a < 3; a++)
+            leg[k][a] = ((int64_t)c->p[k + 1u][a] - c->p[k][a]) / 256;   /* within 2^24 */
+    for (unsigned i = 0; i < 3; i++)
+        for (unsigned j = i + 1u; j < 3; j++)
+            if (leg[i][0] * leg[j][0] + leg[i][1] * leg[j][1] + leg[i][2] * leg[j][2] < 0)
+                return true;
+    return false;
+}
+
+static void cross64(const int64_t a[3], const int64_t b[3], int64_t out[3])
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* c's tangent at its start (end: at its end), from the first control point apart from that end, within 2^20 a
+ * component (zero for a curve of one point). */
+static void end_tangent(const psc_curve_t *c, bool at_end, int64_t t[3])
+{
+    t[0] = t[1] = t[2] = 0;
+    for (unsigned q = 1; q < 4 && (t[0] | t[1] | t[2]) == 0; q++)
+        for (unsigned a = 0; a < 3; a++)
+            t[a] = at_end ? (int64_t)c->p[3][a] - c->p[3 - q][a] : (int64_t)c->p[q][a] - c->p[0][a];
+    shrink(t, 20);
+}
+
+/*
+ * Where a curve turns more than a right angle between its ends (a lid's knob
+ * seen in profile, a rim, a lip), the ends' normals averaged point to the
+ * wrong side of the surface at its middle, and the shading and the
+ * occlusion there turn inside out. The direction across the curve within
+ * the surface (each end's normal crossed with that end's own tangent) turns
+ * far less along such a curve: crossed with the middle's tangent, it says
+ * which side the normal at the middle lies on: where their average says
+ * the other side than out, out is replaced by it. (Where each end's says
+ * out's side, signs alone tell, without a square root.)
+ */
+static void fold_side(const psc_curve_t *c, const int32_t n0[3], const int32_t n3[3], int32_t out[3])
+{
+    if (!turns_back(c) && psc_vec_dot_q16(n0, n3) >= PSC_Q16_ONE / 2)
+        return;   /* no fold: the seed's normal is on the right side */
+    int64_t t0[3], t3[3], tm[3], s0[3], s3[3], a0[3], a3[3];
+    const int64_t m0[3] = {n0[0], n0[1], n0[2]}, m3[3] = {n3[0], n3[1], n3[2]};
+    end_tangent(c, false, t0);
+    end_tangent(c, true, t3);
+    for (unsigned a = 0; a < 3; a++)
+        tm[a] = (int64_t)c->p[3][a] + c->p[2][a] - c->p[1][a] - c->p[0][a];
+    shrink(tm, 20);
+    cross64(m0, t0, s0);   /* |n| <= 2^16, |t| < 2^20: within 2^37 */
+    cross64(m3, t3, s3);
+    shrink(s0, 20);
+    shrink(s3, 20);
+    cross64(tm, s0, a0);   /* t x (n x t) = n |t|^2 for n across t; within 2^41 */
+    cross64(tm, s3, a3);
+    int64_t d0 = 0, d3 = 0;
+    for (unsigned a = 0; a < 3; a++) {
+        d0 += (a0[a] >> 16) * out[a];   /* within 2^25 x 2^16, three of them */
+        d3 += (a3[a] >> 16) * out[a];
+    }
+    if (d0 >= 0 && d3 >= 0)
+        return;   /* out lies on the side both ends' say (or they cannot say) */
+    int32_t u0[3], u3[3], alt[3];
+    unit_from64(a0, u0);
+    unit_from64(a3, u3);
+    int64_t sum[3] = {(int64_t)u0[0] + u3[0], (int64_t)u0[1] + u3[1], (int64_t)u0[2] + u3[2]};
+    unit_from64(sum, alt);
+    if ((alt[0] | alt[1] | alt[2]) != 0 && psc_vec_dot_q16(out, alt) < 0)
+        for (unsigned a = 0; a < 3; a++)
+            out[a] = alt[a];
+}
+
 void psc_curve_mid_normal(const psc_curve_t *c, psc_curve_kind_t kind, const int32_t n0[3], const int32_t n3[3],
                           int32_t out[3])
 {
@@ -222,4 +313,5 @@ void psc_curve_mid_normal(const psc_curve_t *c, psc_curve_kind_t kind, const int
     if (out[0] == 0 && out[1] == 0 && out[2] == 0)
         for (unsigned a = 0; a < 3; a++)
             out[a] = n0[a];
+    fold_side(c, n0, n3, out);
 }

@@ -97,6 +97,7 @@ typedef struct {
     uint32_t *face_cache_tri;
     uint16_t *face_cache_tris;
     psc_patch_vtx_t *cache_vtx[2];    /* by frame parity: last frame's and this frame's */
+    uint32_t *cache_uv[2];            /* their places in their patches */
     uint16_t *cache_idx[2];
     uint32_t cache_used_vtx, cache_used_tri;
     /* bones */
@@ -112,6 +113,7 @@ typedef struct {
     /* output */
     int32_t *out_pos;                 /* 3 per vertex */
     int16_t *out_nrm;                 /* 3 per vertex, Q1.14 */
+    uint32_t *out_uv;                 /* each vertex's place in its patch (PSC_PATCH_UV) */
     uint32_t *out_color;
     uint16_t *out_index;              /* 3 per triangle, relative to the batch's first vertex */
     uint32_t vtx_total, tri_total;
@@ -123,6 +125,20 @@ typedef struct {
 } psc_patch_t;
 
 #define PSC_PATCH_NO_CACHE 0xFFFFFFFFu
+
+/*
+ * A vertex's place in its patch (out_uv): u and v in Q0.13 (8192 = 1; a
+ * vertex of a patch halved at most PSC_PATCH_MAX_DEPTH times lies on a
+ * multiple of 1/64), u along the patch's first side (from its first corner
+ * to its second), v along its last side run backwards (from the first corner
+ * to the fourth); for an n-sided patch, in which of its n quads (each from
+ * corner k: u toward side k's midpoint, v toward side k-1's).
+ */
+#define PSC_PATCH_UV_ONE 8192u
+#define PSC_PATCH_UV(u_q13, v_q13, quad) ((uint32_t)(u_q13) | (uint32_t)(v_q13) << 14 | (uint32_t)(quad) << 28)
+#define PSC_PATCH_UV_U(uv) ((uv) & 0x3FFFu)
+#define PSC_PATCH_UV_V(uv) ((uv) >> 14 & 0x3FFFu)
+#define PSC_PATCH_UV_QUAD(uv) ((uv) >> 28)
 
 /** Workspace bytes for model m within lim (0 when lim is out of range). */
 size_t psc_patch_workspace_size(const psc_patch_model_t *m, const psc_patch_limits_t *lim);

@@ -24,8 +24,8 @@ static size_t carve(size_t *at, size_t bytes)
 typedef struct {
     size_t pos, prev_pos, nrm, prev_nrm, h_in, h_out, edge_pt, edge_depth, prev_edge_depth, edge_kind,
         edge_changed, edge_parent, edge_min, edge_vtx, edge_prev, vtx_pool, face_cache, face_cache_count, face_cache_tri, face_cache_tris,
-        cache_vtx, cache_idx, bone_world, bone_skin, bone_rest_inv, bone_rot, bone_trans, grid, grid_index, inner,
-        out_pos, out_nrm, out_color, out_index, total;
+        cache_vtx, cache_uv, cache_idx, bone_world, bone_skin, bone_rest_inv, bone_rot, bone_trans, grid, grid_index, inner,
+        out_pos, out_nrm, out_uv, out_color, out_index, total;
 } layout_t;
 
 static bool limits_ok(const psc_patch_limits_t *lim)
@@ -61,6 +61,7 @@ static void layout(const psc_patch_model_t *m, const psc_patch_limits_t *lim, la
     l->face_cache_tri = carve(&at, (size_t)m->face_count * 4u);
     l->face_cache_tris = carve(&at, (size_t)m->face_count * 2u);
     l->cache_vtx = carve(&at, 2u * (size_t)lim->max_vertices * sizeof(psc_patch_vtx_t));
+    l->cache_uv = carve(&at, 2u * (size_t)lim->max_vertices * 4u);
     l->cache_idx = carve(&at, 2u * (size_t)lim->max_triangles * 6u);
     l->bone_world = carve(&at, (size_t)m->bone_count * sizeof(psc_mat4_q16_t));
     l->bone_skin = carve(&at, (size_t)m->bone_count * sizeof(psc_mat4_q16_t));
@@ -72,6 +73,7 @@ static void layout(const psc_patch_model_t *m, const psc_patch_limits_t *lim, la
     l->inner = carve(&at, PSC_PATCH_MAX_SIDES * side * sizeof(psc_patch_vtx_t));
     l->out_pos = carve(&at, (size_t)lim->max_vertices * 12u);
     l->out_nrm = carve(&at, (size_t)lim->max_vertices * 6u);
+    l->out_uv = carve(&at, (size_t)lim->max_vertices * 4u);
     l->out_color = carve(&at, (size_t)lim->max_vertices * 4u);
     l->out_index = carve(&at, (size_t)lim->max_triangles * 6u);
     l->total = at;
@@ -125,6 +127,8 @@ psc_status_t psc_patch_init(psc_patch_t *p, const psc_patch_model_t *m, const ps
     p->face_cache_tris = (uint16_t *)(void *)(b + l.face_cache_tris);
     p->cache_vtx[0] = (psc_patch_vtx_t *)(void *)(b + l.cache_vtx);
     p->cache_vtx[1] = p->cache_vtx[0] + lim->max_vertices;
+    p->cache_uv[0] = (uint32_t *)(void *)(b + l.cache_uv);
+    p->cache_uv[1] = p->cache_uv[0] + lim->max_vertices;
     p->cache_idx[0] = (uint16_t *)(void *)(b + l.cache_idx);
     p->cache_idx[1] = p->cache_idx[0] + 3u * (size_t)lim->max_triangles;
     p->bone_world = (psc_mat4_q16_t *)(void *)(b + l.bone_world);
@@ -137,6 +141,7 @@ psc_status_t psc_patch_init(psc_patch_t *p, const psc_patch_model_t *m, const ps
     p->inner = (psc_patch_vtx_t *)(void *)(b + l.inner);
     p->out_pos = (int32_t *)(void *)(b + l.out_pos);
     p->out_nrm = (int16_t *)(void *)(b + l.out_nrm);
+    p->out_uv = (uint32_t *)(void *)(b + l.out_uv);
     p->out_color = (uint32_t *)(void *)(b + l.out_color);
     p->out_index = (uint16_t *)(void *)(b + l.out_index);
     for (uint32_t e = 0; e < m->edge_count; e++) {
@@ -489,15 +494,18 @@ typedef struct {
     uint32_t color;
     uint32_t v0, vn;                 /* this patch's first output vertex and its count so far */
     uint32_t tn;                     /* its triangles so far (written at p->tri) */
+    unsigned quad;                   /* which quad of an n-sided patch is being emitted (0 for a four-sided one) */
 } emit_t;
 
-static uint16_t put_vertex(psc_patch_t *p, emit_t *e, const psc_patch_vtx_t *v)
+/* Vertex v at (u, v) of the quad being emitted (Q0.13). */
+static uint16_t put_vertex(psc_patch_t *p, emit_t *e, const psc_patch_vtx_t *v, uint32_t u_q13, uint32_t v_q13)
 {
     uint32_t i = e->v0 + e->vn;
     for (unsigned k = 0; k < 3; k++) {
         p->out_pos[3 * i + k] = v->p[k];
         p->out_nrm[3 * i + k] = (int16_t)psc_shr_round32(v->n[k], 2);
     }
+    p->out_uv[i] = PSC_PATCH_UV(u_q13, v_q13, e->quad);
     p->out_color[i] = e->color;
     return (uint16_t)e->vn++;
 }
@@ -547,13 +555,16 @@ static const psc_patch_vtx_t *chain_at(const side_t *s, unsigned k)
     return s->vtx + (ptrdiff_t)s->stride * (ptrdiff_t)k;
 }
 
-/* A side's chain as local indices (its ends the corners given) with grid parameters (grid depth d). */
-static unsigned chain_indices(psc_patch_t *p, emit_t *e, const side_t *s, unsigned d, uint16_t first, uint16_t last,
-                              uint16_t *idx, uint32_t *par)
+/* Side `which` of a quad (SB, SR, ST, SL) as local indices (its ends the corners given) with grid parameters (grid
+ * depth d). */
+static unsigned chain_indices(psc_patch_t *p, emit_t *e, const side_t *s, unsigned which, unsigned d, uint16_t first,
+                              uint16_t last, uint16_t *idx, uint32_t *par)
 {
     unsigned n = 1u << s->depth;
     for (unsigned k = 0; k <= n; k++) {
-        idx[k] = k == 0 ? first : k == n ? last : put_vertex(p, e, chain_at(s, k));
+        uint32_t t = (uint32_t)k << (13u - s->depth), u = which == SL ? 0u : which == SR ? PSC_PATCH_UV_ONE : t;
+        uint32_t v = which == SB ? 0u : which == ST ? PSC_PATCH_UV_ONE : t;
+        idx[k] = k == 0 ? first : k == n ? last : put_vertex(p, e, chain_at(s, k), u, v);
         par[k] = k << (d - s->depth);
     }
     return n + 1u;
@@ -669,14 +680,15 @@ static void emit_quad(psc_patch_t *p, emit_t *e, const side_t *s, const interior
     if (q.nu > 1 && nv > 1)
         halve(&q, &root);
 
-    uint16_t v00 = put_vertex(p, e, c00), v10 = put_vertex(p, e, c10), v11 = put_vertex(p, e, c11);
-    uint16_t v01 = put_vertex(p, e, c01);
+    const uint32_t one = PSC_PATCH_UV_ONE;
+    uint16_t v00 = put_vertex(p, e, c00, 0, 0), v10 = put_vertex(p, e, c10, one, 0);
+    uint16_t v11 = put_vertex(p, e, c11, one, one), v01 = put_vertex(p, e, c01, 0, one);
     uint16_t ib[CHAIN_MAX], it[CHAIN_MAX], il[CHAIN_MAX], ir[CHAIN_MAX];
     uint32_t pb[CHAIN_MAX], pt[CHAIN_MAX], pl[CHAIN_MAX], pr[CHAIN_MAX];
-    unsigned nb = chain_indices(p, e, &s[SB], q.du, v00, v10, ib, pb);
-    unsigned nt = chain_indices(p, e, &s[ST], q.du, v01, v11, it, pt);
-    unsigned nl = chain_indices(p, e, &s[SL], q.dv, v00, v01, il, pl);
-    unsigned nr = chain_indices(p, e, &s[SR], q.dv, v10, v11, ir, pr);
+    unsigned nb = chain_indices(p, e, &s[SB], SB, q.du, v00, v10, ib, pb);
+    unsigned nt = chain_indices(p, e, &s[ST], ST, q.du, v01, v11, it, pt);
+    unsigned nl = chain_indices(p, e, &s[SL], SL, q.dv, v00, v01, il, pl);
+    unsigned nr = chain_indices(p, e, &s[SR], SR, q.dv, v10, v11, ir, pr);
 
     if (nv == 1) {
         strip(p, e, ib, pb, nb, it, pt, nt, false);
@@ -691,7 +703,7 @@ static void emit_quad(psc_patch_t *p, emit_t *e, const side_t *s, const interior
 #define G(i, j) g[(j) * (q.nu + 1u) + (i)]
     for (unsigned j = 1; j < nv; j++)
         for (unsigned i = 1; i < q.nu; i++)
-            G(i, j) = put_vertex(p, e, &p->grid[j * (q.nu + 1u) + i]);
+            G(i, j) = put_vertex(p, e, &p->grid[j * (q.nu + 1u) + i], i << (13u - q.du), j << (13u - q.dv));
     for (unsigned j = 1; j + 1u < nv; j++)
         for (unsigned i = 1; i + 1u < q.nu; i++) {
             put_triangle(p, e, G(i, j), G(i + 1u, j), G(i + 1u, j + 1u));
@@ -847,8 +859,10 @@ static bool emit_ngon(psc_patch_t *p, emit_t *e, const psc_patch_face_t *f, cons
     if (!face_budget(p, verts, tris))
         return false;
     e->v0 = p->vtx_total;
-    for (unsigned i = 0; i < n; i++)
+    for (unsigned i = 0; i < n; i++) {
+        e->quad = i;
         emit_quad(p, e, q[i], &in);
+    }
     return true;
 }
 
@@ -891,7 +905,7 @@ static bool emit_face(psc_patch_t *p, uint32_t fi, int32_t t_scale, const psc_pa
     const psc_patch_face_t *f = &p->m->faces[fi];
     side_t side[PSC_PATCH_MAX_SIDES];
     bool flat = true;
-    emit_t e = {p, p->m->colors[f->color], p->vtx_total, 0, 0};
+    emit_t e = {p, p->m->colors[f->color], p->vtx_total, 0, 0, 0};
     unsigned cur = p->frame & 1u, old = cur ^ 1u;
 
     for (unsigned i = 0; i < f->sides; i++) {
@@ -909,9 +923,12 @@ static bool emit_face(psc_patch_t *p, uint32_t fi, int32_t t_scale, const psc_pa
             return false;
         e.v0 = p->vtx_total;
         const psc_patch_vtx_t *sv = p->cache_vtx[old] + p->face_cache[fi];
+        const uint32_t *suv = p->cache_uv[old] + p->face_cache[fi];
         const uint16_t *si = p->cache_idx[old] + 3u * p->face_cache_tri[fi];
-        for (uint32_t k = 0; k < vn; k++)
-            (void)put_vertex(p, &e, &sv[k]);
+        for (uint32_t k = 0; k < vn; k++) {
+            e.quad = PSC_PATCH_UV_QUAD(suv[k]);
+            (void)put_vertex(p, &e, &sv[k], PSC_PATCH_UV_U(suv[k]), PSC_PATCH_UV_V(suv[k]));
+        }
         for (uint32_t k = 0; k < tn; k++)
             put_triangle(p, &e, si[3 * k], si[3 * k + 1u], si[3 * k + 2u]);
         st->reused++;
@@ -944,6 +961,7 @@ static bool emit_face(psc_patch_t *p, uint32_t fi, int32_t t_scale, const psc_pa
             v->p[a] = p->out_pos[3 * i + a];
             v->n[a] = (int32_t)p->out_nrm[3 * i + a] * 4;
         }
+        p->cache_uv[cur][p->cache_used_vtx + k] = p->out_uv[i];
     }
     uint32_t base = e.v0 - p->batch_first_vertex;
     for (uint32_t k = 0; k < 3u * e.tn; k++)

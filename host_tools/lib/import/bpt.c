@@ -121,6 +121,120 @@ static long edge_of(bpt_t *b, const double c[4][3])
     return (long)s->edge_count++;
 }
 
+/* The bicubic patch cp (rows along u) at u = v = 1/2, and its normal there as the patch runs (d/du x d/dv, of the
+ * patch's size: a larger patch weighs more). */
+static void bezier_middle(const double cp[16][3], double at[3], double n[3])
+{
+    static const double b[4] = {0.125, 0.375, 0.375, 0.125}, db[4] = {-0.75, -0.75, 0.75, 0.75};
+    double du[3] = {0, 0, 0}, dv[3] = {0, 0, 0};
+    for (unsigned a = 0; a < 3; a++) {
+        at[a] = 0;
+        for (unsigned j = 0; j < 4; j++)
+            for (unsigned i = 0; i < 4; i++) {
+                at[a] += b[i] * b[j] * cp[4 * j + i][a];
+                du[a] += db[i] * b[j] * cp[4 * j + i][a];
+                dv[a] += b[i] * db[j] * cp[4 * j + i][a];
+            }
+    }
+    n[0] = du[1] * dv[2] - du[2] * dv[1];
+    n[1] = du[2] * dv[0] - du[0] * dv[2];
+    n[2] = du[0] * dv[1] - du[1] * dv[0];
+}
+
+/* Face f run the other way round: its sides in reverse order, each reversed. */
+static void face_turn(psc_patch_face_t *f)
+{
+    for (unsigned a = 0, b = f->sides - 1u; a < b; a++, b--) {
+        uint32_t t = f->edge[a];
+        f->edge[a] = f->edge[b];
+        f->edge[b] = t;
+    }
+    for (unsigned k = 0; k < f->sides; k++)
+        f->edge[k] ^= PSC_PATCH_EDGE_REVERSED;
+}
+
+/*
+ * A Bezier patch file gives each patch in whichever direction its author
+ * wrote it (the Utah teapot's mirrored halves run against the others), but a
+ * Hash patch's normals come from the way it runs, and a point's normal from
+ * its patches' together: two patches that meet running the same way give
+ * their shared points no normal at all, and the frame's shading and
+ * occlusion turn inside out there. So each piece of the surface (the patches
+ * joined through shared sides) is made to run one way, each patch turned to
+ * run against its neighbour along their shared side (none where the piece
+ * cannot be, a Moebius strip); then the piece as a whole faces out: its
+ * patches' normals at their middles (at + 1/2 the way round the patch as
+ * written) point away from its centre more than toward it, weighed by their
+ * lengths (a half tube's corners lie on its seam: only its middle knows
+ * which side it bulges to). Returns the patches turned; -1 out of memory.
+ */
+static long orient_faces(psc_patch_src_t *s, const double (*at)[3], const double (*normal)[3])
+{
+    size_t nf = s->face_count;
+    long *piece = malloc((nf ? nf : 1u) * sizeof *piece);
+    size_t *queue = malloc((nf ? nf : 1u) * sizeof *queue);
+    bool *turned = calloc(nf ? nf : 1u, sizeof *turned);
+    long count = -1;
+    if (piece == NULL || queue == NULL || turned == NULL)
+        goto done;
+    for (size_t f = 0; f < nf; f++)
+        piece[f] = -1;
+    count = 0;
+    for (size_t seed = 0; seed < nf; seed++) {
+        if (piece[seed] >= 0)
+            continue;
+        size_t head = 0, tail = 0;
+        piece[seed] = (long)seed;
+        queue[tail++] = seed;
+        while (head < tail) {   /* (patch files are small: each patch's sides against every other's) */
+            const psc_patch_face_t *f = &s->face[queue[head++]];
+            for (size_t g = 0; g < nf; g++) {
+                if (piece[g] >= 0)
+                    continue;
+                psc_patch_face_t *h = &s->face[g];
+                for (unsigned a = 0; a < f->sides && piece[g] < 0; a++)
+                    for (unsigned b = 0; b < h->sides; b++) {
+                        if ((f->edge[a] & ~PSC_PATCH_EDGE_REVERSED) != (h->edge[b] & ~PSC_PATCH_EDGE_REVERSED))
+                            continue;
+                        if (f->edge[a] == h->edge[b]) {   /* both run along it the same way */
+                            face_turn(h);
+                            turned[g] = !turned[g];
+                        }
+                        piece[g] = (long)seed;
+                        queue[tail++] = g;
+                        break;
+                    }
+            }
+        }
+        /* the piece faces out: over its patches, (normal at the middle, as it now runs) . (middle - piece's centre) */
+        double centre[3] = {0, 0, 0}, outward = 0;
+        size_t members = 0;
+        for (size_t f = 0; f < nf; f++)
+            if (piece[f] == (long)seed)
+                for (unsigned a = 0; a < 3; a++, members += a == 3)
+                    centre[a] += at[f][a];
+        for (unsigned a = 0; a < 3; a++)
+            centre[a] /= (double)members;
+        for (size_t f = 0; f < nf; f++)
+            if (piece[f] == (long)seed)
+                for (unsigned a = 0; a < 3; a++)
+                    outward += (turned[f] ? -normal[f][a] : normal[f][a]) * (at[f][a] - centre[a]);
+        if (outward < 0)
+            for (size_t f = 0; f < nf; f++)
+                if (piece[f] == (long)seed) {
+                    face_turn(&s->face[f]);
+                    turned[f] = !turned[f];
+                }
+    }
+    for (size_t f = 0; f < nf; f++)
+        count += turned[f];
+done:
+    free(piece);
+    free(queue);
+    free(turned);
+    return count;
+}
+
 int psc_bpt_parse(const char *name, const char *text, size_t len, psc_patch_src_t *out, char *err, size_t errlen)
 {
     lex_t x = {name, text, len, 0, 1, err, errlen};
@@ -138,7 +252,8 @@ int psc_bpt_parse(const char *name, const char *text, size_t len, psc_patch_src_
     size_t count = (size_t)v;
     out->face = calloc(count, sizeof *out->face);
     out->color = malloc(sizeof *out->color);
-    if (out->face == NULL || out->color == NULL)
+    double (*middle)[3] = malloc(count * sizeof *middle), (*middle_n)[3] = malloc(count * sizeof *middle_n);
+    if (out->face == NULL || out->color == NULL || middle == NULL || middle_n == NULL)
         goto oom;
     out->color[0] = 0xC8B496u;
     out->color_count = 1;
@@ -176,6 +291,7 @@ int psc_bpt_parse(const char *name, const char *text, size_t len, psc_patch_src_
             goto fail;
         }
         face->sides = (uint8_t)n;
+        bezier_middle(cp, middle[out->face_count], middle_n[out->face_count]);
         if (n == 3)
             for (unsigned k = 0; k < 3; k++)
                 out->edge[face->edge[k] & ~PSC_PATCH_EDGE_REVERSED].min_depth = 1;
@@ -186,11 +302,17 @@ int psc_bpt_parse(const char *name, const char *text, size_t len, psc_patch_src_
                       out->point_count, out->edge_count, PSC_PATCH_MAX_POINTS, PSC_PATCH_MAX_EDGES);
         goto fail;
     }
+    if (orient_faces(out, (const double(*)[3])middle, (const double(*)[3])middle_n) < 0)
+        goto oom;
+    free(middle);
+    free(middle_n);
     psc_patch_src_bounds(out);
     return 0;
 oom:
     psc_io_errorf(err, errlen, name, "out of memory");
 fail:
+    free(middle);
+    free(middle_n);
     psc_patch_src_free(out);
     return -1;
 }
