@@ -39,7 +39,16 @@
  *    through, made dark). A frame posed by an action takes it, interpolated
  *    between the phases round its time, in place of the rest correction: the
  *    average over poses cannot know that an arm passes through the shirt at
- *    one moment of a wave and not at another.
+ *    one moment of a wave and not at another;
+ *  - (version 1.3, optional) the patch grid correction, for a character
+ *    whose patches are large (composed at every vertex, not at their
+ *    corners: the teapot): for every quad of every patch (one for a
+ *    four-sided patch, n for an n-sided one, psc_patch_frame.h's
+ *    PSC_PATCH_UV), a grid of side x side corrections over its (u, v), the
+ *    reference less the spheres at those points of the surface at rest; a
+ *    vertex takes its quad's grid interpolated at its (u, v). A point's
+ *    correction would not hold across a patch a third of R wide, where a
+ *    spout runs into a body half-way along it.
  * Stage two (core, every frame, psc_shadow_run.c; the real-time module 73):
  * update (721) moves the spheres with the skeleton; composition (725) finds
  * the nearest spheres per level for a point, looks the tables up, merges
@@ -55,7 +64,9 @@
  * table: PSC_SHADOW_ACOS_SIZE uint16, omega / pi at cos = -1 .. 1), and the
  * optional "SREF" (psc_shadow_rest_raw_t, then count int16, Q1.15) and
  * "SRPH" (psc_shadow_phase_raw_t, then actions x samples x count int16,
- * Q1.15: action a's phase k at [(a x samples + k) x count]).
+ * Q1.15: action a's phase k at [(a x samples + k) x count]) and "SGRD"
+ * (psc_shadow_grid_raw_t, then quads x side x side int16, Q1.15: quad q's
+ * node (i, j) at [(q x side + j) x side + i], i along u).
  */
 #ifndef PSC_SHADOW_H
 #define PSC_SHADOW_H
@@ -65,7 +76,7 @@
 
 #define PSC_SHADOW_MAGIC "PSCSHAO\x1a"
 #define PSC_SHADOW_VERSION_MAJOR 1u
-#define PSC_SHADOW_VERSION_MINOR 2u   /* 1: the optional rest correction, SREF; 2: through each action, SRPH */
+#define PSC_SHADOW_VERSION_MINOR 3u   /* 1: the rest correction, SREF; 2: through each action, SRPH; 3: SGRD */
 #define PSC_SHADOW_MAX_SECTIONS 12u
 #define PSC_SHADOW_MAX_LEVELS 4u
 #define PSC_SHADOW_MAX_SPHERES 4096u
@@ -76,6 +87,8 @@
 #define PSC_SHADOW_MAX_REST (1u << 20)   /* points or vertices a rest correction covers */
 #define PSC_SHADOW_MAX_PHASE_ACTIONS 64u    /* actions SRPH covers */
 #define PSC_SHADOW_MAX_PHASES 64u           /* phases an action's correction is sampled at */
+#define PSC_SHADOW_MAX_GRID_SIDE 33u      /* nodes a side of a quad's grid correction */
+#define PSC_SHADOW_MAX_GRID_QUADS 65536u  /* quads SGRD covers */
 #define PSC_SHADOW_REST_GAIN_MIN_Q16 (65536u / 4u)
 #define PSC_SHADOW_REST_GAIN_MAX_Q16 (65536u * 4u)
 
@@ -88,6 +101,7 @@ extern const psc_container_format_t psc_shadow_format;
 #define PSC_SECTION_SHADOW_ACOS PSC_FOURCC('S', 'A', 'C', 'O')
 #define PSC_SECTION_SHADOW_REST PSC_FOURCC('S', 'R', 'E', 'F')
 #define PSC_SECTION_SHADOW_PHASE PSC_FOURCC('S', 'R', 'P', 'H')
+#define PSC_SECTION_SHADOW_GRID PSC_FOURCC('S', 'G', 'R', 'D')
 
 /** "SINF", 32 bytes. */
 typedef struct {
@@ -136,7 +150,15 @@ typedef struct {
     uint32_t count;               /* SREF's count */
 } psc_shadow_phase_raw_t;
 
+/** "SGRD"'s head, 8 bytes, then quads x side x side int16 (Q1.15, -1..1). */
+typedef struct {
+    uint32_t quads;               /* the character's patches' quads, in face order (2..PSC_SHADOW_MAX_GRID_QUADS) */
+    uint16_t side;                /* nodes a side (2..PSC_SHADOW_MAX_GRID_SIDE), at (i, j) / (side - 1) of (u, v) */
+    uint16_t reserved;
+} psc_shadow_grid_raw_t;
+
 _Static_assert(sizeof(psc_shadow_info_raw_t) == 32, "SINF is 32 bytes");
+_Static_assert(sizeof(psc_shadow_grid_raw_t) == 8, "SGRD's head is 8 bytes");
 _Static_assert(sizeof(psc_shadow_phase_raw_t) == 8, "SRPH's head is 8 bytes");
 _Static_assert(sizeof(psc_shadow_rest_raw_t) == 8, "SREF's head is 8 bytes");
 _Static_assert(sizeof(psc_shadow_sphere_t) == 28, "a sphere is 28 bytes");
@@ -156,6 +178,8 @@ typedef struct {
     const int16_t *rest_q15;         /* rest_count, Q1.15 */
     uint32_t phase_actions, phase_samples;   /* the correction through each action (1.2), 0: none */
     const int16_t *phase_q15;        /* phase_actions x phase_samples x rest_count, Q1.15 */
+    uint32_t grid_quads, grid_side;  /* the patch grid correction (1.3), 0: none */
+    const int16_t *grid_q15;         /* grid_quads x grid_side x grid_side, Q1.15 */
 } psc_shadow_model_t;
 
 /**

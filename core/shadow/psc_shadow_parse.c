@@ -9,12 +9,12 @@ const psc_container_format_t psc_shadow_format = {
     PSC_SHADOW_MAX_SECTIONS,
 };
 
-enum { S_INFO, S_SPHERES, S_ACCESS, S_COMP, S_ACOS, S_REST, S_PHASE, S_COUNT };
-#define S_REQUIRED S_REST   /* the sections before it; SREF (1.1) and SRPH (1.2) are optional */
+enum { S_INFO, S_SPHERES, S_ACCESS, S_COMP, S_ACOS, S_REST, S_PHASE, S_GRID, S_COUNT };
+#define S_REQUIRED S_REST   /* the sections before it; SREF (1.1), SRPH (1.2) and SGRD (1.3) are optional */
 
 static const uint32_t section_type[S_COUNT] = {
     PSC_SECTION_SHADOW_INFO, PSC_SECTION_SHADOW_SPHERES, PSC_SECTION_SHADOW_ACCESS, PSC_SECTION_SHADOW_COMPOSITE,
-    PSC_SECTION_SHADOW_ACOS, PSC_SECTION_SHADOW_REST, PSC_SECTION_SHADOW_PHASE,
+    PSC_SECTION_SHADOW_ACOS, PSC_SECTION_SHADOW_REST, PSC_SECTION_SHADOW_PHASE, PSC_SECTION_SHADOW_GRID,
 };
 
 static psc_status_t check_spheres(const psc_shadow_model_t *m, uint32_t base, psc_container_error_t *err)
@@ -126,6 +126,22 @@ psc_status_t psc_shadow_parse(const void *buf, size_t len, psc_shadow_model_t *o
         m.phase_actions = ph->actions;
         m.phase_samples = ph->samples;
         m.phase_q15 = (const int16_t *)(const void *)(c.base + r->offset + sizeof *ph);
+    }
+    if (present[S_GRID]) {   /* the patch grid correction (1.3): a character composed at every vertex */
+        const psc_section_t *r = &f[S_GRID];
+        if (present[S_REST])
+            return fail(err, PSC_ERR_CORRUPT, "SGRD beside SREF (a character has one or the other)", r->entry);
+        if (r->size < sizeof(psc_shadow_grid_raw_t))
+            return fail(err, PSC_ERR_CORRUPT, "SGRD is shorter than its head", r->entry + 8);
+        const psc_shadow_grid_raw_t *gh = (const psc_shadow_grid_raw_t *)(const void *)(c.base + r->offset);
+        if (gh->quads == 0 || gh->quads > PSC_SHADOW_MAX_GRID_QUADS || gh->side < 2 ||
+            gh->side > PSC_SHADOW_MAX_GRID_SIDE)
+            return fail(err, PSC_ERR_TOO_LARGE, "SGRD's quads or side are zero or beyond their limits", r->offset);
+        if (r->size != sizeof *gh + (uint64_t)gh->quads * gh->side * gh->side * 2u)
+            return fail(err, PSC_ERR_CORRUPT, "SGRD's size does not match its counts", r->offset);
+        m.grid_quads = gh->quads;
+        m.grid_side = gh->side;
+        m.grid_q15 = (const int16_t *)(const void *)(c.base + r->offset + sizeof *gh);
     }
     *out = m;
     return PSC_OK;

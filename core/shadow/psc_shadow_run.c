@@ -158,7 +158,8 @@ static psc_status_t init_common(psc_shadow_t *s, const psc_shadow_model_t *m, co
 psc_status_t psc_shadow_init_mesh(psc_shadow_t *s, const psc_shadow_model_t *m, uint32_t bone_count, void *ws,
                                   size_t ws_size)
 {
-    if (s == NULL || m == NULL || ws == NULL || ((uintptr_t)ws & 7u) || m->bone_count != bone_count)
+    if (s == NULL || m == NULL || ws == NULL || ((uintptr_t)ws & 7u) || m->bone_count != bone_count ||
+        m->grid_quads != 0)   /* (a patch grid is a patch character's) */
         return PSC_ERR_ARG;
     return init_common(s, m, NULL, ws, ws_size);
 }
@@ -190,6 +191,13 @@ psc_status_t psc_shadow_init(psc_shadow_t *s, const psc_shadow_model_t *m, const
         }
     s->mean_edge_q16 = edges ? (int32_t)(sum / edges) : 0;
     s->at_corners = s->mean_edge_q16 <= PSC_SHADOW_CORNER_EDGE_Q16;
+    if (m->grid_quads != 0) {   /* a patch grid made for this character: its quads, composed at every vertex */
+        uint32_t quads = 0;
+        for (uint32_t f = 0; f < pm->face_count; f++)
+            quads += pm->faces[f].sides == 4 ? 1u : pm->faces[f].sides;
+        if (quads != m->grid_quads || s->at_corners)
+            return PSC_ERR_ARG;
+    }
     return PSC_OK;
 }
 
@@ -629,10 +637,29 @@ void psc_shadow_apply_mesh(psc_shadow_t *s, const int32_t *pos_q16, int16_t *nrm
     }
 }
 
+/* The patch grid correction (Q1.15) at a vertex of place uv (PSC_PATCH_UV) in the patch whose first quad is
+ * grid quad q: its quad's grid, bilinear. */
+static int32_t grid_at(const psc_shadow_model_t *m, uint32_t q, uint32_t uv)
+{
+    uint32_t n = m->grid_side - 1u;   /* cells a side; u x n in Q0.13 */
+    uint32_t gu = PSC_PATCH_UV_U(uv) * n, gv = PSC_PATCH_UV_V(uv) * n;
+    uint32_t i = gu >> 13, j = gv >> 13, fu = gu & 8191u, fv = gv & 8191u;
+    if (i >= n)   /* u = 1: the last node, of weight one */
+        i = n - 1u, fu = 8192u;
+    if (j >= n)
+        j = n - 1u, fv = 8192u;
+    const int16_t *g = m->grid_q15 + ((size_t)(q + PSC_PATCH_UV_QUAD(uv)) * m->grid_side + j) * m->grid_side + i;
+    /* |corrections| <= 2^15, weights Q0.13 twice: the sum within 2^41 */
+    int64_t top = (int64_t)g[0] * (8192 - (int32_t)fu) + (int64_t)g[1] * fu;
+    int64_t bottom = (int64_t)g[m->grid_side] * (8192 - (int32_t)fu) + (int64_t)g[m->grid_side + 1u] * fu;
+    return (int32_t)psc_shr_round64(top * (8192 - (int32_t)fv) + bottom * fv, 26);
+}
+
 void psc_shadow_apply(psc_shadow_t *s, psc_patch_t *p, int32_t strength_q16, uint32_t *occlusion)
 {
     const psc_patch_model_t *pm = p->m;
-    uint32_t v = 0;
+    const bool grid = s->m->grid_quads != 0 && !s->at_corners;
+    uint32_t v = 0, quad = 0;
 
     s->shaded = 0;
     s->occlusion_sum = 0;
@@ -643,6 +670,8 @@ void psc_shadow_apply(psc_shadow_t *s, psc_patch_t *p, int32_t strength_q16, uin
     for (uint32_t q = 0; q < pm->point_count; q++)
         s->point[q].occ = PSC_SHADOW_UNSET;
     for (uint32_t f = 0; f < pm->face_count && v < p->vtx_total; f++) {
+        uint32_t first_quad = quad;
+        quad += pm->faces[f].sides == 4 ? 1u : pm->faces[f].sides;
         if (p->face_cache[f] == PSC_PATCH_NO_CACHE)
             continue;   /* culled: it emitted nothing */
         corners_t k;
@@ -662,6 +691,10 @@ void psc_shadow_apply(psc_shadow_t *s, psc_patch_t *p, int32_t strength_q16, uin
             } else {
                 int32_t bent[3];
                 o = psc_shadow_occlusion_bent(s, &p->out_pos[3 * i], nv, bent);
+                if (grid) {   /* the spheres plus the patch grid's correction there (Q1.15 to Q0.16) */
+                    int32_t c = (int32_t)o + 2 * grid_at(s->m, first_quad, p->out_uv[i]);
+                    o = c < 0 ? 0u : c > 65536 ? 65536u : (uint32_t)c;
+                }
                 for (unsigned a = 0; a < 3; a++)
                     nv[a] = bent[a];
             }

@@ -13,7 +13,8 @@
  * a rest correction (SREF) within its count and gain limits, and applied to
  * a mesh of as many vertices (when small) with every occlusion within 0..1;
  * a correction through each action (SRPH) only beside SREF, within its
- * limits and of SREF's count.
+ * limits and of SREF's count; a patch grid correction (SGRD) never beside
+ * SREF, within its limits, and refused for a mesh.
  */
 #include <stdlib.h>
 
@@ -44,6 +45,13 @@ static void check_parsed(const psc_shadow_model_t *m)
         FUZZ_REQUIRE(m->phase_samples >= 1 && m->phase_samples <= PSC_SHADOW_MAX_PHASES);
     } else {
         FUZZ_REQUIRE(m->phase_actions == 0);
+    }
+    if (m->grid_q15) {
+        FUZZ_REQUIRE(m->rest_count == 0);
+        FUZZ_REQUIRE(m->grid_quads >= 1 && m->grid_quads <= PSC_SHADOW_MAX_GRID_QUADS);
+        FUZZ_REQUIRE(m->grid_side >= 2 && m->grid_side <= PSC_SHADOW_MAX_GRID_SIDE);
+    } else {
+        FUZZ_REQUIRE(m->grid_quads == 0);
     }
 }
 
@@ -76,7 +84,9 @@ static void use_parsed(const psc_shadow_model_t *m, uint32_t pick)
     psc_shadow_t s;
 
     FUZZ_REQUIRE(skin != NULL && posix_memalign(&ws, 64, ws_size ? ws_size : 8) == 0);
-    if (psc_shadow_init_mesh(&s, m, m->bone_count, ws, ws_size) == PSC_OK) {
+    psc_status_t st = psc_shadow_init_mesh(&s, m, m->bone_count, ws, ws_size);
+    FUZZ_REQUIRE(m->grid_quads == 0 || st == PSC_ERR_ARG);   /* a patch grid is a patch character's */
+    if (st == PSC_OK) {
         for (uint32_t b = 0; b < m->bone_count; b++)
             psc_mat4_identity(&skin[b]);
         psc_shadow_update_bones(&s, skin, m->bone_count);

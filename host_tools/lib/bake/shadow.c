@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* shadow.c - the sphere tree, its skin and the two maps of the self-shadowing (shadow.h). */
 #include "bake/shadow.h"
+#include "bake/shadow_grid.h"
 #include "psc_io_container_write.h"
 #include "util/note_text.h"
 #include "psc_io_error.h"
@@ -538,7 +539,9 @@ int psc_bake_shadow(const psc_patch_model_t *m, const psc_bake_shadow_opts_t *o,
         psc_note_add(note, notelen, "a rest correction for its %u points (no actions: none through them)",
                      (unsigned)m->point_count);
     else
-        psc_note_add(note, notelen, "no rest correction: its patches are large (the spheres composed at every vertex)");
+        psc_note_add(note, notelen, "its patches are large (the spheres composed at every vertex): a correction over "
+                     "each one's (u, v), %u x %u points on each of its %u quads", PSC_BAKE_SHADOW_GRID_SIDE,
+                     PSC_BAKE_SHADOW_GRID_SIDE, (unsigned)psc_bake_shadow_grid_quads(m));
     return 0;
 }
 

@@ -85,9 +85,10 @@ int psc_bake_shadow_gltf(const psc_gltf_t *g, const psc_bake_shadow_opts_t *o, c
  * 0.005 R) less what the pack's spheres give there through core's own code,
  * averaged over the rest pose and four times through each action (the rest
  * pose weighing four), with the gain on the spheres fitted over the same
- * poses (shadow_rest.c). 0; 1 when m's patches are too large for a
- * correction at their corners (the pack as it was); or -1 with err (the pack
- * as it was).
+ * poses (shadow_rest.c). 0; 2 when m's patches are too large for a
+ * correction at their corners, which instead gets one over each patch's
+ * (u, v) at rest ("SGRD", shadow_grid.h); or -1 with err (the pack as it
+ * was).
  */
 int psc_bake_shadow_rest_gltf(const psc_gltf_t *g, const char *name, uint8_t **pack, size_t *pack_len, char *err,
                               size_t errlen);

@@ -25,6 +25,7 @@
  * there is dark), which a frame of that action interpolates by its time.
  */
 #include "bake/shadow.h"
+#include "bake/shadow_grid.h"
 #include "measure/raycast.h"
 #include "psc_io_container_write.h"
 #include "psc_io_error.h"
@@ -146,11 +147,17 @@ typedef struct {
     uint32_t actions;
 } rest_phases_t;
 
-/* The pack sm (parsed) written again with the rest correction rest[0..n) (and ph's, if any): *out replaced
- * (freed). */
+/* The patch grid correction (SGRD): quads x PSC_BAKE_SHADOW_GRID_SIDE^2, Q1.15; NULL for none. */
+typedef struct {
+    const int16_t *q15;
+    uint32_t quads;
+} rest_grid_t;
+
+/* The pack sm (parsed) written again with the rest correction rest[0..n) (and ph's, if any), or with grid's in
+ * its place (rest NULL): *out replaced (freed). */
 static int write_with_rest(const psc_shadow_model_t *sm, const int16_t *rest, uint32_t n, double gain,
-                           const rest_phases_t *ph, const char *name, uint8_t **out, size_t *out_len, char *err,
-                           size_t errlen)
+                           const rest_phases_t *ph, const rest_grid_t *grid, const char *name, uint8_t **out,
+                           size_t *out_len, char *err, size_t errlen)
 {
     psc_shadow_info_raw_t info = {0};
     info.sphere_count = sm->sphere_count;
@@ -162,13 +169,21 @@ static int write_with_rest(const psc_shadow_model_t *sm, const int16_t *rest, ui
     for (uint32_t l = 0; l < sm->level_count; l++)
         info.level_first[l] = (uint16_t)sm->level_first[l];
     info.bone_count = sm->bone_count;
-    size_t rest_size = sizeof(psc_shadow_rest_raw_t) + (size_t)n * 2u;
-    uint8_t *sref = malloc(rest_size);
+    const unsigned side = PSC_BAKE_SHADOW_GRID_SIDE;
+    size_t rest_size = rest ? sizeof(psc_shadow_rest_raw_t) + (size_t)n * 2u : 0;
+    size_t grid_size = grid ? sizeof(psc_shadow_grid_raw_t) + (size_t)grid->quads * side * side * 2u : 0;
+    uint8_t *sref = malloc(rest ? rest_size : grid_size);
     if (sref == NULL)
         return psc_io_errorf(err, errlen, name, "out of memory");
-    psc_shadow_rest_raw_t head = {n, (uint32_t)lround(gain * 65536.0)};
-    memcpy(sref, &head, sizeof head);
-    memcpy(sref + sizeof head, rest, (size_t)n * 2u);
+    if (rest) {
+        psc_shadow_rest_raw_t head = {n, (uint32_t)lround(gain * 65536.0)};
+        memcpy(sref, &head, sizeof head);
+        memcpy(sref + sizeof head, rest, (size_t)n * 2u);
+    } else {
+        psc_shadow_grid_raw_t head = {grid->quads, (uint16_t)side, 0};
+        memcpy(sref, &head, sizeof head);
+        memcpy(sref + sizeof head, grid->q15, grid_size - sizeof head);
+    }
     size_t phase_size = ph && ph->q15 ? sizeof(psc_shadow_phase_raw_t) + (size_t)ph->actions * REST_PHASES * n * 2u : 0;
     uint8_t *srph = phase_size ? malloc(phase_size) : NULL;
     if (phase_size && srph == NULL) {
@@ -187,7 +202,7 @@ static int write_with_rest(const psc_shadow_model_t *sm, const int16_t *rest, ui
         {PSC_SECTION_SHADOW_COMPOSITE, sm->comp,
          (size_t)sm->comp_theta * sm->comp_theta * sm->comp_delta * sizeof *sm->comp},
         {PSC_SECTION_SHADOW_ACOS, sm->acos_table, PSC_SHADOW_ACOS_SIZE * 2u},
-        {PSC_SECTION_SHADOW_REST, sref, rest_size},
+        {rest ? PSC_SECTION_SHADOW_REST : PSC_SECTION_SHADOW_GRID, sref, rest ? rest_size : grid_size},
         {PSC_SECTION_SHADOW_PHASE, srph, phase_size},
     };
     uint8_t *bytes = NULL;
@@ -199,8 +214,8 @@ static int write_with_rest(const psc_shadow_model_t *sm, const int16_t *rest, ui
         return -1;
     psc_shadow_model_t chk;
     psc_container_error_t e = {0};
-    if (psc_shadow_parse(bytes, len, &chk, &e) != PSC_OK || chk.rest_count != n ||
-        chk.phase_actions != (srph ? ph->actions : 0u)) {
+    if (psc_shadow_parse(bytes, len, &chk, &e) != PSC_OK || chk.rest_count != (rest ? n : 0u) ||
+        chk.grid_quads != (grid ? grid->quads : 0u) || chk.phase_actions != (srph ? ph->actions : 0u)) {
         free(bytes);
         return psc_io_errorf(err, errlen, name, "the shadow pack with its rest correction does not parse: %s",
                              e.what ? e.what : "?");
@@ -272,7 +287,7 @@ int psc_bake_shadow_rest_gltf(const psc_gltf_t *g, const char *name, uint8_t **p
     }
     double gain = acc_gain(&acc);
     acc_result(&acc, gain, false, rest);
-    rc = write_with_rest(&sm, rest, nv, gain, NULL, name, pack, pack_len, err, errlen);
+    rc = write_with_rest(&sm, rest, nv, gain, NULL, NULL, name, pack, pack_len, err, errlen);
 done:
     acc_free(&acc);
     free(local), free(skin), free(pos), free(nrm), free(dpos), free(sn), free(pq), free(nq), free(rest), free(skq);
@@ -337,6 +352,33 @@ static int pose_figures(psc_patch_t *p, psc_shadow_t *s, const psc_patch_camera_
     return 0;
 }
 
+/* The patch grid correction of p's character at rest, written into the pack (sm parsed from it): 2, or -1 with
+ * err. */
+static int grid_at_rest(psc_patch_t *p, psc_shadow_t *s, const psc_patch_camera_t *cam, const psc_shadow_model_t *sm,
+                        const char *name, uint8_t **pack, size_t *pack_len, char *err, size_t errlen)
+{
+    psc_patch_pose(p, -1, 0);
+    psc_patch_tangents(p);
+    if (psc_patch_tessellate(p, cam, NULL) != PSC_OK)
+        return psc_io_errorf(err, errlen, name, "cannot tessellate the rest pose");
+    psc_shadow_update(s, p);
+    uint32_t quads = psc_bake_shadow_grid_quads(p->m);
+    const unsigned side = PSC_BAKE_SHADOW_GRID_SIDE;
+    int16_t *q15 = malloc((size_t)quads * side * side * sizeof *q15);
+    int rc = -1;
+    if (q15 == NULL || psc_bake_shadow_grid(p, s, REST_STRATA, REST_EPS, q15) != 0)
+        psc_io_errorf(err, errlen, name, "out of memory");
+    else if (quads > PSC_SHADOW_MAX_GRID_QUADS)
+        psc_io_errorf(err, errlen, name, "%u quads: beyond the patch grid correction's %u", (unsigned)quads,
+                      (unsigned)PSC_SHADOW_MAX_GRID_QUADS);
+    else {
+        rest_grid_t grid = {q15, quads};
+        rc = write_with_rest(sm, NULL, 0, 1.0, NULL, &grid, name, pack, pack_len, err, errlen) == 0 ? 2 : -1;
+    }
+    free(q15);
+    return rc;
+}
+
 int psc_bake_shadow_rest_patch(const psc_patch_model_t *m, const char *name, uint8_t **pack, size_t *pack_len,
                                char *err, size_t errlen)
 {
@@ -368,16 +410,17 @@ int psc_bake_shadow_rest_patch(const psc_patch_model_t *m, const char *name, uin
         psc_io_errorf(err, errlen, name, "the shadow pack does not fit the character");
         goto done;
     }
-    if (!s.at_corners) {   /* large patches: a correction at their corners would not hold across them */
-        rc = 1;
-        goto done;
-    }
     psc_patch_camera_t cam = {0};
     psc_mat4_identity(&cam.camera_from_object);
     cam.camera_from_object.m[2][3] = 100 * 65536;
     cam.focal_px_q16 = 65536;
     cam.tol_units_q16 = 65536 / 200;
     cam.near_q16 = 65536;
+    if (!s.at_corners) {   /* large patches: a correction at their corners would not hold across them; a grid over
+                            * each one's (u, v) at rest */
+        rc = grid_at_rest(&p, &s, &cam, &sm, name, pack, pack_len, err, errlen);
+        goto done;
+    }
     /* the average over poses, and the gain */
     unsigned poses = pose_count(m->action_count);
     for (unsigned q = 0; q < poses; q++) {
@@ -404,7 +447,7 @@ int psc_bake_shadow_rest_patch(const psc_patch_model_t *m, const char *name, uin
                 out[i] = has[i] ? q15(y[i] - gain * (x[i] / 65536.0)) : rest[i];
         }
     rest_phases_t ph = {phase, actions};
-    rc = write_with_rest(&sm, rest, m->point_count, gain, &ph, name, pack, pack_len, err, errlen);
+    rc = write_with_rest(&sm, rest, m->point_count, gain, &ph, NULL, name, pack, pack_len, err, errlen);
 done:
     acc_free(&acc);
     free(ws);
