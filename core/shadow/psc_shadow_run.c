@@ -649,7 +649,7 @@ static int32_t grid_at(const psc_shadow_model_t *m, uint32_t q, uint32_t uv)
     if (j >= n)
         j = n - 1u, fv = 8192u;
     const int16_t *g = m->grid_q15 + ((size_t)(q + PSC_PATCH_UV_QUAD(uv)) * m->grid_side + j) * m->grid_side + i;
-    /* |corrections| <= 2^15, weights Q0.13 twice: the sum within 2^41 */
+    /* |corrections| <= 2^15, weights Q0.13 twice: within 2^43 */
     int64_t top = (int64_t)g[0] * (8192 - (int32_t)fu) + (int64_t)g[1] * fu;
     int64_t bottom = (int64_t)g[m->grid_side] * (8192 - (int32_t)fu) + (int64_t)g[m->grid_side + 1u] * fu;
     return (int32_t)psc_shr_round64(top * (8192 - (int32_t)fv) + bottom * fv, 26);
