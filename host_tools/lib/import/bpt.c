@@ -121,24 +121,19 @@ static long edge_of(bpt_t *b, const double c[4][3])
     return (long)s->edge_count++;
 }
 
-/* The bicubic patch cp (rows along u) at u = v = 1/2, and its normal there as the patch runs (d/du x d/dv, of the
- * patch's size: a larger patch weighs more). */
-static void bezier_middle(const double cp[16][3], double at[3], double n[3])
+/* The bicubic patch cp's size: |d/du x d/dv| at its middle (u = v = 1/2), about its area. */
+static double bezier_size(const double cp[16][3])
 {
     static const double b[4] = {0.125, 0.375, 0.375, 0.125}, db[4] = {-0.75, -0.75, 0.75, 0.75};
     double du[3] = {0, 0, 0}, dv[3] = {0, 0, 0};
-    for (unsigned a = 0; a < 3; a++) {
-        at[a] = 0;
+    for (unsigned a = 0; a < 3; a++)
         for (unsigned j = 0; j < 4; j++)
             for (unsigned i = 0; i < 4; i++) {
-                at[a] += b[i] * b[j] * cp[4 * j + i][a];
                 du[a] += db[i] * b[j] * cp[4 * j + i][a];
                 dv[a] += b[i] * db[j] * cp[4 * j + i][a];
             }
-    }
-    n[0] = du[1] * dv[2] - du[2] * dv[1];
-    n[1] = du[2] * dv[0] - du[0] * dv[2];
-    n[2] = du[0] * dv[1] - du[1] * dv[0];
+    double n[3] = {du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2], du[0] * dv[1] - du[1] * dv[0]};
+    return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
 /* Face f run the other way round: its sides in reverse order, each reversed. */
@@ -154,21 +149,19 @@ static void face_turn(psc_patch_face_t *f)
 }
 
 /*
- * A Bezier patch file gives each patch in whichever direction its author
- * wrote it (the Utah teapot's mirrored halves run against the others), but a
- * Hash patch's normals come from the way it runs, and a point's normal from
- * its patches' together: two patches that meet running the same way give
- * their shared points no normal at all, and the frame's shading and
- * occlusion turn inside out there. So each piece of the surface (the patches
- * joined through shared sides) is made to run one way, each patch turned to
- * run against its neighbour along their shared side (none where the piece
- * cannot be, a Moebius strip); then the piece as a whole faces out: its
- * patches' normals at their middles (at + 1/2 the way round the patch as
- * written) point away from its centre more than toward it, weighed by their
- * lengths (a half tube's corners lie on its seam: only its middle knows
- * which side it bulges to). Returns the patches turned; -1 out of memory.
+ * A Bezier patch file may give a patch the other way round from its
+ * neighbours (a mirrored half written without reversing it), but a Hash
+ * patch's normals come from the way it runs, and a point's normal from its
+ * patches' together: two patches that meet running the same way give their
+ * shared points no normal at all, and the frame's shading and occlusion turn
+ * inside out there. So each piece of the surface (the patches joined through
+ * shared sides) is made to run one way, each patch turned to run against its
+ * neighbour along their shared side (none where the piece cannot be, a
+ * Moebius strip); then the piece runs the way most of it ran in the file,
+ * its patches weighed by their size (area[f]): which side is out stays the
+ * author's. Returns the patches turned; -1 out of memory.
  */
-static long orient_faces(psc_patch_src_t *s, const double (*at)[3], const double (*normal)[3])
+static long orient_faces(psc_patch_src_t *s, const double *area)
 {
     size_t nf = s->face_count;
     long *piece = malloc((nf ? nf : 1u) * sizeof *piece);
@@ -206,20 +199,12 @@ static long orient_faces(psc_patch_src_t *s, const double (*at)[3], const double
                     }
             }
         }
-        /* the piece faces out: over its patches, (normal at the middle, as it now runs) . (middle - piece's centre) */
-        double centre[3] = {0, 0, 0}, outward = 0;
-        size_t members = 0;
+        /* the piece runs the way most of it ran in the file */
+        double kept = 0, against = 0;
         for (size_t f = 0; f < nf; f++)
             if (piece[f] == (long)seed)
-                for (unsigned a = 0; a < 3; a++, members += a == 3)
-                    centre[a] += at[f][a];
-        for (unsigned a = 0; a < 3; a++)
-            centre[a] /= (double)members;
-        for (size_t f = 0; f < nf; f++)
-            if (piece[f] == (long)seed)
-                for (unsigned a = 0; a < 3; a++)
-                    outward += (turned[f] ? -normal[f][a] : normal[f][a]) * (at[f][a] - centre[a]);
-        if (outward < 0)
+                *(turned[f] ? &against : &kept) += area[f];
+        if (against > kept)
             for (size_t f = 0; f < nf; f++)
                 if (piece[f] == (long)seed) {
                     face_turn(&s->face[f]);
@@ -252,8 +237,8 @@ int psc_bpt_parse(const char *name, const char *text, size_t len, psc_patch_src_
     size_t count = (size_t)v;
     out->face = calloc(count, sizeof *out->face);
     out->color = malloc(sizeof *out->color);
-    double (*middle)[3] = malloc(count * sizeof *middle), (*middle_n)[3] = malloc(count * sizeof *middle_n);
-    if (out->face == NULL || out->color == NULL || middle == NULL || middle_n == NULL)
+    double *area = malloc(count * sizeof *area);
+    if (out->face == NULL || out->color == NULL || area == NULL)
         goto oom;
     out->color[0] = 0xC8B496u;
     out->color_count = 1;
@@ -291,7 +276,7 @@ int psc_bpt_parse(const char *name, const char *text, size_t len, psc_patch_src_
             goto fail;
         }
         face->sides = (uint8_t)n;
-        bezier_middle(cp, middle[out->face_count], middle_n[out->face_count]);
+        area[out->face_count] = bezier_size((const double(*)[3])cp);
         if (n == 3)
             for (unsigned k = 0; k < 3; k++)
                 out->edge[face->edge[k] & ~PSC_PATCH_EDGE_REVERSED].min_depth = 1;
@@ -302,17 +287,15 @@ int psc_bpt_parse(const char *name, const char *text, size_t len, psc_patch_src_
                       out->point_count, out->edge_count, PSC_PATCH_MAX_POINTS, PSC_PATCH_MAX_EDGES);
         goto fail;
     }
-    if (orient_faces(out, (const double(*)[3])middle, (const double(*)[3])middle_n) < 0)
+    if (orient_faces(out, area) < 0)
         goto oom;
-    free(middle);
-    free(middle_n);
+    free(area);
     psc_patch_src_bounds(out);
     return 0;
 oom:
     psc_io_errorf(err, errlen, name, "out of memory");
 fail:
-    free(middle);
-    free(middle_n);
+    free(area);
     psc_patch_src_free(out);
     return -1;
 }
