@@ -351,6 +351,33 @@ static void test_obj_reads(void **state)
     psc_model_free(&m);
 }
 
+/* Normals the file gives keep theirs; a corner given none, or one of no length ("vn 0 0 0", as assimp's spider has),
+ * takes the surface's; a needle's tip, all of whose triangles have no area, its neighbours' together: every vertex a
+ * unit normal. */
+static void test_obj_zero_normals(void **state)
+{
+    (void)state;
+    const char *text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                       "vn 0 0 1\nvn 0 0 0\nvn 0.6 0 0.8\n"
+                       "f 1//1 2//2 3//3\n"            /* corner 2: a zero normal */
+                       "f 1//1 3//3 4\n"               /* corner 4: none */
+                       "v 0.5 0.5 0\nv 0.5 0.5 0\n"    /* a needle: two points at one place */
+                       "f 1//1 5 6\n";
+    psc_model_t m;
+    char err[256];
+    if (obj_text(text, &m, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    for (uint32_t v = 0; v < m.vertex_count; v++) {
+        const double *n = &m.normal[3 * v];
+        assert_true(fabs(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] - 1.0) < 1e-9);
+    }
+    assert_true(fabs(m.normal[2] - 1.0) < 1e-12);                            /* the file's own, kept */
+    assert_true(fabs(m.normal[3 * 2] - 0.6) < 1e-12);                        /* and this one */
+    assert_true(fabs(m.normal[3 * 1 + 2] - 1.0) < 1e-12);                    /* the surface's (+Z) */
+    assert_true(fabs(m.normal[3 * 3 + 2] - 1.0) < 1e-12);
+    psc_model_free(&m);
+}
+
 /* STEM.obj and STEM.mtl in the tests' scratch folder: their paths in obj and mtl (512 bytes each), their texts. */
 static void write_obj_mtl(const char *stem, char obj[512], char mtl[512], const char *obj_text, const char *mtl_text)
 {
@@ -809,6 +836,7 @@ int main(void)
         cmocka_unit_test(test_bad_packs),
         cmocka_unit_test(test_fuzz),
         cmocka_unit_test(test_obj_reads),
+        cmocka_unit_test(test_obj_zero_normals),
         cmocka_unit_test(test_obj_material),
         cmocka_unit_test(test_obj_opacity),
         cmocka_unit_test(test_obj_opacity_held_out),

@@ -194,7 +194,11 @@ void psc_gltf_deform(const psc_gltf_t *g, const double (*skin)[12], double *pos,
 
 bool psc_gltf_is_file(const char *path)
 {
-    return psc_path_has_suffix(path, ".gltf") || psc_path_has_suffix(path, ".glb");
+    static const char *const ext[] = {".gltf", ".glb", ".fbx", ".dae", ".x", ".3ds", ".blend"};
+    for (size_t k = 0; k < sizeof ext / sizeof ext[0]; k++)
+        if (psc_path_has_suffix(path, ext[k]))
+            return true;
+    return false;
 }
 
 void psc_gltf_free(psc_gltf_t *g)

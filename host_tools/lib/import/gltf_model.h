@@ -94,7 +94,8 @@ void psc_gltf_free(psc_gltf_t *g);
 /** libassimp's reading of path (psc_gltf_load's for every file but OBJ); in a build without it, an error. */
 int psc_assimp_load(const char *path, psc_gltf_t *out, char *note, size_t notelen, char *err, size_t errlen);
 
-/** Whether path names a glTF file (.gltf, .glb). (OBJ files: psc_obj_is_file, import/obj.h.) */
+/** Whether path names a glTF file (.gltf, .glb), or another articulated model libassimp reads (.fbx, .dae, .x,
+ *  .3ds, .blend): the files the tools pose through this model. (OBJ files: psc_obj_is_file, import/obj.h.) */
 bool psc_gltf_is_file(const char *path);
 
 /**

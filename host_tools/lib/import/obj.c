@@ -523,7 +523,7 @@ static void read_material(obj_t *o, psc_model_t *m, char *note, size_t notelen)
     free(mtl);
 }
 
-/* Area-weighted smooth normals per position, for every vertex. */
+/* Area-weighted smooth normals per position, for every vertex the file gave none (or one of no length: zero). */
 static int smooth_normals(obj_t *o, psc_model_t *m)
 {
     size_t np = o->pos.n / 3;
@@ -542,10 +542,33 @@ static int smooth_normals(obj_t *o, psc_model_t *m)
                 acc[3 * p[k] + j] += n[j];
     }
     for (uint32_t v = 0; v < m->vertex_count; v++) {
-        const double *n = &acc[3 * o->corners.v[3 * v]];
+        const double *n = &acc[3 * o->corners.v[3 * v]], *had = &m->normal[3 * v];
         double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (had[0] != 0 || had[1] != 0 || had[2] != 0)
+            continue;   /* the file's own */
         for (int j = 0; j < 3; j++)
             m->normal[3 * v + j] = len > 0 ? n[j] / len : 0;
+    }
+    /* a point whose triangles all have no area (a needle's tip): its neighbours' normals together */
+    memset(acc, 0, (np * 3 + 1) * sizeof *acc);
+    bool none = false;
+    for (uint32_t t = 0; t < m->triangle_count; t++)
+        for (int k = 0; k < 3; k++) {
+            const uint32_t v = m->index[3 * t + k];
+            const double *had = &m->normal[3 * v];
+            if (had[0] != 0 || had[1] != 0 || had[2] != 0)
+                continue;
+            none = true;
+            for (int e = 1; e < 3; e++)
+                for (int j = 0; j < 3; j++)
+                    acc[3 * o->corners.v[3 * v] + j] += m->normal[3 * m->index[3 * t + (k + e) % 3] + j];
+        }
+    for (uint32_t v = 0; v < m->vertex_count && none; v++) {
+        const double *n = &acc[3 * o->corners.v[3 * v]], *had = &m->normal[3 * v];
+        double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (had[0] == 0 && had[1] == 0 && had[2] == 0 && len > 0)
+            for (int j = 0; j < 3; j++)
+                m->normal[3 * v + j] = n[j] / len;
     }
     free(acc);
     return 0;
@@ -636,11 +659,14 @@ int psc_obj_parse_parts(const char *name, const char *text, size_t len, psc_mode
         memcpy(&m->pos[3 * v], &o.pos.v[3 * c[0]], 3 * sizeof(double));
         if (m->uv && c[1] != NONE)
             memcpy(&m->uv[2 * v], &o.tex.v[2 * c[1]], 2 * sizeof(double));
+        for (int j = 0; j < 3; j++)
+            m->normal[3 * v + j] = 0;
         if (c[2] != NONE) {
             const double *n = &o.nrm.v[3 * c[2]];
             double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
             for (int j = 0; j < 3; j++)
                 m->normal[3 * v + j] = l > 0 ? n[j] / l : 0;
+            o.missing_normal |= !(l > 0);   /* "vn 0 0 0" (assimp's spider has one): the surface's, as if none */
         }
     }
     m->index = o.tris.v;

@@ -45,7 +45,7 @@ bool psc_render_gltf_wanted(int argc, char **argv)
 static void usage(const char *prog, FILE *f)
 {
     fprintf(f,
-            "usage: %s MODEL.{gltf,glb} -o view.png [options]\n"
+            "usage: %s MODEL.{gltf,glb,fbx,dae,x,3ds,blend} -o view.png [options]\n"
             "\n"
             "Pose an articulated or skinned model and draw it with the device's 3D pipeline.\n"
             "\n"

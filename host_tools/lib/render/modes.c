@@ -13,7 +13,7 @@
 static const psc_render_mode_t render_modes[] = {
     {"proxy", "M.ppx", "a proxy pack (periscope-proxy bake) posed and drawn by the proxy animator",
      psc_render_proxy_wanted, psc_render_proxy_main},
-    {"gltf", "MODEL.{gltf,glb} | MODEL.obj --shadow M.pao",
+    {"gltf", "MODEL.{gltf,glb,fbx,dae,x,3ds,blend} | MODEL.obj --shadow M.pao",
      "an articulated or skinned model posed, optionally self-shadowed, through the 3D pipeline",
      psc_render_gltf_wanted, psc_render_gltf_main},
     {"patch", "MODEL.{mdl,bpt,ppk}", "a Hash patch character posed, tessellated and drawn (Animation:Master, .bpt, pack)",
