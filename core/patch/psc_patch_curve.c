@@ -208,14 +208,25 @@ static void shrink(int64_t v[3], unsigned bits)
         v[a] /= (int64_t)1 << sh;
 }
 
-/* Whether c's tangent turns more than a right angle anywhere between its start, middle and end (the control
- * polygon's legs compared, 2^-8 of their Q16.16 length: a curve smaller than that turns too little to matter). */
+/* Whether c's control polygon turns more than a right angle between any two of its legs (the curve's tangent does
+ * then, somewhere). A curve within 2^-12 R turns too little to matter (its ends' normals are its parent's, right):
+ * no; else the legs are scaled together to within 2^14, so that a small curve keeps its directions. */
 static bool turns_back(const psc_curve_t *c)
 {
-    int64_t leg[3][3];
+    int64_t leg[3][3], big = 0;
+    for (unsigned k = 0; k < 3; k++)
+        for (unsigned a = 0; a < 3; a++) {
+            leg[k][a] = (int64_t)c->p[k + 1u][a] - c->p[k][a];
+            big |= leg[k][a] < 0 ? -leg[k][a] : leg[k][a];
+        }
+    if (big < 16)
+        return false;
+    unsigned sh = 0;
+    while ((big >> sh) >= ((int64_t)1 << 14))
+        sh++;
     for (unsigned k = 0; k < 3; k++)
         for (unsigned a = 0; a < 3; a++)
-            leg[k][a] = ((int64_t)c->p[k + 1u][a] - c->p[k][a]) / 256;   /* within 2^24 */
+            leg[k][a] /= (int64_t)1 << sh;
     for (unsigned i = 0; i < 3; i++)
         for (unsigned j = i + 1u; j < 3; j++)
             if (leg[i][0] * leg[j][0] + leg[i][1] * leg[j][1] + leg[i][2] * leg[j][2] < 0)
