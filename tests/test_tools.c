@@ -1000,8 +1000,6 @@ static void test_patch_tools(void **state)
     unlink(b_png);
 }
 
-/* periscope-shadow builds a glTF model's tables; periscope-render poses it (rest, t=, a pose file naming a node)
- * and shades it, --dump-ao writing a line a vertex; mistakes get their messages. */
 /* periscope-proxy bakes a model; periscope-render draws the pack as proxies or full (--ids, --depth, --repeat,
  * a pose file on the pack's skeleton); mistakes get their messages. */
 static void test_proxy_tools(void **state)
@@ -1090,6 +1088,9 @@ static void test_proxy_tools(void **state)
     unlink(ppx), unlink(a_png), unlink(b_png), unlink(ids), unlink(depth), unlink(json);
 }
 
+/* periscope-shadow builds a glTF model's tables; periscope-render poses it (rest, t=, a pose file naming a node)
+ * and shades it, --dump-ao writing a line a vertex; an OBJ's groups as parts; a patch model's tessellation dumped
+ * to a file named .obj (not taken for the model); mistakes get their messages. */
 static void test_gltf_tools(void **state)
 {
     (void)state;
@@ -1150,6 +1151,16 @@ static void test_gltf_tools(void **state)
     for (size_t i = 0; i < len; i++)
         lines += text[i] == '\n';
     assert_int_equal(lines, 1 + 16);
+    free(text);
+    /* a patch model shaded, its tessellation dumped to a .obj: the output's name does not pick the OBJ mode */
+    const char *torus_build[] = {"build", TSUP_DATA_AM "Torus.mdl", "--no-rest", "-o", pao, NULL};
+    expect_run("periscope-shadow", torus_build, 0, NULL);
+    const char *torus_shaded[] = {TSUP_DATA_AM "Torus.mdl", "--shadow", pao, "--dump-obj", obj, "--size", "160x120",
+                                  "-o", a_png, NULL};
+    expect_run("periscope-render", torus_shaded, 0, NULL);
+    text = (char *)tsup_read_bytes(obj, &len);
+    assert_non_null(text);
+    assert_true(len > 40 && strncmp(text, "# Hash patch tessellation", 25) == 0);
     free(text);
     unlink(obj);
     unlink(pao);

@@ -5,10 +5,20 @@
 
 #include <string.h>
 
+/* Options whose value is a file the tool writes: never the model, whatever its name (--dump-obj tess.obj). */
+static bool names_an_output(const char *option)
+{
+    static const char *const outputs[] = {"-o", "--dump-obj", "--dump-ao", "--depth", "--ids"};
+    for (size_t k = 0; k < sizeof outputs / sizeof outputs[0]; k++)
+        if (strcmp(option, outputs[k]) == 0)
+            return true;
+    return false;
+}
+
 bool psc_render_cli_has_file(int argc, char **argv, bool (*is)(const char *path))
 {
     for (int i = 1; i < argc; i++)
-        if (argv[i][0] != '-' && is(argv[i]))
+        if (argv[i][0] != '-' && is(argv[i]) && !names_an_output(argv[i - 1]))
             return true;
     return false;
 }

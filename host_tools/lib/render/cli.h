@@ -35,7 +35,8 @@ typedef struct {
     int (*option)(const char *prog, const char *name, const char *v, void *args);
 } psc_render_cli_t;
 
-/** Whether an argument of argv that is not an option is a file is() takes (a mode's wanted()). */
+/** Whether an argument of argv that is not an option, nor the file an output option names (-o, --dump-obj,
+ *  --dump-ao, --depth, --ids), is a file is() takes (a mode's wanted()). */
 bool psc_render_cli_has_file(int argc, char **argv, bool (*is)(const char *path));
 
 /** Whether argv has the option name ("--orbit", as --orbit V or --orbit=V). */
