@@ -714,6 +714,13 @@ static void test_chord_error(void **state)
     }
 }
 
+/* Thom (with his actions) and the teapot: the two characters the (u, v) and fold tests take. */
+static void load_thom_and_teapot(psc_io_patch_t *pf, uint8_t **teapot, psc_patch_model_t *tm)
+{
+    load_thom(pf);
+    load_teapot(teapot, tm);
+}
+
 /* Each vertex's place in its patch (out_uv): within the patch (an n-sided one's quad among its n), and where it falls
  * on the reference surface's grid, that surface's point there to the tolerance (the device's vertices lie on it but
  * where a boundary piece was made flat), for coarse and fine tolerances, Thom walking (his n-sided patches) and the
@@ -724,8 +731,7 @@ static void test_vertex_uv(void **state)
     psc_io_patch_t pf;
     uint8_t *teapot = NULL;
     psc_patch_model_t tm;
-    load_thom(&pf);
-    load_teapot(&teapot, &tm);
+    load_thom_and_teapot(&pf, &teapot, &tm);
     const psc_patch_model_t *models[2] = {&pf.model, &tm};
     static const double tols[] = {0.01, 0.002, 0.0005};
     for (unsigned k = 0; k < 2; k++) {
@@ -1258,8 +1264,7 @@ static void test_fold_normals(void **state)
     psc_io_patch_t pf;
     uint8_t *teapot = NULL;
     psc_patch_model_t tm;
-    load_thom(&pf);
-    load_teapot(&teapot, &tm);
+    load_thom_and_teapot(&pf, &teapot, &tm);
     const psc_patch_model_t *models[2] = {&tm, &pf.model};
     for (unsigned k = 0; k < 2; k++) {
         tess_t t;

@@ -1172,7 +1172,7 @@ static void test_grid_section(void **state)
         uint32_t v = 0, q = 0;
         for (uint32_t f = 0; f < tm.face_count; f++) {
             uint32_t first = q;
-            q += tm.faces[f].sides == 4 ? 1u : tm.faces[f].sides;
+            q += psc_patch_face_quads(&tm.faces[f]);
             if (t.p.face_cache[f] == PSC_PATCH_NO_CACHE)
                 continue;
             for (uint32_t c = 0; c < t.p.face_cache_count[f]; c++, v++) {

@@ -160,6 +160,12 @@ typedef struct {
     uint32_t edge[PSC_PATCH_MAX_SIDES];   /* edge index | PSC_PATCH_EDGE_REVERSED (run from its end to its start) */
 } psc_patch_face_t;
 
+/** The quads a face is tessellated as: one for a four-sided patch, n around the centre of an n-sided one. */
+static inline uint32_t psc_patch_face_quads(const psc_patch_face_t *f)
+{
+    return f->sides == 4 ? 1u : f->sides;
+}
+
 #define PSC_PATCH_NO_BONE 0xFFFFu
 
 /** A bone ("PBON"), 48 bytes. */

@@ -194,7 +194,7 @@ psc_status_t psc_shadow_init(psc_shadow_t *s, const psc_shadow_model_t *m, const
     if (m->grid_quads != 0) {   /* a patch grid made for this character: its quads, composed at every vertex */
         uint32_t quads = 0;
         for (uint32_t f = 0; f < pm->face_count; f++)
-            quads += pm->faces[f].sides == 4 ? 1u : pm->faces[f].sides;
+            quads += psc_patch_face_quads(&pm->faces[f]);
         if (quads != m->grid_quads || s->at_corners)
             return PSC_ERR_ARG;
     }
@@ -671,7 +671,7 @@ void psc_shadow_apply(psc_shadow_t *s, psc_patch_t *p, int32_t strength_q16, uin
         s->point[q].occ = PSC_SHADOW_UNSET;
     for (uint32_t f = 0; f < pm->face_count && v < p->vtx_total; f++) {
         uint32_t first_quad = quad;
-        quad += pm->faces[f].sides == 4 ? 1u : pm->faces[f].sides;
+        quad += psc_patch_face_quads(&pm->faces[f]);
         if (p->face_cache[f] == PSC_PATCH_NO_CACHE)
             continue;   /* culled: it emitted nothing */
         corners_t k;

@@ -86,7 +86,7 @@ int psc_bake_shadow_grid(const psc_patch_t *p, const psc_shadow_t *s, unsigned s
         goto done;
     uint32_t v = 0, q = 0;   /* the fine frame's first vertex of face f, its first quad */
     for (uint32_t f = 0; f < m->face_count; f++) {
-        unsigned sides = m->faces[f].sides, nq = sides == 4 ? 1u : sides;
+        unsigned sides = m->faces[f].sides, nq = psc_patch_face_quads(&m->faces[f]);
         unsigned n = (1u << (sides == 4 ? SURFACE_DEPTH : SURFACE_DEPTH - 1u)) + 1u, step = (n - 1u) / (side - 1u);
         uint32_t fv = p->face_cache[f] == PSC_PATCH_NO_CACHE ? 0u : p->face_cache_count[f];
         for (unsigned k = 0; k < nq; k++, q++) {
@@ -159,6 +159,6 @@ uint32_t psc_bake_shadow_grid_quads(const psc_patch_model_t *m)
 {
     uint32_t quads = 0;
     for (uint32_t f = 0; f < m->face_count; f++)
-        quads += m->faces[f].sides == 4 ? 1u : m->faces[f].sides;
+        quads += psc_patch_face_quads(&m->faces[f]);
     return quads;
 }

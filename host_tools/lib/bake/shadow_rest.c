@@ -363,14 +363,14 @@ static int grid_at_rest(psc_patch_t *p, psc_shadow_t *s, const psc_patch_camera_
         return psc_io_errorf(err, errlen, name, "cannot tessellate the rest pose");
     psc_shadow_update(s, p);
     uint32_t quads = psc_bake_shadow_grid_quads(p->m);
+    if (quads > PSC_SHADOW_MAX_GRID_QUADS)   /* (before the rays, not after) */
+        return psc_io_errorf(err, errlen, name, "%u quads: beyond the patch grid correction's %u", (unsigned)quads,
+                             (unsigned)PSC_SHADOW_MAX_GRID_QUADS);
     const unsigned side = PSC_BAKE_SHADOW_GRID_SIDE;
     int16_t *q15 = malloc((size_t)quads * side * side * sizeof *q15);
     int rc = -1;
     if (q15 == NULL || psc_bake_shadow_grid(p, s, REST_STRATA, REST_EPS, q15) != 0)
         psc_io_errorf(err, errlen, name, "out of memory");
-    else if (quads > PSC_SHADOW_MAX_GRID_QUADS)
-        psc_io_errorf(err, errlen, name, "%u quads: beyond the patch grid correction's %u", (unsigned)quads,
-                      (unsigned)PSC_SHADOW_MAX_GRID_QUADS);
     else {
         rest_grid_t grid = {q15, quads};
         rc = write_with_rest(sm, NULL, 0, 1.0, NULL, &grid, name, pack, pack_len, err, errlen) == 0 ? 2 : -1;

@@ -163,13 +163,25 @@ static void face_turn(psc_patch_face_t *f)
  */
 static long orient_faces(psc_patch_src_t *s, const double *area)
 {
-    size_t nf = s->face_count;
+    size_t nf = s->face_count, ne = s->edge_count, uses = 0;
+    for (size_t f = 0; f < nf; f++)
+        uses += s->face[f].sides;
+    /* each edge's patches (first[e] .. first[e + 1] in user[]): a piece grows through them */
+    size_t *first = calloc(ne + 2u, sizeof *first), *user = malloc((uses ? uses : 1u) * sizeof *user);
     long *piece = malloc((nf ? nf : 1u) * sizeof *piece);
     size_t *queue = malloc((nf ? nf : 1u) * sizeof *queue);
     bool *turned = calloc(nf ? nf : 1u, sizeof *turned);
     long count = -1;
-    if (piece == NULL || queue == NULL || turned == NULL)
+    if (first == NULL || user == NULL || piece == NULL || queue == NULL || turned == NULL)
         goto done;
+    for (size_t f = 0; f < nf; f++)
+        for (unsigned a = 0; a < s->face[f].sides; a++)
+            first[(s->face[f].edge[a] & ~PSC_PATCH_EDGE_REVERSED) + 2u]++;
+    for (size_t e = 0; e < ne; e++)
+        first[e + 2u] += first[e + 1u];
+    for (size_t f = 0; f < nf; f++)
+        for (unsigned a = 0; a < s->face[f].sides; a++)
+            user[first[(s->face[f].edge[a] & ~PSC_PATCH_EDGE_REVERSED) + 1u]++] = f;
     for (size_t f = 0; f < nf; f++)
         piece[f] = -1;
     count = 0;
@@ -179,41 +191,43 @@ static long orient_faces(psc_patch_src_t *s, const double *area)
         size_t head = 0, tail = 0;
         piece[seed] = (long)seed;
         queue[tail++] = seed;
-        while (head < tail) {   /* (patch files are small: each patch's sides against every other's) */
+        while (head < tail) {
             const psc_patch_face_t *f = &s->face[queue[head++]];
-            for (size_t g = 0; g < nf; g++) {
-                if (piece[g] >= 0)
-                    continue;
-                psc_patch_face_t *h = &s->face[g];
-                for (unsigned a = 0; a < f->sides && piece[g] < 0; a++)
-                    for (unsigned b = 0; b < h->sides; b++) {
-                        if ((f->edge[a] & ~PSC_PATCH_EDGE_REVERSED) != (h->edge[b] & ~PSC_PATCH_EDGE_REVERSED))
-                            continue;
-                        if (f->edge[a] == h->edge[b]) {   /* both run along it the same way */
-                            face_turn(h);
-                            turned[g] = !turned[g];
+            for (unsigned a = 0; a < f->sides; a++) {
+                uint32_t e = f->edge[a] & ~PSC_PATCH_EDGE_REVERSED;
+                for (size_t u = first[e]; u < first[e + 1u]; u++) {
+                    size_t g = user[u];
+                    if (piece[g] >= 0)
+                        continue;
+                    psc_patch_face_t *h = &s->face[g];
+                    for (unsigned b = 0; b < h->sides; b++)
+                        if ((h->edge[b] & ~PSC_PATCH_EDGE_REVERSED) == e) {
+                            if (h->edge[b] == f->edge[a]) {   /* both run along it the same way */
+                                face_turn(h);
+                                turned[g] = !turned[g];
+                            }
+                            break;
                         }
-                        piece[g] = (long)seed;
-                        queue[tail++] = g;
-                        break;
-                    }
+                    piece[g] = (long)seed;
+                    queue[tail++] = g;
+                }
             }
         }
-        /* the piece runs the way most of it ran in the file */
+        /* the piece (queue[0 .. tail)) runs the way most of it ran in the file */
         double kept = 0, against = 0;
-        for (size_t f = 0; f < nf; f++)
-            if (piece[f] == (long)seed)
-                *(turned[f] ? &against : &kept) += area[f];
+        for (size_t k = 0; k < tail; k++)
+            *(turned[queue[k]] ? &against : &kept) += area[queue[k]];
         if (against > kept)
-            for (size_t f = 0; f < nf; f++)
-                if (piece[f] == (long)seed) {
-                    face_turn(&s->face[f]);
-                    turned[f] = !turned[f];
-                }
+            for (size_t k = 0; k < tail; k++) {
+                face_turn(&s->face[queue[k]]);
+                turned[queue[k]] = !turned[queue[k]];
+            }
     }
     for (size_t f = 0; f < nf; f++)
         count += turned[f];
 done:
+    free(first);
+    free(user);
     free(piece);
     free(queue);
     free(turned);
