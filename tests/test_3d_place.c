@@ -12,9 +12,9 @@
  *    pipeline's projection is the pinhole's: test_3d_golden), and the frame
  *    drawn covers the pixel. The box is 8..40 pixels wide, anywhere in its
  *    own units, of any R.
- *  - Which side: at turn 0 the visitor sees its -Z face (as its orbit view
- *    at yaw 0 does) from every direction; at turn 180 degrees its +Z face;
- *    at 90 degrees its +X face.
+ *  - Which side: at turn 0 the visitor sees its +Z face (a glTF asset's
+ *    front) from every direction; at turn 180 degrees its -Z face; at 90
+ *    degrees its -X face.
  *  - Depth: of two objects in one direction, the nearer (by distance in R,
  *    whatever their scales) hides the other; the planes hold both.
  *  - Range limits: distances and scales beyond their ranges, an object too
@@ -109,7 +109,7 @@ static void draw(const cube_t *const *k, const psc_3d_place_t *pl, unsigned n, c
 }
 
 /* The camera in double, from the viewer's conventions alone: Rx(-pitch) Ry(-yaw) of the view, the object's centre
- * dist x 64 along (lon, lat), turned by lon + turn about +Y, scaled by 64 scale / R about its box's centre. */
+ * dist x 64 along (lon, lat), turned by lon + 180 degrees + turn about +Y, scaled by 64 scale / R about its box's centre. */
 static void reference_camera(const psc_view_t *view, double lon, double lat, double dist, double scale, double turn,
                              const cube_t *k, double out[3][4])
 {
@@ -120,7 +120,7 @@ static void reference_camera(const psc_view_t *view, double lon, double lat, dou
     c[0] = (k->lo.x + (double)k->hi.x) / 2 / 65536, h[0] = (k->hi.x - (double)k->lo.x) / 2 / 65536;
     c[1] = (k->lo.y + (double)k->hi.y) / 2 / 65536, h[1] = (k->hi.y - (double)k->lo.y) / 2 / 65536;
     c[2] = (k->lo.z + (double)k->hi.z) / 2 / 65536, h[2] = (k->hi.z - (double)k->lo.z) / 2 / 65536;
-    double s = 64 * scale / sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]), a = lon + turn;
+    double s = 64 * scale / sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]), a = lon + M_PI + turn;
     double ry[3][3] = {{cos(a), 0, sin(a)}, {0, 1, 0}, {-sin(a), 0, cos(a)}};
     double p[3] = {64 * dist * cos(lat) * sin(lon), 64 * dist * sin(lat), 64 * dist * cos(lat) * cos(lon)};
     /* world = ry s (x - c) + p; camera = rx(-vp) ry(-vy) world */
@@ -235,9 +235,9 @@ static void test_which_side(void **state)
 {
     (void)state;
     for (int yaw = -180; yaw < 180; yaw += 15) {
-        assert_int_equal(centre_face(yaw, 0, 0), face_color[4]);    /* -Z: its front */
-        assert_int_equal(centre_face(yaw, 20, 180), face_color[5]); /* turned round: +Z */
-        assert_int_equal(centre_face(yaw, -10, 90), face_color[1]); /* turned as yaw turns: +X faces the visitor */
+        assert_int_equal(centre_face(yaw, 0, 0), face_color[5]);    /* +Z: its front */
+        assert_int_equal(centre_face(yaw, 20, 180), face_color[4]); /* turned round: -Z */
+        assert_int_equal(centre_face(yaw, -10, 90), face_color[0]); /* turned as yaw turns: -X faces the visitor */
     }
 }
 

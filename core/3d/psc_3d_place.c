@@ -48,7 +48,7 @@ psc_status_t psc_3d_place(const psc_3d_place_t *pl, psc_vec3_q16_t lo, psc_vec3_
     psc_mat4_q16_t m, t;
     psc_mat4_scale(&m, (int32_t)k);
     m.m[0][3] = kc.x, m.m[1][3] = kc.y, m.m[2][3] = kc.z;   /* S(k) T(-c) */
-    psc_mat4_rotate_y(&t, pl->yaw + pl->turn);
+    psc_mat4_rotate_y(&t, pl->yaw + PSC_BAM_180 + pl->turn);   /* its +Z toward the eye */
     psc_mat4_mul(&m, &t, &m);
     psc_mat4_translate(&t, at);
     psc_mat4_mul(&m, &t, &m);

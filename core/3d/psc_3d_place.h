@@ -9,13 +9,13 @@
  * conventions, so the view at that yaw and pitch has it in the middle), its
  * distance in units of its own R (half its rest box's diagonal), a scale and
  * a turn about the vertical. It stands upright (its +Y up), and at turn 0
- * shows the visitor the side its orbit view shows at yaw 0 (its -Z side):
- * its own yaw turns it with its direction.
+ * faces the visitor with its +Z side (a glTF asset's front, and an A:M
+ * character's): its own yaw turns it with its direction.
  *
  * One scene unit system holds every object of a frame, so that their depths
  * compare: an object's unscaled R is PSC_3D_PLACE_R_Q16 scene units, its
  * centre dist x that from the eye. camera_from_object is then
- *   Rx(-view pitch) Ry(-view yaw) T(centre) Ry(yaw + turn) S(k) T(-c),
+ *   Rx(-view pitch) Ry(-view yaw) T(centre) Ry(yaw + 180 + turn) S(k) T(-c),
  * k = PSC_3D_PLACE_R x scale / R (Q16.16, rounded), c the rest box's centre. The pipeline's
  * projection (psc_3d_render.h: the same hfov, X right, Y up, +Z ahead) is
  * the viewer's pinhole, so an object stays put in the panorama as the view
@@ -42,7 +42,7 @@ typedef struct {
     int32_t pitch;       /* bam, -90..90 degrees: > 0 above the horizon */
     int32_t dist_q16;    /* its centre's distance from the eye, in its own (unscaled) R */
     int32_t scale_q16;   /* its size, 1.0 as modelled */
-    psc_bam_t turn;      /* about its vertical, as yaw turns (+Z toward +X): at 90 degrees the visitor sees its +X side */
+    psc_bam_t turn;      /* about its vertical, as yaw turns (+Z toward +X): at 90 degrees the visitor sees its -X side */
 } psc_3d_place_t;
 
 /**

@@ -111,9 +111,12 @@ static int parse_args(const char *prog, int argc, char **argv, model_args_t *a)
     return psc_render_cli_parse(&cli, prog, argc, argv, &a->view, &a->model, &a->out, a);
 }
 
-/* The model as a parsed mesh pack in an aligned buffer (from an OBJ: built in memory). */
-static int load_mesh(const model_args_t *a, psc_io_mesh_t *mf, char *err, size_t errlen)
+int psc_render_mesh_load(const char *path, const char *texture, const char *write_pack, psc_io_mesh_t *mf, char *err,
+                         size_t errlen)
 {
+    struct {
+        const char *model, *texture, *write_pack;
+    } args = {path, texture, write_pack}, *a = &args;
     if (psc_io_file_has_magic(a->model, PSC_MESH_MAGIC, PSC_CONTAINER_MAGIC_SIZE))
         return psc_io_mesh_load(a->model, mf, err, errlen);
     psc_model_t m;
@@ -203,7 +206,7 @@ int psc_render_model_main(const char *prog, int argc, char **argv)
     const psc_render_view_t *vw = &a.view;
     char err[768];
     psc_io_mesh_t mf, texpack = {0};
-    if (load_mesh(&a, &mf, err, sizeof err) != 0) {
+    if (psc_render_mesh_load(a.model, a.texture, a.write_pack, &mf, err, sizeof err) != 0) {
         fprintf(stderr, "%s: %s\n", prog, err);
         return 1;
     }

@@ -21,7 +21,9 @@
 #include "psc_io_tiles.h"
 #include "viewer/psc_viewer.h"
 #include "dither/psc_dither.h"
+#include "render/pano_objects.h"
 
+#include <math.h>
 #include <stdarg.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -64,11 +66,22 @@ static void print_usage(const char *prog, FILE *f)
             "                      (default, the device's) or none (rounded)\n"
             "  --cache-mb N        a tiled pack's tile cache, megabytes (default %u); the view waits for\n"
             "                      every tile it needs, so the output is exact whatever the cache\n"
+            "  --object FILE,yaw=Y,pitch=P,dist=D[,scale=S][,turn=T][,time=T][,play=NAME][,shadow=F.pao]\n"
+            "                      an object standing in the panorama (repeat for more, up to %u): a\n"
+            "                      character (.ppk, .mdl, .bpt), a mesh (.pmesh, .obj) or a proxy pack (.ppx),\n"
+            "                      its centre toward yaw Y, pitch P (degrees) at D times its R (half its rest\n"
+            "                      box's diagonal), S times its size, turned T degrees about its vertical;\n"
+            "                      time: seconds into its action (play: which one), shadow: its .pao\n"
+            "  --light AZ,EL       the objects' light: toward azimuth AZ (from yaw 0 toward the right) and\n"
+            "                      elevation EL, degrees (default 41.6,53)\n"
+            "  --ambient A         the objects' ambient light, 0..1 (default 0.45)\n"
+            "  --ids I.pgm         also write a 16-bit PGM: 0 where the pixel is the panorama's alone, k where\n"
+            "                      the k-th object covers it even in part\n"
             "  -o view.png         output PNG\n"
             "  --version           the program's version\n"
             "  --help              this text\n"
             "Options take their value as --opt VALUE or --opt=VALUE, before or after the pack.\n",
-            PSC_RENDER_CACHE_MB_DEFAULT);
+            PSC_RENDER_CACHE_MB_DEFAULT, PSC_IO_OBJECTS_MAX);
 }
 
 
@@ -85,6 +98,11 @@ typedef struct {
     psc_io_levels_t levels;   /* --dither */
     unsigned long cache_mb;   /* a tiled pack's cache */
     bool no_display_dither;   /* --display-dither none */
+    const char *objects[PSC_IO_OBJECTS_MAX];   /* --object, checked, loaded after the arguments */
+    unsigned object_count;
+    const char *ids;          /* --ids */
+    bool have_light;
+    double light_az, light_el, ambient;
 } args_t;
 
 static int span_to_log2(const char *v, uint8_t *log2)
@@ -154,6 +172,26 @@ static int parse_value(args_t *a, const char *name, const char *v)
     } else if (strcmp(name, "--cache-mb") == 0) {
         if (psc_cli_parse_uint(v, 1, CACHE_MB_MAX, &a->cache_mb) != 0)
             return usage_error("--cache-mb '%s': expected megabytes, 1..%lu", v, CACHE_MB_MAX);
+    } else if (strcmp(name, "--object") == 0) {
+        psc_io_object_spec_t spec;
+        char err[640];
+        if (a->object_count >= PSC_IO_OBJECTS_MAX)
+            return usage_error("--object: at most %u objects", PSC_IO_OBJECTS_MAX);
+        if (psc_io_object_spec_parse(v, ',', "--object", &spec, err, sizeof err) != 0)
+            return usage_error("%s", err);
+        a->objects[a->object_count++] = v;
+    } else if (strcmp(name, "--ids") == 0) {
+        a->ids = v;
+    } else if (strcmp(name, "--light") == 0) {
+        char *end;
+        a->light_az = strtod(v, &end);
+        if (end == v || *end != ',' || (a->light_el = strtod(end + 1, &end), *end != '\0') ||
+            !(a->light_az >= -360 && a->light_az <= 360 && a->light_el >= -90 && a->light_el <= 90))
+            return usage_error("--light '%s': expected AZ,EL in degrees (-360..360, -90..90)", v);
+        a->have_light = true;
+    } else if (strcmp(name, "--ambient") == 0) {
+        if (psc_cli_parse_double(v, &a->ambient) != 0 || !(a->ambient >= 0.0 && a->ambient <= 1.0))
+            return usage_error("--ambient '%s': expected 0..1", v);
     } else if (strcmp(name, "--format") == 0) {
         if (strcmp(v, "rgb565") == 0)
             a->format = PSC_PIX_RGB565;
@@ -172,6 +210,8 @@ static const struct option render_options[] = {
     {"size", required_argument, NULL, 1},   {"format", required_argument, NULL, 1},
     {"threads", required_argument, NULL, 1}, {"simd", required_argument, NULL, 1}, {"dither", required_argument, NULL, 1},
     {"cache-mb", required_argument, NULL, 1}, {"display-dither", required_argument, NULL, 1},
+    {"object", required_argument, NULL, 1},  {"ids", required_argument, NULL, 1},
+    {"light", required_argument, NULL, 1},  {"ambient", required_argument, NULL, 1},
     PSC_IO_CLI_COMMON_OPTIONS,
 };
 
@@ -306,6 +346,37 @@ static int write_view(const args_t *a, const psc_surface_t *drawn, bool dither)
     return rc;
 }
 
+/* The --object files loaded, with the scene's light. 0, or -1 said. */
+static int objects_load(const args_t *a, psc_render_objects_t *o)
+{
+    char err[1024];
+    psc_render_objects_init(o);
+    if (a->have_light) {
+        o->light_az_mdeg = (int32_t)lround(a->light_az * 1000.0);
+        o->light_el_mdeg = (int32_t)lround(a->light_el * 1000.0);
+    }
+    if (a->ambient >= 0.0)
+        o->ambient_q8 = (uint16_t)lround(a->ambient * 256.0);
+    for (unsigned i = 0; i < a->object_count; i++)
+        if (psc_render_objects_add(o, a->objects[i], err, sizeof err) != 0) {
+            fprintf(stderr, "%s: %s\n", pano_prog, err);
+            psc_render_objects_free(o);
+            return -1;
+        }
+    return 0;
+}
+
+/* The objects over the view drawn, and the ids. 0, or -1 said. */
+static int objects_draw(const args_t *a, psc_render_objects_t *o, const psc_view_t *view, const psc_surface_t *out)
+{
+    char err[1024];
+    if (psc_render_objects_draw(o, view, out, 0, a->ids, err, sizeof err) != 0) {
+        fprintf(stderr, "%s: %s\n", pano_prog, err);
+        return -1;
+    }
+    return 0;
+}
+
 /* A tiled pack's view: drawn, the tiles it found absent read, drawn again, until every tile it needs is resident
  * (the output exact whatever the cache); then the frames timed. */
 #define MAX_FILL_PASSES 64u
@@ -335,7 +406,7 @@ static int fill_tiles(psc_io_tiled_t *t, psc_viewer_t *viewer, psc_io_bands_t *b
     return -1;
 }
 
-static int render_tiled(const args_t *a)
+static int render_tiled(const args_t *a, psc_render_objects_t *objects)
 {
     char err[1024];
     psc_io_tiled_t *t;
@@ -383,7 +454,7 @@ static int render_tiled(const args_t *a)
         psc_viewer_clamp(&viewer, &view, pack->hfov_min);
         note_clamped(&want, &view);
         if (fill_tiles(t, &viewer, bands, &view, &out, a->pack) == 0 &&
-            render_frames(&viewer, bands, &view, &out, a->repeat) == 0) {
+            render_frames(&viewer, bands, &view, &out, a->repeat) == 0 && objects_draw(a, objects, &view, &out) == 0) {
             uint64_t loaded;
             psc_io_tiled_counts(t, &loaded, NULL);
             if (a->repeat > 1)
@@ -410,7 +481,7 @@ int psc_render_pano_main(const char *prog, int argc, char **argv)
 {
     pano_prog = prog;
     args_t a = {.filter = PSC_FILTER_BILINEAR, .span_log2 = PSC_SPAN_LOG2_DEFAULT, .repeat = 1,
-                .format = PSC_PIX_RGB565};
+                .format = PSC_PIX_RGB565, .ambient = -1.0};
     int rc = parse_args(argc, argv, &a);
     if (rc != 0)
         return rc;
@@ -419,10 +490,17 @@ int psc_render_pano_main(const char *prog, int argc, char **argv)
     psc_io_pack_t pf;
     if (a.levels.on)
         a.format = PSC_PIX_XRGB8888; /* dithered from the full colours */
-    if (!psc_io_image_sniff(a.pack) && psc_io_tiled_sniff(a.pack))
-        return render_tiled(&a);
+    psc_render_objects_t objects;
+    if (objects_load(&a, &objects) != 0)
+        return 1;
+    if (!psc_io_image_sniff(a.pack) && psc_io_tiled_sniff(a.pack)) {
+        rc = render_tiled(&a, &objects);
+        psc_render_objects_free(&objects);
+        return rc;
+    }
     if (load_scene(&a, &pf, err, sizeof err) != 0) {
         fprintf(stderr, "%s" ": %s\n", pano_prog, err);
+        psc_render_objects_free(&objects);
         return 1;
     }
     const psc_pack_t *pack = &pf.pack;
@@ -462,7 +540,8 @@ int psc_render_pano_main(const char *prog, int argc, char **argv)
             psc_io_bands_start(a.threads ? (unsigned)a.threads : psc_io_online_cpus(), w, err, sizeof err);
         if (!bands) {
             fprintf(stderr, "%s" ": %s\n", pano_prog, err);
-        } else if (render_frames(&viewer, bands, &view, &out, a.repeat) == 0) {
+        } else if (render_frames(&viewer, bands, &view, &out, a.repeat) == 0 &&
+                   objects_draw(&a, &objects, &view, &out) == 0) {
             rc = write_view(&a, &out, dither) == 0 ? 0 : 1;
         }
         psc_io_bands_stop(bands);
@@ -470,5 +549,6 @@ int psc_render_pano_main(const char *prog, int argc, char **argv)
     free(out.pixels);
     free(ws);
     psc_io_pack_free(&pf);
+    psc_render_objects_free(&objects);
     return rc;
 }
