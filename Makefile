@@ -299,7 +299,7 @@ SYSTEM_TESTS := $(filter $(SYSTEM_TEST_NAMES:%=$(BUILD)/tests/%),$(TESTS))
 QUICK_TESTS := $(filter-out $(SYSTEM_TESTS),$(TESTS))
 
 test: deps
-	$(Q)$(MAKE) $(PAR) --no-print-directory all $(QUICK_TESTS) $(SAMPLE_PACK) $(SAMPLE_CHARACTER) fuzz-replay-build
+	$(Q)$(MAKE) $(PAR) --no-print-directory all $(QUICK_TESTS) $(SAMPLE_PACK) $(SAMPLE_CHARACTER) $(SAMPLE_SHADOW) fuzz-replay-build
 	$(Q)$(MAKE) --no-print-directory check-self-contained check-core-nofloat check-layers check-architecture \
 		check-man-board check-fuzz-corpus
 	$(Q)sh tests/run_all.sh $(BUILD) $(QUICK_TESTS)
@@ -344,7 +344,7 @@ check-self-contained:
 SAN_CC ?= $(CC)
 SAN_BUILD := $(BUILD)/sanitize-$(notdir $(SAN_CC))
 SAN_FLAGS := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
-SAN_TESTS := $(addprefix $(SAN_BUILD)/tests/,test_3d_abuffer test_3d_area test_3d_place test_3d_threads test_3d_translucent test_morph test_3d_golden test_3d_mesh test_3d_raster \
+SAN_TESTS := $(addprefix $(SAN_BUILD)/tests/,test_3d_abuffer test_3d_area test_3d_place test_pano_objects test_scene_objects test_3d_threads test_3d_translucent test_morph test_3d_golden test_3d_mesh test_3d_raster \
 	test_accuracy test_bands test_config_fuzz test_crc32 test_dither test_envmap test_firmware test_fisheye \
 	test_evdev test_fixed test_golden test_hid test_image_io test_image_rows test_input test_io_atomic test_kiosk test_lut test_mip test_pack test_patch \
 	test_pixel test_pose test_proxy test_proxy_render test_shadow test_simd test_sky565 test_tiles test_gestures test_log \
@@ -362,7 +362,7 @@ check-sanitize: deps
 # a use of uninitialised memory, or a block definitely or indirectly lost fails the run.
 MEMCHECK := valgrind -q --error-exitcode=99 --leak-check=full --show-leak-kinds=definite,indirect \
 	--errors-for-leak-kinds=definite,indirect
-check-memcheck: all $(SAMPLE_PACK) $(SAMPLE_CHARACTER) $(SAMPLE_TILED) $(BUILD)/tests/test_tiles
+check-memcheck: all $(SAMPLE_PACK) $(SAMPLE_CHARACTER) $(SAMPLE_SHADOW) $(SAMPLE_TILED) $(BUILD)/tests/test_tiles
 	@echo "  CHECK   valgrind memcheck: the device program, a panorama, a tiled one and a character on the sim board"
 	$(Q)$(MEMCHECK) $(FIRMWARE) --board sim --frames-every 0 --max-frames 90 --quiet
 	$(Q)$(MEMCHECK) $(FIRMWARE) --board sim --scene $(SAMPLE_TILED) --frames-every 0 --max-frames 60 --quiet
@@ -376,7 +376,7 @@ check-memcheck: all $(SAMPLE_PACK) $(SAMPLE_CHARACTER) $(SAMPLE_TILED) $(BUILD)/
 # allocation after start-up and prints the frame-time distribution. `make test` runs 3000 frames.
 SOAK_FRAMES ?= 100000
 soak: deps
-	$(Q)$(MAKE) --no-print-directory all $(BUILD)/tests/test_soak $(SAMPLE_CHARACTER)
+	$(Q)$(MAKE) --no-print-directory all $(BUILD)/tests/test_soak $(SAMPLE_CHARACTER) $(SAMPLE_SHADOW)
 	$(Q)PSC_SOAK_FRAMES=$(SOAK_FRAMES) sh tests/run_all.sh $(BUILD) $(BUILD)/tests/test_soak
 
 # Only the VM cases (part of `make check`): the real backends against real drivers under QEMU.

@@ -491,7 +491,47 @@ static int board_parse_scene_key(board_parser_t *p, const char *rest, const char
         cfg->scene_has_view[i] = true;
         return 0;
     }
-    return board_fail(p, "unknown key 'scene.%s.%s': a scene has FILE, .title and .view", id, dot + 1);
+    if (strcmp(dot + 1, "object") == 0) {
+        char where[PSC_BOARD_ORIGIN_MAX];
+        if (cfg->object_count == PSC_BOARD_MAX_OBJECTS)
+            return board_fail(p, "too many objects (at most %s); scene.%s.object is one too many", "16", id);
+        psc_board_object_t *o = &cfg->objects[cfg->object_count];
+        snprintf(where, sizeof where, "%s:%u", p->file, p->line);
+        if (psc_io_object_spec_parse(value, ' ', where, &o->spec, p->err, p->errlen) != 0)
+            return -1;
+        unsigned here = 0;
+        for (unsigned k = 0; k < cfg->object_count; k++)
+            here += cfg->objects[k].scene == (uint8_t)i;
+        if (here == PSC_IO_OBJECTS_MAX)
+            return board_fail(p, "scene %s has %s objects already: at most that many stand in one scene", id, "8");
+        o->scene = (uint8_t)i;
+        o->line = p->line;
+        cfg->object_count++;
+        return 0;
+    }
+    if (strcmp(dot + 1, "light") == 0) {
+        char buf[96], *save = NULL, *w;
+        static const int64_t lo[3] = { -360000, -90000, 0 }, hi[3] = { 360000, 90000, 1000 };
+        int64_t v[3] = { 0, 0, 450 };
+        unsigned k = 0;
+
+        snprintf(buf, sizeof buf, "%s", value);
+        for (w = strtok_r(buf, " \t", &save); w != NULL; w = strtok_r(NULL, " \t", &save)) {
+            if (k == 3 || psc_hal_parse_decimal(w, 3, &v[k]) != 0 || v[k] < lo[k] || v[k] > hi[k])
+                break;
+            k++;
+        }
+        if (k < 2 || w != NULL)
+            return board_fail(p, "scene.%s.light must be 'AZ EL [AMBIENT]' (degrees: azimuth -360..360 from yaw 0 "
+                              "toward the right, elevation -90..90; ambient 0..1), got '%s'", id, value);
+        cfg->scene_light_mdeg[i][0] = (int32_t)v[0];
+        cfg->scene_light_mdeg[i][1] = (int32_t)v[1];
+        cfg->scene_ambient_milli[i] = (uint32_t)v[2];
+        cfg->scene_has_light[i] = true;
+        return 0;
+    }
+    return board_fail(p, "unknown key 'scene.%s.%s': a scene has FILE, .title, .view, .object and .light", id,
+                      dot + 1);
 }
 
 /* One "key = value" line of the board file (board_file.h did the syntax). */
@@ -606,6 +646,33 @@ static int board_check(board_parser_t *p)
             return -1;
         }
     }
+    /* an object's hotspot=TARGET names a scene by id or number */
+    for (unsigned i = 0; i < cfg->object_count; i++) {
+        psc_board_object_t *o = &cfg->objects[i];
+        const char *t = o->spec.hotspot;
+        int at;
+        char *end;
+        if (t[0] == '\0')
+            continue;
+        long num = strtol(t, &end, 10);
+        at = *end == '\0' && end != t ? (num >= 0 && num < (long)scenes ? (int)num : -1) : board_scene_by_id(cfg, t);
+        if (at < 0) {
+            psc_hal_error_set(p->err, p->errlen, "%s:%u: %s: hotspot=%s names no scene of this board (a scene.ID "
+                              "or a scene number below %u)", p->file, o->line, o->spec.path, t, scenes);
+            return -1;
+        }
+        o->linked = true;
+        o->link = (psc_hotspot_t){ .from_scene = o->scene, .to_scene = (uint8_t)at, .line = o->line };
+        size_t tn = strnlen(o->spec.title, sizeof o->link.label - 1u);   /* the title (128) cut to a label (48) */
+        memcpy(o->link.label, o->spec.title, tn);
+        o->link.label[tn] = '\0';
+        if (at < (int)cfg->scene_count && cfg->scene_has_view[at]) {
+            o->link_has_view = true;
+            o->link.to_yaw = PSC_BAM_FROM_MDEG(cfg->scene_view_mdeg[at][0]);
+            o->link.to_pitch = (int32_t)PSC_BAM_FROM_MDEG(cfg->scene_view_mdeg[at][1]);
+            o->link.to_hfov = PSC_BAM_FROM_MDEG(cfg->scene_view_mdeg[at][2]);
+        }
+    }
     if (cfg->pitch_min_mdeg >= cfg->pitch_max_mdeg)
         return board_fail_order(p, "pitch_min", cfg->pitch_min_mdeg, "pitch_max", cfg->pitch_max_mdeg);
     if (cfg->hfov_min_mdeg != 0 && cfg->hfov_max_mdeg != 0 && cfg->hfov_min_mdeg >= cfg->hfov_max_mdeg)
@@ -675,6 +742,10 @@ int psc_board_config_load(const char *path, psc_board_config_t *cfg, char *err, 
         return rc;
     for (unsigned i = 0; i < cfg->scene_count; i++)
         if (board_resolve_path(path, "scene", cfg->scenes[i], err, errlen) != 0)
+            return -1;
+    for (unsigned i = 0; i < cfg->object_count; i++)
+        if (board_resolve_path(path, "object", cfg->objects[i].spec.path, err, errlen) != 0 ||
+            board_resolve_path(path, "object shadow", cfg->objects[i].spec.shadow, err, errlen) != 0)
             return -1;
     if (board_resolve_path(path, "tour", cfg->tour, err, errlen) != 0 ||
         board_resolve_path(path, "camera_scene", cfg->camera_scene, err, errlen) != 0 ||

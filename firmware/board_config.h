@@ -6,7 +6,10 @@
  * space starts a comment; blank lines are ignored; keys are lower case.
  * Every key but "scene" and "hotspot" (lists) may appear once. Scenes with
  * an id: "scene.ID = FILE", then "scene.ID.title = TEXT" and
- * "scene.ID.view = YAW PITCH HFOV" (its starting and home view) below it. Relative paths (scene, tour,
+ * "scene.ID.view = YAW PITCH HFOV" (its starting and home view) below it, and
+ * for a panorama "scene.ID.object = FILE yaw=Y pitch=P dist=D [...]" (objects
+ * standing in it, io/psc_io_object.h; several) and "scene.ID.light = AZ EL
+ * [AMBIENT]" (their light). Relative paths (scene, tour, an object's file and shadow,
  * camera_scene, camera_fisheye_table) are the board folder's: "x.pano" is
  * the file beside board.conf (psc_board_config_load resolves them). The keys, their units and defaults are
  * listed in boards/README.md and in the table in board_config.c.
@@ -34,6 +37,7 @@
 #include "viewer/psc_viewer.h"
 #include "hotspots.h"
 #include "psc_io_levels.h"
+#include "psc_io_object.h"
 
 #define PSC_BOARD_NAME_MAX 32u
 #define PSC_BOARD_PATH_MAX 256u
@@ -41,6 +45,18 @@
 #define PSC_BOARD_MAX_SCENES 32u
 #define PSC_BOARD_TITLE_MAX 64u
 #define PSC_BOARD_MAX_OPTIONS 32u
+
+#define PSC_BOARD_MAX_OBJECTS 16u
+
+/** A "scene.ID.object = ..." line: an object standing in a panorama scene. */
+typedef struct {
+    uint8_t scene;                 /* the scene it stands in (scene lines' order) */
+    unsigned line;                 /* its board file line */
+    psc_io_object_spec_t spec;     /* file (and shadow) from the board's folder, placement, action, title */
+    bool linked;                   /* hotspot=TARGET: a tap on it follows link */
+    bool link_has_view;            /* the target has scene.ID.view: link opens it there, else at its home */
+    psc_hotspot_t link;            /* to_scene (and the view), line, label (the title) */
+} psc_board_object_t;
 
 /** The device kinds, for backend-specific options. */
 typedef enum {
@@ -103,6 +119,11 @@ typedef struct {
     bool scene_has_view[PSC_BOARD_MAX_SCENES];                       /* scene.ID.view = YAW PITCH HFOV */
     int32_t scene_view_mdeg[PSC_BOARD_MAX_SCENES][3];
     uint32_t scene_fade_ms;             /* scene_fade_ms: cross-fade between scenes, 0 = cut */
+    psc_board_object_t objects[PSC_BOARD_MAX_OBJECTS];   /* scene.ID.object lines, in order */
+    unsigned object_count;
+    bool scene_has_light[PSC_BOARD_MAX_SCENES];         /* scene.ID.light = AZ EL [AMBIENT] */
+    int32_t scene_light_mdeg[PSC_BOARD_MAX_SCENES][2];  /* toward azimuth (from yaw 0, right), elevation */
+    uint32_t scene_ambient_milli[PSC_BOARD_MAX_SCENES]; /* 0..1000 */
 
     /* camera limits and motion (millidegrees, per second, per second squared) */
     int32_t yaw_rate_max_mdeg;          /* yaw_rate_max */

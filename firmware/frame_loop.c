@@ -111,6 +111,22 @@ static void loop_log_quality(const psc_app_t *app, uint32_t frame, uint64_t t_us
            (unsigned)(speed % 1000u));
 }
 
+/* A tap on an object standing in the scene that has a hotspot: follow it. */
+static bool loop_tap_object(psc_app_t *app, int32_t x, int32_t y, int32_t reach, psc_kiosk_go_t *go)
+{
+    psc_scene_list_t *l = &app->scenes;
+    psc_scene_t *s = psc_scene_list_current(l);
+    psc_view_t view = { .yaw = app->motion.yaw, .pitch = app->motion.pitch, .hfov = app->motion.hfov };
+    bool with_view = false;
+    const psc_hotspot_t *link = s->ops->pick ? s->ops->pick(s, &view, x, y, reach, &with_view) : NULL;
+
+    if (link == NULL || link->to_scene >= l->count)
+        return false;
+    if (!app->quiet)
+        psc_io_log(PSC_LOG_INFO, "object (line %u) tapped", link->line);
+    return psc_kiosk_follow_link(&app->kiosk, &app->motion, l->current, link, with_view, go);
+}
+
 /* The kiosk's requests of this frame: a scene change (by a hotspot, at its view) or home. */
 static int loop_handle_requests(psc_app_t *app, uint32_t frame, char *err, size_t errlen)
 {
@@ -126,6 +142,7 @@ static int loop_handle_requests(psc_app_t *app, uint32_t frame, char *err, size_
 
     if (!(tapped && psc_kiosk_tap(&app->kiosk, &app->motion, l->current, places, app->gestures.width,
                                   app->gestures.height, tx, ty, reach, &go)) &&
+        !(tapped && loop_tap_object(app, tx, ty, reach, &go)) &&
         !psc_kiosk_requests(&app->kiosk, &app->controls, &app->motion, l->current, l->count, places, &go))
         return 0;
     if (!app->quiet) {

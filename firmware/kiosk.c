@@ -53,6 +53,15 @@ bool psc_kiosk_tap(psc_kiosk_t *k, const psc_motion_t *m, unsigned scene, bool p
                         go);
 }
 
+bool psc_kiosk_follow_link(psc_kiosk_t *k, const psc_motion_t *m, unsigned scene, const psc_hotspot_t *link,
+                           bool with_view, psc_kiosk_go_t *go)
+{
+    k->hotspot_follows++;
+    kiosk_remember(k, m, scene);
+    *go = (psc_kiosk_go_t){ .scene = link->to_scene, .via = with_view ? link : NULL };
+    return true;
+}
+
 bool psc_kiosk_requests(psc_kiosk_t *k, psc_controls_t *c, psc_motion_t *m, unsigned scene, unsigned scene_count,
                         bool places, psc_kiosk_go_t *go)
 {

@@ -62,6 +62,11 @@ void psc_kiosk_init(psc_kiosk_t *k, uint32_t idle_ms, int64_t rate, uint64_t now
 bool psc_kiosk_requests(psc_kiosk_t *k, psc_controls_t *c, psc_motion_t *m, unsigned scene, unsigned scene_count,
                         bool places, psc_kiosk_go_t *go);
 
+/** Follow link, the hotspot of an object tapped in scene (scene.ID.object ... hotspot=TARGET): to its scene, at its
+ *  view when with_view, else at the scene's home; remembered for back. Always true. */
+bool psc_kiosk_follow_link(psc_kiosk_t *k, const psc_motion_t *m, unsigned scene, const psc_hotspot_t *link,
+                           bool with_view, psc_kiosk_go_t *go);
+
 /**
  * A tap or click at pixel (x, y) of the frame showing view (width x height):
  * follows the hotspot there (psc_hotspot_pick_at, reach_px around its

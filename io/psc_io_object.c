@@ -361,6 +361,19 @@ unsigned psc_io_objects_max_draws(psc_io_object_t *const *objs, unsigned n)
     return d;
 }
 
+psc_3d_config_t psc_io_objects_config(psc_io_object_t *const *objs, unsigned n, uint16_t width, uint16_t height,
+                                      psc_bam_t hfov)
+{
+    psc_3d_config_t c = {width, height, 0, 0, 32, hfov, PSC_Q16_ONE, 2 * PSC_Q16_ONE,
+                         psc_io_objects_max_vertices(objs, n), PSC_3D_HSR_ZBUFFER};
+    return c;
+}
+
+size_t psc_io_objects_abuffer_bytes(const psc_3d_config_t *cfg)
+{
+    return psc_3d_abuffer_bytes(cfg, (uint32_t)cfg->width * cfg->height / 4u + 1u);
+}
+
 /* ---- a frame ------------------------------------------------------------------------------------------------- */
 
 void psc_io_objects_light(int32_t az_mdeg, int32_t el_mdeg, int32_t toward_q16[3])

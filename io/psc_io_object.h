@@ -89,6 +89,14 @@ const psc_io_object_spec_t *psc_io_object_spec(const psc_io_object_t *o);
 uint32_t psc_io_objects_max_vertices(psc_io_object_t *const *objs, unsigned n);
 unsigned psc_io_objects_max_draws(psc_io_object_t *const *objs, unsigned n);
 
+/** The pipeline's set-up for a frame of objs on a width x height screen: the whole screen, 32-bit depth, the
+ *  z-buffer (the planes are each frame's: psc_io_objects_frame). The device and periscope-render both draw so. */
+psc_3d_config_t psc_io_objects_config(psc_io_object_t *const *objs, unsigned n, uint16_t width, uint16_t height,
+                                      psc_bam_t hfov);
+
+/** The A-buffer budget the objects' edges are anti-aliased with: a fragment for every fourth pixel. */
+size_t psc_io_objects_abuffer_bytes(const psc_3d_config_t *cfg);
+
 /** The panorama's view and the scene's light, for one frame of its objects. */
 typedef struct {
     psc_bam_t yaw;

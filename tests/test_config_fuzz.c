@@ -679,10 +679,40 @@ static void test_board_specific(void **state)
     free(t.p);
 
     t = text_from(orig.p, orig.len);
-    k = find_line(&t, "scene =");
+    k = find_line(&t, "scene.rocks =");
     for (unsigned i = 0; i < PSC_BOARD_MAX_SCENES; i++)
         insert_line(&t, k, "scene = extra.pano");
     expect_board_line(&t, (int)k + PSC_BOARD_MAX_SCENES + 1, "too many", "nine scene lines");
+    free(t.p);
+
+    /* objects standing in a panorama: each bad line refused naming its line, its file and the key */
+    static const struct {
+        const char *line, *says, *what;
+    } objects[] = {
+        {"scene.rocks.object = thom.ppk yaw=15 pitch=-12", "thom.ppk: the object needs dist=D", "an object without dist"},
+        {"scene.rocks.object = thom.ppk yaw=15 pitch=-95 dist=3", "thom.ppk: pitch '-95'", "an object's pitch past -90"},
+        {"scene.rocks.object = thom.ppk yaw=15 pitch=0 dist=3 colour=red", "unknown key 'colour'", "an unknown key"},
+        {"scene.rocks.object = thom.ppk yaw=15 pitch=0 dist=3 scale=99", "scale '99'", "a scale past 16"},
+        {"scene.rocks.object = yaw=15 pitch=0 dist=3", "needs its file first", "an object without its file"},
+        {"scene.rocks.object = thom.ppk yaw=1 pitch=0 dist=3 hotspot=nowhere", "hotspot=nowhere names no scene",
+         "a hotspot to no scene"},
+        {"scene.nope.object = thom.ppk yaw=1 pitch=0 dist=3", "no scene 'nope' declared above", "an unknown scene"},
+        {"scene.rocks.light = 30", "scene.rocks.light must be 'AZ EL [AMBIENT]'", "a light without elevation"},
+        {"scene.rocks.light = 30 55 1.5", "scene.rocks.light must be", "an ambient past 1"},
+    };
+    for (unsigned i = 0; i < sizeof objects / sizeof objects[0]; i++) {
+        t = text_from(orig.p, orig.len);
+        k = find_line(&t, "scene.rocks.object =");
+        replace_line(&t, k, objects[i].line);
+        expect_board_line(&t, (int)k + 1, objects[i].says, objects[i].what);
+        free(t.p);
+    }
+    t = text_from(orig.p, orig.len);
+    k = find_line(&t, "scene.rocks.object =");
+    for (unsigned i = 0; i < PSC_IO_OBJECTS_MAX; i++)
+        insert_line(&t, k, "scene.rocks.object = a.ppk yaw=0 pitch=0 dist=3");
+    expect_board_line(&t, (int)k + PSC_IO_OBJECTS_MAX + 1, "at most that many stand in one scene",
+                      "nine objects in one scene");
     free(t.p);
 
     t = text_from(orig.p, orig.len);

@@ -82,6 +82,10 @@ typedef struct {
      *  it then draws straight into the back buffer, display_dither's 8-bit frame and pass buying nothing
      *  (may be NULL: no, it draws in 8 bits). */
     bool (*fits_565)(const psc_scene_t *s);
+    /** The hotspot of what a tap at (x, y) lands on, within reach_px, other than the hotspots' markers: an object
+     *  standing in the scene (may be NULL). */
+    const psc_hotspot_t *(*pick)(psc_scene_t *s, const psc_view_t *view, int32_t x, int32_t y, int32_t reach_px,
+                                 bool *with_view);
     /** Stop being the scene on screen (may be NULL). */
     void (*leave)(psc_scene_t *s);
     /** Free what load took. */

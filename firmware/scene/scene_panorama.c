@@ -2,7 +2,8 @@
 /*
  * scene_panorama.c - the panorama scene: a scene pack (core/pack/psc_pack.h),
  * or a JPEG or PNG packed on loading (scene_image.c), shown by the
- * look-up-table viewer, with the tour's hotspots drawn on it.
+ * look-up-table viewer, with the tour's hotspots drawn on it and the board's
+ * objects standing in it (scene_objects.h).
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -109,21 +110,57 @@ static int panorama_load(psc_scene_t *s, const psc_scene_env_t *env, char *err, 
         return -1;
     }
     s->state = p;
-    return psc_panorama_load(s, p, err, errlen);
+    if (psc_panorama_load(s, p, err, errlen) != 0)
+        return -1;
+    return psc_scene_objects_load(&p->objects, s, err, errlen);
+}
+
+/* The viewer's part of the workspace; the objects' follows it. */
+static size_t panorama_viewer_bytes(const psc_panorama_t *p, const psc_scene_env_t *env)
+{
+    return (psc_viewer_workspace_size(env->width, env->height, &p->file.pack.map) + 63u) & ~(size_t)63u;
 }
 
 static size_t panorama_workspace_size(const psc_scene_t *s, const psc_scene_env_t *env)
 {
     const psc_panorama_t *p = s->state;
 
-    return psc_viewer_workspace_size(env->width, env->height, &p->file.pack.map);
+    return panorama_viewer_bytes(p, env) + psc_scene_objects_workspace_size(&p->objects, env->width, env->height);
 }
 
 static int panorama_enter(psc_scene_t *s, const psc_scene_env_t *env, void *ws, size_t ws_size,
                           psc_scene_limits_t *lim, char *err, size_t errlen)
 {
-    (void)env;
-    return psc_panorama_enter(s, s->state, ws, ws_size, lim, err, errlen);
+    psc_panorama_t *p = s->state;
+    size_t own = panorama_viewer_bytes(p, env);
+
+    if (ws_size < own) {
+        psc_hal_error_set(err, errlen, "%s: the workspace is too small", s->path);
+        return -1;
+    }
+    psc_scene_objects_enter(&p->objects, (uint8_t *)ws + own, ws_size - own, env->now_us);
+    return psc_panorama_enter(s, p, ws, own, lim, err, errlen);
+}
+
+static psc_status_t panorama_render(psc_scene_t *s, const psc_view_t *view, const psc_surface_t *out)
+{
+    psc_panorama_t *p = s->state;
+    psc_status_t st = psc_panorama_render(s, view, out);
+
+    return st == PSC_OK ? psc_scene_objects_render(&p->objects, view, s->env->now_us, out) : st;
+}
+
+static const psc_hotspot_t *panorama_pick(psc_scene_t *s, const psc_view_t *view, int32_t x, int32_t y,
+                                          int32_t reach_px, bool *with_view)
+{
+    psc_panorama_t *p = s->state;
+    const psc_board_object_t *o = psc_scene_objects_pick(&p->objects, view, s->env->now_us, s->env->width,
+                                                         s->env->height, x, y, reach_px);
+
+    if (o == NULL)
+        return NULL;
+    *with_view = o->link_has_view;
+    return &o->link;
 }
 
 void psc_panorama_clamp(psc_scene_t *s, psc_view_t *view)
@@ -159,8 +196,10 @@ void psc_panorama_unload(psc_scene_t *s)
 {
     psc_panorama_t *p = s->state;
 
-    if (p != NULL)
+    if (p != NULL) {
+        psc_scene_objects_unload(&p->objects);
         psc_io_pack_free(&p->file);
+    }
     free(p);
     s->state = NULL;
 }
@@ -173,8 +212,9 @@ const psc_scene_ops_t psc_scene_panorama = {
     .workspace_size = panorama_workspace_size,
     .enter = panorama_enter,
     .clamp = psc_panorama_clamp,
-    .render = psc_panorama_render,
+    .render = panorama_render,
     .overlay = psc_panorama_overlay,
+    .pick = panorama_pick,
     .fits_565 = panorama_fits_565,
     .unload = psc_panorama_unload,
 };

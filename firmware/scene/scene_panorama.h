@@ -9,6 +9,7 @@
 
 #include "psc_io_load.h"
 #include "scene/scene.h"
+#include "scene/scene_objects.h"
 
 typedef struct {
     psc_io_pack_t file;        /* the pack, loaded whole; the viewer points into it */
@@ -16,6 +17,7 @@ typedef struct {
     psc_bam_t hfov_min;        /* of this scene, for psc_viewer_clamp */
     void *ws;                  /* the shared workspace, while on screen */
     size_t ws_size;
+    psc_scene_objects_t objects;   /* standing in it (the board's scene.ID.object lines) */
 } psc_panorama_t;
 
 /** Load s->path into p (and note a pack built for another display size). */

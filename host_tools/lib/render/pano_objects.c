@@ -68,7 +68,7 @@ void psc_render_objects_free(psc_render_objects_t *o)
 /* A renderer for cfg in a fresh workspace, anti-aliased when aa. NULL when out of memory. */
 static void *renderer(psc_3d_t *r, const psc_3d_config_t *cfg, bool aa)
 {
-    size_t n = psc_3d_workspace_size(cfg), nb = aa ? psc_3d_abuffer_bytes(cfg, (uint32_t)cfg->width * cfg->height) : 0;
+    size_t n = psc_3d_workspace_size(cfg), nb = aa ? psc_io_objects_abuffer_bytes(cfg) : 0;
     void *ws = NULL;
     if (n == 0 || posix_memalign(&ws, 64, n + nb) != 0)
         return NULL;
@@ -157,8 +157,7 @@ int psc_render_objects_draw(psc_render_objects_t *o, const psc_view_t *view, con
     }
     unsigned max = psc_io_objects_max_draws(o->obj, o->n), n;
     psc_3d_draw_t *d = malloc(max * sizeof *d);
-    psc_3d_config_t cfg = {out->width, out->height, 0, 0, 32, view->hfov, 0, 0,
-                           psc_io_objects_max_vertices(o->obj, o->n), PSC_3D_HSR_ZBUFFER};
+    psc_3d_config_t cfg = psc_io_objects_config(o->obj, o->n, out->width, out->height, view->hfov);
     psc_status_t s = PSC_ERR_NOMEM;
     if (d && (s = psc_io_objects_frame(o->obj, o->n, &v, t_us, false, d, max, &n, NULL, &cfg)) == PSC_OK)
         s = render(&cfg, d, n, NULL, out, true);

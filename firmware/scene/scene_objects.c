@@ -1,0 +1,148 @@
+/* SPDX-License-Identifier: MIT */
+/* scene_objects.c - the objects standing in a panorama scene (scene_objects.h). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "psc_hal.h"
+#include "scene/scene_objects.h"
+
+#define WS_ALIGN 64u
+
+static size_t align_up(size_t v)
+{
+    return (v + WS_ALIGN - 1u) & ~(size_t)(WS_ALIGN - 1u);
+}
+
+int psc_scene_objects_load(psc_scene_objects_t *o, const psc_scene_t *s, char *err, size_t errlen)
+{
+    const psc_board_config_t *b = s->env->board;
+
+    memset(o, 0, sizeof *o);
+    o->light_az_mdeg = PSC_IO_OBJECT_LIGHT_AZ_MDEG;
+    o->light_el_mdeg = PSC_IO_OBJECT_LIGHT_EL_MDEG;
+    o->ambient_q8 = PSC_IO_OBJECT_AMBIENT_Q8;
+    /* the board's scene at this place, not a file given alone with --scene */
+    if (s->index >= b->scene_count || strcmp(b->scenes[s->index], s->path) != 0)
+        return 0;
+    if (b->scene_has_light[s->index]) {
+        o->light_az_mdeg = b->scene_light_mdeg[s->index][0];
+        o->light_el_mdeg = b->scene_light_mdeg[s->index][1];
+        o->ambient_q8 = (uint16_t)((b->scene_ambient_milli[s->index] * 256u + 500u) / 1000u);
+    }
+    bool linked = false;
+    for (unsigned i = 0; i < b->object_count; i++) {
+        const psc_board_object_t *line = &b->objects[i];
+        char why[768];
+        if (line->scene != s->index)
+            continue;
+        if (psc_io_object_load(&line->spec, &o->obj[o->n], why, sizeof why) != 0) {
+            psc_hal_error_set(err, errlen, "%s:%u: %s", b->file, line->line, why);
+            psc_scene_objects_unload(o);
+            return -1;
+        }
+        o->line[o->n++] = line;
+        linked = linked || line->linked;
+    }
+    if (linked && !(o->ids = malloc((size_t)s->env->width * s->env->height * sizeof *o->ids))) {
+        psc_hal_error_set(err, errlen, "%s: out of memory for its objects' ids", s->path);
+        psc_scene_objects_unload(o);
+        return -1;
+    }
+    return 0;
+}
+
+size_t psc_scene_objects_workspace_size(const psc_scene_objects_t *o, uint16_t width, uint16_t height)
+{
+    if (o->n == 0)
+        return 0;
+    psc_3d_config_t c = psc_io_objects_config(o->obj, o->n, width, height, PSC_BAM_90);
+    size_t r = psc_3d_workspace_size(&c);
+    return r ? align_up(r) + align_up(psc_io_objects_abuffer_bytes(&c)) +
+                   align_up(psc_io_objects_max_draws(o->obj, o->n) * sizeof(psc_3d_draw_t))
+             : 0;
+}
+
+void psc_scene_objects_enter(psc_scene_objects_t *o, void *ws, size_t ws_size, uint64_t now_us)
+{
+    o->ws = ws;
+    o->ws_size = ws_size;
+    o->start_us = now_us;
+}
+
+/* This frame's draws (the ids' when ids) into the workspace and a renderer for them, anti-aliased unless ids. */
+static psc_status_t frame(psc_scene_objects_t *o, const psc_view_t *view, uint64_t now_us, uint16_t width,
+                          uint16_t height, bool ids, psc_3d_t *r, const psc_3d_draw_t **draws, unsigned *n)
+{
+    psc_3d_config_t c = psc_io_objects_config(o->obj, o->n, width, height, view->hfov);
+    size_t rb = align_up(psc_3d_workspace_size(&c)), ab = align_up(psc_io_objects_abuffer_bytes(&c));
+    unsigned max = psc_io_objects_max_draws(o->obj, o->n);
+    psc_3d_draw_t *d = (psc_3d_draw_t *)(void *)(o->ws + rb + ab);
+    psc_io_objects_view_t v = {view->yaw, view->pitch, view->hfov, width, height, {0, 0, 0}, o->ambient_q8};
+    psc_status_t s;
+
+    if (rb == 0 || o->ws_size < rb + ab + max * sizeof *d)
+        return PSC_ERR_NOMEM;
+    psc_io_objects_light(o->light_az_mdeg, o->light_el_mdeg, v.light_q16);
+    if ((s = psc_io_objects_frame(o->obj, o->n, &v, now_us - o->start_us, ids, d, max, n, NULL, &c)) != PSC_OK ||
+        (s = psc_3d_init(r, &c, o->ws, rb)) != PSC_OK ||
+        (!ids && (s = psc_3d_set_abuffer(r, o->ws + rb, psc_io_objects_abuffer_bytes(&c))) != PSC_OK))
+        return s;
+    *draws = d;
+    return PSC_OK;
+}
+
+psc_status_t psc_scene_objects_render(psc_scene_objects_t *o, const psc_view_t *view, uint64_t now_us,
+                                      const psc_surface_t *out)
+{
+    psc_3d_t r;
+    const psc_3d_draw_t *d;
+    unsigned n;
+    psc_status_t s;
+
+    if (o->n == 0)
+        return PSC_OK;
+    if ((s = frame(o, view, now_us, out->width, out->height, false, &r, &d, &n)) != PSC_OK)
+        return s;
+    return psc_3d_render(&r, d, n, NULL, out, NULL);   /* over the panorama */
+}
+
+const psc_board_object_t *psc_scene_objects_pick(psc_scene_objects_t *o, const psc_view_t *view, uint64_t now_us,
+                                                 uint16_t width, uint16_t height, int32_t x, int32_t y,
+                                                 int32_t reach_px)
+{
+    psc_3d_t r;
+    const psc_3d_draw_t *d;
+    unsigned n;
+    uint32_t zero = 0;
+
+    if (o->n == 0 || !o->ids || !o->ws)
+        return NULL;
+    psc_surface_t ids = {width, height, (uint32_t)width * 4u, PSC_PIX_XRGB8888, o->ids};
+    if (frame(o, view, now_us, width, height, true, &r, &d, &n) != PSC_OK ||
+        psc_3d_render(&r, d, n, &zero, &ids, NULL) != PSC_OK)
+        return NULL;
+    /* the object under the tap, else the nearest one with a hotspot within reach */
+    int64_t best = (int64_t)reach_px * reach_px + 1;
+    const psc_board_object_t *hit = NULL;
+    for (int32_t dy = -reach_px; dy <= reach_px; dy++)
+        for (int32_t dx = -reach_px; dx <= reach_px; dx++) {
+            int32_t px = x + dx, py = y + dy;
+            int64_t d2 = (int64_t)dx * dx + (int64_t)dy * dy;
+            if (px < 0 || py < 0 || px >= width || py >= height || d2 >= best)
+                continue;
+            uint32_t id = o->ids[(size_t)py * width + (size_t)px] & 0xFFFFu;
+            if (id == 0 || id > o->n || !o->line[id - 1u]->linked)
+                continue;
+            best = d2;
+            hit = o->line[id - 1u];
+        }
+    return hit;
+}
+
+void psc_scene_objects_unload(psc_scene_objects_t *o)
+{
+    for (unsigned i = 0; i < o->n; i++)
+        psc_io_object_free(o->obj[i]);
+    free(o->ids);
+    memset(o, 0, sizeof *o);
+}

@@ -1,0 +1,53 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * scene_objects.h - the objects standing in a panorama scene: the board's
+ * scene.ID.object lines (io/psc_io_object.h), drawn after the panorama with
+ * its view's camera, anti-aliased over it, in the scene's light; a tap on one
+ * with a hotspot follows it.
+ *
+ * Memory: the objects (files, tessellators, proxies) are allocated when the
+ * scene loads; the renderer, its A-buffer and the frame's draw list take the
+ * scene workspace after the viewer's (psc_scene_objects_workspace_size); the
+ * ids a tap reads, W x H words, are allocated at load when an object has a
+ * hotspot. A frame allocates nothing.
+ */
+#ifndef PSC_SCENE_OBJECTS_H
+#define PSC_SCENE_OBJECTS_H
+
+#include "psc_io_object.h"
+#include "scene/scene.h"
+
+typedef struct {
+    psc_io_object_t *obj[PSC_IO_OBJECTS_MAX];
+    const psc_board_object_t *line[PSC_IO_OBJECTS_MAX];   /* each one's board line */
+    unsigned n;
+    int32_t light_az_mdeg, light_el_mdeg;
+    uint16_t ambient_q8;
+    uint64_t start_us;          /* when the scene came on screen: actions play from it */
+    uint8_t *ws;                /* the scene workspace's part, while on screen */
+    size_t ws_size;
+    uint32_t *ids;              /* a tap's ids (objects with a hotspot), or NULL */
+} psc_scene_objects_t;
+
+/** The board's objects of scene s (none for a scene given alone with --scene). 0, or -1 with err naming the
+ *  board line and the file. */
+int psc_scene_objects_load(psc_scene_objects_t *o, const psc_scene_t *s, char *err, size_t errlen);
+
+/** Workspace bytes the objects draw with on a width x height display (0 without objects). */
+size_t psc_scene_objects_workspace_size(const psc_scene_objects_t *o, uint16_t width, uint16_t height);
+
+/** On screen: ws (aligned to 64) of psc_scene_objects_workspace_size bytes; actions start at now_us. */
+void psc_scene_objects_enter(psc_scene_objects_t *o, void *ws, size_t ws_size, uint64_t now_us);
+
+/** Draw them over out, the panorama's view as drawn, at now_us. */
+psc_status_t psc_scene_objects_render(psc_scene_objects_t *o, const psc_view_t *view, uint64_t now_us,
+                                      const psc_surface_t *out);
+
+/** The hotspot of the object a tap at (x, y) lands on, within reach_px of it, or NULL. */
+const psc_board_object_t *psc_scene_objects_pick(psc_scene_objects_t *o, const psc_view_t *view, uint64_t now_us,
+                                                 uint16_t width, uint16_t height, int32_t x, int32_t y,
+                                                 int32_t reach_px);
+
+void psc_scene_objects_unload(psc_scene_objects_t *o);
+
+#endif

@@ -1,0 +1,209 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * test_scene_objects.c - objects standing in a panorama on the device: a sim
+ * board whose panorama scene (out/sample.pano) has Thom (out/thom.ppk, with
+ * his shadow tables) standing in it, waving (board.conf's scene.ID.object).
+ *  - The frames the device presents equal periscope-render's with --object
+ *    for the same view and time, byte for byte (frames 0 and 30: 0 s and 1 s
+ *    into his action; RGB565, dithered from 8 bits as the display does).
+ *  - A tap on him follows his hotspot to his own scene; a tap on the sky
+ *    beside him does not.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "app.h"
+#include "psc_io_image.h"
+#include "sim/psc_hal_sim.h"
+#include "tsup_files.h"
+#include "tsup_tool.h"
+
+#define W 320u
+#define H 240u
+
+static char root[256], board_dir[300], cwd[256];
+
+static void write_text(const char *path, const char *text)
+{
+    assert_int_equal(tsup_write_bytes(path, text, strlen(text)), 0);
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    const char *tmp = getenv("PSC_TEST_TMPDIR");
+    snprintf(root, sizeof root, "%s/test_scene_objects_%ld", tmp && *tmp ? tmp : "/tmp", (long)getpid());
+    snprintf(board_dir, sizeof board_dir, "%s/rocks", root);
+    mkdir(root, 0755);
+    mkdir(board_dir, 0755);
+    assert_non_null(getcwd(cwd, sizeof cwd));
+    char path[400], conf[2048];
+    snprintf(path, sizeof path, "%s/board.conf", board_dir);
+    snprintf(conf, sizeof conf,
+             "display = sim\ndisplay_size = %ux%u\ndisplay_format = rgb565\nframe_rate = 30\n"
+             "input = sim\nclock = sim\nwatchdog = sim\nquality = fixed\n"
+             "scene.rocks = %s/out/sample.pano\nscene.rocks.view = 15 -8 70\n"
+             "scene.thom = %s/out/thom.ppk\n"
+             "scene.rocks.object = %s/out/thom.ppk yaw=15 pitch=-12 dist=3.2 action=Wave shadow=%s/out/thom.pao "
+             "hotspot=thom title=Thom\n"
+             "scene.rocks.light = 30 55 0.45\n",
+             W, H, cwd, cwd, cwd, cwd);
+    write_text(path, conf);
+    return 0;
+}
+
+/* Run the board with tour text; the stats, and the output folder in out. */
+static psc_app_stats_t run_board(const char *tour, int64_t every, char *out, size_t outlen)
+{
+    char tourf[400], err[1024];
+    snprintf(tourf, sizeof tourf, "%s/tour.txt", root);
+    write_text(tourf, tour);
+    snprintf(out, outlen, "%s/out", root);
+    psc_cli_options_t opt;
+    memset(&opt, 0, sizeof opt);
+    opt.board = "rocks";
+    opt.boards_dir = root;
+    opt.out_dir = out;
+    opt.tour = tourf;
+    opt.frames_every = every;
+    opt.quiet = true;
+    psc_app_t *app = NULL;
+    if (psc_app_open(&opt, &app, err, sizeof err) != 0)
+        fail_msg("psc_app_open: %s", err);
+    psc_app_stats_t st;
+    memset(&st, 0, sizeof st);
+    if (psc_app_run(app, &st, err, sizeof err) != 0)
+        fail_msg("psc_app_run: %s", err);
+    psc_app_close(app);
+    return st;
+}
+
+static psc_image_t load_png(const char *path)
+{
+    psc_image_t im;
+    char err[512];
+    if (psc_io_image_load(path, &im, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    return im;
+}
+
+/* periscope-render's frame of the same scene at t seconds into the action, and its ids. */
+static void render_tool(double t, const char *png, const char *ids)
+{
+    char object[1024];
+    snprintf(object, sizeof object, "out/thom.ppk,yaw=15,pitch=-12,dist=3.2,play=Wave,shadow=out/thom.pao,time=%.3f", t);
+    const char *args[] = {"out/sample.pano", "--yaw", "15", "--pitch", "-8", "--hfov", "70", "--size", "320x240",
+                          "--filter", "mip", "--object", object, "--light", "30,55", "--ambient", "0.45",
+                          "--ids", ids, "-o", png, NULL};
+    tsup_tool_run_t r = tsup_run_tool("test_scene_objects", "periscope-render", args);
+    if (r.status != 0)
+        print_message("%s", r.output);
+    assert_int_equal(r.status, 0);
+    free(r.output);
+}
+
+static void test_frames_equal_render(void **state)
+{
+    (void)state;
+    char out[400];
+    psc_app_stats_t st = run_board("wait 1.05s\nend\n", 30, out, sizeof out);
+    assert_true(st.frames >= 31);
+    static const unsigned frames[2] = {0, 30};
+    for (unsigned k = 0; k < 2; k++) {
+        char cap[600], png[600], ids[600];
+        assert_int_equal(psc_sim_capture_path(cap, sizeof cap, out, frames[k]), 0);
+        tsup_tmp_path(png, sizeof png, "test_scene_objects", "tool.png");
+        tsup_tmp_path(ids, sizeof ids, "test_scene_objects", "tool.pgm");
+        render_tool(frames[k] / 30.0, png, ids);
+        psc_image_t a = load_png(cap), b = load_png(png);
+        assert_int_equal(a.width, W);
+        assert_int_equal(b.width, W);
+        unsigned differ = 0, first = W * H;
+        for (unsigned i = 0; i < W * H; i++)
+            if ((a.xrgb[i] & 0xFFFFFFu) != (b.xrgb[i] & 0xFFFFFFu)) {
+                differ++;
+                first = first < i ? first : i;
+            }
+        size_t len;
+        uint8_t *pgm = tsup_read_bytes(ids, &len);
+        unsigned thom = 0;
+        for (size_t i = 17; i + 1 < len; i += 2)
+            thom += pgm[i] << 8 | pgm[i + 1];
+        free(pgm);
+        print_message("  frame %u (%.1f s into the wave): %u of %u pixels differ from periscope-render's; Thom "
+                      "covers %u\n", frames[k], frames[k] / 30.0, differ, W * H, thom);
+        if (differ)
+            print_message("  first at %u,%u: device %06x, tool %06x\n", first % W, first / W,
+                          a.xrgb[first] & 0xFFFFFFu, b.xrgb[first] & 0xFFFFFFu);
+        assert_int_equal(differ, 0);
+        assert_true(thom > 500);   /* he is in the frame */
+        psc_io_image_free(&a);
+        psc_io_image_free(&b);
+        unlink(cap);
+    }
+}
+
+/* A pixel of his (from periscope-render's ids, the pixel nearest their centroid) and one of the sky beside him. */
+static void thom_pixels(int *tx, int *ty, int *sx, int *sy)
+{
+    char png[600], ids[600];
+    tsup_tmp_path(png, sizeof png, "test_scene_objects", "tap.png");
+    tsup_tmp_path(ids, sizeof ids, "test_scene_objects", "tap.pgm");
+    render_tool(0.5, png, ids);
+    size_t len;
+    uint8_t *pgm = tsup_read_bytes(ids, &len);
+    assert_non_null(pgm);
+    double cx = 0, cy = 0, n = 0;
+    int top = H;
+    for (unsigned i = 0; i < W * H; i++)
+        if (pgm[17 + 2 * i + 1] == 1) {
+            cx += i % W, cy += i / W, n++;
+            top = (int)(i / W) < top ? (int)(i / W) : top;
+        }
+    assert_true(n > 100);
+    cx /= n, cy /= n;
+    double best = 1e9;
+    for (unsigned i = 0; i < W * H; i++)
+        if (pgm[17 + 2 * i + 1] == 1 && hypot(i % W - cx, i / W - cy) < best)
+            best = hypot(i % W - cx, i / W - cy), *tx = (int)(i % W), *ty = (int)(i / W);
+    *sx = (int)lround(cx), *sy = top - 40;   /* well above his head: the sky */
+    assert_true(*sy > 0 && pgm[17 + 2 * (*sy * W + *sx) + 1] == 0);
+    free(pgm);
+}
+
+static void test_tap_follows(void **state)
+{
+    (void)state;
+    int tx = -1, ty = -1, sx = -1, sy = -1;
+    thom_pixels(&tx, &ty, &sx, &sy);
+    char tour[256], out[400];
+    snprintf(tour, sizeof tour, "at 0.5s tap %d %d\nat 1s end\n", sx, sy);
+    psc_app_stats_t st = run_board(tour, 0, out, sizeof out);
+    print_message("  a tap on the sky at %d,%d: %u scene switches\n", sx, sy, st.scene_switches);
+    assert_int_equal(st.scene_switches, 0);
+    snprintf(tour, sizeof tour, "at 0.5s tap %d %d\nat 1s end\n", tx, ty);
+    st = run_board(tour, 0, out, sizeof out);
+    print_message("  a tap on Thom at %d,%d: %u scene switches, %u hotspots followed\n", tx, ty, st.scene_switches,
+                  st.hotspot_follows);
+    assert_int_equal(st.scene_switches, 1);
+    assert_int_equal(st.hotspot_follows, 1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_frames_equal_render),
+        cmocka_unit_test(test_tap_follows),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
