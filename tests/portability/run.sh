@@ -217,5 +217,8 @@ done
     --quiet >"$tmp/pack.log" 2>&1 || { cat "$tmp/pack.log"; die "periscope-pack of JPEG tiles failed"; }
 render_both "$tmp/tiled-jpeg.pano" "--filter bilinear --format xrgb8888 --yaw 37.5 --pitch 10 --hfov 8"
 render_both "$tmp/tiled-jpeg.pano" "--filter mip --format xrgb8888 --yaw -120 --pitch -60 --hfov 100"
-echo "portability: $board ($arch): periscope-render: $pngs PNG files equal to x86-64's (2 of them of JPEG tiles)"
+# objects standing in a panorama (issue 32): Thom, self-shadowed, and the bar's proxies, anti-aliased over it
+render_both "$tmp/xrgb8888.pano" "--filter bilinear --format xrgb8888 --yaw 170 --pitch -5 --hfov 70 --object $tmp/thom.ppk,yaw=175,pitch=-10,dist=3,time=0.7,shadow=$tmp/thom.pao --object $tmp/bar.ppx,yaw=-175,pitch=-5,dist=5,turn=40,time=0.3"
+render_both "$tmp/rgb565.pano" "--filter mip --format rgb565 --yaw 20 --pitch 80 --hfov 90 --object $tmp/thom.ppk,yaw=40,pitch=75,dist=4,play=Wave,time=1.2 --light 200,30 --ambient 0.3"
+echo "portability: $board ($arch): periscope-render: $pngs PNG files equal to x86-64's (2 of them of JPEG tiles, 2 with objects standing in the panorama)"
 rm -rf "$tmp"
