@@ -6,6 +6,9 @@
  *  - The frames the device presents equal periscope-render's with --object
  *    for the same view and time, byte for byte (frames 0 and 30: 0 s and 1 s
  *    into his action; RGB565, dithered from 8 bits as the display does).
+ *  - The same in a tiled panorama (periscope-pack --tiled, RGB565), once its
+ *    tiles are resident (frame 30, 1 s: the sim board's storage answers at
+ *    once).
  *  - A tap on him follows his hotspot to his own scene; a tap on the sky
  *    beside him does not.
  */
@@ -32,10 +35,27 @@
 #define H 240u
 
 static char root[256], board_dir[300], cwd[256];
+static char scene_file[1024];   /* the panorama the board shows (absolute) */
 
 static void write_text(const char *path, const char *text)
 {
     assert_int_equal(tsup_write_bytes(path, text, strlen(text)), 0);
+}
+
+static void write_board(void)
+{
+    char path[400], conf[4096];
+    snprintf(path, sizeof path, "%s/board.conf", board_dir);
+    snprintf(conf, sizeof conf,
+             "display = sim\ndisplay_size = %ux%u\ndisplay_format = rgb565\nframe_rate = 30\n"
+             "input = sim\nclock = sim\nwatchdog = sim\nquality = fixed\n"
+             "scene.rocks = %s\nscene.rocks.view = 15 -8 70\n"
+             "scene.thom = %s/out/thom.ppk\n"
+             "scene.rocks.object = %s/out/thom.ppk yaw=15 pitch=-12 dist=3.2 action=Wave shadow=%s/out/thom.pao "
+             "hotspot=thom title=Thom\n"
+             "scene.rocks.light = 30 55 0.45\n",
+             W, H, scene_file, cwd, cwd, cwd);
+    write_text(path, conf);
 }
 
 static int setup(void **state)
@@ -47,19 +67,14 @@ static int setup(void **state)
     mkdir(root, 0755);
     mkdir(board_dir, 0755);
     assert_non_null(getcwd(cwd, sizeof cwd));
-    char path[400], conf[2048];
-    snprintf(path, sizeof path, "%s/board.conf", board_dir);
-    snprintf(conf, sizeof conf,
-             "display = sim\ndisplay_size = %ux%u\ndisplay_format = rgb565\nframe_rate = 30\n"
-             "input = sim\nclock = sim\nwatchdog = sim\nquality = fixed\n"
-             "scene.rocks = %s/out/sample.pano\nscene.rocks.view = 15 -8 70\n"
-             "scene.thom = %s/out/thom.ppk\n"
-             "scene.rocks.object = %s/out/thom.ppk yaw=15 pitch=-12 dist=3.2 action=Wave shadow=%s/out/thom.pao "
-             "hotspot=thom title=Thom\n"
-             "scene.rocks.light = 30 55 0.45\n",
-             W, H, cwd, cwd, cwd, cwd);
-    write_text(path, conf);
     return 0;
+}
+
+/* The board with the sample panorama (a flat pack). */
+static void sample_board(void)
+{
+    snprintf(scene_file, sizeof scene_file, "%s/out/sample.pano", cwd);
+    write_board();
 }
 
 /* Run the board with tour text; the stats, and the output folder in out. */
@@ -102,7 +117,7 @@ static void render_tool(double t, const char *png, const char *ids)
 {
     char object[1024];
     snprintf(object, sizeof object, "out/thom.ppk,yaw=15,pitch=-12,dist=3.2,play=Wave,shadow=out/thom.pao,time=%.3f", t);
-    const char *args[] = {"out/sample.pano", "--yaw", "15", "--pitch", "-8", "--hfov", "70", "--size", "320x240",
+    const char *args[] = {scene_file, "--yaw", "15", "--pitch", "-8", "--hfov", "70", "--size", "320x240",
                           "--filter", "mip", "--object", object, "--light", "30,55", "--ambient", "0.45",
                           "--ids", ids, "-o", png, NULL};
     tsup_tool_run_t r = tsup_run_tool("test_scene_objects", "periscope-render", args);
@@ -115,6 +130,7 @@ static void render_tool(double t, const char *png, const char *ids)
 static void test_frames_equal_render(void **state)
 {
     (void)state;
+    sample_board();
     char out[400];
     psc_app_stats_t st = run_board("wait 1.05s\nend\n", 30, out, sizeof out);
     assert_true(st.frames >= 31);
@@ -153,6 +169,40 @@ static void test_frames_equal_render(void **state)
     }
 }
 
+static void test_tiled_frames_equal_render(void **state)
+{
+    (void)state;
+    static char tiled[512];
+    tsup_tmp_path(tiled, sizeof tiled, "test_scene_objects", "tiled.pano");
+    const char *pack[] = {"assets/pannellum-examplepano.jpg", "-o", tiled, "--display", "320x240", "--format",
+                          "rgb565", "--tiled", "--quiet", NULL};
+    tsup_tool_run_t r = tsup_run_tool("test_scene_objects", "periscope-pack", pack);
+    if (r.status != 0)
+        print_message("%s", r.output);
+    assert_int_equal(r.status, 0);
+    free(r.output);
+    if (tiled[0] == '/')
+        snprintf(scene_file, sizeof scene_file, "%s", tiled);
+    else
+        snprintf(scene_file, sizeof scene_file, "%s/%s", cwd, tiled);
+    write_board();
+    char out[400], cap[600], png[600], ids[600];
+    psc_app_stats_t st = run_board("wait 1.05s\nend\n", 30, out, sizeof out);
+    assert_true(st.frames >= 31);
+    assert_int_equal(psc_sim_capture_path(cap, sizeof cap, out, 30), 0);
+    tsup_tmp_path(png, sizeof png, "test_scene_objects", "tiled.png");
+    tsup_tmp_path(ids, sizeof ids, "test_scene_objects", "tiled.pgm");
+    render_tool(1.0, png, ids);
+    psc_image_t a = load_png(cap), b = load_png(png);
+    unsigned differ = 0;
+    for (unsigned i = 0; i < W * H; i++)
+        differ += (a.xrgb[i] & 0xFFFFFFu) != (b.xrgb[i] & 0xFFFFFFu);
+    print_message("  a tiled panorama, frame 30: %u of %u pixels differ from periscope-render's\n", differ, W * H);
+    assert_int_equal(differ, 0);
+    psc_io_image_free(&a);
+    psc_io_image_free(&b);
+}
+
 /* A pixel of his (from periscope-render's ids, the pixel nearest their centroid) and one of the sky beside him. */
 static void thom_pixels(int *tx, int *ty, int *sx, int *sy)
 {
@@ -184,6 +234,7 @@ static void thom_pixels(int *tx, int *ty, int *sx, int *sy)
 static void test_tap_follows(void **state)
 {
     (void)state;
+    sample_board();
     int tx = -1, ty = -1, sx = -1, sy = -1;
     thom_pixels(&tx, &ty, &sx, &sy);
     char tour[256], out[400];
@@ -203,6 +254,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_frames_equal_render),
+        cmocka_unit_test(test_tiled_frames_equal_render),
         cmocka_unit_test(test_tap_follows),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

@@ -35,6 +35,7 @@ typedef struct {
     uint32_t ahead[PREFETCH_TILES];   /* the tiles of the view to come */
     psc_view_t last;                  /* the last frame's view, for its motion */
     bool have_last;
+    psc_scene_objects_t objects;      /* standing in it (the board's scene.ID.object lines) */
 } tiled_t;
 
 static bool tiled_claims(const char *path)
@@ -65,13 +66,19 @@ static int tiled_load(psc_scene_t *s, const psc_scene_env_t *env, char *err, siz
         psc_io_log(PSC_LOG_NOTICE, "periscope: note: %s was packed for a %ux%u display, this one is %ux%u; "
                    "it will render, with tables not tuned for this size", s->path, (unsigned)pk->display_width,
                    (unsigned)pk->display_height, (unsigned)env->width, (unsigned)env->height);
-    return 0;
+    return psc_scene_objects_load(&t->objects, s, err, errlen);
+}
+
+/* The viewer's part of the workspace; the objects' follows it. */
+static size_t viewer_bytes(const tiled_t *t, const psc_scene_env_t *env)
+{
+    return (psc_viewer_workspace_size_tiled(env->width, env->height, &t->map) + 63u) & ~(size_t)63u;
 }
 
 static size_t tiled_workspace_size(const psc_scene_t *s, const psc_scene_env_t *env)
 {
     const tiled_t *t = s->state;
-    return psc_viewer_workspace_size_tiled(env->width, env->height, &t->map);
+    return viewer_bytes(t, env) + psc_scene_objects_workspace_size(&t->objects, env->width, env->height);
 }
 
 static int tiled_enter(psc_scene_t *s, const psc_scene_env_t *env, void *ws, size_t ws_size,
@@ -79,8 +86,14 @@ static int tiled_enter(psc_scene_t *s, const psc_scene_env_t *env, void *ws, siz
 {
     tiled_t *t = s->state;
     const psc_pack_t *pk = psc_io_tiled_pack(t->tiles);
+    size_t own = viewer_bytes(t, env);
+    if (ws_size < own) {
+        psc_hal_error_set(err, errlen, "%s: the workspace is too small", s->path);
+        return -1;
+    }
+    psc_scene_objects_enter(&t->objects, (uint8_t *)ws + own, ws_size - own, env->now_us);
     psc_status_t st = psc_viewer_init_tiled(&t->viewer, &t->map, psc_io_tiled_tiles(t->tiles), pk->luts,
-                                            pk->lut_count, env->width, env->height, ws, ws_size);
+                                            pk->lut_count, env->width, env->height, ws, own);
     if (st != PSC_OK) {
         psc_hal_error_set(err, errlen, "%s: the viewer cannot show this scene: %s", s->path, psc_status_str(st));
         return -1;
@@ -149,7 +162,19 @@ static psc_status_t tiled_render(psc_scene_t *s, const psc_view_t *view, const p
     psc_io_tiled_request(t->tiles, t->ahead, m);
     if (n > 0)
         psc_io_tiled_request(t->tiles, t->want, n);
-    return st;
+    return psc_scene_objects_render(&t->objects, view, s->env->now_us, out);
+}
+
+static const psc_hotspot_t *tiled_pick(psc_scene_t *s, const psc_view_t *view, int32_t x, int32_t y,
+                                       int32_t reach_px, bool *with_view)
+{
+    tiled_t *t = s->state;
+    const psc_board_object_t *o = psc_scene_objects_pick(&t->objects, view, s->env->now_us, s->env->width,
+                                                         s->env->height, x, y, reach_px);
+    if (o == NULL)
+        return NULL;
+    *with_view = o->link_has_view;
+    return &o->link;
 }
 
 static bool tiled_fits_565(const psc_scene_t *s)
@@ -161,8 +186,10 @@ static bool tiled_fits_565(const psc_scene_t *s)
 static void tiled_unload(psc_scene_t *s)
 {
     tiled_t *t = s->state;
-    if (t != NULL)
+    if (t != NULL) {
+        psc_scene_objects_unload(&t->objects);
         psc_io_tiled_close(t->tiles);
+    }
     free(t);
     s->state = NULL;
 }
@@ -178,6 +205,7 @@ const psc_scene_ops_t psc_scene_tiled = {
     .clamp = tiled_clamp,
     .render = tiled_render,
     .overlay = psc_panorama_overlay,
+    .pick = tiled_pick,
     .fits_565 = tiled_fits_565,
     .unload = tiled_unload,
 };
