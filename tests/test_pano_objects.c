@@ -3,7 +3,8 @@
  * test_pano_objects.c - objects standing in a panorama, as periscope-render
  * draws them (--object, --ids; io/psc_io_object.h), on the sample panorama
  * (out/sample.pano, which `make test` builds first) with the sample
- * character (out/thom.ppk) and a cube written here as an OBJ file:
+ * character (out/thom.ppk), a cube written here as an OBJ file and the glTF
+ * truck (at rest):
  *  - the panorama's pixels are unchanged by the objects, byte for byte:
  *    every pixel of id 0 is the view drawn without them (RGB565 dithered as
  *    the device shows it, and XRGB8888), every pixel that changed has an id,
@@ -91,6 +92,7 @@ static psc_image_t load_png(const char *path)
 static void check_unchanged(const char *format)
 {
     char plain[512], with[512], ids_path[512], cube[512], obj[640], thom[640];
+    const char *truck = "tests/data/gltf/CesiumMilkTruck.gltf,yaw=-30,pitch=-12,dist=4,turn=60";
     tmp_path(plain, sizeof plain, "plain.png");
     tmp_path(with, sizeof with, "with.png");
     tmp_path(ids_path, sizeof ids_path, "ids.pgm");
@@ -102,13 +104,13 @@ static void check_unchanged(const char *format)
                        "-o", plain, NULL};
     run_ok(a);
     const char *b[] = {PANO, "--yaw", "0", "--pitch", "-5", "--hfov", "70", "--size", "400x300", "--format", format,
-                       "--object", thom, "--object", obj, "--ids", ids_path, "-o", with, NULL};
+                       "--object", thom, "--object", obj, "--object", truck, "--ids", ids_path, "-o", with, NULL};
     run_ok(b);
     psc_image_t p = load_png(plain), q = load_png(with);
     uint16_t *ids = read_ids(ids_path, 400, 300);
-    unsigned count[3] = {0, 0, 0}, changed = 0, blended = 0;
+    unsigned count[4] = {0, 0, 0, 0}, changed = 0, blended = 0;
     for (unsigned i = 0; i < 400 * 300; i++) {
-        assert_true(ids[i] <= 2);
+        assert_true(ids[i] <= 3);
         count[ids[i]]++;
         bool same = p.xrgb[i] == q.xrgb[i];
         changed += !same;
@@ -118,9 +120,9 @@ static void check_unchanged(const char *format)
         if (ids[i] != 0 && i % 400 > 0 && ids[i - 1] == 0 && !same)
             blended++;   /* a left edge: the A-buffer's blend of panorama and object */
     }
-    print_message("  %s: %u pixels the panorama's, %u Thom's, %u the cube's; %u changed\n", format, count[0], count[1],
-                  count[2], changed);
-    assert_true(count[1] > 1500 && count[2] > 100 && count[0] > 400 * 300 / 2);
+    print_message("  %s: %u pixels the panorama's, %u Thom's, %u the cube's, %u the glTF truck's; %u changed\n", format,
+                  count[0], count[1], count[2], count[3], changed);
+    assert_true(count[1] > 1500 && count[2] > 100 && count[3] > 1500 && count[0] > 400 * 300 / 2);
     assert_true(blended > 20);
     free(ids);
     psc_io_image_free(&p);

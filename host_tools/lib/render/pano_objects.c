@@ -6,7 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake/mesh_pack.h"
 #include "bake/patch_any.h"
+#include "import/gltf_model.h"
 #include "psc_io_error.h"
 #include "psc_io_file.h"
 #include "render/depth_pgm.h"
@@ -24,6 +26,34 @@ static bool ends_with(const char *s, const char *suffix)
 {
     size_t n = strlen(s), k = strlen(suffix);
     return n >= k && strcmp(s + n - k, suffix) == 0;
+}
+
+/* A glTF model (or another file assimp reads) at rest, as the mesh pack of its triangles and base colours. */
+static int gltf_mesh(const char *path, psc_io_mesh_t *mf, char *err, size_t errlen)
+{
+    psc_gltf_t g;
+    char note[512];
+    uint8_t *bytes = NULL;
+    size_t len = 0;
+    if (psc_gltf_load(path, &g, note, sizeof note, err, errlen) != 0)
+        return -1;
+    int rc = psc_bake_mesh_pack(&g.mesh, NULL, NULL, path, &bytes, &len, err, errlen);
+    psc_gltf_free(&g);
+    if (rc != 0)
+        return -1;
+    memset(mf, 0, sizeof *mf);
+    if (posix_memalign(&mf->buf, 64, len) != 0) {
+        free(bytes);
+        return psc_io_errorf(err, errlen, path, "out of memory");
+    }
+    memcpy(mf->buf, bytes, len);
+    free(bytes);
+    mf->len = len;
+    if (psc_io_mesh_parse_named(path, mf->buf, len, &mf->mesh, err, errlen) != 0) {
+        psc_io_mesh_free(mf);
+        return -1;
+    }
+    return 0;
 }
 
 int psc_render_objects_add(psc_render_objects_t *o, const char *arg, char *err, size_t errlen)
@@ -49,6 +79,9 @@ int psc_render_objects_add(psc_render_objects_t *o, const char *arg, char *err, 
         psc_io_mesh_t mf;
         rc = psc_render_mesh_load(path, NULL, NULL, &mf, err, errlen) != 0 ? -1
                                                                              : psc_io_object_from_mesh(&spec, &mf, slot, err, errlen);
+    } else if (psc_gltf_is_file(path)) {   /* a glTF model (or FBX, COLLADA, ...) at rest */
+        psc_io_mesh_t mf;
+        rc = gltf_mesh(path, &mf, err, errlen) != 0 ? -1 : psc_io_object_from_mesh(&spec, &mf, slot, err, errlen);
     } else {
         rc = psc_io_object_load(&spec, slot, err, errlen);   /* says what it is not */
     }

@@ -10,7 +10,9 @@
  *                                 object covers it even in part
  *
  * FILE may also be a model the tools convert as the other modes do: an OBJ
- * file (a mesh), an A:M model or .bpt patches (a character).
+ * file (a mesh), an A:M model or .bpt patches (a character), a glTF model (or
+ * another file assimp reads) at rest (its triangles and base colours: bake
+ * it into a proxy pack, periscope-proxy, for its animation).
  */
 #ifndef PSC_RENDER_PANO_OBJECTS_H
 #define PSC_RENDER_PANO_OBJECTS_H
