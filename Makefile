@@ -344,7 +344,7 @@ check-self-contained:
 SAN_CC ?= $(CC)
 SAN_BUILD := $(BUILD)/sanitize-$(notdir $(SAN_CC))
 SAN_FLAGS := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
-SAN_TESTS := $(addprefix $(SAN_BUILD)/tests/,test_3d_abuffer test_3d_area test_3d_place test_pano_objects test_scene_objects test_3d_threads test_3d_translucent test_morph test_3d_golden test_3d_mesh test_3d_raster \
+SAN_TESTS := $(addprefix $(SAN_BUILD)/tests/,test_3d_abuffer test_3d_area test_3d_place test_envmap_light test_pano_objects test_scene_objects test_3d_threads test_3d_translucent test_morph test_3d_golden test_3d_mesh test_3d_raster \
 	test_accuracy test_bands test_config_fuzz test_crc32 test_dither test_envmap test_firmware test_fisheye \
 	test_evdev test_fixed test_golden test_hid test_image_io test_image_rows test_input test_io_atomic test_kiosk test_lut test_mip test_pack test_patch \
 	test_pixel test_pose test_proxy test_proxy_render test_shadow test_simd test_sky565 test_tiles test_gestures test_log \

@@ -13,6 +13,7 @@
 #include "3d/psc_3d_orbit.h"
 #include "patch/psc_patch_frame.h"
 #include "shadow/psc_shadow_frame.h"
+#include "envmap/psc_envmap_light.h"
 
 struct psc_io_object {
     psc_io_object_spec_t spec;
@@ -384,6 +385,22 @@ void psc_io_objects_light(int32_t az_mdeg, int32_t el_mdeg, int32_t toward_q16[3
     toward_q16[0] = (int32_t)(((int64_t)ce * sa + (INT64_C(1) << 43)) >> 44);
     toward_q16[1] = (int32_t)(((int64_t)se + (1 << 13)) >> 14);
     toward_q16[2] = (int32_t)(((int64_t)ce * ca + (INT64_C(1) << 43)) >> 44);
+}
+
+bool psc_io_objects_light_of(const psc_envmap_t *levels, unsigned count, int32_t *az_mdeg, int32_t *el_mdeg,
+                             uint16_t *ambient_q8)
+{
+    int32_t t[3];
+    uint16_t amb;
+    const psc_envmap_t *m = psc_envmap_light_level(levels, count);
+    if (!m || psc_envmap_light(m, t, &amb) != PSC_OK)
+        return false;
+    /* back to angles (double is fine here: io, once a scene), rounded to the millidegree */
+    double x = t[0] / 65536.0, y = t[1] / 65536.0, z = t[2] / 65536.0;
+    *az_mdeg = (int32_t)lround(atan2(x, z) * 180000.0 / 3.14159265358979323846);
+    *el_mdeg = (int32_t)lround(atan2(y, sqrt(x * x + z * z)) * 180000.0 / 3.14159265358979323846);
+    *ambient_q8 = amb;
+    return true;
 }
 
 /* The frame's draws of one object through cam (its camera_from_object), appended at d. */

@@ -107,6 +107,14 @@ typedef struct {
     uint16_t ambient_q8;    /* 0..256 */
 } psc_io_objects_view_t;
 
+/**
+ * The scene light a panorama casts (core's psc_envmap_light on the level of levels[0..count) it reads best):
+ * its azimuth and elevation in millidegrees and its ambient share. false (nothing set) for a map it cannot read:
+ * the default light stays.
+ */
+bool psc_io_objects_light_of(const psc_envmap_t *levels, unsigned count, int32_t *az_mdeg, int32_t *el_mdeg,
+                             uint16_t *ambient_q8);
+
 /** The light toward azimuth az (from yaw 0 toward the right) and elevation el, millidegrees. */
 void psc_io_objects_light(int32_t az_mdeg, int32_t el_mdeg, int32_t toward_q16[3]);
 

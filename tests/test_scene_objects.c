@@ -5,7 +5,8 @@
  * his shadow tables) standing in it, waving (board.conf's scene.ID.object).
  *  - The frames the device presents equal periscope-render's with --object
  *    for the same view and time, byte for byte (frames 0 and 30: 0 s and 1 s
- *    into his action; RGB565, dithered from 8 bits as the display does).
+ *    into his action; RGB565, dithered from 8 bits as the display does), both
+ *    lighting him as the panorama does (no scene.ID.light, no --light).
  *  - The same in a tiled panorama (periscope-pack --tiled, RGB565), once its
  *    tiles are resident (frame 30, 1 s: the sim board's storage answers at
  *    once).
@@ -52,8 +53,7 @@ static void write_board(void)
              "scene.rocks = %s\nscene.rocks.view = 15 -8 70\n"
              "scene.thom = %s/out/thom.ppk\n"
              "scene.rocks.object = %s/out/thom.ppk yaw=15 pitch=-12 dist=3.2 action=Wave shadow=%s/out/thom.pao "
-             "hotspot=thom title=Thom\n"
-             "scene.rocks.light = 30 55 0.45\n",
+             "hotspot=thom title=Thom\n",
              W, H, scene_file, cwd, cwd, cwd);
     write_text(path, conf);
 }
@@ -118,8 +118,7 @@ static void render_tool(double t, const char *png, const char *ids)
     char object[1024];
     snprintf(object, sizeof object, "out/thom.ppk,yaw=15,pitch=-12,dist=3.2,play=Wave,shadow=out/thom.pao,time=%.3f", t);
     const char *args[] = {scene_file, "--yaw", "15", "--pitch", "-8", "--hfov", "70", "--size", "320x240",
-                          "--filter", "mip", "--object", object, "--light", "30,55", "--ambient", "0.45",
-                          "--ids", ids, "-o", png, NULL};
+                          "--filter", "mip", "--object", object, "--ids", ids, "-o", png, NULL};
     tsup_tool_run_t r = tsup_run_tool("test_scene_objects", "periscope-render", args);
     if (r.status != 0)
         print_message("%s", r.output);

@@ -13,7 +13,8 @@ static size_t align_up(size_t v)
     return (v + WS_ALIGN - 1u) & ~(size_t)(WS_ALIGN - 1u);
 }
 
-int psc_scene_objects_load(psc_scene_objects_t *o, const psc_scene_t *s, char *err, size_t errlen)
+int psc_scene_objects_load(psc_scene_objects_t *o, const psc_scene_t *s, const psc_envmap_t *levels, unsigned count,
+                           char *err, size_t errlen)
 {
     const psc_board_config_t *b = s->env->board;
 
@@ -28,6 +29,8 @@ int psc_scene_objects_load(psc_scene_objects_t *o, const psc_scene_t *s, char *e
         o->light_az_mdeg = b->scene_light_mdeg[s->index][0];
         o->light_el_mdeg = b->scene_light_mdeg[s->index][1];
         o->ambient_q8 = (uint16_t)((b->scene_ambient_milli[s->index] * 256u + 500u) / 1000u);
+    } else if (count > 0) {   /* the panorama's own light */
+        (void)psc_io_objects_light_of(levels, count, &o->light_az_mdeg, &o->light_el_mdeg, &o->ambient_q8);
     }
     bool linked = false;
     for (unsigned i = 0; i < b->object_count; i++) {

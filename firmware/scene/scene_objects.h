@@ -29,9 +29,11 @@ typedef struct {
     uint32_t *ids;              /* a tap's ids (objects with a hotspot), or NULL */
 } psc_scene_objects_t;
 
-/** The board's objects of scene s (none for a scene given alone with --scene). 0, or -1 with err naming the
- *  board line and the file. */
-int psc_scene_objects_load(psc_scene_objects_t *o, const psc_scene_t *s, char *err, size_t errlen);
+/** The board's objects of scene s (none for a scene given alone with --scene), lit by its scene.ID.light, else by
+ *  the light its map casts (levels[0..count): psc_envmap_light.h; count 0, or a map it cannot read: the default
+ *  light). 0, or -1 with err naming the board line and the file. */
+int psc_scene_objects_load(psc_scene_objects_t *o, const psc_scene_t *s, const psc_envmap_t *levels, unsigned count,
+                           char *err, size_t errlen);
 
 /** Workspace bytes the objects draw with on a width x height display (0 without objects). */
 size_t psc_scene_objects_workspace_size(const psc_scene_objects_t *o, uint16_t width, uint16_t height);

@@ -112,7 +112,7 @@ static int panorama_load(psc_scene_t *s, const psc_scene_env_t *env, char *err, 
     s->state = p;
     if (psc_panorama_load(s, p, err, errlen) != 0)
         return -1;
-    return psc_scene_objects_load(&p->objects, s, err, errlen);
+    return psc_scene_objects_load(&p->objects, s, p->file.pack.levels, p->file.pack.level_count, err, errlen);
 }
 
 /* The viewer's part of the workspace; the objects' follows it. */

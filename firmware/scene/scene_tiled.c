@@ -66,7 +66,7 @@ static int tiled_load(psc_scene_t *s, const psc_scene_env_t *env, char *err, siz
         psc_io_log(PSC_LOG_NOTICE, "periscope: note: %s was packed for a %ux%u display, this one is %ux%u; "
                    "it will render, with tables not tuned for this size", s->path, (unsigned)pk->display_width,
                    (unsigned)pk->display_height, (unsigned)env->width, (unsigned)env->height);
-    return psc_scene_objects_load(&t->objects, s, err, errlen);
+    return psc_scene_objects_load(&t->objects, s, NULL, 0, err, errlen);   /* (its pyramid is in tiles) */
 }
 
 /* The viewer's part of the workspace; the objects' follows it. */

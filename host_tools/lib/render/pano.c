@@ -74,8 +74,10 @@ static void print_usage(const char *prog, FILE *f)
             "                      box's diagonal), S times its size, turned T degrees about its vertical;\n"
             "                      time: seconds into its action (play: which one), shadow: its .pao\n"
             "  --light AZ,EL       the objects' light: toward azimuth AZ (from yaw 0 toward the right) and\n"
-            "                      elevation EL, degrees (default 41.6,53)\n"
-            "  --ambient A         the objects' ambient light, 0..1 (default 0.45)\n"
+            "                      elevation EL, degrees (default: the panorama's brightest region, as the\n"
+            "                      device lights them; 41.6,53 for a map that is not a full-turn equirect)\n"
+            "  --ambient A         the objects' ambient light, 0..1 (default: the panorama's mean over its\n"
+            "                      brightest region, 0.25..0.75; else 0.45)\n"
             "  --ids I.pgm         also write a 16-bit PGM: 0 where the pixel is the panorama's alone, k where\n"
             "                      the k-th object covers it even in part\n"
             "  -o view.png         output PNG\n"
@@ -355,9 +357,12 @@ static int objects_load(const args_t *a, psc_render_objects_t *o)
     if (a->have_light) {
         o->light_az_mdeg = (int32_t)lround(a->light_az * 1000.0);
         o->light_el_mdeg = (int32_t)lround(a->light_el * 1000.0);
+        o->light_given = true;
     }
-    if (a->ambient >= 0.0)
+    if (a->ambient >= 0.0) {
         o->ambient_q8 = (uint16_t)lround(a->ambient * 256.0);
+        o->ambient_given = true;
+    }
     for (unsigned i = 0; i < a->object_count; i++)
         if (psc_render_objects_add(o, a->objects[i], err, sizeof err) != 0) {
             fprintf(stderr, "%s: %s\n", pano_prog, err);
@@ -537,6 +542,7 @@ int psc_render_pano_main(const char *prog, int argc, char **argv)
         psc_view_t view = want;
         psc_viewer_clamp(&viewer, &view, pack->hfov_min);
         note_clamped(&want, &view);
+        psc_render_objects_light(&objects, pack->levels, pack->level_count);   /* the panorama's own */
         psc_io_bands_t *bands =
             psc_io_bands_start(a.threads ? (unsigned)a.threads : psc_io_online_cpus(), w, err, sizeof err);
         if (!bands) {

@@ -91,6 +91,23 @@ int psc_render_objects_add(psc_render_objects_t *o, const char *arg, char *err, 
     return 0;
 }
 
+void psc_render_objects_light(psc_render_objects_t *o, const psc_envmap_t *levels, unsigned count)
+{
+    int32_t az, el;
+    uint16_t amb;
+    if ((o->light_given && o->ambient_given) || !psc_io_objects_light_of(levels, count, &az, &el, &amb))
+        return;
+    if (!o->light_given)
+        o->light_az_mdeg = az, o->light_el_mdeg = el;
+    if (!o->ambient_given)
+        o->ambient_q8 = amb;
+    if (o->n > 0)
+        fprintf(stderr, "periscope-render: note: the objects are lit as the panorama lights them: toward azimuth %.1f, "
+                "elevation %.1f degrees (its brightest region), ambient %.2f (its mean against that region)%s\n",
+                o->light_az_mdeg / 1000.0, o->light_el_mdeg / 1000.0, o->ambient_q8 / 256.0,
+                o->light_given || o->ambient_given ? ", as far as --light and --ambient leave it" : "");
+}
+
 void psc_render_objects_free(psc_render_objects_t *o)
 {
     for (unsigned i = 0; i < o->n; i++)

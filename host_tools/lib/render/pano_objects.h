@@ -5,7 +5,9 @@
  * with its camera and anti-aliased edges, as the device draws them.
  *
  *   --object FILE,yaw=Y,pitch=P,dist=D[,scale=S][,turn=T][,time=T][,play=NAME][,shadow=F.pao]
- *   --light AZ,EL [--ambient A]   the scene's light (default: elevation 53, azimuth 41.6, ambient 0.45)
+ *   --light AZ,EL [--ambient A]   the scene's light (default: the panorama's own, as the device's: toward its
+ *                                 brightest region, psc_envmap_light.h; for a map it cannot read, azimuth 41.6,
+ *                                 elevation 53, ambient 0.45)
  *   --ids I.pgm                   16-bit PGM: 0 where the pixel is the panorama's alone, k where the k-th
  *                                 object covers it even in part
  *
@@ -28,6 +30,7 @@ typedef struct {
     unsigned n;
     int32_t light_az_mdeg, light_el_mdeg;
     uint16_t ambient_q8;
+    bool light_given, ambient_given;   /* --light, --ambient: else the panorama's own (psc_render_objects_light) */
 } psc_render_objects_t;
 
 /** No objects yet, the default light. */
@@ -37,6 +40,9 @@ void psc_render_objects_init(psc_render_objects_t *o);
 int psc_render_objects_add(psc_render_objects_t *o, const char *arg, char *err, size_t errlen);
 
 void psc_render_objects_free(psc_render_objects_t *o);
+
+/** The light the panorama casts (its levels), where --light and --ambient did not say: the device's default. */
+void psc_render_objects_light(psc_render_objects_t *o, const psc_envmap_t *levels, unsigned count);
 
 /**
  * Draw the objects over out (the panorama's view, as drawn) at view, the
