@@ -49,6 +49,7 @@ FUZZ_MAX_LEN_usb_desc := 1024
 FUZZ_MAX_LEN_board := 8192
 FUZZ_MAX_LEN_tour := 8192
 FUZZ_MAX_LEN_hotspot := 256
+FUZZ_MAX_LEN_object_line := 2048
 FUZZ_MAX_LEN_obj := 16384
 FUZZ_MAX_LEN_am_model := 262144
 FUZZ_MAX_LEN_am_action := 65536
