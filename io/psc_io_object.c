@@ -337,6 +337,12 @@ const psc_io_object_spec_t *psc_io_object_spec(const psc_io_object_t *o)
     return &o->spec;
 }
 
+void psc_io_object_bounds(const psc_io_object_t *o, psc_vec3_q16_t *lo, psc_vec3_q16_t *hi)
+{
+    *lo = o->lo;
+    *hi = o->hi;
+}
+
 uint32_t psc_io_objects_max_vertices(psc_io_object_t *const *objs, unsigned n)
 {
     uint64_t v = 0;

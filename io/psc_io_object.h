@@ -85,6 +85,9 @@ void psc_io_object_free(psc_io_object_t *o);
 psc_io_object_kind_t psc_io_object_kind(const psc_io_object_t *o);
 const psc_io_object_spec_t *psc_io_object_spec(const psc_io_object_t *o);
 
+/** Its rest box, which the placement measures (Q16.16 of its own units). */
+void psc_io_object_bounds(const psc_io_object_t *o, psc_vec3_q16_t *lo, psc_vec3_q16_t *hi);
+
 /** The pipeline's vertex budget (psc_3d_config_t.max_vertices) and draws for a frame of these objects. */
 uint32_t psc_io_objects_max_vertices(psc_io_object_t *const *objs, unsigned n);
 unsigned psc_io_objects_max_draws(psc_io_object_t *const *objs, unsigned n);

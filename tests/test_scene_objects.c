@@ -12,6 +12,8 @@
  *    once).
  *  - A tap on him follows his hotspot to his own scene; a tap on the sky
  *    beside him does not.
+ *  - With title=Thom his name is drawn in a band just above his head, and
+ *    nowhere else.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -37,6 +39,7 @@
 
 static char root[256], board_dir[300], cwd[256];
 static char scene_file[1024];   /* the panorama the board shows (absolute) */
+static const char *title = "";   /* " title=..." on Thom's line, or "" */
 
 static void write_text(const char *path, const char *text)
 {
@@ -53,8 +56,8 @@ static void write_board(void)
              "scene.rocks = %s\nscene.rocks.view = 15 -8 70\n"
              "scene.thom = %s/out/thom.ppk\n"
              "scene.rocks.object = %s/out/thom.ppk yaw=15 pitch=-12 dist=3.2 action=Wave shadow=%s/out/thom.pao "
-             "hotspot=thom title=Thom\n",
-             W, H, scene_file, cwd, cwd, cwd);
+             "hotspot=thom%s\n",
+             W, H, scene_file, cwd, cwd, cwd, title);
     write_text(path, conf);
 }
 
@@ -202,6 +205,48 @@ static void test_tiled_frames_equal_render(void **state)
     psc_io_image_free(&b);
 }
 
+/* With title=Thom, the device draws his name above him: the frame differs from the tool's (which draws no overlay)
+ * only in a band just above his head, centred on him. */
+static void test_title_label(void **state)
+{
+    (void)state;
+    title = " title=Thom";
+    sample_board();
+    title = "";
+    char out[400], cap[600], png[600], ids[600];
+    psc_app_stats_t st = run_board("wait 0.2s\nend\n", 1, out, sizeof out);
+    assert_true(st.frames >= 1);
+    assert_int_equal(psc_sim_capture_path(cap, sizeof cap, out, 0), 0);
+    tsup_tmp_path(png, sizeof png, "test_scene_objects", "title.png");
+    tsup_tmp_path(ids, sizeof ids, "test_scene_objects", "title.pgm");
+    render_tool(0.0, png, ids);
+    psc_image_t a = load_png(cap), b = load_png(png);
+    size_t len;
+    uint8_t *pgm = tsup_read_bytes(ids, &len);
+    assert_non_null(pgm);
+    int top = H, lo = W, hi = -1;
+    for (unsigned i = 0; i < W * H; i++)
+        if (pgm[17 + 2 * i + 1] == 1) {
+            top = (int)(i / W) < top ? (int)(i / W) : top;
+            lo = (int)(i % W) < lo ? (int)(i % W) : lo;
+            hi = (int)(i % W) > hi ? (int)(i % W) : hi;
+        }
+    unsigned differ = 0, outside = 0;
+    for (unsigned i = 0; i < W * H; i++)
+        if ((a.xrgb[i] & 0xFFFFFFu) != (b.xrgb[i] & 0xFFFFFFu)) {
+            int x = (int)(i % W), y = (int)(i / W);
+            differ++;
+            outside += !(y < top && y > top - 30 && x > (lo + hi) / 2 - 40 && x < (lo + hi) / 2 + 40);
+        }
+    print_message("  title=Thom: %u pixels of a label above him (his top row %d), %u elsewhere\n", differ, top, outside);
+    assert_true(differ > 50);
+    assert_int_equal(outside, 0);
+    free(pgm);
+    psc_io_image_free(&a);
+    psc_io_image_free(&b);
+    sample_board();
+}
+
 /* A pixel of his (from periscope-render's ids, the pixel nearest their centroid) and one of the sky beside him. */
 static void thom_pixels(int *tx, int *ty, int *sx, int *sy)
 {
@@ -255,6 +300,7 @@ int main(void)
         cmocka_unit_test(test_frames_equal_render),
         cmocka_unit_test(test_tiled_frames_equal_render),
         cmocka_unit_test(test_tap_follows),
+        cmocka_unit_test(test_title_label),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -3,6 +3,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hotspots.h"
+#include "overlay_font.h"
 #include "psc_hal.h"
 #include "scene/scene_objects.h"
 
@@ -107,6 +109,35 @@ psc_status_t psc_scene_objects_render(psc_scene_objects_t *o, const psc_view_t *
     if ((s = frame(o, view, now_us, out->width, out->height, false, &r, &d, &n)) != PSC_OK)
         return s;
     return psc_3d_render(&r, d, n, NULL, out, NULL);   /* over the panorama */
+}
+
+void psc_scene_objects_overlay(const psc_scene_objects_t *o, const psc_view_t *view, const psc_surface_t *out)
+{
+    uint32_t scale = out->height / 240u ? out->height / 240u : 1u;
+    int32_t pad = (int32_t)scale, focal = psc_proxy_focal_px_q16(out->width, view->hfov);
+
+    for (unsigned i = 0; i < o->n; i++) {
+        const psc_io_object_spec_t *sp = &o->line[i]->spec;
+        psc_vec3_q16_t lo, hi, top, c;
+        psc_mat4_q16_t m;
+        if (sp->title[0] == '\0' || focal <= 0)
+            continue;
+        /* the middle of its rest box's top, seen by the frame's camera */
+        psc_io_object_bounds(o->obj[i], &lo, &hi);
+        top = (psc_vec3_q16_t){(int32_t)(((int64_t)lo.x + hi.x) / 2), hi.y, (int32_t)(((int64_t)lo.z + hi.z) / 2)};
+        if (psc_3d_place(&sp->place, lo, hi, view->yaw, view->pitch, &m) != PSC_OK || !psc_mat4_apply(&m, top, &c) ||
+            c.z < PSC_Q16_ONE)
+            continue;
+        /* the pixel: (width / 2 + f x / z, height / 2 - f y / z), f in Q16.16 pixels */
+        int64_t x = (int64_t)out->width / 2 + psc_div_round64((int64_t)c.x * focal, (int64_t)c.z << 16);
+        int64_t y = (int64_t)out->height / 2 - psc_div_round64((int64_t)c.y * focal, (int64_t)c.z << 16);
+        int32_t w = (int32_t)psc_font_text_width(sp->title, scale) + 2 * pad, h = (int32_t)(PSC_FONT_CELL_H * scale) + pad;
+        int64_t lx = x - w / 2, ly = y - h - 2 * pad;
+        if (lx + w < 0 || ly + h < 0 || lx >= (int64_t)out->width || ly >= (int64_t)out->height)
+            continue;
+        psc_overlay_fill(out, (int32_t)lx, (int32_t)ly, (uint32_t)w, (uint32_t)h, PSC_HOTSPOT_OUTLINE_RGB);
+        psc_overlay_text(out, (int32_t)lx + pad, (int32_t)ly + pad, scale, sp->title, PSC_HOTSPOT_RGB);
+    }
 }
 
 const psc_board_object_t *psc_scene_objects_pick(psc_scene_objects_t *o, const psc_view_t *view, uint64_t now_us,

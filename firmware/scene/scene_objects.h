@@ -3,7 +3,7 @@
  * scene_objects.h - the objects standing in a panorama scene: the board's
  * scene.ID.object lines (io/psc_io_object.h), drawn after the panorama with
  * its view's camera, anti-aliased over it, in the scene's light; a tap on one
- * with a hotspot follows it.
+ * with a hotspot follows it; a title is drawn above it, as a hotspot's label.
  *
  * Memory: the objects (files, tessellators, proxies) are allocated when the
  * scene loads; the renderer, its A-buffer and the frame's draw list take the
@@ -44,6 +44,9 @@ void psc_scene_objects_enter(psc_scene_objects_t *o, void *ws, size_t ws_size, u
 /** Draw them over out, the panorama's view as drawn, at now_us. */
 psc_status_t psc_scene_objects_render(psc_scene_objects_t *o, const psc_view_t *view, uint64_t now_us,
                                       const psc_surface_t *out);
+
+/** Over the frame: each object's title (title=TEXT) on a dark band just above it, as a hotspot's label. */
+void psc_scene_objects_overlay(const psc_scene_objects_t *o, const psc_view_t *view, const psc_surface_t *out);
 
 /** The hotspot of the object a tap at (x, y) lands on, within reach_px of it, or NULL. */
 const psc_board_object_t *psc_scene_objects_pick(psc_scene_objects_t *o, const psc_view_t *view, uint64_t now_us,

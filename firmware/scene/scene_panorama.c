@@ -192,6 +192,15 @@ void psc_panorama_overlay(psc_scene_t *s, const psc_view_t *view, const psc_surf
     psc_hotspots_draw(s->env->hotspots, s->env->hotspot_count, s->index, view, out);
 }
 
+/* The markers, and the objects' titles. */
+static void panorama_overlay(psc_scene_t *s, const psc_view_t *view, const psc_surface_t *out)
+{
+    psc_panorama_t *p = s->state;
+
+    psc_panorama_overlay(s, view, out);
+    psc_scene_objects_overlay(&p->objects, view, out);
+}
+
 void psc_panorama_unload(psc_scene_t *s)
 {
     psc_panorama_t *p = s->state;
@@ -213,7 +222,7 @@ const psc_scene_ops_t psc_scene_panorama = {
     .enter = panorama_enter,
     .clamp = psc_panorama_clamp,
     .render = panorama_render,
-    .overlay = psc_panorama_overlay,
+    .overlay = panorama_overlay,
     .pick = panorama_pick,
     .fits_565 = panorama_fits_565,
     .unload = psc_panorama_unload,

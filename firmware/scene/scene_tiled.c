@@ -177,6 +177,14 @@ static const psc_hotspot_t *tiled_pick(psc_scene_t *s, const psc_view_t *view, i
     return &o->link;
 }
 
+/* The markers, and the objects' titles. */
+static void tiled_overlay(psc_scene_t *s, const psc_view_t *view, const psc_surface_t *out)
+{
+    tiled_t *t = s->state;
+    psc_panorama_overlay(s, view, out);
+    psc_scene_objects_overlay(&t->objects, view, out);
+}
+
 static bool tiled_fits_565(const psc_scene_t *s)
 {
     const tiled_t *t = s->state;
@@ -204,7 +212,7 @@ const psc_scene_ops_t psc_scene_tiled = {
     .update = tiled_update,
     .clamp = tiled_clamp,
     .render = tiled_render,
-    .overlay = psc_panorama_overlay,
+    .overlay = tiled_overlay,
     .pick = tiled_pick,
     .fits_565 = tiled_fits_565,
     .unload = tiled_unload,
