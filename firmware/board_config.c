@@ -513,17 +513,24 @@ static int board_parse_scene_key(board_parser_t *p, const char *rest, const char
         char buf[96], *save = NULL, *w;
         static const int64_t lo[3] = { -360000, -90000, 0 }, hi[3] = { 360000, 90000, 1000 };
         int64_t v[3] = { 0, 0, 450 };
+        uint16_t colour[3] = { 256, 256, 256 };
         unsigned k = 0;
 
         snprintf(buf, sizeof buf, "%s", value);
         for (w = strtok_r(buf, " \t", &save); w != NULL; w = strtok_r(NULL, " \t", &save)) {
-            if (k == 3 || psc_hal_parse_decimal(w, 3, &v[k]) != 0 || v[k] < lo[k] || v[k] > hi[k])
+            if (k == 3 && psc_io_objects_colour_parse(w, colour) == 0) {
+                k++;
+                continue;
+            }
+            if (k >= 3 || psc_hal_parse_decimal(w, 3, &v[k]) != 0 || v[k] < lo[k] || v[k] > hi[k])
                 break;
             k++;
         }
         if (k < 2 || w != NULL)
-            return board_fail(p, "scene.%s.light must be 'AZ EL [AMBIENT]' (degrees: azimuth -360..360 from yaw 0 "
-                              "toward the right, elevation -90..90; ambient 0..1), got '%s'", id, value);
+            return board_fail(p, "scene.%s.light must be 'AZ EL [AMBIENT [RRGGBB]]' (degrees: azimuth -360..360 from "
+                              "yaw 0 toward the right, elevation -90..90; ambient 0..1; the colour in hex, FFFFFF "
+                              "white), got '%s'", id, value);
+        memcpy(cfg->scene_light_colour_q8[i], colour, sizeof colour);
         cfg->scene_light_mdeg[i][0] = (int32_t)v[0];
         cfg->scene_light_mdeg[i][1] = (int32_t)v[1];
         cfg->scene_ambient_milli[i] = (uint32_t)v[2];

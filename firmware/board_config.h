@@ -9,7 +9,7 @@
  * "scene.ID.view = YAW PITCH HFOV" (its starting and home view) below it, and
  * for a panorama "scene.ID.object = FILE yaw=Y pitch=P dist=D [...]" (objects
  * standing in it, io/psc_io_object.h; several) and "scene.ID.light = AZ EL
- * [AMBIENT]" (their light). Relative paths (scene, tour, an object's file and shadow,
+ * [AMBIENT [RRGGBB]]" (their light). Relative paths (scene, tour, an object's file and shadow,
  * camera_scene, camera_fisheye_table) are the board folder's: "x.pano" is
  * the file beside board.conf (psc_board_config_load resolves them). The keys, their units and defaults are
  * listed in boards/README.md and in the table in board_config.c.
@@ -124,6 +124,7 @@ typedef struct {
     bool scene_has_light[PSC_BOARD_MAX_SCENES];         /* scene.ID.light = AZ EL [AMBIENT] */
     int32_t scene_light_mdeg[PSC_BOARD_MAX_SCENES][2];  /* toward azimuth (from yaw 0, right), elevation */
     uint32_t scene_ambient_milli[PSC_BOARD_MAX_SCENES]; /* 0..1000 */
+    uint16_t scene_light_colour_q8[PSC_BOARD_MAX_SCENES][3];   /* RRGGBB as factors, 256 white (default) */
 
     /* camera limits and motion (millidegrees, per second, per second squared) */
     int32_t yaw_rate_max_mdeg;          /* yaw_rate_max */

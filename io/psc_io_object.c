@@ -14,6 +14,7 @@
 #include "patch/psc_patch_frame.h"
 #include "shadow/psc_shadow_frame.h"
 #include "envmap/psc_envmap_light.h"
+#include "base/psc_pixel.h"
 
 struct psc_io_object {
     psc_io_object_spec_t spec;
@@ -337,6 +338,69 @@ const psc_io_object_spec_t *psc_io_object_spec(const psc_io_object_t *o)
     return &o->spec;
 }
 
+static uint32_t tint_xrgb(uint32_t c, const uint16_t q8[3])
+{
+    uint32_t out = c & 0xFF000000u;
+    for (unsigned k = 0; k < 3; k++) {
+        uint32_t v = ((c >> (16 - 8 * k) & 255u) * q8[k] + 128u) >> 8;
+        out |= (v > 255u ? 255u : v) << (16 - 8 * k);
+    }
+    return out;
+}
+
+static uint16_t tint_565(uint16_t c, const uint16_t q8[3])
+{
+    uint16_t t = psc_xrgb_to_rgb565(tint_xrgb(psc_rgb565_to_xrgb(c), q8));
+    return c != PSC_VIEW_TEXEL_EMPTY && t == PSC_VIEW_TEXEL_EMPTY ? (uint16_t)0x0020u : t;   /* black stays content */
+}
+
+/* The const arrays a parsed file points into are in the object's own malloc'd copy of the file. */
+static void tint_words(const uint32_t *p, size_t n, const uint16_t q8[3])
+{
+    uint32_t *w = (uint32_t *)(uintptr_t)p;
+    for (size_t i = 0; p && i < n; i++)
+        w[i] = tint_xrgb(w[i], q8);
+}
+
+static void tint_texels(const uint16_t *p, size_t n, const uint16_t q8[3])
+{
+    uint16_t *t = (uint16_t *)(uintptr_t)p;
+    for (size_t i = 0; p && i < n; i++)
+        t[i] = tint_565(t[i], q8);
+}
+
+void psc_io_object_tint(psc_io_object_t *o, const uint16_t colour_q8[3])
+{
+    if (colour_q8[0] == 256u && colour_q8[1] == 256u && colour_q8[2] == 256u)
+        return;
+    if (o->kind == PSC_IO_OBJECT_MESH) {
+        psc_mesh_t *m = &o->mesh.mesh;
+        tint_words(m->color, m->vertex_count, colour_q8);
+        m->base_color = tint_xrgb(m->base_color, colour_q8);
+        const psc_texture_t *t = &m->texture;
+        for (uint32_t y = 0; m->has_texture && t->pixels && y < t->height; y++) {
+            const uint8_t *row = (const uint8_t *)t->pixels + (size_t)y * t->stride;
+            if (t->format == PSC_PIX_RGB565) {
+                uint16_t *px = (uint16_t *)(uintptr_t)row;
+                for (uint32_t x = 0; x < t->width; x++)
+                    px[x] = psc_xrgb_to_rgb565(tint_xrgb(psc_rgb565_to_xrgb(px[x]), colour_q8));
+            } else {
+                tint_words((const uint32_t *)(const void *)row, t->width, colour_q8);
+            }
+        }
+    } else if (o->kind == PSC_IO_OBJECT_PATCH) {
+        tint_words(o->patch.model.colors, o->patch.model.color_count, colour_q8);
+    } else {
+        const psc_proxy_model_t *m = &o->proxy.model;
+        size_t texels = 0;
+        for (uint32_t i = 0; i < m->part_count; i++)
+            texels += (size_t)psc_proxy_part_tex(m, i).chain * m->view_count;
+        tint_words(m->color, m->vertex_count, colour_q8);
+        tint_texels(m->texels, texels, colour_q8);
+        tint_texels(m->bb_texels, (size_t)m->bb_view_count * m->bb_tex * m->bb_tex, colour_q8);
+    }
+}
+
 void psc_io_object_bounds(const psc_io_object_t *o, psc_vec3_q16_t *lo, psc_vec3_q16_t *hi)
 {
     *lo = o->lo;
@@ -393,14 +457,27 @@ void psc_io_objects_light(int32_t az_mdeg, int32_t el_mdeg, int32_t toward_q16[3
     toward_q16[2] = (int32_t)(((int64_t)ce * ca + (INT64_C(1) << 43)) >> 44);
 }
 
+int psc_io_objects_colour_parse(const char *text, uint16_t colour_q8[3])
+{
+    if (strlen(text) != 6 || strspn(text, "0123456789abcdefABCDEF") != 6)
+        return -1;
+    unsigned long v = strtoul(text, NULL, 16);
+    for (unsigned k = 0; k < 3; k++) {
+        unsigned c = (unsigned)(v >> (16 - 8 * k) & 255u);
+        colour_q8[k] = (uint16_t)((c * 256u + 127u) / 255u);
+    }
+    return 0;
+}
+
 bool psc_io_objects_light_of(const psc_envmap_t *levels, unsigned count, int32_t *az_mdeg, int32_t *el_mdeg,
-                             uint16_t *ambient_q8)
+                             uint16_t *ambient_q8, uint16_t colour_q8[3])
 {
     int32_t t[3];
-    uint16_t amb;
+    uint16_t amb, col[3];
     const psc_envmap_t *m = psc_envmap_light_level(levels, count);
-    if (!m || psc_envmap_light(m, t, &amb) != PSC_OK)
+    if (!m || psc_envmap_light(m, t, &amb) != PSC_OK || psc_envmap_light_colour(m, col) != PSC_OK)
         return false;
+    memcpy(colour_q8, col, sizeof col);
     /* back to angles (double is fine here: io, once a scene), rounded to the millidegree */
     double x = t[0] / 65536.0, y = t[1] / 65536.0, z = t[2] / 65536.0;
     *az_mdeg = (int32_t)lround(atan2(x, z) * 180000.0 / 3.14159265358979323846);

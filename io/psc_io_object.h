@@ -85,6 +85,15 @@ void psc_io_object_free(psc_io_object_t *o);
 psc_io_object_kind_t psc_io_object_kind(const psc_io_object_t *o);
 const psc_io_object_spec_t *psc_io_object_spec(const psc_io_object_t *o);
 
+/**
+ * Light it with a coloured light: every colour it draws with (vertex and
+ * patch colours, its texture's or view textures' texels, the billboard's)
+ * multiplied per channel by colour_q8 (256: white), rounded, clamped to 255,
+ * once, in its own copy of its file (a scene's light does not change). A
+ * view texel never becomes the empty one. Call before its first frame.
+ */
+void psc_io_object_tint(psc_io_object_t *o, const uint16_t colour_q8[3]);
+
 /** Its rest box, which the placement measures (Q16.16 of its own units). */
 void psc_io_object_bounds(const psc_io_object_t *o, psc_vec3_q16_t *lo, psc_vec3_q16_t *hi);
 
@@ -111,12 +120,15 @@ typedef struct {
 } psc_io_objects_view_t;
 
 /**
- * The scene light a panorama casts (core's psc_envmap_light on the level of levels[0..count) it reads best):
- * its azimuth and elevation in millidegrees and its ambient share. false (nothing set) for a map it cannot read:
- * the default light stays.
+ * The scene light a panorama casts (core's psc_envmap_light and psc_envmap_light_colour on the level of
+ * levels[0..count) they read best): its azimuth and elevation in millidegrees, its ambient share and its colour
+ * (Q8 per channel, 256 white). false (nothing set) for a map they cannot read: the default light stays.
  */
 bool psc_io_objects_light_of(const psc_envmap_t *levels, unsigned count, int32_t *az_mdeg, int32_t *el_mdeg,
-                             uint16_t *ambient_q8);
+                             uint16_t *ambient_q8, uint16_t colour_q8[3]);
+
+/** A light colour written RRGGBB (hex, FFFFFF white) as Q8 factors (255 -> 256). 0, or -1 if it is not that. */
+int psc_io_objects_colour_parse(const char *text, uint16_t colour_q8[3]);
 
 /** The light toward azimuth az (from yaw 0 toward the right) and elevation el, millidegrees. */
 void psc_io_objects_light(int32_t az_mdeg, int32_t el_mdeg, int32_t toward_q16[3]);

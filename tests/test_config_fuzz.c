@@ -325,6 +325,13 @@ static void check_tour(const psc_sim_tour_t *t)
         case PSC_HAL_INPUT_DEVICE_ARRIVE:
         case PSC_HAL_INPUT_DEVICE_LEAVE:
             break;
+        case PSC_HAL_INPUT_POINTER_DOWN:   /* a tap (the demonstration tour taps Thom) */
+        case PSC_HAL_INPUT_POINTER_MOVE:
+        case PSC_HAL_INPUT_POINTER_UP:
+            assert_true(e->code < PSC_HAL_POINTER_MAX);
+            break;
+        case PSC_HAL_INPUT_WHEEL:
+            break;
         default:
             fail_msg("tour event %zu has type %d", i, (int)e->type);
         }
@@ -697,8 +704,10 @@ static void test_board_specific(void **state)
         {"scene.rocks.object = thom.ppk yaw=1 pitch=0 dist=3 hotspot=nowhere", "hotspot=nowhere names no scene",
          "a hotspot to no scene"},
         {"scene.nope.object = thom.ppk yaw=1 pitch=0 dist=3", "no scene 'nope' declared above", "an unknown scene"},
-        {"scene.rocks.light = 30", "scene.rocks.light must be 'AZ EL [AMBIENT]'", "a light without elevation"},
+        {"scene.rocks.light = 30", "scene.rocks.light must be 'AZ EL [AMBIENT [RRGGBB]]'", "a light without elevation"},
         {"scene.rocks.light = 30 55 1.5", "scene.rocks.light must be", "an ambient past 1"},
+        {"scene.rocks.light = 30 55 0.5 orange", "scene.rocks.light must be", "a light colour not in hex"},
+        {"scene.rocks.light = 30 55 0.5 FFFFFF 1", "scene.rocks.light must be", "a light with a fifth field"},
     };
     for (unsigned i = 0; i < sizeof objects / sizeof objects[0]; i++) {
         t = text_from(orig.p, orig.len);

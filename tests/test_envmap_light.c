@@ -13,6 +13,10 @@
  *    a dark world the hardest (1/4);
  *  - maps it cannot read (a cylinder, a partial turn, fewer than 32 x 16
  *    texels) are refused, so the caller keeps its default light;
+ *  - the light's colour: a grey world's is white exactly; over 200 random
+ *    two-colour worlds (each texel one of two colours, in every format) it is
+ *    the double-precision rule's (the mean colour scaled to grey's luminance,
+ *    half way from white, each channel 1/2..3/2) within 2/256;
  *  - the pyramid level it reads: the smallest at least 64 wide.
  */
 #include <stdarg.h>
@@ -217,11 +221,78 @@ static void test_refused(void **state)
     assert_null(psc_envmap_light_level(levels, 0));
 }
 
+static void test_colour(void **state)
+{
+    (void)state;
+    static const psc_pixfmt_t formats[3] = {PSC_PIX_XRGB8888, PSC_PIX_RGB888, PSC_PIX_RGB565};
+    map_t k;
+    uint16_t c[3];
+    map_new(&k, PSC_PIX_XRGB8888, MW, MH);
+    for (uint32_t y = 0; y < MH; y++)
+        for (uint32_t x = 0; x < MW; x++)
+            put(&k, x, y, 90, 90, 90);
+    assert_int_equal(psc_envmap_light_colour(&k.m, c), PSC_OK);
+    assert_true(c[0] == 256 && c[1] == 256 && c[2] == 256);
+    free(k.pixels);
+    tsup_rng_t rng;
+    tsup_rng_seed(&rng, 3202);
+    double worst = 0;
+    for (unsigned n = 0; n < 200; n++) {
+        map_new(&k, formats[n % 3], MW, MH);
+        uint32_t a[3], b[3];
+        for (unsigned i = 0; i < 3; i++)
+            a[i] = tsup_rng_below(&rng, 256), b[i] = tsup_rng_below(&rng, 256);
+        uint32_t split = 1 + tsup_rng_below(&rng, MH - 2);   /* rows above: a; below: b */
+        for (uint32_t y = 0; y < MH; y++)
+            for (uint32_t x = 0; x < MW; x++)
+                put(&k, x, y, y < split ? a[0] : b[0], y < split ? a[1] : b[1], y < split ? a[2] : b[2]);
+        assert_int_equal(psc_envmap_light_colour(&k.m, c), PSC_OK);
+        /* the rule in double, over the cells as the product reads them (the texels as stored) */
+        double sum[3] = {0, 0, 0};
+        for (unsigned j = 0; j < PSC_ENVMAP_LIGHT_ROWS; j++) {
+            double w = floor(cos((90 - (j + 0.5) * 180.0 / PSC_ENVMAP_LIGHT_ROWS) * M_PI / 180) * 32768);
+            for (unsigned i = 0; i < PSC_ENVMAP_LIGHT_COLS; i++) {
+                unsigned cw = MW / PSC_ENVMAP_LIGHT_COLS, ch = MH / PSC_ENVMAP_LIGHT_ROWS;
+                double acc[3] = {0, 0, 0};
+                unsigned cnt = 0;
+                for (unsigned yy = j * ch; yy < (j + 1) * ch; yy += 1)
+                    for (unsigned xx = i * cw; xx < (i + 1) * cw; xx += 1) {
+                        const uint8_t *row = k.pixels + (size_t)yy * k.m.stride;
+                        double r, g, bl;
+                        if (k.m.format == PSC_PIX_RGB565) {
+                            unsigned p = row[2 * xx] | row[2 * xx + 1] << 8;
+                            r = (p >> 11) * 255 / 31, g = (p >> 5 & 63) * 255 / 63, bl = (p & 31) * 255 / 31;
+                        } else if (k.m.format == PSC_PIX_RGB888) {
+                            r = row[3 * xx + 2], g = row[3 * xx + 1], bl = row[3 * xx];
+                        } else {
+                            r = row[4 * xx + 2], g = row[4 * xx + 1], bl = row[4 * xx];
+                        }
+                        acc[0] += r, acc[1] += g, acc[2] += bl, cnt++;
+                    }
+                for (unsigned q = 0; q < 3; q++)
+                    sum[q] += acc[q] / cnt * w;
+            }
+        }
+        double lum = 77 * sum[0] + 150 * sum[1] + 29 * sum[2];
+        for (unsigned q = 0; q < 3; q++) {
+            double want = lum > 0 ? (sum[q] * 65536 / lum + 256) / 2 : 256;
+            want = fmin(fmax(want, 128), 384);
+            worst = fmax(worst, fabs(c[q] - want));
+            if (fabs(c[q] - want) > 2)
+                fail_msg("world %u (%u %u %u over %u %u %u, split at row %u): channel %u is %u/256, the rule %.2f", n,
+                         a[0], a[1], a[2], b[0], b[1], b[2], split, q, c[q], want);
+        }
+        free(k.pixels);
+    }
+    print_message("  200 two-colour worlds: the light's colour within %.2f/256 of the rule in double\n", worst);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sun),
         cmocka_unit_test(test_soft_and_hard),
+        cmocka_unit_test(test_colour),
         cmocka_unit_test(test_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

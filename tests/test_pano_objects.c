@@ -15,7 +15,11 @@
  *    covers that pixel, its ids' centroid within 1.5 pixels of it;
  *  - depth order: of two cubes in one direction the nearer shows, whichever
  *    was given first;
- *  - object lines the tool refuses, each message naming the file or the key.
+ *  - object lines the tool refuses, each message naming the file or the key;
+ *  - --light-colour 808080 halves the cube's channels against FFFFFF (within
+ *    1.5 levels, at 97 % of the pixels inside its silhouette: the A-buffer
+ *    blends a little panorama into a few inner-edge pixels), and FF8000 keeps
+ *    red, halves green and blacks out blue.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -231,6 +235,70 @@ static void test_refused(void **state)
     refused(THOM ",yaw=0,pitch=0,dist=3,play=Dance", 1, "action=Dance: the character has no action");
     refused(PANO ",yaw=0,pitch=0,dist=3", 1, "not an object Periscope places");
     refused(THOM ",yaw=0,pitch=0,dist=3,shadow=" PANO, 1, PANO);
+    char out[512];
+    tmp_path(out, sizeof out, "refused.png");
+    const char *bad_colour[] = {PANO, "--size", "64x48", "--light-colour", "orange", "-o", out, NULL};
+    tsup_tool_run_t r = run(bad_colour);
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.output, "--light-colour 'orange'"));
+    free(r.output);
+}
+
+/* The cube's pixels (id 1, away from its edge) lit by colour. */
+static unsigned cube_pixels(const char *colour, uint32_t *rgb, uint8_t *inside)
+{
+    char cube[512], obj[640], png[512], ids_path[512];
+    tmp_path(cube, sizeof cube, "tint.obj");
+    tmp_path(png, sizeof png, "tint.png");
+    tmp_path(ids_path, sizeof ids_path, "tint.pgm");
+    write_cube(cube);
+    snprintf(obj, sizeof obj, "%s,yaw=0,pitch=-5,dist=4,turn=30", cube);
+    const char *a[] = {PANO, "--yaw", "0", "--pitch", "-5", "--hfov", "60", "--size", "160x120", "--format",
+                       "xrgb8888", "--object", obj, "--light", "30,40", "--ambient", "0.5", "--light-colour", colour,
+                       "--ids", ids_path, "-o", png, NULL};
+    run_ok(a);
+    psc_image_t im = load_png(png);
+    uint16_t *ids = read_ids(ids_path, 160, 120);
+    unsigned n = 0;
+    for (unsigned y = 1; y + 1 < 120; y++)
+        for (unsigned x = 1; x + 1 < 160; x++) {
+            unsigned i = y * 160 + x;
+            bool in = ids[i] == 1 && ids[i - 1] == 1 && ids[i + 1] == 1 && ids[i - 160] == 1 && ids[i + 160] == 1;
+            inside[i] = in;
+            rgb[i] = im.xrgb[i] & 0xFFFFFFu;
+            n += in;
+        }
+    free(ids);
+    psc_io_image_free(&im);
+    return n;
+}
+
+static void test_light_colour(void **state)
+{
+    (void)state;
+    static uint32_t white[160 * 120], grey[160 * 120], orange[160 * 120];
+    static uint8_t in_w[160 * 120], in_g[160 * 120], in_o[160 * 120];
+    unsigned n = cube_pixels("FFFFFF", white, in_w);
+    cube_pixels("808080", grey, in_g);
+    cube_pixels("FF8000", orange, in_o);
+    assert_true(n > 400);
+    /* (a pixel the A-buffer finds only partly covered, on an inner edge, blends a little of the panorama) */
+    unsigned inner = 0, grey_ok = 0, orange_ok = 0;
+    for (unsigned i = 0; i < 160 * 120; i++) {
+        if (!in_w[i] || !in_g[i] || !in_o[i])
+            continue;
+        inner++;
+        bool ok = true;
+        for (unsigned s = 0; s < 24; s += 8)   /* 0x80 is 128.5/255 of white as a Q8 factor (129/256) */
+            ok = ok && fabs((double)(grey[i] >> s & 255u) - (white[i] >> s & 255u) * 128.5 / 255.0) <= 1.5;
+        grey_ok += ok;
+        orange_ok += fabs((double)(orange[i] >> 16 & 255u) - (white[i] >> 16 & 255u)) <= 1.0 &&
+                     fabs((double)(orange[i] >> 8 & 255u) - (white[i] >> 8 & 255u) * 128.5 / 255.0) <= 1.5 &&
+                     (orange[i] & 255u) == 0;
+    }
+    print_message("  --light-colour: of the cube's %u inner pixels, %u lit 808080 are half of FFFFFF's within 1.5, %u lit "
+                  "FF8000 keep red, halve green and lose blue\n", inner, grey_ok, orange_ok);
+    assert_true(grey_ok * 100u >= inner * 97u && orange_ok * 100u >= inner * 97u);
 }
 
 int main(void)
@@ -240,6 +308,7 @@ int main(void)
         cmocka_unit_test(test_placed_where),
         cmocka_unit_test(test_depth_order),
         cmocka_unit_test(test_refused),
+        cmocka_unit_test(test_light_colour),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

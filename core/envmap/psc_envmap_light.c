@@ -8,8 +8,8 @@
 #define ROWS PSC_ENVMAP_LIGHT_ROWS
 #define SAMPLES 8u   /* at most this many texels a cell along each side */
 
-/* Texel (x, y)'s luminance, 0..255 (Rec. 601 weights, rounded down). */
-static uint32_t luminance(const psc_envmap_t *m, uint32_t x, uint32_t y)
+/* Texel (x, y)'s channels, 0..255 each. */
+static void texel_rgb(const psc_envmap_t *m, uint32_t x, uint32_t y, uint32_t rgb[3])
 {
     const uint8_t *row = (const uint8_t *)m->pixels + (size_t)y * m->stride;
     uint32_t r, g, b;
@@ -32,27 +32,78 @@ static uint32_t luminance(const psc_envmap_t *m, uint32_t x, uint32_t y)
         break;
     }
     }
-    return (77u * r + 150u * g + 29u * b) >> 8;
+    rgb[0] = r, rgb[1] = g, rgb[2] = b;
+}
+
+/* Texel (x, y)'s luminance, 0..255 (Rec. 601 weights, rounded down). */
+static uint32_t luminance(const psc_envmap_t *m, uint32_t x, uint32_t y)
+{
+    uint32_t c[3];
+    texel_rgb(m, x, y, c);
+    return (77u * c[0] + 150u * c[1] + 29u * c[2]) >> 8;
+}
+
+static bool readable(const psc_envmap_t *m)
+{
+    return m->projection == PSC_PROJ_EQUIRECT && m->lon_span == 0 && m->width >= COLS && m->height >= ROWS &&
+           m->pixels && m->lat_top > m->lat_bottom;
+}
+
+/* Row j's solid angle: cos of its centre's latitude, Q15. */
+static uint32_t row_weight(const psc_envmap_t *m, uint32_t j)
+{
+    int64_t lat_span = (int64_t)m->lat_top - m->lat_bottom;
+    int32_t lat = (int32_t)(m->lat_top - (lat_span * (2 * (int64_t)j + 1)) / (2 * ROWS));
+    int32_t s30, c30;
+    psc_sincos((psc_bam_t)lat, &s30, &c30);
+    return c30 > 0 ? (uint32_t)(c30 >> 15) : 0u;
+}
+
+psc_status_t psc_envmap_light_colour(const psc_envmap_t *m, uint16_t colour_q8[3])
+{
+    if (!m || !colour_q8)
+        return PSC_ERR_ARG;
+    if (!readable(m))
+        return PSC_ERR_UNSUPPORTED;
+    uint64_t sum[3] = {0, 0, 0};
+    for (uint32_t j = 0; j < ROWS; j++) {
+        uint32_t y0 = (uint32_t)((uint64_t)j * m->height / ROWS), y1 = (uint32_t)((uint64_t)(j + 1u) * m->height / ROWS);
+        uint32_t ys = (y1 - y0 + SAMPLES - 1u) / SAMPLES, w = row_weight(m, j);
+        for (uint32_t i = 0; i < COLS; i++) {
+            uint32_t x0 = (uint32_t)((uint64_t)i * m->width / COLS), x1 = (uint32_t)((uint64_t)(i + 1u) * m->width / COLS);
+            uint32_t xs = (x1 - x0 + SAMPLES - 1u) / SAMPLES, n = 0, acc[3] = {0, 0, 0};
+            for (uint32_t y = y0; y < y1; y += ys)
+                for (uint32_t x = x0; x < x1; x += xs) {
+                    uint32_t c[3];
+                    texel_rgb(m, x, y, c);
+                    acc[0] += c[0], acc[1] += c[1], acc[2] += c[2], n++;
+                }
+            for (unsigned k = 0; k < 3 && n; k++)
+                sum[k] += (uint64_t)((acc[k] + n / 2u) / n) * w;
+        }
+    }
+    /* the mean colour scaled to grey's luminance (77 + 150 + 29 = 256), then half way from white */
+    uint64_t lum = 77u * sum[0] + 150u * sum[1] + 29u * sum[2];
+    for (unsigned k = 0; k < 3; k++) {
+        uint64_t f = lum ? (sum[k] * 65536u + lum / 2u) / lum : 256u;   /* Q8: 256 = the channel as grey's */
+        f = (f + 256u + 1u) / 2u;
+        colour_q8[k] = (uint16_t)(f < 128u ? 128u : f > 384u ? 384u : f);
+    }
+    return PSC_OK;
 }
 
 psc_status_t psc_envmap_light(const psc_envmap_t *m, int32_t toward_q16[3], uint16_t *ambient_q8)
 {
     if (!m || !toward_q16 || !ambient_q8)
         return PSC_ERR_ARG;
-    if (m->projection != PSC_PROJ_EQUIRECT || m->lon_span != 0 || m->width < COLS || m->height < ROWS ||
-        !m->pixels || m->lat_top <= m->lat_bottom)
+    if (!readable(m))
         return PSC_ERR_UNSUPPORTED;
     uint32_t cell[ROWS][COLS];
     uint64_t mean_num = 0, mean_den = 0;
     int64_t lat_span = (int64_t)m->lat_top - m->lat_bottom;
     for (uint32_t j = 0; j < ROWS; j++) {
         uint32_t y0 = (uint32_t)((uint64_t)j * m->height / ROWS), y1 = (uint32_t)((uint64_t)(j + 1u) * m->height / ROWS);
-        uint32_t ys = (y1 - y0 + SAMPLES - 1u) / SAMPLES;
-        /* the row's solid angle: cos of its centre's latitude, Q15 */
-        int32_t lat = (int32_t)(m->lat_top - (lat_span * (2 * (int64_t)j + 1)) / (2 * ROWS));
-        int32_t s30, c30;
-        psc_sincos((psc_bam_t)lat, &s30, &c30);
-        uint32_t w = c30 > 0 ? (uint32_t)(c30 >> 15) : 0u;
+        uint32_t ys = (y1 - y0 + SAMPLES - 1u) / SAMPLES, w = row_weight(m, j);
         for (uint32_t i = 0; i < COLS; i++) {
             uint32_t x0 = (uint32_t)((uint64_t)i * m->width / COLS), x1 = (uint32_t)((uint64_t)(i + 1u) * m->width / COLS);
             uint32_t xs = (x1 - x0 + SAMPLES - 1u) / SAMPLES, sum = 0, n = 0;

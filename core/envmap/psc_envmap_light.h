@@ -12,7 +12,10 @@
  * the whole sphere's mean luminance (each row weighted by its solid angle,
  * cos lat) over that neighbourhood's, within 1/4..3/4: an overcast sky or an
  * evenly lit hall lights objects softly from everywhere, a sunny day casts a
- * hard key light. Integer only; read once, when a scene loads.
+ * hard key light. The light's colour is the sphere's mean colour (weighted
+ * alike) scaled to the luminance of grey and taken half way from white (a
+ * blue sky tints, it does not paint), each channel 1/2..3/2. Integer only;
+ * read once, when a scene loads.
  */
 #ifndef PSC_ENVMAP_LIGHT_H
 #define PSC_ENVMAP_LIGHT_H
@@ -32,6 +35,12 @@
  * caller keeps its default light), PSC_ERR_ARG for a NULL argument.
  */
 psc_status_t psc_envmap_light(const psc_envmap_t *m, int32_t toward_q16[3], uint16_t *ambient_q8);
+
+/**
+ * The light's colour: per channel a factor in Q8 (256: white light), 128..384
+ * (above). PSC_ERR_UNSUPPORTED / PSC_ERR_ARG as psc_envmap_light.
+ */
+psc_status_t psc_envmap_light_colour(const psc_envmap_t *m, uint16_t colour_q8[3]);
 
 /** The level of a pyramid (levels[0..count)) the light is best read from: the smallest at least 64 wide. */
 const psc_envmap_t *psc_envmap_light_level(const psc_envmap_t *levels, unsigned count);

@@ -27,12 +27,14 @@ int psc_scene_objects_load(psc_scene_objects_t *o, const psc_scene_t *s, const p
     /* the board's scene at this place, not a file given alone with --scene */
     if (s->index >= b->scene_count || strcmp(b->scenes[s->index], s->path) != 0)
         return 0;
+    uint16_t colour[3] = {256u, 256u, 256u};
     if (b->scene_has_light[s->index]) {
         o->light_az_mdeg = b->scene_light_mdeg[s->index][0];
         o->light_el_mdeg = b->scene_light_mdeg[s->index][1];
         o->ambient_q8 = (uint16_t)((b->scene_ambient_milli[s->index] * 256u + 500u) / 1000u);
+        memcpy(colour, b->scene_light_colour_q8[s->index], sizeof colour);
     } else if (count > 0) {   /* the panorama's own light */
-        (void)psc_io_objects_light_of(levels, count, &o->light_az_mdeg, &o->light_el_mdeg, &o->ambient_q8);
+        (void)psc_io_objects_light_of(levels, count, &o->light_az_mdeg, &o->light_el_mdeg, &o->ambient_q8, colour);
     }
     bool linked = false;
     for (unsigned i = 0; i < b->object_count; i++) {
@@ -45,6 +47,7 @@ int psc_scene_objects_load(psc_scene_objects_t *o, const psc_scene_t *s, const p
             psc_scene_objects_unload(o);
             return -1;
         }
+        psc_io_object_tint(o->obj[o->n], colour);   /* the light's colour, once */
         o->line[o->n++] = line;
         linked = linked || line->linked;
     }

@@ -78,6 +78,8 @@ static void print_usage(const char *prog, FILE *f)
             "                      device lights them; 41.6,53 for a map that is not a full-turn equirect)\n"
             "  --ambient A         the objects' ambient light, 0..1 (default: the panorama's mean over its\n"
             "                      brightest region, 0.25..0.75; else 0.45)\n"
+            "  --light-colour RRGGBB  the light's colour, hex (default: the panorama's mean colour, half way\n"
+            "                      from white; else FFFFFF)\n"
             "  --ids I.pgm         also write a 16-bit PGM: 0 where the pixel is the panorama's alone, k where\n"
             "                      the k-th object covers it even in part\n"
             "  -o view.png         output PNG\n"
@@ -106,6 +108,7 @@ typedef struct {
     const char *ids;          /* --ids */
     bool have_light;
     double light_az, light_el, ambient;
+    const char *light_colour;   /* --light-colour RRGGBB */
 } args_t;
 
 static int span_to_log2(const char *v, uint8_t *log2)
@@ -192,6 +195,11 @@ static int parse_value(args_t *a, const char *name, const char *v)
             !(a->light_az >= -360 && a->light_az <= 360 && a->light_el >= -90 && a->light_el <= 90))
             return usage_error("--light '%s': expected AZ,EL in degrees (-360..360, -90..90)", v);
         a->have_light = true;
+    } else if (strcmp(name, "--light-colour") == 0) {
+        uint16_t c[3];
+        if (psc_io_objects_colour_parse(v, c) != 0)
+            return usage_error("--light-colour '%s': expected RRGGBB in hex (FFFFFF: white)", v);
+        a->light_colour = v;
     } else if (strcmp(name, "--ambient") == 0) {
         if (psc_cli_parse_double(v, &a->ambient) != 0 || !(a->ambient >= 0.0 && a->ambient <= 1.0))
             return usage_error("--ambient '%s': expected 0..1", v);
@@ -215,6 +223,7 @@ static const struct option render_options[] = {
     {"cache-mb", required_argument, NULL, 1}, {"display-dither", required_argument, NULL, 1},
     {"object", required_argument, NULL, 1},  {"ids", required_argument, NULL, 1},
     {"light", required_argument, NULL, 1},  {"ambient", required_argument, NULL, 1},
+    {"light-colour", required_argument, NULL, 1},
     PSC_IO_CLI_COMMON_OPTIONS,
 };
 
@@ -363,6 +372,10 @@ static int objects_load(const args_t *a, psc_render_objects_t *o)
         o->ambient_q8 = (uint16_t)lround(a->ambient * 256.0);
         o->ambient_given = true;
     }
+    if (a->light_colour) {
+        (void)psc_io_objects_colour_parse(a->light_colour, o->colour_q8);
+        o->colour_given = true;
+    }
     for (unsigned i = 0; i < a->object_count; i++)
         if (psc_render_objects_add(o, a->objects[i], err, sizeof err) != 0) {
             fprintf(stderr, "%s: %s\n", pano_prog, err);
@@ -414,6 +427,7 @@ static int fill_tiles(psc_io_tiled_t *t, psc_viewer_t *viewer, psc_io_bands_t *b
 
 static int render_tiled(const args_t *a, psc_render_objects_t *objects)
 {
+    psc_render_objects_light(objects, NULL, 0);   /* (a tiled pack's pyramid is in its tiles: the default light) */
     char err[1024];
     psc_io_tiled_t *t;
     size_t budget = (size_t)(a->cache_mb ? a->cache_mb : PSC_RENDER_CACHE_MB_DEFAULT) << 20;

@@ -20,6 +20,7 @@ void psc_render_objects_init(psc_render_objects_t *o)
     o->light_az_mdeg = PSC_IO_OBJECT_LIGHT_AZ_MDEG;
     o->light_el_mdeg = PSC_IO_OBJECT_LIGHT_EL_MDEG;
     o->ambient_q8 = PSC_IO_OBJECT_AMBIENT_Q8;
+    o->colour_q8[0] = o->colour_q8[1] = o->colour_q8[2] = 256u;
 }
 
 static bool ends_with(const char *s, const char *suffix)
@@ -94,18 +95,23 @@ int psc_render_objects_add(psc_render_objects_t *o, const char *arg, char *err, 
 void psc_render_objects_light(psc_render_objects_t *o, const psc_envmap_t *levels, unsigned count)
 {
     int32_t az, el;
-    uint16_t amb;
-    if ((o->light_given && o->ambient_given) || !psc_io_objects_light_of(levels, count, &az, &el, &amb))
-        return;
-    if (!o->light_given)
+    uint16_t amb, col[3];
+    bool own = psc_io_objects_light_of(levels, count, &az, &el, &amb, col);
+    if (own && !o->light_given)
         o->light_az_mdeg = az, o->light_el_mdeg = el;
-    if (!o->ambient_given)
+    if (own && !o->ambient_given)
         o->ambient_q8 = amb;
-    if (o->n > 0)
-        fprintf(stderr, "periscope-render: note: the objects are lit as the panorama lights them: toward azimuth %.1f, "
-                "elevation %.1f degrees (its brightest region), ambient %.2f (its mean against that region)%s\n",
-                o->light_az_mdeg / 1000.0, o->light_el_mdeg / 1000.0, o->ambient_q8 / 256.0,
-                o->light_given || o->ambient_given ? ", as far as --light and --ambient leave it" : "");
+    if (own && !o->colour_given)
+        memcpy(o->colour_q8, col, sizeof col);
+    for (unsigned i = 0; i < o->n; i++)
+        psc_io_object_tint(o->obj[i], o->colour_q8);
+    if (own && o->n > 0 && !(o->light_given && o->ambient_given && o->colour_given))
+        fprintf(stderr, "periscope-render: note: the objects are lit toward azimuth %.1f, elevation %.1f degrees, "
+                "ambient %.2f, colour %.2f %.2f %.2f (%s)\n", o->light_az_mdeg / 1000.0, o->light_el_mdeg / 1000.0,
+                o->ambient_q8 / 256.0, o->colour_q8[0] / 256.0, o->colour_q8[1] / 256.0, o->colour_q8[2] / 256.0,
+                o->light_given || o->ambient_given || o->colour_given
+                    ? "the panorama's own light where --light, --ambient and --light-colour do not say"
+                    : "the panorama's own light: its brightest region, its mean against it, its mean colour");
 }
 
 void psc_render_objects_free(psc_render_objects_t *o)

@@ -30,7 +30,8 @@ typedef struct {
     unsigned n;
     int32_t light_az_mdeg, light_el_mdeg;
     uint16_t ambient_q8;
-    bool light_given, ambient_given;   /* --light, --ambient: else the panorama's own (psc_render_objects_light) */
+    uint16_t colour_q8[3];              /* the light's colour, 256 white */
+    bool light_given, ambient_given, colour_given;   /* --light, --ambient, --light-colour: else the panorama's own */
 } psc_render_objects_t;
 
 /** No objects yet, the default light. */
@@ -41,7 +42,8 @@ int psc_render_objects_add(psc_render_objects_t *o, const char *arg, char *err, 
 
 void psc_render_objects_free(psc_render_objects_t *o);
 
-/** The light the panorama casts (its levels), where --light and --ambient did not say: the device's default. */
+/** The light the panorama casts (its levels), where --light, --ambient and --light-colour did not say: the device's
+ *  default; then the objects tinted by its colour (psc_io_object_tint). Once, before the frame. */
 void psc_render_objects_light(psc_render_objects_t *o, const psc_envmap_t *levels, unsigned count);
 
 /**
