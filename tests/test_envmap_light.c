@@ -80,6 +80,22 @@ static void map_new(map_t *k, psc_pixfmt_t f, uint32_t w, uint32_t h)
     k->m.palette = k->palette;
 }
 
+/* Texel (x, y) as stored, its channels in double (RGB565 widened as core widens it: c * 255 / 31, truncated). */
+static void stored_rgb(const map_t *k, unsigned x, unsigned y, double rgb[3])
+{
+    const uint8_t *row = k->pixels + (size_t)y * k->m.stride;
+    if (k->m.format == PSC_PIX_RGB565) {
+        unsigned p = row[2 * x] | row[2 * x + 1] << 8;
+        rgb[0] = (p >> 11) * 255 / 31, rgb[1] = (p >> 5 & 63) * 255 / 63, rgb[2] = (p & 31) * 255 / 31;
+    } else if (k->m.format == PSC_PIX_RGB888) {
+        rgb[0] = row[3 * x + 2], rgb[1] = row[3 * x + 1], rgb[2] = row[3 * x];
+    } else if (k->m.format == PSC_PIX_PAL8) {
+        rgb[0] = rgb[1] = rgb[2] = row[x];
+    } else {
+        rgb[0] = row[4 * x + 2], rgb[1] = row[4 * x + 1], rgb[2] = row[4 * x];
+    }
+}
+
 /* The centre direction of texel (x, y). */
 static void texel_dir(const psc_envmap_t *m, uint32_t x, uint32_t y, double *lon, double *lat)
 {
@@ -131,19 +147,9 @@ static void test_sun(void **state)
                 double s = 0;
                 for (unsigned yy = j * ch; yy < (j + 1) * ch; yy++)
                     for (unsigned xx = i * cw; xx < (i + 1) * cw; xx++) {
-                        const uint8_t *row = k.pixels + (size_t)yy * k.m.stride;
-                        double r, g, b;
-                        if (k.m.format == PSC_PIX_RGB565) {
-                            unsigned p = row[2 * xx] | row[2 * xx + 1] << 8;
-                            r = (p >> 11) * 255 / 31, g = (p >> 5 & 63) * 255 / 63, b = (p & 31) * 255 / 31;
-                        } else if (k.m.format == PSC_PIX_RGB888) {
-                            r = row[3 * xx + 2], g = row[3 * xx + 1], b = row[3 * xx];
-                        } else if (k.m.format == PSC_PIX_PAL8) {
-                            r = g = b = row[xx];
-                        } else {
-                            r = row[4 * xx + 2], g = row[4 * xx + 1], b = row[4 * xx];
-                        }
-                        s += floor((77 * r + 150 * g + 29 * b) / 256);
+                        double c[3];
+                        stored_rgb(&k, xx, yy, c);
+                        s += floor((77 * c[0] + 150 * c[1] + 29 * c[2]) / 256);
                     }
                 cell[j][i] = s / (cw * ch);
                 double w = cos((90 - (j + 0.5) * 180.0 / PSC_ENVMAP_LIGHT_ROWS) * M_PI / 180);
@@ -257,17 +263,9 @@ static void test_colour(void **state)
                 unsigned cnt = 0;
                 for (unsigned yy = j * ch; yy < (j + 1) * ch; yy += 1)
                     for (unsigned xx = i * cw; xx < (i + 1) * cw; xx += 1) {
-                        const uint8_t *row = k.pixels + (size_t)yy * k.m.stride;
-                        double r, g, bl;
-                        if (k.m.format == PSC_PIX_RGB565) {
-                            unsigned p = row[2 * xx] | row[2 * xx + 1] << 8;
-                            r = (p >> 11) * 255 / 31, g = (p >> 5 & 63) * 255 / 63, bl = (p & 31) * 255 / 31;
-                        } else if (k.m.format == PSC_PIX_RGB888) {
-                            r = row[3 * xx + 2], g = row[3 * xx + 1], bl = row[3 * xx];
-                        } else {
-                            r = row[4 * xx + 2], g = row[4 * xx + 1], bl = row[4 * xx];
-                        }
-                        acc[0] += r, acc[1] += g, acc[2] += bl, cnt++;
+                        double px[3];
+                        stored_rgb(&k, xx, yy, px);
+                        acc[0] += px[0], acc[1] += px[1], acc[2] += px[2], cnt++;
                     }
                 for (unsigned q = 0; q < 3; q++)
                     sum[q] += acc[q] / cnt * w;

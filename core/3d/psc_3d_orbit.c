@@ -19,6 +19,18 @@ void psc_mesh_bounds_q16(const psc_mesh_t *m, psc_vec3_q16_t *lo, psc_vec3_q16_t
     *hi = (psc_vec3_q16_t){h[0], h[1], h[2]};
 }
 
+void psc_3d_box_sphere(psc_vec3_q16_t lo, psc_vec3_q16_t hi, int64_t c[3], int64_t *r)
+{
+    int64_t d[3] = {((int64_t)hi.x - lo.x) / 2, ((int64_t)hi.y - lo.y) / 2, ((int64_t)hi.z - lo.z) / 2};
+    uint64_t r2 = 0;
+    c[0] = ((int64_t)lo.x + hi.x) / 2, c[1] = ((int64_t)lo.y + hi.y) / 2, c[2] = ((int64_t)lo.z + hi.z) / 2;
+    for (unsigned a = 0; a < 3; a++)
+        r2 += (uint64_t)(d[a] * d[a]); /* each < 2^62 / 3 */
+    *r = psc_isqrt64(r2);
+    if (*r == 0)
+        *r = 1;
+}
+
 static bool fits32(int64_t v)
 {
     return v >= INT32_MIN && v <= INT32_MAX;
@@ -30,14 +42,8 @@ psc_status_t psc_3d_orbit(psc_vec3_q16_t lo, psc_vec3_q16_t hi, psc_bam_t yaw, i
     if (dist_q16 < PSC_ORBIT_DIST_MIN_Q16 || dist_q16 > PSC_ORBIT_DIST_MAX_Q16 || pitch > (int32_t)PSC_BAM_90 ||
         pitch < -(int32_t)PSC_BAM_90)
         return PSC_ERR_ARG;
-    int64_t c[3] = {((int64_t)lo.x + hi.x) / 2, ((int64_t)lo.y + hi.y) / 2, ((int64_t)lo.z + hi.z) / 2};
-    int64_t d[3] = {((int64_t)hi.x - lo.x) / 2, ((int64_t)hi.y - lo.y) / 2, ((int64_t)hi.z - lo.z) / 2};
-    uint64_t r2 = 0;
-    for (unsigned a = 0; a < 3; a++)
-        r2 += (uint64_t)(d[a] * d[a]); /* each < 2^62 / 3 */
-    int64_t r = psc_isqrt64(r2);
-    if (r == 0)
-        r = 1;
+    int64_t c[3], r;
+    psc_3d_box_sphere(lo, hi, c, &r);
     /* The look direction: +Z turned up by pitch, then right by yaw (Q2.30). */
     int32_t sy, cy, sp, cp;
     psc_sincos(yaw, &sy, &cy);

@@ -26,6 +26,9 @@
 /** Bounding box of a mesh's positions in Q16.16 units (either position format). */
 void psc_mesh_bounds_q16(const psc_mesh_t *m, psc_vec3_q16_t *lo, psc_vec3_q16_t *hi);
 
+/** The box [lo, hi]'s centre c (Q16.16, int64) and R, half its diagonal (Q16.16, at least 1). */
+void psc_3d_box_sphere(psc_vec3_q16_t lo, psc_vec3_q16_t hi, int64_t c[3], int64_t *r);
+
 /**
  * camera_from_object and the near/far planes for an orbit view of the box
  * [lo, hi]. PSC_ERR_ARG when dist is outside its range or the eye or the

@@ -3,6 +3,7 @@
  * psc_3d_place.c - an object standing in a panorama (psc_3d_place.h).
  */
 #include "3d/psc_3d_place.h"
+#include "3d/psc_3d_orbit.h"
 
 static bool place_ok(const psc_3d_place_t *pl)
 {
@@ -17,14 +18,8 @@ psc_status_t psc_3d_place(const psc_3d_place_t *pl, psc_vec3_q16_t lo, psc_vec3_
     if (!pl || !camera_from_object || !place_ok(pl) || view_pitch > (int32_t)PSC_BAM_90 ||
         view_pitch < -(int32_t)PSC_BAM_90)
         return PSC_ERR_ARG;
-    int64_t c[3] = {((int64_t)lo.x + hi.x) / 2, ((int64_t)lo.y + hi.y) / 2, ((int64_t)lo.z + hi.z) / 2};
-    int64_t d[3] = {((int64_t)hi.x - lo.x) / 2, ((int64_t)hi.y - lo.y) / 2, ((int64_t)hi.z - lo.z) / 2};
-    uint64_t r2 = 0;
-    for (unsigned a = 0; a < 3; a++)
-        r2 += (uint64_t)(d[a] * d[a]); /* each < 2^62 / 3 */
-    int64_t r = psc_isqrt64(r2);
-    if (r == 0)
-        r = 1;
+    int64_t c[3], r;
+    psc_3d_box_sphere(lo, hi, c, &r);
     /* k = PLACE_R x scale / R, Q16.16 rounded: below 2^22 x 2^20 before the division */
     int64_t k = ((int64_t)PSC_3D_PLACE_R_Q16 * pl->scale_q16 + r / 2) / r;
     if (k >= PSC_MAT_LINEAR_MAX_Q16 || k == 0)

@@ -176,6 +176,17 @@ const psc_board_object_t *psc_scene_objects_pick(psc_scene_objects_t *o, const p
     return hit;
 }
 
+const psc_hotspot_t *psc_scene_objects_link(psc_scene_objects_t *o, const psc_scene_t *s, const psc_view_t *view,
+                                            int32_t x, int32_t y, int32_t reach_px, bool *with_view)
+{
+    const psc_board_object_t *hit = psc_scene_objects_pick(o, view, s->env->now_us, s->env->width, s->env->height, x, y,
+                                                           reach_px);
+    if (hit == NULL)
+        return NULL;
+    *with_view = hit->link_has_view;
+    return &hit->link;
+}
+
 void psc_scene_objects_unload(psc_scene_objects_t *o)
 {
     for (unsigned i = 0; i < o->n; i++)

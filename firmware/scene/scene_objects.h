@@ -53,6 +53,11 @@ const psc_board_object_t *psc_scene_objects_pick(psc_scene_objects_t *o, const p
                                                  uint16_t width, uint16_t height, int32_t x, int32_t y,
                                                  int32_t reach_px);
 
+/** The scene op pick's answer for scene s's objects: the link of the object a tap lands on (psc_scene_objects_pick),
+ *  *with_view when it opens its scene at a view; NULL when none. */
+const psc_hotspot_t *psc_scene_objects_link(psc_scene_objects_t *o, const psc_scene_t *s, const psc_view_t *view,
+                                            int32_t x, int32_t y, int32_t reach_px, bool *with_view);
+
 void psc_scene_objects_unload(psc_scene_objects_t *o);
 
 #endif

@@ -154,13 +154,8 @@ static const psc_hotspot_t *panorama_pick(psc_scene_t *s, const psc_view_t *view
                                           int32_t reach_px, bool *with_view)
 {
     psc_panorama_t *p = s->state;
-    const psc_board_object_t *o = psc_scene_objects_pick(&p->objects, view, s->env->now_us, s->env->width,
-                                                         s->env->height, x, y, reach_px);
 
-    if (o == NULL)
-        return NULL;
-    *with_view = o->link_has_view;
-    return &o->link;
+    return psc_scene_objects_link(&p->objects, s, view, x, y, reach_px, with_view);
 }
 
 void psc_panorama_clamp(psc_scene_t *s, psc_view_t *view)

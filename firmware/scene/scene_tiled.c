@@ -169,12 +169,7 @@ static const psc_hotspot_t *tiled_pick(psc_scene_t *s, const psc_view_t *view, i
                                        int32_t reach_px, bool *with_view)
 {
     tiled_t *t = s->state;
-    const psc_board_object_t *o = psc_scene_objects_pick(&t->objects, view, s->env->now_us, s->env->width,
-                                                         s->env->height, x, y, reach_px);
-    if (o == NULL)
-        return NULL;
-    *with_view = o->link_has_view;
-    return &o->link;
+    return psc_scene_objects_link(&t->objects, s, view, x, y, reach_px, with_view);
 }
 
 /* The markers, and the objects' titles. */
