@@ -32,14 +32,25 @@ struct psc_io_object {
     int action;                     /* -1: rest */
     psc_patch_t p;
     psc_shadow_t sh;
-    void *patch_ws, *shadow_ws;
     /* a proxy pack */
     psc_io_proxy_t proxy;
     psc_proxy_t px;
-    void *proxy_ws;
     psc_mat4_q16_t *skin;
     bool relight;                   /* its pack has normals: lit by the scene's light */
+    /* its state's bytes in the caller's workspace (psc_io_object_start), sized at load */
+    size_t patch_bytes, shadow_bytes, proxy_bytes, skin_bytes;
+    bool started;
 };
+
+#define WS_ALIGN 64u
+
+static size_t align_ws(size_t v)
+{
+    return (v + WS_ALIGN - 1u) & ~(size_t)(WS_ALIGN - 1u);
+}
+
+static const psc_patch_limits_t patch_limits = {PSC_IO_OBJECT_PATCH_VERTICES, PSC_IO_OBJECT_PATCH_TRIANGLES,
+                                                PSC_IO_OBJECT_PATCH_DEPTH};
 
 /* ---- the object line ----------------------------------------------------------------------------------------- */
 
@@ -188,33 +199,46 @@ static int patch_setup(psc_io_object_t *o, char *err, size_t errlen)
             return psc_io_errorf(err, errlen, name, "action=%s: the character has no action of that name",
                                  o->spec.action);
     }
-    static const psc_patch_limits_t lim = {PSC_IO_OBJECT_PATCH_VERTICES, PSC_IO_OBJECT_PATCH_TRIANGLES,
-                                           PSC_IO_OBJECT_PATCH_DEPTH};
-    size_t n = psc_patch_workspace_size(m, &lim);
-    if (n == 0 || !(o->patch_ws = psc_io_alloc_large(n)) || psc_patch_init(&o->p, m, &lim, o->patch_ws, n) != PSC_OK)
-        return psc_io_errorf(err, errlen, name, "out of memory for its tessellation");
-    if (o->spec.shadow[0]) {
-        if (psc_io_shadow_load(o->spec.shadow, &o->shadow, err, errlen) != 0)
+    /* sized now, started in the scene's workspace (psc_io_object_start); tried once here, so that a character
+     * its shadow pack was not made for is refused when the scene loads */
+    size_t n = psc_patch_workspace_size(m, &patch_limits);
+    void *trial = n ? psc_io_alloc_large(n) : NULL;
+    psc_status_t st = trial ? psc_patch_init(&o->p, m, &patch_limits, trial, n) : PSC_ERR_NOMEM;
+    o->patch_bytes = n;
+    if (st == PSC_OK && o->spec.shadow[0]) {
+        if (psc_io_shadow_load(o->spec.shadow, &o->shadow, err, errlen) != 0) {
+            free(trial);
             return -1;
+        }
         size_t sn = psc_shadow_workspace_size(&o->shadow.model, m);
-        if (sn == 0 || !(o->shadow_ws = psc_io_alloc_large(sn)))
+        void *strial = sn ? psc_io_alloc_large(sn) : NULL;
+        psc_status_t ss = strial ? psc_shadow_init(&o->sh, &o->shadow.model, m, strial, sn) : PSC_ERR_NOMEM;
+        free(strial);
+        free(trial);
+        if (ss == PSC_ERR_NOMEM)
             return psc_io_errorf(err, errlen, o->spec.shadow, "out of memory");
-        if (psc_shadow_init(&o->sh, &o->shadow.model, m, o->shadow_ws, sn) != PSC_OK)
+        if (ss != PSC_OK)
             return psc_io_errorf(err, errlen, o->spec.shadow, "made for another character than %s (%u bones, not %u)",
                                  name, (unsigned)o->shadow.model.bone_count, (unsigned)m->bone_count);
+        o->shadow_bytes = sn;
         o->shaded = true;
+        return 0;
     }
-    return 0;
+    free(trial);
+    return st == PSC_OK ? 0 : psc_io_errorf(err, errlen, name, "out of memory for its tessellation");
 }
 
 static int proxy_setup(psc_io_object_t *o, char *err, size_t errlen)
 {
     const psc_proxy_model_t *m = &o->proxy.model;
     size_t n = psc_proxy_workspace_size(m);
-    if (n == 0 || !(o->proxy_ws = psc_io_alloc_large(n)) || !(o->skin = calloc(m->joint_count ? m->joint_count : 1u,
-                                                                                  sizeof *o->skin)) ||
-        psc_proxy_init(&o->px, m, o->proxy_ws, n) != PSC_OK)
+    void *trial = n ? psc_io_alloc_large(n) : NULL;   /* (sized now, started in the scene's workspace) */
+    psc_status_t st = trial ? psc_proxy_init(&o->px, m, trial, n) : PSC_ERR_NOMEM;
+    free(trial);
+    if (st != PSC_OK)
         return psc_io_errorf(err, errlen, o->spec.path, "out of memory for its proxies");
+    o->proxy_bytes = n;
+    o->skin_bytes = (size_t)(m->joint_count ? m->joint_count : 1u) * sizeof(psc_mat4_q16_t);
     psc_proxy_rest_bounds(m, &o->lo, &o->hi);
     o->relight = m->vertex_normals != NULL;   /* PSC_PROXY_NORMALS */
     if (o->spec.shadow[0])
@@ -321,11 +345,53 @@ void psc_io_object_free(psc_io_object_t *o)
     psc_io_patch_free(&o->patch);
     psc_io_shadow_free(&o->shadow);
     psc_io_proxy_free(&o->proxy);
-    free(o->patch_ws);
-    free(o->shadow_ws);
-    free(o->proxy_ws);
-    free(o->skin);
     free(o);
+}
+
+size_t psc_io_object_workspace_size(const psc_io_object_t *o)
+{
+    return align_ws(o->patch_bytes) + align_ws(o->shadow_bytes) + align_ws(o->proxy_bytes) + align_ws(o->skin_bytes);
+}
+
+psc_status_t psc_io_object_start(psc_io_object_t *o, void *ws, size_t ws_size)
+{
+    uint8_t *b = ws;
+    psc_status_t s = PSC_OK;
+    o->started = false;
+    if (ws_size < psc_io_object_workspace_size(o) || ((uintptr_t)ws & (WS_ALIGN - 1u)) != 0)
+        return PSC_ERR_NOMEM;
+    if (o->kind == PSC_IO_OBJECT_PATCH) {
+        s = psc_patch_init(&o->p, &o->patch.model, &patch_limits, b, o->patch_bytes);
+        if (s == PSC_OK && o->shaded)
+            s = psc_shadow_init(&o->sh, &o->shadow.model, &o->patch.model, b + align_ws(o->patch_bytes),
+                                o->shadow_bytes);
+    } else if (o->kind == PSC_IO_OBJECT_PROXY) {
+        s = psc_proxy_init(&o->px, &o->proxy.model, b, o->proxy_bytes);
+        o->skin = (psc_mat4_q16_t *)(void *)(b + align_ws(o->proxy_bytes));
+    }
+    o->started = s == PSC_OK;
+    return s;
+}
+
+size_t psc_io_objects_workspace_size(psc_io_object_t *const *objs, unsigned n)
+{
+    size_t total = 0;
+    for (unsigned i = 0; i < n; i++)
+        total += psc_io_object_workspace_size(objs[i]);
+    return total;
+}
+
+psc_status_t psc_io_objects_start(psc_io_object_t *const *objs, unsigned n, void *ws, size_t ws_size)
+{
+    uint8_t *b = ws;
+    for (unsigned i = 0; i < n; i++) {
+        size_t k = psc_io_object_workspace_size(objs[i]);
+        psc_status_t s = k > ws_size ? PSC_ERR_NOMEM : psc_io_object_start(objs[i], b, k);
+        if (s != PSC_OK)
+            return s;
+        b += k, ws_size -= k;
+    }
+    return PSC_OK;
 }
 
 psc_io_object_kind_t psc_io_object_kind(const psc_io_object_t *o)
@@ -498,6 +564,8 @@ static psc_status_t object_draws(psc_io_object_t *o, const psc_io_objects_view_t
     psc_vec3_q16_t light = psc_vec3_normalize(psc_mat4_apply_dir(&view, lw));
     unsigned n = 0;
     psc_status_t s = PSC_OK;
+    if (!o->started && o->kind != PSC_IO_OBJECT_MESH)
+        return PSC_ERR_ARG;   /* psc_io_object_start first */
     if (o->kind == PSC_IO_OBJECT_MESH) {
         psc_3d_draw_t one;
         psc_3d_draw_defaults(&one, &o->mesh.mesh);

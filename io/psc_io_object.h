@@ -13,9 +13,11 @@
  * degrees for yaw, pitch and turn; dist in the object's R; action the
  * character's action that loops from the scene's start (default its first).
  *
- * Memory: everything an object draws with (its file, the tessellator's or the
- * proxies' workspace, its skin) is allocated when it is loaded, sized from
- * its file; a frame allocates nothing.
+ * Memory: an object's file is read when it is loaded, and the bytes of its
+ * state (the tessellator's and the shadow's, or the proxies' and the skin's)
+ * sized from it; that state lives in the caller's workspace
+ * (psc_io_object_start: the scene's, when it comes on screen). A frame
+ * allocates nothing.
  */
 #ifndef PSC_IO_OBJECT_H
 #define PSC_IO_OBJECT_H
@@ -82,6 +84,17 @@ int psc_io_object_from_patch(const psc_io_object_spec_t *spec, psc_io_patch_t *p
 
 void psc_io_object_free(psc_io_object_t *o);
 
+/** The workspace bytes its state takes (a mesh: none). */
+size_t psc_io_object_workspace_size(const psc_io_object_t *o);
+
+/** Start its state in ws (64-byte aligned, psc_io_object_workspace_size bytes): a character's tessellator at rest,
+ *  its shadows, a proxy pack's proxies. Before its first frame, and again whenever ws was used for anything else. */
+psc_status_t psc_io_object_start(psc_io_object_t *o, void *ws, size_t ws_size);
+
+/** The same for objs[0..n), one after another in ws (sizes multiples of 64). */
+size_t psc_io_objects_workspace_size(psc_io_object_t *const *objs, unsigned n);
+psc_status_t psc_io_objects_start(psc_io_object_t *const *objs, unsigned n, void *ws, size_t ws_size);
+
 psc_io_object_kind_t psc_io_object_kind(const psc_io_object_t *o);
 const psc_io_object_spec_t *psc_io_object_spec(const psc_io_object_t *o);
 
@@ -140,7 +153,7 @@ void psc_io_objects_light(int32_t az_mdeg, int32_t el_mdeg, int32_t toward_q16[3
  * untextured (the --ids pass). first (n + 1 entries, or NULL) receives where
  * each object's draws begin, and the end. Draws point into the objects'
  * state: valid until the next frame. PSC_ERR_ARG when a placement does not
- * fit.
+ * fit, or an object was not started (psc_io_object_start).
  */
 psc_status_t psc_io_objects_frame(psc_io_object_t *const *objs, unsigned n, const psc_io_objects_view_t *v,
                                   uint64_t t_us, bool ids, psc_3d_draw_t *draws, unsigned max, unsigned *count,

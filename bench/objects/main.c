@@ -38,7 +38,7 @@ typedef struct {
     psc_viewer_t viewer;
     psc_io_object_t *thom;
     psc_3d_config_t cfg;
-    void *viewer_ws, *ws3d, *pixels;
+    void *viewer_ws, *ws3d, *pixels, *object_ws;
     psc_3d_draw_t *draws;
     unsigned max_draws;
     size_t ws3d_size, abuf_size;
@@ -49,7 +49,7 @@ static void teardown(bench_t *b)
 {
     psc_io_object_free(b->thom);
     psc_io_pack_free(&b->pack);
-    free(b->viewer_ws), free(b->ws3d), free(b->pixels), free(b->draws);
+    free(b->viewer_ws), free(b->ws3d), free(b->pixels), free(b->draws), free(b->object_ws);
 }
 
 static int setup(bench_t *b)
@@ -83,6 +83,8 @@ static int setup(bench_t *b)
     if (posix_memalign(&b->viewer_ws, 64, vn) != 0 || posix_memalign(&b->ws3d, 64, b->ws3d_size + b->abuf_size) != 0 ||
         posix_memalign(&b->pixels, 64, (size_t)W * H * 2) != 0 ||
         !(b->draws = malloc(b->max_draws * sizeof *b->draws)) ||
+        posix_memalign(&b->object_ws, 64, psc_io_object_workspace_size(b->thom)) != 0 ||
+        psc_io_object_start(b->thom, b->object_ws, psc_io_object_workspace_size(b->thom)) != PSC_OK ||
         psc_viewer_init(&b->viewer, &pk->map, pk->luts, pk->lut_count, W, H, b->viewer_ws, vn) != PSC_OK ||
         psc_viewer_set_levels(&b->viewer, pk->levels, pk->level_count) != PSC_OK) {
         fprintf(stderr, "objects bench: out of memory, or the viewer refused the pack\n");
@@ -167,9 +169,10 @@ static int run_table(const char *out_dir)
            "| **both: Thom standing in the panorama** | **%.3f** | **%.0f** |\n\n"
            "Both against the parts' sum: %.3f / %.3f = **%.2fx** (goal: at most 1.1x); %.0f frames/s (goal: 60).\n"
            "Thom's triangles a frame: %.0f. Memory beside the viewer's: the 3D workspace %zu bytes, the A-buffer "
-           "%zu bytes.\n",
+           "%zu bytes, Thom's state %zu bytes.\n",
            W, H, FRAMES, PASSES, best[0], 1e3 / best[0], best[1], 1e3 / best[1], best[2], 1e3 / best[2], best[2],
-           parts, ratio, 1e3 / best[2], (double)b.triangles / (2.0 * PASSES * FRAMES), b.ws3d_size, b.abuf_size);
+           parts, ratio, 1e3 / best[2], (double)b.triangles / (2.0 * PASSES * FRAMES), b.ws3d_size, b.abuf_size,
+           psc_io_object_workspace_size(b.thom));
     char path[512];
     snprintf(path, sizeof path, "%s/objects.json", out_dir);
     FILE *j = fopen(path, "w");

@@ -59,22 +59,45 @@ int psc_scene_objects_load(psc_scene_objects_t *o, const psc_scene_t *s, const p
     return 0;
 }
 
+/* The objects' part of the scene workspace, in order: the renderer's, the A-buffer, the frame's draw list, the
+ * objects' own state (psc_io_object_start). */
+typedef struct {
+    size_t renderer, abuffer, draws, objects;
+} layout_t;
+
+static layout_t layout(const psc_scene_objects_t *o, uint16_t width, uint16_t height)
+{
+    psc_3d_config_t c = psc_io_objects_config(o->obj, o->n, width, height, PSC_BAM_90);
+    size_t r = psc_3d_workspace_size(&c);
+    layout_t l = {align_up(r), align_up(psc_io_objects_abuffer_bytes(&c)),
+                  align_up(psc_io_objects_max_draws(o->obj, o->n) * sizeof(psc_3d_draw_t)),
+                  psc_io_objects_workspace_size(o->obj, o->n)};
+    if (r == 0)
+        l.renderer = 0;
+    return l;
+}
+
 size_t psc_scene_objects_workspace_size(const psc_scene_objects_t *o, uint16_t width, uint16_t height)
 {
     if (o->n == 0)
         return 0;
-    psc_3d_config_t c = psc_io_objects_config(o->obj, o->n, width, height, PSC_BAM_90);
-    size_t r = psc_3d_workspace_size(&c);
-    return r ? align_up(r) + align_up(psc_io_objects_abuffer_bytes(&c)) +
-                   align_up(psc_io_objects_max_draws(o->obj, o->n) * sizeof(psc_3d_draw_t))
-             : 0;
+    layout_t l = layout(o, width, height);
+    return l.renderer ? l.renderer + l.abuffer + l.draws + l.objects : 0;
 }
 
-void psc_scene_objects_enter(psc_scene_objects_t *o, void *ws, size_t ws_size, uint64_t now_us)
+int psc_scene_objects_enter(psc_scene_objects_t *o, void *ws, size_t ws_size, uint16_t width, uint16_t height,
+                            uint64_t now_us)
 {
     o->ws = ws;
     o->ws_size = ws_size;
     o->start_us = now_us;
+    if (o->n == 0)
+        return 0;
+    layout_t l = layout(o, width, height);
+    size_t at = l.renderer + l.abuffer + l.draws;
+    if (l.renderer == 0 || ws_size < at + l.objects)
+        return -1;
+    return psc_io_objects_start(o->obj, o->n, o->ws + at, l.objects) == PSC_OK ? 0 : -1;
 }
 
 /* This frame's draws (the ids' when ids) into the workspace and a renderer for them, anti-aliased unless ids. */

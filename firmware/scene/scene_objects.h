@@ -5,11 +5,12 @@
  * its view's camera, anti-aliased over it, in the scene's light; a tap on one
  * with a hotspot follows it; a title is drawn above it, as a hotspot's label.
  *
- * Memory: the objects (files, tessellators, proxies) are allocated when the
- * scene loads; the renderer, its A-buffer and the frame's draw list take the
- * scene workspace after the viewer's (psc_scene_objects_workspace_size); the
- * ids a tap reads, W x H words, are allocated at load when an object has a
- * hotspot. A frame allocates nothing.
+ * Memory: the objects' files are read when the scene loads; the renderer,
+ * its A-buffer, the frame's draw list and the objects' state (tessellators,
+ * shadows, proxies, skins, started when the scene comes on screen) take the
+ * scene workspace after the viewer's (psc_scene_objects_workspace_size, sized
+ * at load); the ids a tap reads, W x H words, are allocated at load when an
+ * object has a hotspot. A frame allocates nothing.
  */
 #ifndef PSC_SCENE_OBJECTS_H
 #define PSC_SCENE_OBJECTS_H
@@ -38,8 +39,10 @@ int psc_scene_objects_load(psc_scene_objects_t *o, const psc_scene_t *s, const p
 /** Workspace bytes the objects draw with on a width x height display (0 without objects). */
 size_t psc_scene_objects_workspace_size(const psc_scene_objects_t *o, uint16_t width, uint16_t height);
 
-/** On screen: ws (aligned to 64) of psc_scene_objects_workspace_size bytes; actions start at now_us. */
-void psc_scene_objects_enter(psc_scene_objects_t *o, void *ws, size_t ws_size, uint64_t now_us);
+/** On screen: ws (aligned to 64) of psc_scene_objects_workspace_size bytes for a width x height display: the
+ *  objects' state started in it, their actions from now_us. 0, or -1 if ws is too small or a start fails. */
+int psc_scene_objects_enter(psc_scene_objects_t *o, void *ws, size_t ws_size, uint16_t width, uint16_t height,
+                            uint64_t now_us);
 
 /** Draw them over out, the panorama's view as drawn, at now_us. */
 psc_status_t psc_scene_objects_render(psc_scene_objects_t *o, const psc_view_t *view, uint64_t now_us,

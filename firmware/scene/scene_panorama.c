@@ -138,7 +138,11 @@ static int panorama_enter(psc_scene_t *s, const psc_scene_env_t *env, void *ws, 
         psc_hal_error_set(err, errlen, "%s: the workspace is too small", s->path);
         return -1;
     }
-    psc_scene_objects_enter(&p->objects, (uint8_t *)ws + own, ws_size - own, env->now_us);
+    if (psc_scene_objects_enter(&p->objects, (uint8_t *)ws + own, ws_size - own, env->width, env->height,
+                                env->now_us) != 0) {
+        psc_hal_error_set(err, errlen, "%s: its objects cannot start in the workspace", s->path);
+        return -1;
+    }
     return psc_panorama_enter(s, p, ws, own, lim, err, errlen);
 }
 

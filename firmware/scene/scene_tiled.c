@@ -91,7 +91,11 @@ static int tiled_enter(psc_scene_t *s, const psc_scene_env_t *env, void *ws, siz
         psc_hal_error_set(err, errlen, "%s: the workspace is too small", s->path);
         return -1;
     }
-    psc_scene_objects_enter(&t->objects, (uint8_t *)ws + own, ws_size - own, env->now_us);
+    if (psc_scene_objects_enter(&t->objects, (uint8_t *)ws + own, ws_size - own, env->width, env->height,
+                                env->now_us) != 0) {
+        psc_hal_error_set(err, errlen, "%s: its objects cannot start in the workspace", s->path);
+        return -1;
+    }
     psc_status_t st = psc_viewer_init_tiled(&t->viewer, &t->map, psc_io_tiled_tiles(t->tiles), pk->luts,
                                             pk->lut_count, env->width, env->height, ws, own);
     if (st != PSC_OK) {

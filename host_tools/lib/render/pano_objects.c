@@ -119,6 +119,21 @@ void psc_render_objects_free(psc_render_objects_t *o)
     for (unsigned i = 0; i < o->n; i++)
         psc_io_object_free(o->obj[i]);
     o->n = 0;
+    free(o->ws);
+    o->ws = NULL;
+}
+
+/* The objects' state in a workspace of their own, started once. */
+static psc_status_t start(psc_render_objects_t *o)
+{
+    if (o->ws)
+        return PSC_OK;
+    size_t n = psc_io_objects_workspace_size(o->obj, o->n);
+    if (posix_memalign(&o->ws, 64, n ? n : 64) != 0) {
+        o->ws = NULL;
+        return PSC_ERR_NOMEM;
+    }
+    return psc_io_objects_start(o->obj, o->n, o->ws, n);
 }
 
 /* A renderer for cfg in a fresh workspace, anti-aliased when aa. NULL when out of memory. */
@@ -214,8 +229,10 @@ int psc_render_objects_draw(psc_render_objects_t *o, const psc_view_t *view, con
     unsigned max = psc_io_objects_max_draws(o->obj, o->n), n;
     psc_3d_draw_t *d = malloc(max * sizeof *d);
     psc_3d_config_t cfg = psc_io_objects_config(o->obj, o->n, out->width, out->height, view->hfov);
-    psc_status_t s = PSC_ERR_NOMEM;
-    if (d && (s = psc_io_objects_frame(o->obj, o->n, &v, t_us, false, d, max, &n, NULL, &cfg)) == PSC_OK)
+    psc_status_t s = start(o);
+    if (s == PSC_OK && !d)
+        s = PSC_ERR_NOMEM;
+    if (s == PSC_OK && (s = psc_io_objects_frame(o->obj, o->n, &v, t_us, false, d, max, &n, NULL, &cfg)) == PSC_OK)
         s = render(&cfg, d, n, NULL, out, true);
     free(d);
     if (s != PSC_OK)

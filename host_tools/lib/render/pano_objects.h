@@ -28,6 +28,7 @@
 typedef struct {
     psc_io_object_t *obj[PSC_IO_OBJECTS_MAX];
     unsigned n;
+    void *ws;                           /* their state (psc_io_objects_start), once all are loaded */
     int32_t light_az_mdeg, light_el_mdeg;
     uint16_t ambient_q8;
     uint16_t colour_q8[3];              /* the light's colour, 256 white */
