@@ -36,6 +36,18 @@ static bool fits32(int64_t v)
     return v >= INT32_MIN && v <= INT32_MAX;
 }
 
+void psc_3d_depth_planes_clamp(int64_t *near, int64_t *far)
+{
+    if (*near < *far / 4096)
+        *near = *far / 4096;
+    if (*near > *far / 2)
+        *near = *far / 2;
+    if (*near < 1)
+        *near = 1;
+    if (*far < 2 * *near)
+        *far = 2 * *near;
+}
+
 psc_status_t psc_3d_orbit(psc_vec3_q16_t lo, psc_vec3_q16_t hi, psc_bam_t yaw, int32_t pitch, int32_t dist_q16,
                           psc_mat4_q16_t *camera_from_object, int32_t *near_q16, int32_t *far_q16)
 {
@@ -60,14 +72,7 @@ psc_status_t psc_3d_orbit(psc_vec3_q16_t lo, psc_vec3_q16_t hi, psc_bam_t yaw, i
     eye = (psc_vec3_q16_t){(int32_t)e[0], (int32_t)e[1], (int32_t)e[2]};
     int64_t far = psc_shr_round64((int64_t)r * (dist_q16 + (PSC_Q16_ONE * 105) / 100), 16) + 1;
     int64_t near = psc_shr_round64((int64_t)r * ((int64_t)(dist_q16 - (PSC_Q16_ONE * 105) / 100) * 95 / 100), 16);
-    if (near < far / 4096)
-        near = far / 4096;
-    if (near > far / 2)
-        near = far / 2;
-    if (near < 1)
-        near = 1;
-    if (far < 2 * near)
-        far = 2 * near;
+    psc_3d_depth_planes_clamp(&near, &far);
     if (!fits32(far))
         return PSC_ERR_ARG;
     psc_mat4_camera(camera_from_object, eye, yaw, pitch);

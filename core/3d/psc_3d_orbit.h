@@ -30,6 +30,13 @@ void psc_mesh_bounds_q16(const psc_mesh_t *m, psc_vec3_q16_t *lo, psc_vec3_q16_t
 void psc_3d_box_sphere(psc_vec3_q16_t lo, psc_vec3_q16_t hi, int64_t c[3], int64_t *r);
 
 /**
+ * The pipeline's rules for depth planes (psc_3d_config_t), applied to
+ * [*near, *far] (Q16.16): near at least far/4096 (an eye inside the
+ * sphere), at most far/2, at least one Q16 step; far at least twice near.
+ */
+void psc_3d_depth_planes_clamp(int64_t *near, int64_t *far);
+
+/**
  * camera_from_object and the near/far planes for an orbit view of the box
  * [lo, hi]. PSC_ERR_ARG when dist is outside its range or the eye or the
  * planes would leave Q16.16.

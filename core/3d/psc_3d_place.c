@@ -69,15 +69,8 @@ void psc_3d_place_depth(const psc_3d_place_t *pl, int32_t *near_q16, int32_t *fa
 
 void psc_3d_place_depth_finish(int32_t *near_q16, int32_t *far_q16)
 {
-    int32_t far = *far_q16 > 2 ? *far_q16 : 2, near = *near_q16;
-    if (near < far / 4096)
-        near = far / 4096;
-    if (near > far / 2)
-        near = far / 2;
-    if (near < 1)
-        near = 1;
-    if (far < 2 * near)
-        far = 2 * near;
-    *near_q16 = near;
-    *far_q16 = far;
+    int64_t far = *far_q16 > 2 ? *far_q16 : 2, near = *near_q16;
+    psc_3d_depth_planes_clamp(&near, &far);   /* (far stays within its int32: near is at most far / 2) */
+    *near_q16 = (int32_t)near;
+    *far_q16 = (int32_t)far;
 }
