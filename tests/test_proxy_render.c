@@ -319,6 +319,7 @@ typedef struct {
 } fixture_t;
 
 static void bake_model(fixture_t *f, psc_gltf_t *g, const char *file, unsigned views, unsigned tex);
+static void fixture_ready(fixture_t *f);
 
 static void bake(fixture_t *f, const char *file, unsigned views, unsigned tex)
 {
@@ -340,6 +341,12 @@ static void bake_model(fixture_t *f, psc_gltf_t *g, const char *file, unsigned v
     assert_int_equal(posix_memalign((void **)&f->pack, 64, f->len), 0);
     memcpy(f->pack, bytes, f->len);
     free(bytes);
+    fixture_ready(f);
+}
+
+/* Parse f's pack and ready it to draw. */
+static void fixture_ready(fixture_t *f)
+{
     psc_container_error_t e = {0};
     assert_int_equal(psc_proxy_parse(f->pack, f->len, &f->m, &e), PSC_OK);
     size_t n = psc_proxy_workspace_size(&f->m);
@@ -668,7 +675,7 @@ static void relight_quality(fixture_t *f, const shot_t *shots, unsigned n, const
                             double union_db);
 
 /* --views K: the smallest odd grid of at least K views, or a larger one while the texture budget holds the same texel
- * density and the views stay within 2 K. */
+ * density (or one of at least PSC_BAKE_PROXY_DENSITY_ENOUGH) and the views stay within 2 K. */
 static void test_views_grid(void **state)
 {
     (void)state;
@@ -676,7 +683,7 @@ static void test_views_grid(void **state)
         unsigned views, tex, side;
     } cases[] = {
         {64, PSC_BAKE_PROXY_TEX, 11},   /* 81 and 121 views both hold 137 texels per R: 121 (169 would not) */
-        {49, PSC_BAKE_PROXY_TEX, 7},    /* 81 views would take the body from 256 to 128 texels a side */
+        {25, PSC_BAKE_PROXY_TEX, 5},    /* 49 views would take the body from 256 to 128 texels a side */
         {9, 16, 3},                     /* 25 views hold 16 texels a side, but are more than twice 9 */
     };
     for (unsigned k = 0; k < sizeof cases / sizeof cases[0]; k++) {
@@ -715,7 +722,9 @@ static void test_truck_quality(void **state)
         quality_t q = measure(&f, &far[k], "truck");
         assert_true(q.iou >= 0.78);   /* measured 0.83, 0.85 */
     }
-    relight_quality(&f, shots, sizeof shots / sizeof shots[0], "truck", 23.5, 22.5);   /* measured 24.3..25.2, 23.1..24.9 */
+    /* the issue's 24 dB over the union under every light (measured 24.01..26.31; 25.47..26.86 where both cover; with
+     * normals at half the texels' side, pack 1.4: 23.11..24.86 and 24.28..25.20) */
+    relight_quality(&f, shots, sizeof shots / sizeof shots[0], "truck", 25.0, 24.0);
     relight_quality(&f, far, 2, "truck", 14.5, 12.5);   /* the billboard: measured 15.7..17.0, 13.6..15.9 */
     fixture_free(&f);
 }
@@ -725,6 +734,9 @@ static void test_bar_quality(void **state)
     (void)state;
     fixture_t f = {0};
     bake(&f, GLTF_DIR "animation_with_skeleton.gltf", PSC_BAKE_PROXY_VIEWS, PSC_BAKE_PROXY_TEX);
+    /* 121 views at 239 texels per R rather than 81 at 256: past a texel a pixel where proxies are drawn, closer views
+     * are worth more than density (81 views: IoU 0.918 at the first pose below) */
+    assert_int_equal(f.m.view_side, 11);
     static const shot_t shots[] = {
         {20, 15, 2.2, 0.11, 0, 0}, {75, 30, 2.2, 0.37, 0, 0}, {140, -10, 2.2, 0.62, 0, 0}, {250, 20, 2.2, -1, 0, 0},
         {35, 25, 2.2, 0.2, 45, 0},
@@ -941,7 +953,7 @@ static void relight_quality(fixture_t *f, const shot_t *shots, unsigned n, const
             psnr += q.psnr / n, both += q.psnr_both / n, iou += q.iou / n;
         }
         frame_light = NULL;
-        print_message("  %s relit toward %.0f,%.0f (ambient %.2f): PSNR %.1f dB (where both cover %.1f dB), IoU %.3f; "
+        print_message("  %s relit toward %.0f,%.0f (ambient %.2f): PSNR %.2f dB (where both cover %.2f dB), IoU %.3f; "
                       "as baked: %.1f dB (%.1f dB), %.3f\n",
                       name, lights[l].az, lights[l].el, lights[l].ambient, psnr, both, iou, base, base_both, base_iou);
         assert_true(both >= both_db);
@@ -980,7 +992,7 @@ static void test_human_quality(void **state)
                   iou[1], psnr[1]);
     assert_true(iou[0] >= 0.95 && iou[1] >= 0.95);     /* measured 0.960, 0.958 */
     assert_true(psnr[0] >= 32.0 && psnr[1] >= 32.0);   /* measured 34.4, 34.1 dB (33.1, 32.7 against centre samples) */
-    relight_quality(&f, shots, sizeof shots / sizeof shots[0], "human", 31.0, 29.0);   /* measured 32.2..33.9, 30.5..31.5 */
+    relight_quality(&f, shots, sizeof shots / sizeof shots[0], "human", 32.0, 30.0);   /* measured 32.51..34.30, 30.59..31.64 */
     fixture_free(&f);
 }
 
@@ -997,7 +1009,7 @@ static void test_depth_offsets(void **state)
     const int8_t *offsets = f.m.tex_depth;
     size_t nonzero = 0, n = 0;
     for (uint32_t i = 0; i < f.m.part_count; i++) {
-        uint32_t half = PSC_PROXY_NORMAL_SIDE(psc_proxy_part_tex(&f.m, i).side);
+        uint32_t half = PSC_PROXY_HALF_SIDE(psc_proxy_part_tex(&f.m, i).side);
         n += (size_t)half * half * f.m.view_count;
     }
     for (size_t i = 0; i < n; i++)
@@ -1582,6 +1594,7 @@ static void test_normals_sections(void **state)
     assert_non_null(f.m.vertex_normals);
     assert_non_null(f.m.tex_normals);
     assert_non_null(f.m.bb_normals);
+    assert_int_equal(f.m.normal_shift, 0);   /* (1.5) at the textures' side */
     psc_container_t c;
     psc_container_error_t e = {NULL, 0};
     assert_int_equal(psc_container_open(f.pack, f.len, &psc_proxy_format, &c, &e), PSC_OK);
@@ -1591,21 +1604,32 @@ static void test_normals_sections(void **state)
     bool present[4];
     assert_int_equal(psc_container_collect(&c, types, 4, sec, present, &e), PSC_OK);
     assert_true(present[0] && present[1] && present[2] && present[3]);
-    for (unsigned k = 0; k < 4; k++) {   /* k 0: the flag cleared; 1..3: a section renamed away */
+    for (unsigned k = 0; k < 6; k++) {   /* k 0: the flag cleared; 1..3: a section renamed away; 4: the
+                                           * 1.5 flag cleared (XTNM four times the size then expected); 5: that flag
+                                           * alone, without normals */
         uint8_t *b;
         assert_int_equal(posix_memalign((void **)&b, 64, f.len), 0);
         memcpy(b, f.pack, f.len);
-        if (k == 0)
-            b[sec[0].offset + offsetof(psc_proxy_info_raw_t, flags)] &= (uint8_t)~PSC_PROXY_NORMALS;
+        uint8_t *flags = &b[sec[0].offset + offsetof(psc_proxy_info_raw_t, flags)];
+        if (k == 0 || k == 5)
+            *flags &= (uint8_t)~PSC_PROXY_NORMALS;
+        else if (k == 4)
+            *flags &= (uint8_t)~PSC_PROXY_NORMALS_FULL;
         else
             b[sec[k].entry] = 'Z';   /* its type's first letter: an unknown section, skipped */
+        if (k == 5)   /* the normals' sections renamed away too */
+            for (unsigned s = 1; s < 4; s++)
+                b[sec[s].entry] = 'Z';
         tsup_wr32(b + PSC_CONTAINER_CRC_OFFSET, 0);
         tsup_wr32(b + PSC_CONTAINER_CRC_OFFSET, psc_crc32(0, b, f.len));
         psc_proxy_model_t m;
         e = (psc_container_error_t){NULL, 0};
         assert_int_equal(psc_proxy_parse(b, f.len, &m, &e), PSC_ERR_CORRUPT);
         assert_non_null(e.what);
-        print_message("  normals %s: %s\n", k == 0 ? "without the flag" : "flag without a section", e.what);
+        print_message("  normals %s: %s\n",
+                      k == 0 ? "without the flag" : k == 4 ? "of 1.5 in a 1.4 pack" : k == 5 ? "1.5's flag alone"
+                                                                                        : "flag without a section",
+                      e.what);
         free(b);
     }
     /* the depth offsets (1.4) the same way; both taken away, the 1.3 layout: drawn at the proxies' own depth */
@@ -1643,6 +1667,34 @@ static void test_normals_sections(void **state)
         assert_int_equal(psc_proxy_parse(b, n, &m, NULL), PSC_OK);
         assert_true(m.atlas && !m.tex_normals && !m.tex_depth);
         free(b);
+    }
+    {   /* a 1.4 pack (its normals at half their textures' side: the corpus' seed) parses and draws relit: another
+         * light changes its pixels, none of them outside its silhouette as baked */
+        fixture_t old = {0};
+        old.pack = tsup_read_bytes("tests/fuzz/corpus/proxy/cross-depth.ppx", &old.len);
+        assert_non_null(old.pack);
+        fixture_ready(&old);
+        assert_true(old.m.tex_normals && old.m.normal_shift == 1);
+        psc_mat4_q16_t *skin = malloc(old.m.joint_count * sizeof *skin);
+        assert_non_null(skin);
+        psc_proxy_pose_at(&old.m, -1, skin);
+        static uint32_t rgb[2][W * H], ids[2][W * H];
+        static const light_t side = {-90, 10, 0.45};
+        for (unsigned k = 0; k < 2; k++) {
+            frame_light = k ? &side : NULL;
+            render(&old, skin, 30, 20, 3, PSC_PROXY_LOD_PROXIES, rgb[k], ids[k]);
+        }
+        frame_light = NULL;
+        unsigned drawn = 0, changed = 0;
+        for (unsigned i = 0; i < W * H; i++) {
+            drawn += (ids[0][i] & 0xFFFFu) != 0;
+            changed += rgb[0][i] != rgb[1][i];
+            assert_int_equal(ids[0][i], ids[1][i]);
+        }
+        print_message("  a 1.4 pack relit: %u of its %u pixels changed\n", changed, drawn);
+        assert_true(drawn > 1000 && changed > drawn / 4);
+        free(skin);
+        fixture_free(&old);
     }
     /* --no-normals: no normals */
     psc_gltf_t g;

@@ -76,9 +76,10 @@
  *   surface's rest-pose normal as psc_oct16 codes (base/psc_oct.h), model
  *   space:
  *   "XVNM"  vertex_count uint16: the full mesh's vertices'
- *   "XTNM"  per part, per view, (side / 2)^2: its view textures' normals at
- *           half their level 0's side (normals vary slowly; a quarter of the
- *           texels), one texture for every mip level
+ *   "XTNM"  per part, per view, side^2: its view textures' normals at
+ *           their level 0's side (1.5, PSC_PROXY_NORMALS_FULL: a crease, a
+ *           door's seam, a pillar a texel or two wide relights as itself),
+ *           (side / 2)^2 in a 1.3-1.4 pack; one texture for every mip level
  *   "XBBN"  with the billboard: per view, (bb_tex / 2)^2
  *   The colours stay lit by the bake's light (PSC_PROXY_BAKE_LIGHT_*), so a
  *   frame lit by it needs no normals; another light relights them by the
@@ -86,8 +87,8 @@
  *   With PSC_PROXY_DEPTH (1.4; needs PSC_PROXY_ATLAS):
  *   "XTDP"  per part, per view, (side / 2)^2 int8: how far the surface a
  *           texel shows lies behind its proxy's front along the view, in
- *           1/256 R (clamped to +-127), at half the level 0's side like the
- *           normals: each pixel of a proxy takes its depth from the surface,
+ *           1/256 R (clamped to +-127), at half the level 0's side (depth
+ *           varies slowly): each pixel of a proxy takes its depth from the surface,
  *           so proxies that cross composite as their surfaces do.
  */
 #ifndef PSC_PROXY_H
@@ -99,8 +100,9 @@
 
 #define PSC_PROXY_MAGIC "PSCPRXY\x1a"
 #define PSC_PROXY_VERSION_MAJOR 1u
-#define PSC_PROXY_VERSION_MINOR 4u   /* 1: the optional XNOD; 2: per-part texture sizes and mips (PSC_PROXY_ATLAS);
-                                      * 3: normals (PSC_PROXY_NORMALS); 4: depth offsets (PSC_PROXY_DEPTH) */
+#define PSC_PROXY_VERSION_MINOR 5u   /* 1: the optional XNOD; 2: per-part texture sizes and mips (PSC_PROXY_ATLAS);
+                                      * 3: normals (PSC_PROXY_NORMALS); 4: depth offsets (PSC_PROXY_DEPTH);
+                                      * 5: normals at the texels' side (PSC_PROXY_NORMALS_FULL) */
 #define PSC_PROXY_MAX_SECTIONS 24u
 #define PSC_PROXY_MAX_JOINTS 1024u
 #define PSC_PROXY_MAX_PARTS 4096u
@@ -115,9 +117,11 @@
 #define PSC_PROXY_ATLAS 1u                    /* XINF flags: per-part texture sizes and mip levels (1.2) */
 #define PSC_PROXY_NORMALS 2u                  /* XINF flags: XVNM, XTNM (and XBBN): relightable (1.3) */
 #define PSC_PROXY_DEPTH 4u                    /* XINF flags: XTDP, each texel's depth from its proxy (1.4) */
+#define PSC_PROXY_NORMALS_FULL 8u             /* XINF flags: XTNM at its textures' level 0 side (1.5; else half) */
 #define PSC_PROXY_DEPTH_STEPS_PER_R 256       /* XTDP's unit: 1/256 R */
-#define PSC_PROXY_NORMAL_SHIFT 1u             /* a view texture's normals: its level 0's side >> this */
-#define PSC_PROXY_NORMAL_SIDE(side) ((side) >> PSC_PROXY_NORMAL_SHIFT)
+/* The side of a view texture's depth offsets, of the billboard's normals and of a 1.3-1.4 pack's normals: half its
+ * level 0's (psc_proxy_normal_side gives a pack's normals') */
+#define PSC_PROXY_HALF_SIDE(side) ((side) >> 1)
 /* The light the pack's colours were baked with, model space: base x (0.45 + 0.55 max(0, n.L)), L toward the light,
  * (0.4, 0.8, 0.45) normalised (azimuth 41.6 degrees from +z toward +x, elevation 53.0 degrees); Q2.14. */
 #define PSC_PROXY_BAKE_LIGHT_X_Q14 6545
@@ -229,10 +233,17 @@ typedef struct {
     const uint16_t *bb_texels;
     const int32_t *node;                               /* joint_count: its glTF file's node index (-1 none), or NULL */
     const uint16_t *vertex_normals;                    /* PSC_PROXY_NORMALS: XVNM, XTNM, XBBN (NULL without) */
+    uint8_t normal_shift;                              /* XTNM's side: level 0's >> this (0: PSC_PROXY_NORMALS_FULL) */
     const uint16_t *tex_normals;
     const uint16_t *bb_normals;
     const int8_t *tex_depth;                           /* PSC_PROXY_DEPTH: XTDP (NULL without) */
 } psc_proxy_model_t;
+
+/** The side of the normals of a view texture whose level 0 is side texels a side, in pack m. */
+static inline uint32_t psc_proxy_normal_side(const psc_proxy_model_t *m, uint32_t side)
+{
+    return side >> m->normal_shift;
+}
 
 /**
  * Validate and parse a proxy pack in buf[0..len) (aligned to 8): the

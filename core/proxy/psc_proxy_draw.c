@@ -337,8 +337,9 @@ typedef struct {
     psc_proxy_tex_t t;
     uint32_t level;
     const uint16_t *normals;
+    uint32_t normal_side;  /* (psc_proxy_normal_side) */
     psc_lambert_q14_t light;
-    const int8_t *depth;   /* its views' depth offsets' run (NULL: none) */
+    const int8_t *depth;   /* its views' depth offsets' run (NULL: none), at half the level 0's side */
 } part_tex_t;
 
 /* Draw d relit: normal textures ntex[k] of side `side` (the run `normals`, per view side^2) for the picked views
@@ -376,9 +377,9 @@ static void set_views(psc_3d_draw_t *d, psc_texture_t *tex, psc_texture_t *ntex,
         d->view_uv_q16[k] = uv[k];
     }
     if (pt->normals)
-        set_normals(d, ntex, pt->normals, PSC_PROXY_NORMAL_SIDE(pt->t.side), pick->view, &pt->light);
+        set_normals(d, ntex, pt->normals, pt->normal_side, pick->view, &pt->light);
     if (pt->depth) {   /* the heaviest view's: the surface it shows most */
-        uint32_t half = PSC_PROXY_NORMAL_SIDE(pt->t.side);
+        uint32_t half = PSC_PROXY_HALF_SIDE(pt->t.side);
         d->view_depth = pt->depth + (size_t)pick->view[0] * half * half;
         d->view_depth_side = (uint16_t)half;
     }
@@ -491,7 +492,7 @@ static unsigned billboard(psc_proxy_t *p, const psc_mat4_q16_t *cam, bool ids)
         psc_mat4_q16_t one;
         psc_mat4_identity(&one);
         psc_lambert_q14_t l = lambert_in(p, &one);
-        set_normals(d, &p->normal_tex[0], m->bb_normals, PSC_PROXY_NORMAL_SIDE(m->bb_tex), pick.view, &l);
+        set_normals(d, &p->normal_tex[0], m->bb_normals, PSC_PROXY_HALF_SIDE(m->bb_tex), pick.view, &l);
     }
     return 1;
 }
@@ -524,16 +525,17 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
         psc_mat4_q16_t cam_part;   /* a rigid part's camera: its joint's motion then the camera's */
         if (rigid(pr))
             psc_mat4_mul(&cam_part, cam, js);
-        part_tex_t pt = {texels, psc_proxy_part_tex(m, i), 0, NULL, bake_light, depth};
+        part_tex_t pt = {texels, psc_proxy_part_tex(m, i), 0, NULL, 0, bake_light, depth};
+        pt.normal_side = psc_proxy_normal_side(m, pt.t.side);
         texels += (size_t)pt.t.chain * m->view_count;
         if (relit) {
             pt.normals = normals;
             pt.light = lambert_in(p, js);   /* a part's normals turn with its joint (the views it is drawn with) */
         }
         if (normals)
-            normals += (size_t)PSC_PROXY_NORMAL_SIDE(pt.t.side) * PSC_PROXY_NORMAL_SIDE(pt.t.side) * m->view_count;
+            normals += (size_t)psc_proxy_normal_side(m, pt.t.side) * psc_proxy_normal_side(m, pt.t.side) * m->view_count;
         if (depth)
-            depth += (size_t)PSC_PROXY_NORMAL_SIDE(pt.t.side) * PSC_PROXY_NORMAL_SIDE(pt.t.side) * m->view_count;
+            depth += (size_t)PSC_PROXY_HALF_SIDE(pt.t.side) * PSC_PROXY_HALF_SIDE(pt.t.side) * m->view_count;
         if (lod == PSC_PROXY_LOD_FULL) {
             if (pr->triangle_count == 0)
                 continue;

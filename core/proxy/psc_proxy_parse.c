@@ -59,14 +59,15 @@ static bool range_ok(uint32_t first, uint32_t count, uint32_t total)
     return (uint64_t)first + count <= total;
 }
 
-/* Texels of every part's every view at half its level 0's side (the normals', the depth offsets'). The atlas checks
- * the sides later; unchecked, a uint16 side's half squared is under 2^30, times 4 096 views and parts each under 2^54. */
-static uint64_t half_side_texels(const psc_proxy_model_t *m)
+/* Texels of every part's every view at its level 0's side >> shift (the normals', the depth offsets'). The atlas
+ * checks the sides later; unchecked, a uint16 side squared is under 2^32, times 4 096 views and parts each under
+ * 2^56. */
+static uint64_t side_texels(const psc_proxy_model_t *m, unsigned shift)
 {
     uint64_t n = 0;
     for (uint32_t i = 0; i < m->part_count; i++) {
-        uint64_t half = PSC_PROXY_NORMAL_SIDE(m->parts[i].tex_size);
-        n += half * half * m->view_count;
+        uint64_t s = (uint64_t)m->parts[i].tex_size >> shift;
+        n += s * s * m->view_count;
     }
     return n;
 }
@@ -167,7 +168,7 @@ psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out
         m.proxy_triangle_count > PSC_PROXY_MAX_PROXY_TRIANGLES || m.frame_count > PSC_PROXY_MAX_FRAMES ||
         (m.frame_count > 0 && (m.frame_period_us == 0 || m.frame_period_us > 10000000u)))
         return fail(err, PSC_ERR_TOO_LARGE, "a count is zero or beyond its limit", f[S_INFO].offset);
-    if ((info->flags & ~(PSC_PROXY_ATLAS | PSC_PROXY_NORMALS | PSC_PROXY_DEPTH)) != 0)
+    if ((info->flags & ~(PSC_PROXY_ATLAS | PSC_PROXY_NORMALS | PSC_PROXY_DEPTH | PSC_PROXY_NORMALS_FULL)) != 0)
         return fail(err, PSC_ERR_UNSUPPORTED, "XINF names a feature this build does not know (a newer pack?)",
                     f[S_INFO].offset + 60);
     m.atlas = (info->flags & PSC_PROXY_ATLAS) != 0;
@@ -234,16 +235,20 @@ psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out
             if (m.node[j] < -1 || m.node[j] > PSC_PROXY_MAX_NODE)
                 return fail(err, PSC_ERR_CORRUPT, "a joint's glTF node number is out of range", f[S_NODES].offset + 4u * j);
     }
-    /* (1.3) normals: exactly with the flag, and only over an atlas (their sizes follow its parts') */
+    /* (1.3) normals: exactly with the flag, and only over an atlas (their sizes follow its parts'); at the texels'
+     * side with PSC_PROXY_NORMALS_FULL (1.5), else at half */
     bool normals = (info->flags & PSC_PROXY_NORMALS) != 0;
     if (normals != present[S_VNRM] || normals != present[S_TNRM] || (present[S_BBN] && !(normals && m.bb_side)) ||
-        (normals && m.bb_side && !present[S_BBN]) || (normals && !m.atlas))
+        (normals && m.bb_side && !present[S_BBN]) || (normals && !m.atlas) ||
+        ((info->flags & PSC_PROXY_NORMALS_FULL) && !normals))
         return fail(err, PSC_ERR_CORRUPT, "the normals' sections (XVNM, XTNM, XBBN) do not match XINF's flags",
                     f[S_INFO].offset + 60);
     if (normals) {
-        uint64_t tn = half_side_texels(&m);
+        m.normal_shift = (info->flags & PSC_PROXY_NORMALS_FULL) ? 0u : 1u;
+        uint64_t tn = side_texels(&m, m.normal_shift);
         if (f[S_VNRM].size != (uint64_t)m.vertex_count * 2u || f[S_TNRM].size != tn * 2u ||
-            (m.bb_side && f[S_BBN].size != (uint64_t)m.bb_view_count * PSC_PROXY_NORMAL_SIDE(m.bb_tex) * PSC_PROXY_NORMAL_SIDE(m.bb_tex) * 2u))
+            (m.bb_side && f[S_BBN].size != (uint64_t)m.bb_view_count * PSC_PROXY_HALF_SIDE(m.bb_tex) *
+                                               PSC_PROXY_HALF_SIDE(m.bb_tex) * 2u))
             return fail(err, PSC_ERR_CORRUPT, "a normals section's size does not match its mesh or textures",
                         f[S_VNRM].entry + 8);
         m.vertex_normals = AT(S_VNRM, uint16_t);
@@ -256,7 +261,7 @@ psc_status_t psc_proxy_parse(const void *buf, size_t len, psc_proxy_model_t *out
         return fail(err, PSC_ERR_CORRUPT, "the depth offsets' section (XTDP) does not match XINF's flags",
                     f[S_INFO].offset + 60);
     if (depth) {
-        if (f[S_TDP].size != half_side_texels(&m))
+        if (f[S_TDP].size != side_texels(&m, 1))
             return fail(err, PSC_ERR_CORRUPT, "XTDP's size does not match the view textures", f[S_TDP].entry + 8);
         m.tex_depth = AT(S_TDP, int8_t);
     }

@@ -611,13 +611,14 @@ static unsigned tex_levels(unsigned side, size_t *chain)
     return levels;
 }
 
-/* A side's bytes for `views` views: its mip chain, and with normals their texture at half the side. */
+/* A side's bytes for `views` views: its mip chain, with normals their texture at the same side, and a byte of depth
+ * offset for each texel at half the side. */
 static double tex_cost(unsigned side, unsigned views, bool normals)
 {
     size_t chain;
     tex_levels(side, &chain);
-    double quarter = (double)PSC_PROXY_NORMAL_SIDE(side) * PSC_PROXY_NORMAL_SIDE(side);   /* + a byte of depth each */
-    return 2.0 * views * (chain + (normals ? quarter : 0.0)) + views * quarter;
+    double quarter = (double)PSC_PROXY_HALF_SIDE(side) * PSC_PROXY_HALF_SIDE(side);
+    return 2.0 * views * (chain + (normals ? (double)side * side : 0.0)) + views * quarter;
 }
 
 static const double *want_key;
@@ -836,7 +837,7 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
         tried = next;
         double d = pick_sides(shapes, nshapes, next * next, normals,
                               grid_budget(tex_budget, pack, rest, pk.pvertices, next), o->tex, sides);
-        if (d < density)
+        if (fmin(d, PSC_BAKE_PROXY_DENSITY_ENOUGH) < fmin(density, PSC_BAKE_PROXY_DENSITY_ENOUGH))
             break;
         side = next;
         density = d;
@@ -858,9 +859,9 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
                 near_shapes[nn++] = &shapes[q];
         uint16_t *uv = buf_add(&pk.puv, (size_t)shapes[k].prx_vertices * side * side * 4u);
         uint16_t *tx = buf_add(&pk.tex, (size_t)side * side * chain * 2u);
-        size_t nrm_n = normals ? (size_t)side * side * PSC_PROXY_NORMAL_SIDE(ts) * PSC_PROXY_NORMAL_SIDE(ts) : 0;
+        size_t nrm_n = normals ? (size_t)side * side * ts * ts : 0;
         uint16_t *nx = nrm_n ? buf_add(&pk.tnrm, nrm_n * 2u) : NULL;
-        size_t dep_n = (size_t)side * side * PSC_PROXY_NORMAL_SIDE(ts) * PSC_PROXY_NORMAL_SIDE(ts);
+        size_t dep_n = (size_t)side * side * PSC_PROXY_HALF_SIDE(ts) * PSC_PROXY_HALF_SIDE(ts);
         int8_t *dx = dep_n ? buf_add(&pk.tdep, dep_n) : NULL;
         uint16_t *level0 = malloc(((size_t)side * side * ts * ts + 1u) * sizeof *level0);
         psc_bake_cover_t *cov0 = malloc(((size_t)side * side * ts * ts + 1u) * sizeof *cov0);
@@ -884,7 +885,7 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     unsigned bbs = PSC_BAKE_PROXY_BB_SIDE, bbt = PSC_BAKE_PROXY_BB_TEX;
     bb_axes = malloc(bbs * bbs * 6u * sizeof *bb_axes);
     bb_tex = malloc((size_t)bbs * bbs * bbt * bbt * sizeof *bb_tex);
-    bb_nrm = malloc((size_t)bbs * bbs * PSC_PROXY_NORMAL_SIDE(bbt) * PSC_PROXY_NORMAL_SIDE(bbt) * sizeof *bb_nrm);
+    bb_nrm = malloc((size_t)bbs * bbs * PSC_PROXY_HALF_SIDE(bbt) * PSC_PROXY_HALF_SIDE(bbt) * sizeof *bb_nrm);
     if (!bb_axes || !bb_tex || !bb_nrm ||
         psc_bake_proxy_billboard(shapes, nshapes, bb_c, bb_r, bbs, bbt, bb_tex, normals ? bb_nrm : NULL, bb_axes) != 0) {
         psc_io_errorf(err, errlen, name, "out of memory");
@@ -928,7 +929,7 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     info.frame_period_us = period_us;
     info.view_side = (uint16_t)side;
     info.tex_size = (uint16_t)(max_side ? max_side : PSC_PROXY_TEX_LEVEL_MIN);
-    info.flags = (uint8_t)(PSC_PROXY_ATLAS | PSC_PROXY_DEPTH | (normals ? PSC_PROXY_NORMALS : 0u));
+    info.flags = (uint8_t)(PSC_PROXY_ATLAS | PSC_PROXY_DEPTH | (normals ? PSC_PROXY_NORMALS | PSC_PROXY_NORMALS_FULL : 0u));
     info.model_r_um = r * 1e6 < 4e9 ? (uint32_t)lround(r * 1e6) : UINT32_MAX;
     info.bb_side = (uint16_t)bbs;
     info.bb_tex = (uint16_t)bbt;
@@ -952,7 +953,7 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
         {PSC_SECTION_PROXY_TEX_DEPTH, pk.tdep.p, pk.tdep.n},
         {PSC_SECTION_PROXY_VNORMALS, pk.vnrm.p, pk.vnrm.n},   /* the normals: left out without them */
         {PSC_SECTION_PROXY_TEX_NORMALS, pk.tnrm.p, pk.tnrm.n},
-        {PSC_SECTION_PROXY_BB_NORMALS, bb_nrm, (size_t)bbs * bbs * PSC_PROXY_NORMAL_SIDE(bbt) * PSC_PROXY_NORMAL_SIDE(bbt) * 2u},
+        {PSC_SECTION_PROXY_BB_NORMALS, bb_nrm, (size_t)bbs * bbs * PSC_PROXY_HALF_SIDE(bbt) * PSC_PROXY_HALF_SIDE(bbt) * 2u},
         {PSC_SECTION_PROXY_NODES, nodes, g->joint_count * sizeof *nodes},   /* last: left out when unknown */
     };
     unsigned nparts = sizeof parts / sizeof parts[0];

@@ -44,9 +44,10 @@
 
 #define PSC_BAKE_PROXY_VIEWS 64u     /* at least 64: a 9 x 9 grid, or 11 x 11 where the texel density holds */
 #define PSC_BAKE_PROXY_TEX 256u     /* the largest view texture's side */
-#define PSC_BAKE_PROXY_TEX_MB 12.0  /* the view textures' budget, mips included ... */
+#define PSC_BAKE_PROXY_TEX_MB 14.5  /* the view textures' budget, mips included ... */
 #define PSC_BAKE_PROXY_PACK_MB 15.0 /* ... and less if the pack would be larger (15 MiB: under 16 MB either way) */
 #define PSC_BAKE_PROXY_DENSITY 256.0 /* texels per R at most: proxies are drawn while R is under 200 pixels */
+#define PSC_BAKE_PROXY_DENSITY_ENOUGH 200.0 /* a texel a pixel there: more views are worth the density above it */
 #define PSC_BAKE_PROXY_FPS 30.0
 #define PSC_BAKE_PROXY_BB_SIDE 5u    /* the billboard: 5 x 5 views ... */
 #define PSC_BAKE_PROXY_BB_TEX 32u    /* ... of 32 x 32 texels (50 KB) */

@@ -166,16 +166,16 @@ static uint16_t block_mean(const uint16_t *p, const uint32_t *depth, size_t stri
     return t == PSC_VIEW_TEXEL_EMPTY ? 0x0020u : t;
 }
 
-/* The texels of a half x half grid of `dims` values each (v) that have none (have[] 0) take their neighbours': a ring
+/* The texels of a side x side grid of `dims` values each (v) that have none (have[] 0) take their neighbours': a ring
  * a pass, each the mean of its 8-neighbours that had one before the pass (a unit vector: their sum renormalised),
  * until no gap borders a value (a mip level's coarser texel may reach past the samples level 0 covered). */
-static void grow_into_gaps(double *v, unsigned dims, uint8_t *have, unsigned half, bool unit)
+static void grow_into_gaps(double *v, unsigned dims, uint8_t *have, unsigned side, bool unit)
 {
-    for (unsigned pass = 0; pass < half; pass++) {
+    for (unsigned pass = 0; pass < side; pass++) {
         bool grew = false;
-        for (unsigned y = 0; y < half; y++)
-            for (unsigned x = 0; x < half; x++) {
-                size_t at = (size_t)y * half + x;
+        for (unsigned y = 0; y < side; y++)
+            for (unsigned x = 0; x < side; x++) {
+                size_t at = (size_t)y * side + x;
                 if (have[at])
                     continue;
                 double acc[3] = {0, 0, 0};
@@ -183,10 +183,10 @@ static void grow_into_gaps(double *v, unsigned dims, uint8_t *have, unsigned hal
                 for (int dy = -1; dy <= 1; dy++)
                     for (int dx = -1; dx <= 1; dx++) {
                         int yy = (int)y + dy, xx = (int)x + dx;
-                        if (yy < 0 || xx < 0 || yy >= (int)half || xx >= (int)half || have[(size_t)yy * half + xx] != 1)
+                        if (yy < 0 || xx < 0 || yy >= (int)side || xx >= (int)side || have[(size_t)yy * side + xx] != 1)
                             continue;
                         for (unsigned a = 0; a < dims; a++)
-                            acc[a] += v[((size_t)yy * half + xx) * dims + a];
+                            acc[a] += v[((size_t)yy * side + xx) * dims + a];
                         count++;
                     }
                 double l = unit ? sqrt(acc[0] * acc[0] + acc[1] * acc[1] + acc[2] * acc[2]) : count;
@@ -197,29 +197,30 @@ static void grow_into_gaps(double *v, unsigned dims, uint8_t *have, unsigned hal
                     grew = true;
                 }
             }
-        for (size_t i = 0; i < (size_t)half * half; i++)
+        for (size_t i = 0; i < (size_t)side * side; i++)
             have[i] = have[i] ? 1 : 0;
         if (!grew)
             break;
     }
 }
 
-/* The normals of a view at half its texels' side: each the mean of the normals drawn (nhi, XRGB-coded) at the samples
- * hi covers (2 SS x 2 SS of them), renormalised and coded; one over no covered sample takes its neighbours'. */
-static void normals_down(const uint16_t *hi, const uint32_t *nhi, unsigned tex, uint16_t *out)
+/* The normals of a view at nside texels a side (its texels' side, or half of it): each the mean of the normals
+ * drawn (nhi, XRGB-coded) at the samples hi covers ((tex / nside) SS squared of them), renormalised and coded; one over
+ * no covered sample takes its neighbours'. */
+static void normals_down(const uint16_t *hi, const uint32_t *nhi, unsigned tex, unsigned nside, uint16_t *out)
 {
-    unsigned half = PSC_PROXY_NORMAL_SIDE(tex), k = tex / half * SS, n = tex * SS;
-    double(*v)[3] = calloc((size_t)half * half + 1u, sizeof *v);
-    uint8_t *have = calloc((size_t)half * half + 1u, 1);
+    unsigned k = tex / nside * SS, n = tex * SS;
+    double(*v)[3] = calloc((size_t)nside * nside + 1u, sizeof *v);
+    uint8_t *have = calloc((size_t)nside * nside + 1u, 1);
     if (!v || !have) {   /* (bounded, small; should it fail, the normals face the viewer) */
-        for (size_t i = 0; i < (size_t)half * half; i++)
+        for (size_t i = 0; i < (size_t)nside * nside; i++)
             out[i] = psc_bake_proxy_oct16((const double[3]){0, 0, -1});
         free(v), free(have);
         return;
     }
-    for (unsigned y = 0; y < half; y++)
-        for (unsigned x = 0; x < half; x++) {
-            double *acc = v[(size_t)y * half + x];
+    for (unsigned y = 0; y < nside; y++)
+        for (unsigned x = 0; x < nside; x++) {
+            double *acc = v[(size_t)y * nside + x];
             for (unsigned j = 0; j < k; j++)
                 for (unsigned i = 0; i < k; i++) {
                     size_t at = (size_t)(y * k + j) * n + x * k + i;
@@ -232,11 +233,11 @@ static void normals_down(const uint16_t *hi, const uint32_t *nhi, unsigned tex, 
             if (l > 1e-9) {
                 for (unsigned a = 0; a < 3; a++)
                     acc[a] /= l;
-                have[(size_t)y * half + x] = 1;
+                have[(size_t)y * nside + x] = 1;
             }
         }
-    grow_into_gaps(&v[0][0], 3, have, half, true);
-    for (size_t i = 0; i < (size_t)half * half; i++)
+    grow_into_gaps(&v[0][0], 3, have, nside, true);
+    for (size_t i = 0; i < (size_t)nside * nside; i++)
         out[i] = have[i] ? psc_bake_proxy_oct16(v[i]) : psc_bake_proxy_oct16((const double[3]){0, 1, 0});
     free(v), free(have);
 }
@@ -248,7 +249,7 @@ static void normals_down(const uint16_t *hi, const uint32_t *nhi, unsigned tex, 
 static void depth_down(const uint16_t *hi, const uint32_t *depth, const uint32_t *pdepth, unsigned tex, double rho,
                        int8_t *out)
 {
-    unsigned half = PSC_PROXY_NORMAL_SIDE(tex), k = tex / half * SS, n = tex * SS;
+    unsigned half = PSC_PROXY_HALF_SIDE(tex), k = tex / half * SS, n = tex * SS;
     double *v = calloc((size_t)half * half + 1u, sizeof *v);
     uint8_t *have = calloc((size_t)half * half + 1u, 1);
     if (!v || !have) {   /* (bounded, small; should it fail, the proxy's own depth) */
@@ -349,7 +350,7 @@ static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *con
         for (unsigned k = 0; k < n_all; k++)
             if (may_show(all[k], o))
                 draw_shape_normals(all[k], o, &nt);
-        normals_down(hi, nhi, view->tex, normals);
+        normals_down(hi, nhi, view->tex, view->tex, normals);
     }
 }
 
@@ -377,9 +378,9 @@ int psc_bake_proxy_views(const psc_proxy_shape_t *s, const psc_proxy_shape_t *co
     for (unsigned k = 0; k < side * side; k++) {
         ortho_t o;
         ortho_for(s, side, k, tex, &o);
-        size_t quarter = (size_t)k * PSC_PROXY_NORMAL_SIDE(tex) * PSC_PROXY_NORMAL_SIDE(tex);
+        size_t quarter = (size_t)k * PSC_PROXY_HALF_SIDE(tex) * PSC_PROXY_HALF_SIDE(tex);
         render_view(s, near, n_near, &o, texels + (size_t)k * tex * tex, cov + (size_t)k * tex * tex,
-                    normals ? normals + quarter : NULL, offsets ? offsets + quarter : NULL, hi, depth,
+                    normals ? normals + (size_t)k * tex * tex : NULL, offsets ? offsets + quarter : NULL, hi, depth,
                     hi + (size_t)tex * tex * SS * SS, depth + (size_t)tex * tex * SS * SS, nhi);
         uint16_t *kuv = uv + (size_t)k * s->prx_vertices * 2u;
         for (uint32_t i = 0; i < s->prx_vertices; i++) {
@@ -431,7 +432,8 @@ int psc_bake_proxy_billboard(const psc_proxy_shape_t *shapes, unsigned n, const 
                 depth[i] = 0xFFFFFFFFu;
             for (unsigned s = 0; s < n; s++)
                 draw_shape_normals(&shapes[s], &so, &tg);
-            normals_down(hi, nhi, tex, normals + (size_t)k * PSC_PROXY_NORMAL_SIDE(tex) * PSC_PROXY_NORMAL_SIDE(tex));
+            normals_down(hi, nhi, tex, PSC_PROXY_HALF_SIDE(tex),
+                         normals + (size_t)k * PSC_PROXY_HALF_SIDE(tex) * PSC_PROXY_HALF_SIDE(tex));
         }
         for (unsigned a = 0; a < 3; a++) {
             axes_q16[6 * k + a] = (int32_t)lround(o.right[a] * 65536.0);
