@@ -140,6 +140,23 @@ static void render_tool(double t, const char *png, const char *ids)
     free(r.output);
 }
 
+/* The device's frame `frame` (30 a second) from the board's output folder out, in *dev, and periscope-render's of the
+ * same moment, in *tool, written as NAME.png with its ids as NAME.pgm (the path in ids). */
+static void frame_pair(const char *out, unsigned frame, const char *name, psc_image_t *dev, psc_image_t *tool,
+                       char *ids, size_t idslen)
+{
+    char cap[600], png[600], file[64];
+    assert_int_equal(psc_sim_capture_path(cap, sizeof cap, out, frame), 0);
+    snprintf(file, sizeof file, "%s.png", name);
+    tsup_tmp_path(png, sizeof png, "test_scene_objects", file);
+    snprintf(file, sizeof file, "%s.pgm", name);
+    tsup_tmp_path(ids, idslen, "test_scene_objects", file);
+    render_tool(frame / 30.0, png, ids);
+    *dev = load_png(cap);
+    *tool = load_png(png);
+    unlink(cap);
+}
+
 static void test_frames_equal_render(void **state)
 {
     (void)state;
@@ -149,12 +166,9 @@ static void test_frames_equal_render(void **state)
     assert_true(st.frames >= 31);
     static const unsigned frames[2] = {0, 30};
     for (unsigned k = 0; k < 2; k++) {
-        char cap[600], png[600], ids[600];
-        assert_int_equal(psc_sim_capture_path(cap, sizeof cap, out, frames[k]), 0);
-        tsup_tmp_path(png, sizeof png, "test_scene_objects", "tool.png");
-        tsup_tmp_path(ids, sizeof ids, "test_scene_objects", "tool.pgm");
-        render_tool(frames[k] / 30.0, png, ids);
-        psc_image_t a = load_png(cap), b = load_png(png);
+        char ids[600];
+        psc_image_t a, b;
+        frame_pair(out, frames[k], "tool", &a, &b, ids, sizeof ids);
         assert_int_equal(a.width, W);
         assert_int_equal(b.width, W);
         unsigned first, differ = count_differ(&a, &b, &first);
@@ -173,7 +187,6 @@ static void test_frames_equal_render(void **state)
         assert_true(thom > 500);   /* he is in the frame */
         psc_io_image_free(&a);
         psc_io_image_free(&b);
-        unlink(cap);
     }
 }
 
@@ -194,14 +207,11 @@ static void test_tiled_frames_equal_render(void **state)
     else
         snprintf(scene_file, sizeof scene_file, "%s/%s", cwd, tiled);
     write_board();
-    char out[400], cap[600], png[600], ids[600];
+    char out[400], ids[600];
     psc_app_stats_t st = run_board("wait 1.05s\nend\n", 30, out, sizeof out);
     assert_true(st.frames >= 31);
-    assert_int_equal(psc_sim_capture_path(cap, sizeof cap, out, 30), 0);
-    tsup_tmp_path(png, sizeof png, "test_scene_objects", "tiled.png");
-    tsup_tmp_path(ids, sizeof ids, "test_scene_objects", "tiled.pgm");
-    render_tool(1.0, png, ids);
-    psc_image_t a = load_png(cap), b = load_png(png);
+    psc_image_t a, b;
+    frame_pair(out, 30, "tiled", &a, &b, ids, sizeof ids);
     unsigned first, differ = count_differ(&a, &b, &first);
     (void)first;
     print_message("  a tiled panorama, frame 30: %u of %u pixels differ from periscope-render's\n", differ, W * H);
@@ -218,14 +228,11 @@ static void test_title_label(void **state)
     title = " title=Thom";
     sample_board();
     title = "";
-    char out[400], cap[600], png[600], ids[600];
+    char out[400], ids[600];
     psc_app_stats_t st = run_board("wait 0.2s\nend\n", 1, out, sizeof out);
     assert_true(st.frames >= 1);
-    assert_int_equal(psc_sim_capture_path(cap, sizeof cap, out, 0), 0);
-    tsup_tmp_path(png, sizeof png, "test_scene_objects", "title.png");
-    tsup_tmp_path(ids, sizeof ids, "test_scene_objects", "title.pgm");
-    render_tool(0.0, png, ids);
-    psc_image_t a = load_png(cap), b = load_png(png);
+    psc_image_t a, b;
+    frame_pair(out, 0, "title", &a, &b, ids, sizeof ids);
     size_t len;
     uint8_t *pgm = tsup_read_bytes(ids, &len);
     assert_non_null(pgm);
