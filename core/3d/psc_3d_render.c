@@ -361,6 +361,11 @@ static void transform_draw(const psc_3d_t *r, const psc_3d_draw_t *d, vcache_t *
                     *uv[k][0] = d->view_uv_q16[k][2u * i];
                     *uv[k][1] = d->view_uv_q16[k][2u * i + 1];
                 }
+            if (d->view_light_q14) {   /* (the normal's fields: VIEWS has no normal of its own to carry) */
+                c->cv.nx_q14 = d->view_light_q14[3u * i];
+                c->cv.ny_q14 = d->view_light_q14[3u * i + 1];
+                c->cv.nz_q14 = d->view_light_q14[3u * i + 2];
+            }
         }
         c->outcode = (uint8_t)psc_clip_outcode(&r->vol, cam.x, cam.y, cam.z);
         if (c->outcode == 0)
@@ -502,6 +507,7 @@ void psc_3d_tile_state(const psc_3d_draw_t *d, psc_raster_state_t *st)
         .view_normals = {d->view_normals[0], d->view_normals[1], d->view_normals[2]},
         .view_light = d->view_light,
         .view_bake_light = d->view_bake_light,
+        .view_light_vertices = d->shade == PSC_SHADE_VIEWS && d->view_normals[0] && d->view_light_q14,
         .view_depth = d->view_depth,
         .view_depth_side = d->view_depth_side,
         .mask_color = d->color,

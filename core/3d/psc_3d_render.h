@@ -129,6 +129,9 @@ typedef struct {
      * the normals' frame (the caller's: the pipeline does not rotate them) */
     const psc_texture_t *view_normals[3];
     psc_lambert_q14_t view_light, view_bake_light;
+    /* VIEWS relit: the light at each vertex instead (3 per vertex in the mesh's order: toward it in the normals'
+     * frame, unit Q2.14; view_light's ambient), blended across each triangle; NULL: view_light everywhere */
+    const int16_t *view_light_q14;
     /* VIEWS with depth (psc_raster.h): the heaviest view's depth offsets, view_depth_side^2 int8, each 1/256 of a
      * camera unit behind the surface drawn (NULL: the surface's own depth) */
     const int8_t *view_depth;

@@ -324,6 +324,7 @@ typedef struct {
     uint32_t *relit_color;         /* (packs with normals) the full mesh's vertex colours relit this frame */
     psc_texture_t *normal_tex;     /* (packs with normals) 3 per draw: the views' normals */
     int32_t *joint_light_q14;      /* (packs with normals) per joint, this frame: the light in its rest frame (Q2.14) */
+    int16_t *strip_light_q14;      /* (packs with normals) per skinned proxy vertex: its joints' lights blended */
     uint32_t blended_vertices;     /* full-mesh vertices that follow more than one joint (relit, they cost more) */
     uint32_t *strip_first;         /* part_count + 1: part i's bones are strip_bones[strip_first[i] .. [i + 1]) */
     psc_proxy_bone_t *strip_bones; /* a joint strip's bones, for its M3 */

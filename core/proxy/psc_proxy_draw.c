@@ -54,14 +54,14 @@ static size_t align8(size_t v)
     return (v + 7u) & ~(size_t)7u;
 }
 
-/* What relighting adds (packs with normals): the full mesh's relit colours, the views' normal textures, and each
- * joint's light. */
-static size_t relight_bytes(const psc_proxy_model_t *m)
+/* What relighting adds (packs with normals): the full mesh's relit colours, the views' normal textures, each
+ * joint's light, and each skinned proxy vertex's. */
+static size_t relight_bytes(const psc_proxy_model_t *m, const counts_t *c)
 {
     if (!m->tex_normals)
         return 0;
     return align8((size_t)m->vertex_count * 4u) + align8((size_t)m->part_count * 3u * sizeof(psc_texture_t)) +
-           align8((size_t)m->joint_count * 3u * sizeof(int32_t));
+           align8((size_t)m->joint_count * 3u * sizeof(int32_t)) + align8((size_t)c->proxy_posed * 3u * sizeof(int16_t));
 }
 
 static void strip_bones(psc_proxy_t *p);
@@ -75,7 +75,7 @@ size_t psc_proxy_workspace_size(const psc_proxy_model_t *m)
            align8((size_t)c.draws * sizeof(psc_mesh_t)) + align8((size_t)c.draws * 3u * sizeof(psc_texture_t)) +
            align8((size_t)c.draws * sizeof(psc_3d_draw_t)) + align8((size_t)m->bb_view_count * sizeof(uint32_t)) +
            align8((size_t)(c.draws + 1u) * sizeof(uint32_t)) + align8((size_t)c.strip_joints * sizeof(psc_proxy_bone_t)) +
-           relight_bytes(m);
+           relight_bytes(m, &c);
 }
 
 uint32_t psc_proxy_max_vertices(const psc_proxy_model_t *m)
@@ -123,6 +123,8 @@ psc_status_t psc_proxy_init(psc_proxy_t *p, const psc_proxy_model_t *m, void *ws
         p->normal_tex = (psc_texture_t *)(void *)w;
         w += align8((size_t)c.draws * 3u * sizeof(psc_texture_t));
         p->joint_light_q14 = (int32_t *)(void *)w;
+        w += align8((size_t)m->joint_count * 3u * sizeof(int32_t));
+        p->strip_light_q14 = (int16_t *)(void *)w;
     }
     p->filter = PSC_TEX_EDGES;
     p->lod = PSC_PROXY_LOD_PROXIES;
@@ -282,8 +284,34 @@ static psc_lambert_q14_t lambert_in(const psc_proxy_t *p, const psc_mat4_q16_t *
     return out;
 }
 
-/* A full-mesh piece's colours relit into out: each vertex's light the blend of its joints' (their rotations'
- * transposes applied to the light, blended as its skin weighs them: the light in the frame of its rest normal). */
+/* A skinned vertex's light (sk its skin): the blend of its joints' (their rotations' transposes applied to the
+ * light, blended as its skin weighs them: the light in the frame of its rest normal), unit, Q2.14. */
+static void vertex_light(const psc_proxy_t *p, const psc_proxy_skin_raw_t *sk, int16_t out[3])
+{
+    unsigned single = 4;   /* the one joint it follows wholly (a rigid part's every vertex), or 4 */
+    for (unsigned k = 0; k < 4 && single == 4; k++)
+        single = sk->weight_q15[k] == 32768u ? k : 4;
+    if (single < 4) {   /* its joint's light as it is: no blend to renormalise */
+        const int32_t *jl = &p->joint_light_q14[3u * sk->joint[single]];
+        for (unsigned a = 0; a < 3; a++)
+            out[a] = (int16_t)jl[a];
+        return;
+    }
+    int64_t l[3] = {0, 0, 0};
+    int32_t u[3];
+    for (unsigned k = 0; k < 4; k++) {
+        if (sk->weight_q15[k] == 0)
+            continue;
+        const int32_t *jl = &p->joint_light_q14[3u * sk->joint[k]];
+        for (unsigned a = 0; a < 3; a++)
+            l[a] += (int64_t)jl[a] * sk->weight_q15[k];
+    }
+    psc_unit3_q16(l, u);
+    for (unsigned a = 0; a < 3; a++)
+        out[a] = (int16_t)psc_shr_round32(u[a], 2);
+}
+
+/* A full-mesh piece's colours relit into out, each vertex by its own light (vertex_light). */
 static void relight_piece(const psc_proxy_t *p, const psc_proxy_part_raw_t *pr, uint32_t *out)
 {
     const psc_proxy_model_t *m = p->m;
@@ -293,27 +321,7 @@ static void relight_piece(const psc_proxy_t *p, const psc_proxy_part_raw_t *pr, 
     for (uint32_t i = 0; i < pr->vertex_count; i++) {
         psc_lambert_q14_t now = {{0, 0, 0}, p->ambient_q14};
         int32_t n[3];
-        unsigned single = 4;   /* the one joint it follows wholly (a rigid part's every vertex), or 4 */
-        for (unsigned k = 0; k < 4 && single == 4; k++)
-            single = sk[i].weight_q15[k] == 32768u ? k : 4;
-        if (single < 4) {   /* its joint's light as it is: no blend to renormalise */
-            const int32_t *jl = &p->joint_light_q14[3u * sk[i].joint[single]];
-            for (unsigned a = 0; a < 3; a++)
-                now.toward_q14[a] = (int16_t)jl[a];
-        } else {
-            int64_t l[3] = {0, 0, 0};
-            int32_t u[3];
-            for (unsigned k = 0; k < 4; k++) {
-                if (sk[i].weight_q15[k] == 0)
-                    continue;
-                const int32_t *jl = &p->joint_light_q14[3u * sk[i].joint[k]];
-                for (unsigned a = 0; a < 3; a++)
-                    l[a] += (int64_t)jl[a] * sk[i].weight_q15[k];
-            }
-            psc_unit3_q16(l, u);
-            for (unsigned a = 0; a < 3; a++)
-                now.toward_q14[a] = (int16_t)psc_shr_round32(u[a], 2);
-        }
+        vertex_light(p, &sk[i], now.toward_q14);
         psc_oct16_decode(nrm[i], n);
         out[i] = psc_lambert_relight(&now, &bake_light, n, col[i]);
     }
@@ -513,7 +521,7 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
     if (lod == PSC_PROXY_LOD_BILLBOARD)
         lod = PSC_PROXY_LOD_PROXIES;
     const bool relit = p->relit && m->tex_normals && !ids;
-    if (relit && lod == PSC_PROXY_LOD_FULL)
+    if (relit)   /* (the full mesh's vertices and the strips' proxy vertices blend them) */
         for (uint32_t j = 0; j < m->joint_count; j++)
             light_in_q14(p, &skin[j], &p->joint_light_q14[3u * j]);
     const uint16_t *texels = m->texels;   /* part i's run of the atlas */
@@ -565,10 +573,16 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
             continue;
         const int32_t *rest = m->proxy_position_q16 + 3u * (size_t)pr->first_proxy_vertex;
         const int32_t *pos = rest;
+        int16_t *vlight = NULL;   /* a strip relit: its vertices' lights */
         if (!rigid(pr)) {
             int32_t *out = p->proxy_posed_q16 + 3u * (size_t)pposed_at;
             skin_points(skin, rest, m->proxy_skin + pr->first_proxy_vertex, pr->proxy_vertex_count, out);
             pos = out;
+            if (relit && pr->kind == PSC_PROXY_KIND_JOINT) {
+                vlight = p->strip_light_q14 + 3u * (size_t)pposed_at;
+                for (uint32_t v = 0; v < pr->proxy_vertex_count; v++)
+                    vertex_light(p, &m->proxy_skin[pr->first_proxy_vertex + v], &vlight[3u * v]);
+            }
             pposed_at += pr->proxy_vertex_count;
         }
         const uint16_t *idx = m->proxy_index + 3u * (size_t)pr->first_proxy_triangle;
@@ -618,8 +632,9 @@ psc_status_t psc_proxy_frame(psc_proxy_t *p, const psc_mat4_q16_t *skin, const p
         psc_3d_draw_t *d = &p->draws[nd];
         draw_base(d, mesh, cam, ids, i);
         if (relit)
-            pt.light = lambert_in(p, &m3);   /* a strip's normals turn with its M3 */
+            pt.light = lambert_in(p, &m3);   /* (its ambient; the light itself each vertex's, its bones' blend) */
         set_views(d, &p->textures[3u * nd], p->normal_tex ? &p->normal_tex[3u * nd] : NULL, &pt, &pick, uv, p->filter);
+        d->view_light_q14 = vlight;
         nd++;
     }
     *draws = p->draws;

@@ -41,6 +41,7 @@ typedef struct {
      * are sums over its (perspective-correct) barycentric weights (a proxy's triangle covers a few pixels: seven
      * planes would cost more to set up than to use) */
     int64_t q0, dq[2], q12[2], vu0[3], dvu[3][2], vv0[3], dvv[3][2];
+    int64_t ln0[3], dln[3][2];   /* VIEWS relit, view_light_vertices: the light at corner 0, 1 and 2's differences */
     int64_t area2, bw_rcp;       /* VIEWS: doubled area, 2^60 / it (a corner's weight is its edge value x bw_rcp) */
     bool affine;                 /* TEXTURE, VIEWS: perspective moves u, v too little to matter: no division a pixel */
     int64_t am[3];               /* A-buffer: the most a sample's edge value lies below the centre's */
@@ -987,6 +988,21 @@ static PSC_ALWAYS_INLINE void views_normal(const psc_raster_state_t *st, const i
             normal_sample(st->view_normals[k], uu[k], vv[k], 65536u, nrm);
 }
 
+/* The corners' lights (view_light_vertices) at a point of weights b1, b2 (Q0.16) into l, made unit (their blend is
+ * shorter where they part); l left as it is should they cancel. */
+static PSC_ALWAYS_INLINE void light_at(const setup_t *s, int64_t b1, int64_t b2, psc_lambert_q14_t *l)
+{
+    int64_t v[3];
+    for (unsigned a = 0; a < 3; a++)
+        v[a] = clamp64(bary(s->ln0[a], s->dln[a], b1, b2), -16384, 16384);
+    uint32_t len2 = (uint32_t)(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);   /* <= 3 x 2^28 */
+    if (len2 == 0)
+        return;
+    int64_t inv = psc_rsqrt_q30(len2);   /* 2^30 / |v| */
+    for (unsigned a = 0; a < 3; a++)
+        l->toward_q14[a] = (int16_t)clamp64(psc_shr_round64(v[a] * inv, 16), -16384, 16384);
+}
+
 static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_target_t *t,
                                              const psc_raster_state_t *st, const int out565, const int zbits,
                                              const int bilinear, const int affine, const int aa)
@@ -1126,7 +1142,10 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                         if (relit && !st->views_mask) {
                             int32_t nrm[3];
                             views_normal(st, uu, vv, covering, nrm);
-                            c = psc_lambert_relight(&st->view_light, &st->view_bake_light, nrm, c);
+                            psc_lambert_q14_t now = st->view_light;
+                            if (st->view_light_vertices)
+                                light_at(s, b1, b2, &now);
+                            c = psc_lambert_relight(&now, &st->view_bake_light, nrm, c);
                         }
                         bool put = true;
                         if (aa && cover != PSC_ABUF_FULL)
@@ -1495,6 +1514,11 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
                      v[2]->v1_q16);
         view_corners(&s, 2, st->view_w_q8[2], v[0]->u2_q16, v[0]->v2_q16, v[1]->u2_q16, v[1]->v2_q16, v[2]->u2_q16,
                      v[2]->v2_q16);
+        for (unsigned a = 0; a < 3 && st->view_light_vertices; a++) {
+            s.ln0[a] = v[0]->n_q14[a];
+            s.dln[a][0] = v[1]->n_q14[a] - v[0]->n_q14[a];
+            s.dln[a][1] = v[2]->n_q14[a] - v[0]->n_q14[a];
+        }
         s.area2 = area2;
         s.bw_rcp = (int64_t)(rcp >> 2);   /* floor(floor(2^62 / a) / 4) = floor(2^60 / a): no second division */
     }

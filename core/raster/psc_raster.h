@@ -188,6 +188,10 @@ typedef struct {
      * the light they are lit by now and the one their texels were baked with, both in the normals' frame */
     const psc_texture_t *view_normals[3];
     psc_lambert_q14_t view_light, view_bake_light;
+    /* VIEWS relit: the light differs from corner to corner (a skinned strip whose ends follow different bones): each
+     * vertex's n_q14 holds it (toward the light in the normals' frame, unit Q2.14), a pixel takes their blend made
+     * unit, with view_light's ambient */
+    bool view_light_vertices;
     /* VIEWS with depth (below): the heaviest view's depth offsets, side^2 int8 row-major at its (u, v) (NULL: none) */
     const int8_t *view_depth;
     uint16_t view_depth_side;
