@@ -1014,7 +1014,7 @@ static void test_proxy_tools(void **state)
     tmp_path(depth, sizeof depth, "bar-depth.pgm");
     tmp_path(json, sizeof json, "bar.json");
     const char *bake[] = {"bake", bar, "-o", ppx, "--views", "9", "--tex", "32", "--tex-mb", "0.4", NULL};
-    const char *baked[] = {"11 parts and 11 joints", "266 proxy triangles for 2112", "9 views", "texels per R (",
+    const char *baked[] = {"11 parts and 11 joints", "528 proxy triangles for 2112", "9 views", "texels per R (",
                            "to 32x32", "with mips: 0.4 MB",
                            "26 animation samples", NULL};
     expect_run("periscope-proxy", bake, 0, baked);

@@ -2,6 +2,8 @@
 /* proxy.c - parts, joints, proxies, animation and the proxy pack (proxy.h). */
 #include "bake/proxy.h"
 #include "bake/simplify.h"
+#include "bake/skin_split.h"
+#include "util/tri_nearest.h"
 #include "util/hmath.h"
 #include "psc_io_container_write.h"
 #include "psc_io_error.h"
@@ -306,38 +308,6 @@ static int loosen(const psc_gltf_t *g, group_t *gr, uint32_t ng, const uint8_t *
 
 /* ---- holding the surface ------------------------------------------------------------------------ */
 
-/* The point of triangle (a, b, c) nearest p, into q (by the triangle's regions: inside, else the nearest edge). */
-static void nearest_on_triangle(const double p[3], const double a[3], const double b[3], const double c[3], double q[3])
-{
-    double ab[3], ac[3], ap[3];
-    for (unsigned k = 0; k < 3; k++)
-        ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k];
-    double d00 = psc_hmath_dot3(ab, ab), d01 = psc_hmath_dot3(ab, ac), d11 = psc_hmath_dot3(ac, ac);
-    double d1 = psc_hmath_dot3(ab, ap), d2 = psc_hmath_dot3(ac, ap), den = d00 * d11 - d01 * d01;
-    double v = den > 1e-30 ? (d11 * d1 - d01 * d2) / den : -1, w = den > 1e-30 ? (d00 * d2 - d01 * d1) / den : -1;
-    if (v >= 0 && w >= 0 && v + w <= 1) {
-        for (unsigned k = 0; k < 3; k++)
-            q[k] = a[k] + v * ab[k] + w * ac[k];
-        return;
-    }
-    const double *e0[3] = {a, b, c}, *e1[3] = {b, c, a};
-    double best = INFINITY;
-    for (unsigned e = 0; e < 3; e++) {
-        double d[3], f[3], x[3], g2 = 0;
-        for (unsigned k = 0; k < 3; k++)
-            d[k] = e1[e][k] - e0[e][k], f[k] = p[k] - e0[e][k];
-        double dd = psc_hmath_dot3(d, d), t = dd > 0 ? fmin(1, fmax(0, psc_hmath_dot3(f, d) / dd)) : 0;
-        for (unsigned k = 0; k < 3; k++) {
-            x[k] = e0[e][k] + t * d[k];
-            g2 += (p[k] - x[k]) * (p[k] - x[k]);
-        }
-        if (g2 < best) {
-            best = g2;
-            memcpy(q, x, sizeof x);
-        }
-    }
-}
-
 /* How far each proxy vertex must move out along its normal for its proxy to hold its group's surface: a simplified
  * surface cuts inside where the model bulges (a tube's section becomes a polygon inside its circle), and the
  * silhouette would lose what lies outside it. For each model vertex, its group's nearest proxy triangle; where the
@@ -361,7 +331,7 @@ static void bulges(const psc_gltf_t *g, const group_t *gr, uint32_t ng, const ui
                 for (uint32_t t = 0; t < q->prx.n; t++) {
                     const uint32_t *v = &sidx[3u * q->prx.t[t]];
                     double x[3], d2 = 0;
-                    nearest_on_triangle(p, &pos[3u * v[0]], &pos[3u * v[1]], &pos[3u * v[2]], x);
+                    psc_tri_nearest(p, &pos[3u * v[0]], &pos[3u * v[1]], &pos[3u * v[2]], x, NULL);
                     for (unsigned a = 0; a < 3; a++)
                         d2 += (p[a] - x[a]) * (p[a] - x[a]);
                     if (d2 < best) {
@@ -729,6 +699,8 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
     double *bulge = NULL;
     uint8_t *near = NULL;
     const psc_proxy_shape_t **near_shapes = NULL;
+    psc_bake_skin_vertices_t split_vertices = {0};
+    psc_gltf_t split_model;   /* g with split_vertices, once the skin split has added some */
     bool jointed = false;   /* a skinned model's triangles between parts: joint strips, no loose cuts */
     for (uint32_t t = 0; t < g->mesh.triangle_count && !jointed; t++) {
         uint8_t kind;
@@ -758,6 +730,26 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
             psc_io_errorf(err, errlen, name, "out of memory");
             goto done;
         }
+    }
+    /* a skinned limb's long triangles split where its skin changes along them, so that bent they follow its curve,
+     * within a quarter of the model's triangles (skin_split.h); the rest of the bake sees the vertices added */
+    long grew = psc_bake_skin_split(g, r, PSC_BAKE_SKIN_SPLIT_TOL, (uint32_t)fmax(snt, g->mesh.triangle_count / 4u),
+                                    &sidx, &sreg, &snt, &split_vertices);
+    int32_t *map_split = grew > 0 ? realloc(map, ((size_t)split_vertices.count + 1u) * sizeof *map) : map;
+    if (grew < 0 || !map_split) {
+        psc_io_errorf(err, errlen, name, "out of memory");
+        goto done;
+    }
+    map = map_split;
+    if (grew > 0) {
+        split_model = *g;
+        split_model.mesh.pos = split_vertices.pos;
+        split_model.mesh.normal = split_vertices.normal;
+        split_model.mesh.color = split_vertices.color;
+        split_model.mesh.vertex_count = split_vertices.count;
+        split_model.joint = split_vertices.joint;
+        split_model.weight = split_vertices.weight;
+        g = &split_model;
     }
     for (uint32_t t = 0; t < snt; t++)
         if (tris_add(&gr[sreg[t]].prx, t) != 0) {
@@ -991,6 +983,7 @@ int psc_bake_proxy(const psc_gltf_t *g, const psc_bake_proxy_opts_t *o, const ch
              (pk.tex.n + pk.tnrm.n + pk.tdep.n) / 1048576.0, normal_note, frames);
     rc = 0;
 done:
+    psc_bake_skin_vertices_free(&split_vertices);
     for (uint32_t k = 0; k < nshapes; k++)
         shape_free(&shapes[k]);
     free(shapes);
