@@ -1078,16 +1078,13 @@ static void test_depth_offsets(void **state)
     fixture_free(&f);
 }
 
-/* Joint strips stay attached to both parts they join, however far the pose bends them: every joint proxy corner
- * that sits on a part proxy's vertex at rest sits on it posed (both are cut from one simplified mesh and skinned by
- * its vertices' weights), at the animation's time and bent 90 degrees at every third joint. */
-static void test_joints_attached(void **state)
+/* The bar baked coarse (9 views, 16 texels) into f, posed at 0.4 s and bent 90 degrees more at every third joint:
+ * its skin matrices (malloc'd), and a camera 4 R in front of it into *cam. */
+static psc_mat4_q16_t *bar_bent_90(fixture_t *f, psc_mat4_q16_t *cam)
 {
-    (void)state;
-    fixture_t f = {0};
-    bake(&f, GLTF_DIR "animation_with_skeleton.gltf", 9, 16);
-    const psc_proxy_model_t *m = &f.m;
-    psc_mat4_q16_t *skin = malloc(m->joint_count * sizeof *skin), cam;
+    bake(f, GLTF_DIR "animation_with_skeleton.gltf", 9, 16);
+    const psc_proxy_model_t *m = &f->m;
+    psc_mat4_q16_t *skin = malloc(m->joint_count * sizeof *skin);
     double(*pre)[12] = calloc(m->joint_count, sizeof *pre), (*post)[12] = calloc(m->joint_count, sizeof *post);
     assert_true(skin && pre && post);
     for (uint32_t j = 0; j < m->joint_count; j++) {
@@ -1096,8 +1093,21 @@ static void test_joints_attached(void **state)
         memcpy(post[j], j % 3 == 0 ? rz : id, sizeof id);
     }
     assert_int_equal(psc_render_proxy_pose(m, 0.4, (const double(*)[12])pre, (const double(*)[12])post, skin), 0);
-    psc_mat4_identity(&cam);
-    cam.m[2][3] = 4 * PSC_Q16_ONE;
+    free(pre), free(post);
+    psc_mat4_identity(cam);
+    cam->m[2][3] = 4 * PSC_Q16_ONE;
+    return skin;
+}
+
+/* Joint strips stay attached to both parts they join, however far the pose bends them: every joint proxy corner
+ * that sits on a part proxy's vertex at rest sits on it posed (both are cut from one simplified mesh and skinned by
+ * its vertices' weights), at the animation's time and bent 90 degrees at every third joint. */
+static void test_joints_attached(void **state)
+{
+    (void)state;
+    fixture_t f = {0};
+    psc_mat4_q16_t cam, *skin = bar_bent_90(&f, &cam);
+    const psc_proxy_model_t *m = &f.m;
     /* the parts' proxies as drawn: their posed vertices, by their rest positions */
     const psc_3d_draw_t *d;
     unsigned nd;
@@ -1154,7 +1164,7 @@ static void test_joints_attached(void **state)
     assert_true(attached > 20);
     assert_int_equal(k, nd);   /* a draw per part and per joint strip with a proxy, nothing else */
     assert_true(worst < 0.001);   /* the push (0.0005 R) turned with the surface, and rounding */
-    free(rest), free(posed), free(skin), free(pre), free(post);
+    free(rest), free(posed), free(skin);
     fixture_free(&f);
 }
 
@@ -1263,19 +1273,8 @@ static void test_strip_light(void **state)
 {
     (void)state;
     fixture_t f = {0};
-    bake(&f, GLTF_DIR "animation_with_skeleton.gltf", 9, 16);
+    psc_mat4_q16_t cam, *skin = bar_bent_90(&f, &cam);
     const psc_proxy_model_t *m = &f.m;
-    psc_mat4_q16_t *skin = malloc(m->joint_count * sizeof *skin), cam;
-    double(*pre)[12] = calloc(m->joint_count, sizeof *pre), (*post)[12] = calloc(m->joint_count, sizeof *post);
-    assert_true(skin && pre && post);
-    for (uint32_t j = 0; j < m->joint_count; j++) {
-        const double id[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, rz[12] = {0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0};
-        memcpy(pre[j], id, sizeof id);
-        memcpy(post[j], j % 3 == 0 ? rz : id, sizeof id);
-    }
-    assert_int_equal(psc_render_proxy_pose(m, 0.4, (const double(*)[12])pre, (const double(*)[12])post, skin), 0);
-    psc_mat4_identity(&cam);
-    cam.m[2][3] = 4 * PSC_Q16_ONE;
     const double lm[3] = {0.48, 0.6, 0.64};   /* toward the light, model space, unit */
     const int32_t l[3] = {(int32_t)lround(lm[0] * 65536), (int32_t)lround(lm[1] * 65536), (int32_t)lround(lm[2] * 65536)};
     assert_int_equal(psc_proxy_set_light(&f.px, l, 7373), PSC_OK);
@@ -1322,7 +1321,7 @@ static void test_strip_light(void **state)
     assert_true(strips >= 3 && corners > 20);
     assert_true(worst < 0.0005);   /* Q2.14 and the skin's Q16 rounding */
     assert_true(widest > 10 && widest < 100);   /* measured 20.1: the skin blends across the strip, no vertex wholly one bone */
-    free(skin), free(pre), free(post);
+    free(skin);
     fixture_free(&f);
 }
 
