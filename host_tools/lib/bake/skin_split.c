@@ -104,11 +104,105 @@ static void blend_normal(psc_bake_skin_vertices_t *s, const uint32_t *v, const d
         s->normal[3u * m + k] = len > 1e-12 ? x[k] / len : s->normal[3u * v[0] + k];
 }
 
+/* The model's triangles binned in a uniform grid by their boxes, so that a split vertex's search reads the few near
+ * its edge rather than every one (a model of 100 000 triangles may ask thousands of splits). */
+typedef struct {
+    double lo[3], cell;
+    uint32_t n[3];
+    uint32_t *first;   /* n0 n1 n2 + 1: cell c's triangles are tri[first[c] .. first[c + 1]) */
+    uint32_t *tri;
+    uint32_t *stamp;   /* per triangle: the last search that read it */
+    uint32_t search;
+} tri_grid_t;
+
+static void grid_free(tri_grid_t *gr)
+{
+    free(gr->first), free(gr->tri), free(gr->stamp);
+    *gr = (tri_grid_t){0};
+}
+
+/* The cells [c0, c1] an interval [lo, hi] of axis k covers. */
+static void grid_span(const tri_grid_t *gr, unsigned k, double lo, double hi, uint32_t *c0, uint32_t *c1)
+{
+    double a = floor((lo - gr->lo[k]) / gr->cell), b = floor((hi - gr->lo[k]) / gr->cell);
+    *c0 = a < 0 ? 0 : a >= gr->n[k] ? gr->n[k] - 1u : (uint32_t)a;
+    *c1 = b < 0 ? 0 : b >= gr->n[k] ? gr->n[k] - 1u : (uint32_t)b;
+}
+
+static void tri_box(const psc_gltf_t *g, uint32_t t, double lo[3], double hi[3])
+{
+    const uint32_t *v = &g->mesh.index[3u * t];
+    for (unsigned k = 0; k < 3; k++) {
+        double x = g->mesh.pos[3u * v[0] + k], y = g->mesh.pos[3u * v[1] + k], z = g->mesh.pos[3u * v[2] + k];
+        lo[k] = fmin(x, fmin(y, z));
+        hi[k] = fmax(x, fmax(y, z));
+    }
+}
+
+/* 0, or -1 out of memory. */
+static int grid_build(const psc_gltf_t *g, tri_grid_t *gr)
+{
+    *gr = (tri_grid_t){0};
+    uint32_t nt = g->mesh.triangle_count;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, ext = 0;
+    for (uint32_t v = 0; v < g->mesh.vertex_count; v++)
+        for (unsigned k = 0; k < 3; k++)
+            lo[k] = fmin(lo[k], g->mesh.pos[3u * v + k]), hi[k] = fmax(hi[k], g->mesh.pos[3u * v + k]);
+    for (unsigned k = 0; k < 3; k++)
+        ext = fmax(ext, hi[k] - lo[k]);
+    double res = fmin(64, fmax(1, ceil(cbrt(nt / 2.0))));   /* about two triangles a cell, in a cube */
+    gr->cell = ext > 0 ? ext / res : 1;
+    size_t cells = 1;
+    for (unsigned k = 0; k < 3; k++) {
+        gr->lo[k] = g->mesh.vertex_count ? lo[k] : 0;
+        gr->n[k] = g->mesh.vertex_count ? (uint32_t)fmin(64, floor((hi[k] - lo[k]) / gr->cell) + 1) : 1;
+        cells *= gr->n[k];
+    }
+    gr->first = calloc(cells + 1u, sizeof *gr->first);
+    gr->stamp = calloc((size_t)nt + 1u, sizeof *gr->stamp);
+    if (!gr->first || !gr->stamp) {
+        grid_free(gr);
+        return -1;
+    }
+    for (unsigned pass = 0; pass < 2; pass++) {   /* count each cell's triangles, then place them */
+        for (uint32_t t = 0; t < nt; t++) {
+            double tl[3], th[3];
+            uint32_t c0[3], c1[3];
+            tri_box(g, t, tl, th);
+            for (unsigned k = 0; k < 3; k++)
+                grid_span(gr, k, tl[k], th[k], &c0[k], &c1[k]);
+            for (uint32_t z = c0[2]; z <= c1[2]; z++)
+                for (uint32_t y = c0[1]; y <= c1[1]; y++)
+                    for (uint32_t x = c0[0]; x <= c1[0]; x++) {
+                        size_t c = ((size_t)z * gr->n[1] + y) * gr->n[0] + x;
+                        if (pass == 0)
+                            gr->first[c + 1u]++;
+                        else
+                            gr->tri[gr->first[c]++] = t;
+                    }
+        }
+        if (pass == 0) {
+            for (size_t c = 0; c < cells; c++)
+                gr->first[c + 1u] += gr->first[c];
+            if (!(gr->tri = malloc(((size_t)gr->first[cells] + 1u) * sizeof *gr->tri))) {
+                grid_free(gr);
+                return -1;
+            }
+        }
+    }
+    for (size_t c = cells; c > 0; c--)   /* (placing advanced each start to the next cell's) */
+        gr->first[c] = gr->first[c - 1u];
+    gr->first[0] = 0;
+    return 0;
+}
+
 /* Vertex m made the middle of edge (a, b) on the model's surface: the point of the model's triangles that face the
- * edge's way nearest the edge's middle, within half the edge's length of it (else the middle itself), with the
- * position, normal and skin the model has there (its triangle's corners' blended as the point lies among them) and
- * a's colour. A chord cuts inside a curve: the surface's point keeps the proxy on it. */
-static void middle(const psc_gltf_t *g, psc_bake_skin_vertices_t *s, uint32_t a, uint32_t b, uint32_t m)
+ * edge's way nearest the edge's middle, within half the edge's length of it (else the middle itself; of points as
+ * near, the first triangle's), with the position, normal and skin the model has there (its triangle's corners'
+ * blended as the point lies among them) and a's colour. A chord cuts inside a curve: the surface's point keeps the
+ * proxy on it. */
+static void middle(const psc_gltf_t *g, tri_grid_t *gr, psc_bake_skin_vertices_t *s, uint32_t a, uint32_t b,
+                   uint32_t m)
 {
     double mid[3], n[3] = {0, 0, 0}, l2 = 0;
     for (unsigned k = 0; k < 3; k++) {
@@ -118,34 +212,50 @@ static void middle(const psc_gltf_t *g, psc_bake_skin_vertices_t *s, uint32_t a,
             n[k] = s->normal[3u * a + k] + s->normal[3u * b + k];
     }
     double best = l2 / 4, bw[3] = {0.5, 0.5, 0}, at[3];
-    uint32_t bv[3] = {a, b, b};
+    uint32_t bv[3] = {a, b, b}, bt = UINT32_MAX, c0[3], c1[3];
     memcpy(at, mid, sizeof at);
-    for (uint32_t t = 0; t < g->mesh.triangle_count; t++) {
-        const uint32_t *v = &g->mesh.index[3u * t];
-        const double *p0 = &g->mesh.pos[3u * v[0]], *p1 = &g->mesh.pos[3u * v[1]], *p2 = &g->mesh.pos[3u * v[2]];
-        bool far = false;   /* its box further than the best from the middle along an axis */
-        double r = sqrt(best);
-        for (unsigned k = 0; k < 3 && !far; k++)
-            far = fmin(p0[k], fmin(p1[k], p2[k])) > mid[k] + r || fmax(p0[k], fmax(p1[k], p2[k])) < mid[k] - r;
-        if (far)
-            continue;
-        double e1[3], e2[3];
-        for (unsigned k = 0; k < 3; k++)
-            e1[k] = p1[k] - p0[k], e2[k] = p2[k] - p0[k];
-        double tn[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-        if (s->normal && tn[0] * n[0] + tn[1] * n[1] + tn[2] * n[2] <= 0)
-            continue;   /* (the far side of a thin part) */
-        double q[3], w[3], d2 = 0;
-        psc_tri_nearest(mid, p0, p1, p2, q, w);
-        for (unsigned k = 0; k < 3; k++)
-            d2 += (q[k] - mid[k]) * (q[k] - mid[k]);
-        if (d2 < best) {
-            best = d2;
-            memcpy(at, q, sizeof at);
-            memcpy(bw, w, sizeof bw);
-            memcpy(bv, v, sizeof bv);
-        }
-    }
+    for (unsigned k = 0; k < 3; k++)
+        grid_span(gr, k, mid[k] - sqrt(best), mid[k] + sqrt(best), &c0[k], &c1[k]);
+    gr->search++;
+    for (uint32_t z = c0[2]; z <= c1[2]; z++)
+        for (uint32_t y = c0[1]; y <= c1[1]; y++)
+            for (uint32_t x = c0[0]; x <= c1[0]; x++) {
+                size_t c = ((size_t)z * gr->n[1] + y) * gr->n[0] + x;
+                for (uint32_t i = gr->first[c]; i < gr->first[c + 1u]; i++) {
+                    uint32_t t = gr->tri[i];
+                    if (gr->stamp[t] == gr->search)
+                        continue;
+                    gr->stamp[t] = gr->search;
+                    const uint32_t *v = &g->mesh.index[3u * t];
+                    const double *p0 = &g->mesh.pos[3u * v[0]], *p1 = &g->mesh.pos[3u * v[1]],
+                                 *p2 = &g->mesh.pos[3u * v[2]];
+                    double tl[3], th[3], r = sqrt(best);
+                    bool far = false;   /* its box further than the best from the middle along an axis */
+                    tri_box(g, t, tl, th);
+                    for (unsigned k = 0; k < 3 && !far; k++)
+                        far = tl[k] > mid[k] + r || th[k] < mid[k] - r;
+                    if (far)
+                        continue;
+                    double e1[3], e2[3];
+                    for (unsigned k = 0; k < 3; k++)
+                        e1[k] = p1[k] - p0[k], e2[k] = p2[k] - p0[k];
+                    double tn[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                                    e1[0] * e2[1] - e1[1] * e2[0]};
+                    if (s->normal && tn[0] * n[0] + tn[1] * n[1] + tn[2] * n[2] <= 0)
+                        continue;   /* (the far side of a thin part) */
+                    double q[3], w[3], d2 = 0;
+                    psc_tri_nearest(mid, p0, p1, p2, q, w);
+                    for (unsigned k = 0; k < 3; k++)
+                        d2 += (q[k] - mid[k]) * (q[k] - mid[k]);
+                    if (d2 < best || (d2 == best && t < bt)) {
+                        best = d2;
+                        bt = t;
+                        memcpy(at, q, sizeof at);
+                        memcpy(bw, w, sizeof bw);
+                        memcpy(bv, v, sizeof bv);
+                    }
+                }
+            }
     memcpy(&s->pos[3u * m], at, sizeof at);
     blend_normal(s, bv, bw, 3, m);
     blend_skin(s, bv, bw, 3, m);
@@ -199,7 +309,7 @@ static int grow(psc_bake_skin_vertices_t *s, uint32_t more)
 
 /* One pass: the edges over tol split at their middles, the worst first while the triangles stay within max_nt. The
  * triangles added (0: nothing left to split), or -1 out of memory. */
-static long split_pass(const psc_gltf_t *g, psc_bake_skin_vertices_t *s, double radius, double tol, uint32_t max_nt, uint32_t **idx,
+static long split_pass(const psc_gltf_t *g, tri_grid_t *gr, psc_bake_skin_vertices_t *s, double radius, double tol, uint32_t max_nt, uint32_t **idx,
                        uint32_t **region, uint32_t *nt)
 {
     size_t ne = 3u * (size_t)*nt;
@@ -232,7 +342,7 @@ static long split_pass(const psc_gltf_t *g, psc_bake_skin_vertices_t *s, double 
     }
     for (size_t k = 0; k < ns; k++) {
         all[k].mid = s->count + (uint32_t)k;
-        middle(g, s, (uint32_t)(all[k].key >> 32), (uint32_t)all[k].key, all[k].mid);
+        middle(g, gr, s, (uint32_t)(all[k].key >> 32), (uint32_t)all[k].key, all[k].mid);
     }
     qsort(all, ns, sizeof *all, by_key);
     uint64_t cap = *nt + added;
@@ -282,12 +392,18 @@ long psc_bake_skin_split(const psc_gltf_t *g, double radius, double tol, uint32_
     *out = (psc_bake_skin_vertices_t){0};
     if (!g->weight || !g->joint || radius <= 0 || *nt >= max_nt)
         return 0;
+    tri_grid_t gr;
     if (copy_model(g, out) != 0)
         return -1;
+    if (grid_build(g, &gr) != 0) {
+        psc_bake_skin_vertices_free(out);
+        return -1;
+    }
     long total = 0;
     for (;;) {   /* (each pass adds a triangle at least: max_nt ends it) */
-        long a = split_pass(g, out, radius, tol, max_nt, idx, region, nt);
+        long a = split_pass(g, &gr, out, radius, tol, max_nt, idx, region, nt);
         if (a < 0) {
+            grid_free(&gr);
             psc_bake_skin_vertices_free(out);
             return -1;
         }
@@ -295,6 +411,7 @@ long psc_bake_skin_split(const psc_gltf_t *g, double radius, double tol, uint32_
             break;
         total += a;
     }
+    grid_free(&gr);
     if (total == 0)
         psc_bake_skin_vertices_free(out);
     return total;
