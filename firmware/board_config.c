@@ -93,6 +93,7 @@ static const key_spec_t key_table[] = {
     KEY("render3d_tile", KEY_U32, render3d_tile, 0, PSC_MAX_OUT_DIM, false),
     KEY("render3d_hsr", KEY_HSR, render3d_hsr, 0, 0, false),
     KEY("render3d_abuffer_kb", KEY_U32, render3d_abuffer_kb, 0, 262144, false),
+    KEY("render3d_soft_edges", KEY_BOOL, render3d_soft_edges, 0, 0, false),
     KEY("render3d_relight", KEY_BOOL, render3d_relight, 0, 0, false),
     KEY("render3d_light_azimuth", KEY_MILLI, render3d_light_azimuth_mdeg, -360000, 360000, false),
     KEY("render3d_light_elevation", KEY_MILLI, render3d_light_elevation_mdeg, -90000, 90000, false),
@@ -163,6 +164,7 @@ void psc_board_config_defaults(psc_board_config_t *cfg)
     cfg->pitch_max_mdeg = 90000;
     cfg->pan_follows_zoom = true;
     cfg->character_shadows = true;
+    cfg->render3d_soft_edges = true;
     cfg->render3d_light_azimuth_mdeg = 41634;     /* the proxy bake's light (psc_proxy.h) */
     cfg->render3d_light_elevation_mdeg = 53043;
     cfg->render3d_light_ambient_milli = 450;

@@ -140,6 +140,7 @@ typedef struct {
     uint32_t render3d_tile;             /* render3d_tile: 3D scenes drawn in N x N tiles, 0 = whole screen */
     uint8_t render3d_hsr;               /* render3d_hsr: hidden surfaces, psc_3d_hsr_t (zbuffer | area) */
     uint32_t render3d_abuffer_kb;       /* render3d_abuffer_kb: 3D scenes' A-buffer budget a tile, 0 = aliased */
+    bool render3d_soft_edges;           /* render3d_soft_edges: proxies' silhouettes anti-aliased (default yes) */
     bool render3d_relight;              /* render3d_relight: proxies lit by the light below, not as baked */
     int32_t render3d_light_azimuth_mdeg;   /* render3d_light_azimuth: toward the light, from +z toward +x */
     int32_t render3d_light_elevation_mdeg; /* render3d_light_elevation: above the horizon */

@@ -646,7 +646,7 @@ static void test_spans_follow_edge_functions(void **state)
         for (size_t i = 0; i < (size_t)W * H; i++)
             depth[i] = 0xFFFF;
         psc_raster_target_t t = {&s, use_depth ? depth + (size_t)y0 * W + x0 : NULL, W * sizeof *depth, 16,
-                                 x0, y0, x1, y1, NULL, NULL, 0};
+                                 x0, y0, x1, y1, NULL, NULL, 0, NULL, 0, 0};
         uint32_t drawn = psc_raster_triangle(&t, &st, &v[0], &v[1], &v[2]);
         unsigned inside = 0, bad = 0;
         for (int y = 0; y < H; y++)
@@ -715,7 +715,7 @@ static void test_rgb565_texture_is_its_xrgb(void **state)
         st.modulate = tsup_rng_below(&rng, 2);
         memset(sa.pixels, 0, (size_t)sa.stride * H);
         memset(sb.pixels, 0, (size_t)sb.stride * H);
-        psc_raster_target_t ta = {&sa, NULL, 0, 16, 0, 0, W, H, NULL, NULL, 0}, tb = ta;
+        psc_raster_target_t ta = {&sa, NULL, 0, 16, 0, 0, W, H, NULL, NULL, 0, NULL, 0, 0}, tb = ta;
         tb.surface = &sb;
         st.texture = &a;
         uint32_t na = psc_raster_triangle(&ta, &st, &v[0], &v[1], &v[2]);

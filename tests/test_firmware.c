@@ -87,6 +87,7 @@ static void test_board_valid(void **state)
                        "render3d_hsr = area\n"
                        "render3d_abuffer_kb = 256\n"
                        "render3d_relight = yes\n"
+                       "render3d_soft_edges = no\n"
                        "render3d_light_azimuth = -90\n"
                        "render3d_light_elevation = 12.5\n"
                        "render3d_light_turn = -20\n"
@@ -102,6 +103,7 @@ static void test_board_valid(void **state)
     assert_int_equal(cfg.render3d_hsr, PSC_3D_HSR_AREA);
     assert_int_equal(cfg.render3d_abuffer_kb, 256);
     assert_true(cfg.render3d_relight);
+    assert_false(cfg.render3d_soft_edges);
     assert_int_equal(cfg.render3d_light_azimuth_mdeg, -90000);
     assert_int_equal(cfg.render3d_light_elevation_mdeg, 12500);
     assert_int_equal(cfg.render3d_light_turn_mdeg, -20000);
@@ -179,6 +181,7 @@ static void test_board_errors(void **state)
     /* A NUL byte in the text. */
     static const char nul[] = "display = sim\nin\0put = sim\n";
     psc_board_config_defaults(&cfg);
+    assert_true(cfg.render3d_soft_edges);   /* proxies' silhouettes anti-aliased unless a board says no */
     assert_int_not_equal(psc_board_config_parse(nul, sizeof(nul) - 1, "nul.conf", &cfg, err, sizeof(err)), 0);
     assert_non_null(strstr(err, "nul.conf:2:"));
     /* An unreadable file names the path. */

@@ -89,7 +89,7 @@ static void test_views_rule(void **state)
         psc_surface_t sf = {64, 64, 64 * 4, PSC_PIX_XRGB8888, out};
         for (unsigned i = 0; i < 64 * 64; i++)
             out[i] = 0xFF000000u;
-        psc_raster_target_t tg = {&sf, NULL, 0, 0, 0, 0, 64, 64, NULL, NULL, 0};
+        psc_raster_target_t tg = {&sf, NULL, 0, 0, 0, 0, 64, 64, NULL, NULL, 0, NULL, 0, 0};
         /* a triangle with affine coordinates (q = 1): each view's (u, v) a different affine map of the pixel */
         psc_raster_vertex_t v[3];
         double uv[3][3][2];
@@ -183,7 +183,7 @@ static void test_views_perspective(void **state)
         psc_surface_t sf = {64, 64, 64 * 4, PSC_PIX_XRGB8888, out};
         for (unsigned i = 0; i < 64 * 64; i++)
             out[i] = 0;
-        psc_raster_target_t tg = {&sf, NULL, 0, 0, 0, 0, 64, 64, NULL, NULL, 0};
+        psc_raster_target_t tg = {&sf, NULL, 0, 0, 0, 0, 64, 64, NULL, NULL, 0, NULL, 0, 0};
         double px[3][2], q[3], uv[3][2];
         psc_raster_vertex_t v[3];
         for (unsigned i = 0; i < 3; i++) {
@@ -230,6 +230,143 @@ static void test_views_perspective(void **state)
                   checked, wrong, perspective);
     assert_true(checked > 20000 && perspective > checked / 10);
     assert_int_equal(wrong, 0);
+}
+
+/* ---- soft silhouettes (psc_raster.h) ------------------------------------------------------------ */
+
+enum { SOFT_W = 64, SOFT_H = 8, SOFT_T = 16 };
+
+/* A quad over the whole 64 x 8 target at depth z, its views' coordinates u = x / 64 (four pixels a texel of a
+ * 16 x 16 view), drawn with state st into out (XRGB8888), depth and (NULL: none) coverage. */
+static void soft_quad(const psc_raster_state_t *st, uint32_t z, uint32_t *out, uint16_t *depth, uint8_t *coverage)
+{
+    psc_surface_t sf = {SOFT_W, SOFT_H, SOFT_W * 4, PSC_PIX_XRGB8888, out};
+    psc_raster_target_t tg = {&sf, depth, SOFT_W * 2, 16, 0, 0, SOFT_W, SOFT_H, NULL, NULL, 0, coverage, SOFT_W, BG};
+    static const int32_t corner[4][2] = {{0, 0}, {SOFT_W, 0}, {SOFT_W, SOFT_H}, {0, SOFT_H}};
+    psc_raster_vertex_t v[4];
+    for (unsigned i = 0; i < 4; i++) {
+        int32_t u = corner[i][0] * 65536 / SOFT_W, vv = 16384 + corner[i][1] * 1024;
+        v[i] = (psc_raster_vertex_t){.x_q4 = corner[i][0] * 16, .y_q4 = corner[i][1] * 16, .depth_q32 = z,
+                                     .q_q28 = PSC_RASTER_Q_ONE, .u_q16 = u, .v_q16 = vv, .u1_q16 = u, .v1_q16 = vv,
+                                     .u2_q16 = u, .v2_q16 = vv};
+    }
+    psc_raster_triangle(&tg, st, &v[0], &v[1], &v[2]);
+    psc_raster_triangle(&tg, st, &v[0], &v[2], &v[3]);
+}
+
+/* A view of colour c filled in its texel columns [0, filled). */
+static void soft_view(uint16_t *tex, psc_texture_t *t, uint16_t c, unsigned filled)
+{
+    for (unsigned i = 0; i < SOFT_T * SOFT_T; i++)
+        tex[i] = i % SOFT_T < filled ? c : PSC_VIEW_TEXEL_EMPTY;
+    assert_int_equal(psc_texture_init(t, SOFT_T, SOFT_T, PSC_PIX_RGB565, SOFT_T * 2, tex), PSC_OK);
+}
+
+static void soft_clear(uint32_t *out, uint16_t *depth, uint8_t *coverage)
+{
+    for (unsigned i = 0; i < SOFT_W * SOFT_H; i++)
+        out[i] = 0xFF000000u | BG, depth[i] = 0xFFFFu, coverage[i] = 0;
+}
+
+static int channel_off(uint32_t got, double want[3])
+{
+    int worst = 0;
+    for (unsigned c = 0; c < 3; c++) {
+        int d = abs((int)(got >> (16 - 8 * c) & 255u) - (int)lround(want[c]));
+        worst = d > worst ? d : worst;
+    }
+    return worst;
+}
+
+/* Soft silhouettes against their rule in double: a view filled to its middle column on a quad four pixels a texel
+ * ramps from the colour to the background over one and a half pixels about where its bilinear coverage is a half
+ * (x = 32), within 2 levels; a surface behind drawn later fills the uncovered part of those pixels, not the
+ * background (the order of the two draws changes a level at most); views that disagree over a wide region stay the
+ * alpha test's; without the coverage plane the silhouette is the alpha test's, to the byte. */
+static void test_soft_silhouettes(void **state)
+{
+    (void)state;
+    static uint16_t tex_a[SOFT_T * SOFT_T], tex_b[SOFT_T * SOFT_T], tex_e[SOFT_T * SOFT_T];
+    static uint32_t out[SOFT_W * SOFT_H], first[SOFT_W * SOFT_H];
+    static uint16_t depth[SOFT_W * SOFT_H];
+    static uint8_t coverage[SOFT_W * SOFT_H];
+    const uint16_t ca = 0xF81Fu, cb = 0x07E0u;   /* magenta in front, green behind */
+    psc_texture_t ta, tb, te;
+    soft_view(tex_a, &ta, ca, SOFT_T / 2);
+    soft_view(tex_b, &tb, cb, SOFT_T);
+    soft_view(tex_e, &te, cb, 0);
+    psc_raster_state_t front = {0};
+    front.shade = PSC_SHADE_VIEWS;
+    front.filter = PSC_TEX_EDGES;
+    front.depth_test = true;
+    front.view_tex[0] = front.view_tex[1] = front.view_tex[2] = &ta;
+    front.view_w_q8[0] = 256;
+    psc_raster_state_t behind = front;
+    behind.view_tex[0] = behind.view_tex[1] = behind.view_tex[2] = &tb;
+    const uint32_t xa = psc_rgb565_to_xrgb(ca), xb = psc_rgb565_to_xrgb(cb);
+    int ramp_off = 0, under_off = 0, order_off = 0;
+    unsigned partial = 0;
+    for (int pass = 0; pass < 6; pass++) {
+        /* bilinear, then the edges filter: a pixel whose nearest texels are filled is covered, the ramp outside */
+        const bool edges = pass >= 3;
+        front.filter = behind.filter = edges ? PSC_TEX_EDGES : PSC_TEX_BILINEAR;
+        soft_clear(out, depth, coverage);
+        if (pass % 3 == 2) /* behind first, then in front: blended over it */
+            soft_quad(&behind, 0xC0000000u, out, depth, coverage);
+        soft_quad(&front, 0x40000000u, out, depth, coverage);
+        if (pass % 3 == 1) /* in front first, then behind: filling what the front leaves uncovered */
+            soft_quad(&behind, 0xC0000000u, out, depth, coverage);
+        for (int x = 0; x < SOFT_W; x++) {
+            double a = 0.5 + (32.0 - (x + 0.5)) / 1.5;   /* the edge at x = 32, a texel of coverage 4 pixels */
+            a = a < 1.0 / 32 || (edges && x >= 32) ? 0 : a > 31.0 / 32 || (edges && x < 32) ? 1 : a;
+            if (edges && x == 32)   /* the first empty nearest texel's pixel: the ramp */
+                a = 0.5 + (32.0 - (x + 0.5)) / 1.5;
+            uint32_t under = pass % 3 ? xb : BG;
+            double want[3];
+            for (unsigned c = 0; c < 3; c++)
+                want[c] = (under >> (16 - 8 * c) & 255u) + a * ((double)(xa >> (16 - 8 * c) & 255u) -
+                                                                  (under >> (16 - 8 * c) & 255u));
+            for (int y = 0; y < SOFT_H; y++) {
+                uint32_t got = out[y * SOFT_W + x];
+                int off = channel_off(got, want);
+                if (pass % 3 == 0)
+                    ramp_off = off > ramp_off ? off : ramp_off;
+                else
+                    under_off = off > under_off ? off : under_off;
+                if (pass % 3 == 2) {
+                    int d = channel_off(got, (double[3]){first[y * SOFT_W + x] >> 16 & 255u,
+                                                         first[y * SOFT_W + x] >> 8 & 255u, first[y * SOFT_W + x] & 255u});
+                    order_off = d > order_off ? d : order_off;
+                }
+                partial += pass % 3 == 0 && a > 0 && a < 1;
+            }
+        }
+        if (pass % 3 == 1)
+            memcpy(first, out, sizeof out);
+    }
+    print_message("  soft silhouette: %u pixels partly covered, %d levels off the ramp in double, %d off filled by "
+                  "what lies behind, the two orders %d apart\n", partial, ramp_off, under_off, order_off);
+    assert_int_equal(partial, 3 * SOFT_H);   /* two pixels a row bilinear, one with the edges filter */
+    assert_true(ramp_off <= 2 && under_off <= 2 && order_off <= 1);
+    /* without the plane: the alpha test, to the byte */
+    soft_clear(out, depth, coverage);
+    soft_quad(&front, 0x40000000u, out, depth, NULL);
+    for (int y = 0; y < SOFT_H; y++)
+        for (int x = 0; x < SOFT_W; x++)
+            assert_int_equal(out[y * SOFT_W + x], 0xFF000000u | (x < 32 ? xa : BG));
+    /* views that disagree, one filled and one empty, without an edge near: covered as the alpha test has it */
+    for (int heavy_filled = 0; heavy_filled < 2; heavy_filled++) {
+        psc_raster_state_t st = front;
+        st.view_tex[0] = heavy_filled ? &tb : &te;
+        st.view_tex[1] = heavy_filled ? &te : &tb;
+        st.view_tex[2] = &te;
+        st.view_w_q8[0] = 160, st.view_w_q8[1] = 96, st.view_w_q8[2] = 0;
+        soft_clear(out, depth, coverage);
+        soft_quad(&st, 0x40000000u, out, depth, coverage);
+        for (int y = 0; y < SOFT_H; y++)
+            for (int x = 4; x < SOFT_W - 4; x++)
+                assert_int_equal(out[y * SOFT_W + x], 0xFF000000u | (heavy_filled ? xb : BG));
+    }
 }
 
 /* The views' arithmetic at its range's limits (run under the sanitizers by `make check`): triangles from slivers to
@@ -280,7 +417,7 @@ static void test_views_limits(void **state)
             depth[i] = 0xFFFFu;
         uint64_t steps[3] = {0, 1u << 20, UINT64_C(1) << 35};
         psc_raster_target_t tg = {&sf, depth, S * 2, 16, 0, 0, S, S, aa ? &ab : NULL, NULL,
-                                  steps[tsup_rng_below(&r, 3)]};
+                                  steps[tsup_rng_below(&r, 3)], NULL, 0, 0};
         psc_raster_vertex_t v[3];
         /* a third of the triangles reach the coordinates' bounds, a third are slivers, a third are small */
         unsigned kind = tsup_rng_below(&r, 3);
@@ -709,24 +846,24 @@ static void test_truck_quality(void **state)
         quality_t q = measure(&f, &shots[k], "truck");
         iou += q.iou / 5, psnr += q.psnr / 5, ids += q.ids / 5;
         /* the issue's goal at every view: the default --views 64, 121 views at 137 texels per R (measured IoU
-         * 0.984..0.992, 24.7..32.6 dB; with 7 x 7 views at 173 texels per R, 23.9..33.5) */
+         * 0.984..0.992, 24.9..34.2 dB with soft silhouettes, 24.7..32.6 alpha-tested) */
         assert_true(q.iou >= 0.97);
         assert_true(q.psnr >= 24.0);
         assert_true(q.ids >= 0.99);
     }
     print_message("  truck mean: IoU %.3f, PSNR %.1f dB, front part %.3f\n", iou, psnr, ids);
     assert_true(iou >= 0.98);   /* measured 0.989 */
-    assert_true(psnr >= 26.0);  /* measured 27.8 dB (27.9 with 7 x 7 views; 25.7 against centre samples) */
+    assert_true(psnr >= 27.0);  /* measured 28.6 dB with soft silhouettes (27.8 alpha-tested) */
     /* the billboard, far: its rest-pose views on a quad facing the camera */
     static const shot_t far[] = {{40, 15, 12, -1, 0, PSC_PROXY_LOD_BILLBOARD}, {230, -10, 12, -1, 0, PSC_PROXY_LOD_BILLBOARD}};
     for (unsigned k = 0; k < 2; k++) {
         quality_t q = measure(&f, &far[k], "truck");
         assert_true(q.iou >= 0.78);   /* measured 0.83, 0.85 */
     }
-    /* the issue's 24 dB over the union under every light (measured 24.01..26.31; 25.47..26.86 where both cover; with
-     * normals at half the texels' side, pack 1.4: 23.11..24.86 and 24.28..25.20) */
+    /* the issue's 24 dB over the union under every light (measured 24.57..26.60; 25.67..26.97 where both cover;
+     * alpha-tested 24.01..26.31 and 25.47..26.86) */
     relight_quality(&f, shots, sizeof shots / sizeof shots[0], "truck", 25.0, 24.0);
-    relight_quality(&f, far, 2, "truck", 14.5, 12.5);   /* the billboard: measured 15.7..17.0, 13.6..15.9 */
+    relight_quality(&f, far, 2, "truck", 14.5, 12.5);   /* the billboard: measured 15.7..17.0, 13.8..16.0 */
     fixture_free(&f);
 }
 
@@ -989,14 +1126,16 @@ static void test_human_quality(void **state)
         unsigned far = shots[k].dist > 3;
         iou[far] += q.iou / 5, psnr[far] += q.psnr / 5;
         assert_true(q.iou >= 0.94);    /* measured 0.953..0.968 (the goal: 0.92 at every view, 0.95 on average) */
-        assert_true(q.psnr >= 29.0);   /* measured 31.0..40.6 dB (30.2..39.2 against centre samples) */
+        assert_true(q.psnr >= 30.5);   /* measured 31.7..41.3 dB with soft silhouettes (31.0..40.6 alpha-tested) */
         assert_true(q.ids >= 0.98);
     }
     print_message("  human mean: near IoU %.3f, PSNR %.1f dB; middle distance IoU %.3f, PSNR %.1f dB\n", iou[0], psnr[0],
                   iou[1], psnr[1]);
     assert_true(iou[0] >= 0.95 && iou[1] >= 0.95);     /* measured 0.960, 0.958 */
-    assert_true(psnr[0] >= 32.0 && psnr[1] >= 32.0);   /* measured 34.4, 34.1 dB (33.1, 32.7 against centre samples) */
-    relight_quality(&f, shots, sizeof shots / sizeof shots[0], "human", 32.0, 30.0);   /* measured 32.51..34.30, 30.59..31.64 */
+    assert_true(psnr[0] >= 34.5 && psnr[1] >= 34.5);   /* measured 35.5, 36.0 dB (34.4, 34.1 alpha-tested) */
+    /* the goal, 32 dB over the union as baked, under each light: measured 33.32..34.77 and 32.10..33.14 dB (32.51..34.30
+     * and 30.59..31.64 alpha-tested, whose jagged silhouettes against the background the relit contrast shows) */
+    relight_quality(&f, shots, sizeof shots / sizeof shots[0], "human", 33.0, 32.0);
     fixture_free(&f);
 }
 
@@ -1543,7 +1682,7 @@ static void test_scene_draw(void **state)
     assert_int_equal(psc_scene_proxy_draw(&f.m, 0, &v, true, ws, n - 1, &sf, NULL, NULL), PSC_ERR_NOMEM);
     /* the board's light (render3d_relight): a light from the side changes the frame; turning at 36 degrees a second
      * it is back where it started after 10 s, the same direction to the bit; as baked it is the default */
-    psc_scene3d_look_t look = {0};
+    psc_scene3d_look_t look = psc_scene3d_look(NULL);   /* the defaults: soft silhouettes */
     look.relight = true, look.light_azimuth_mdeg = -90000, look.light_elevation_mdeg = 10000;
     look.light_ambient_q14 = 7373, look.light_turn_mdeg = 36000;
     static uint16_t a[160 * 120], b[160 * 120];
@@ -1566,10 +1705,19 @@ static void test_scene_draw(void **state)
     look.relight = false;
     assert_int_equal(psc_scene_proxy_draw(&f.m, 0, &v, false, ws, n, &sa, NULL, &look), PSC_OK);
     assert_memory_equal(px, a, sizeof a);
+    /* render3d_soft_edges = no: the silhouettes alpha-tested, every pixel the background or a part's colour */
+    look.soft_edges = false;
+    assert_int_equal(psc_scene_proxy_draw(&f.m, 0, &v, false, ws, n, &sa, NULL, &look), PSC_OK);
+    unsigned changed = 0;
+    for (unsigned i = 0; i < 160 * 120; i++)
+        changed += px[i] != a[i];
+    print_message("  render3d_soft_edges = no: %u pixels of the silhouettes changed\n", changed);
+    assert_true(changed > 20);
     free(ws);
     /* on two threads (render_threads): the same bytes */
     char err[256];
-    psc_scene3d_look_t threaded = {.pool = psc_io_bands_start(2, 160, err, sizeof err)};
+    psc_scene3d_look_t threaded = psc_scene3d_look(NULL);
+    threaded.pool = psc_io_bands_start(2, 160, err, sizeof err);
     assert_non_null(threaded.pool);
     size_t tn = psc_scene_proxy_workspace_size(&f.m, 160, 120, &threaded);
     assert_int_equal(posix_memalign(&ws, 64, tn), 0);
@@ -1638,11 +1786,12 @@ static bool near_change(const uint16_t *px, int x, int y)
 }
 
 /* Tiles change nothing: proxies, full mesh and billboard in 32 x 32 tiles give the full-buffer frame's bytes, with
- * the A-buffer too (its view textures' coverage turned into samples, alpha to coverage). The A-buffer changes the
- * frame near edges: within 2 pixels of where the draw (or background) a pixel shows changes, by the draws' ids
- * without it; beyond, by two RGB565 steps at most (inside a part, where two of its triangles meet, their texels
- * averaged), but for at most 2 pixels in 100 drawn: this coarse pack's 9 views leave the bar's bend in slivers,
- * where a coverage just under a half gives the A-buffer a faint pixel further out. */
+ * the A-buffer too (its view textures' coverage turned into samples, alpha to coverage), and the soft silhouettes
+ * (each tile's coverage plane) without it. The A-buffer changes the frame near edges: within 2 pixels of where the
+ * draw (or background) a pixel shows changes, by the draws' ids without it; beyond, by two RGB565 steps at most
+ * (inside a part, where two of its triangles meet, their texels averaged), but for at most 2 pixels in 100 drawn:
+ * this coarse pack's 9 views leave the bar's bend in slivers, where the A-buffer and the soft silhouettes each give
+ * faint pixels a little further out. */
 static void test_tiles_exact(void **state)
 {
     (void)state;
@@ -1682,7 +1831,7 @@ static void test_tiles_exact(void **state)
             }
         print_message("  level %d: %u pixels drawn, tiled and full-buffer alike, by area subdivision too, with the "
                       "A-buffer too; it changed %u, %u away from the edges\n", lod, drawn, changed, far);
-        assert_true(far * 50u <= drawn);   /* measured 5 of 1253 at level 0, none at the others */
+        assert_true(far * 50u <= drawn);   /* measured 22 of 1629 at level 0 (its soft silhouettes drawn), none at the others */
         /* (the billboard: one view, its texels sampled whole or not at all, on a quad wider than the model) */
         assert_true(drawn > 100 && (changed > 20 || lod == 2));
     }
@@ -1901,7 +2050,7 @@ static void test_normals_sections(void **state)
     nt_null = nt_ok;
     nt_null.pixels = NULL;
     psc_surface_t sf = {32, 32, 64, PSC_PIX_RGB565, px};
-    psc_raster_target_t t = {&sf, NULL, 0, 0, 0, 0, 32, 32, NULL, NULL, 0};
+    psc_raster_target_t t = {&sf, NULL, 0, 0, 0, 0, 32, 32, NULL, NULL, 0, NULL, 0, 0};
     psc_raster_vertex_t v[3] = {{.x_q4 = 16, .y_q4 = 16, .q_q28 = PSC_RASTER_Q_ONE},
                                 {.x_q4 = 500, .y_q4 = 16, .q_q28 = PSC_RASTER_Q_ONE, .u1_q16 = 65536, .u2_q16 = 65536,
                                  .u_q16 = 65536},
@@ -1996,6 +2145,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_views_rule),
         cmocka_unit_test(test_views_perspective),
+        cmocka_unit_test(test_soft_silhouettes),
         cmocka_unit_test(test_views_limits),
         cmocka_unit_test(test_mip_coverage),
         cmocka_unit_test(test_views_grid),

@@ -332,6 +332,9 @@ static void draw_list(area_t *a, const uint32_t *list, uint32_t n, rect_t r, boo
     unsigned zb = t->r->cfg.depth_bits / 8u;
     t->target.depth = (uint8_t *)a->tile.depth + (size_t)(r.y0 - a->tile.y0) * a->tile.depth_stride +
                       (size_t)(r.x0 - a->tile.x0) * zb;
+    if (a->tile.coverage)
+        t->target.coverage = a->tile.coverage + (size_t)(r.y0 - a->tile.y0) * a->tile.coverage_stride +
+                             (size_t)(r.x0 - a->tile.x0);
     t->target.x0 = r.x0;
     t->target.y0 = r.y0;
     t->target.x1 = r.x1;

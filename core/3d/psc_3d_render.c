@@ -75,10 +75,17 @@ static uint32_t area_capacity(const psc_3d_config_t *c)
     return b < PSC_3D_AREA_TRIANGLES_MAX ? b : PSC_3D_AREA_TRIANGLES_MAX;
 }
 
-/* A worker's bytes: a tile's depth buffer, a row's triangle list, area subdivision's entries and lists. */
+/* A tile's coverage plane (soft silhouettes, psc_raster.h): a byte a pixel, a quarter of a 32-bit depth buffer's. */
+static size_t coverage_bytes(const psc_3d_config_t *c)
+{
+    return align8(psc_3d_depth_bytes(c) / (c->depth_bits / 8u));
+}
+
+/* A worker's bytes: a tile's depth buffer and coverage plane, a row's triangle list, area subdivision's entries and
+ * lists. */
 static size_t worker_bytes(const psc_3d_config_t *c)
 {
-    return align8(psc_3d_depth_bytes(c)) + (binned(c) ? align8((size_t)bin_capacity(c) * PSC_3D_BIN_BYTES) : 0) +
+    return align8(psc_3d_depth_bytes(c)) + coverage_bytes(c) + (binned(c) ? align8((size_t)bin_capacity(c) * PSC_3D_BIN_BYTES) : 0) +
            (c->hsr == PSC_3D_HSR_AREA ? (size_t)area_capacity(c) * PSC_3D_AREA_BYTES : 0);
 }
 
@@ -96,6 +103,8 @@ psc_status_t psc_3d_worker_init(psc_3d_worker_t *w, const psc_3d_config_t *cfg, 
     *w = (psc_3d_worker_t){0};
     w->depth = mem;
     uint8_t *p = (uint8_t *)mem + align8(psc_3d_depth_bytes(cfg));
+    w->coverage = p;
+    p += coverage_bytes(cfg);
     if (binned(cfg)) {
         w->bins = p;
         p += align8((size_t)bin_capacity(cfg) * PSC_3D_BIN_BYTES);
@@ -137,6 +146,7 @@ psc_status_t psc_3d_init(psc_3d_t *r, const psc_3d_config_t *cfg, void *ws, size
         return PSC_ERR_NOMEM;
     *r = (psc_3d_t){0};
     r->cfg = *cfg;
+    r->soft = true;
     if (r->cfg.tile_width == 0 || r->cfg.tile_width > cfg->width)
         r->cfg.tile_width = cfg->width;
     if (r->cfg.tile_height == 0 || r->cfg.tile_height > cfg->height)
@@ -204,6 +214,12 @@ psc_status_t psc_3d_worker_set_abuffer(psc_3d_worker_t *w, const psc_3d_config_t
 psc_status_t psc_3d_set_abuffer(psc_3d_t *r, void *mem, size_t bytes)
 {
     return r ? psc_3d_worker_set_abuffer(&r->own, &r->cfg, mem, bytes) : PSC_ERR_ARG;
+}
+
+void psc_3d_set_soft_silhouettes(psc_3d_t *r, bool on)
+{
+    if (r)
+        r->soft = on;
 }
 
 void psc_3d_draw_defaults(psc_3d_draw_t *d, const psc_mesh_t *mesh)
@@ -913,13 +929,18 @@ void psc_3d_frame_row(const psc_3d_t *r, psc_3d_worker_t *w, uint32_t row, psc_3
         uint16_t x1 = (uint16_t)(tx + tw > r->cfg.width ? r->cfg.width : tx + tw);
         uint16_t y1 = (uint16_t)(ty + th > r->cfg.height ? r->cfg.height : ty + th);
         clear_tile(r, w->depth, out, r->clear, x0, y0, x1, y1);
+        /* soft silhouettes need the background each pixel started from: a frame cleared to one colour */
+        uint8_t *coverage = r->soft && r->clear && !w->aa ? w->coverage : NULL;
+        if (coverage)
+            fill_cells(coverage, align8((size_t)(x1 - x0) * (y1 - y0)) / 4u, 4, 0u);   /* (within the plane's bytes) */
         if (w->aa)
             psc_abuffer_clear(&w->abuf, (uint32_t)(x1 - x0) * (y1 - y0));
         tile_ctx_t t = {
             .r = r,
             .w = w,
             .target = {out, w->depth, (uint32_t)(x1 - x0) * (r->cfg.depth_bits / 8u), r->cfg.depth_bits, x0, y0, x1,
-                       y1, w->aa ? &w->abuf : NULL, &stats->depth_tests, r->depth_step},
+                       y1, w->aa ? &w->abuf : NULL, &stats->depth_tests, r->depth_step, coverage,
+                       (uint32_t)(x1 - x0), r->clear ? *r->clear & 0xFFFFFFu : 0u},
             .rect_q4 = {(int32_t)x0 * 16, (int32_t)y0 * 16, (int32_t)x1 * 16, (int32_t)y1 * 16},
             .stats = stats,
             /* the frame's first tile counts each triangle once (a binned row counted its culled ones; the clipped

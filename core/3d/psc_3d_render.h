@@ -190,6 +190,7 @@ typedef struct {
  */
 typedef struct {
     void *depth;             /* a tile's depth buffer (the screen's without tiles) */
+    uint8_t *coverage;       /* and its coverage plane (soft silhouettes, psc_raster.h) */
     void *bins;              /* tile mode, area subdivision: a row of tiles' triangle list; else NULL */
     uint32_t *areas;         /* area subdivision: the areas' triangle lists; else NULL */
     void *area_entries;      /* area subdivision: a tile's triangles as classification needs them */
@@ -220,6 +221,7 @@ typedef struct {
     unsigned parts;          /* the list's parts */
     const uint32_t *clear;
     const psc_surface_t *out;
+    bool soft;               /* soft silhouettes (psc_3d_set_soft_silhouettes) */
 } psc_3d_t;
 
 /** Workspace bytes for a configuration (0 if it is invalid). */
@@ -244,6 +246,15 @@ psc_status_t psc_3d_init(psc_3d_t *r, const psc_3d_config_t *cfg, void *ws, size
  * mem NULL turns anti-aliasing off.
  */
 psc_status_t psc_3d_set_abuffer(psc_3d_t *r, void *mem, size_t bytes);
+
+/**
+ * Soft silhouettes (psc_raster.h), on from psc_3d_init: in a frame cleared to
+ * a colour and without the A-buffer, proxies' view textures give anti-aliased
+ * silhouettes, each tile keeping a byte a pixel of coverage (in the worker's
+ * memory). Off, they are alpha-tested (a tenth faster on a small proxy frame,
+ * where most pixels lie near a silhouette).
+ */
+void psc_3d_set_soft_silhouettes(psc_3d_t *r, bool on);
 
 /*
  * A frame on several threads. psc_3d_render is psc_3d_frame_begin (checks),

@@ -336,9 +336,9 @@ typedef struct {
  * triangles (set-up), the rows its triangles span (about sqrt(area x triangles / 2): half face the camera) and its
  * pixels: a view-textured pixel samples three textures; a full-mesh pixel costs little beyond its row's loop. */
 #define PSC_PROXY_COST_VERTEX 837u
-#define PSC_PROXY_COST_TRIANGLE 297u
+#define PSC_PROXY_COST_TRIANGLE 335u
 #define PSC_PROXY_COST_ROW 455u
-#define PSC_PROXY_COST_PIXEL 680u
+#define PSC_PROXY_COST_PIXEL 725u   /* (with soft silhouettes, psc_3d_set_soft_silhouettes; 618 measured without) */
 #define PSC_PROXY_COST_FULL_VERTEX 826u
 #define PSC_PROXY_COST_FULL_ROW 553u
 #define PSC_PROXY_COST_SCREEN_PIXEL 3u   /* either level: the frame's clear, a pixel of the screen */

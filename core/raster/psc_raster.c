@@ -253,6 +253,42 @@ static PSC_ALWAYS_INLINE void put_pixel(uint8_t *row, int32_t x, int out565, psc
     }
 }
 
+/* The pixel at x of a row, as XRGB (its alpha byte dropped). */
+static PSC_ALWAYS_INLINE uint32_t get_pixel(const uint8_t *row, int32_t x, int out565)
+{
+    return out565 ? psc_rgb565_to_xrgb(((const uint16_t *)(const void *)row)[x])
+                  : ((const uint32_t *)(const void *)row)[x] & 0xFFFFFFu;
+}
+
+/* A soft silhouette's pixel d, whose uncovered share still shows the background bg, with w (Q8) of that share
+ * given to colour c, a surface behind what covers the rest: d + w (c - bg), each channel rounded and clamped. */
+static PSC_ALWAYS_INLINE uint32_t fill_under(uint32_t d, uint32_t c, uint32_t bg, uint32_t w)
+{
+    uint32_t out = 0;
+    for (int sh = 16; sh >= 0; sh -= 8) {
+        int32_t diff = (int32_t)(c >> sh & 255u) - (int32_t)(bg >> sh & 255u);
+        int32_t v = (int32_t)(d >> sh & 255u) + ((diff * (int32_t)w + 128) >> 8);   /* (an arithmetic shift) */
+        out = out << 8 | (uint32_t)(v < 0 ? 0 : v > 255 ? 255 : v);
+    }
+    return out;
+}
+
+/* A soft silhouette's opacity (Q8, 0..256): the views' coverage cov (Q0.16) changes by grad (Q0.16) a texel and
+ * a texel spans k_q8 pixels (Q8), so the alpha test's edge, where cov is a half, lies (cov - 1/2) k / grad pixels
+ * inside; the opacity ramps over one and a half pixels across it (a pixel's part on that side, widened by half a
+ * pixel: the views place a silhouette to about a pixel). Where the coverage hardly changes (views that disagree
+ * over a wide region, none at its edge) the gradient taken is a quarter a texel: nearly the alpha test's answer,
+ * not a translucent ghost of the views' disagreement. */
+static PSC_ALWAYS_INLINE uint32_t soft_alpha(uint32_t cov, uint32_t grad, uint32_t k_q8)
+{
+    grad = grad + grad / 2u;   /* <= 3 x 1.5 x 2^16 */
+    if (grad < 16384u)
+        grad = 16384u;
+    int64_t a = 32768 + ((int64_t)cov - 32768) * (int64_t)k_q8 * 256 / (int64_t)grad;   /* |.| < 2^16 x 2^12 x 2^8 */
+    /* within 1/32 of either end: the end (a pixel that shows nothing drawn, or a blend that would change little) */
+    return a < 2048 ? 0u : a > 63488 ? 256u : (uint32_t)((a + 128) >> 8);
+}
+
 /* x^n for x in Q16.16 within [0, 1], by repeated squaring, each product rounded. */
 static PSC_ALWAYS_INLINE uint32_t pow_q16(uint32_t x, uint32_t n)
 {
@@ -829,6 +865,40 @@ static PSC_ALWAYS_INLINE uint32_t view_coverage(const view_tex_t *t, int64_t uu,
     return ((top * (256u - fy) + bottom * fy) * w_q8 + 128u) >> 8;
 }
 
+/* One view's bilinear coverage at (uu, vv) with weight w_q8 (Q0.16, as view_coverage), and how fast it changes
+ * there, a texel (its gradient's length, nearly: the larger component and half the smaller), weighted, added to
+ * *grad (Q0.16). */
+static PSC_ALWAYS_INLINE uint32_t view_coverage_grad(const view_tex_t *t, int64_t uu, int64_t vv, uint32_t w_q8,
+                                                     uint32_t *grad)
+{
+    uint32_t x[2], y[2], fx, fy;
+    bilinear_texels(t, uu, vv, x, y, &fx, &fy);
+    const uint16_t *r0 = (const uint16_t *)(const void *)(t->pixels + (size_t)y[0] * t->stride);
+    const uint16_t *r1 = (const uint16_t *)(const void *)(t->pixels + (size_t)y[1] * t->stride);
+    int32_t f00 = r0[x[0]] != PSC_VIEW_TEXEL_EMPTY, f01 = r0[x[1]] != PSC_VIEW_TEXEL_EMPTY;
+    int32_t f10 = r1[x[0]] != PSC_VIEW_TEXEL_EMPTY, f11 = r1[x[1]] != PSC_VIEW_TEXEL_EMPTY;
+    int32_t gx = (f01 - f00) * (256 - (int32_t)fy) + (f11 - f10) * (int32_t)fy;   /* Q8 */
+    int32_t gy = (f10 - f00) * (256 - (int32_t)fx) + (f11 - f01) * (int32_t)fx;
+    uint32_t ax = (uint32_t)(gx < 0 ? -gx : gx), ay = (uint32_t)(gy < 0 ? -gy : gy);
+    *grad += w_q8 * (ax > ay ? ax + ay / 2u : ay + ax / 2u);
+    /* Q0.8 a side */
+    uint32_t top = (uint32_t)f00 * (256u - fx) + (uint32_t)f01 * fx, bottom = (uint32_t)f10 * (256u - fx) + (uint32_t)f11 * fx;
+    return ((top * (256u - fy) + bottom * fy) * w_q8 + 128u) >> 8;
+}
+
+/* The views' coverage at their coordinates (uu[k], vv[k]) (Q0.16, as views_bilinear's alone), and in *grad how fast
+ * it changes there, a texel (Q0.16): a soft silhouette's ramp. */
+static PSC_ALWAYS_INLINE uint32_t views_coverage_grad(const view_tex_t vt[3], const uint32_t w_q8[3],
+                                                      const int64_t uu[3], const int64_t vv[3], uint32_t *grad)
+{
+    uint32_t cov = 0;
+    *grad = 0;
+    for (unsigned k = 0; k < 3; k++)
+        if (w_q8[k] != 0)
+            cov += view_coverage_grad(&vt[k], uu[k], vv[k], w_q8[k], grad);
+    return cov;
+}
+
 /* The texel nearest (uu, vv) (Q16.16 in [0, 1)). */
 static PSC_ALWAYS_INLINE uint32_t view_texel(const view_tex_t *t, int64_t uu, int64_t vv)
 {
@@ -1003,6 +1073,29 @@ static PSC_ALWAYS_INLINE void light_at(const setup_t *s, int64_t b1, int64_t b2,
         l->toward_q14[a] = (int16_t)clamp64(psc_shr_round64(v[a] * inv, 16), -16384, 16384);
 }
 
+/* Pixels across a texel of the heaviest view t (its corners' coordinates in s) on the triangle (doubled area
+ * s->area2, 1/256 pixel), Q8 within 1/4..16: the square root of its area on the screen over its area in texels (a
+ * soft silhouette's ramp, soft_alpha). */
+static uint32_t texel_pixels_q8(const setup_t *s, const psc_texture_t *t)
+{
+    int64_t cross = s->dvu[0][0] * s->dvv[0][1] - s->dvu[0][1] * s->dvv[0][0];   /* doubled, Q32: |.| <= 2^33 */
+    /* doubled texels, Q16: under 2^33 x 2^24 (a side at most 2^12) >> 16 */
+    uint64_t texels = ((uint64_t)(cross < 0 ? -cross : cross) * ((uint64_t)t->width * t->height)) >> 16;
+    uint64_t a = (uint64_t)(s->area2 < 0 ? -s->area2 : s->area2);
+    if (texels == 0 || a >= (UINT64_C(1) << 39) || (a << 24) / texels >= (UINT64_C(1) << 40))
+        return 4096u;
+    uint32_t k_q8 = psc_isqrt64((a << 24) / texels);   /* sqrt((a / 256) / (texels / 2^16)) in Q8 */
+    return k_q8 < 64u ? 64u : k_q8 > 4096u ? 4096u : k_q8;
+}
+
+/* Whether a VIEWS triangle draws soft silhouettes (psc_raster.h): a coverage plane, the depth tested, no A-buffer,
+ * colours replacing the pixels'. */
+static PSC_ALWAYS_INLINE bool soft_silhouettes(const psc_raster_target_t *t, const psc_raster_state_t *st)
+{
+    return t->coverage && !t->abuf && t->depth && st->depth_test && !st->views_mask &&
+           st->blend == PSC_BLEND_REPLACE;
+}
+
 static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_target_t *t,
                                              const psc_raster_state_t *st, const int out565, const int zbits,
                                              const int bilinear, const int affine, const int aa)
@@ -1011,6 +1104,9 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
     /* Without the A-buffer a pixel needs half the weight; with it, what the ramp below turns into one sample. */
     const uint32_t enough = aa ? 30720u : 32768u;
     const bool relit = st->view_normals[0] != NULL, edges = st->filter == PSC_TEX_EDGES;
+    const bool soft = soft_silhouettes(t, st);
+    const uint32_t need = soft ? 0u : enough;   /* soft silhouettes: every view's coverage, however little */
+    uint32_t k_q8 = 0;   /* soft silhouettes: texel_pixels_q8, once a pixel needs it */
     uint32_t written = 0, tested = 0;
     /* a view of no weight reads one empty texel (its coordinates are zeros): the pixel's loop tests nothing */
     static const uint16_t no_view = PSC_VIEW_TEXEL_EMPTY;
@@ -1027,12 +1123,14 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
     int64_t e0r = s->e[0], e1r = s->e[1], e2r = s->e[2];
     uint8_t *srow = (uint8_t *)t->surface->pixels + (size_t)s->py0 * t->surface->stride;
     uint8_t *zrow = zbits ? (uint8_t *)t->depth + (size_t)(s->py0 - t->y0) * t->depth_stride : 0;
+    uint8_t *crow = soft ? t->coverage + (size_t)(s->py0 - t->y0) * t->coverage_stride : 0;
 
     /* A proxy's triangles are often slivers a pixel or two wide: most of their rows hold no pixel centre. The depth
      * plane and the edges are therefore evaluated where a row's run starts (the same sums, modulo 2^64, as a step a
      * pixel and a row), not carried row to row. */
     for (int32_t y = s->py0; y <= s->py1; y++, e0r += s->ey[0], e1r += s->ey[1], e2r += s->ey[2],
-                 srow += t->surface->stride, zrow = zbits ? zrow + t->depth_stride : zrow) {
+                 srow += t->surface->stride, zrow = zbits ? zrow + t->depth_stride : zrow,
+                 crow = soft ? crow + t->coverage_stride : crow) {
         int64_t e0 = e0r, e1 = e1r, e2 = e2r;
         int32_t x = s->px0, xend = s->px1;
         if (!aa) {   /* the run of pixel centres inside the three edges, found at once */
@@ -1095,11 +1193,13 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                                         : ((uint32_t *)(void *)zrow)[x - t->x0];
                     draw = zbits == 16 ? (z >> 16) < (limit >> 16) : z < limit;
                 }
-                if (draw) {
+                /* soft silhouettes: hidden, yet the pixel is not all covered: it fills the rest (fill_under) */
+                const bool under = !draw && soft && crow[x - t->x0] != 255u;
+                if (draw || under) {
                     view_uv(s, 1, b1, b2, &uu[1], &vv[1]);
                     view_uv(s, 2, b1, b2, &uu[2], &vv[2]);
                     /* cov: the pixel's coverage; the colour is acc / tint (weights Q0.16) */
-                    uint32_t cov, tint, acc[3], full = 0;
+                    uint32_t cov, tint, acc[3], full = 0, grad = UINT32_MAX;   /* (grad: not yet known) */
                     unsigned covering = 0;
                     bool nearest = false;
                     if (!bilinear) {
@@ -1108,21 +1208,33 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                         nearest = cov != 0 || !edges;
                         if (cov == 65536u)   /* every texel there: the weights sum to one, no division */
                             full = ((rb + 0x800080u) >> 8 & 0xFF00FFu) | ((g + 128u) & 0xFF00u);
+                        else if (edges && cov != 0 && soft)   /* an empty texel: an edge, and its ramp */
+                            cov = views_coverage_grad(vt, w_q8, uu, vv, &grad);
                         else if (edges && cov != 0)   /* an empty texel: an edge, found to a texel's part */
-                            cov = views_bilinear(vt, w_q8, uu, vv, enough, 0, acc, &covering);
+                            cov = views_bilinear(vt, w_q8, uu, vv, need, 0, acc, &covering);
                         acc[0] = (rb >> 16) << 8;
                         acc[1] = g << 8;
                         acc[2] = (rb & 0xFFFFu) << 8;
                     }
                     if (!nearest)   /* (with edges: no nearest texel there, the bilinear ones give the colour) */
-                        cov = tint = views_bilinear(vt, w_q8, uu, vv, enough, 1, acc, &covering);
+                        cov = tint = views_bilinear(vt, w_q8, uu, vv, need, 1, acc, &covering);
                     if (aa) { /* alpha to coverage, ramped 16x steeper about the alpha test's one half */
                         int32_t ramp = ((int32_t)cov - 32768) * 16 + 32768;
                         ramp = ramp < 0 ? 0 : ramp > 65536 ? 65536 : ramp;
                         cover &= coverage_first[((uint32_t)ramp * 16u + 32768u) >> 16];
                     }
-                    else if (cov < 32768u)
+                    uint32_t alpha = 256u;   /* soft silhouettes: the fragment's opacity */
+                    if (soft) {
+                        if (cov < 65536u && grad == UINT32_MAX)
+                            (void)views_coverage_grad(vt, w_q8, uu, vv, &grad);
+                        if (cov < 65536u && k_q8 == 0)
+                            k_q8 = texel_pixels_q8(s, st->view_tex[0]);
+                        alpha = cov >= 65536u ? 256u : soft_alpha(cov, grad, k_q8);
+                        if (alpha == 0 || tint == 0)   /* (no texel's colour: nothing to show, however wide the ramp) */
+                            cover = 0;
+                    } else if (!aa && cov < 32768u) {
                         cover = 0;
+                    }
                     if (cover != 0) {
                         uint32_t c = st->mask_color & 0xFFFFFFu;
                         if (!st->views_mask && nearest && tint == 65536u) {
@@ -1148,13 +1260,31 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                             c = psc_lambert_relight(&now, &st->view_bake_light, nrm, c);
                         }
                         bool put = true;
-                        if (aa && cover != PSC_ABUF_FULL)
+                        uint8_t *held = soft ? &crow[x - t->x0] : NULL;
+                        if (soft && (under || alpha < 256u)) {
+                            /* a partly covered pixel: over what it holds in front, under what covers it behind */
+                            uint32_t h = *held, px = get_pixel(srow, x, out565);
+                            if (under) {
+                                uint32_t w = alpha < 255u - h ? alpha : 255u - h;
+                                c = fill_under(px, c, t->background_xrgb, w);
+                                *held = (uint8_t)(h + w);
+                            } else {
+                                c = over(c, px, alpha);
+                                *held = (uint8_t)(h + ((alpha * (255u - h) + 128u) >> 8));
+                                if (zbits == 16)
+                                    ((uint16_t *)(void *)zrow)[x - t->x0] = (uint16_t)(z >> 16);
+                                else
+                                    ((uint32_t *)(void *)zrow)[x - t->x0] = z;
+                            }
+                        } else if (aa && cover != PSC_ABUF_FULL)
                             put = partial(t, (uint32_t)(y - t->y0) * head_w + (uint32_t)(x - t->x0), zrow, x, zbits,
                                           cover, centre, limit, s->zslack, z, &c);
                         else if (zbits == 16)
                             ((uint16_t *)(void *)zrow)[x - t->x0] = (uint16_t)(z >> 16);
                         else if (zbits)
                             ((uint32_t *)(void *)zrow)[x - t->x0] = z;
+                        if (held && !under && alpha == 256u)
+                            *held = 255u;
                         if (put) {
                             put_pixel(srow, x, out565, st->blend, c, 256u);
                             written++;

@@ -218,7 +218,26 @@ typedef struct {
     uint64_t depth_step;           /* VIEWS with depth: the depth buffer's change (of 2^32) for a view depth step
                                     * (1/256 of a camera unit further) at the near plane, at most 2^35 (0: no
                                     * offsets) */
+    /* Soft silhouettes (below): NULL, or a byte a pixel over the rectangle, pixel (x0, y0) first, zeros before the
+     * first triangle; its bytes per row; the colour the rectangle was cleared to. */
+    uint8_t *coverage;
+    uint32_t coverage_stride;
+    uint32_t background_xrgb;
 } psc_raster_target_t;
+
+/*
+ * Soft silhouettes. With a coverage plane, depth-tested PSC_SHADE_VIEWS
+ * triangles drawn with PSC_BLEND_REPLACE and without an A-buffer draw the
+ * silhouettes their views give anti-aliased rather than alpha-tested: a
+ * pixel's coverage (the views' bilinear one, steepened to change over one
+ * pixel where a texel spans several) blends its colour over what the pixel
+ * holds, and the plane keeps how much of the pixel is covered so far (255:
+ * all). A fragment hidden by the depth test still fills the part of a pixel
+ * left uncovered, in place of the background it replaces: a silhouette drawn
+ * before what lies behind it, or the seam between two proxies each covering
+ * part of a pixel, shows no background. Without the plane (or its
+ * conditions), a pixel is drawn where half of it is covered.
+ */
 
 /**
  * Draw one triangle into the target's rectangle. Returns the number of

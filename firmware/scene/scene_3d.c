@@ -11,10 +11,12 @@ static size_t align8(size_t v)
 psc_scene3d_look_t psc_scene3d_look(const psc_board_config_t *b)
 {
     psc_scene3d_look_t l = {0};
+    l.soft_edges = true;
     if (b) {
         l.tile = (uint16_t)b->render3d_tile;
         l.hsr = b->render3d_hsr;
         l.abuffer_bytes = (size_t)b->render3d_abuffer_kb * 1024u;
+        l.soft_edges = b->render3d_soft_edges;
         l.relight = b->render3d_relight;
         l.light_azimuth_mdeg = b->render3d_light_azimuth_mdeg;
         l.light_elevation_mdeg = b->render3d_light_elevation_mdeg;
@@ -70,6 +72,7 @@ psc_status_t psc_scene3d_init(psc_3d_t *r, const psc_3d_config_t *c, const psc_s
         return PSC_ERR_NOMEM;
     if ((s = psc_3d_init(r, c, ws, a)) != PSC_OK)
         return s;
+    psc_3d_set_soft_silhouettes(r, !look || look->soft_edges);
     if (look && look->abuffer_bytes && (s = psc_3d_set_abuffer(r, (uint8_t *)ws + a, look->abuffer_bytes)) != PSC_OK)
         return s;
     if (look && look->pool &&

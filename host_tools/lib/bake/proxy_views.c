@@ -324,8 +324,8 @@ static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *con
     memset(hi, 0, (size_t)n * n * 2u);   /* PSC_VIEW_TEXEL_EMPTY */
     for (size_t i = 0; i < (size_t)n * n; i++)
         depth[i] = pdepth[i] = 0xFFFFFFFFu;
-    psc_raster_target_t t = {&sf, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL, NULL, 0};
-    psc_raster_target_t pt = {&ps, pdepth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL, NULL, 0};
+    psc_raster_target_t t = {&sf, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL, NULL, 0, NULL, 0, 0};
+    psc_raster_target_t pt = {&ps, pdepth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL, NULL, 0, NULL, 0, 0};
     for (unsigned k = 0; k < n_all; k++)
         if (may_show(all[k], o))
             draw_shape(all[k], o, &t);
@@ -344,7 +344,7 @@ static void render_view(const psc_proxy_shape_t *s, const psc_proxy_shape_t *con
         depth_down(hi, depth, pdepth, view->tex, o->rho, offsets);
     if (normals) {   /* the same shapes again, their normals for colours: the same samples win the depth test */
         psc_surface_t ns = {(uint16_t)n, (uint16_t)n, n * 4u, PSC_PIX_XRGB8888, nhi};
-        psc_raster_target_t nt = {&ns, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL, NULL, 0};
+        psc_raster_target_t nt = {&ns, depth, n * 4u, 32, 0, 0, (uint16_t)n, (uint16_t)n, NULL, NULL, 0, NULL, 0, 0};
         for (size_t i = 0; i < (size_t)n * n; i++)
             depth[i] = 0xFFFFFFFFu;
         for (unsigned k = 0; k < n_all; k++)
@@ -417,7 +417,7 @@ int psc_bake_proxy_billboard(const psc_proxy_shape_t *shapes, unsigned n, const 
         memset(hi, 0, (size_t)hn * hn * 2u);
         for (size_t i = 0; i < (size_t)hn * hn; i++)
             depth[i] = 0xFFFFFFFFu;
-        psc_raster_target_t tg = {&sf, depth, hn * 4u, 32, 0, 0, (uint16_t)hn, (uint16_t)hn, NULL, NULL, 0};
+        psc_raster_target_t tg = {&sf, depth, hn * 4u, 32, 0, 0, (uint16_t)hn, (uint16_t)hn, NULL, NULL, 0, NULL, 0, 0};
         for (unsigned s = 0; s < n; s++)
             draw_shape(&shapes[s], &so, &tg);
         /* a texel covered when a quarter of its samples are: the billboard is drawn small, where a thin part kept

@@ -58,6 +58,7 @@ int psc_render_target_open_view(psc_render_target_t *t, const psc_3d_config_t *c
     if (psc_render_target_open(t, cfg, fmt, depth, name, err, errlen) != 0)
         return -1;
     t->levels = vw->levels;
+    psc_3d_set_soft_silhouettes(&t->r, vw->soft_edges);
     if (vw->abuffer_bytes == 0)
         return start_threads(t, cfg, vw, name, err, errlen);
     t->abuf_bytes = vw->abuffer_bytes;

@@ -15,7 +15,7 @@
 psc_render_view_t psc_render_view_defaults(double yaw, double pitch, double dist, double hfov)
 {
     return (psc_render_view_t){yaw, pitch, dist, hfov, 640, 480, true, PSC_PIX_RGB565, 1, -1, 90, 24, 0,
-                               {false, PSC_DITHER_MONO, PSC_DITHER_ORDERED}, PSC_3D_HSR_ZBUFFER, 0};
+                               {false, PSC_DITHER_MONO, PSC_DITHER_ORDERED}, PSC_3D_HSR_ZBUFFER, 0, true};
 }
 
 int psc_render_view_option(const char *prog, const char *name, const char *v, psc_render_view_t *o)
@@ -58,13 +58,14 @@ int psc_render_view_option(const char *prog, const char *name, const char *v, ps
         o->shininess = (uint8_t)n;
     } else if (strcmp(name, "--aa") == 0) {
         unsigned long kb = PSC_RENDER_ABUFFER_DEFAULT_KB;
-        if (strcmp(v, "none") == 0)
+        if (strcmp(v, "none") == 0 || strcmp(v, "soft") == 0)
             kb = 0;
         else if (strncmp(v, "abuffer", 7) != 0 || (v[7] != '\0' && v[7] != ':') ||
                  (v[7] == ':' && psc_cli_parse_uint(v + 8, 1, PSC_RENDER_ABUFFER_MAX_KB, &kb) != 0))
-            return psc_io_cli_usage_error(prog, "--aa '%s': expected none, abuffer or abuffer:KB (1..%lu)", v,
+            return psc_io_cli_usage_error(prog, "--aa '%s': expected none, soft, abuffer or abuffer:KB (1..%lu)", v,
                                           PSC_RENDER_ABUFFER_MAX_KB);
         o->abuffer_bytes = (size_t)kb * 1024u;
+        o->soft_edges = strcmp(v, "none") != 0;
     } else if (strcmp(name, "--dither") == 0) {
         if (psc_io_levels_parse(v, &o->levels) != 0)
             return psc_io_cli_usage_error(prog, "--dither '%s': expected mono, grey4 or pal8, optionally :ordered, "

@@ -34,8 +34,10 @@
     "  --shade S           flat, gouraud, phong (lit per pixel, with a highlight) or texture\n"       \
     "  --specular S        Phong highlight strength 0..1 (default 0.35)\n"                            \
     "  --shininess N       Phong highlight exponent 1..255 (default 24)\n"                            \
-    "  --aa none|abuffer[:KB]  anti-aliased edges from the A-buffer, in KB of memory a tile\n"        \
-    "                      (default 4096; what does not fit is drawn aliased, and said)\n"            \
+    "  --aa none|soft|abuffer[:KB]  anti-aliased edges: soft (the default) a proxy's silhouettes\n"  \
+    "                      from its views' coverage; abuffer every edge, from the A-buffer, in KB of\n"  \
+    "                      memory a tile (default 4096; what does not fit is drawn aliased, and\n"    \
+    "                      said); none alpha-tested silhouettes and aliased edges\n"                  \
     "  --dither T[:M]      show the frame as a display with few levels does: T mono (1 bit),\n"       \
     "                      grey4 (4-bit grey) or pal8 (6x7x6 colours); M ordered (default),\n"       \
     "                      halftone or none\n"                                                        \
@@ -58,6 +60,7 @@ typedef struct {
     psc_io_levels_t levels;      /* --dither */
     uint8_t hsr;                 /* --hsr: a psc_3d_hsr_t */
     unsigned threads;            /* --threads: 0 = the processors online */
+    bool soft_edges;             /* --aa: soft silhouettes (psc_3d_set_soft_silhouettes) */
 } psc_render_view_t;
 
 /** The defaults: the orbit given, a 640x480 RGB565 view, back faces culled, drawn once. */
