@@ -1073,6 +1073,19 @@ static PSC_ALWAYS_INLINE void light_at(const setup_t *s, int64_t b1, int64_t b2,
         l->toward_q14[a] = (int16_t)clamp64(psc_shr_round64(v[a] * inv, 16), -16384, 16384);
 }
 
+/* The square root of v in [2^12, 2^24), rounded down: Newton's steps from the power of two above it (three reach
+ * it from at most twice the root; a fourth, and the floor fixed, to the integer). Cheaper than psc_isqrt64 here,
+ * where every triangle with a partly covered pixel takes one. */
+static uint32_t isqrt24(uint32_t v)
+{
+    uint32_t r = 1u << ((33u - (unsigned)__builtin_clz(v)) / 2u);   /* 2^ceil(bits / 2) >= sqrt(v) */
+    for (int i = 0; i < 4; i++)
+        r = (r + v / r) / 2u;
+    while (r * r > v)
+        r--;
+    return r;
+}
+
 /* Pixels across a texel of the heaviest view t (its corners' coordinates in s) on the triangle (doubled area
  * s->area2, 1/256 pixel), Q8 within 1/4..16: the square root of its area on the screen over its area in texels (a
  * soft silhouette's ramp, soft_alpha). */
@@ -1082,10 +1095,10 @@ static uint32_t texel_pixels_q8(const setup_t *s, const psc_texture_t *t)
     /* doubled texels, Q16: under 2^33 x 2^24 (a side at most 2^12) >> 16 */
     uint64_t texels = ((uint64_t)(cross < 0 ? -cross : cross) * ((uint64_t)t->width * t->height)) >> 16;
     uint64_t a = (uint64_t)(s->area2 < 0 ? -s->area2 : s->area2);
-    if (texels == 0 || a >= (UINT64_C(1) << 39) || (a << 24) / texels >= (UINT64_C(1) << 40))
+    if (texels == 0 || a >= (UINT64_C(1) << 39))
         return 4096u;
-    uint32_t k_q8 = psc_isqrt64((a << 24) / texels);   /* sqrt((a / 256) / (texels / 2^16)) in Q8 */
-    return k_q8 < 64u ? 64u : k_q8 > 4096u ? 4096u : k_q8;
+    uint64_t k2_q16 = (a << 24) / texels;   /* (a / 256) / (texels / 2^16) */
+    return k2_q16 >= (UINT64_C(1) << 24) ? 4096u : k2_q16 < (1u << 12) ? 64u : isqrt24((uint32_t)k2_q16);
 }
 
 /* Whether a VIEWS triangle draws soft silhouettes (psc_raster.h): a coverage plane, the depth tested, no A-buffer,
