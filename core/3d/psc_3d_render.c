@@ -794,6 +794,11 @@ psc_status_t psc_3d_frame_begin(psc_3d_t *r, const psc_3d_draw_t *draws, unsigne
     r->draw_count = n;
     r->clear = clear_xrgb;
     r->out = out;
+    /* soft silhouettes (psc_3d_set_soft_silhouettes) only where a frame has view-textured draws: no other frame pays
+     * for its coverage planes' clear */
+    r->soft_frame = false;
+    for (unsigned i = 0; i < n && r->soft; i++)
+        r->soft_frame |= draws[i].shade == PSC_SHADE_VIEWS;
     return PSC_OK;
 }
 
@@ -930,7 +935,7 @@ void psc_3d_frame_row(const psc_3d_t *r, psc_3d_worker_t *w, uint32_t row, psc_3
         uint16_t y1 = (uint16_t)(ty + th > r->cfg.height ? r->cfg.height : ty + th);
         clear_tile(r, w->depth, out, r->clear, x0, y0, x1, y1);
         /* soft silhouettes need the background each pixel started from: a frame cleared to one colour */
-        uint8_t *coverage = r->soft && r->clear && !w->aa ? w->coverage : NULL;
+        uint8_t *coverage = r->soft_frame && r->clear && !w->aa ? w->coverage : NULL;
         if (coverage)
             fill_cells(coverage, align8((size_t)(x1 - x0) * (y1 - y0)) / 4u, 4, 0u);   /* (within the plane's bytes) */
         if (w->aa)

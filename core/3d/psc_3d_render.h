@@ -222,6 +222,7 @@ typedef struct {
     const uint32_t *clear;
     const psc_surface_t *out;
     bool soft;               /* soft silhouettes (psc_3d_set_soft_silhouettes) */
+    bool soft_frame;         /* and the frame begun has view-textured draws to give them */
 } psc_3d_t;
 
 /** Workspace bytes for a configuration (0 if it is invalid). */

@@ -853,16 +853,33 @@ static PSC_ALWAYS_INLINE void view_sample(const view_tex_t *t, int64_t uu, int64
 }
 
 /* One view's bilinear coverage alone at (uu, vv) with weight w_q8 (Q0.16): the filled texels' share. */
+/* Which of the four texels a bilinear sample at (uu, vv) reads are filled (f[row][column], 0 or 1), and its
+ * fractions (Q0.8). */
+static PSC_ALWAYS_INLINE void filled_texels(const view_tex_t *t, int64_t uu, int64_t vv, uint32_t f[2][2],
+                                            uint32_t *fx, uint32_t *fy)
+{
+    uint32_t x[2], y[2];
+    bilinear_texels(t, uu, vv, x, y, fx, fy);
+    for (unsigned j = 0; j < 2; j++) {
+        const uint16_t *row = (const uint16_t *)(const void *)(t->pixels + (size_t)y[j] * t->stride);
+        f[j][0] = row[x[0]] != PSC_VIEW_TEXEL_EMPTY;
+        f[j][1] = row[x[1]] != PSC_VIEW_TEXEL_EMPTY;
+    }
+}
+
+/* The filled texels' bilinear share at fractions fx, fy, weighted by w_q8 (Q0.16). */
+static PSC_ALWAYS_INLINE uint32_t filled_share(const uint32_t f[2][2], uint32_t fx, uint32_t fy, uint32_t w_q8)
+{
+    /* Q0.8 a side */
+    uint32_t top = f[0][0] * (256u - fx) + f[0][1] * fx, bottom = f[1][0] * (256u - fx) + f[1][1] * fx;
+    return ((top * (256u - fy) + bottom * fy) * w_q8 + 128u) >> 8;
+}
+
 static PSC_ALWAYS_INLINE uint32_t view_coverage(const view_tex_t *t, int64_t uu, int64_t vv, uint32_t w_q8)
 {
-    uint32_t x[2], y[2], fx, fy;
-    bilinear_texels(t, uu, vv, x, y, &fx, &fy);
-    const uint16_t *r0 = (const uint16_t *)(const void *)(t->pixels + (size_t)y[0] * t->stride);
-    const uint16_t *r1 = (const uint16_t *)(const void *)(t->pixels + (size_t)y[1] * t->stride);
-    /* Q0.8 a side */
-    uint32_t top = (r0[x[0]] != PSC_VIEW_TEXEL_EMPTY ? 256u - fx : 0u) + (r0[x[1]] != PSC_VIEW_TEXEL_EMPTY ? fx : 0u);
-    uint32_t bottom = (r1[x[0]] != PSC_VIEW_TEXEL_EMPTY ? 256u - fx : 0u) + (r1[x[1]] != PSC_VIEW_TEXEL_EMPTY ? fx : 0u);
-    return ((top * (256u - fy) + bottom * fy) * w_q8 + 128u) >> 8;
+    uint32_t f[2][2], fx, fy;
+    filled_texels(t, uu, vv, f, &fx, &fy);
+    return filled_share(f, fx, fy, w_q8);
 }
 
 /* One view's bilinear coverage at (uu, vv) with weight w_q8 (Q0.16, as view_coverage), and how fast it changes
@@ -871,19 +888,14 @@ static PSC_ALWAYS_INLINE uint32_t view_coverage(const view_tex_t *t, int64_t uu,
 static PSC_ALWAYS_INLINE uint32_t view_coverage_grad(const view_tex_t *t, int64_t uu, int64_t vv, uint32_t w_q8,
                                                      uint32_t *grad)
 {
-    uint32_t x[2], y[2], fx, fy;
-    bilinear_texels(t, uu, vv, x, y, &fx, &fy);
-    const uint16_t *r0 = (const uint16_t *)(const void *)(t->pixels + (size_t)y[0] * t->stride);
-    const uint16_t *r1 = (const uint16_t *)(const void *)(t->pixels + (size_t)y[1] * t->stride);
-    int32_t f00 = r0[x[0]] != PSC_VIEW_TEXEL_EMPTY, f01 = r0[x[1]] != PSC_VIEW_TEXEL_EMPTY;
-    int32_t f10 = r1[x[0]] != PSC_VIEW_TEXEL_EMPTY, f11 = r1[x[1]] != PSC_VIEW_TEXEL_EMPTY;
+    uint32_t f[2][2], fx, fy;
+    filled_texels(t, uu, vv, f, &fx, &fy);
+    int32_t f00 = (int32_t)f[0][0], f01 = (int32_t)f[0][1], f10 = (int32_t)f[1][0], f11 = (int32_t)f[1][1];
     int32_t gx = (f01 - f00) * (256 - (int32_t)fy) + (f11 - f10) * (int32_t)fy;   /* Q8 */
     int32_t gy = (f10 - f00) * (256 - (int32_t)fx) + (f11 - f01) * (int32_t)fx;
     uint32_t ax = (uint32_t)(gx < 0 ? -gx : gx), ay = (uint32_t)(gy < 0 ? -gy : gy);
     *grad += w_q8 * (ax > ay ? ax + ay / 2u : ay + ax / 2u);
-    /* Q0.8 a side */
-    uint32_t top = (uint32_t)f00 * (256u - fx) + (uint32_t)f01 * fx, bottom = (uint32_t)f10 * (256u - fx) + (uint32_t)f11 * fx;
-    return ((top * (256u - fy) + bottom * fy) * w_q8 + 128u) >> 8;
+    return filled_share(f, fx, fy, w_q8);
 }
 
 /* The views' coverage at their coordinates (uu[k], vv[k]) (Q0.16, as views_bilinear's alone), and in *grad how fast
