@@ -890,6 +890,9 @@ static PSC_ALWAYS_INLINE uint32_t view_coverage_grad(const view_tex_t *t, int64_
 {
     uint32_t f[2][2], fx, fy;
     filled_texels(t, uu, vv, f, &fx, &fy);
+    uint32_t n = f[0][0] + f[0][1] + f[1][0] + f[1][1];
+    if (n == 0 || n == 4)   /* inside the view's silhouette or outside it: no edge (filled_share's exact answer) */
+        return n == 4 ? w_q8 << 8 : 0u;
     int32_t f00 = (int32_t)f[0][0], f01 = (int32_t)f[0][1], f10 = (int32_t)f[1][0], f11 = (int32_t)f[1][1];
     int32_t gx = (f01 - f00) * (256 - (int32_t)fy) + (f11 - f10) * (int32_t)fy;   /* Q8 */
     int32_t gy = (f10 - f00) * (256 - (int32_t)fx) + (f11 - f01) * (int32_t)fx;
@@ -1285,9 +1288,9 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                             c = psc_lambert_relight(&now, &st->view_bake_light, nrm, c);
                         }
                         bool put = true;
-                        uint8_t *held = soft ? &crow[x - t->x0] : NULL;
                         if (soft && (under || alpha < 256u)) {
                             /* a partly covered pixel: over what it holds in front, under what covers it behind */
+                            uint8_t *held = &crow[x - t->x0];
                             uint32_t h = *held, px = get_pixel(srow, x, out565);
                             if (under) {
                                 uint32_t w = alpha < 255u - h ? alpha : 255u - h;
@@ -1304,12 +1307,14 @@ static PSC_ALWAYS_INLINE uint32_t views_loop(const setup_t *s, const psc_raster_
                         } else if (aa && cover != PSC_ABUF_FULL)
                             put = partial(t, (uint32_t)(y - t->y0) * head_w + (uint32_t)(x - t->x0), zrow, x, zbits,
                                           cover, centre, limit, s->zslack, z, &c);
-                        else if (zbits == 16)
-                            ((uint16_t *)(void *)zrow)[x - t->x0] = (uint16_t)(z >> 16);
-                        else if (zbits)
-                            ((uint32_t *)(void *)zrow)[x - t->x0] = z;
-                        if (held && !under && alpha == 256u)
-                            *held = 255u;
+                        else {   /* a pixel covered whole (soft silhouettes: held so) */
+                            if (zbits == 16)
+                                ((uint16_t *)(void *)zrow)[x - t->x0] = (uint16_t)(z >> 16);
+                            else if (zbits)
+                                ((uint32_t *)(void *)zrow)[x - t->x0] = z;
+                            if (soft)
+                                crow[x - t->x0] = 255u;
+                        }
                         if (put) {
                             put_pixel(srow, x, out565, st->blend, c, 256u);
                             written++;
@@ -1335,8 +1340,10 @@ static uint32_t dispatch_views(const setup_t *s, const psc_raster_target_t *t, c
     (s->affine ? (st->filter == PSC_TEX_BILINEAR ? views_loop(s, t, st, o, z, 1, 1, a) : views_loop(s, t, st, o, z, 0, 1, a)) \
                : (st->filter == PSC_TEX_BILINEAR ? views_loop(s, t, st, o, z, 1, 0, a) : views_loop(s, t, st, o, z, 0, 0, a)))
 #define VIEWS(o, z) VIEWS_F(o, z, aa)
+    /* a board's usual frame (RGB565, 16-bit depth, no A-buffer) gets its own copy: the A-buffer's tests are 5 % of a
+     * proxy pixel's instructions; elsewhere they stay a branch (code size) */
     if (out565)
-        return zb == 0 ? VIEWS_F(1, 0, 0) : zb == 16 ? VIEWS(1, 16) : VIEWS(1, 32);
+        return zb == 0 ? VIEWS_F(1, 0, 0) : zb == 16 ? (aa ? VIEWS_F(1, 16, 1) : VIEWS_F(1, 16, 0)) : VIEWS(1, 32);
     return zb == 0 ? VIEWS_F(0, 0, 0) : zb == 16 ? VIEWS(0, 16) : VIEWS(0, 32);
 #undef VIEWS
 #undef VIEWS_F
