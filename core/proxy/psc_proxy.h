@@ -325,23 +325,27 @@ typedef struct {
     psc_texture_t *normal_tex;     /* (packs with normals) 3 per draw: the views' normals */
     int32_t *joint_light_q14;      /* (packs with normals) per joint, this frame: the light in its rest frame (Q2.14) */
     int16_t *strip_light_q14;      /* (packs with normals) per skinned proxy vertex: its joints' lights blended */
-    uint32_t blended_vertices;     /* full-mesh vertices that follow more than one joint (relit, they cost more) */
+    uint32_t blended_vertices;     /* full-mesh vertices that follow more than one joint (they cost more) */
     uint32_t *strip_first;         /* part_count + 1: part i's bones are strip_bones[strip_first[i] .. [i + 1]) */
     psc_proxy_bone_t *strip_bones; /* a joint strip's bones, for its M3 */
 } psc_proxy_t;
 
 /* The level of detail's cost model, in instructions (callgrind, x86-64, gcc -O2): `build/bench/proxy --callgrind`
- * counts both levels over three models, two screens and six distances and refits these by least squares (relative
- * error 4 % rms for the proxies, 8 % for the full mesh). A level costs its vertices (posing, projection), its
- * triangles (set-up), the rows its triangles span (about sqrt(area x triangles / 2): half face the camera) and its
- * pixels: a view-textured pixel samples three textures; a full-mesh pixel costs little beyond its row's loop. */
-#define PSC_PROXY_COST_VERTEX 837u
-#define PSC_PROXY_COST_TRIANGLE 335u
-#define PSC_PROXY_COST_ROW 455u
-#define PSC_PROXY_COST_PIXEL 725u   /* (with soft silhouettes, psc_3d_set_soft_silhouettes; 618 measured without) */
-#define PSC_PROXY_COST_FULL_VERTEX 826u
-#define PSC_PROXY_COST_FULL_ROW 553u
-#define PSC_PROXY_COST_SCREEN_PIXEL 3u   /* either level: the frame's clear, a pixel of the screen */
+ * counts both levels over four models (a rigid assembly, the skinned bar, two held-out characters), two screens and
+ * six distances and refits these by least squares of the relative error. A level costs its vertices (posing,
+ * projection), its triangles (set-up), the rows its triangles span (about sqrt(area x triangles / 2): half face the
+ * camera) and its pixels: a view-textured pixel samples three textures; a full-mesh pixel costs little beyond its
+ * row's loop, and a full-mesh vertex that blends joints costs nearly twice one that follows one joint or none (a
+ * held-out robot, whose 7 068 vertices mostly follow one joint each, showed a cost a vertex alone cannot fit). */
+#define PSC_PROXY_COST_VERTEX 860u
+#define PSC_PROXY_COST_TRIANGLE 332u
+#define PSC_PROXY_COST_ROW 434u
+#define PSC_PROXY_COST_PIXEL 689u   /* (with soft silhouettes, psc_3d_set_soft_silhouettes) */
+#define PSC_PROXY_COST_FULL_VERTEX 403u
+#define PSC_PROXY_COST_FULL_BLEND 318u   /* more for a vertex that blends joints */
+#define PSC_PROXY_COST_FULL_TRIANGLE 209u
+#define PSC_PROXY_COST_FULL_ROW 578u
+#define PSC_PROXY_COST_SCREEN_PIXEL 1u   /* either level: the frame's clear, a pixel of the screen */
 /* Relit (psc_proxy_set_light; the bench's "relit" lines): a proxy pixel reads a normal (four texels) and divides; a
  * full-mesh vertex is relit, one that blends joints renormalises its light as well. */
 #define PSC_PROXY_COST_RELIT_PIXEL 630u

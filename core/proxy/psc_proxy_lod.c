@@ -185,7 +185,9 @@ psc_proxy_cost_t psc_proxy_cost(const psc_proxy_t *p, const psc_mat4_q16_t *cam,
     uint64_t rows_f = psc_isqrt64(area_f * m->triangle_count / 2u);
     c.proxies = (uint64_t)PSC_PROXY_COST_VERTEX * m->proxy_vertex_count + (uint64_t)PSC_PROXY_COST_TRIANGLE * m->proxy_triangle_count +
                 PSC_PROXY_COST_ROW * rows_p + (uint64_t)PSC_PROXY_COST_PIXEL * area_p;
-    c.full = (uint64_t)PSC_PROXY_COST_FULL_VERTEX * m->vertex_count + PSC_PROXY_COST_FULL_ROW * rows_f;
+    c.full = (uint64_t)PSC_PROXY_COST_FULL_VERTEX * m->vertex_count +
+             (uint64_t)PSC_PROXY_COST_FULL_BLEND * p->blended_vertices +
+             (uint64_t)PSC_PROXY_COST_FULL_TRIANGLE * m->triangle_count + PSC_PROXY_COST_FULL_ROW * rows_f;
     if (p->relit) {   /* (under 2^10 x 2^31 and 2^10 x 2^22 x 2) */
         c.proxies += (uint64_t)PSC_PROXY_COST_RELIT_PIXEL * area_p;
         c.full += (uint64_t)PSC_PROXY_COST_RELIT_VERTEX * m->vertex_count +
