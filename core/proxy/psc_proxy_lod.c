@@ -18,8 +18,8 @@
 #define AREA_SHARE_DEFAULT_Q16 32768u
 
 /* The pixels a frame writes for each of the silhouette's (Q8), before a frame has said: where parts overlap a pixel
- * is written more than once, and a pose is not the billboard's rest (1.3: the three models of the bench, 1.0 to 1.7
- * before the first frame corrects it). psc_proxy_observe then keeps the frames' own, within 1/4..8. */
+ * is written more than once, and a pose is not the billboard's rest (1.3: the bench's models write 1.1 to 1.6 at
+ * 4 R, the robot least, the bar most, before the first frame corrects it). psc_proxy_observe then keeps the frames' own, within 1/4..8. */
 #define AREA_GAIN_PRIOR_Q8 333u
 #define AREA_GAIN_MIN_Q8 64u
 #define AREA_GAIN_MAX_Q8 2048u
