@@ -1540,6 +1540,34 @@ static PSC_ALWAYS_INLINE void view_corners(setup_t *s, unsigned k, uint32_t w_q8
     s->dvv[k][1] = b2 - b0;
 }
 
+/* The range of a, b and 0 (a coordinate's differences from corner 0 to corners 1 and 2). */
+static PSC_ALWAYS_INLINE int64_t range3(int64_t a, int64_t b)
+{
+    int64_t lo = a < b ? a : b, hi = a < b ? b : a;
+    return (hi > 0 ? hi : 0) - (lo < 0 ? lo : 0);
+}
+
+/* The widest range of the views' coordinates over the triangle's corners (Q0.16, at most 1: view_corners clamps them;
+ * a view of no weight is zeros). */
+static PSC_ALWAYS_INLINE int64_t views_span_q16(const setup_t *s)
+{
+    int64_t span = 0;
+    for (unsigned k = 0; k < 3; k++) {
+        int64_t ru = range3(s->dvu[k][0], s->dvu[k][1]), rv = range3(s->dvv[k][0], s->dvv[k][1]);
+        span = ru > span ? ru : span;
+        span = rv > span ? rv : span;
+    }
+    return span;
+}
+
+/* The views' side in texels, the larger of width and height: the first weighted view's (psc_raster.h asks one size
+ * of the three). */
+static PSC_ALWAYS_INLINE int64_t views_side(const psc_raster_state_t *st)
+{
+    const psc_texture_t *x = st->view_tex[st->view_w_q8[0] != 0 ? 0 : st->view_w_q8[1] != 0 ? 1 : 2];
+    return x->width > x->height ? x->width : x->height;
+}
+
 uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_state_t *st,
                              const psc_raster_vertex_t *v0, const psc_raster_vertex_t *v1,
                              const psc_raster_vertex_t *v2)
@@ -1662,8 +1690,6 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
             qmin = q[i] < qmin ? q[i] : qmin;
             qmax = q[i] > qmax ? q[i] : qmax;
         }
-        /* Perspective changes u across such a triangle by under 1/256 of its span: interpolate u, v directly. */
-        s.affine = (qmax - qmin) * 256 <= qmin;
         s.q0 = q[0];
         s.dq[0] = q[1] - q[0];
         s.dq[1] = q[2] - q[0];
@@ -1676,6 +1702,13 @@ uint32_t psc_raster_triangle(const psc_raster_target_t *t, const psc_raster_stat
                      v[2]->v1_q16);
         view_corners(&s, 2, st->view_w_q8[2], v[0]->u2_q16, v[0]->v2_q16, v[1]->u2_q16, v[1]->v2_q16, v[2]->u2_q16,
                      v[2]->v2_q16);
+        /* Interpolate u, v directly where perspective moves them too little to matter: by under 1/256 of their span,
+         * or (the span in texels x (qmax - qmin) / (4 qmin), as TEXTURE's) under 1/16 texel, the whole side tried
+         * before the span is found. A proxy's triangles span a few texels of its views: most then divide nothing
+         * per pixel (the products stay under 2^28 x 2^13 x 4). */
+        const int64_t side = views_side(st);
+        s.affine = (qmax - qmin) * 256 <= qmin || (qmax - qmin) * (side + 1) * 4 <= qmin ||
+                   (qmax - qmin) * ((views_span_q16(&s) * side + 65535) / 65536 + 1) * 4 <= qmin;
         for (unsigned a = 0; a < 3 && st->view_light_vertices; a++) {
             s.ln0[a] = v[0]->n_q14[a];
             s.dln[a][0] = v[1]->n_q14[a] - v[0]->n_q14[a];
