@@ -335,10 +335,45 @@ static int32_t light_of(const psc_3d_draw_t *d, const psc_mesh_t *m, uint32_t i)
     return amb + (int32_t)psc_shr_round64((int64_t)(256 - amb) * dot, 16);
 }
 
+/* Vertices [i0, i1) of an unlit VIEWS draw whose three views all have coordinates (a proxy's) into out:
+ * transform_draw's values, without its tests a vertex for what such a draw cannot use (a proxy has many vertices
+ * for its pixels: they cost it more than they cost a mesh). */
+static void transform_views(const psc_3d_t *r, const psc_3d_draw_t *d, vcache_t *out, uint32_t i0, uint32_t i1)
+{
+    const psc_mesh_t *m = d->mesh;
+    const uint16_t *uv0 = d->view_uv_q16[0], *uv1 = d->view_uv_q16[1], *uv2 = d->view_uv_q16[2];
+    const int16_t *nl = d->view_light_q14;
+    for (uint32_t i = i0; i < i1; i++) {
+        vcache_t *c = &out[i];
+        psc_vec3_q16_t p, cam;
+        if (m->position_q15)
+            p = (psc_vec3_q16_t){(int32_t)m->position_q15[3u * i] * 2, (int32_t)m->position_q15[3u * i + 1] * 2,
+                                 (int32_t)m->position_q15[3u * i + 2] * 2};
+        else
+            p = (psc_vec3_q16_t){m->position_q16[3u * i], m->position_q16[3u * i + 1], m->position_q16[3u * i + 2]};
+        if (!psc_mat4_apply(&d->camera_from_object, p, &cam)) {
+            c->outcode = CACHE_BAD;
+            continue;
+        }
+        uint32_t col = (m->color ? m->color[i] : d->color) & 0xFFFFFFu;
+        c->cv = (psc_clip_vertex_t){cam.x, cam.y, cam.z, uv0[2u * i], uv0[2u * i + 1],
+                                    (int32_t)(col >> 16), (int32_t)(col >> 8 & 255u), (int32_t)(col & 255u), 256,
+                                    uv1[2u * i], uv1[2u * i + 1], uv2[2u * i], uv2[2u * i + 1],
+                                    nl ? nl[3u * i] : 0, nl ? nl[3u * i + 1] : 0, nl ? nl[3u * i + 2] : 0};
+        c->outcode = (uint8_t)psc_clip_outcode(&r->vol, cam.x, cam.y, cam.z);
+        if (c->outcode == 0)
+            project(r, &c->cv, &c->rv);
+    }
+}
+
 /* Vertices [i0, i1) of draw d into out (its cache entries). */
 static void transform_draw(const psc_3d_t *r, const psc_3d_draw_t *d, vcache_t *out, uint32_t i0, uint32_t i1)
 {
     const psc_mesh_t *m = d->mesh;
+    if (d->shade == PSC_SHADE_VIEWS && !d->lit && d->view_uv_q16[0] && d->view_uv_q16[1] && d->view_uv_q16[2]) {
+        transform_views(r, d, out, i0, i1);
+        return;
+    }
     for (uint32_t i = i0; i < i1; i++) {
         vcache_t *c = &out[i];
         psc_vec3_q16_t p, cam;
