@@ -355,9 +355,10 @@ typedef struct {
 static void set_normals(psc_3d_draw_t *d, psc_texture_t *ntex, const uint16_t *normals, uint32_t side,
                         const uint16_t view[3], const psc_lambert_q14_t *light)
 {
-    for (unsigned k = 0; k < 3; k++) {
-        psc_texture_init(&ntex[k], (uint16_t)side, (uint16_t)side, PSC_PIX_RGB565, side * 2u,
-                         normals + (size_t)view[k] * side * side);
+    psc_texture_init(&ntex[0], (uint16_t)side, (uint16_t)side, PSC_PIX_RGB565, side * 2u, normals);
+    for (unsigned k = 0; k < 3; k++) {   /* three of one size: the first's description, each its own texels */
+        ntex[k] = ntex[0];
+        ntex[k].pixels = normals + (size_t)view[k] * side * side;
         d->view_normals[k] = &ntex[k];
     }
     d->view_light = *light;
@@ -377,9 +378,10 @@ static void set_views(psc_3d_draw_t *d, psc_texture_t *tex, psc_texture_t *ntex,
     uint32_t side = pt->t.side >> pt->level;
     d->shade = PSC_SHADE_VIEWS;
     d->filter = filter;
-    for (unsigned k = 0; k < 3; k++) {
-        const uint16_t *px = pt->texels + (size_t)pick->view[k] * pt->t.chain + before;
-        psc_texture_init(&tex[k], (uint16_t)side, (uint16_t)side, PSC_PIX_RGB565, side * 2u, px);
+    psc_texture_init(&tex[0], (uint16_t)side, (uint16_t)side, PSC_PIX_RGB565, side * 2u, pt->texels);
+    for (unsigned k = 0; k < 3; k++) {   /* three of one size: the first's description, each its own texels */
+        tex[k] = tex[0];
+        tex[k].pixels = pt->texels + (size_t)pick->view[k] * pt->t.chain + before;
         d->view_tex[k] = &tex[k];
         d->view_w_q8[k] = w[k];
         d->view_uv_q16[k] = uv[k];
