@@ -337,14 +337,14 @@ typedef struct {
  * camera) and its pixels: a view-textured pixel samples three textures; a full-mesh pixel costs little beyond its
  * row's loop, and a full-mesh vertex that blends joints costs nearly twice one that follows one joint or none (a
  * held-out robot, whose 7 068 vertices mostly follow one joint each, showed a cost a vertex alone cannot fit). */
-#define PSC_PROXY_COST_VERTEX 826u
-#define PSC_PROXY_COST_TRIANGLE 350u
-#define PSC_PROXY_COST_ROW 378u
-#define PSC_PROXY_COST_PIXEL 666u   /* (with soft silhouettes, psc_3d_set_soft_silhouettes) */
-#define PSC_PROXY_COST_FULL_VERTEX 401u
-#define PSC_PROXY_COST_FULL_BLEND 318u   /* more for a vertex that blends joints */
-#define PSC_PROXY_COST_FULL_TRIANGLE 208u
-#define PSC_PROXY_COST_FULL_ROW 578u
+#define PSC_PROXY_COST_VERTEX 859u
+#define PSC_PROXY_COST_TRIANGLE 194u
+#define PSC_PROXY_COST_ROW 499u
+#define PSC_PROXY_COST_PIXEL 655u   /* (with soft silhouettes, psc_3d_set_soft_silhouettes) */
+#define PSC_PROXY_COST_FULL_VERTEX 390u
+#define PSC_PROXY_COST_FULL_BLEND 334u   /* more for a vertex that blends joints */
+#define PSC_PROXY_COST_FULL_TRIANGLE 175u
+#define PSC_PROXY_COST_FULL_ROW 590u
 #define PSC_PROXY_COST_SCREEN_PIXEL 1u   /* either level: the frame's clear, a pixel of the screen */
 /* Relit (psc_proxy_set_light; the bench's "relit" lines): a proxy pixel reads a normal (four texels) and divides; a
  * full-mesh vertex is relit, one that blends joints renormalises its light as well. */
