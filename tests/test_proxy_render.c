@@ -64,6 +64,84 @@
 
 /* ---- PSC_SHADE_VIEWS against its rule in double ---------------------------------------------- */
 
+/* The affine shortcut's bound (psc_raster.c: a VIEWS triangle whose coordinates perspective moves by under 1/16
+ * texel is interpolated without a division): every pixel samples the texel its perspective-correct coordinates fall
+ * in wherever they lie more than 1/16 texel and a rounding from the texel's edge. 2 000 random triangles over a
+ * 32 x 32 view whose texels each name themselves, the corners' q equal, within 3 % (where the shortcut is taken
+ * across a few texels and not across many) and up to four times apart, against the double-precision rule. */
+static void test_views_affine_bound(void **state)
+{
+    (void)state;
+    tsup_rng_t r;
+    tsup_rng_seed(&r, 77);
+    enum { T = 32, S = 64 };
+    static uint16_t tex[T * T];
+    static uint32_t out[S * S];
+    for (unsigned y = 0; y < T; y++)
+        for (unsigned x = 0; x < T; x++)
+            tex[y * T + x] = (uint16_t)(x << 11 | y << 5 | 0x10u);   /* red the column, green the row; never empty */
+    psc_texture_t t;
+    assert_int_equal(psc_texture_init(&t, T, T, PSC_PIX_RGB565, T * 2, tex), PSC_OK);
+    psc_raster_state_t st = {.shade = PSC_SHADE_VIEWS, .filter = PSC_TEX_NEAREST, .view_tex = {&t, &t, &t},
+                             .view_w_q8 = {256, 0, 0}};
+    psc_surface_t sf = {S, S, S * 4, PSC_PIX_XRGB8888, out};
+    psc_raster_target_t tg = {&sf, NULL, 0, 0, 0, 0, S, S, NULL, NULL, 0, NULL, 0, 0};
+    unsigned checked = 0, near_edge = 0, wrong = 0;
+    for (unsigned trial = 0; trial < 2000; trial++) {
+        psc_raster_vertex_t v[3];
+        double p[3][2], q[3], uv[3][2];
+        double spread = trial % 3 == 0 ? 0 : trial % 3 == 1 ? 0.03 : 3.0;   /* q's corners: equal, near, far apart */
+        for (unsigned i = 0; i < 3; i++) {
+            p[i][0] = tsup_rng_below(&r, S * 16) / 16.0, p[i][1] = tsup_rng_below(&r, S * 16) / 16.0;
+            q[i] = 1.0 / (1.0 + spread * tsup_rng_below(&r, 1001) / 1000.0);
+            uv[i][0] = 0.05 + 0.9 * tsup_rng_below(&r, 10001) / 10000.0;
+            uv[i][1] = 0.05 + 0.9 * tsup_rng_below(&r, 10001) / 10000.0;
+            v[i] = (psc_raster_vertex_t){.x_q4 = (int32_t)lround(p[i][0] * 16), .y_q4 = (int32_t)lround(p[i][1] * 16),
+                                         .q_q28 = (int32_t)lround(q[i] * PSC_RASTER_Q_ONE),
+                                         .u_q16 = (int32_t)lround(uv[i][0] * 65536),
+                                         .v_q16 = (int32_t)lround(uv[i][1] * 65536)};
+            q[i] = v[i].q_q28 / (double)PSC_RASTER_Q_ONE;   /* what the rasterizer is given */
+            uv[i][0] = v[i].u_q16 / 65536.0, uv[i][1] = v[i].v_q16 / 65536.0;
+        }
+        for (unsigned i = 0; i < S * S; i++)
+            out[i] = 0xFF000000u;
+        psc_raster_triangle(&tg, &st, &v[0], &v[1], &v[2]);
+        double x0 = v[0].x_q4 / 16.0, y0 = v[0].y_q4 / 16.0, x1 = v[1].x_q4 / 16.0, y1 = v[1].y_q4 / 16.0;
+        double x2 = v[2].x_q4 / 16.0, y2 = v[2].y_q4 / 16.0;
+        double area = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
+        if (fabs(area) < 4)
+            continue;
+        for (int y = 0; y < S; y++)
+            for (int x = 0; x < S; x++) {
+                double pxc = x + 0.5, pyc = y + 0.5;
+                double b1 = ((pxc - x0) * (y2 - y0) - (x2 - x0) * (pyc - y0)) / area;
+                double b2 = ((x1 - x0) * (pyc - y0) - (pxc - x0) * (y1 - y0)) / area, b0 = 1 - b1 - b2;
+                if (b0 < 0.01 || b1 < 0.01 || b2 < 0.01)
+                    continue;
+                double den = b0 * q[0] + b1 * q[1] + b2 * q[2], texel[2];
+                bool edge = false;
+                for (unsigned a = 0; a < 2; a++) {
+                    texel[a] = (b0 * q[0] * uv[0][a] + b1 * q[1] * uv[1][a] + b2 * q[2] * uv[2][a]) / den * T;
+                    double f = texel[a] - floor(texel[a]);
+                    edge |= f < 1.0 / 16 + 1.0 / 64 || f > 1 - 1.0 / 16 - 1.0 / 64;
+                }
+                if (edge) {
+                    near_edge++;
+                    continue;
+                }
+                uint32_t got = out[y * S + x];
+                unsigned gx = (got >> 16 & 255u) >> 3, gy = (got >> 8 & 255u) >> 2;
+                checked++;
+                if (gx != (unsigned)floor(texel[0]) || gy != (unsigned)floor(texel[1]))
+                    wrong++;
+            }
+    }
+    print_message("  %u pixels sample the texel the perspective-correct coordinates give (%u within 1/16 texel of an "
+                  "edge not checked), %u another\n", checked - wrong, near_edge, wrong);
+    assert_true(checked > 300000u);
+    assert_int_equal(wrong, 0);
+}
+
 static void test_views_rule(void **state)
 {
     (void)state;
@@ -2184,6 +2262,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_views_rule),
+        cmocka_unit_test(test_views_affine_bound),
         cmocka_unit_test(test_views_perspective),
         cmocka_unit_test(test_soft_silhouettes),
         cmocka_unit_test(test_views_limits),
