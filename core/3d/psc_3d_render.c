@@ -335,6 +335,22 @@ static int32_t light_of(const psc_3d_draw_t *d, const psc_mesh_t *m, uint32_t i)
     return amb + (int32_t)psc_shr_round64((int64_t)(256 - amb) * dot, 16);
 }
 
+/* Vertex i of mesh m in camera space; false, its cache entry c marked bad, out of the matrix's range. */
+static PSC_ALWAYS_INLINE bool camera_point(const psc_3d_draw_t *d, const psc_mesh_t *m, uint32_t i, vcache_t *c,
+                                           psc_vec3_q16_t *cam)
+{
+    psc_vec3_q16_t p;
+    if (m->position_q15)
+        p = (psc_vec3_q16_t){(int32_t)m->position_q15[3u * i] * 2, (int32_t)m->position_q15[3u * i + 1] * 2,
+                             (int32_t)m->position_q15[3u * i + 2] * 2};
+    else
+        p = (psc_vec3_q16_t){m->position_q16[3u * i], m->position_q16[3u * i + 1], m->position_q16[3u * i + 2]};
+    if (psc_mat4_apply(&d->camera_from_object, p, cam))
+        return true;
+    c->outcode = CACHE_BAD;
+    return false;
+}
+
 /* Vertices [i0, i1) of an unlit VIEWS draw whose three views all have coordinates (a proxy's) into out:
  * transform_draw's values, without its tests a vertex for what such a draw cannot use (a proxy has many vertices
  * for its pixels: they cost it more than they cost a mesh). */
@@ -345,16 +361,9 @@ static void transform_views(const psc_3d_t *r, const psc_3d_draw_t *d, vcache_t 
     const int16_t *nl = d->view_light_q14;
     for (uint32_t i = i0; i < i1; i++) {
         vcache_t *c = &out[i];
-        psc_vec3_q16_t p, cam;
-        if (m->position_q15)
-            p = (psc_vec3_q16_t){(int32_t)m->position_q15[3u * i] * 2, (int32_t)m->position_q15[3u * i + 1] * 2,
-                                 (int32_t)m->position_q15[3u * i + 2] * 2};
-        else
-            p = (psc_vec3_q16_t){m->position_q16[3u * i], m->position_q16[3u * i + 1], m->position_q16[3u * i + 2]};
-        if (!psc_mat4_apply(&d->camera_from_object, p, &cam)) {
-            c->outcode = CACHE_BAD;
+        psc_vec3_q16_t cam;
+        if (!camera_point(d, m, i, c, &cam))
             continue;
-        }
         uint32_t col = (m->color ? m->color[i] : d->color) & 0xFFFFFFu;
         c->cv = (psc_clip_vertex_t){cam.x, cam.y, cam.z, uv0[2u * i], uv0[2u * i + 1],
                                     (int32_t)(col >> 16), (int32_t)(col >> 8 & 255u), (int32_t)(col & 255u), 256,
@@ -376,16 +385,9 @@ static void transform_draw(const psc_3d_t *r, const psc_3d_draw_t *d, vcache_t *
     }
     for (uint32_t i = i0; i < i1; i++) {
         vcache_t *c = &out[i];
-        psc_vec3_q16_t p, cam;
-        if (m->position_q15)
-            p = (psc_vec3_q16_t){(int32_t)m->position_q15[3u * i] * 2, (int32_t)m->position_q15[3u * i + 1] * 2,
-                                 (int32_t)m->position_q15[3u * i + 2] * 2};
-        else
-            p = (psc_vec3_q16_t){m->position_q16[3u * i], m->position_q16[3u * i + 1], m->position_q16[3u * i + 2]};
-        if (!psc_mat4_apply(&d->camera_from_object, p, &cam)) {
-            c->outcode = CACHE_BAD;
+        psc_vec3_q16_t cam;
+        if (!camera_point(d, m, i, c, &cam))
             continue;
-        }
         int32_t l = light_of(d, m, i);
         uint32_t col = (m->color ? m->color[i] : d->color) & 0xFFFFFFu;
         int32_t cr = (int32_t)(col >> 16 & 255u), cg = (int32_t)(col >> 8 & 255u), cb = (int32_t)(col & 255u);
