@@ -1645,6 +1645,45 @@ static void test_lod_auto(void **state)
                 psc_proxy_lod_t l = psc_proxy_lod_pick(&f.px, &far, INT32_MAX);
                 assert_true(l == PSC_PROXY_LOD_FULL || l == PSC_PROXY_LOD_PROXIES || l == PSC_PROXY_LOD_BILLBOARD);
             }
+        /* the first frame, before any has said what a level writes: the level whose cost against the other's is
+         * least at the worse of the gains 1.1 and 1.6 (the rule in double, from psc_proxy_cost at either end), over
+         * random views that reach both levels; once a frame has been seen, the cheaper by the estimate */
+        unsigned firsts[2] = {0, 0};
+        tsup_rng_t frng;
+        tsup_rng_seed(&frng, 3u + mi);
+        for (unsigned k = 0; k < 200; k++) {
+            psc_proxy_init(&f.px, &f.m, f.ws, psc_proxy_workspace_size(&f.m));
+            psc_proxy_set_screen(&f.px, W, H);
+            psc_mat4_q16_t view;
+            psc_3d_config_t cfg = {W, H, 0, 0, 32, tsup_bam_from_deg(50), 0, 0, psc_proxy_max_vertices(&f.m), PSC_3D_HSR_ZBUFFER};
+            assert_int_equal(psc_3d_orbit(f.lo, f.hi, tsup_bam_from_deg(tsup_rng_unit(&frng) * 360),
+                                          (int32_t)tsup_bam_from_deg(-30 + tsup_rng_unit(&frng) * 90),
+                                          (int32_t)lround((1.2 + tsup_rng_unit(&frng) * 8.8) * 65536), &view,
+                                          &cfg.near_q16, &cfg.far_q16),
+                             PSC_OK);
+            int32_t focal = (int32_t)(psc_proxy_focal_px_q16(W, cfg.hfov) * (0.5 + tsup_rng_unit(&frng) * 1.5));
+            psc_proxy_t lo = f.px, hi = f.px;
+            lo.area_gain_q8 = lo.proxy_gain_q8 = 282, hi.area_gain_q8 = hi.proxy_gain_q8 = 410;
+            psc_proxy_cost_t cl = psc_proxy_cost(&lo, &view, focal), ch = psc_proxy_cost(&hi, &view, focal);
+            double worse_p = fmax((double)cl.proxies / cl.full, (double)ch.proxies / ch.full);
+            double worse_f = fmax((double)cl.full / cl.proxies, (double)ch.full / ch.proxies);
+            psc_proxy_lod_t l = psc_proxy_lod_pick(&f.px, &view, focal);
+            if (l == PSC_PROXY_LOD_BILLBOARD)
+                continue;
+            if (fabs(log(worse_p / worse_f)) > 1e-3)   /* (a tie within the integer rule's rounding either way) */
+                assert_int_equal(l, worse_p <= worse_f ? PSC_PROXY_LOD_PROXIES : PSC_PROXY_LOD_FULL);
+            firsts[l == PSC_PROXY_LOD_FULL]++;
+            /* a frame seen: the estimate's cheaper, the other only 5 % cheaper */
+            f.px.gains_seen = 3;
+            psc_proxy_cost_t c = psc_proxy_cost(&f.px, &view, focal);
+            psc_proxy_lod_t was = f.px.lod, now = psc_proxy_lod_pick(&f.px, &view, focal);
+            uint64_t keep = was == PSC_PROXY_LOD_FULL ? c.full : c.proxies, other = was == PSC_PROXY_LOD_FULL ? c.proxies : c.full;
+            assert_int_equal(now, other < keep - keep / 20 ? (was == PSC_PROXY_LOD_FULL ? PSC_PROXY_LOD_PROXIES : PSC_PROXY_LOD_FULL) : was);
+        }
+        print_message("  first frames of 200 random views: %u proxies, %u full mesh\n", firsts[0], firsts[1]);
+        assert_true(firsts[0] >= 8 && firsts[1] >= 8);   /* both levels reached */
+        psc_proxy_init(&f.px, &f.m, f.ws, psc_proxy_workspace_size(&f.m));
+        psc_proxy_set_screen(&f.px, W, H);
         f.px.lod = PSC_PROXY_LOD_PROXIES;
         /* a caller's limit: the full mesh beyond it whatever it costs; 0 (psc_proxy_init's): by the costs alone */
         assert_int_equal(f.px.full_px, 0);

@@ -376,7 +376,10 @@ psc_status_t psc_proxy_init(psc_proxy_t *p, const psc_proxy_model_t *m, void *ws
  * camera of focal length focal_px_q16 (pixels, Q16.16): the billboard while
  * the model's projected radius is under billboard_px; else the cheaper of
  * the proxies and the full mesh by psc_proxy_cost (the other taken only
- * when its estimate is 5 % lower); the full mesh while the radius exceeds
+ * when its estimate is 5 % lower; before psc_proxy_observe has seen a frame,
+ * the level whose cost against the other's is least at the worse of the
+ * pixels written per pixel of silhouette 1.1 and 1.6, the range the bench's
+ * models write); the full mesh while the radius exceeds
  * full_px when the caller sets it (e.g. twice texels_per_r: the views never
  * magnified more than twice). The billboard's threshold is crossed back
  * 10 % beyond it. Without a billboard the far level is the proxies. The

@@ -21,6 +21,9 @@
  * is written more than once, and a pose is not the billboard's rest (1.3: the bench's models write 1.1 to 1.6 at
  * 4 R, the robot least, the bar most, before the first frame corrects it). psc_proxy_observe then keeps the frames' own, within 1/4..8. */
 #define AREA_GAIN_PRIOR_Q8 333u
+/* Before a frame has said, the level is picked for the worse of two ends of that range, 1.1 and 1.6 (Q8). */
+#define AREA_GAIN_LO_Q8 282u
+#define AREA_GAIN_HI_Q8 410u
 #define AREA_GAIN_MIN_Q8 64u
 #define AREA_GAIN_MAX_Q8 2048u
 #define AREA_OBSERVE_MIN_PX 64u   /* smaller frames say too little of the model's area to learn from */
@@ -150,7 +153,9 @@ static uint64_t written(uint64_t area, uint32_t gain_q8, uint64_t screen)
     return area > AREA_PX_MAX ? AREA_PX_MAX : area;   /* more than any screen; its rows times triangles stay in 63 bits */
 }
 
-psc_proxy_cost_t psc_proxy_cost(const psc_proxy_t *p, const psc_mat4_q16_t *cam, int32_t focal_px_q16)
+/* psc_proxy_cost with the full mesh's and the proxies' pixels written per pixel of silhouette gain_f, gain_p (Q8). */
+static psc_proxy_cost_t cost_at(const psc_proxy_t *p, const psc_mat4_q16_t *cam, int32_t focal_px_q16, uint32_t gain_f,
+                                uint32_t gain_p)
 {
     const psc_proxy_model_t *m = p->m;
     psc_proxy_cost_t c = {0, 0, 0, 0, 0};
@@ -179,7 +184,7 @@ psc_proxy_cost_t psc_proxy_cost(const psc_proxy_t *p, const psc_mat4_q16_t *cam,
         area = screen;
     c.silhouette_px = area > UINT32_MAX ? UINT32_MAX : (uint32_t)area;
     /* each level's pixels: the silhouette times what that level has been seen to write a silhouette pixel */
-    uint64_t area_f = written(area, p->area_gain_q8, screen), area_p = written(area, p->proxy_gain_q8, screen);
+    uint64_t area_f = written(area, gain_f, screen), area_p = written(area, gain_p, screen);
     c.area_px = (uint32_t)(p->lod == PSC_PROXY_LOD_FULL ? area_f : area_p);
     uint64_t rows_p = psc_isqrt64(area_p * m->proxy_triangle_count / 2u);
     uint64_t rows_f = psc_isqrt64(area_f * m->triangle_count / 2u);
@@ -198,6 +203,32 @@ psc_proxy_cost_t psc_proxy_cost(const psc_proxy_t *p, const psc_mat4_q16_t *cam,
     return c;
 }
 
+psc_proxy_cost_t psc_proxy_cost(const psc_proxy_t *p, const psc_mat4_q16_t *cam, int32_t focal_px_q16)
+{
+    return cost_at(p, cam, focal_px_q16, p->area_gain_q8, p->proxy_gain_q8);
+}
+
+/* Whether a x b <= c x d, for costs up to 2^64 (scaled alike until each fits 32 bits: a decision, not a count). */
+static bool product_le(uint64_t a, uint64_t b, uint64_t c, uint64_t d)
+{
+    uint64_t m = a | b | c | d;
+    unsigned sh = 0;
+    while ((m >> sh) > 0xFFFFFFFFu)
+        sh++;
+    return (a >> sh) * (b >> sh) <= (c >> sh) * (d >> sh);
+}
+
+/* The first frame's level, before any has said what a level writes: the gain lies somewhere in LO..HI, and each
+ * level's cost against the other's moves one way along it, so the worse end of each is one of the two. The proxies
+ * when their worse ratio, max(P_lo/F_lo, P_hi/F_hi), is no more than the full mesh's, max(F_lo/P_lo, F_hi/P_hi):
+ * when P_lo P_hi <= F_lo F_hi. */
+static bool proxies_first(const psc_proxy_t *p, const psc_mat4_q16_t *cam, int32_t focal_px_q16)
+{
+    psc_proxy_cost_t lo = cost_at(p, cam, focal_px_q16, AREA_GAIN_LO_Q8, AREA_GAIN_LO_Q8);
+    psc_proxy_cost_t hi = cost_at(p, cam, focal_px_q16, AREA_GAIN_HI_Q8, AREA_GAIN_HI_Q8);
+    return product_le(lo.proxies, hi.proxies, lo.full, hi.full);
+}
+
 psc_proxy_lod_t psc_proxy_lod_pick(psc_proxy_t *p, const psc_mat4_q16_t *cam, int32_t focal_px_q16)
 {
     psc_proxy_cost_t c = psc_proxy_cost(p, cam, focal_px_q16);
@@ -211,6 +242,8 @@ psc_proxy_lod_t psc_proxy_lod_pick(psc_proxy_t *p, const psc_mat4_q16_t *cam, in
     if (l != PSC_PROXY_LOD_BILLBOARD) {
         if (p->full_px > 0 && up > (int64_t)p->full_px * 10) {
             l = PSC_PROXY_LOD_FULL;   /* the caller's limit: nearer, the full mesh whatever it costs */
+        } else if (p->gains_seen == 0 && c.radius_px != INT32_MAX) {
+            l = proxies_first(p, cam, focal_px_q16) ? PSC_PROXY_LOD_PROXIES : PSC_PROXY_LOD_FULL;
         } else {
             /* the cheaper by the estimate; the other only when cheaper by 5 % */
             bool full = l == PSC_PROXY_LOD_FULL;
